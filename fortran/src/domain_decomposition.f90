@@ -1,0 +1,262 @@
+!> Element-block domain decomposition (the paper's contiguous blocks by element number) and the
+!> bookkeeping every rank needs: its elements and nodes in local numbering, which neighbour ranks
+!> share nodes, which element corners go to and come from each of them, and the fixed-order
+!> assembly lists. Pure computation from the global mesh: no MPI here.
+module domain_decomposition
+  use paradyn_kinds, only: ip
+  implicit none
+  private
+  public :: domain_t, block_owner, decompose, group_size
+
+  integer, parameter :: group_size = 64   !< elements per kernel call (one part per group)
+
+  type :: domain_t
+    integer :: rank = 0, n_ranks = 1
+    integer :: n_elements = 0                 !< local elements
+    integer, allocatable :: elements(:)       !< global ids of local elements, ascending
+    integer :: n_nodes = 0                    !< local nodes (touched by local elements)
+    integer, allocatable :: nodes(:)          !< global ids of local nodes, ascending
+    integer, allocatable :: connectivity(:, :) !< (4, n_elements), local node ids
+    integer, allocatable :: node_owned(:)     !< 1 if this rank is the lowest rank touching the node
+    integer :: n_ghost_slots = 0              !< corner forces received from neighbours
+    integer, allocatable :: assembly_start(:), assembly_slot(:)   !< CSR, n_nodes + 1
+    integer :: n_neighbours = 0
+    integer, allocatable :: neighbour(:)      !< neighbour ranks, ascending
+    integer, allocatable :: send_start(:), send_slot(:)   !< CSR over neighbours
+    integer, allocatable :: recv_start(:), recv_slot(:)   !< CSR over neighbours
+    integer :: n_groups = 0
+    integer, allocatable :: group_first(:), group_count(:), group_part(:)
+  end type domain_t
+
+contains
+
+  !> Rank owning global element e of n_elements in contiguous blocks of near-equal size.
+  pure integer function block_owner(e, n_elements, n_ranks) result(owner)
+    integer, intent(in) :: e, n_elements, n_ranks
+    owner = int((int(e - 1, 8) * n_ranks) / n_elements)
+    ! guard the rounding at block edges: block r holds elements (r*ne)/np + 1 .. ((r+1)*ne)/np
+    do while (owner > 0 .and. e <= (int(owner, 8) * n_elements) / n_ranks)
+      owner = owner - 1
+    end do
+    do while (e > (int(owner + 1, 8) * n_elements) / n_ranks)
+      owner = owner + 1
+    end do
+  end function block_owner
+
+  !> Build the domain of one rank. connectivity: (4, n_elements) global 1-based node ids;
+  !> element_part: part of each element (groups never mix parts).
+  pure subroutine decompose(n_nodes, n_elements, connectivity, element_part, n_ranks, rank, dom)
+    integer, intent(in) :: n_nodes, n_elements, n_ranks, rank
+    integer, intent(in) :: connectivity(4, n_elements), element_part(n_elements)
+    type(domain_t), intent(out) :: dom
+    ! allocatable rather than automatic: these scale with the global mesh and must not live on the stack
+    integer, allocatable :: owner(:), inc_start(:), inc_corner(:), rank_start(:)
+    integer, allocatable :: global_to_local(:), ghost_of(:), node_ranks(:), fill(:)
+    integer :: e, c, n, s, r, k, le, count, total
+
+    allocate (owner(n_elements), inc_start(n_nodes + 1), inc_corner(4 * n_elements))
+    allocate (rank_start(n_nodes + 1), global_to_local(n_nodes), ghost_of(4 * n_elements))
+    dom%rank = rank
+    dom%n_ranks = n_ranks
+    do e = 1, n_elements
+      owner(e) = block_owner(e, n_elements, n_ranks)
+    end do
+
+    ! incident corners of every node, ascending by element (corner id = 4 (e - 1) + c)
+    inc_start = 0
+    do e = 1, n_elements
+      do c = 1, 4
+        inc_start(connectivity(c, e) + 1) = inc_start(connectivity(c, e) + 1) + 1
+      end do
+    end do
+    inc_start(1) = 1
+    do n = 1, n_nodes
+      inc_start(n + 1) = inc_start(n + 1) + inc_start(n)
+    end do
+    fill = inc_start(1:n_nodes)
+    do e = 1, n_elements
+      do c = 1, 4
+        n = connectivity(c, e)
+        inc_corner(fill(n)) = 4 * (e - 1) + c
+        fill(n) = fill(n) + 1
+      end do
+    end do
+
+    ! ranks touching each node (distinct owners of its incident elements, ascending)
+    allocate (node_ranks(4 * n_elements))
+    rank_start(1) = 1
+    total = 0
+    do n = 1, n_nodes
+      do s = inc_start(n), inc_start(n + 1) - 1
+        r = owner((inc_corner(s) - 1) / 4 + 1)
+        if (.not. any(node_ranks(rank_start(n):total) == r)) then
+          total = total + 1
+          node_ranks(total) = r
+        end if
+      end do
+      call sort_ascending(node_ranks(rank_start(n):total))
+      rank_start(n + 1) = total + 1
+    end do
+
+    ! local elements and nodes
+    dom%n_elements = count_equal(owner, rank)
+    allocate (dom%elements(dom%n_elements))
+    dom%elements = pack([(e, e = 1, n_elements)], owner == rank)
+    global_to_local = 0
+    dom%n_nodes = 0
+    do n = 1, n_nodes
+      if (touches(n, rank)) then
+        dom%n_nodes = dom%n_nodes + 1
+        global_to_local(n) = dom%n_nodes
+      end if
+    end do
+    allocate (dom%nodes(dom%n_nodes), dom%node_owned(dom%n_nodes))
+    do n = 1, n_nodes
+      if (global_to_local(n) > 0) then
+        dom%nodes(global_to_local(n)) = n
+        dom%node_owned(global_to_local(n)) = merge(1, 0, node_ranks(rank_start(n)) == rank)
+      end if
+    end do
+    allocate (dom%connectivity(4, dom%n_elements))
+    do le = 1, dom%n_elements
+      dom%connectivity(:, le) = global_to_local(connectivity(:, dom%elements(le)))
+    end do
+
+    ! neighbours: every other rank that touches one of our nodes
+    dom%n_neighbours = 0
+    allocate (dom%neighbour(0))
+    do r = 0, n_ranks - 1
+      if (r == rank) cycle
+      do le = 1, dom%n_nodes
+        if (touches(dom%nodes(le), r)) then
+          dom%neighbour = [dom%neighbour, r]
+          exit
+        end if
+      end do
+    end do
+    dom%n_neighbours = size(dom%neighbour)
+
+    ! send lists: our corners on nodes that neighbour r also holds, ascending (element, corner)
+    allocate (dom%send_start(dom%n_neighbours + 1), dom%recv_start(dom%n_neighbours + 1))
+    allocate (dom%send_slot(0), dom%recv_slot(0))
+    dom%send_start(1) = 1
+    dom%recv_start(1) = 1
+    ghost_of = 0
+    count = 0
+    do k = 1, dom%n_neighbours
+      r = dom%neighbour(k)
+      do le = 1, dom%n_elements
+        do c = 1, 4
+          if (touches(connectivity(c, dom%elements(le)), r)) dom%send_slot = [dom%send_slot, 4 * (le - 1) + c]
+        end do
+      end do
+      dom%send_start(k + 1) = size(dom%send_slot) + 1
+      ! receive lists: r's corners on nodes we hold, in the same global order r sends them
+      do e = 1, n_elements
+        if (owner(e) /= r) cycle
+        do c = 1, 4
+          if (touches(connectivity(c, e), rank)) then
+            count = count + 1
+            ghost_of(4 * (e - 1) + c) = 4 * dom%n_elements + count
+            dom%recv_slot = [dom%recv_slot, 4 * dom%n_elements + count]
+          end if
+        end do
+      end do
+      dom%recv_start(k + 1) = size(dom%recv_slot) + 1
+    end do
+    dom%n_ghost_slots = count
+
+    ! assembly lists: every incident corner of a local node, ascending global element order
+    allocate (dom%assembly_start(dom%n_nodes + 1))
+    dom%assembly_start(1) = 1
+    do le = 1, dom%n_nodes
+      n = dom%nodes(le)
+      dom%assembly_start(le + 1) = dom%assembly_start(le) + inc_start(n + 1) - inc_start(n)
+    end do
+    allocate (dom%assembly_slot(dom%assembly_start(dom%n_nodes + 1) - 1))
+    k = 0
+    do le = 1, dom%n_nodes
+      n = dom%nodes(le)
+      do s = inc_start(n), inc_start(n + 1) - 1
+        k = k + 1
+        e = (inc_corner(s) - 1) / 4 + 1
+        c = inc_corner(s) - 4 * (e - 1)
+        if (owner(e) == rank) then
+          dom%assembly_slot(k) = 4 * (local_element(e) - 1) + c
+        else
+          dom%assembly_slot(k) = ghost_of(inc_corner(s))
+        end if
+      end do
+    end do
+
+    call build_groups(dom, element_part)
+
+  contains
+
+    pure logical function touches(node, r)
+      integer, intent(in) :: node, r
+      touches = any(node_ranks(rank_start(node):rank_start(node + 1) - 1) == r)
+    end function touches
+
+    pure integer function local_element(e_global)
+      integer, intent(in) :: e_global
+      integer :: lo, hi, mid
+      lo = 1
+      hi = dom%n_elements
+      do while (lo < hi)
+        mid = (lo + hi) / 2
+        if (dom%elements(mid) < e_global) then
+          lo = mid + 1
+        else
+          hi = mid
+        end if
+      end do
+      local_element = lo
+    end function local_element
+
+  end subroutine decompose
+
+  !> Groups of at most group_size consecutive local elements of one part.
+  pure subroutine build_groups(dom, element_part)
+    type(domain_t), intent(inout) :: dom
+    integer, intent(in) :: element_part(:)
+    integer :: le, first, part, n
+    allocate (dom%group_first(0), dom%group_count(0), dom%group_part(0))
+    le = 1
+    do while (le <= dom%n_elements)
+      first = le
+      part = element_part(dom%elements(le))
+      n = 0
+      do while (le <= dom%n_elements .and. n < group_size)
+        if (element_part(dom%elements(le)) /= part) exit
+        n = n + 1
+        le = le + 1
+      end do
+      dom%group_first = [dom%group_first, first]
+      dom%group_count = [dom%group_count, n]
+      dom%group_part = [dom%group_part, part]
+    end do
+    dom%n_groups = size(dom%group_first)
+  end subroutine build_groups
+
+  pure integer function count_equal(a, value)
+    integer, intent(in) :: a(:), value
+    count_equal = count(a == value)
+  end function count_equal
+
+  pure subroutine sort_ascending(a)
+    integer, intent(inout) :: a(:)
+    integer :: i, j, key
+    do i = 2, size(a)
+      key = a(i)
+      j = i - 1
+      do while (j >= 1)
+        if (a(j) <= key) exit
+        a(j + 1) = a(j)
+        j = j - 1
+      end do
+      a(j + 1) = key
+    end do
+  end subroutine sort_ascending
+
+end module domain_decomposition

@@ -1,0 +1,424 @@
+!> The explicit solver: set-up, the time loop and its phases, and the run record.
+!>
+!> Lifecycle: solver_setup (decompose, allocate everything, masses, time step) -> solver_run
+!> (the time loop; nothing is allocated inside it) -> the run record for the results file.
+!> Each step: element forces by groups on OpenMP threads -> corner exchange with neighbour ranks
+!> -> fixed-order nodal sum -> central-difference update. Effects that the deck does not declare
+!> (point loads, damping, plasticity) are not called.
+module explicit_solver
+  use mpi_f08
+  use omp_lib, only: omp_get_max_threads, omp_get_thread_num
+  use paradyn_kinds, only: wp
+  use model_deck, only: deck_t, part_properties
+  use shell_blt, only: shell_properties_t, blt_internal_forces, blt_lumped_mass, &
+                       blt_stable_time_step, blt_element_results, stress_components, &
+                       hourglass_components, material_j2_plastic
+  use domain_decomposition, only: domain_t, decompose, group_size
+  use halo_exchange, only: halo_t, halo_setup, exchange_corners, gather_nodes, gather_elements, &
+                           sum_to_root
+  use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes
+  use time_integration, only: update_velocities, update_positions, point_load_forces, kinetic_energy
+  use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
+  implicit none
+  private
+  public :: solver_t, solver_setup, solver_run, solver_effects
+
+  integer, parameter :: workspace_per_group = group_size * (3 * 4 * 3 + 6 * 4)
+
+  type :: solver_t
+    type(domain_t) :: dom
+    type(halo_t) :: halo
+    type(shell_properties_t), allocatable :: props(:)
+    integer :: rank = 0, n_ranks = 1, threads = 1
+    ! nodal state, local numbering
+    real(wp), allocatable :: x0(:, :), x(:, :), v(:, :), w(:, :), v_old(:, :), w_old(:, :)
+    real(wp), allocatable :: mass(:), inertia(:), weight(:)
+    integer, allocatable :: fixed(:, :)
+    real(wp), allocatable :: f_int(:, :), f_ext(:, :), f_ext_old(:, :), corner(:, :)
+    ! element state in pools, one contiguous block per group
+    real(wp), allocatable :: stress(:), back(:), eps_p(:), hourglass(:)
+    integer, allocatable :: stress_at(:), back_at(:), eps_p_at(:), hourglass_at(:)
+    real(wp), allocatable :: e_internal(:), e_hourglass(:)
+    real(wp), allocatable :: workspace(:, :)
+    ! loads and tracked nodes in local numbering (0 where this rank does not hold the node)
+    integer, allocatable :: load_node(:)
+    ! gathered fields on rank 0
+    real(wp), allocatable :: global_a(:, :), global_b(:, :), global_elements(:, :), element_out(:, :)
+    real(wp) :: dt = 0, dt_stable = 0, time = 0, external_work = 0, damping_work = 0
+    integer :: cycles = 0, inverted = 0
+    logical :: plastic = .false.
+  end type solver_t
+
+contains
+
+  !> Effects this deck switches on, in the order the engine runs them.
+  function solver_effects(deck) result(list)
+    type(deck_t), intent(in) :: deck
+    character(len=:), allocatable :: list
+    list = 'shell_elements,time_integration'
+    if (any(deck%material_model(deck%part_material) == material_j2_plastic)) list = list//',plasticity'
+    if (any(deck%fixed /= 0)) list = list//',fixed_boundaries'
+    if (deck%n_loads > 0) list = list//',point_loads'
+    if (deck%mass_damping > 0) list = list//',mass_damping'
+  end function solver_effects
+
+  subroutine solver_setup(s, deck, comm, status, message)
+    type(solver_t), intent(inout) :: s
+    type(deck_t), intent(in) :: deck
+    type(MPI_Comm), intent(in) :: comm
+    integer, intent(out) :: status
+    character(len=*), intent(out) :: message
+    integer :: g, p, n, nip, first, nl, ne, l, j
+    real(wp), allocatable :: dt_element(:), node_mass(:), node_inertia(:), xg(:, :, :)
+    real(wp) :: dt_local
+
+    status = 0
+    message = ''
+    call MPI_Comm_rank(comm, s%rank)
+    call MPI_Comm_size(comm, s%n_ranks)
+    s%threads = omp_get_max_threads()
+    call decompose(deck%n_nodes, deck%n_elements, deck%connectivity, deck%element_part, &
+                   s%n_ranks, s%rank, s%dom)
+    call halo_setup(s%dom, comm, s%halo)
+    nl = s%dom%n_nodes
+    ne = s%dom%n_elements
+    allocate (s%props(deck%n_parts))
+    do p = 1, deck%n_parts
+      s%props(p) = part_properties(deck, p)
+    end do
+    s%plastic = any(s%props%model == material_j2_plastic)
+
+    s%x0 = deck%coordinates(:, s%dom%nodes)
+    s%x = s%x0
+    s%v = deck%velocity(:, s%dom%nodes)
+    s%w = deck%angular_velocity(:, s%dom%nodes)
+    s%v_old = s%v
+    s%w_old = s%w
+    s%fixed = deck%fixed(:, s%dom%nodes)
+    s%weight = real(s%dom%node_owned, wp)
+    where (s%fixed(1:3, :) /= 0) s%v = 0.0_wp
+    where (s%fixed(4:6, :) /= 0) s%w = 0.0_wp
+    allocate (s%f_int(6, nl), s%f_ext(6, nl), s%f_ext_old(6, nl), source=0.0_wp)
+    allocate (s%corner(6, 4 * ne + s%dom%n_ghost_slots), source=0.0_wp)
+    allocate (s%e_internal(ne), s%e_hourglass(ne), source=0.0_wp)
+    s%threads = max(s%threads, 1)
+    allocate (s%workspace(workspace_per_group, s%threads), source=0.0_wp)
+
+    ! element state pools
+    allocate (s%stress_at(s%dom%n_groups + 1), s%back_at(s%dom%n_groups + 1))
+    allocate (s%eps_p_at(s%dom%n_groups + 1), s%hourglass_at(s%dom%n_groups + 1))
+    s%stress_at(1) = 1
+    s%back_at(1) = 1
+    s%eps_p_at(1) = 1
+    s%hourglass_at(1) = 1
+    do g = 1, s%dom%n_groups
+      n = s%dom%group_count(g)
+      nip = s%props(s%dom%group_part(g))%integration_points
+      s%stress_at(g + 1) = s%stress_at(g) + n * stress_components * nip
+      s%back_at(g + 1) = s%back_at(g) + n * 3 * nip
+      s%eps_p_at(g + 1) = s%eps_p_at(g) + n * nip
+      s%hourglass_at(g + 1) = s%hourglass_at(g) + n * hourglass_components
+    end do
+    allocate (s%stress(s%stress_at(s%dom%n_groups + 1) - 1), source=0.0_wp)
+    allocate (s%back(s%back_at(s%dom%n_groups + 1) - 1), source=0.0_wp)
+    allocate (s%eps_p(s%eps_p_at(s%dom%n_groups + 1) - 1), source=0.0_wp)
+    allocate (s%hourglass(s%hourglass_at(s%dom%n_groups + 1) - 1), source=0.0_wp)
+
+    ! lumped mass through the same corner exchange and fixed-order sum as the forces
+    dt_local = huge(1.0_wp)
+    allocate (dt_element(group_size), node_mass(group_size), node_inertia(group_size))
+    allocate (xg(group_size, 3, 4))
+    do g = 1, s%dom%n_groups
+      n = s%dom%group_count(g)
+      first = s%dom%group_first(g)
+      p = s%dom%group_part(g)
+      call gather_group(n, first, s%dom%connectivity, s%x, xg)
+      call blt_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, node_mass, node_inertia)
+      call blt_stable_time_step(n, xg, s%props(p), dt_element)
+      dt_local = min(dt_local, minval(dt_element(1:n)))
+      do j = 1, n
+        s%corner(1:3, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_mass(j)
+        s%corner(4:6, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_inertia(j)
+      end do
+    end do
+    call exchange_corners(s%dom, s%halo, s%corner)
+    call assemble_nodes(nl, s%dom%assembly_start, s%dom%assembly_slot, s%corner, s%f_int)
+    s%mass = s%f_int(1, :)
+    s%inertia = s%f_int(4, :)
+    s%f_int = 0.0_wp
+    if (any(.not. (s%mass > 0.0_wp))) then
+      status = 2
+      message = 'a node has no mass (zero-area element?); check /elements/connectivity and the coordinates'
+    end if
+    call MPI_Allreduce(dt_local, s%dt_stable, 1, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
+    s%dt_stable = deck%time_step_safety * s%dt_stable
+    s%dt = s%dt_stable
+    if (deck%time_step > 0.0_wp) then
+      if (deck%time_step <= s%dt_stable) then
+        s%dt = deck%time_step
+      else if (s%rank == 0) then
+        write (0, '(a,es11.4,a,es11.4,a)') 'paradyn-engine: warning: the requested time step ', &
+          deck%time_step, ' s is above the stable step ', s%dt_stable, ' s; using the stable step'
+      end if
+    end if
+
+    allocate (s%load_node(deck%n_loads))
+    do l = 1, deck%n_loads
+      s%load_node(l) = local_node(s%dom, deck%load_node(l))
+    end do
+    if (s%rank == 0) then
+      allocate (s%global_a(3, deck%n_nodes), s%global_b(3, deck%n_nodes))
+      allocate (s%global_elements(5, deck%n_elements))
+    else
+      allocate (s%global_a(3, 1), s%global_b(3, 1), s%global_elements(5, 1))
+    end if
+    allocate (s%element_out(5, max(ne, 1)))
+  end subroutine solver_setup
+
+  !> Local id of a global node, 0 if this rank does not hold it.
+  pure integer function local_node(dom, global) result(local)
+    type(domain_t), intent(in) :: dom
+    integer, intent(in) :: global
+    integer :: lo, hi, mid
+    local = 0
+    lo = 1
+    hi = dom%n_nodes
+    do while (lo <= hi)
+      mid = (lo + hi) / 2
+      if (dom%nodes(mid) == global) then
+        local = mid
+        return
+      else if (dom%nodes(mid) < global) then
+        lo = mid + 1
+      else
+        hi = mid - 1
+      end if
+    end do
+  end function local_node
+
+  !> Element forces of every group for the step that ends at the current positions.
+  subroutine element_forces(s, dt_strain)
+    type(solver_t), intent(inout) :: s
+    real(wp), intent(in) :: dt_strain
+    integer :: g, n, first, p, tid, inverted, ox, ov, ow, of
+    inverted = 0
+    ox = 1
+    ov = ox + 12 * group_size
+    ow = ov + 12 * group_size
+    of = ow + 12 * group_size
+    !$omp parallel do schedule(static) private(g, n, first, p, tid) reduction(+:inverted)
+    do g = 1, s%dom%n_groups
+      tid = omp_get_thread_num() + 1
+      n = s%dom%group_count(g)
+      first = s%dom%group_first(g)
+      p = s%dom%group_part(g)
+      call gather_group(n, first, s%dom%connectivity, s%x, s%workspace(ox, tid))
+      call gather_group(n, first, s%dom%connectivity, s%v, s%workspace(ov, tid))
+      call gather_group(n, first, s%dom%connectivity, s%w, s%workspace(ow, tid))
+      call blt_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
+                               s%props(p), dt_strain, s%stress(s%stress_at(g)), s%back(s%back_at(g)), &
+                               s%eps_p(s%eps_p_at(g)), s%hourglass(s%hourglass_at(g)), &
+                               s%workspace(of, tid), s%e_internal(first), s%e_hourglass(first), inverted)
+      call scatter_corners(n, first, s%workspace(of, tid), s%corner)
+    end do
+    !$omp end parallel do
+    s%inverted = s%inverted + inverted
+  end subroutine element_forces
+
+  !> Fixed-order nodal sum of the corner forces, nodes split into one contiguous range per thread.
+  subroutine assemble_forces(s)
+    type(solver_t), intent(inout) :: s
+    integer :: chunk, j0, nj, nl
+    nl = s%dom%n_nodes
+    chunk = max(1, (nl + s%threads - 1) / s%threads)
+    !$omp parallel do schedule(static) private(j0, nj)
+    do j0 = 1, nl, chunk
+      nj = min(chunk, nl - j0 + 1)
+      call assemble_nodes(nj, s%dom%assembly_start(j0:j0 + nj), s%dom%assembly_slot, s%corner, &
+                          s%f_int(:, j0:j0 + nj - 1))
+    end do
+    !$omp end parallel do
+  end subroutine assemble_forces
+
+  !> The time loop. Returns status 0, or 3 with a message on a numerical failure.
+  subroutine solver_run(s, deck, rf, run, status, message)
+    type(solver_t), intent(inout) :: s
+    type(deck_t), intent(in) :: deck
+    type(results_file_t), intent(inout) :: rf
+    type(run_record_t), intent(out) :: run
+    integer, intent(out) :: status
+    character(len=*), intent(out) :: message
+    integer :: n_steps, next_frame, next_record
+    real(wp) :: t_start, t_phase, t_last_progress, h
+    real(wp) :: phase(5)   ! elements, contact, communication, output, other
+    logical :: frame_due, record_due
+
+    status = 0
+    message = ''
+    phase = 0.0_wp
+    n_steps = max(1, ceiling(deck%end_time / s%dt - 1.0e-9_wp))
+    call MPI_Barrier(s%halo%comm)
+    t_start = MPI_Wtime()
+    t_last_progress = t_start
+    next_frame = 0
+    next_record = 0
+    s%time = 0.0_wp
+    s%cycles = 0
+    call forces_at_current_state(0.0_wp)
+
+    do
+      if (deck%n_loads > 0) call apply_loads()
+      frame_due = s%cycles >= next_frame .or. s%cycles == n_steps
+      record_due = s%cycles >= next_record .or. s%cycles == n_steps
+      if (frame_due .or. record_due) then
+        s%v_old = s%v
+        s%w_old = s%w
+      end if
+      h = merge(0.5_wp * s%dt, s%dt, s%cycles == 0)
+      t_phase = MPI_Wtime()
+      call update_velocities(s%dom%n_nodes, h, deck%mass_damping, s%mass, s%inertia, s%fixed, &
+                             s%f_int, s%f_ext, s%weight, s%v, s%w, s%damping_work)
+      phase(5) = phase(5) + MPI_Wtime() - t_phase
+      if (frame_due .or. record_due) then
+        t_phase = MPI_Wtime()
+        if (record_due) then
+          call write_record(status, message)
+          next_record = step_of(deck%history_interval, s%cycles)
+        end if
+        if (frame_due .and. status == 0) then
+          call write_frame()
+          next_frame = step_of(deck%output_interval, s%cycles)
+        end if
+        phase(4) = phase(4) + MPI_Wtime() - t_phase
+        if (status /= 0) exit
+      end if
+      if (s%cycles >= n_steps) exit
+      call update_positions(s%dom%n_nodes, s%dt, s%v, s%x)
+      s%time = s%time + s%dt
+      s%cycles = s%cycles + 1
+      call forces_at_current_state(s%dt)
+      if (s%rank == 0 .and. MPI_Wtime() - t_last_progress >= deck%progress_interval) then
+        t_last_progress = MPI_Wtime()
+        write (*, '(a,i0,a,es13.6,a,es11.4,a,es11.4,a,f0.3)') 'PARADYN-PROGRESS cycle=', s%cycles, &
+          ' time=', s%time, ' dt=', s%dt, ' end_time=', deck%end_time, ' wall_s=', t_last_progress - t_start
+        flush (6)
+      end if
+    end do
+
+    run%cycles = s%cycles
+    run%ranks = s%n_ranks
+    run%threads = s%threads
+    run%elements = deck%n_elements
+    run%nodes = deck%n_nodes
+    run%dt_s = s%dt
+    run%dt_stable_s = s%dt_stable
+    run%wall_s = MPI_Wtime() - t_start
+    run%element_cycles_per_s = real(deck%n_elements, wp) * s%cycles / max(run%wall_s, 1.0e-12_wp)
+    run%phase_elements_s = phase(1)
+    run%phase_contact_s = phase(2)
+    run%phase_communication_s = phase(3)
+    run%phase_output_s = phase(4)
+    run%phase_other_s = max(run%wall_s - sum(phase(1:4)), 0.0_wp)
+
+  contains
+
+    !> The first cycle at or after the next multiple of the interval.
+    integer function step_of(interval, cycle_now)
+      real(wp), intent(in) :: interval
+      integer, intent(in) :: cycle_now
+      integer :: k
+      k = floor(s%time / interval + 1.0e-6_wp) + 1
+      step_of = max(cycle_now + 1, nint(k * interval / s%dt - 1.0e-6_wp))
+      step_of = min(step_of, n_steps)
+      if (cycle_now == n_steps) step_of = n_steps + 1
+    end function step_of
+
+    subroutine forces_at_current_state(dt_strain)
+      real(wp), intent(in) :: dt_strain
+      real(wp) :: t0
+      t0 = MPI_Wtime()
+      call element_forces(s, dt_strain)
+      phase(1) = phase(1) + MPI_Wtime() - t0
+      t0 = MPI_Wtime()
+      call exchange_corners(s%dom, s%halo, s%corner)
+      phase(3) = phase(3) + MPI_Wtime() - t0
+      t0 = MPI_Wtime()
+      call assemble_forces(s)
+      phase(1) = phase(1) + MPI_Wtime() - t0
+    end subroutine forces_at_current_state
+
+    !> Loads at the current time and their work since the last step (trapezoidal rule).
+    subroutine apply_loads()
+      integer :: j
+      s%f_ext_old = s%f_ext
+      call point_load_forces(deck%n_loads, s%load_node, deck%load_dof, deck%load_value, &
+                             deck%load_ramp_time, s%time, s%f_ext)
+      if (s%cycles == 0) return
+      do j = 1, s%dom%n_nodes
+        s%external_work = s%external_work + s%weight(j) * 0.5_wp * s%dt * ( &
+          dot_product(s%v(:, j), s%f_ext_old(1:3, j) + s%f_ext(1:3, j)) + &
+          dot_product(s%w(:, j), s%f_ext_old(4:6, j) + s%f_ext(4:6, j)))
+      end do
+    end subroutine apply_loads
+
+    !> Energies and tracked nodes at the current time.
+    subroutine write_record(status, message)
+      integer, intent(out) :: status
+      character(len=*), intent(out) :: message
+      real(wp) :: sums(7)
+      integer :: bad, bad_total
+      sums(1) = kinetic_energy(s%dom%n_nodes, s%mass, s%inertia, s%v_old, s%w_old, s%v, s%w, s%weight)
+      sums(2) = sum(s%e_internal)
+      sums(3) = sum(s%e_hourglass)
+      sums(4) = 0.0_wp
+      sums(5) = s%external_work - s%damping_work
+      sums(6) = real(s%inverted, wp)
+      sums(7) = merge(1.0_wp, 0.0_wp, any(s%v /= s%v) .or. any(s%f_int /= s%f_int))
+      call sum_to_root(s%halo, sums)
+      call gather_nodes(s%halo, s%x - s%x0, s%global_a)
+      call gather_nodes(s%halo, 0.5_wp * (s%v + s%v_old), s%global_b)
+      status = 0
+      message = ''
+      bad = 0
+      if (s%rank == 0) then
+        call results_write_history(rf, s%time, sums(1:5), s%global_a(:, deck%tracked_nodes), &
+                                   s%global_b(:, deck%tracked_nodes))
+        if (sums(6) > 0.0_wp) bad = 1
+        if (sums(7) > 0.0_wp .or. sums(1) /= sums(1)) bad = 2
+      end if
+      call MPI_Allreduce(bad, bad_total, 1, MPI_INTEGER, MPI_MAX, s%halo%comm)
+      if (bad_total == 1) then
+        status = 3
+        write (message, '(a,i0,a,es12.5,a)') 'an element turned inside out (zero or negative area) by cycle ', &
+          s%cycles, ', time ', s%time, ' s; reduce the time step or the loading, or refine the mesh'
+      else if (bad_total == 2) then
+        status = 3
+        write (message, '(a,i0,a,es12.5,a)') 'the solution became NaN by cycle ', s%cycles, ', time ', &
+          s%time, ' s; the run is unstable (time step too large or a bad material constant)'
+      end if
+    end subroutine write_record
+
+    subroutine write_frame()
+      integer :: g, n, first, nip
+      real(wp) :: membrane(group_size, 3), von_mises(group_size), plastic(group_size)
+      do g = 1, s%dom%n_groups
+        n = s%dom%group_count(g)
+        first = s%dom%group_first(g)
+        nip = s%props(s%dom%group_part(g))%integration_points
+        call blt_element_results(n, nip, s%stress(s%stress_at(g)), s%eps_p(s%eps_p_at(g)), &
+                                 membrane, von_mises, plastic)
+        s%element_out(1:3, first:first + n - 1) = transpose(membrane(1:n, :))
+        s%element_out(4, first:first + n - 1) = von_mises(1:n)
+        s%element_out(5, first:first + n - 1) = plastic(1:n)
+      end do
+      call gather_nodes(s%halo, s%x - s%x0, s%global_a)
+      call gather_nodes(s%halo, 0.5_wp * (s%v + s%v_old), s%global_b)
+      call gather_elements(s%halo, s%element_out(:, 1:s%dom%n_elements), s%global_elements)
+      if (s%rank == 0) call results_write_frame(rf, s%time, s%global_a, s%global_b, &
+                                                s%global_elements(1:3, :), s%global_elements(4, :), &
+                                                s%global_elements(5, :))
+    end subroutine write_frame
+
+  end subroutine solver_run
+
+end module explicit_solver

@@ -1,0 +1,130 @@
+!> MPI plumbing around the domain decomposition: the exchange of element-corner forces on shared
+!> nodes with neighbour ranks (nothing else crosses the network each step), and the gathers to
+!> rank 0 for output. Buffers are allocated once, at set-up.
+module halo_exchange
+  use mpi_f08
+  use paradyn_kinds, only: wp
+  use domain_decomposition, only: domain_t
+  implicit none
+  private
+  public :: halo_t, halo_setup, exchange_corners, gather_nodes, gather_elements, sum_to_root
+
+  type :: halo_t
+    type(MPI_Comm) :: comm
+    integer :: width = 6
+    real(wp), allocatable :: send_buffer(:, :), recv_buffer(:, :)
+    type(MPI_Request), allocatable :: requests(:)
+    ! gathers to rank 0
+    integer, allocatable :: owned_local(:)          !< local ids of the nodes this rank owns
+    integer, allocatable :: node_counts(:), node_displs(:), gathered_node_ids(:)
+    integer, allocatable :: element_counts(:), element_displs(:)
+  end type halo_t
+
+contains
+
+  subroutine halo_setup(dom, comm, halo)
+    type(domain_t), intent(in) :: dom
+    type(MPI_Comm), intent(in) :: comm
+    type(halo_t), intent(out) :: halo
+    integer :: n_owned, total
+    halo%comm = comm
+    allocate (halo%send_buffer(halo%width, max(size(dom%send_slot), 1)))
+    allocate (halo%recv_buffer(halo%width, max(size(dom%recv_slot), 1)))
+    allocate (halo%requests(2 * dom%n_neighbours))
+    halo%owned_local = pack([(n_owned, n_owned = 1, dom%n_nodes)], dom%node_owned == 1)
+    n_owned = size(halo%owned_local)
+    allocate (halo%node_counts(dom%n_ranks), halo%node_displs(dom%n_ranks))
+    allocate (halo%element_counts(dom%n_ranks), halo%element_displs(dom%n_ranks))
+    call MPI_Gather(n_owned, 1, MPI_INTEGER, halo%node_counts, 1, MPI_INTEGER, 0, comm)
+    call MPI_Gather(dom%n_elements, 1, MPI_INTEGER, halo%element_counts, 1, MPI_INTEGER, 0, comm)
+    call displacements(halo%node_counts, halo%node_displs, total)
+    allocate (halo%gathered_node_ids(max(total, 1)))
+    call MPI_Gatherv(dom%nodes(halo%owned_local), n_owned, MPI_INTEGER, halo%gathered_node_ids, &
+                     halo%node_counts, halo%node_displs, MPI_INTEGER, 0, comm)
+    call displacements(halo%element_counts, halo%element_displs, total)
+  end subroutine halo_setup
+
+  subroutine displacements(counts, displs, total)
+    integer, intent(in) :: counts(:)
+    integer, intent(out) :: displs(:), total
+    integer :: r
+    total = 0
+    do r = 1, size(counts)
+      displs(r) = total
+      total = total + counts(r)
+    end do
+  end subroutine displacements
+
+  !> Send our corner values on shared nodes to each neighbour and receive theirs into the ghost
+  !> slots of `corner` (width x (4 n_elements + n_ghost_slots)).
+  subroutine exchange_corners(dom, halo, corner)
+    type(domain_t), intent(in) :: dom
+    type(halo_t), intent(inout) :: halo
+    real(wp), intent(inout) :: corner(:, :)
+    integer :: k, first, last, n, w
+    if (dom%n_neighbours == 0) return
+    w = size(corner, 1)
+    do k = 1, dom%n_neighbours
+      first = dom%recv_start(k)
+      last = dom%recv_start(k + 1) - 1
+      n = last - first + 1
+      call MPI_Irecv(halo%recv_buffer(1, first), w * n, MPI_DOUBLE_PRECISION, dom%neighbour(k), 7, &
+                     halo%comm, halo%requests(k))
+    end do
+    do k = 1, dom%n_neighbours
+      first = dom%send_start(k)
+      last = dom%send_start(k + 1) - 1
+      n = last - first + 1
+      halo%send_buffer(1:w, first:last) = corner(:, dom%send_slot(first:last))
+      call MPI_Isend(halo%send_buffer(1, first), w * n, MPI_DOUBLE_PRECISION, dom%neighbour(k), 7, &
+                     halo%comm, halo%requests(dom%n_neighbours + k))
+    end do
+    call MPI_Waitall(2 * dom%n_neighbours, halo%requests, MPI_STATUSES_IGNORE)
+    corner(:, dom%recv_slot) = halo%recv_buffer(1:w, 1:size(dom%recv_slot))
+  end subroutine exchange_corners
+
+  !> Gather a nodal field (m, n_local) to rank 0 in global node order (m, n_global).
+  subroutine gather_nodes(halo, local, global)
+    type(halo_t), intent(in) :: halo
+    real(wp), intent(in) :: local(:, :)
+    real(wp), intent(inout) :: global(:, :)
+    real(wp), allocatable :: packed(:, :), received(:, :)
+    integer :: m, rank, j
+    m = size(local, 1)
+    packed = local(:, halo%owned_local)
+    call MPI_Comm_rank(halo%comm, rank)
+    if (rank == 0) then
+      allocate (received(m, size(halo%gathered_node_ids)))
+    else
+      allocate (received(m, 1))
+    end if
+    call MPI_Gatherv(packed, m * size(halo%owned_local), MPI_DOUBLE_PRECISION, received, &
+                     m * halo%node_counts, m * halo%node_displs, MPI_DOUBLE_PRECISION, 0, halo%comm)
+    if (rank == 0) then
+      do j = 1, sum(halo%node_counts)
+        global(:, halo%gathered_node_ids(j)) = received(:, j)
+      end do
+    end if
+  end subroutine gather_nodes
+
+  !> Gather an element field (m, n_local_elements) to rank 0; blocks are contiguous and in rank
+  !> order, so the result is in global element order.
+  subroutine gather_elements(halo, local, global)
+    type(halo_t), intent(in) :: halo
+    real(wp), intent(in) :: local(:, :)
+    real(wp), intent(inout) :: global(:, :)
+    integer :: m
+    m = size(local, 1)
+    call MPI_Gatherv(local, size(local), MPI_DOUBLE_PRECISION, global, m * halo%element_counts, &
+                     m * halo%element_displs, MPI_DOUBLE_PRECISION, 0, halo%comm)
+  end subroutine gather_elements
+
+  subroutine sum_to_root(halo, values)
+    type(halo_t), intent(in) :: halo
+    real(wp), intent(inout) :: values(:)
+    real(wp) :: total(size(values))
+    call MPI_Reduce(values, total, size(values), MPI_DOUBLE_PRECISION, MPI_SUM, 0, halo%comm)
+    values = total
+  end subroutine sum_to_root
+
+end module halo_exchange

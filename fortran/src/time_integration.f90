@@ -1,0 +1,80 @@
+!> Explicit central-difference integration of nodal translations and rotations (lumped mass,
+!> diagonal rotational inertia, optional mass-proportional damping).
+module time_integration
+  use paradyn_kinds, only: wp
+  implicit none
+  private
+  public :: update_velocities, update_positions, point_load_forces, kinetic_energy
+
+contains
+
+  !> v(n+1/2) = [(1 - a h/2) v(n-1/2) + h (f_ext - f_int) / m] / (1 + a h/2) for the 3 translations
+  !> and, with the inertia, the 3 rotations; fixed dofs get zero velocity. h is the step between
+  !> the two half-step velocities. damping_work accumulates the work dissipated by damping on the
+  !> nodes with weight 1 (each node is counted by one rank only).
+  pure subroutine update_velocities(n, h, damping, mass, inertia, fixed, force_internal, &
+                                    force_external, weight, v, w, damping_work)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: h, damping, mass(n), inertia(n)
+    integer, intent(in) :: fixed(6, n)
+    real(wp), intent(in) :: force_internal(6, n), force_external(6, n), weight(n)
+    real(wp), intent(inout) :: v(3, n), w(3, n), damping_work
+    real(wp) :: c_old, c_new, v_old(3)
+    integer :: j
+    c_old = 1.0_wp - 0.5_wp * damping * h
+    c_new = 1.0_wp / (1.0_wp + 0.5_wp * damping * h)
+    do j = 1, n
+      v_old = v(:, j)
+      v(:, j) = c_new * (c_old * v(:, j) + h * (force_external(1:3, j) - force_internal(1:3, j)) / mass(j))
+      w(:, j) = c_new * (c_old * w(:, j) + h * (force_external(4:6, j) - force_internal(4:6, j)) / inertia(j))
+      where (fixed(1:3, j) /= 0) v(:, j) = 0.0_wp
+      where (fixed(4:6, j) /= 0) w(:, j) = 0.0_wp
+      if (damping > 0.0_wp) damping_work = damping_work + weight(j) * h * damping * mass(j) &
+                                           * sum((0.5_wp * (v_old + v(:, j)))**2)
+    end do
+  end subroutine update_velocities
+
+  !> x(n+1) = x(n) + dt v(n+1/2).
+  pure subroutine update_positions(n, dt, v, x)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: dt, v(3, n)
+    real(wp), intent(inout) :: x(3, n)
+    x = x + dt * v
+  end subroutine update_positions
+
+  !> Point loads at time t: each grows linearly from 0 to its value over its ramp time.
+  !> node holds local node indices (0 for loads on nodes this rank does not hold).
+  pure subroutine point_load_forces(n_loads, node, dof, value, ramp_time, time, force_external)
+    integer, intent(in) :: n_loads, node(n_loads), dof(n_loads)
+    real(wp), intent(in) :: value(n_loads), ramp_time(n_loads), time
+    real(wp), intent(inout) :: force_external(:, :)
+    integer :: l
+    force_external = 0.0_wp
+    do l = 1, n_loads
+      if (node(l) < 1) cycle
+      if (ramp_time(l) > 0.0_wp) then
+        force_external(dof(l), node(l)) = force_external(dof(l), node(l)) &
+                                          + value(l) * min(1.0_wp, time / ramp_time(l))
+      else
+        force_external(dof(l), node(l)) = force_external(dof(l), node(l)) + value(l)
+      end if
+    end do
+  end subroutine point_load_forces
+
+  !> Kinetic energy at t(n) of the nodes with weight 1, as 1/2 m v(n-1/2).v(n+1/2) (translations
+  !> and rotations): with the midpoint stress work, the quantity that central differences conserve
+  !> exactly for a linear system (Belytschko, Liu & Moran, Nonlinear Finite Elements, sec. 6.2.3).
+  pure real(wp) function kinetic_energy(n, mass, inertia, v_before, w_before, v_after, w_after, &
+                                        weight) result(energy)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: mass(n), inertia(n), weight(n)
+    real(wp), intent(in) :: v_before(3, n), w_before(3, n), v_after(3, n), w_after(3, n)
+    integer :: j
+    energy = 0.0_wp
+    do j = 1, n
+      energy = energy + weight(j) * 0.5_wp * (mass(j) * dot_product(v_before(:, j), v_after(:, j)) &
+                                              + inertia(j) * dot_product(w_before(:, j), w_after(:, j)))
+    end do
+  end function kinetic_energy
+
+end module time_integration
