@@ -1,0 +1,32 @@
+# The two commands of the README: `make demo` (the paper's pipe whip) and `make test`.
+# Both install what is missing first; running them again only rebuilds what changed.
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.paradyn-installed
+SOURCES := pyproject.toml $(shell find fortran frontend -type f -not -name '*.pyc' 2>/dev/null)
+
+.PHONY: demo test install engine clean
+
+demo: $(STAMP)
+	$(VENV)/bin/paradyn-run cases/pipe_whip/scene.toml -o runs/pipe_whip
+
+test: $(STAMP)
+	$(PY) -m pytest -q
+
+install: $(STAMP)
+
+$(STAMP): $(SOURCES) setup/system-packages.sh
+	bash setup/system-packages.sh
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q "scikit-build-core>=0.10" "numpy>=1.26"
+	$(PY) -m pip install -q --no-build-isolation ".[test]"
+	touch $@
+
+# The engine alone, for cluster users: build/engine/paradyn-engine
+engine:
+	cmake -S fortran -B build/engine && cmake --build build/engine -j
+
+clean:
+	rm -rf build $(VENV) runs
