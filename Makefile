@@ -6,7 +6,7 @@ PY := $(VENV)/bin/python
 STAMP := $(VENV)/.paradyn-installed
 SOURCES := pyproject.toml $(shell find fortran frontend -type f -not -name '*.pyc' 2>/dev/null)
 
-.PHONY: demo test install engine clean
+.PHONY: demo test install engine bench clean
 
 demo: $(STAMP)
 	$(VENV)/bin/paradyn-run cases/pipe_whip/scene.toml -o runs/pipe_whip
@@ -23,6 +23,10 @@ $(STAMP): $(SOURCES) setup/system-packages.sh
 	$(PY) -m pip install -q "scikit-build-core>=0.10" "numpy>=1.26"
 	$(PY) -m pip install -q --no-build-isolation ".[test]"
 	touch $@
+
+# Kernel speed: microseconds per element-cycle, elastic and plastic (docs/performance.md)
+bench: $(STAMP)
+	$(PY) -c "from paradyn.launch import engine_path; import subprocess; subprocess.run([str(engine_path().with_name('paradyn-kernel-benchmark'))], check=True)"
 
 # The engine alone, for cluster users: build/engine/paradyn-engine
 engine:

@@ -21,11 +21,13 @@ end subroutine thickness_points
 
 subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield_stress, tangent, &
                       beta, hourglass_coefficient, model, dt, stress, back, eps_p, hourglass, force, &
-                      e_internal, e_hourglass, inverted)
+                      e_internal, e_hourglass, inverted, hourglass_form)
   use paradyn_kinds, only: wp
   use shell_blt, only: shell_properties_t, blt_internal_forces
   implicit none
   integer, intent(in) :: n, nip, model
+  integer, intent(in) :: hourglass_form  ! 1 viscous, 2 stiffness
+  !f2py integer optional, intent(in) :: hourglass_form = 2
   real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
   real(wp), intent(in) :: thickness, density, young, poisson, yield_stress, tangent, beta
   real(wp), intent(in) :: hourglass_coefficient, dt
@@ -35,7 +37,7 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   integer, intent(out) :: inverted
   type(shell_properties_t) :: props
   props = shell_properties_t(thickness, density, young, poisson, yield_stress, tangent, beta, &
-                             hourglass_coefficient, model, nip)
+                             hourglass_coefficient, model, nip, hourglass_form)
   inverted = 0
   call blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, hourglass, force, &
                            e_internal, e_hourglass, inverted)

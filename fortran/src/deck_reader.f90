@@ -48,6 +48,7 @@ contains
     if (status_ok()) d%n_parts = size(d%thickness)
     if (status_ok()) call read_int1('/parts/material', d%n_parts, d%part_material, .true., 0)
     if (status_ok()) call read_int1('/parts/integration_points', d%n_parts, d%integration_points, .false., 5)
+    if (status_ok()) call read_int1('/parts/hourglass_form', d%n_parts, d%hourglass_form, .false., 2)
     if (status_ok()) call read_real1('/parts/hourglass_coefficient', d%n_parts, d%hourglass_coefficient, &
                                      .false., 0.1_wp)
     if (status_ok()) call read_int1('/materials/model', -1, d%material_model, .true., 0)

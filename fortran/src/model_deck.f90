@@ -4,7 +4,7 @@ module model_deck
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use paradyn_kinds, only: wp
   use shell_blt, only: shell_properties_t, material_elastic, material_j2_plastic, &
-                       max_integration_points
+                       max_integration_points, hourglass_viscous, hourglass_stiffness
   implicit none
   private
   public :: deck_t, part_properties, check_deck_values
@@ -19,7 +19,7 @@ module model_deck
     integer, allocatable :: connectivity(:, :)        !< (4, n_elements), 1-based nodes
     integer, allocatable :: element_part(:)           !< (n_elements), 1-based
     real(wp), allocatable :: thickness(:), hourglass_coefficient(:)
-    integer, allocatable :: part_material(:), integration_points(:)
+    integer, allocatable :: part_material(:), integration_points(:), hourglass_form(:)
     integer, allocatable :: material_model(:)
     real(wp), allocatable :: density(:), young(:), poisson(:)
     real(wp), allocatable :: yield_stress(:), tangent_modulus(:), hardening_mixing(:)
@@ -42,6 +42,7 @@ contains
     props%thickness = deck%thickness(part)
     props%hourglass_coefficient = deck%hourglass_coefficient(part)
     props%integration_points = deck%integration_points(part)
+    props%hourglass_form = deck%hourglass_form(part)
     props%model = deck%material_model(m)
     props%density = deck%density(m)
     props%young = deck%young(m)
@@ -114,6 +115,11 @@ contains
       if (d%integration_points(i) < 1 .or. d%integration_points(i) > max_integration_points) then
         write (message, '(a,i0,a,i0,a)') '/parts/integration_points[', i - 1, '] = ', &
           d%integration_points(i), ' must be between 1 and 9'
+        return
+      end if
+      if (d%hourglass_form(i) /= hourglass_viscous .and. d%hourglass_form(i) /= hourglass_stiffness) then
+        write (message, '(a,i0,a,i0,a)') '/parts/hourglass_form[', i - 1, '] = ', d%hourglass_form(i), &
+          ' is unknown; use 1 (viscous) or 2 (stiffness)'
         return
       end if
       if (.not. (d%hourglass_coefficient(i) >= 0.0_wp)) then

@@ -3,7 +3,7 @@
 !> Four-node quadrilateral, one-point quadrature in the plane, Gauss points through the thickness,
 !> co-rotational local frame per element and step, velocity-strain formulation (membrane, bending,
 !> transverse shear), stresses stored in the co-rotational frame (an objective rate), and
-!> stiffness-form hourglass control in the manner of Flanagan & Belytschko (1981).
+!> stiffness- or viscous-form hourglass control in the manner of Flanagan & Belytschko (1981).
 !>
 !> Kernels work on a group of n elements whose arrays put the element index first (structure of
 !> arrays). They are pure: no MPI, no I/O, no module state.
@@ -14,12 +14,15 @@ module shell_blt
   private
   public :: shell_properties_t, material_elastic, material_j2_plastic, max_integration_points
   public :: stress_components, hourglass_components, shear_correction
+  public :: hourglass_viscous, hourglass_stiffness
   public :: blt_internal_forces, blt_lumped_mass, blt_stable_time_step, blt_element_results
   public :: thickness_rule, local_frame
 
   integer, parameter :: material_elastic = 1
   integer, parameter :: material_j2_plastic = 2
   integer, parameter :: max_integration_points = 9
+  integer, parameter :: hourglass_viscous = 1     !< resultants proportional to the hourglass rates
+  integer, parameter :: hourglass_stiffness = 2   !< resultants integrated from the rates (elastic)
   integer, parameter :: stress_components = 5     !< sxx, syy, sxy, sxz, syz (local frame)
   integer, parameter :: hourglass_components = 5  !< membrane x, y; rotation x, y; transverse w
   real(wp), parameter :: shear_correction = 5.0_wp / 6.0_wp
@@ -37,6 +40,7 @@ module shell_blt
     real(wp) :: hourglass_coefficient = 0.1_wp
     integer :: model = material_elastic
     integer :: integration_points = 5
+    integer :: hourglass_form = hourglass_stiffness
   end type shell_properties_t
 
 contains
@@ -137,7 +141,7 @@ contains
     real(wp) :: zeta(max_integration_points), wgt(max_integration_points)
     real(wp) :: xe(3, 4), e(3, 3), xl(4), yl(4), area, b1(4), b2(4), gamma(4)
     real(wp) :: vl(3, 4), wl(3, 4), dm(3), kappa(3), gs(2), qrate(hourglass_components)
-    real(wp) :: t, half_t, shear, z, deps(3), s_old(stress_components), work, bb, stiff(5)
+    real(wp) :: t, half_t, shear, z, deps(3), s_old(stress_components), work, bb, stiff(5), inertia(5)
     real(wp) :: q_old(hourglass_components), res_n(3), res_m(3), res_q(2), fl(6, 4)
 
     nip = props%integration_points
@@ -185,7 +189,7 @@ contains
       end do
       e_internal(i) = e_internal(i) + area * work
 
-      ! --- hourglass resultants (stiffness form)
+      ! --- hourglass resultants: stiffness form integrates k q; viscous form is sqrt(k m) q
       qrate = [dot_product(gamma, vl(1, :)), dot_product(gamma, vl(2, :)), &
                dot_product(gamma, wl(1, :)), dot_product(gamma, wl(2, :)), &
                dot_product(gamma, vl(3, :))]
@@ -194,8 +198,17 @@ contains
       stiff(3:4) = props%young * t**3 * area * bb / 192.0_wp
       stiff(5) = props%young * t**3 * area * bb**2 / 192.0_wp
       q_old = hourglass(i, :)
-      hourglass(i, :) = hourglass(i, :) + props%hourglass_coefficient * stiff * dt * qrate
-      e_hourglass(i) = e_hourglass(i) + dt * dot_product(0.5_wp * (q_old + hourglass(i, :)), qrate)
+      if (props%hourglass_form == hourglass_viscous) then
+        ! element mass for translations, its scaled rotary inertia for rotations (as the lumped mass)
+        inertia(1:2) = props%density * t * area
+        inertia(3:4) = props%density * t * area * (t**2 + area) / 12.0_wp
+        inertia(5) = props%density * t * area
+        hourglass(i, :) = props%hourglass_coefficient * sqrt(stiff * inertia) * qrate
+        e_hourglass(i) = e_hourglass(i) + dt * dot_product(hourglass(i, :), qrate)
+      else
+        hourglass(i, :) = hourglass(i, :) + props%hourglass_coefficient * stiff * dt * qrate
+        e_hourglass(i) = e_hourglass(i) + dt * dot_product(0.5_wp * (q_old + hourglass(i, :)), qrate)
+      end if
 
       ! --- resultants and nodal forces on the end-of-step geometry
       xe = x(i, :, :)

@@ -23,6 +23,8 @@ VERSION_ATTRIBUTE = "paradyn_deck_version"
 
 ELASTIC = 1
 J2_PLASTICITY = 2
+HOURGLASS_VISCOUS = 1
+HOURGLASS_STIFFNESS = 2
 DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
 
 
@@ -78,6 +80,7 @@ class Model:
     fixed_dofs: np.ndarray | None = None                  # /nodes/fixed_dofs (n_nodes, 6) 0/1
     integration_points: np.ndarray | None = None          # /parts/integration_points, default 5
     hourglass_coefficient: np.ndarray | None = None       # /parts/hourglass_coefficient, default 0.1
+    hourglass_form: np.ndarray | None = None              # /parts/hourglass_form, 1 viscous, 2 stiffness (default)
     yield_stress: np.ndarray | None = None                # /materials/yield_stress Pa
     tangent_modulus: np.ndarray | None = None             # /materials/tangent_modulus Pa
     hardening_mixing: np.ndarray | None = None            # /materials/hardening_mixing
@@ -117,6 +120,8 @@ class Model:
                 self.integration_points = np.full(n_parts, 5, dtype=np.int32)
             if self.hourglass_coefficient is None:
                 self.hourglass_coefficient = np.full(n_parts, 0.1)
+            if self.hourglass_form is None:
+                self.hourglass_form = np.full(n_parts, HOURGLASS_STIFFNESS, dtype=np.int32)
 
     @property
     def n_nodes(self) -> int | None:
@@ -188,6 +193,7 @@ _DATASETS = (
     _Dataset("part_material", "/parts/material", "int", ("n_parts",), True),
     _Dataset("integration_points", "/parts/integration_points", "int", ("n_parts",), False),
     _Dataset("hourglass_coefficient", "/parts/hourglass_coefficient", "float", ("n_parts",), False),
+    _Dataset("hourglass_form", "/parts/hourglass_form", "int", ("n_parts",), False),
     _Dataset("material_model", "/materials/model", "int", ("n_materials",), True),
     _Dataset("density", "/materials/density", "float", ("n_materials",), True),
     _Dataset("youngs_modulus", "/materials/youngs_modulus", "float", ("n_materials",), True),
@@ -370,6 +376,9 @@ def _check_parts(check: _Checker, sizes: dict[str, int]) -> None:
     hg = check.array("hourglass_coefficient")
     check.entries("hourglass_coefficient", ~(np.isfinite(hg) & (hg >= 0)), "must be >= 0",
                   "use a small non-negative coefficient such as 0.1")
+    form = check.array("hourglass_form")
+    check.entries("hourglass_form", (form != HOURGLASS_VISCOUS) & (form != HOURGLASS_STIFFNESS),
+                  "is unknown", "use 1 (viscous) or 2 (stiffness)")
 
 
 def _check_materials(check: _Checker) -> None:

@@ -111,6 +111,7 @@ class PartSpec:
     geometry: Geometry
     integration_points: int = 5
     hourglass_coefficient: float = 0.1
+    hourglass_form: str = "stiffness"
     initial_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
@@ -269,7 +270,8 @@ _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio",
                   "tangent_modulus", "hardening_mixing")
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
 _PART_KEYS = ("name", "material", "thickness", "integration_points", "hourglass_coefficient",
-              "initial_velocity", "geometry")
+              "hourglass_form", "initial_velocity", "geometry")
+HOURGLASS_FORMS = {"viscous": deck.HOURGLASS_VISCOUS, "stiffness": deck.HOURGLASS_STIFFNESS}
 _GEOMETRY_KEYS = {
     "cylinder": ("kind", "radius", "length", "axis", "center", "elements_around", "elements_along"),
     "plate": ("kind", "size", "elements", "origin", "u_axis", "v_axis"),
@@ -379,6 +381,7 @@ def _parse_part(r: _Reader, t: dict[str, Any], index: int) -> PartSpec:
         geometry=_parse_geometry(r, r.table(t, "geometry", label), f"[part.geometry] of part '{name}'"),
         integration_points=r.integer(t, "integration_points", label, default=5, minimum=1, maximum=9),
         hourglass_coefficient=r.number(t, "hourglass_coefficient", label, default=0.1, minimum=0.0),
+        hourglass_form=r.string(t, "hourglass_form", label, default="stiffness", choices=tuple(HOURGLASS_FORMS)),
         initial_velocity=r.vector(t, "initial_velocity", label, default=(0.0, 0.0, 0.0)),
     )
 
@@ -538,6 +541,7 @@ def build_model(scene: Scene) -> deck.Model:
         part_material=np.array([material_index[p.material] for p in scene.parts], dtype=np.int32),
         integration_points=np.array([p.integration_points for p in scene.parts], dtype=np.int32),
         hourglass_coefficient=np.array([p.hourglass_coefficient for p in scene.parts]),
+        hourglass_form=np.array([HOURGLASS_FORMS[p.hourglass_form] for p in scene.parts], dtype=np.int32),
         material_model=np.array([m.model_code for m in scene.materials], dtype=np.int32),
         density=np.array([m.density for m in scene.materials]),
         youngs_modulus=np.array([m.youngs_modulus for m in scene.materials]),

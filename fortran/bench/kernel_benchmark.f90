@@ -1,0 +1,86 @@
+!> paradyn-kernel-benchmark [ELEMENTS] [CYCLES]
+!>
+!> Times the BLT element kernel alone, single thread, on groups of the engine's size: an elastic
+!> section and a J2-plastic section that yields, both with 5 through-thickness points. Prints
+!> microseconds per element-cycle. Gathers and the nodal sum are not included (the engine's
+!> element-cycles per second include them).
+program kernel_benchmark
+  use, intrinsic :: iso_fortran_env, only: int64
+  use paradyn_kinds, only: wp
+  use shell_blt, only: shell_properties_t, blt_internal_forces, stress_components, &
+                       hourglass_components, material_elastic, material_j2_plastic
+  use domain_decomposition, only: group_size
+  implicit none
+  integer :: n_elements, n_cycles, n_groups
+  character(len=32) :: arg
+  type(shell_properties_t) :: props
+
+  n_elements = 16384
+  n_cycles = 200
+  if (command_argument_count() >= 1) then
+    call get_command_argument(1, arg)
+    read (arg, *) n_elements
+  end if
+  if (command_argument_count() >= 2) then
+    call get_command_argument(2, arg)
+    read (arg, *) n_cycles
+  end if
+  n_groups = max(1, n_elements / group_size)
+  props = shell_properties_t(thickness=0.003_wp, density=7860.0_wp, young=200.0e9_wp, poisson=0.28_wp, &
+                             yield_stress=250.0e6_wp, tangent_modulus=0.0_wp, hardening_mixing=1.0_wp, &
+                             hourglass_coefficient=0.1_wp, model=material_elastic, integration_points=5)
+  write (*, '(a,i0,a,i0,a,i0,a)') 'BLT kernel, ', n_groups * group_size, ' elements in groups of ', &
+    group_size, ', ', n_cycles, ' cycles, 1 thread, 5 points'
+  write (*, '(a,f8.4,a)') 'elastic: ', time_per_element_cycle(props), ' us per element-cycle'
+  props%model = material_j2_plastic
+  write (*, '(a,f8.4,a)') 'plastic: ', time_per_element_cycle(props), ' us per element-cycle'
+
+contains
+
+  real(wp) function time_per_element_cycle(p) result(us)
+    type(shell_properties_t), intent(in) :: p
+    real(wp), allocatable :: x(:, :, :, :), v(:, :, :, :), w(:, :, :, :), force(:, :, :)
+    real(wp), allocatable :: stress(:, :, :, :), back(:, :, :, :), eps_p(:, :, :), hg(:, :, :)
+    real(wp), allocatable :: e_int(:, :), e_hg(:, :)
+    real(wp) :: r(3)
+    integer :: g, i, k, c, inverted
+    integer(int64) :: t0, t1, rate
+    allocate (x(group_size, 3, 4, n_groups), v(group_size, 3, 4, n_groups), w(group_size, 3, 4, n_groups))
+    allocate (stress(group_size, stress_components, 5, n_groups), back(group_size, 3, 5, n_groups))
+    allocate (eps_p(group_size, 5, n_groups), hg(group_size, hourglass_components, n_groups))
+    allocate (e_int(group_size, n_groups), e_hg(group_size, n_groups), force(group_size, 6, 4))
+    stress = 0
+    back = 0
+    eps_p = 0
+    hg = 0
+    e_int = 0
+    e_hg = 0
+    do g = 1, n_groups
+      do i = 1, group_size
+        do k = 1, 4
+          call random_number(r)
+          x(i, :, k, g) = 0.01_wp * [merge(0.0_wp, 1.0_wp, k == 1 .or. k == 4), &
+                                     merge(0.0_wp, 1.0_wp, k <= 2), 0.0_wp] + 1.0e-4_wp * r
+          call random_number(r)
+          v(i, :, k, g) = 20.0_wp * (r - 0.5_wp)   ! strain rates large enough to yield
+          call random_number(r)
+          w(i, :, k, g) = 100.0_wp * (r - 0.5_wp)
+        end do
+      end do
+    end do
+    inverted = 0
+    call system_clock(t0, rate)
+    do c = 1, n_cycles
+      do g = 1, n_groups
+        call blt_internal_forces(group_size, x(:, :, :, g), v(:, :, :, g), w(:, :, :, g), p, 1.0e-7_wp, &
+                                 stress(:, :, :, g), back(:, :, :, g), eps_p(:, :, g), hg(:, :, g), force, &
+                                 e_int(:, g), e_hg(:, g), inverted)
+      end do
+    end do
+    call system_clock(t1)
+    us = 1.0e6_wp * real(t1 - t0, wp) / real(rate, wp) / (real(n_cycles, wp) * n_groups * group_size)
+    if (inverted > 0 .or. .not. (sum(e_int) == sum(e_int))) us = -1.0_wp
+    if (p%model == material_j2_plastic .and. maxval(eps_p) <= 0.0_wp) us = -2.0_wp  ! must have yielded
+  end function time_per_element_cycle
+
+end program kernel_benchmark
