@@ -258,9 +258,12 @@ contains
         return
       end if
       call h5aopen_by_name_f(loc, object, name, attr, err)
-      call h5aread_f(attr, H5T_NATIVE_DOUBLE, value, [1_hsize_t], err)
+      if (attribute_class(attr) /= H5T_FLOAT_F .and. attribute_class(attr) /= H5T_INTEGER_F) then
+        message = 'attribute '//name//' of '//object//' must be a number'
+      else
+        call h5aread_f(attr, H5T_NATIVE_DOUBLE, value, [1_hsize_t], err)
+      end if
       call h5aclose_f(attr, err)
-      if (err /= 0) message = 'attribute '//name//' of '//object//' must be a number'
     end subroutine read_real_attribute
 
     subroutine read_int_attribute(loc, object, name, value, default, required)
@@ -278,11 +281,24 @@ contains
         return
       end if
       call h5aopen_by_name_f(loc, object, name, attr, err)
-      call h5aread_f(attr, H5T_NATIVE_INTEGER, value, [1_hsize_t], err)
+      if (attribute_class(attr) /= H5T_INTEGER_F) then
+        message = 'attribute '//name//' of '//object//' must be an integer'
+      else
+        call h5aread_f(attr, H5T_NATIVE_INTEGER, value, [1_hsize_t], err)
+      end if
       call h5aclose_f(attr, err)
     end subroutine read_int_attribute
 
   end subroutine read_deck
+
+  integer function attribute_class(attr) result(cls)
+    integer(hid_t), intent(in) :: attr
+    integer(hid_t) :: dtype
+    integer :: err
+    call h5aget_type_f(attr, dtype, err)
+    call h5tget_class_f(dtype, cls, err)
+    call h5tclose_f(dtype, err)
+  end function attribute_class
 
   !> True if every group along the path and the final link exist.
   logical function link_exists(file, path)

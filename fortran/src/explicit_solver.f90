@@ -248,7 +248,7 @@ contains
     type(run_record_t), intent(out) :: run
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
-    integer :: n_steps, next_frame, next_record
+    integer :: n_steps, frame_index, record_index
     real(wp) :: t_start, t_phase, t_last_progress, h
     real(wp) :: phase(5)   ! elements, contact, communication, output, other
     logical :: frame_due, record_due
@@ -256,20 +256,22 @@ contains
     status = 0
     message = ''
     phase = 0.0_wp
+    ! whole steps of equal size that end exactly at end_time (never above the chosen step)
     n_steps = max(1, ceiling(deck%end_time / s%dt - 1.0e-9_wp))
+    s%dt = deck%end_time / n_steps
     call MPI_Barrier(s%halo%comm)
     t_start = MPI_Wtime()
     t_last_progress = t_start
-    next_frame = 0
-    next_record = 0
+    frame_index = 0
+    record_index = 0
     s%time = 0.0_wp
     s%cycles = 0
     call forces_at_current_state(0.0_wp)
 
     do
       if (deck%n_loads > 0) call apply_loads()
-      frame_due = s%cycles >= next_frame .or. s%cycles == n_steps
-      record_due = s%cycles >= next_record .or. s%cycles == n_steps
+      frame_due = is_due(frame_index, deck%output_interval)
+      record_due = is_due(record_index, deck%history_interval)
       if (frame_due .or. record_due) then
         s%v_old = s%v
         s%w_old = s%w
@@ -283,18 +285,18 @@ contains
         t_phase = MPI_Wtime()
         if (record_due) then
           call write_record(status, message)
-          next_record = step_of(deck%history_interval, s%cycles)
+          record_index = next_index(deck%history_interval)
         end if
         if (frame_due .and. status == 0) then
           call write_frame()
-          next_frame = step_of(deck%output_interval, s%cycles)
+          frame_index = next_index(deck%output_interval)
         end if
         phase(4) = phase(4) + MPI_Wtime() - t_phase
         if (status /= 0) exit
       end if
       if (s%cycles >= n_steps) exit
       call update_positions(s%dom%n_nodes, s%dt, s%v, s%x)
-      s%time = s%time + s%dt
+      s%time = merge(deck%end_time, s%time + s%dt, s%cycles + 1 == n_steps)
       s%cycles = s%cycles + 1
       call forces_at_current_state(s%dt)
       if (s%rank == 0 .and. MPI_Wtime() - t_last_progress >= deck%progress_interval) then
@@ -322,16 +324,18 @@ contains
 
   contains
 
-    !> The first cycle at or after the next multiple of the interval.
-    integer function step_of(interval, cycle_now)
+    !> Output number k is due at the first step at or after k * interval, and at the last step.
+    logical function is_due(k, interval)
+      integer, intent(in) :: k
       real(wp), intent(in) :: interval
-      integer, intent(in) :: cycle_now
-      integer :: k
-      k = floor(s%time / interval + 1.0e-6_wp) + 1
-      step_of = max(cycle_now + 1, nint(k * interval / s%dt - 1.0e-6_wp))
-      step_of = min(step_of, n_steps)
-      if (cycle_now == n_steps) step_of = n_steps + 1
-    end function step_of
+      is_due = s%time >= k * interval - 1.0e-6_wp * s%dt .or. s%cycles == n_steps
+    end function is_due
+
+    !> Index of the first output time after the current step.
+    integer function next_index(interval)
+      real(wp), intent(in) :: interval
+      next_index = floor((s%time + 1.0e-6_wp * s%dt) / interval) + 1
+    end function next_index
 
     subroutine forces_at_current_state(dt_strain)
       real(wp), intent(in) :: dt_strain
@@ -406,7 +410,7 @@ contains
         first = s%dom%group_first(g)
         nip = s%props(s%dom%group_part(g))%integration_points
         call blt_element_results(n, nip, s%stress(s%stress_at(g)), s%eps_p(s%eps_p_at(g)), &
-                                 membrane, von_mises, plastic)
+                                 membrane(1:n, :), von_mises(1:n), plastic(1:n))
         s%element_out(1:3, first:first + n - 1) = transpose(membrane(1:n, :))
         s%element_out(4, first:first + n - 1) = von_mises(1:n)
         s%element_out(5, first:first + n - 1) = plastic(1:n)

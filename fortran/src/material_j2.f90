@@ -30,6 +30,7 @@ contains
   !> Plane-stress J2 return mapping with combined hardening.
   !>
   !> Plastic modulus H = E Et / (E - Et); isotropic part beta*H, kinematic part (1-beta)*H.
+  !> Flow eps_p' = dgamma P xi, back stress alpha' = (2/3) h_kin dgamma xi, xi = sigma - alpha.
   !> The return is solved in the eigenbasis of the plane-stress projector P, where the update is
   !> diagonal, for the consistency parameter dgamma by safeguarded Newton iteration.
   pure subroutine j2_plane_stress_update(stress, back, eps_p, dstrain, young, poisson, &
@@ -50,7 +51,7 @@ contains
     if (von_mises_plane_stress(xi) <= sy) return
 
     shear = young / (2.0_wp * (1.0_wp + poisson))
-    c1 = (young / (1.0_wp - poisson) + 2.0_wp * h_kin / 3.0_wp) / 3.0_wp
+    c1 = young / (3.0_wp * (1.0_wp - poisson)) + 2.0_wp * h_kin / 3.0_wp
     c2 = 2.0_wp * shear + 2.0_wp * h_kin / 3.0_wp
     a1t = (xi(1) + xi(2)) / sqrt(2.0_wp)
     a2t = (xi(2) - xi(1)) / sqrt(2.0_wp)
@@ -87,10 +88,9 @@ contains
     xi(1) = (a1 - a2) / sqrt(2.0_wp)
     xi(2) = (a1 + a2) / sqrt(2.0_wp)
     xi(3) = a3
-    ! back stress moves along (2/3) h_kin dgamma P~ xi, P~ = P with shear entry 1 (tensor shear)
-    back(1) = back(1) + 2.0_wp / 3.0_wp * h_kin * dgamma * (2.0_wp * xi(1) - xi(2)) / 3.0_wp
-    back(2) = back(2) + 2.0_wp / 3.0_wp * h_kin * dgamma * (2.0_wp * xi(2) - xi(1)) / 3.0_wp
-    back(3) = back(3) + 2.0_wp / 3.0_wp * h_kin * dgamma * xi(3)
+    ! back stress moves along the relative stress, (2/3) h_kin dgamma xi (Simo & Hughes, Box 3.3):
+    ! under uniaxial stress it stays uniaxial and the plastic modulus is h_kin
+    back = back + 2.0_wp / 3.0_wp * h_kin * dgamma * xi
     eps_p = eps_p + dgamma * sqrt(2.0_wp * psi / 3.0_wp)
     stress = xi + back
 

@@ -96,6 +96,21 @@ contains
     area = 0.5_wp * ((xl(3) - xl(1)) * (yl(4) - yl(2)) - (xl(4) - xl(2)) * (yl(3) - yl(1)))
   end subroutine local_frame
 
+  !> Every corner of the projected quad turns the same way as the normal (positive corner
+  !> Jacobians). An element turned inside out during a step fails this, or flips its normal.
+  pure logical function corners_convex(xl, yl)
+    real(wp), intent(in) :: xl(4), yl(4)
+    integer :: k, next, prev
+    corners_convex = .true.
+    do k = 1, 4
+      next = modulo(k, 4) + 1
+      prev = modulo(k + 2, 4) + 1
+      if ((xl(next) - xl(k)) * (yl(prev) - yl(k)) - (yl(next) - yl(k)) * (xl(prev) - xl(k)) <= 0.0_wp) then
+        corners_convex = .false.
+      end if
+    end do
+  end function corners_convex
+
   pure function cross(a, b) result(c)
     real(wp), intent(in) :: a(3), b(3)
     real(wp) :: c(3)
@@ -142,7 +157,7 @@ contains
     real(wp) :: xe(3, 4), e(3, 3), xl(4), yl(4), area, b1(4), b2(4), gamma(4)
     real(wp) :: vl(3, 4), wl(3, 4), dm(3), kappa(3), gs(2), qrate(hourglass_components)
     real(wp) :: t, half_t, shear, z, deps(3), s_old(stress_components), work, bb, stiff(5), inertia(5)
-    real(wp) :: q_old(hourglass_components), res_n(3), res_m(3), res_q(2), fl(6, 4)
+    real(wp) :: q_old(hourglass_components), res_n(3), res_m(3), res_q(2), fl(6, 4), normal_mid(3)
 
     nip = props%integration_points
     call thickness_rule(nip, zeta(1:nip), wgt(1:nip))
@@ -211,9 +226,11 @@ contains
       end if
 
       ! --- resultants and nodal forces on the end-of-step geometry
+      normal_mid = e(:, 3)
       xe = x(i, :, :)
       call local_frame(xe, e, xl, yl, area)
-      if (.not. (area > 0.0_wp)) then
+      if (.not. (area > 0.0_wp .and. dot_product(normal_mid, e(:, 3)) > 0.0_wp &
+                 .and. corners_convex(xl, yl))) then
         inverted = inverted + 1
         force(i, :, :) = 0.0_wp
         cycle

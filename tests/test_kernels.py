@@ -1,0 +1,599 @@
+"""The engine's pure kernels, called through the f2py wrappers (``paradyn._kernels``).
+
+Each test names the reference it checks against in its docstring. Real arrays passed to the
+wrappers are float64 and Fortran-ordered; ``intent(inout)`` arrays are updated in place.
+
+Element arrays of ``blt_forces`` put the element index first: ``x[i, :, k]`` is node ``k`` of
+element ``i``; ``force[i, 0:3, k]`` is the internal force and ``force[i, 3:6, k]`` the internal
+moment at that node (global axes).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from paradyn import _kernels as K
+
+F = np.asfortranarray
+
+# steel
+E = 200e9
+NU = 0.3
+RHO = 7860.0
+C_PLANE = E / (1.0 - NU**2)        # plane-stress modulus
+
+
+# ------------------------------------------------------------------------------------------------
+# Gauss points through the thickness
+
+
+@pytest.mark.parametrize("n", range(1, 10))
+def test_thickness_points_are_gauss_legendre(n: int) -> None:
+    """Reference: numpy.polynomial.legendre.leggauss(n), the n-point Gauss-Legendre rule on [-1, 1]."""
+    zeta, weight = K.thickness_points(n)
+    z_ref, w_ref = np.polynomial.legendre.leggauss(n)
+    np.testing.assert_allclose(zeta, z_ref, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(weight, w_ref, rtol=0, atol=1e-14)
+
+
+# ------------------------------------------------------------------------------------------------
+# J2 plasticity, plane stress, driven along a uniaxial stress path
+
+SY0 = 250e6     # initial yield stress
+ET = 2e9        # tangent modulus
+H = E * ET / (E - ET)   # plastic modulus dsigma / deps_p of the uniaxial curve
+
+
+def _von_mises(s: np.ndarray) -> float:
+    return math.sqrt(s[0] ** 2 - s[0] * s[1] + s[1] ** 2 + 3.0 * s[2] ** 2)
+
+
+class UniaxialPoint:
+    """One J2 material point driven along a uniaxial stress path sigma = (s, 0, 0).
+
+    The routine takes in-plane strain increments, so each axial increment ``de`` is paired with
+    the lateral increment that leaves syy = 0 after the update, found by secant iteration from
+    the elastic guess -nu de (each trial restarts from the converged state).
+    """
+
+    def __init__(self, beta: float, tangent: float = ET) -> None:
+        self.beta = beta
+        self.tangent = tangent
+        self.stress = np.zeros(3)
+        self.back = np.zeros(3)
+        self.eps_p = np.array(0.0)   # rank-0 in/out argument: a 0-d array, updated in place
+        self.strain = 0.0            # total axial strain
+
+    def trial(self, de: float, dey: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        stress, back, eps_p = self.stress.copy(), self.back.copy(), np.array(float(self.eps_p))
+        K.j2_update(stress, back, eps_p, np.array([de, dey, 0.0]), E, NU, SY0, self.tangent, self.beta)
+        return stress, back, eps_p
+
+    def step(self, de: float) -> None:
+        scale = max(abs(self.sigma), SY0)
+        guesses = [-NU * de, -NU * de * (1.0 + 1e-3) if de != 0.0 else 1e-12]
+        trials = [self.trial(de, d) for d in guesses]
+        for _ in range(60):
+            (d0, d1), (g0, g1) = guesses[-2:], (trials[-2][0][1], trials[-1][0][1])
+            if abs(g1) <= 1e-14 * scale or abs(trials[0][0][1]) <= 1e-14 * scale or g1 == g0:
+                break
+            guesses.append(d1 - g1 * (d1 - d0) / (g1 - g0))
+            trials.append(self.trial(de, guesses[-1]))
+        best = min(trials, key=lambda trial: abs(trial[0][1]))
+        assert abs(best[0][1]) <= 1e-12 * scale, "lateral strain iteration did not reach syy = 0"
+        self.stress, self.back, self.eps_p = best
+        self.strain += de
+
+    @property
+    def sigma(self) -> float:
+        return float(self.stress[0])
+
+
+def _load(point: UniaxialPoint, strain_target: float, de: float) -> list[tuple[float, float, float]]:
+    """Increments of ``de`` up to ``strain_target``; returns (strain, sigma, eps_p) after each."""
+    path = []
+    n = int(round((strain_target - point.strain) / de))
+    for _ in range(n):
+        point.step(de)
+        path.append((point.strain, point.sigma, float(point.eps_p)))
+    return path
+
+
+def test_j2_uniaxial_elastic_slope_yield_point_and_hardening_slope() -> None:
+    """Reference: the bilinear uniaxial stress-strain curve of linear isotropic hardening
+    (Simo & Hughes, Computational Inelasticity, sec. 1.4 and 3.4): slope E up to sigma = sy0,
+    then dsigma/deps = Et and dsigma/deps_p = H = E Et / (E - Et); eps_p = eps - sigma / E."""
+    point = UniaxialPoint(beta=1.0)
+    de = 1e-5
+    eps_yield = SY0 / E                                   # 1.25e-3, a whole number of increments
+    path = np.array(_load(point, 3 * eps_yield, de))
+    strain, sigma, eps_p = path.T
+
+    elastic = strain <= eps_yield * (1 + 1e-12)
+    assert np.all(eps_p[elastic] == 0.0)
+    np.testing.assert_allclose(np.diff(np.r_[0.0, sigma[elastic]]) / de, E, rtol=1e-9)
+    yield_index = int(np.flatnonzero(elastic)[-1])
+    assert sigma[yield_index] == pytest.approx(SY0, rel=1e-12)    # the yield point itself
+    assert eps_p[yield_index + 1] > 0.0                            # and flow right after it
+
+    plastic = ~elastic
+    slope = np.diff(sigma[yield_index:]) / np.diff(strain[yield_index:])
+    np.testing.assert_allclose(slope, ET, rtol=1e-6)
+    plastic_slope = np.diff(sigma[plastic]) / np.diff(eps_p[plastic])
+    np.testing.assert_allclose(plastic_slope, H, rtol=1e-6)
+
+    # on the yield surface after every plastic step (isotropic: radius sy0 + H eps_p, no back stress)
+    for s, ep in zip(sigma[plastic], eps_p[plastic]):
+        assert abs(s) == pytest.approx(SY0 + H * ep, rel=1e-9)
+    # plastic strain consistency: eps_p = total axial strain - sigma / E
+    np.testing.assert_allclose(eps_p, strain - sigma / E, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("beta", [0.0, 0.5, 1.0])
+def test_j2_returned_stress_lies_on_the_yield_surface(beta: float) -> None:
+    """Reference: consistency of the return mapping (Simo & Hughes sec. 3.4): after a plastic
+    update, von Mises(sigma - alpha) = sy0 + beta H eps_p, for uniaxial steps and for large
+    random plane-stress strain increments."""
+    point = UniaxialPoint(beta=beta)
+    path = _load(point, 4e-3, 2e-5)
+    assert path[-1][2] > 0
+    xi = point.stress - point.back
+    assert _von_mises(xi) == pytest.approx(SY0 + beta * H * float(point.eps_p), rel=1e-9)
+
+    rng = np.random.default_rng(12)
+    stress, back, eps_p = np.zeros(3), np.zeros(3), np.array(0.0)
+    plastic_steps = 0
+    for _ in range(200):
+        de = rng.uniform(-1.0, 1.0, 3) * 1.5e-3
+        before = float(eps_p)
+        K.j2_update(stress, back, eps_p, de, E, NU, SY0, ET, beta)
+        if float(eps_p) > before:
+            plastic_steps += 1
+            radius = SY0 + beta * H * float(eps_p)
+            assert _von_mises(stress - back) == pytest.approx(radius, rel=1e-9)
+        else:
+            assert _von_mises(stress - back) <= (SY0 + beta * H * float(eps_p)) * (1 + 1e-12)
+    assert plastic_steps > 50
+
+
+
+
+@pytest.mark.parametrize("beta", [
+    0.0,
+    0.5,
+])
+def test_j2_uniaxial_hardening_slope_with_kinematic_hardening(beta: float) -> None:
+    """Reference: J2 flow with linear combined hardening and Prager's rule (Simo & Hughes sec. 1.5
+    and 2.3.2) gives, under uniaxial stress, the same bilinear curve for every beta: slope Et
+    after yield, dsigma/deps_p = H = E Et / (E - Et) (docs/formats.md: Et is the tangent modulus)."""
+    point = UniaxialPoint(beta=beta)
+    path = np.array(_load(point, 3 * SY0 / E, 1e-5))
+    strain, sigma, eps_p = path.T
+    plastic = eps_p > 0
+    np.testing.assert_allclose(np.diff(sigma[plastic]) / np.diff(strain[plastic]), ET, rtol=1e-6)
+    np.testing.assert_allclose(np.diff(sigma[plastic]) / np.diff(eps_p[plastic]), H, rtol=1e-6)
+
+
+@pytest.mark.parametrize("beta", [
+    0.0,
+    0.5,
+    1.0,
+])
+def test_j2_reverse_yield_bauschinger(beta: float) -> None:
+    """Reference: uniaxial load reversal under linear combined hardening (Simo & Hughes sec. 1.5):
+    after loading to sigma_max with plastic strain eps_p, the elastic range is
+    2 (sy0 + beta H eps_p), so re-yield happens at sigma_max - 2 (sy0 + beta H eps_p):
+    sigma_max - 2 sy0 for kinematic (beta = 0), -sigma_max for isotropic (beta = 1). The
+    unloading is bracketed to 1e-7 of the elastic range on either side of that point."""
+    point = UniaxialPoint(beta=beta)
+    _load(point, 5e-3, 2e-5)
+    sigma_max, eps_p = point.sigma, float(point.eps_p)
+    assert eps_p > 1e-3
+    elastic_range = 2.0 * (SY0 + beta * H * eps_p)
+    expected = sigma_max - elastic_range
+    if beta == 0.0:
+        assert expected == pytest.approx(sigma_max - 2 * SY0, rel=1e-12)
+    if beta == 1.0:
+        assert expected == pytest.approx(-sigma_max, rel=1e-9)
+
+    unload = -elastic_range / E       # the elastic strain range back to the re-yield point
+    inside = UniaxialPoint(beta)
+    outside = UniaxialPoint(beta)
+    for p in (inside, outside):
+        p.stress, p.back, p.eps_p, p.strain = point.stress.copy(), point.back.copy(), \
+            np.array(eps_p), point.strain
+    inside.step(unload * (1 - 1e-7))
+    outside.step(unload * (1 + 1e-7))
+    assert float(inside.eps_p) == eps_p, "re-yielded too early"
+    assert inside.sigma == pytest.approx(expected, rel=1e-6)
+    assert float(outside.eps_p) > eps_p, "did not re-yield"
+    assert outside.sigma == pytest.approx(expected, rel=1e-6)
+
+
+# ------------------------------------------------------------------------------------------------
+# BLT shell element
+
+T = 0.01          # thickness
+NIP = 5
+
+
+def _state(n: int = 1, nip: int = NIP) -> dict[str, np.ndarray]:
+    return {
+        "stress": F(np.zeros((n, 5, nip))),
+        "back": F(np.zeros((n, 3, nip))),
+        "eps_p": F(np.zeros((n, nip))),
+        "hourglass": F(np.zeros((n, 5))),
+        "e_internal": np.zeros(n),
+        "e_hourglass": np.zeros(n),
+    }
+
+
+def _element(a: np.ndarray) -> np.ndarray:
+    """(4, 3) node rows of one element -> the kernel layout (1, 3, 4), Fortran-ordered."""
+    return F(np.asarray(a, dtype=np.float64).T[None, :, :])
+
+
+def _forces(x: np.ndarray, v: np.ndarray, w: np.ndarray, dt: float, state: dict[str, np.ndarray],
+            hourglass_coefficient: float = 0.1, model: int = 1) -> tuple[np.ndarray, int]:
+    """One BLT step on one element; returns force as (4 nodes, 6) and the inverted count."""
+    force, inverted = K.blt_forces(
+        _element(x), _element(v), _element(w), T, RHO, E, NU, SY0, 0.0, 1.0, hourglass_coefficient,
+        model, dt, state["stress"], state["back"], state["eps_p"], state["hourglass"],
+        state["e_internal"], state["e_hourglass"])
+    return np.asarray(force)[0].T, int(inverted)
+
+
+def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    a = np.asarray(axis, dtype=np.float64) / np.linalg.norm(axis)
+    k = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * (k @ k)
+
+
+def _general_element(warp: float = 0.0) -> np.ndarray:
+    """A non-rectangular quadrilateral (5 cm) placed at an arbitrary position and orientation;
+    ``warp`` lifts nodes 1, 3 and lowers 2, 4 out of the plane (fraction of the size)."""
+    q = 0.05 * np.array([[0.0, 0.0, warp], [1.1, 0.1, -warp], [0.9, 0.8, warp], [-0.1, 1.0, -warp]])
+    return q @ _rotation(np.array([0.3, -0.5, 0.8]), 0.7).T + np.array([0.2, -0.3, 0.5])
+
+
+def test_blt_uniform_stretch_of_a_unit_square() -> None:
+    """Reference: plane-stress Hooke's law sxx = E/(1-nu^2) eps, syy = nu E/(1-nu^2) eps, and
+    the nodal forces of a constant stress on a rectangle: the x force at each node of an edge
+    x = const is t sxx L / 2 (L = edge length), -/+ on the x = 0 / x = 1 edges; the y force is
+    t syy a / 2 with a the current width. Rates are taken on the mid-step geometry, which is
+    the unit square here, so the strain increment is exactly D dt."""
+    square = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]])
+    d_rate, dt = 1e3, 1e-9                       # strain increment 1e-6
+    v = np.zeros((4, 3))
+    v[:, 0] = d_rate * square[:, 0]
+    x_end = square + 0.5 * dt * v
+    state = _state()
+    force, inverted = _forces(x_end, v, np.zeros((4, 3)), dt, state)
+    assert inverted == 0
+
+    eps = d_rate * dt
+    sxx, syy = C_PLANE * eps, NU * C_PLANE * eps
+    stress = state["stress"][0]                  # (5, nip)
+    np.testing.assert_allclose(stress[0], sxx, rtol=1e-10)
+    np.testing.assert_allclose(stress[1], syy, rtol=1e-10)
+    np.testing.assert_allclose(stress[2:], 0.0, rtol=0, atol=1e-10 * sxx)
+
+    scale = T * sxx
+    np.testing.assert_allclose(force.sum(axis=0), 0.0, rtol=0, atol=1e-12 * scale)
+    edge = 1.0
+    np.testing.assert_allclose(force[:, 0], T * sxx * edge / 2 * np.array([-1, 1, 1, -1]), rtol=1e-10)
+    width = 1.0 + 0.5 * dt * d_rate
+    np.testing.assert_allclose(force[:, 1], T * syy * width / 2 * np.array([-1, -1, 1, 1]), rtol=1e-10)
+    np.testing.assert_allclose(force[:, 2:], 0.0, rtol=0, atol=1e-12 * scale)
+    # stress work of the step: midpoint rule, 1/2 (0 + sigma) . eps * volume
+    assert state["e_internal"][0] == pytest.approx(0.5 * sxx * eps * T * 1.0, rel=1e-9)
+
+
+G = E / (2.0 * (1.0 + NU))
+KAPPA_S = 5.0 / 6.0             # transverse shear correction
+
+
+@pytest.mark.parametrize("mode", ["in_plane_shear", "bending_x", "bending_y", "twist", "transverse_shear"])
+def test_blt_constant_strain_modes_of_a_unit_square(mode: str) -> None:
+    """Reference: Mindlin-Reissner plate kinematics of the BLT element (Belytschko, Lin & Tsay
+    1984; Hughes, The Finite Element Method, sec. 5.4) with plane-stress Hooke's law, one step of
+    a linear velocity field on the unit square centred at the origin (mid-step geometry):
+    in-plane shear v = (g y, 0, 0): sxy = G g dt at every point; bending w_y = k x: sxx =
+    E/(1-nu^2) k dt z, syy = nu sxx, moment t^3/12 sxx/z per length, nodal y-moments
+    +-M L/2 on the edges x = +-1/2; bending w_x = -k y: syy = E/(1-nu^2) k dt z; twist
+    w = (-k x, k y, 0) / 2 (u = z w_y, v = -z w_x, so gxy = k z): sxy = G k dt z; transverse shear v_z = g x: sxz = 5/6 G g dt and
+    nodal z forces +-Q L/2."""
+    square = np.array([[-0.5, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0], [-0.5, 0.5, 0.0]])
+    rate, dt = 1e3, 1e-9
+    v, w = np.zeros((4, 3)), np.zeros((4, 3))
+    xs, ys = square[:, 0], square[:, 1]
+    if mode == "in_plane_shear":
+        v[:, 0] = rate * ys
+    elif mode == "bending_x":
+        w[:, 1] = rate * xs
+    elif mode == "bending_y":
+        w[:, 0] = -rate * ys
+    elif mode == "twist":
+        w[:, 0], w[:, 1] = -0.5 * rate * xs, 0.5 * rate * ys
+    else:
+        v[:, 2] = rate * xs
+    state = _state()
+    force, inverted = _forces(square + 0.5 * dt * v, v, w, dt, state, hourglass_coefficient=0.0)
+    assert inverted == 0
+    zeta, weight = np.polynomial.legendre.leggauss(NIP)
+    z = 0.5 * T * zeta
+    expected = np.zeros((5, NIP))
+    if mode == "in_plane_shear":
+        expected[2] = G * rate * dt
+    elif mode == "bending_x":
+        expected[0] = C_PLANE * rate * dt * z
+        expected[1] = NU * expected[0]
+    elif mode == "bending_y":
+        expected[1] = C_PLANE * rate * dt * z
+        expected[0] = NU * expected[1]
+    elif mode == "twist":
+        expected[2] = G * rate * dt * z
+    else:
+        expected[3] = KAPPA_S * G * rate * dt
+    scale = np.abs(expected).max()
+    np.testing.assert_allclose(state["stress"][0], expected, rtol=0, atol=1e-10 * scale)
+    np.testing.assert_allclose(force.sum(axis=0)[0:3], 0.0, rtol=0, atol=1e-12 * scale * T)
+    if mode == "bending_x":
+        moment = np.sum(0.5 * T * weight * z * expected[0])       # M_xx per unit length
+        assert moment == pytest.approx(C_PLANE * rate * dt * T**3 / 12, rel=1e-12)
+        np.testing.assert_allclose(force[:, 4], moment * 0.5 * np.array([-1, 1, 1, -1]), rtol=1e-10)
+        np.testing.assert_allclose(force[:, 3], -NU * moment * 0.5 * np.array([-1, -1, 1, 1]), rtol=1e-10)
+    if mode == "transverse_shear":
+        shear_force = T * expected[3, 0]                           # Q_x per unit length
+        np.testing.assert_allclose(force[:, 2], shear_force * 0.5 * np.array([-1, 1, 1, -1]), rtol=1e-10)
+
+
+@pytest.mark.parametrize("component", range(5))
+def test_blt_hourglass_modes(component: int) -> None:
+    """Reference: Flanagan & Belytschko (1981) hourglass control as used by BLT: on a square the
+    hourglass vector is gamma = h = (1, -1, 1, -1), the one-point strain rates do not see a
+    velocity (or rotation) field c h, so stresses stay 0; the stiffness-form resultant grows
+    linearly with the coefficient, its nodal forces are gamma Q (no net force), and its work in
+    the step from rest is the midpoint rule 1/2 Q (gamma . c h) dt (the energy of a linear
+    spring, Q^2 / 2k). Components: membrane x, y; rotation x, y; transverse z."""
+    square = np.array([[-0.5, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0], [-0.5, 0.5, 0.0]])
+    h = np.array([1.0, -1.0, 1.0, -1.0])
+    c, dt = 2.0, 1e-10       # forces use the end-of-step geometry, c dt / size = 2e-10 off the square
+    v, w = np.zeros((4, 3)), np.zeros((4, 3))
+    field, axis = [(v, 0), (v, 1), (w, 0), (w, 1), (v, 2)][component]
+    field[:, axis] = c * h
+    resultants = []
+    for coefficient in (0.1, 0.2):
+        state = _state()
+        force, inverted = _forces(square + 0.5 * dt * v, v, w, dt, state, hourglass_coefficient=coefficient)
+        assert inverted == 0
+        q = state["hourglass"][0]
+        assert np.all(state["stress"] == 0.0)
+        assert q[component] != 0.0 and np.all(np.delete(q, component) == 0.0)
+        rate = float(h @ (c * h))
+        assert state["e_hourglass"][0] == pytest.approx(0.5 * q[component] * rate * dt, rel=1e-12)
+        assert state["e_internal"][0] == 0.0
+        slot = [0, 1, 3, 4, 2][component]          # force / moment column driven by this resultant
+        np.testing.assert_allclose(force[:, slot], h * q[component], rtol=1e-8)
+        np.testing.assert_allclose(np.delete(force, slot, axis=1), 0.0, atol=1e-8 * abs(q[component]))
+        resultants.append(q[component])
+    assert resultants[1] == pytest.approx(2.0 * resultants[0], rel=1e-12)
+
+
+def test_j2_elastic_shear_and_biaxial_increments() -> None:
+    """Reference: plane-stress Hooke's law with engineering shear strain, below yield:
+    dsxx = E/(1-nu^2) (dexx + nu deyy), dsyy = E/(1-nu^2) (deyy + nu dexx), dsxy = G dgxy."""
+    stress, back, eps_p = np.zeros(3), np.zeros(3), np.array(0.0)
+    de = np.array([2e-4, -1e-4, 3e-4])
+    K.j2_update(stress, back, eps_p, de, E, NU, SY0, ET, 1.0)
+    expected = [C_PLANE * (de[0] + NU * de[1]), C_PLANE * (de[1] + NU * de[0]), G * de[2]]
+    np.testing.assert_allclose(stress, expected, rtol=1e-14)
+    assert float(eps_p) == 0.0 and np.all(back == 0.0)
+
+
+def test_blt_rigid_translation_gives_no_stress_or_force() -> None:
+    """Reference: objectivity; a rigid translation has zero strain rate."""
+    x0 = _general_element()
+    dt = 1e-6
+    v = np.tile([3.0, -2.0, 1.5], (4, 1))
+    state = _state()
+    force, inverted = _forces(x0 + dt * v, v, np.zeros((4, 3)), dt, state)
+    assert inverted == 0
+    stress_scale = E * 3.0 * dt / 0.05            # the stress a velocity difference of 3 m/s would give
+    assert np.abs(state["stress"]).max() <= 1e-12 * stress_scale
+    assert np.abs(state["hourglass"]).max() <= 1e-12 * stress_scale * T * 0.05
+    assert np.abs(force).max() <= 1e-12 * stress_scale * T * 0.05
+    assert abs(state["e_internal"][0]) <= 1e-20
+
+
+def test_blt_rigid_rotation_about_an_arbitrary_axis() -> None:
+    """Reference: objectivity of the co-rotational BLT element (Belytschko, Lin & Tsay 1984):
+    an exact rigid rotation by theta = |Omega| dt about an axis through an arbitrary point,
+    v = (x(n+1) - x(n)) / dt and w = Omega, gives strain increments on the mid-step geometry of
+    O(theta^3) only (membrane exactly 0; the transverse shear sees tan(theta/2) against
+    theta/2), so stresses stay below E theta^3 while a rate on the start or end geometry would
+    leave O(E theta^2). The element is flat: without a warping correction a warped BLT element
+    sees hourglass rates (gamma . z-offsets) in a rigid rotation about an in-plane axis."""
+    x0 = _general_element()
+    omega = np.array([40.0, -25.0, 60.0])
+    dt = 1e-5
+    theta = float(np.linalg.norm(omega)) * dt
+    pivot = np.array([0.1, 0.4, -0.2])
+    x1 = pivot + (x0 - pivot) @ _rotation(omega, theta).T
+    v = (x1 - x0) / dt
+    w = np.tile(omega, (4, 1))
+    state = _state()
+    force, inverted = _forces(x1, v, w, dt, state)
+    assert inverted == 0
+    bound = E * theta**3
+    assert np.abs(state["stress"][0, 0:3]).max() <= 1e-4 * bound      # membrane, bending: round-off
+    assert np.abs(state["stress"]).max() <= bound
+    assert np.abs(state["hourglass"]).max() <= bound * T * 0.05
+    assert np.abs(force).max() <= bound * T * 0.05
+
+    # the same rotation with the rate taken on the start geometry would be strained at O(theta^2)
+    assert E * theta**2 > 1e3 * bound
+
+
+def test_blt_element_turned_inside_out_is_reported() -> None:
+    """Reference: docs/formats.md exit status 3 'inverted element' and the kernel contract
+    (inverted counts elements of zero or negative area). An element counter-clockwise at
+    mid-step whose nodes end the step ordered clockwise (mirrored through its centre line)
+    has turned inside out and must be counted."""
+    square = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]])
+    mirrored = square.copy()
+    mirrored[:, 0] = 1.0 - mirrored[:, 0]        # the same nodes mirrored: clockwise seen from +z
+    dt = 1e-6
+    v = 2.0 * (mirrored - square) / dt           # mid-step geometry x - dt/2 v = the square
+    x_end = mirrored
+    np.testing.assert_allclose(x_end - 0.5 * dt * v, square, atol=1e-15)
+    # the end-of-step geometry is clockwise: signed area (shoelace, seen from +z) is negative
+    xs, ys = x_end[:, 0], x_end[:, 1]
+    assert 0.5 * np.sum(xs * np.roll(ys, -1) - np.roll(xs, -1) * ys) < 0
+    state = _state()
+    _, inverted = _forces(x_end, v, np.zeros((4, 3)), dt, state)
+    assert inverted == 1
+
+
+def test_blt_degenerate_element_is_reported() -> None:
+    """Reference: kernel contract (inverted counts elements of zero area): four collinear nodes."""
+    line = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [3.0, 0.0, 0.0]])
+    state = _state()
+    force, inverted = _forces(line, np.zeros((4, 3)), np.zeros((4, 3)), 1e-6, state)
+    assert inverted == 1
+    assert np.all(force == 0.0)
+
+
+def _power_step(dt: float) -> tuple[float, float]:
+    """Energy increment of one step and dt * (internal power at the end of the step)."""
+    rng = np.random.default_rng(7)
+    x0 = _general_element(warp=0.01)
+    state = _state()
+    state["stress"][...] = rng.uniform(-1e8, 1e8, state["stress"].shape)
+    state["hourglass"][...] = rng.uniform(-10.0, 10.0, state["hourglass"].shape)
+    v = rng.uniform(-1.0, 1.0, (4, 3))
+    w = rng.uniform(-20.0, 20.0, (4, 3))
+    force, inverted = _forces(x0 + dt * v, v, w, dt, state)
+    assert inverted == 0
+    increment = float(state["e_internal"][0] + state["e_hourglass"][0])
+    power = float(np.sum(force[:, 0:3] * v) + np.sum(force[:, 3:6] * w))
+    return increment, dt * power
+
+
+def test_blt_internal_power_consistency() -> None:
+    """Reference: the discrete virtual-power identity of the element (Belytschko, Liu & Moran,
+    Nonlinear Finite Elements, sec. 4.5 and 6.2): the nodal forces are the transpose of the
+    strain-rate operator, so the stress + hourglass work of a step equals dt * sum(f . v + m . w)
+    up to O(dt^2) (midpoint against end-of-step stress and geometry). Random velocities and
+    angular velocities on a slightly warped element with a random stress state, linear elastic:
+    relative agreement 1e-6 at a tiny step, and halving dt divides the gap by 4."""
+    increment, work = _power_step(1e-11)
+    assert increment == pytest.approx(work, rel=1e-6)
+    gaps = []
+    for dt in (1e-8, 5e-9, 2.5e-9):
+        increment, work = _power_step(dt)
+        gaps.append(increment - work)
+    assert gaps[0] / gaps[1] == pytest.approx(4.0, rel=1e-3)
+    assert gaps[1] / gaps[2] == pytest.approx(4.0, rel=1e-3)
+
+
+# ------------------------------------------------------------------------------------------------
+# mass and stable time step
+
+
+def _pipe_elements(radius: float = 0.08, length: float = 2.0, around: int = 16,
+                   along: int = 32) -> np.ndarray:
+    """The pipe whip mesh built analytically: (n, 4, 3) node rows, outward normals."""
+    angles = 2 * np.pi * np.arange(around + 1) / around
+    xs = np.linspace(-length / 2, length / 2, along + 1)
+    elements = []
+    for i in range(along):
+        for j in range(around):
+            p = [(xs[i], angles[j]), (xs[i + 1], angles[j]), (xs[i + 1], angles[j + 1]),
+                 (xs[i], angles[j + 1])]
+            elements.append([[x, radius * math.cos(a), radius * math.sin(a)] for x, a in p])
+    return np.array(elements)
+
+
+def _layout(elements: np.ndarray) -> np.ndarray:
+    return F(np.transpose(elements, (0, 2, 1)))
+
+
+def _plate_elements(rng: np.random.Generator) -> tuple[np.ndarray, float]:
+    """A 6 x 4 plate with jiggled interior nodes (general convex quads), tilted in 3D; area."""
+    nx, ny = 6, 4
+    gx, gy = np.meshgrid(np.linspace(0, 0.3, nx + 1), np.linspace(0, 0.2, ny + 1), indexing="ij")
+    gx[1:-1, 1:-1] += rng.uniform(-0.01, 0.01, (nx - 1, ny - 1))
+    gy[1:-1, 1:-1] += rng.uniform(-0.01, 0.01, (nx - 1, ny - 1))
+    rotation = _rotation(np.array([1.0, 2.0, -0.5]), 0.9)
+    elements, area = [], 0.0
+    for i in range(nx):
+        for j in range(ny):
+            q = np.array([[gx[i, j], gy[i, j]], [gx[i + 1, j], gy[i + 1, j]],
+                          [gx[i + 1, j + 1], gy[i + 1, j + 1]], [gx[i, j + 1], gy[i, j + 1]]])
+            area += 0.5 * np.sum(q[:, 0] * np.roll(q[:, 1], -1) - np.roll(q[:, 0], -1) * q[:, 1])
+            elements.append(np.c_[q, np.zeros(4)] @ rotation.T)
+    return np.array(elements), area
+
+
+def test_blt_lumped_mass_adds_up_to_the_total_mass() -> None:
+    """Reference: mass conservation of the lumped mass, sum over elements of 4 * node_mass =
+    rho t (total area), on a tilted plate of general quadrilaterals (shoelace area) and on the
+    pipe whip's 16 x 32 polygonal cylinder (512 rectangles 2 R sin(pi/16) x 0.0625); and the
+    documented rotary inertia I = m (t^2 + A) / 12."""
+    rng = np.random.default_rng(3)
+    plate, area = _plate_elements(rng)
+    mass, inertia = K.blt_mass(_layout(plate), T, RHO)
+    assert 4.0 * mass.sum() == pytest.approx(RHO * T * area, rel=1e-12)
+    element_area = 4.0 * mass / (RHO * T)
+    np.testing.assert_allclose(inertia, mass * (T**2 + element_area) / 12.0, rtol=1e-12)
+
+    pipe = _pipe_elements()
+    t_pipe = 0.003
+    mass, _ = K.blt_mass(_layout(pipe), t_pipe, RHO)
+    side = 2 * 0.08 * math.sin(math.pi / 16)
+    assert 4.0 * mass.sum() == pytest.approx(RHO * t_pipe * 512 * side * 0.0625, rel=1e-12)
+
+
+def test_blt_time_step_of_the_pipe_element() -> None:
+    """Reference: LS-DYNA Theory Manual shell time step dt = L / c, L = area / longest side,
+    c = sqrt(E / (rho (1 - nu^2))). Pipe whip (R = 0.08, 16 around, 32 along, nu = 0.28): the
+    element is 2 R sin(pi/16) x 0.0625, so dt = 2 R sin(pi/16) / c = 5.94 us; a true circle's
+    arc 2 pi R / 16 would give the benchmark's ~5.98 us (before the 0.9 safety factor)."""
+    nu = 0.28
+    pipe = _pipe_elements()
+    dt = K.blt_time_step(_layout(pipe), 0.003, RHO, E, nu)
+    c = math.sqrt(E / (RHO * (1 - nu**2)))
+    side, length = 2 * 0.08 * math.sin(math.pi / 16), 0.0625
+    expected = side * length / max(side, length) / c
+    np.testing.assert_allclose(dt, expected, rtol=1e-12)
+    arc = 2 * math.pi * 0.08 / 16
+    assert arc / c == pytest.approx(5.98e-6, rel=2e-3)
+    assert dt.min() == pytest.approx(5.98e-6 * side / arc, rel=2e-3)
+
+
+# ------------------------------------------------------------------------------------------------
+# domain decomposition
+
+
+@pytest.mark.parametrize("n_elements, n_ranks", [
+    (1, 1), (10, 1), (10, 3), (32, 4), (512, 3), (1024, 7), (3, 5), (7, 7), (1_000_003, 13),
+])
+def test_block_partition(n_elements: int, n_ranks: int) -> None:
+    """Reference: the paper's contiguous element blocks (domain_decomposition.block_owner):
+    owners are 0-based, non-decreasing (contiguous blocks), every element has exactly one owner
+    in 0..n_ranks-1, block sizes differ by at most one, and block r holds elements
+    floor(r n / p) + 1 .. floor((r + 1) n / p) (1-based)."""
+    owner = np.asarray(K.block_partition(n_elements, n_ranks))
+    assert owner.shape == (n_elements,)
+    assert owner.min() >= 0 and owner.max() <= n_ranks - 1
+    assert np.all(np.diff(owner) >= 0)
+    sizes = np.bincount(owner, minlength=n_ranks)
+    assert sizes.sum() == n_elements
+    assert sizes.max() - sizes.min() <= 1
+    r = np.arange(n_ranks + 1, dtype=np.int64)
+    bounds = (r * n_elements) // n_ranks
+    np.testing.assert_array_equal(sizes, np.diff(bounds))
