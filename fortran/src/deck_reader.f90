@@ -165,23 +165,34 @@ contains
       if (.not. status_ok()) call h5dclose_f(dset, err)
     end subroutine open_checked
 
+    !> Reads a checked dataset into a real buffer (max(ncomp, 1), rows); HDF5 converts integer
+    !> files exactly (|i| < 2**53). A missing optional dataset gives `default` everywhere.
+    subroutine read_array(name, want_class, ncomp, nrows, buffer, required, default)
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: want_class, ncomp, nrows
+      real(wp), allocatable, intent(out) :: buffer(:, :)
+      logical, intent(in) :: required
+      real(wp), intent(in) :: default
+      integer(hid_t) :: dset
+      integer(hsize_t) :: dims(2)
+      logical :: found
+      call open_checked(name, want_class, ncomp, nrows, dset, dims, found, required)
+      if (.not. status_ok()) return
+      if (.not. found) then
+        allocate (buffer(max(ncomp, 1), max(nrows, 0)), source=default)
+        return
+      end if
+      allocate (buffer(max(ncomp, 1), dims(1)))
+      call h5dread_f(dset, H5T_NATIVE_DOUBLE, buffer, [int(max(ncomp, 1), hsize_t), dims(1)], err)
+      call h5dclose_f(dset, err)
+    end subroutine read_array
+
     subroutine read_real2(name, ncomp, nrows, a, required)
       character(len=*), intent(in) :: name
       integer, intent(in) :: ncomp, nrows
       real(wp), allocatable, intent(out) :: a(:, :)
       logical, intent(in) :: required
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(2)
-      logical :: found
-      call open_checked(name, H5T_FLOAT_F, ncomp, nrows, dset, dims, found, required)
-      if (.not. status_ok()) return
-      if (.not. found) then
-        allocate (a(ncomp, max(nrows, 0)), source=0.0_wp)
-        return
-      end if
-      allocate (a(ncomp, dims(1)))
-      call h5dread_f(dset, H5T_NATIVE_DOUBLE, a, [int(ncomp, hsize_t), dims(1)], err)
-      call h5dclose_f(dset, err)
+      call read_array(name, H5T_FLOAT_F, ncomp, nrows, a, required, 0.0_wp)
     end subroutine read_real2
 
     subroutine read_int2(name, ncomp, nrows, a, required)
@@ -189,18 +200,9 @@ contains
       integer, intent(in) :: ncomp, nrows
       integer, allocatable, intent(out) :: a(:, :)
       logical, intent(in) :: required
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(2)
-      logical :: found
-      call open_checked(name, H5T_INTEGER_F, ncomp, nrows, dset, dims, found, required)
-      if (.not. status_ok()) return
-      if (.not. found) then
-        allocate (a(ncomp, max(nrows, 0)), source=0)
-        return
-      end if
-      allocate (a(ncomp, dims(1)))
-      call h5dread_f(dset, H5T_NATIVE_INTEGER, a, [int(ncomp, hsize_t), dims(1)], err)
-      call h5dclose_f(dset, err)
+      real(wp), allocatable :: buffer(:, :)
+      call read_array(name, H5T_INTEGER_F, ncomp, nrows, buffer, required, 0.0_wp)
+      if (allocated(buffer)) a = nint(buffer)
     end subroutine read_int2
 
     subroutine read_real1(name, nrows, a, required, default)
@@ -209,18 +211,9 @@ contains
       real(wp), allocatable, intent(out) :: a(:)
       logical, intent(in) :: required
       real(wp), intent(in) :: default
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(2)
-      logical :: found
-      call open_checked(name, H5T_FLOAT_F, 0, nrows, dset, dims, found, required)
-      if (.not. status_ok()) return
-      if (.not. found) then
-        allocate (a(max(nrows, 0)), source=default)
-        return
-      end if
-      allocate (a(dims(1)))
-      call h5dread_f(dset, H5T_NATIVE_DOUBLE, a, dims(1:1), err)
-      call h5dclose_f(dset, err)
+      real(wp), allocatable :: buffer(:, :)
+      call read_array(name, H5T_FLOAT_F, 0, nrows, buffer, required, default)
+      if (allocated(buffer)) a = buffer(1, :)
     end subroutine read_real1
 
     subroutine read_int1(name, nrows, a, required, default)
@@ -229,18 +222,9 @@ contains
       integer, allocatable, intent(out) :: a(:)
       logical, intent(in) :: required
       integer, intent(in) :: default
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(2)
-      logical :: found
-      call open_checked(name, H5T_INTEGER_F, 0, nrows, dset, dims, found, required)
-      if (.not. status_ok()) return
-      if (.not. found) then
-        allocate (a(max(nrows, 0)), source=default)
-        return
-      end if
-      allocate (a(dims(1)))
-      call h5dread_f(dset, H5T_NATIVE_INTEGER, a, dims(1:1), err)
-      call h5dclose_f(dset, err)
+      real(wp), allocatable :: buffer(:, :)
+      call read_array(name, H5T_INTEGER_F, 0, nrows, buffer, required, real(default, wp))
+      if (allocated(buffer)) a = nint(buffer(1, :))
     end subroutine read_int1
 
     subroutine read_real_attribute(loc, object, name, value, default, required)

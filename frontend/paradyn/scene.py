@@ -39,15 +39,8 @@ _REQUIRED = object()
 # scene dataclasses
 
 
-@dataclass
-class RunSettings:
-    end_time: float
-    output_interval: float
-    history_interval: float | None = None
-    time_step: float = 0.0
-    time_step_safety: float = 0.9
-    mass_damping: float = 0.0
-    progress_interval: float = 0.5
+# The [run] table maps one to one onto the deck's /control attributes.
+RunSettings = deck.Control
 
 
 @dataclass
