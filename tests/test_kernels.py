@@ -225,7 +225,7 @@ def _state(n: int = 1, nip: int = NIP) -> dict[str, np.ndarray]:
         "stress": F(np.zeros((n, 5, nip))),
         "back": F(np.zeros((n, 3, nip))),
         "eps_p": F(np.zeros((n, nip))),
-        "hourglass": F(np.zeros((n, 5))),
+        "hourglass": F(np.zeros((n, 9))),
         "e_internal": np.zeros(n),
         "e_hourglass": np.zeros(n),
     }
@@ -543,13 +543,13 @@ def test_blt_lumped_mass_adds_up_to_the_total_mass() -> None:
     """Reference: mass conservation of the lumped mass, sum over elements of 4 * node_mass =
     rho t (total area), on a tilted plate of general quadrilaterals (shoelace area) and on the
     pipe whip's 16 x 32 polygonal cylinder (512 rectangles 2 R sin(pi/16) x 0.0625); and the
-    documented rotary inertia I = m (t^2 + A) / 12."""
+    documented rotary inertia I = m (t^2 + A) / 4."""
     rng = np.random.default_rng(3)
     plate, area = _plate_elements(rng)
     mass, inertia = K.blt_mass(_layout(plate), T, RHO)
     assert 4.0 * mass.sum() == pytest.approx(RHO * T * area, rel=1e-12)
     element_area = 4.0 * mass / (RHO * T)
-    np.testing.assert_allclose(inertia, mass * (T**2 + element_area) / 12.0, rtol=1e-12)
+    np.testing.assert_allclose(inertia, mass * (T**2 + element_area) / 4.0, rtol=1e-12)
 
     pipe = _pipe_elements()
     t_pipe = 0.003

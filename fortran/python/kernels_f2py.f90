@@ -31,7 +31,7 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
   real(wp), intent(in) :: thickness, density, young, poisson, yield_stress, tangent, beta
   real(wp), intent(in) :: hourglass_coefficient, dt
-  real(wp), intent(inout) :: stress(n, 5, nip), back(n, 3, nip), eps_p(n, nip), hourglass(n, 5)
+  real(wp), intent(inout) :: stress(n, 5, nip), back(n, 3, nip), eps_p(n, nip), hourglass(n, 9)
   real(wp), intent(out) :: force(n, 6, 4)
   real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
   integer, intent(out) :: inverted

@@ -24,7 +24,12 @@ module shell_blt
   integer, parameter :: hourglass_viscous = 1     !< resultants proportional to the hourglass rates
   integer, parameter :: hourglass_stiffness = 2   !< resultants integrated from the rates (elastic)
   integer, parameter :: stress_components = 5     !< sxx, syy, sxy, sxz, syz (local frame)
-  integer, parameter :: hourglass_components = 5  !< membrane x, y; rotation x, y; transverse w
+  !> membrane x, y; rotation x, y; transverse w; then the drilling moments of the 4 nodes
+  integer, parameter :: hourglass_components = 9
+  !> drilling stiffness per node, as a fraction of E t A per radian (after the drilling penalty
+  !> of Hughes & Brezzi 1989): small enough to leave membrane and bending response alone, large
+  !> enough that the rotation about the normal of kinked facets is tied to the in-plane spin
+  real(wp), parameter :: drilling_penalty = 1.0e-4_wp
   real(wp), parameter :: shear_correction = 5.0_wp / 6.0_wp
   real(wp), parameter :: hourglass_vector(4) = [1.0_wp, -1.0_wp, 1.0_wp, -1.0_wp]
 
@@ -155,8 +160,9 @@ contains
     integer :: i, k, nip
     real(wp) :: zeta(max_integration_points), wgt(max_integration_points)
     real(wp) :: xe(3, 4), e(3, 3), xl(4), yl(4), area, b1(4), b2(4), gamma(4)
-    real(wp) :: vl(3, 4), wl(3, 4), dm(3), kappa(3), gs(2), qrate(hourglass_components)
+    real(wp) :: vl(3, 4), wl(3, 4), dm(3), kappa(3), gs(2), qrate(hourglass_components), spin
     real(wp) :: t, half_t, shear, z, deps(3), s_old(stress_components), work, bb, stiff(5), inertia(5)
+    real(wp) :: drill_total
     real(wp) :: q_old(hourglass_components), res_n(3), res_m(3), res_q(2), fl(6, 4), normal_mid(3)
 
     nip = props%integration_points
@@ -205,9 +211,10 @@ contains
       e_internal(i) = e_internal(i) + area * work
 
       ! --- hourglass resultants: stiffness form integrates k q; viscous form is sqrt(k m) q
+      spin = 0.5_wp * (dot_product(b1, vl(2, :)) - dot_product(b2, vl(1, :)))
       qrate = [dot_product(gamma, vl(1, :)), dot_product(gamma, vl(2, :)), &
                dot_product(gamma, wl(1, :)), dot_product(gamma, wl(2, :)), &
-               dot_product(gamma, vl(3, :))]
+               dot_product(gamma, vl(3, :)), wl(3, :) - spin]
       bb = sum(b1**2) + sum(b2**2)
       stiff(1:2) = props%young * t * area * bb / 8.0_wp
       stiff(3:4) = props%young * t**3 * area * bb / 192.0_wp
@@ -218,10 +225,16 @@ contains
         inertia(1:2) = props%density * t * area
         inertia(3:4) = props%density * t * area * (t**2 + area) / 12.0_wp
         inertia(5) = props%density * t * area
-        hourglass(i, :) = props%hourglass_coefficient * sqrt(stiff * inertia) * qrate
-        e_hourglass(i) = e_hourglass(i) + dt * dot_product(hourglass(i, :), qrate)
+        hourglass(i, 1:5) = props%hourglass_coefficient * sqrt(stiff * inertia) * qrate(1:5)
       else
-        hourglass(i, :) = hourglass(i, :) + props%hourglass_coefficient * stiff * dt * qrate
+        hourglass(i, 1:5) = hourglass(i, 1:5) + props%hourglass_coefficient * stiff * dt * qrate(1:5)
+      end if
+      ! drilling moments: elastic, resisting node rotation about the normal relative to the spin
+      hourglass(i, 6:9) = hourglass(i, 6:9) + drilling_penalty * props%young * t * area * dt * qrate(6:9)
+      if (props%hourglass_form == hourglass_viscous) then
+        e_hourglass(i) = e_hourglass(i) + dt * dot_product(hourglass(i, 1:5), qrate(1:5)) &
+                         + dt * dot_product(0.5_wp * (q_old(6:9) + hourglass(i, 6:9)), qrate(6:9))
+      else
         e_hourglass(i) = e_hourglass(i) + dt * dot_product(0.5_wp * (q_old + hourglass(i, :)), qrate)
       end if
 
@@ -245,20 +258,24 @@ contains
         res_m = res_m + wgt(k) * half_t * z * stress(i, 1:3, k)
         res_q = res_q + wgt(k) * half_t * stress(i, 4:5, k)
       end do
-      fl(1, :) = area * (b1 * res_n(1) + b2 * res_n(3)) + gamma * hourglass(i, 1)
-      fl(2, :) = area * (b2 * res_n(2) + b1 * res_n(3)) + gamma * hourglass(i, 2)
+      drill_total = sum(hourglass(i, 6:9))
+      fl(1, :) = area * (b1 * res_n(1) + b2 * res_n(3)) + gamma * hourglass(i, 1) + 0.5_wp * drill_total * b2
+      fl(2, :) = area * (b2 * res_n(2) + b1 * res_n(3)) + gamma * hourglass(i, 2) - 0.5_wp * drill_total * b1
       fl(3, :) = area * (b1 * res_q(1) + b2 * res_q(2)) + gamma * hourglass(i, 5)
       fl(4, :) = -area * (b2 * res_m(2) + b1 * res_m(3) + 0.25_wp * res_q(2)) + gamma * hourglass(i, 3)
       fl(5, :) = area * (b1 * res_m(1) + b2 * res_m(3) + 0.25_wp * res_q(1)) + gamma * hourglass(i, 4)
-      fl(6, :) = 0.0_wp
+      fl(6, :) = hourglass(i, 6:9)
       force(i, 1:3, :) = matmul(e, fl(1:3, :))
       force(i, 4:6, :) = matmul(e, fl(4:6, :))
     end do
   end subroutine blt_internal_forces
 
   !> Lumped mass: a quarter of the element mass at each node, and a rotational inertia scaled so
-  !> that rotations never govern the time step: I = m (t^2 + A) / 12 (after Key & Beisinger 1971
-  !> and Hughes, Liu & Levit 1981, who scale the rotary inertia up for the same reason).
+  !> that rotations never govern the time step: I = m (t^2 + A) / 4 (after Key & Beisinger 1971
+  !> and Hughes, Liu & Levit 1981, who scale the rotary inertia up for the same reason). The
+  !> fastest rotational mode, rotation coupled with w through transverse shear, has
+  !> omega ~ sqrt(5 (1 - nu) / 3) c / h with this inertia, below the membrane limit for every nu;
+  !> with A / 12 it exceeded that limit for nu < 0.12 (docs/theory.md).
   pure subroutine blt_lumped_mass(n, x, thickness, density, node_mass, node_inertia)
     integer, intent(in) :: n
     real(wp), intent(in) :: x(n, 3, 4), thickness, density
@@ -268,7 +285,7 @@ contains
     do i = 1, n
       call local_frame(x(i, :, :), e, xl, yl, area)
       node_mass(i) = 0.25_wp * density * thickness * abs(area)
-      node_inertia(i) = node_mass(i) * (thickness**2 + abs(area)) / 12.0_wp
+      node_inertia(i) = node_mass(i) * (thickness**2 + abs(area)) / 4.0_wp
     end do
   end subroutine blt_lumped_mass
 
