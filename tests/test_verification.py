@@ -11,14 +11,9 @@ critical for the first mode (``alpha = 2 omega_1``) and a load ramped over about
 then held until the response has settled; each such test also checks that it has settled and
 that the stored energy equals half the work of the final loads (Clapeyron).
 
-Findings that the tests record as expected failures (``xfail(strict=True)``, so that a fix is
-noticed):
-
-* the automatic time step is not stable for Poisson ratios below about 0.12 with square
-  elements (``test_default_time_step_is_stable_for_nu_zero``); the tests with nu = 0 use
-  ``time_step_safety = 0.8``;
-* the Scordelis-Lo roof converges to about 1.5 times the reference
-  (``test_scordelis_lo_roof_reference``).
+Two findings of these tests changed the engine: the rotary inertia scaling (the default step was
+unstable for Poisson ratios below about 0.12) and the drilling stiffness (the Scordelis-Lo roof
+converged to 1.5 times the reference without it); see docs/validation.md.
 """
 
 from __future__ import annotations
@@ -31,7 +26,7 @@ from paradyn.deck import Control
 
 STEEL = M.Material(young=200.0e9, poisson=0.3, density=7850.0)
 STEEL_NU0 = M.Material(young=200.0e9, poisson=0.0, density=7850.0)
-# the steel of docs/benchmarks (plate wave speed 5254 m/s)
+# the steel of shared/reference/benchmarks.md (plate wave speed 5254 m/s)
 STEEL_WAVE = M.Material(young=200.0e9, poisson=0.28, density=7860.0)
 
 # the default safety factor; test_default_time_step_is_stable checks it for every nu
@@ -53,7 +48,7 @@ def test_cantilever_tip_deflection(tmp_path, material):
     """Cantilever tip deflection by dynamic relaxation vs beam theory.
 
     Reference: delta = P L^3 / (3 E I), I = b t^3 / 12 (Timoshenko, Strength of Materials;
-    docs/benchmarks). Shear deflection P L / (k G A) adds 6e-5 relative, neglected.
+    shared/reference/benchmarks.md). Shear deflection P L / (k G A) adds 6e-5 relative, neglected.
 
     Strip L = 1 m, b = 0.1 m, t = 0.01 m, steel; 20 x 2 elements, clamped (all six dofs) at
     x = 0; P = 5 N split on the three tip nodes as a consistent line load (1/4, 1/2, 1/4),
@@ -85,7 +80,7 @@ def test_cantilever_tip_deflection(tmp_path, material):
 def test_cantilever_first_frequency(tmp_path):
     """First bending frequency from free vibration vs Euler-Bernoulli.
 
-    Reference: f1 = (1.8751^2 / 2 pi) sqrt(E I / (m L^4)) = 8.154 Hz (docs/benchmarks;
+    Reference: f1 = (1.8751^2 / 2 pi) sqrt(E I / (m L^4)) = 8.154 Hz (shared/reference/benchmarks.md;
     Timoshenko, Vibration Problems in Engineering).
 
     Strip L = 1 m, b = 0.1 m, t = 0.01 m, steel with nu = 0, 20 x 2 elements, clamped at x = 0.
@@ -217,7 +212,7 @@ def test_wave_speed(tmp_path, lateral):
     """Speed of a step wave along a strip: bar speed with free sides, plate speed with uy = 0.
 
     References: free sides (sigma_yy = 0): c_bar = sqrt(E / rho) = 5044 m/s; all nodes with
-    uy = 0 (eps_yy = 0): c_plate = sqrt(E / (rho (1 - nu^2))) = 5254 m/s (docs/benchmarks);
+    uy = 0 (eps_yy = 0): c_plate = sqrt(E / (rho (1 - nu^2))) = 5254 m/s (shared/reference/benchmarks.md);
     particle velocity behind the front v = F / (rho c A) (one-dimensional wave theory).
     The two speeds differ by 4.2 %, the tolerance is 2 %.
 
@@ -319,7 +314,7 @@ def roof_runs(tmp_path_factory):
 def test_scordelis_lo_roof_converged_static_state(roof_runs):
     """Scordelis-Lo roof: dynamic relaxation reaches the static state; the mesh has converged.
 
-    Problem (MacNeal & Harder 1985; docs/benchmarks): R = 25, L = 50, t = 0.25, half-angle 40 deg,
+    Problem (MacNeal & Harder 1985; shared/reference/benchmarks.md): R = 25, L = 50, t = 0.25, half-angle 40 deg,
     E = 4.32e8, nu = 0, self-weight 90 per unit area in -z, rigid diaphragms ux = uz = 0 at the
     ends, long edges free. Quarter model, axis along y, vertical z: diaphragm y = 0
     (ux = uz = 0), midspan y = 25 (uy = rx = rz = 0), crown x = 0 (ux = ry = rz = 0); nodal
@@ -343,7 +338,7 @@ def test_scordelis_lo_roof_converged_static_state(roof_runs):
 def test_scordelis_lo_roof_reference(roof_runs):
     """Scordelis-Lo roof: vertical midside displacement of the free edge vs 0.3024 within 5 %.
 
-    Reference: 0.3024 (MacNeal & Harder 1985, docs/benchmarks). Mesh: 16 x 16 on the quarter
+    Reference: 0.3024 (MacNeal & Harder 1985, shared/reference/benchmarks.md). Mesh: 16 x 16 on the quarter
     (setup in test_scordelis_lo_roof_converged_static_state).
 
     Engine (linear range): 0.3454 (4 x 4), 0.3116 (8 x 8), 0.3040 (16 x 16). Without the drilling
@@ -403,7 +398,7 @@ def _relaxed_plate(tmp_path, n: int, support: str):
 def test_hourglass_energy_coarse_plate(tmp_path, support):
     """Hourglass energy under a concentrated load on a coarse mesh stays small but acts.
 
-    Reference: the explicit-dynamics acceptance habit of docs/benchmarks (hourglass energy below
+    Reference: the explicit-dynamics acceptance habit of shared/reference/benchmarks.md (hourglass energy below
     10 % of internal energy); here stricter: 0 < HG < 5 % IE with the default coefficient 0.1.
 
     1 m square plate, t = 0.01 m, steel nu = 0.3, 4 x 4 elements, simply supported
