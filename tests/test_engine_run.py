@@ -202,30 +202,46 @@ def pipe_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return _run(PIPE_WHIP, tmp_path_factory.mktemp("pipe_whip"), "-n", "1", "-t", "2", "--no-plots")
 
 
-def test_pipe_whip_upper_pipe_flies_freely(pipe_run: Path) -> None:
-    """Reference: rigid translation (no contact in this version, no load): every point of the
-    upper pipe moved by (0, 0, -2 m/s * t_end) at the last frame, to 1e-9 m."""
+def test_pipe_whip_upper_pipe_flies_freely_until_contact(pipe_run: Path) -> None:
+    """Reference: rigid translation until the gap closes. The outer surfaces are 0.1 mm apart and
+    the upper pipe moves at 2 m/s, so contact starts at 50 us (benchmarks.md). Before it, the
+    history holds upper_*_dz = -2 t exactly and the lower pipe does not move; contact then starts
+    within two history records of 50 us."""
+    history = _history_csv(pipe_run / "history.csv")
+    t = history["time"]
+    assert t[0] == 0.0 and t[-1] == pytest.approx(2.5e-3, rel=1e-9) and len(t) == 251
+    free = t < 45e-6
+    for point in ("upper_contact", "upper_top", "upper_quarter"):
+        np.testing.assert_allclose(history[f"{point}_dz"][free], -2.0 * t[free], rtol=0, atol=1e-12)
+    for point in ("lower_contact", "lower_bottom", "lower_quarter"):
+        np.testing.assert_array_equal(history[f"{point}_dz"][free], 0.0)
+    first = t[np.argmax(history["contact_penetration"] > 0.0)]
+    assert 49.9e-6 <= first <= 70e-6
     times, grid = _last_frame(pipe_run / "upper_pipe.pvd")
-    t_end = float(times[-1])
-    assert t_end == pytest.approx(2.5e-3, rel=1e-9)
-    assert len(times) == 51                                        # 2.5e-3 / 5e-5 + 1
-    assert grid.n_cells == 512 and grid.n_points == 16 * 33
-    expected = np.array([0.0, 0.0, -2.0 * t_end])
-    np.testing.assert_allclose(grid.point_data["displacement"], np.broadcast_to(expected, (grid.n_points, 3)),
-                               rtol=0, atol=1e-9)
-    with h5py.File(pipe_run / "results.h5", "r") as f:
-        x0 = f["/mesh/coordinates"][()]
-    ids = np.asarray(grid.point_data["node_id"])
-    np.testing.assert_allclose(grid.points, x0[ids] + expected, rtol=0, atol=1e-9)
-    np.testing.assert_allclose(grid.point_data["velocity"], np.broadcast_to([0.0, 0.0, -2.0], (grid.n_points, 3)),
-                               rtol=0, atol=1e-9)
+    assert len(times) == 51 and grid.n_cells == 512 and grid.n_points == 16 * 33
 
 
-def test_pipe_whip_lower_pipe_stays_put(pipe_run: Path) -> None:
-    """Reference: an elastic body at rest with no load stays at rest: lower pipe displacement 0."""
-    _, grid = _last_frame(pipe_run / "lower_pipe.pvd")
-    assert grid.n_cells == 512
-    np.testing.assert_allclose(grid.point_data["displacement"], 0.0, rtol=0, atol=1e-12)
+def test_pipe_whip_contact_slows_the_upper_pipe_and_bends_the_lower(pipe_run: Path) -> None:
+    """Issue 4: both pipes deform, the lower pipe slows the upper one, no node passes through the
+    other pipe, and the energy balances within 2 %. Kinetic energy is 1/2 m v^2 of the upper pipe
+    (47.1 J for the 16-gon) at the start and turns into strain energy through the contact."""
+    history = _history_csv(pipe_run / "history.csv")
+    area = 512 * 2 * 0.08 * math.sin(math.pi / 16) * 2.0 / 32
+    kinetic = 0.5 * 7860.0 * 0.003 * area * 2.0**2
+    assert history["kinetic_energy"][0] == pytest.approx(kinetic, rel=1e-12)
+    assert history["kinetic_energy"][-1] < 0.8 * kinetic            # the upper pipe was slowed
+    assert history["internal_energy"][-1] > 0.1 * kinetic           # both pipes strained
+    assert history["lower_contact_dz"][-1] < -5e-4                   # the lower pipe was pushed down
+    assert history["upper_top_vz"][-1] > -1.9                        # and the upper pipe slowed
+    # no pass-through: penetration past the contact surfaces stays far below half a thickness
+    assert history["contact_penetration"].max() < 0.1 * 0.003
+    # the mid-surfaces at the contact line stay about a wall thickness apart
+    gap = (0.0831 + history["upper_contact_dz"]) - (0.08 + history["lower_contact_dz"])
+    assert gap.min() > 0.9 * 0.003
+    summary = json.loads((pipe_run / "summary.json").read_text())
+    assert summary["energy"]["balance_error"] < 0.02
+    assert "contact" in summary["effects"]
+    assert summary["phase_s"]["contact"] > 0 and summary["contact_phase_s"]["search"] > 0
 
 
 def test_pipe_whip_two_parts(pipe_run: Path) -> None:
@@ -239,20 +255,3 @@ def test_pipe_whip_two_parts(pipe_run: Path) -> None:
     assert (summary["elements"], summary["nodes"], summary["threads"]) == (1024, 1056, 2)
 
 
-def test_pipe_whip_history_of_the_upper_pipe(pipe_run: Path) -> None:
-    """Reference: free flight at -2 m/s: history.csv column upper_top_dz = -2 t, vz = -2; the
-    lower pipe's tracked points stay at 0."""
-    history = _history_csv(pipe_run / "history.csv")
-    t = history["time"]
-    assert t[0] == 0.0 and t[-1] == pytest.approx(2.5e-3, rel=1e-9) and len(t) == 251
-    for point in ("upper_contact", "upper_top", "upper_quarter"):
-        np.testing.assert_allclose(history[f"{point}_dz"], -2.0 * t, rtol=0, atol=1e-12)
-        np.testing.assert_allclose(history[f"{point}_vz"], -2.0, rtol=0, atol=1e-12)
-    for point in ("lower_contact", "lower_bottom", "lower_quarter"):
-        for c in ("dx", "dy", "dz"):
-            np.testing.assert_array_equal(history[f"{point}_{c}"], 0.0)
-    # the energy is all kinetic, 1/2 m v^2 of the upper pipe, and it is conserved
-    area = 512 * 2 * 0.08 * math.sin(math.pi / 16) * 2.0 / 32
-    kinetic = 0.5 * 7860.0 * 0.003 * area * 2.0**2
-    np.testing.assert_allclose(history["kinetic_energy"], kinetic, rtol=1e-12)
-    np.testing.assert_allclose(history["internal_energy"], 0.0, atol=1e-12 * kinetic)

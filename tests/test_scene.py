@@ -162,9 +162,20 @@ def test_scene_errors(tmp_path: Path, old: str, new: str, pattern: str) -> None:
     assert str(info.value).startswith(str(tmp_path / "scene.toml"))
 
 
-def test_contact_is_rejected(tmp_path: Path) -> None:
+def test_contact_with_itself_is_rejected(tmp_path: Path) -> None:
     message = _error(tmp_path, MINIMAL + '[[contact]]\nparts = ["strip", "strip"]\n')
-    assert "contact is not available in this version" in message
+    assert "'parts' in [[contact]] #1 must name two different parts" in message
+
+
+def test_contact_with_unknown_part_is_rejected(tmp_path: Path) -> None:
+    message = _error(tmp_path, MINIMAL + '[[contact]]\nparts = ["strip", "other"]\n')
+    assert "[[contact]] #1 names part 'other', which is not defined" in message
+
+
+def test_pipe_whip_contact_reaches_the_deck() -> None:
+    model = scene.build_model(scene.load_scene(PIPE_WHIP))
+    np.testing.assert_array_equal(model.contact_pairs, [[0, 1]])
+    assert model.contact_penalty_scale.tolist() == [0.1] and model.contact_passes.tolist() == [2]
 
 
 def test_fix_box_missing_the_part(tmp_path: Path) -> None:

@@ -78,3 +78,92 @@ subroutine block_partition(n_elements, n_ranks, owner)
     owner(e) = block_owner(e, n_elements, n_ranks)
   end do
 end subroutine block_partition
+
+! ------------------------------------------------------------------------------------------------
+! Contact kernels (contact_buckets, contact_search). Node and segment numbers are 1-based.
+
+! Bucket sort of n_master master nodes and the nearest master node of each of n_points points
+! (build and query in one call; 0 = none). n_buckets: buckets per axis of the grid that was built.
+! max_distance > 0 limits the search radius (default 0: unlimited).
+subroutine contact_nearest_nodes(n_master, master, bucket_size, n_points, points, nearest, n_buckets, &
+                                 max_distance)
+  use paradyn_kinds, only: wp
+  use contact_buckets, only: bucket_grid_t, bucket_grid_build, nearest_master_nodes
+  implicit none
+  integer, intent(in) :: n_master, n_points
+  real(wp), intent(in) :: master(3, n_master), bucket_size, points(3, n_points)
+  integer, intent(out) :: nearest(n_points), n_buckets(3)
+  real(wp), intent(in) :: max_distance
+  !f2py real(wp) optional, intent(in) :: max_distance = 0.0
+  type(bucket_grid_t) :: grid
+  call bucket_grid_build(n_master, master, bucket_size, grid)
+  if (max_distance > 0.0_wp) then
+    call nearest_master_nodes(grid, master, n_points, points, nearest, max_distance)
+  else
+    call nearest_master_nodes(grid, master, n_points, points, nearest)
+  end if
+  n_buckets = grid%n_buckets
+end subroutine contact_nearest_nodes
+
+subroutine contact_closest_point(xseg, p, xi, eta, xc, normal)
+  use paradyn_kinds, only: wp
+  use contact_search, only: closest_point_on_segment
+  implicit none
+  real(wp), intent(in) :: xseg(3, 4), p(3)
+  real(wp), intent(out) :: xi, eta, xc(3), normal(3)
+  call closest_point_on_segment(xseg, p, xi, eta, xc, normal)
+end subroutine contact_closest_point
+
+subroutine contact_node_segments(n_nodes, n_segments, segment_nodes, segment_start, segment_list, n_entries)
+  use contact_search, only: node_segment_map
+  implicit none
+  integer, intent(in) :: n_nodes, n_segments
+  integer, intent(in) :: segment_nodes(4, n_segments)
+  integer, intent(out) :: segment_start(n_nodes + 1), segment_list(4 * n_segments), n_entries
+  call node_segment_map(n_nodes, n_segments, segment_nodes, segment_start, segment_list, n_entries)
+end subroutine contact_node_segments
+
+subroutine contact_segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
+                                      n_list, segment_list, segment, xi, eta, xc, normal)
+  use paradyn_kinds, only: wp
+  use contact_search, only: segment_candidates
+  implicit none
+  integer, intent(in) :: node, n_nodes, n_segments, n_list
+  real(wp), intent(in) :: p(3), coords(3, n_nodes)
+  integer, intent(in) :: segment_nodes(4, n_segments), segment_start(n_nodes + 1), segment_list(n_list)
+  integer, intent(out) :: segment
+  real(wp), intent(out) :: xi, eta, xc(3), normal(3)
+  call segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
+                          segment_list, segment, xi, eta, xc, normal)
+end subroutine contact_segment_candidates
+
+subroutine contact_penalty_stiffness(xseg, young, poisson, scale, k)
+  use paradyn_kinds, only: wp
+  use contact_search, only: shell_penalty_stiffness
+  implicit none
+  real(wp), intent(in) :: xseg(3, 4), young, poisson, scale
+  real(wp), intent(out) :: k
+  k = shell_penalty_stiffness(xseg, young, poisson, scale)
+end subroutine contact_penalty_stiffness
+
+! Penalty (and optional friction) force between a slave node and a master segment. Friction is
+! off with mu_static = mu_dynamic = 0 (the defaults). rounded_edges: 0 (default) or 1.
+subroutine contact_penalty_force(p, t_slave, xseg, t_master, k, f_slave, f_master, penetration, in_contact, &
+                                 v_slave, v_master, mu_static, mu_dynamic, decay, v_slip, rounded_edges)
+  use paradyn_kinds, only: wp
+  use contact_search, only: penalty_force
+  implicit none
+  real(wp), intent(in) :: p(3), t_slave, xseg(3, 4), t_master, k
+  real(wp), intent(out) :: f_slave(3), f_master(3, 4), penetration
+  integer, intent(out) :: in_contact
+  real(wp), intent(in) :: v_slave(3), v_master(3, 4)
+  real(wp), intent(in) :: mu_static, mu_dynamic, decay, v_slip
+  integer, intent(in) :: rounded_edges
+  !f2py real(wp) optional, intent(in) :: mu_static = 0.0, mu_dynamic = 0.0, decay = 0.0, v_slip = 0.0
+  !f2py integer optional, intent(in) :: rounded_edges = 0
+  !f2py real(wp) optional, intent(in) :: v_slave, v_master
+  logical :: contact
+  call penalty_force(p, t_slave, xseg, t_master, k, f_slave, f_master, penetration, contact, &
+                     v_slave, v_master, mu_static, mu_dynamic, decay, v_slip, rounded_edges /= 0)
+  in_contact = merge(1, 0, contact)
+end subroutine contact_penalty_force

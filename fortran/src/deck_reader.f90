@@ -67,6 +67,7 @@ contains
     if (status_ok()) call read_real2('/nodes/initial_angular_velocity', 3, d%n_nodes, d%angular_velocity, .false.)
     if (status_ok()) call read_int2('/nodes/fixed_dofs', 6, d%n_nodes, d%fixed, .false.)
     if (status_ok()) call read_loads()
+    if (status_ok()) call read_contacts()
     if (status_ok()) call read_int1('/output/tracked_nodes', -1, d%tracked_nodes, .false., 0)
     if (status_ok()) d%n_tracked = size(d%tracked_nodes)
     if (status_ok()) call read_control()
@@ -79,6 +80,7 @@ contains
     d%part_material = d%part_material + 1
     d%load_node = d%load_node + 1
     d%tracked_nodes = d%tracked_nodes + 1
+    d%contact_pairs = d%contact_pairs + 1
     call check_deck_values(d, status, message)
 
   contains
@@ -97,7 +99,24 @@ contains
       if (status_ok()) call read_real1('/loads/ramp_time', d%n_loads, d%load_ramp_time, have, 0.0_wp)
     end subroutine read_loads
 
+    subroutine read_contacts()
+      logical :: have
+      have = link_exists(file, '/contact')
+      call read_int2('/contact/pairs', 2, -1, d%contact_pairs, have)
+      if (status_ok()) d%n_contacts = size(d%contact_pairs, 2)
+      if (status_ok()) call read_real1('/contact/penalty_scale', d%n_contacts, d%contact_penalty_scale, &
+                                       .false., 0.1_wp)
+      if (status_ok()) call read_real1('/contact/static_friction', d%n_contacts, d%contact_static_friction, &
+                                       .false., 0.0_wp)
+      if (status_ok()) call read_real1('/contact/dynamic_friction', d%n_contacts, &
+                                       d%contact_dynamic_friction, .false., 0.0_wp)
+      if (status_ok()) call read_real1('/contact/friction_decay', d%n_contacts, d%contact_friction_decay, &
+                                       .false., 0.0_wp)
+      if (status_ok()) call read_int1('/contact/passes', d%n_contacts, d%contact_passes, .false., 2)
+    end subroutine read_contacts
+
     subroutine read_control()
+      real(wp) :: interval
       if (.not. link_exists(file, '/control')) then
         message = 'group /control is missing; it carries the attributes end_time and output_interval'
         return
@@ -113,6 +132,9 @@ contains
       if (status_ok()) call read_real_attribute(file, '/control', 'mass_damping', d%mass_damping, 0.0_wp, .false.)
       if (status_ok()) call read_real_attribute(file, '/control', 'progress_interval', d%progress_interval, &
                                                 0.5_wp, .false.)
+      if (status_ok()) call read_real_attribute(file, '/control', 'contact_sort_interval', interval, &
+                                                0.0_wp, .false.)
+      if (status_ok()) d%contact_sort_interval = nint(interval)
     end subroutine read_control
 
     !> Opens a dataset after checking that it exists and has the expected class and shape.

@@ -15,7 +15,8 @@ module explicit_solver
                        hourglass_components, material_j2_plastic
   use domain_decomposition, only: domain_t, decompose, group_size
   use halo_exchange, only: halo_t, halo_setup, exchange_corners, gather_nodes, gather_elements, &
-                           sum_to_root
+                           sum_to_root, node_set_t, node_set_setup, allgather_node_set
+  use contact_interface, only: contact_t, contact_setup, contact_forces
   use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes
   use time_integration, only: update_velocities, update_positions, point_load_forces, kinetic_energy
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
@@ -29,6 +30,9 @@ module explicit_solver
     type(domain_t) :: dom
     type(halo_t) :: halo
     type(shell_properties_t), allocatable :: props(:)
+    type(contact_t) :: contact
+    type(node_set_t) :: contact_nodes
+    logical :: has_contact = .false.
     integer :: rank = 0, n_ranks = 1, threads = 1
     ! nodal state, local numbering
     real(wp), allocatable :: x0(:, :), x(:, :), v(:, :), w(:, :), v_old(:, :), w_old(:, :)
@@ -59,6 +63,7 @@ contains
     if (any(deck%material_model(deck%part_material) == material_j2_plastic)) list = list//',plasticity'
     if (any(deck%fixed /= 0)) list = list//',fixed_boundaries'
     if (deck%n_loads > 0) list = list//',point_loads'
+    if (deck%n_contacts > 0) list = list//',contact'
     if (deck%mass_damping > 0) list = list//',mass_damping'
   end function solver_effects
 
@@ -162,6 +167,11 @@ contains
       end if
     end if
 
+    s%has_contact = deck%n_contacts > 0
+    if (s%has_contact) then
+      call contact_setup(deck, s%contact)
+      call node_set_setup(s%dom, s%halo, s%contact%global_node, s%contact_nodes)
+    end if
     allocate (s%load_node(deck%n_loads))
     do l = 1, deck%n_loads
       s%load_node(l) = local_node(s%dom, deck%load_node(l))
@@ -224,6 +234,21 @@ contains
     !$omp end parallel do
     s%inverted = s%inverted + inverted
   end subroutine element_forces
+
+  function wall_clock() result(seconds)
+    real(wp) :: seconds
+    seconds = MPI_Wtime()
+  end function wall_clock
+
+  !> Contact forces act on the nodes like external forces: subtract them from the internal ones.
+  subroutine apply_contact_forces(s)
+    type(solver_t), intent(inout) :: s
+    integer :: k, j
+    do k = 1, s%contact_nodes%n
+      j = s%contact_nodes%local(k)
+      if (j > 0) s%f_int(1:3, j) = s%f_int(1:3, j) - s%contact%force(:, k)
+    end do
+  end subroutine apply_contact_forces
 
   !> Fixed-order nodal sum of the corner forces, nodes split into one contiguous range per thread.
   subroutine assemble_forces(s)
@@ -318,6 +343,9 @@ contains
     run%element_cycles_per_s = real(deck%n_elements, wp) * s%cycles / max(run%wall_s, 1.0e-12_wp)
     run%phase_elements_s = phase(1)
     run%phase_contact_s = phase(2)
+    run%phase_contact_sort_s = s%contact%time_sort
+    run%phase_contact_search_s = s%contact%time_search
+    run%phase_contact_force_s = s%contact%time_force
     run%phase_communication_s = phase(3)
     run%phase_output_s = phase(4)
     run%phase_other_s = max(run%wall_s - sum(phase(1:4)), 0.0_wp)
@@ -349,6 +377,15 @@ contains
       t0 = MPI_Wtime()
       call assemble_forces(s)
       phase(1) = phase(1) + MPI_Wtime() - t0
+      if (s%has_contact) then
+        t0 = MPI_Wtime()
+        call allgather_node_set(s%halo, s%contact_nodes, s%x, s%v, s%contact%x, s%contact%v)
+        phase(3) = phase(3) + MPI_Wtime() - t0
+        t0 = MPI_Wtime()
+        call contact_forces(s%contact, s%cycles, dt_strain, wall_clock)
+        call apply_contact_forces(s)
+        phase(2) = phase(2) + MPI_Wtime() - t0
+      end if
     end subroutine forces_at_current_state
 
     !> Loads at the current time and their work since the last step (trapezoidal rule).
@@ -369,15 +406,17 @@ contains
     subroutine write_record(status, message)
       integer, intent(out) :: status
       character(len=*), intent(out) :: message
-      real(wp) :: sums(7)
+      real(wp) :: sums(8)
       integer :: bad, bad_total
       sums(1) = kinetic_energy(s%dom%n_nodes, s%mass, s%inertia, s%v_old, s%w_old, s%v, s%w, s%weight)
       sums(2) = sum(s%e_internal)
       sums(3) = sum(s%e_hourglass)
-      sums(4) = 0.0_wp
+      ! every rank computes the same contact, so rank 0 alone reports it
+      sums(4) = merge(s%contact%energy, 0.0_wp, s%rank == 0)
       sums(5) = s%external_work - s%damping_work
-      sums(6) = real(s%inverted, wp)
-      sums(7) = merge(1.0_wp, 0.0_wp, any(s%v /= s%v) .or. any(s%f_int /= s%f_int))
+      sums(6) = merge(s%contact%max_penetration, 0.0_wp, s%rank == 0)
+      sums(7) = real(s%inverted, wp)
+      sums(8) = merge(1.0_wp, 0.0_wp, any(s%v /= s%v) .or. any(s%f_int /= s%f_int))
       call sum_to_root(s%halo, sums)
       call gather_nodes(s%halo, s%x - s%x0, s%global_a)
       call gather_nodes(s%halo, 0.5_wp * (s%v + s%v_old), s%global_b)
@@ -385,10 +424,10 @@ contains
       message = ''
       bad = 0
       if (s%rank == 0) then
-        call results_write_history(rf, s%time, sums(1:5), s%global_a(:, deck%tracked_nodes), &
+        call results_write_history(rf, s%time, sums(1:6), s%global_a(:, deck%tracked_nodes), &
                                    s%global_b(:, deck%tracked_nodes))
-        if (sums(6) > 0.0_wp) bad = 1
-        if (sums(7) > 0.0_wp .or. sums(1) /= sums(1)) bad = 2
+        if (sums(7) > 0.0_wp) bad = 1
+        if (sums(8) > 0.0_wp .or. sums(1) /= sums(1)) bad = 2
       end if
       call MPI_Allreduce(bad, bad_total, 1, MPI_INTEGER, MPI_MAX, s%halo%comm)
       if (bad_total == 1) then

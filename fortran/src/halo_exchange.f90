@@ -8,6 +8,7 @@ module halo_exchange
   implicit none
   private
   public :: halo_t, halo_setup, exchange_corners, gather_nodes, gather_elements, sum_to_root
+  public :: node_set_t, node_set_setup, allgather_node_set
 
   type :: halo_t
     type(MPI_Comm) :: comm
@@ -20,7 +21,68 @@ module halo_exchange
     integer, allocatable :: element_counts(:), element_displs(:)
   end type halo_t
 
+  !> A set of global nodes (for example every node of the parts in contact) whose positions and
+  !> velocities every rank needs every step: each owner sends its members to all ranks.
+  type :: node_set_t
+    integer :: n = 0
+    integer, allocatable :: local(:)          !< local id of each member on this rank, 0 if not held
+    integer, allocatable :: owned_member(:)   !< members this rank owns
+    integer, allocatable :: counts(:), displs(:), gathered_member(:)
+    real(wp), allocatable :: send(:, :), recv(:, :)
+  end type node_set_t
+
 contains
+
+  !> members: global node ids, ascending.
+  subroutine node_set_setup(dom, halo, members, set)
+    type(domain_t), intent(in) :: dom
+    type(halo_t), intent(in) :: halo
+    integer, intent(in) :: members(:)
+    type(node_set_t), intent(out) :: set
+    integer :: k, lo, hi, mid, total
+    set%n = size(members)
+    allocate (set%local(set%n), source=0)
+    do k = 1, set%n   ! local ids by binary search in the ascending local node list
+      lo = 1
+      hi = dom%n_nodes
+      do while (lo <= hi)
+        mid = (lo + hi) / 2
+        if (dom%nodes(mid) == members(k)) then
+          set%local(k) = mid
+          exit
+        else if (dom%nodes(mid) < members(k)) then
+          lo = mid + 1
+        else
+          hi = mid - 1
+        end if
+      end do
+    end do
+    set%owned_member = pack([(k, k = 1, set%n)], set%local > 0)
+    set%owned_member = pack(set%owned_member, dom%node_owned(set%local(set%owned_member)) == 1)
+    allocate (set%counts(dom%n_ranks), set%displs(dom%n_ranks))
+    call MPI_Allgather(size(set%owned_member), 1, MPI_INTEGER, set%counts, 1, MPI_INTEGER, halo%comm)
+    call displacements(set%counts, set%displs, total)
+    allocate (set%gathered_member(total))
+    call MPI_Allgatherv(set%owned_member, size(set%owned_member), MPI_INTEGER, set%gathered_member, &
+                        set%counts, set%displs, MPI_INTEGER, halo%comm)
+    allocate (set%send(6, max(size(set%owned_member), 1)), set%recv(6, max(total, 1)))
+  end subroutine node_set_setup
+
+  !> Positions and velocities of every member of the set, on every rank.
+  subroutine allgather_node_set(halo, set, x, v, x_set, v_set)
+    type(halo_t), intent(in) :: halo
+    type(node_set_t), intent(inout) :: set
+    real(wp), intent(in) :: x(:, :), v(:, :)
+    real(wp), intent(out) :: x_set(3, set%n), v_set(3, set%n)
+    integer :: n_owned
+    n_owned = size(set%owned_member)
+    set%send(1:3, 1:n_owned) = x(:, set%local(set%owned_member))
+    set%send(4:6, 1:n_owned) = v(:, set%local(set%owned_member))
+    call MPI_Allgatherv(set%send, 6 * n_owned, MPI_DOUBLE_PRECISION, set%recv, 6 * set%counts, &
+                        6 * set%displs, MPI_DOUBLE_PRECISION, halo%comm)
+    x_set(:, set%gathered_member) = set%recv(1:3, 1:set%n)
+    v_set(:, set%gathered_member) = set%recv(4:6, 1:set%n)
+  end subroutine allgather_node_set
 
   subroutine halo_setup(dom, comm, halo)
     type(domain_t), intent(in) :: dom

@@ -11,7 +11,7 @@ module model_deck
 
   type :: deck_t
     integer :: n_nodes = 0, n_elements = 0, n_parts = 0, n_materials = 0
-    integer :: n_loads = 0, n_tracked = 0
+    integer :: n_loads = 0, n_tracked = 0, n_contacts = 0
     real(wp), allocatable :: coordinates(:, :)        !< (3, n_nodes)
     real(wp), allocatable :: velocity(:, :)           !< (3, n_nodes)
     real(wp), allocatable :: angular_velocity(:, :)   !< (3, n_nodes)
@@ -26,9 +26,14 @@ module model_deck
     integer, allocatable :: load_node(:), load_dof(:)
     real(wp), allocatable :: load_value(:), load_ramp_time(:)
     integer, allocatable :: tracked_nodes(:)
+    integer, allocatable :: contact_pairs(:, :)       !< (2, n_contacts), 1-based parts
+    real(wp), allocatable :: contact_penalty_scale(:), contact_static_friction(:)
+    real(wp), allocatable :: contact_dynamic_friction(:), contact_friction_decay(:)
+    integer, allocatable :: contact_passes(:)         !< 2 both bodies slave every step, 1 alternate
     real(wp) :: end_time = 0.0_wp, output_interval = 0.0_wp, history_interval = 0.0_wp
     real(wp) :: time_step = 0.0_wp, time_step_safety = 0.9_wp, mass_damping = 0.0_wp
     real(wp) :: progress_interval = 0.5_wp
+    integer :: contact_sort_interval = 0              !< cycles between bucket sorts, 0 = automatic
   end type deck_t
 
 contains
@@ -173,6 +178,28 @@ contains
         return
       end if
     end do
+    do i = 1, d%n_contacts
+      if (any(d%contact_pairs(:, i) < 1 .or. d%contact_pairs(:, i) > d%n_parts) .or. &
+          d%contact_pairs(1, i) == d%contact_pairs(2, i)) then
+        write (message, '(a,i0,a,i0)') '/contact/pairs[', i - 1, &
+          '] must name two different parts in 0..', d%n_parts - 1
+        return
+      end if
+      if (.not. (d%contact_penalty_scale(i) > 0.0_wp .and. d%contact_static_friction(i) >= 0.0_wp &
+                 .and. d%contact_dynamic_friction(i) >= 0.0_wp .and. d%contact_friction_decay(i) >= 0.0_wp)) then
+        write (message, '(a,i0,a)') '/contact/penalty_scale[', i - 1, &
+          '] must be > 0 and the friction coefficients and decay >= 0'
+        return
+      end if
+      if (d%contact_passes(i) /= 1 .and. d%contact_passes(i) /= 2) then
+        write (message, '(a,i0,a)') '/contact/passes[', i - 1, '] must be 1 (alternate) or 2 (both)'
+        return
+      end if
+    end do
+    if (d%contact_sort_interval < 0) then
+      message = '/control attribute contact_sort_interval must be >= 0 (0 = automatic)'
+      return
+    end if
     do i = 1, d%n_tracked
       if (d%tracked_nodes(i) < 1 .or. d%tracked_nodes(i) > d%n_nodes) then
         write (message, '(a,i0,a)') '/output/tracked_nodes[', i - 1, '] is not a node index'

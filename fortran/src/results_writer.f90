@@ -21,11 +21,13 @@ module results_writer
     real(wp) :: dt_s = 0, dt_stable_s = 0, wall_s = 0, element_cycles_per_s = 0
     real(wp) :: phase_elements_s = 0, phase_contact_s = 0, phase_communication_s = 0
     real(wp) :: phase_output_s = 0, phase_other_s = 0
+    real(wp) :: phase_contact_sort_s = 0, phase_contact_search_s = 0, phase_contact_force_s = 0
   end type run_record_t
 
-  integer, parameter :: history_names_count = 5
-  character(len=*), parameter :: history_names(history_names_count) = [character(len=16) :: &
-    'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work']
+  integer, parameter :: history_names_count = 6
+  character(len=*), parameter :: history_names(history_names_count) = [character(len=20) :: &
+    'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work', &
+    'contact_penetration']
 
 contains
 
@@ -94,10 +96,11 @@ contains
     call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
   end subroutine results_write_frame
 
-  !> energies: kinetic, internal, hourglass, contact, external work.
+  !> values: kinetic, internal, hourglass and contact energy, external work, deepest contact
+  !> penetration.
   subroutine results_write_history(rf, time, energies, tracked_displacement, tracked_velocity)
     type(results_file_t), intent(inout) :: rf
-    real(wp), intent(in) :: time, energies(history_names_count)
+    real(wp), intent(in) :: time, energies(history_names_count)  ! energies and penetration
     real(wp), intent(in) :: tracked_displacement(:, :), tracked_velocity(:, :)
     integer :: k
     rf%records = rf%records + 1
@@ -133,6 +136,9 @@ contains
     call write_real_attribute(group, 'phase_communication_s', run%phase_communication_s)
     call write_real_attribute(group, 'phase_output_s', run%phase_output_s)
     call write_real_attribute(group, 'phase_other_s', run%phase_other_s)
+    call write_real_attribute(group, 'phase_contact_sort_s', run%phase_contact_sort_s)
+    call write_real_attribute(group, 'phase_contact_search_s', run%phase_contact_search_s)
+    call write_real_attribute(group, 'phase_contact_force_s', run%phase_contact_force_s)
     call h5gclose_f(group, err)
     if (complete) call overwrite_int_attribute(rf%file, 'complete', 1)
     call h5fclose_f(rf%file, err)

@@ -43,9 +43,11 @@ class Control:
     time_step_safety: float = 0.9
     mass_damping: float = 0.0
     progress_interval: float = 0.5
+    contact_sort_interval: float = 0.0
 
     REQUIRED = ("end_time", "output_interval")
-    OPTIONAL = ("history_interval", "time_step", "time_step_safety", "mass_damping", "progress_interval")
+    OPTIONAL = ("history_interval", "time_step", "time_step_safety", "mass_damping", "progress_interval",
+                "contact_sort_interval")
 
 
 def _empty_int() -> np.ndarray:
@@ -89,6 +91,12 @@ class Model:
     load_value: np.ndarray = field(default_factory=_empty_float)    # /loads/value N or N m
     load_ramp_time: np.ndarray = field(default_factory=_empty_float)  # /loads/ramp_time s
     tracked_nodes: np.ndarray = field(default_factory=_empty_int)   # /output/tracked_nodes
+    contact_pairs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int32))  # /contact/pairs
+    contact_penalty_scale: np.ndarray = field(default_factory=_empty_float)     # /contact/penalty_scale
+    contact_static_friction: np.ndarray = field(default_factory=_empty_float)   # /contact/static_friction
+    contact_dynamic_friction: np.ndarray = field(default_factory=_empty_float)  # /contact/dynamic_friction
+    contact_friction_decay: np.ndarray = field(default_factory=_empty_float)    # /contact/friction_decay s/m
+    contact_passes: np.ndarray = field(default_factory=_empty_int)  # /contact/passes: 2 both, 1 alternate
     title: str = ""
     part_names: list[str] = field(default_factory=list)
     material_names: list[str] = field(default_factory=list)
@@ -122,6 +130,13 @@ class Model:
                 self.hourglass_coefficient = np.full(n_parts, 0.1)
             if self.hourglass_form is None:
                 self.hourglass_form = np.full(n_parts, HOURGLASS_STIFFNESS, dtype=np.int32)
+        n_contacts = self.n_contacts
+        for attribute, default in (("contact_penalty_scale", 0.1), ("contact_static_friction", 0.0),
+                                   ("contact_dynamic_friction", 0.0), ("contact_friction_decay", 0.0),
+                                   ("contact_passes", 2)):
+            if np.size(getattr(self, attribute)) == 0 and n_contacts > 0:
+                setattr(self, attribute, np.full(n_contacts, default,
+                                                 dtype=np.int32 if attribute == "contact_passes" else float))
 
     @property
     def n_nodes(self) -> int | None:
@@ -150,6 +165,11 @@ class Model:
     @property
     def n_tracked(self) -> int:
         return int(np.size(self.tracked_nodes))
+
+    @property
+    def n_contacts(self) -> int:
+        pairs = np.asarray(self.contact_pairs)
+        return int(pairs.shape[0]) if pairs.ndim == 2 else int(pairs.size)
 
     @property
     def uses_plasticity(self) -> bool:
@@ -206,10 +226,18 @@ _DATASETS = (
     _Dataset("load_value", "/loads/value", "float", ("n_loads",), False),
     _Dataset("load_ramp_time", "/loads/ramp_time", "float", ("n_loads",), False),
     _Dataset("tracked_nodes", "/output/tracked_nodes", "int", ("n_tracked",), False),
+    _Dataset("contact_pairs", "/contact/pairs", "int", ("n_contacts", 2), False),
+    _Dataset("contact_penalty_scale", "/contact/penalty_scale", "float", ("n_contacts",), False),
+    _Dataset("contact_static_friction", "/contact/static_friction", "float", ("n_contacts",), False),
+    _Dataset("contact_dynamic_friction", "/contact/dynamic_friction", "float", ("n_contacts",), False),
+    _Dataset("contact_friction_decay", "/contact/friction_decay", "float", ("n_contacts",), False),
+    _Dataset("contact_passes", "/contact/passes", "int", ("n_contacts",), False),
 )
 _BY_ATTRIBUTE = {d.attribute: d for d in _DATASETS}
 _PLASTICITY_FIELDS = ("yield_stress", "tangent_modulus", "hardening_mixing")
 _LOAD_FIELDS = ("load_node", "load_dof", "load_value", "load_ramp_time")
+_CONTACT_FIELDS = ("contact_pairs", "contact_penalty_scale", "contact_static_friction",
+                   "contact_dynamic_friction", "contact_friction_decay", "contact_passes")
 _NAME_ATTRIBUTES = (("part_names", "/parts", "n_parts"), ("material_names", "/materials", "n_materials"),
                     ("tracked_names", "/output", "n_tracked"))
 _NAME_ATTRIBUTE_KEY = {"part_names": "names", "material_names": "names", "tracked_names": "tracked_names"}
@@ -268,7 +296,7 @@ class _Checker:
                 self.fail(f"{spec.path} has shape {a.shape}, expected (n_{what}s,) with at least "
                           f"one {what}")
         return {"n_nodes": m.n_nodes, "n_elements": m.n_elements, "n_parts": m.n_parts,
-                "n_materials": m.n_materials, "n_loads": m.n_loads, "n_tracked": m.n_tracked}
+                "n_materials": m.n_materials, "n_loads": m.n_loads, "n_tracked": m.n_tracked, "n_contacts": m.n_contacts}
 
     # -- values ------------------------------------------------------------------------------
 
@@ -322,6 +350,7 @@ def validate_model(model: Model, source: str = "model") -> None:
     _check_parts(check, sizes)
     _check_materials(check)
     _check_loads(check, sizes)
+    _check_contacts(check, sizes)
     check.index_range("tracked_nodes", sizes["n_nodes"], "node")
     _check_names(check, sizes)
     _check_control(check)
@@ -422,6 +451,24 @@ def _check_loads(check: _Checker, sizes: dict[str, int]) -> None:
                   "give the ramp time in seconds (0 applies the load at once)")
 
 
+def _check_contacts(check: _Checker, sizes: dict[str, int]) -> None:
+    if sizes["n_contacts"] == 0:
+        return
+    check.index_range("contact_pairs", sizes["n_parts"], "part")
+    pairs = check.array("contact_pairs")
+    check.entries("contact_pairs", pairs[:, 0] == pairs[:, 1], "pairs a part with itself",
+                  "name two different parts (self-contact is not modelled)")
+    scale = check.array("contact_penalty_scale")
+    check.entries("contact_penalty_scale", ~(np.isfinite(scale) & (scale > 0)), "must be > 0",
+                  "use a penalty scale factor such as 0.1 (the default)")
+    for name in ("contact_static_friction", "contact_dynamic_friction", "contact_friction_decay"):
+        mu = check.array(name)
+        check.entries(name, ~(np.isfinite(mu) & (mu >= 0)), "must be >= 0", "give a Coulomb coefficient >= 0")
+    passes = check.array("contact_passes")
+    check.entries("contact_passes", (passes != 1) & (passes != 2), "must be 1 or 2",
+                  "use 2 (both bodies slave every step) or 1 (slave and master swap every step)")
+
+
 def _check_names(check: _Checker, sizes: dict[str, int]) -> None:
     for attribute, group, size_key in _NAME_ATTRIBUTES:
         names = getattr(check.model, attribute)
@@ -488,6 +535,8 @@ def _write_contents(f: h5py.File, model: Model) -> None:
         if spec.attribute in _LOAD_FIELDS and model.n_loads == 0:
             continue
         if spec.attribute == "tracked_nodes" and model.n_tracked == 0:
+            continue
+        if spec.attribute in _CONTACT_FIELDS and model.n_contacts == 0:
             continue
         dtype = np.int32 if spec.kind == "int" else np.float64
         f.create_dataset(spec.path, data=np.ascontiguousarray(value, dtype=dtype))
@@ -568,7 +617,10 @@ def _read_arrays(f: h5py.File, source: str) -> dict[str, np.ndarray | None]:
         if missing:
             raise DeckError(f"{source}: group /loads is present but {missing[0]} is missing; a load needs "
                             f"node, dof, value and ramp_time")
-    for attribute in _LOAD_FIELDS + ("tracked_nodes",):
+    if "/contact" in f and arrays["contact_pairs"] is None:
+        raise DeckError(f"{source}: group /contact is present but /contact/pairs is missing; a contact "
+                        f"pair names two parts")
+    for attribute in _LOAD_FIELDS + _CONTACT_FIELDS + ("tracked_nodes",):
         if arrays[attribute] is None:
             del arrays[attribute]
     return arrays

@@ -41,6 +41,7 @@ ENERGY_NAMES = (
 )
 TRACKED_COMPONENTS = ("dx", "dy", "dz", "vx", "vy", "vz")
 PHASE_NAMES = ("elements", "contact", "communication", "output", "other")
+CONTACT_PHASE_NAMES = ("sort", "search", "force")  # the contact phase split
 
 _FRAME_DATASETS = {
     "displacement": "/frames/displacement",
@@ -230,6 +231,7 @@ class Results:
         for name in ENERGY_NAMES:
             table[name] = h[name]
         table["total_energy"] = self.total_energy()
+        table["contact_penetration"] = h["contact_penetration"]
         disp, vel = h["tracked_displacement"], h["tracked_velocity"]
         for i, name in enumerate(self.tracked_columns()):
             for c, axis in enumerate("xyz"):
@@ -424,6 +426,8 @@ def _read_history(h5: h5py.File, path: Path, complete: bool) -> dict[str, np.nda
     present_tracked = {k: v for k, v in tracked.items() if v in h5}
     n = _available_rows(h5, {**energy, **present_tracked}, complete, path, "/history")
     out = {name: _rows(h5, ds, n, (), path) for name, ds in energy.items()}
+    # deepest contact penetration (m); zeros for files written before the engine had contact
+    out["contact_penetration"] = _rows(h5, "/history/contact_penetration", n, (), path)
     n_tracked = h5[tracked["tracked_displacement"]].shape[1] if present_tracked else 0
     for name, ds in tracked.items():
         out[name] = _rows(h5, ds, n, (n_tracked, 3), path)
@@ -777,6 +781,7 @@ def write_summary(
         "threads": run.get("threads"),
         "element_cycles_per_s": run.get("element_cycles_per_s"),
         "phase_s": {p: run.get(f"phase_{p}_s") for p in PHASE_NAMES},
+        "contact_phase_s": {p: run.get(f"phase_contact_{p}_s") for p in CONTACT_PHASE_NAMES},
         "frames": results.n_frames,
         "history_records": results.n_records,
         "parts": list(results.part_names),

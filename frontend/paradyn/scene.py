@@ -132,6 +132,16 @@ class TrackSpec:
 
 
 @dataclass
+class ContactSpec:
+    parts: tuple[str, str]
+    penalty_scale: float = 0.1
+    static_friction: float = 0.0
+    dynamic_friction: float = 0.0
+    friction_decay: float = 0.0
+    symmetric: bool = True
+
+
+@dataclass
 class Scene:
     path: Path
     title: str
@@ -141,6 +151,7 @@ class Scene:
     fixes: list[FixSpec] = field(default_factory=list)
     loads: list[LoadSpec] = field(default_factory=list)
     tracks: list[TrackSpec] = field(default_factory=list)
+    contacts: list[ContactSpec] = field(default_factory=list)
 
     def part(self, name: str) -> PartSpec:
         for p in self.parts:
@@ -258,7 +269,7 @@ def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
 
 _TOP_KEYS = ("title", "run", "material", "part", "fix", "load", "track", "contact")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
-             "mass_damping", "progress_interval")
+             "mass_damping", "progress_interval", "contact_sort_interval")
 _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
                   "tangent_modulus", "hardening_mixing")
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
@@ -273,6 +284,8 @@ _GEOMETRY_KEYS = {
 _FIX_KEYS = ("part", "box", "dofs")
 _LOAD_KEYS = ("part", "point", "dof", "value", "ramp_time")
 _TRACK_KEYS = ("name", "part", "point")
+_CONTACT_KEYS = ("parts", "penalty_scale", "static_friction", "dynamic_friction", "friction_decay",
+                 "symmetric")
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -281,12 +294,6 @@ def load_scene(path: str | Path) -> Scene:
     reader = _Reader(path)
     data = _parse_toml(path)
     reader.keys(data, "the top level of the scene", _TOP_KEYS)
-    if "contact" in data:
-        raise reader.error(
-            "[[contact]]: contact is not available in this version of ParaDyn (the engine does not "
-            "model it yet, so the parts would pass through each other); remove the [[contact]] "
-            "section to run without contact"
-        )
     title = data.get("title", path.stem)
     if not isinstance(title, str):
         raise reader.error(f"'title' must be a string, got {title!r}")
@@ -296,8 +303,9 @@ def load_scene(path: str | Path) -> Scene:
     fixes = [_parse_fix(reader, t, i) for i, t in enumerate(reader.tables(data, "fix"))]
     loads = [_parse_load(reader, t, i) for i, t in enumerate(reader.tables(data, "load"))]
     tracks = [_parse_track(reader, t, i) for i, t in enumerate(reader.tables(data, "track"))]
+    contacts = [_parse_contact(reader, t, i) for i, t in enumerate(reader.tables(data, "contact"))]
     scene = Scene(path=path, title=title, run=run, materials=materials, parts=parts,
-                  fixes=fixes, loads=loads, tracks=tracks)
+                  fixes=fixes, loads=loads, tracks=tracks, contacts=contacts)
     _check_references(reader, scene)
     return scene
 
@@ -461,6 +469,29 @@ def _parse_track(r: _Reader, t: dict[str, Any], index: int) -> TrackSpec:
                      point=r.vector(t, "point", label))
 
 
+def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
+    label = f"[[contact]] #{index + 1}"
+    r.keys(t, label, _CONTACT_KEYS)
+    parts = r.raw(t, "parts", label, _REQUIRED)
+    if (not isinstance(parts, list) or len(parts) != 2 or not all(isinstance(p, str) for p in parts)
+            or parts[0] == parts[1]):
+        raise r.error(f"'parts' in {label} must name two different parts, e.g. parts = [\"a\", \"b\"]; "
+                      f"got {parts!r}")
+    symmetric = r.raw(t, "symmetric", label, True)
+    if not isinstance(symmetric, bool):
+        raise r.error(f"'symmetric' in {label} must be true (both passes every step) or false "
+                      f"(slave and master swap every step, as in the paper); got {symmetric!r}")
+    static = r.number(t, "static_friction", label, default=0.0, minimum=0.0)
+    return ContactSpec(
+        parts=(parts[0], parts[1]),
+        penalty_scale=r.number(t, "penalty_scale", label, default=0.1, positive=True),
+        static_friction=static,
+        dynamic_friction=r.number(t, "dynamic_friction", label, default=static, minimum=0.0),
+        friction_decay=r.number(t, "friction_decay", label, default=0.0, minimum=0.0),
+        symmetric=symmetric,
+    )
+
+
 def _check_references(r: _Reader, scene: Scene) -> None:
     _unique(r, [m.name for m in scene.materials], "material")
     _unique(r, [p.name for p in scene.parts], "part")
@@ -479,6 +510,11 @@ def _check_references(r: _Reader, scene: Scene) -> None:
             if item.part not in parts:
                 raise r.error(f"[[{kind}]] #{index + 1} refers to part '{item.part}', which is not "
                               f"defined (parts: {', '.join(parts)})")
+    for index, contact in enumerate(scene.contacts):
+        for name in contact.parts:
+            if name not in parts:
+                raise r.error(f"[[contact]] #{index + 1} names part '{name}', which is not defined "
+                              f"(parts: {', '.join(parts)})")
 
 
 def _unique(r: _Reader, names: list[str], kind: str) -> None:
@@ -551,6 +587,7 @@ def build_model(scene: Scene) -> deck.Model:
     )
     _apply_loads(r, scene, by_name, model)
     _apply_tracks(r, scene, by_name, model)
+    _apply_contacts(scene, model)
     try:
         deck.validate_model(model, source=f"{scene.path} (built model)")
     except deck.DeckError as exc:
@@ -616,6 +653,18 @@ def _apply_tracks(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model
 
 # ----------------------------------------------------------------------------------------------
 # effects
+
+
+def _apply_contacts(scene: Scene, model: deck.Model) -> None:
+    index = {p.name: i for i, p in enumerate(scene.parts)}
+    contacts = scene.contacts
+    model.contact_pairs = np.array([[index[c.parts[0]], index[c.parts[1]]] for c in contacts],
+                                   dtype=np.int32).reshape(-1, 2)
+    model.contact_penalty_scale = np.array([c.penalty_scale for c in contacts])
+    model.contact_static_friction = np.array([c.static_friction for c in contacts])
+    model.contact_dynamic_friction = np.array([c.dynamic_friction for c in contacts])
+    model.contact_friction_decay = np.array([c.friction_decay for c in contacts])
+    model.contact_passes = np.array([2 if c.symmetric else 1 for c in contacts], dtype=np.int32)
 
 
 def effects(model: deck.Model) -> list[str]:

@@ -1,0 +1,262 @@
+!> Contact between pairs of parts: set-up from the deck and the work of one step, around the pure
+!> kernels of contact_buckets (global search) and contact_search (local search, penalty force).
+!>
+!> Shells are two-sided and thick: the contact surface lies half a thickness off each
+!> mid-surface, with edges and corners rounded by that half thickness, so a node meets the
+!> faceted surface at its true distance (a node beyond a facet's edge is not measured against the
+!> facet's extended plane, which on a faceted cylinder would make contact start early).
+!>
+!> Each pair gives two passes, each body slave to the other's segments: both every step
+!> (passes = 2, the default) or one per step, alternating as in the paper (passes = 1). Every
+!> slave node writes its own record (its force and the forces on the 4 master nodes); the records
+!> are then summed in slave order, so the result does not depend on the number of threads. The
+!> contact nodes' positions are gathered on every rank (halo_exchange) and every rank computes
+!> the same contact forces, so it does not depend on the number of ranks either. No MPI here.
+module contact_interface
+  use paradyn_kinds, only: wp, ip
+  use model_deck, only: deck_t
+  use contact_buckets, only: bucket_grid_t, bucket_grid_build, nearest_master_node
+  use contact_search, only: node_segment_map, segment_candidates, shell_penalty_stiffness, penalty_force
+  implicit none
+  private
+  public :: contact_t, contact_setup, contact_forces, contact_pass_t
+
+  !> Below this slip speed friction falls linearly to zero (a viscous regularisation of stick
+  !> that needs no history per contact; a body at rest on a slope creeps at most this fast).
+  real(wp), parameter :: stick_speed = 1.0e-3_wp  ! m/s
+
+  type :: contact_pass_t
+    integer :: pair = 0
+    integer, allocatable :: slaves(:)          !< contact-node ids of the slave part's nodes
+    integer, allocatable :: masters(:)         !< contact-node ids of the master part's nodes
+    integer, allocatable :: segments(:, :)     !< (4, n) master segments, contact-node ids
+    integer, allocatable :: segment_start(:), segment_list(:)  !< contact node -> its segments
+    real(wp), allocatable :: stiffness(:)      !< penalty stiffness per segment (initial geometry)
+    real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted
+    type(bucket_grid_t) :: grid
+    real(wp) :: bucket_size = 0, t_slave = 0, t_master = 0, mu_static = 0, mu_dynamic = 0, decay = 0
+  end type contact_pass_t
+
+  type :: contact_t
+    integer :: n_nodes = 0                     !< nodes of all parts in contact
+    integer, allocatable :: global_node(:)     !< their global ids, ascending
+    real(wp), allocatable :: x(:, :), v(:, :)  !< gathered positions and velocities
+    real(wp), allocatable :: force(:, :), force_old(:, :)  !< contact force per contact node
+    real(wp), allocatable :: x_at_sort(:, :)   !< positions at the last bucket sort
+    type(contact_pass_t), allocatable :: passes(:)
+    integer, allocatable :: pair_passes(:)     !< 1 or 2 per pass (from its pair)
+    ! per-slave records, reused every step
+    integer, allocatable :: record_nodes(:, :) !< (5, n) slave then the 4 master nodes, 0 = none
+    real(wp), allocatable :: record_force(:, :, :)  !< (3, 5, n)
+    integer :: last_sort = -huge(1), sort_interval = 0, contacts_now = 0
+    real(wp) :: energy = 0.0_wp, max_penetration = 0.0_wp
+    real(wp) :: time_sort = 0, time_search = 0, time_force = 0
+  end type contact_t
+
+contains
+
+  subroutine contact_setup(deck, c)
+    type(deck_t), intent(in) :: deck
+    type(contact_t), intent(out) :: c
+    logical, allocatable :: in_contact(:)
+    integer, allocatable :: contact_id(:)
+    integer :: i, k, p, n_max, e
+    allocate (in_contact(deck%n_nodes), source=.false.)
+    do e = 1, deck%n_elements
+      if (any(deck%contact_pairs == deck%element_part(e))) in_contact(deck%connectivity(:, e)) = .true.
+    end do
+    c%global_node = pack([(i, i = 1, deck%n_nodes)], in_contact)
+    c%n_nodes = size(c%global_node)
+    allocate (contact_id(deck%n_nodes), source=0)
+    contact_id(c%global_node) = [(i, i = 1, c%n_nodes)]
+    allocate (c%x(3, c%n_nodes), c%v(3, c%n_nodes), c%force(3, c%n_nodes), c%force_old(3, c%n_nodes), &
+              c%x_at_sort(3, c%n_nodes), source=0.0_wp)
+    allocate (c%passes(2 * deck%n_contacts), c%pair_passes(2 * deck%n_contacts))
+    c%sort_interval = deck%contact_sort_interval
+    n_max = 1
+    do k = 1, deck%n_contacts
+      do i = 1, 2
+        p = 2 * (k - 1) + i
+        call pass_setup(deck, k, deck%contact_pairs(i, k), deck%contact_pairs(3 - i, k), contact_id, &
+                        c%n_nodes, c%passes(p))
+        c%pair_passes(p) = deck%contact_passes(k)
+        n_max = max(n_max, size(c%passes(p)%slaves))
+      end do
+    end do
+    allocate (c%record_nodes(5, n_max), source=0)
+    allocate (c%record_force(3, 5, n_max), source=0.0_wp)
+  end subroutine contact_setup
+
+  subroutine pass_setup(deck, pair, slave_part, master_part, contact_id, n_contact, pass)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: pair, slave_part, master_part, contact_id(:), n_contact
+    type(contact_pass_t), intent(out) :: pass
+    integer, allocatable :: elements(:)
+    logical, allocatable :: on_part(:)
+    integer :: e, s, n_entries
+    real(wp) :: xseg(3, 4), young, poisson
+    pass%pair = pair
+    allocate (on_part(deck%n_nodes), source=.false.)
+    do e = 1, deck%n_elements
+      if (deck%element_part(e) == slave_part) on_part(deck%connectivity(:, e)) = .true.
+    end do
+    pass%slaves = contact_id(pack([(e, e = 1, deck%n_nodes)], on_part))
+    on_part = .false.
+    elements = pack([(e, e = 1, deck%n_elements)], deck%element_part == master_part)
+    do s = 1, size(elements)
+      on_part(deck%connectivity(:, elements(s))) = .true.
+    end do
+    pass%masters = contact_id(pack([(e, e = 1, deck%n_nodes)], on_part))
+    allocate (pass%segments(4, size(elements)), pass%stiffness(size(elements)))
+    young = deck%young(deck%part_material(master_part))
+    poisson = deck%poisson(deck%part_material(master_part))
+    pass%bucket_size = 0.0_wp
+    do s = 1, size(elements)
+      pass%segments(:, s) = contact_id(deck%connectivity(:, elements(s)))
+      xseg = deck%coordinates(:, deck%connectivity(:, elements(s)))
+      pass%stiffness(s) = shell_penalty_stiffness(xseg, young, poisson, deck%contact_penalty_scale(pair))
+      pass%bucket_size = max(pass%bucket_size, norm2(xseg(:, 3) - xseg(:, 1)), norm2(xseg(:, 4) - xseg(:, 2)))
+    end do
+    allocate (pass%segment_start(n_contact + 1), pass%segment_list(4 * size(elements)))
+    call node_segment_map(int(n_contact, ip), int(size(elements), ip), pass%segments, pass%segment_start, &
+                          pass%segment_list, n_entries)
+    allocate (pass%x_sorted(3, size(pass%masters)), source=0.0_wp)
+    pass%t_slave = deck%thickness(slave_part)
+    pass%t_master = deck%thickness(master_part)
+    pass%mu_static = deck%contact_static_friction(pair)
+    pass%mu_dynamic = deck%contact_dynamic_friction(pair)
+    pass%decay = deck%contact_friction_decay(pair)
+  end subroutine pass_setup
+
+  !> Contact forces for the gathered positions c%x and velocities c%v at cycle `cycle`, into
+  !> c%force; the contact energy advances by the work of the mean force over the last step, dt.
+  subroutine contact_forces(c, cycle, dt, clock)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: cycle
+    real(wp), intent(in) :: dt
+    interface
+      function clock() result(seconds)
+        import :: wp
+        real(wp) :: seconds
+      end function clock
+    end interface
+    integer :: p, j, k
+    real(wp) :: t0
+    c%force_old = c%force
+    c%force = 0.0_wp
+    c%contacts_now = 0
+    c%max_penetration = 0.0_wp
+    t0 = clock()
+    if (sort_due(c, cycle)) then
+      do p = 1, size(c%passes)
+        c%passes(p)%x_sorted = c%x(:, c%passes(p)%masters)
+        call bucket_grid_build(int(size(c%passes(p)%masters), ip), c%passes(p)%x_sorted, &
+                               c%passes(p)%bucket_size, c%passes(p)%grid)
+      end do
+      c%x_at_sort = c%x
+      c%last_sort = cycle
+    end if
+    c%time_sort = c%time_sort + clock() - t0
+    do p = 1, size(c%passes)
+      if (c%pair_passes(p) == 1 .and. modulo(cycle + p, 2) == 0) cycle  ! the paper's swap
+      call run_pass(c, c%passes(p), clock)
+      t0 = clock()
+      do j = 1, size(c%passes(p)%slaves)   ! fixed order: the same sum for any thread count
+        do k = 1, 5
+          if (c%record_nodes(k, j) > 0) c%force(:, c%record_nodes(k, j)) = &
+            c%force(:, c%record_nodes(k, j)) + c%record_force(:, k, j)
+        end do
+      end do
+      c%time_force = c%time_force + clock() - t0
+    end do
+    ! energy absorbed by contact = minus the work of the contact forces on the nodes
+    if (cycle > 0) c%energy = c%energy - 0.5_wp * dt * sum(c%v * (c%force_old + c%force))
+  end subroutine contact_forces
+
+  !> A sort is due at the set interval, or (interval 0) once any contact node has moved a tenth
+  !> of the bucket size since the last sort.
+  logical function sort_due(c, cycle)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: cycle
+    real(wp) :: moved, smallest
+    integer :: p
+    if (c%last_sort < 0) then
+      sort_due = .true.
+    else if (c%sort_interval > 0) then
+      sort_due = cycle - c%last_sort >= c%sort_interval
+    else
+      moved = sqrt(maxval(sum((c%x - c%x_at_sort)**2, dim=1)))
+      smallest = huge(1.0_wp)
+      do p = 1, size(c%passes)
+        smallest = min(smallest, c%passes(p)%bucket_size)
+      end do
+      sort_due = moved > 0.1_wp * smallest
+    end if
+  end function sort_due
+
+  !> Global search (nearest master node), local search (segment and closest point) and penalty
+  !> force for every slave of one pass; OpenMP deals slaves cyclically, one at a time, to the
+  !> threads (the paper's node-wise cyclic decomposition, schedule(static, 1)).
+  subroutine run_pass(c, pass, clock)
+    type(contact_t), intent(inout) :: c
+    type(contact_pass_t), intent(in) :: pass
+    interface
+      function clock() result(seconds)
+        import :: wp
+        real(wp) :: seconds
+      end function clock
+    end interface
+    integer :: j, node, segment, contacts
+    integer(ip) :: nearest
+    real(wp) :: p(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
+    real(wp) :: penetration, deepest, t0
+    logical :: touching
+    t0 = clock()
+    contacts = 0
+    deepest = 0.0_wp
+    !$omp parallel do schedule(static, 1) default(shared) &
+    !$omp private(j, node, nearest, segment, p, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
+    !$omp penetration, touching) reduction(+:contacts) reduction(max:deepest)
+    do j = 1, size(pass%slaves)
+      c%record_nodes(:, j) = 0
+      node = pass%slaves(j)
+      p = c%x(:, node)
+      if (.not. near_box(p, pass)) cycle
+      nearest = nearest_master_node(pass%grid, pass%x_sorted, p, &
+                                    max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
+      if (nearest == 0) cycle
+      call segment_candidates(p, int(pass%masters(nearest), ip), int(c%n_nodes, ip), c%x, &
+                              int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
+                              pass%segment_list, segment, xi, eta, xc, normal)
+      if (segment == 0) cycle
+      xseg = c%x(:, pass%segments(:, segment))
+      vseg = c%v(:, pass%segments(:, segment))
+      call penalty_force(p, pass%t_slave, xseg, pass%t_master, pass%stiffness(segment), f_slave, &
+                         f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &
+                         mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
+                         v_slip=stick_speed, rounded_edges=.true.)
+      if (.not. touching) cycle
+      contacts = contacts + 1
+      deepest = max(deepest, penetration)
+      c%record_nodes(1, j) = node
+      c%record_nodes(2:5, j) = pass%segments(:, segment)
+      c%record_force(:, 1, j) = f_slave
+      c%record_force(:, 2:5, j) = f_master
+    end do
+    !$omp end parallel do
+    c%contacts_now = c%contacts_now + contacts
+    c%max_penetration = max(c%max_penetration, deepest)
+    c%time_search = c%time_search + clock() - t0
+  end subroutine run_pass
+
+  !> Cheap rejection: a slave farther than a bucket from the master nodes' sorted bounding box
+  !> cannot touch (an idle pair costs one box test per slave).
+  pure logical function near_box(p, pass)
+    real(wp), intent(in) :: p(3)
+    type(contact_pass_t), intent(in) :: pass
+    real(wp) :: margin
+    margin = pass%bucket_size + pass%t_slave + pass%t_master
+    near_box = all(p >= pass%grid%lower - margin .and. p <= pass%grid%upper + margin)
+  end function near_box
+
+end module contact_interface

@@ -1,0 +1,404 @@
+!> Local contact search and penalty forces for shell segments (Hallquist, Goudreau & Benson 1985;
+!> Hallquist, LS-DYNA Theory Manual; the paper's stages 2 and 3).
+!>
+!> A master segment is a four-node quadrilateral with the bilinear surface
+!>   x(xi, eta) = sum_I N_I(xi, eta) x_I,  N_I = (1 + xi xi_I)(1 + eta eta_I) / 4,
+!> nodes 1..4 at (xi, eta) = (-1,-1), (1,-1), (1,1), (-1,1). A triangle is a quadrilateral with
+!> nodes 3 and 4 equal.
+!>
+!> Stage 2 (segment_candidates): among the master segments around the nearest master node, the
+!> one whose closest point is nearest to the slave node. Stage 3 (closest_point_on_segment): the
+!> closest point in isoparametric coordinates. The penalty force (penalty_force) then acts on
+!> the contact surfaces of the shells, which lie half a thickness off each mid-surface on both
+!> sides (shells are two-sided).
+!>
+!> Pure: no MPI, no I/O, no module state.
+module contact_search
+  use paradyn_kinds, only: wp, ip
+  implicit none
+  private
+  public :: closest_point_on_segment, segment_candidates, node_segment_map
+  public :: shell_penalty_stiffness, penalty_force, friction_coefficient, segment_shape_functions
+  public :: default_penalty_scale, edge_tolerance
+
+  !> LS-DYNA's default scale factor of the penalty stiffness.
+  real(wp), parameter :: default_penalty_scale = 0.1_wp
+  !> A slave point whose closest point on a segment is off the segment's normal by more than
+  !> this fraction of the longer diagonal (it lies beyond an edge) is not in contact with that
+  !> segment, unless rounded edges are asked for. The margin keeps a node that slides over the
+  !> ridge between two faceted segments from slipping through the gap between their normals.
+  real(wp), parameter :: edge_tolerance = 0.05_wp
+  integer, parameter :: max_iterations = 100
+  integer, parameter :: max_halvings = 60
+
+contains
+
+  !> Bilinear shape functions of the segment at (xi, eta).
+  pure function segment_shape_functions(xi, eta) result(n)
+    real(wp), intent(in) :: xi, eta
+    real(wp) :: n(4)
+    n = 0.25_wp * [(1.0_wp - xi) * (1.0_wp - eta), (1.0_wp + xi) * (1.0_wp - eta), &
+                   (1.0_wp + xi) * (1.0_wp + eta), (1.0_wp - xi) * (1.0_wp + eta)]
+  end function segment_shape_functions
+
+  !> x(xi, eta) = a0 + a1 xi + a2 eta + a3 xi eta.
+  pure subroutine bilinear_coefficients(xseg, a)
+    real(wp), intent(in) :: xseg(3, 4)
+    real(wp), intent(out) :: a(3, 0:3)
+    a(:, 0) = 0.25_wp * (xseg(:, 1) + xseg(:, 2) + xseg(:, 3) + xseg(:, 4))
+    a(:, 1) = 0.25_wp * (-xseg(:, 1) + xseg(:, 2) + xseg(:, 3) - xseg(:, 4))
+    a(:, 2) = 0.25_wp * (-xseg(:, 1) - xseg(:, 2) + xseg(:, 3) + xseg(:, 4))
+    a(:, 3) = 0.25_wp * (xseg(:, 1) - xseg(:, 2) + xseg(:, 3) - xseg(:, 4))
+  end subroutine bilinear_coefficients
+
+  !> |x(xi, eta) - p|^2 / 2 with a(:, 0) already taken relative to p.
+  pure real(wp) function half_distance2(a, xi, eta) result(f)
+    real(wp), intent(in) :: a(3, 0:3), xi, eta
+    f = 0.5_wp * sum((a(:, 0) + a(:, 1) * xi + a(:, 2) * eta + a(:, 3) * (xi * eta))**2)
+  end function half_distance2
+
+  pure real(wp) function clamp(x)
+    real(wp), intent(in) :: x
+    clamp = min(1.0_wp, max(-1.0_wp, x))
+  end function clamp
+
+  pure function cross(u, v) result(w)
+    real(wp), intent(in) :: u(3), v(3)
+    real(wp) :: w(3)
+    w = [u(2) * v(3) - u(3) * v(2), u(3) * v(1) - u(1) * v(3), u(1) * v(2) - u(2) * v(1)]
+  end function cross
+
+  !> Backtracking along the projected path clamp(x + alpha d): the first alpha = 1, 1/2, 1/4, ...
+  !> that does not increase the distance by more than its round-off noise. Near the solution f
+  !> is dominated by the normal distance and the tangential progress of a Newton step is below
+  !> the resolution of f, so those steps must not be refused. ok is false when none passes.
+  !> a(:, 0) is taken relative to p (p = 0 here).
+  pure subroutine projected_search(a, xi, eta, d, f, xi_new, eta_new, f_new, ok)
+    real(wp), intent(in) :: a(3, 0:3), xi, eta, d(2), f
+    real(wp), intent(out) :: xi_new, eta_new, f_new
+    logical, intent(out) :: ok
+    real(wp) :: alpha, noise
+    integer :: k
+    noise = 8.0_wp * epsilon(1.0_wp) * sqrt(2.0_wp * f) * &
+            (norm2(a(:, 0)) + norm2(a(:, 1)) + norm2(a(:, 2)) + norm2(a(:, 3)))
+    alpha = 1.0_wp
+    ok = .false.
+    do k = 1, max_halvings
+      xi_new = clamp(xi + alpha * d(1))
+      eta_new = clamp(eta + alpha * d(2))
+      f_new = half_distance2(a, xi_new, eta_new)
+      if (f_new <= f + noise) then
+        ok = .true.
+        return
+      end if
+      alpha = 0.5_wp * alpha
+    end do
+  end subroutine projected_search
+
+  !> Closest point xc = x(xi, eta) of the bilinear segment to the point p, with (xi, eta) in
+  !> [-1, 1]^2, and the unit normal dx/dxi x dx/deta there.
+  !>
+  !> Minimises f = |x(xi, eta) - p|^2 / 2 over the square: Newton on the two tangency
+  !> equations (x - p).dx/dxi = 0, (x - p).dx/deta = 0 with an active set. A coordinate on a
+  !> bound whose derivative pushes outward is held there and Newton continues along the free
+  !> one, so a point beyond an edge lands on the edge and one beyond a corner on the corner.
+  !> Steps follow the projected path and are halved until f does not increase; where the
+  !> Hessian is not positive definite (far from a strongly warped segment) the diagonally scaled
+  !> gradient is used instead. The start is the best of the 3 x 3 points (corners, mid-sides,
+  !> centre), which on warped segments keeps the search in the basin of the global minimum.
+  pure subroutine closest_point_on_segment(xseg, p, xi, eta, xc, normal)
+    real(wp), intent(in) :: xseg(3, 4), p(3)
+    real(wp), intent(out) :: xi, eta, xc(3), normal(3)
+    real(wp) :: a(3, 0:3), r(3), xa(3), xb(3), g(2), h11, h12, h22, det, d(2), f, f_new
+    real(wp) :: xi_new, eta_new, size2, trial, nn
+    logical :: free(2), ok
+    integer :: i, j, iter
+
+    call bilinear_coefficients(xseg, a)
+    a(:, 0) = a(:, 0) - p               ! work relative to p: less cancellation in x - p
+    size2 = sum(a(:, 1:3)**2)
+
+    xi = 0.0_wp
+    eta = 0.0_wp
+    f = huge(1.0_wp)
+    do j = -1, 1
+      do i = -1, 1
+        trial = half_distance2(a, real(i, wp), real(j, wp))
+        if (trial < f) then
+          f = trial
+          xi = real(i, wp)
+          eta = real(j, wp)
+        end if
+      end do
+    end do
+
+    do iter = 1, max_iterations
+      xa = a(:, 1) + a(:, 3) * eta
+      xb = a(:, 2) + a(:, 3) * xi
+      r = a(:, 0) + a(:, 1) * xi + a(:, 2) * eta + a(:, 3) * (xi * eta)
+      f = 0.5_wp * sum(r**2)
+      g = [dot_product(r, xa), dot_product(r, xb)]
+      h11 = dot_product(xa, xa)
+      h22 = dot_product(xb, xb)
+      h12 = dot_product(xa, xb) + dot_product(r, a(:, 3))
+      ! a coordinate is held when it sits on a bound and f decreases outward, or when the
+      ! surface does not depend on it here (the collapsed side of a triangle)
+      free(1) = h11 > 1.0e-14_wp * size2 .and. &
+                .not. ((xi <= -1.0_wp .and. g(1) > 0.0_wp) .or. (xi >= 1.0_wp .and. g(1) < 0.0_wp))
+      free(2) = h22 > 1.0e-14_wp * size2 .and. &
+                .not. ((eta <= -1.0_wp .and. g(2) > 0.0_wp) .or. (eta >= 1.0_wp .and. g(2) < 0.0_wp))
+      d = 0.0_wp
+      if (free(1) .and. free(2)) then
+        det = h11 * h22 - h12**2
+        if (det > 1.0e-10_wp * h11 * h22) then
+          d(1) = (h12 * g(2) - h22 * g(1)) / det
+          d(2) = (h12 * g(1) - h11 * g(2)) / det
+        else
+          d = [-g(1) / h11, -g(2) / h22]
+        end if
+      else if (free(1)) then
+        d(1) = -g(1) / h11
+      else if (free(2)) then
+        d(2) = -g(2) / h22
+      end if
+      if (all(d == 0.0_wp)) exit
+
+      call projected_search(a, xi, eta, d, f, xi_new, eta_new, f_new, ok)
+      if (.not. ok) then
+        ! the projected Newton path can climb where a bound cuts it: fall back to the
+        ! diagonally scaled gradient of the free coordinates, a descent path for small steps
+        d = 0.0_wp
+        if (free(1)) d(1) = -g(1) / h11
+        if (free(2)) d(2) = -g(2) / h22
+        call projected_search(a, xi, eta, d, f, xi_new, eta_new, f_new, ok)
+        if (.not. ok) exit
+      end if
+      trial = max(abs(xi_new - xi), abs(eta_new - eta))
+      xi = xi_new
+      eta = eta_new
+      if (trial <= 1.0e-15_wp) exit
+    end do
+
+    xc = matmul(xseg, segment_shape_functions(xi, eta))
+    normal = cross(a(:, 1) + a(:, 3) * eta, a(:, 2) + a(:, 3) * xi)
+    nn = norm2(normal)
+    if (.not. (nn > 1.0e-12_wp * size2)) then
+      ! collapsed corner of a triangle: the normal of the diagonals
+      normal = cross(xseg(:, 3) - xseg(:, 1), xseg(:, 4) - xseg(:, 2))
+      nn = norm2(normal)
+    end if
+    if (nn > 0.0_wp) normal = normal / nn
+  end subroutine closest_point_on_segment
+
+  !> Node-to-segment map in compressed-row form: the segments that contain node i are
+  !> segment_list(segment_start(i) : segment_start(i + 1) - 1), ascending. A node repeated in a
+  !> segment (triangle) is listed once; node numbers outside 1..n_nodes are skipped. n_entries is
+  !> the length used of segment_list (at most 4 n_segments).
+  pure subroutine node_segment_map(n_nodes, n_segments, segment_nodes, segment_start, segment_list, &
+                                   n_entries)
+    integer(ip), intent(in) :: n_nodes, n_segments
+    integer(ip), intent(in) :: segment_nodes(4, n_segments)
+    integer(ip), intent(out) :: segment_start(n_nodes + 1)
+    integer(ip), intent(out) :: segment_list(4 * n_segments)
+    integer(ip), intent(out) :: n_entries
+    integer(ip) :: s, k, node, i
+    segment_start = 0
+    segment_list = 0
+    do s = 1, n_segments
+      do k = 1, 4
+        node = segment_nodes(k, s)
+        if (listed_node(segment_nodes(:, s), k, n_nodes)) segment_start(node) = segment_start(node) + 1
+      end do
+    end do
+    ! segment_start(i) = end (exclusive) of node i, then filled backwards down to its start
+    if (n_nodes > 0) segment_start(1) = segment_start(1) + 1
+    do i = 2, n_nodes
+      segment_start(i) = segment_start(i) + segment_start(i - 1)
+    end do
+    if (n_nodes > 0) then
+      n_entries = segment_start(n_nodes) - 1
+    else
+      n_entries = 0
+    end if
+    do s = n_segments, 1, -1
+      do k = 1, 4
+        node = segment_nodes(k, s)
+        if (listed_node(segment_nodes(:, s), k, n_nodes)) then
+          segment_start(node) = segment_start(node) - 1
+          segment_list(segment_start(node)) = s
+        end if
+      end do
+    end do
+    segment_start(n_nodes + 1) = n_entries + 1
+  end subroutine node_segment_map
+
+  !> Node k of a segment counts if it is a valid node not already among nodes 1..k-1.
+  pure logical function listed_node(nodes, k, n_nodes)
+    integer(ip), intent(in) :: nodes(4), k, n_nodes
+    listed_node = nodes(k) >= 1 .and. nodes(k) <= n_nodes
+    if (listed_node .and. k > 1) listed_node = .not. any(nodes(1:k - 1) == nodes(k))
+  end function listed_node
+
+  !> Stages 2 and 3 for one slave point p: of the master segments that contain the master node
+  !> `node` (from node_segment_map), the one whose closest point is nearest to p (the lower
+  !> segment number on ties), with that closest point and the normal there. segment = 0 when
+  !> the node belongs to no segment.
+  pure subroutine segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, &
+                                     segment_start, segment_list, segment, xi, eta, xc, normal)
+    real(wp), intent(in) :: p(3)
+    integer(ip), intent(in) :: node, n_nodes, n_segments
+    real(wp), intent(in) :: coords(3, n_nodes)
+    integer(ip), intent(in) :: segment_nodes(4, n_segments)
+    integer(ip), intent(in) :: segment_start(n_nodes + 1)
+    integer(ip), intent(in) :: segment_list(*)
+    integer(ip), intent(out) :: segment
+    real(wp), intent(out) :: xi, eta, xc(3), normal(3)
+    real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2
+    integer(ip) :: j, s
+
+    segment = 0
+    xi = 0.0_wp
+    eta = 0.0_wp
+    xc = 0.0_wp
+    normal = 0.0_wp
+    if (node < 1 .or. node > n_nodes) return
+    best_d2 = huge(1.0_wp)
+    do j = segment_start(node), segment_start(node + 1) - 1
+      s = segment_list(j)
+      call closest_point_on_segment(coords(:, segment_nodes(:, s)), p, s_xi, s_eta, s_xc, s_normal)
+      d2 = sum((p - s_xc)**2)
+      if (segment == 0 .or. d2 < best_d2 .or. (d2 == best_d2 .and. s < segment)) then
+        best_d2 = d2
+        segment = s
+        xi = s_xi
+        eta = s_eta
+        xc = s_xc
+        normal = s_normal
+      end if
+    end do
+  end subroutine segment_candidates
+
+  !> Penalty stiffness of a shell master segment, LS-DYNA's shell form k = scale K A / d_max:
+  !> K = E / (3 (1 - 2 nu)) the bulk modulus, A the segment area (half the cross product of the
+  !> diagonals, exact for a flat quadrilateral), d_max the longer diagonal. scale is usually
+  !> default_penalty_scale (0.1).
+  pure real(wp) function shell_penalty_stiffness(xseg, young, poisson, scale) result(k)
+    real(wp), intent(in) :: xseg(3, 4), young, poisson, scale
+    real(wp) :: d13(3), d24(3), bulk, area, diagonal
+    d13 = xseg(:, 3) - xseg(:, 1)
+    d24 = xseg(:, 4) - xseg(:, 2)
+    bulk = young / (3.0_wp * (1.0_wp - 2.0_wp * poisson))
+    area = 0.5_wp * norm2(cross(d13, d24))
+    diagonal = max(norm2(d13), norm2(d24))
+    k = 0.0_wp
+    if (diagonal > 0.0_wp) k = scale * bulk * area / diagonal
+  end function shell_penalty_stiffness
+
+  !> Friction coefficient at slip speed v: mu = mu_d + (mu_s - mu_d) exp(-decay v) (LS-DYNA's
+  !> exponential interpolation from the static to the dynamic coefficient).
+  pure real(wp) function friction_coefficient(mu_static, mu_dynamic, decay, v) result(mu)
+    real(wp), intent(in) :: mu_static, mu_dynamic, decay, v
+    mu = mu_dynamic + (mu_static - mu_dynamic) * exp(-decay * v)
+  end function friction_coefficient
+
+  !> Penalty contact force between a slave node at p (shell thickness t_slave) and a master
+  !> segment xseg (thickness t_master), both two-sided.
+  !>
+  !> With xc the closest point of the segment, n its unit normal there and d = (p - xc).n, the
+  !> contact surfaces are half a thickness off the mid-surfaces, so the gap is
+  !> g = |d| - (t_slave + t_master) / 2. If g < 0 the slave gets f = -k g sign(d) n (pushed out
+  !> on the side it is on; d = 0 counts as the +n side) and master node I gets -f N_I(xi, eta),
+  !> so the forces sum to zero and have no moment about xc. penetration = -g (0 when not in
+  !> contact).
+  !>
+  !> Only points whose closest point lies on the segment count: the offset of p - xc from the
+  !> normal line must be within edge_tolerance of the longer diagonal. With rounded_edges, a
+  !> point beyond an edge or corner instead meets the edge rounded with radius
+  !> (t_slave + t_master) / 2: g = |p - xc| - (t_slave + t_master) / 2 along (p - xc) / |p - xc|,
+  !> continuous with the face value where the projection leaves the segment.
+  !>
+  !> Friction (optional, when v_slave, v_master and the coefficients are given): regularised
+  !> Coulomb friction on the relative tangential velocity v_t = v_rel - (v_rel.e) e,
+  !> v_rel = v_slave - sum_I N_I v_master_I, e the force direction:
+  !>   f_t = -mu |f_n| v_t / max(|v_t|, v_slip),  mu = mu_d + (mu_s - mu_d) exp(-decay |v_t|).
+  !> Above the slip velocity v_slip this is Coulomb friction at the cap mu |f_n| opposing the
+  !> slip; below it the force falls linearly to zero with the slip speed (a viscous
+  !> regularisation of stick). We chose this velocity form over LS-DYNA's elastic trial force
+  !> (k times the tangential slip increment, returned to the cap) because it needs no history
+  !> per contact pair; the price is that a body at rest on a slope creeps at a speed of order
+  !> v_slip. v_slip = 0 gives the pure sign form. The friction force is shared out like the
+  !> normal force (slave node; master nodes by N_I), so it is also equal and opposite; the slave
+  !> node sits a distance d off xc along the normal, so the friction pair leaves a couple
+  !> d x f_t that is not applied to the shell rotations (as in usual node-to-segment contact).
+  pure subroutine penalty_force(p, t_slave, xseg, t_master, k, f_slave, f_master, penetration, &
+                                in_contact, v_slave, v_master, mu_static, mu_dynamic, decay, &
+                                v_slip, rounded_edges)
+    real(wp), intent(in) :: p(3), t_slave, xseg(3, 4), t_master, k
+    real(wp), intent(out) :: f_slave(3), f_master(3, 4), penetration
+    logical, intent(out) :: in_contact
+    real(wp), intent(in), optional :: v_slave(3), v_master(3, 4)
+    real(wp), intent(in), optional :: mu_static, mu_dynamic, decay, v_slip
+    logical, intent(in), optional :: rounded_edges
+    real(wp) :: xi, eta, xc(3), normal(3), dvec(3), d, offset(3), reach, gap, direction(3), dist
+    real(wp) :: diagonal, shape(4), v_rel(3), v_t(3), speed, mu, fn, regular
+    logical :: rounded, on_edge
+    integer :: i
+
+    f_slave = 0.0_wp
+    f_master = 0.0_wp
+    penetration = 0.0_wp
+    in_contact = .false.
+    rounded = .false.
+    if (present(rounded_edges)) rounded = rounded_edges
+
+    call closest_point_on_segment(xseg, p, xi, eta, xc, normal)
+    dvec = p - xc
+    d = dot_product(dvec, normal)
+    offset = dvec - d * normal
+    reach = 0.5_wp * (t_slave + t_master)
+    diagonal = max(norm2(xseg(:, 3) - xseg(:, 1)), norm2(xseg(:, 4) - xseg(:, 2)))
+    if (.not. (diagonal > 0.0_wp)) return          ! collapsed segment: no normal, no contact
+    on_edge = abs(xi) >= 1.0_wp .or. abs(eta) >= 1.0_wp
+    dist = norm2(dvec)
+
+    if (rounded .and. on_edge .and. dist > 0.0_wp) then
+      gap = dist - reach
+      direction = dvec / dist
+    else if (norm2(offset) <= edge_tolerance * diagonal) then
+      gap = abs(d) - reach
+      if (d >= 0.0_wp) then
+        direction = normal
+      else
+        direction = -normal
+      end if
+    else
+      return
+    end if
+    if (.not. (gap < 0.0_wp)) return
+
+    in_contact = .true.
+    penetration = -gap
+    fn = -k * gap
+    f_slave = fn * direction
+    shape = segment_shape_functions(xi, eta)
+
+    if (present(v_slave) .and. present(v_master) .and. present(mu_static) .and. &
+        present(mu_dynamic)) then
+      v_rel = v_slave - matmul(v_master, shape)
+      v_t = v_rel - dot_product(v_rel, direction) * direction
+      speed = norm2(v_t)
+      if (speed > 0.0_wp) then
+        mu = mu_dynamic
+        if (present(decay)) mu = friction_coefficient(mu_static, mu_dynamic, decay, speed)
+        regular = 0.0_wp
+        if (present(v_slip)) regular = v_slip
+        f_slave = f_slave - mu * abs(fn) * v_t / max(speed, regular)
+      end if
+    end if
+
+    do i = 1, 4
+      f_master(:, i) = -shape(i) * f_slave
+    end do
+  end subroutine penalty_force
+
+end module contact_search
