@@ -84,7 +84,8 @@ def test_pipe_whip_gap_velocity_and_tracks(pipe_whip: deck.Model) -> None:
     np.testing.assert_allclose(pipe_whip.coordinates[pipe_whip.tracked_nodes], list(expected.values()),
                                atol=1e-12)
     assert pipe_whip.control.time_step == 1e-6 and pipe_whip.control.end_time == 2.5e-3
-    assert scene.effects(pipe_whip) == ["shell_elements", "time_integration", "fixed_boundaries"]
+    assert scene.effects(pipe_whip) == ["shell_elements", "time_integration", "plasticity",
+                                        "fixed_boundaries", "contact"]
 
 
 def test_small_plate_builds_and_writes(tmp_path: Path) -> None:
@@ -94,7 +95,7 @@ def test_small_plate_builds_and_writes(tmp_path: Path) -> None:
     np.testing.assert_allclose(model.coordinates[clamped, 0], 0.0)
     assert clamped.size == 5
     np.testing.assert_allclose(model.initial_velocity[clamped], 0.0)  # zeroed on fixed translations
-    assert scene.effects(model) == ["shell_elements", "time_integration", "point_loads", "fixed_boundaries"]
+    assert scene.effects(model) == ["shell_elements", "time_integration", "fixed_boundaries", "point_loads"]
     back = deck.read_deck(deck.write_deck(model, tmp_path / "deck.h5"))
     assert back.tracked_names == ["tip_corner", "tip_middle", "middle"]
     np.testing.assert_array_equal(back.load_dof, [3])

@@ -668,15 +668,17 @@ def _apply_contacts(scene: Scene, model: deck.Model) -> None:
 
 
 def effects(model: deck.Model) -> list[str]:
-    """Physical effects a model switches on, in a fixed order (for reports and the engine banner)."""
+    """Physical effects a model switches on, in the order the engine reports them."""
     active = ["shell_elements", "time_integration"]
     used_materials = np.asarray(model.part_material)[np.unique(np.asarray(model.element_part))]
     if np.any(np.asarray(model.material_model)[used_materials] == deck.J2_PLASTICITY):
         active.append("plasticity")
-    if model.n_loads > 0:
-        active.append("point_loads")
     if model.fixed_dofs is not None and np.any(np.asarray(model.fixed_dofs) != 0):
         active.append("fixed_boundaries")
+    if model.n_loads > 0:
+        active.append("point_loads")
+    if model.n_contacts > 0:
+        active.append("contact")
     if model.control.mass_damping and model.control.mass_damping > 0:
         active.append("mass_damping")
     return active
