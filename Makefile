@@ -10,6 +10,7 @@ SOURCES := pyproject.toml $(shell find fortran frontend -type f -not -name '*.py
 
 demo: $(STAMP)
 	$(VENV)/bin/paradyn-run cases/pipe_whip/scene.toml -o runs/pipe_whip
+	$(PY) cases/pipe_whip/compare.py runs/pipe_whip
 
 test: $(STAMP)
 	$(PY) -m pytest -q

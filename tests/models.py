@@ -335,3 +335,132 @@ def scordelis_lo_quarter(n: int) -> ScordelisLo:
     b = geometry.nearest_node(c, (S.RADIUS * np.sin(angle), 0.5 * S.LENGTH,
                                   S.RADIUS * np.cos(angle)))
     return ScordelisLo(mesh=mesh, fixed=fixed, weights=nodal_areas(mesh), point_b=b)
+
+
+# ----------------------------------------------------------------------------------------------
+# contact between parts (tests/test_contact.py)
+
+
+@dataclass
+class Body:
+    """One part of a contact deck: a mesh, its shell thickness, a uniform initial velocity, and
+    whether every dof of every node is fixed."""
+
+    mesh: geometry.Mesh
+    thickness: float
+    velocity: Sequence[float] = (0.0, 0.0, 0.0)
+    fixed: bool = False
+
+
+@dataclass
+class Assembly:
+    """A multi-part deck and where each body's nodes went: body b has the nodes
+    ``nodes[b]`` (consecutive, in its mesh's order) and the elements of part b."""
+
+    model: Model
+    nodes: list[np.ndarray]
+
+    def masses(self) -> np.ndarray:
+        """Lumped nodal masses (docs/theory.md): a quarter of rho t A from every element corner."""
+        return lumped_masses(self.model)
+
+
+def lumped_masses(model: Model) -> np.ndarray:
+    """Lumped translational mass of every node: each element gives rho t A / 4 to each corner,
+    A = half the cross product of the diagonals (exact for a flat quadrilateral)."""
+    c = np.asarray(model.coordinates)[np.asarray(model.connectivity)]
+    area = 0.5 * np.linalg.norm(np.cross(c[:, 2] - c[:, 0], c[:, 3] - c[:, 1]), axis=1)
+    part = np.asarray(model.element_part)
+    rho = np.asarray(model.density)[np.asarray(model.part_material)[part]]
+    element_mass = rho * np.asarray(model.thickness)[part] * area
+    out = np.zeros(len(model.coordinates))
+    np.add.at(out, np.asarray(model.connectivity).ravel(), np.repeat(0.25 * element_mass, 4))
+    return out
+
+
+def contact_model(
+    bodies: Sequence[Body],
+    material: Material,
+    control: Control,
+    *,
+    pairs: Sequence[tuple[int, int]] = ((0, 1),),
+    penalty_scale: float = 0.1,
+    static_friction: float = 0.0,
+    dynamic_friction: float | None = None,
+    friction_decay: float = 0.0,
+    passes: int = 2,
+    loads: Sequence[Load] = (),
+    tracked: Sequence[int] = (),
+    hourglass_coefficient: float = 0.1,
+    title: str = "contact",
+) -> Assembly:
+    """One part per body, one elastic material, the same contact settings for every pair.
+
+    Load and tracked node numbers are global (use ``Assembly.nodes`` to find them: build the
+    assembly once without loads, or offset the body's local numbers by the node counts before
+    it). ``dynamic_friction`` defaults to ``static_friction``.
+    """
+    offsets = np.cumsum([0] + [b.mesh.n_nodes for b in bodies])
+    nodes = [np.arange(offsets[i], offsets[i + 1]) for i in range(len(bodies))]
+    coordinates = np.concatenate([b.mesh.coordinates for b in bodies])
+    connectivity = np.concatenate([b.mesh.quads + offsets[i] for i, b in enumerate(bodies)])
+    element_part = np.concatenate([np.full(b.mesh.n_elements, i, dtype=np.int32)
+                                   for i, b in enumerate(bodies)])
+    velocity = np.concatenate([np.tile(np.asarray(b.velocity, dtype=np.float64), (b.mesh.n_nodes, 1))
+                               for b in bodies])
+    fixed_dofs = np.concatenate([np.full((b.mesh.n_nodes, 6), int(b.fixed), dtype=np.int32)
+                                 for b in bodies])
+    n_parts, n_pairs = len(bodies), len(pairs)
+    load_arrays = {}
+    if loads:
+        load_arrays = {
+            "load_node": np.concatenate([np.asarray(ld.nodes, dtype=np.int64) for ld in loads]),
+            "load_dof": np.concatenate([np.full(len(ld.nodes), ld.dof) for ld in loads]),
+            "load_value": np.concatenate([np.asarray(ld.values, dtype=np.float64) for ld in loads]),
+            "load_ramp_time": np.concatenate([np.full(len(ld.nodes), float(ld.ramp_time))
+                                              for ld in loads]),
+        }
+    mu_d = static_friction if dynamic_friction is None else dynamic_friction
+    model = Model(
+        coordinates=coordinates,
+        connectivity=connectivity,
+        element_part=element_part,
+        thickness=np.array([b.thickness for b in bodies], dtype=np.float64),
+        part_material=np.zeros(n_parts, dtype=np.int32),
+        material_model=np.array([ELASTIC]),
+        density=np.array([material.density]),
+        youngs_modulus=np.array([material.young]),
+        poisson_ratio=np.array([material.poisson]),
+        control=control,
+        initial_velocity=velocity,
+        fixed_dofs=fixed_dofs,
+        hourglass_coefficient=np.full(n_parts, hourglass_coefficient),
+        tracked_nodes=np.asarray(tracked, dtype=np.int64),
+        contact_pairs=np.asarray(pairs, dtype=np.int32).reshape(n_pairs, 2),
+        contact_penalty_scale=np.full(n_pairs, float(penalty_scale)),
+        contact_static_friction=np.full(n_pairs, float(static_friction)),
+        contact_dynamic_friction=np.full(n_pairs, float(mu_d)),
+        contact_friction_decay=np.full(n_pairs, float(friction_decay)),
+        contact_passes=np.full(n_pairs, int(passes), dtype=np.int32),
+        title=title,
+        **load_arrays,
+    )
+    return Assembly(model=model, nodes=nodes)
+
+
+def flat_plate(size: tuple[float, float], elements: tuple[int, int],
+               origin: Sequence[float] = (0.0, 0.0, 0.0)) -> geometry.Mesh:
+    """Flat plate in a plane z = const, x from origin[0] over size[0], y from origin[1] over
+    size[1], normal +z (node ``j * (nx + 1) + i`` at column i, row j)."""
+    return geometry.plate(size=size, elements=elements, origin=origin)
+
+
+def segment_stiffness(mesh: geometry.Mesh, material: Material, scale: float) -> np.ndarray:
+    """The engine's penalty stiffness of every segment of ``mesh`` (docs/formats.md
+    /contact/penalty_scale): k = scale K A / longest diagonal, K = E / (3 (1 - 2 nu))."""
+    c = mesh.coordinates[mesh.quads]
+    d13, d24 = c[:, 2] - c[:, 0], c[:, 3] - c[:, 1]
+    area = 0.5 * np.linalg.norm(np.cross(d13, d24), axis=1)
+    diagonal = np.maximum(np.linalg.norm(d13, axis=1), np.linalg.norm(d24, axis=1))
+    bulk = material.young / (3.0 * (1.0 - 2.0 * material.poisson))
+    return scale * bulk * area / diagonal
