@@ -406,8 +406,8 @@ def contact_model(
     connectivity = np.concatenate([b.mesh.quads + offsets[i] for i, b in enumerate(bodies)])
     element_part = np.concatenate([np.full(b.mesh.n_elements, i, dtype=np.int32)
                                    for i, b in enumerate(bodies)])
-    velocity = np.concatenate([np.tile(np.asarray(b.velocity, dtype=np.float64), (b.mesh.n_nodes, 1))
-                               for b in bodies])
+    velocity = np.concatenate([np.tile(np.asarray(b.velocity, dtype=np.float64),
+                                       (b.mesh.n_nodes, 1)) for b in bodies])
     fixed_dofs = np.concatenate([np.full((b.mesh.n_nodes, 6), int(b.fixed), dtype=np.int32)
                                  for b in bodies])
     n_parts, n_pairs = len(bodies), len(pairs)

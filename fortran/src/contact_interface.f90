@@ -24,6 +24,11 @@ module contact_interface
   !> Below this slip speed friction falls linearly to zero (a viscous regularisation of stick
   !> that needs no history per contact; a body at rest on a slope creeps at most this fast).
   real(wp), parameter :: stick_speed = 1.0e-3_wp  ! m/s
+  !> The penalty spring of a contact never exceeds this fraction of m / dt^2, m the lightest node
+  !> of the slave and its segment: the contact frequency then stays below 0.63 / dt, so the
+  !> contact cannot make the central-difference step unstable however stiff the penalty or light
+  !> the node (docs/theory.md; LS-DYNA's soft-constraint stiffness has the same m / dt^2 form).
+  real(wp), parameter :: stable_spring_fraction = 0.25_wp
 
   type :: contact_pass_t
     integer :: pair = 0
@@ -41,6 +46,8 @@ module contact_interface
     integer :: n_nodes = 0                     !< nodes of all parts in contact
     integer, allocatable :: global_node(:)     !< their global ids, ascending
     real(wp), allocatable :: x(:, :), v(:, :)  !< gathered positions and velocities
+    real(wp), allocatable :: mass(:)           !< lumped mass of each contact node
+    real(wp) :: time_step = 0.0_wp             !< the solver's step, for the stability cap
     real(wp), allocatable :: force(:, :), force_old(:, :)  !< contact force per contact node
     real(wp), allocatable :: x_at_sort(:, :)   !< positions at the last bucket sort
     type(contact_pass_t), allocatable :: passes(:)
@@ -209,14 +216,14 @@ contains
     integer :: j, node, segment, contacts
     integer(ip) :: nearest
     real(wp) :: p(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
-    real(wp) :: penetration, deepest, t0
+    real(wp) :: penetration, deepest, t0, stiffness
     logical :: touching
     t0 = clock()
     contacts = 0
     deepest = 0.0_wp
     !$omp parallel do schedule(static, 1) default(shared) &
     !$omp private(j, node, nearest, segment, p, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
-    !$omp penetration, touching) reduction(+:contacts) reduction(max:deepest)
+    !$omp penetration, touching, stiffness) reduction(+:contacts) reduction(max:deepest)
     do j = 1, size(pass%slaves)
       c%record_nodes(:, j) = 0
       node = pass%slaves(j)
@@ -231,7 +238,9 @@ contains
       if (segment == 0) cycle
       xseg = c%x(:, pass%segments(:, segment))
       vseg = c%v(:, pass%segments(:, segment))
-      call penalty_force(p, pass%t_slave, xseg, pass%t_master, pass%stiffness(segment), f_slave, &
+      stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 &
+                      * min(c%mass(node), minval(c%mass(pass%segments(:, segment)))))
+      call penalty_force(p, pass%t_slave, xseg, pass%t_master, stiffness, f_slave, &
                          f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &
                          mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
                          v_slip=stick_speed, rounded_edges=.true.)

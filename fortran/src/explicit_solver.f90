@@ -167,10 +167,16 @@ contains
       end if
     end if
 
+    ! whole steps of equal size that end exactly at end_time (never above the chosen step)
+    s%dt = deck%end_time / max(1, ceiling(deck%end_time / s%dt - 1.0e-9_wp))
     s%has_contact = deck%n_contacts > 0
     if (s%has_contact) then
       call contact_setup(deck, s%contact)
       call node_set_setup(s%dom, s%halo, s%contact%global_node, s%contact_nodes)
+      ! the lumped masses of the contact nodes, for the penalty's stability cap
+      call allgather_node_set(s%halo, s%contact_nodes, spread(s%mass, 1, 3), s%v, s%contact%x, s%contact%v)
+      s%contact%mass = s%contact%x(1, :)
+      s%contact%time_step = s%dt
     end if
     allocate (s%load_node(deck%n_loads))
     do l = 1, deck%n_loads
@@ -281,9 +287,7 @@ contains
     status = 0
     message = ''
     phase = 0.0_wp
-    ! whole steps of equal size that end exactly at end_time (never above the chosen step)
-    n_steps = max(1, ceiling(deck%end_time / s%dt - 1.0e-9_wp))
-    s%dt = deck%end_time / n_steps
+    n_steps = max(1, nint(deck%end_time / s%dt))
     call MPI_Barrier(s%halo%comm)
     t_start = MPI_Wtime()
     t_last_progress = t_start
