@@ -69,6 +69,18 @@ class Run:
         return int(self.results.run["cycles"])
 
 
+def _load_arrays(loads) -> dict[str, np.ndarray]:
+    """The deck's /loads datasets for a list of Load (empty when there are none)."""
+    if not loads:
+        return {}
+    return {
+        "load_node": np.concatenate([np.asarray(ld.nodes, dtype=np.int64) for ld in loads]),
+        "load_dof": np.concatenate([np.full(len(ld.nodes), ld.dof) for ld in loads]),
+        "load_value": np.concatenate([np.asarray(ld.values, dtype=np.float64) for ld in loads]),
+        "load_ramp_time": np.concatenate([np.full(len(ld.nodes), float(ld.ramp_time)) for ld in loads]),
+    }
+
+
 def shell_model(
     mesh: geometry.Mesh,
     thickness: float,
@@ -89,15 +101,7 @@ def shell_model(
     fixed_dofs = np.zeros((n, 6), dtype=np.int32)
     for node, flags in (fixed or {}).items():
         fixed_dofs[node] = np.maximum(fixed_dofs[node], np.asarray(flags, dtype=np.int32))
-    load_arrays = {}
-    if loads:
-        load_arrays = {
-            "load_node": np.concatenate([np.asarray(ld.nodes, dtype=np.int64) for ld in loads]),
-            "load_dof": np.concatenate([np.full(len(ld.nodes), ld.dof) for ld in loads]),
-            "load_value": np.concatenate([np.asarray(ld.values, dtype=np.float64) for ld in loads]),
-            "load_ramp_time": np.concatenate([np.full(len(ld.nodes), float(ld.ramp_time))
-                                              for ld in loads]),
-        }
+    load_arrays = _load_arrays(loads)
     return Model(
         coordinates=mesh.coordinates,
         connectivity=mesh.quads,
@@ -411,15 +415,7 @@ def contact_model(
     fixed_dofs = np.concatenate([np.full((b.mesh.n_nodes, 6), int(b.fixed), dtype=np.int32)
                                  for b in bodies])
     n_parts, n_pairs = len(bodies), len(pairs)
-    load_arrays = {}
-    if loads:
-        load_arrays = {
-            "load_node": np.concatenate([np.asarray(ld.nodes, dtype=np.int64) for ld in loads]),
-            "load_dof": np.concatenate([np.full(len(ld.nodes), ld.dof) for ld in loads]),
-            "load_value": np.concatenate([np.asarray(ld.values, dtype=np.float64) for ld in loads]),
-            "load_ramp_time": np.concatenate([np.full(len(ld.nodes), float(ld.ramp_time))
-                                              for ld in loads]),
-        }
+    load_arrays = _load_arrays(loads)
     mu_d = static_friction if dynamic_friction is None else dynamic_friction
     model = Model(
         coordinates=coordinates,

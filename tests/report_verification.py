@@ -160,33 +160,16 @@ class Report:
 
     def rigid_body(self, motion: str) -> None:
         """Mirrors test_rigid_body_motion."""
-        mesh, thickness, mass, centre = V._patch()
-        x0 = mesh.coordinates
-        n = mesh.n_nodes
-        dt = M.stable_time_step(mesh, V.STEEL)
-        if motion == "translation":
-            v = np.array([3.0, -2.0, 1.0])
-            velocity, spin = np.tile(v, (n, 1)), np.zeros((n, 3))
-            end = 5000 * dt
-        else:
-            axis = np.eye(3)["xyz".index(motion[-1])]
-            omega = 1.0 * axis
-            velocity, spin = np.cross(omega, x0 - centre), np.tile(omega, (n, 1))
-            end = 0.5 * np.pi / np.linalg.norm(omega)
-        control = Control(end_time=end, output_interval=end, history_interval=end / 200)
-        run = M.run(M.shell_model(mesh, thickness, V.STEEL, control, velocity=velocity,
-                                  angular_velocity=spin), self.directory(f"rigid_{motion}"))
+        run, expected = V.rigid_body_run(motion, self.directory(f"rigid_{motion}"))
         h = run.results.history
         ke = h["kinetic_energy"]
         strain = (np.max(np.abs(h["internal_energy"])) + np.max(np.abs(h["hourglass_energy"])))
         strain /= ke[0]
         ke_change = (ke.max() - ke.min()) / ke[0]
-        t_end = run.results.frame_times[-1]
+        x0 = run.results.coordinates
         if motion == "translation":
-            expected = x0 + t_end * velocity
             name = "Rigid translation, v = (3, -2, 1) m/s, 5000 steps"
         else:
-            expected = (x0 - centre) @ V._rotation(axis, t_end).T + centre
             name = f"Rigid rotation about {motion[-1]}, 1 rad/s, quarter turn ({run.cycles} steps)"
         position = float(np.max(np.abs(x0 + run.results.displacement[-1] - expected)))
         self.add(name, "4 x 3 curved patch",

@@ -172,6 +172,19 @@ def test_rigid_body_motion(tmp_path, motion):
     t = 0.01 m, falling with the hourglass coefficient as 1 / r (a force-driven response, not a
     kinematic error); that case is left out.
     """
+    run, expected = rigid_body_run(motion, tmp_path)
+    h = run.results.history
+    ke = h["kinetic_energy"]
+    strain = np.max(np.abs(h["internal_energy"])) + np.max(np.abs(h["hourglass_energy"]))
+    assert strain < 1e-6 * ke[0]
+    assert ke.max() - ke.min() < 1e-6 * ke[0]
+    final = run.results.coordinates + run.results.displacement[-1]
+    assert np.max(np.abs(final - expected)) < 1e-6
+
+
+def rigid_body_run(motion: str, directory):
+    """Run the free patch in rigid translation or rotation about x, y or z; return the run and
+    the exact final positions of the rigid motion (shared with tests/report_verification.py)."""
     mesh, thickness, mass, centre = _patch()
     x0 = mesh.coordinates
     n = mesh.n_nodes
@@ -187,20 +200,13 @@ def test_rigid_body_motion(tmp_path, motion):
         end = 0.5 * np.pi / np.linalg.norm(omega)
     control = Control(end_time=end, output_interval=end, history_interval=end / 200)
     run = M.run(M.shell_model(mesh, thickness, STEEL, control, velocity=velocity,
-                              angular_velocity=spin), tmp_path)
-    h = run.results.history
-    ke = h["kinetic_energy"]
-    strain = np.max(np.abs(h["internal_energy"])) + np.max(np.abs(h["hourglass_energy"]))
-    assert strain < 1e-6 * ke[0]
-    assert ke.max() - ke.min() < 1e-6 * ke[0]
-
+                              angular_velocity=spin), directory)
     t_end = run.results.frame_times[-1]
     if motion == "translation":
         expected = x0 + t_end * velocity
     else:
         expected = (x0 - centre) @ _rotation(axis, t_end).T + centre
-    final = x0 + run.results.displacement[-1]
-    assert np.max(np.abs(final - expected)) < 1e-6
+    return run, expected
 
 
 # ----------------------------------------------------------------------------------------------
