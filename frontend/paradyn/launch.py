@@ -128,6 +128,8 @@ def run_engine(
     """Run the engine to completion; raise EngineError with the engine's message if it fails."""
     if ranks < 1 or threads < 1:
         raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", 2)
+    # the engine runs in the deck's folder, so relative paths would point elsewhere
+    deck, results = Path(deck).resolve(), Path(results).resolve()
     command = engine_command(deck, results, ranks, threads)
     run = EngineRun(command=command, exit_code=-1, log_path=log_path)
     log: TextIO = open(log_path, "w") if log_path else open(os.devnull, "w")
