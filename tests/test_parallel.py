@@ -7,6 +7,7 @@ corners in ascending global element order, so the field frames must be bitwise e
 
 from __future__ import annotations
 
+import json
 import shutil
 from pathlib import Path
 
@@ -94,3 +95,23 @@ def test_history_energies_are_bitwise_equal(runs: dict, layout: tuple[int, int])
     reference, data = runs[(1, 1)], runs[layout]
     for name in SUMMED_HISTORY:
         assert np.array_equal(data[f"history/{name}"], reference[f"history/{name}"]), name
+
+
+@pytest.mark.mpi
+def test_scaling_benchmark_reports_every_layout(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """paradyn-scaling (issue 5): one row per layout with wall time, element-cycles/s, speed-up,
+    efficiency and the phases, written as JSON; every layout gives the first one's displacements
+    bitwise, and the command says so with its exit status."""
+    from paradyn import benchmark
+    scene_path = Path(__file__).resolve().parents[1] / "cases" / "small_plate" / "scene.toml"
+    status = benchmark.main([str(scene_path), "--layouts", "1x1,2x1,1x2", "-o", str(tmp_path)])
+    assert status == 0
+    report = json.loads((tmp_path / "scaling.json").read_text())
+    assert [(r["ranks"], r["threads"]) for r in report["layouts"]] == [(1, 1), (2, 1), (1, 2)]
+    for row in report["layouts"]:
+        assert row["same_displacements"] is True
+        assert row["wall_s"] > 0 and row["element_cycles_per_s"] > 0
+        assert row["efficiency"] == pytest.approx(row["speed_up"] / (row["ranks"] * row["threads"]))
+        assert set(row["phase_s"]) == {"elements", "contact", "communication", "output", "other"}
+    assert report["layouts"][0]["speed_up"] == 1.0
+    assert "| 2 x 1 |" in capsys.readouterr().out

@@ -1,0 +1,123 @@
+"""`paradyn-scaling`: run one case on several rank x thread layouts and report parallel speed.
+
+For every layout the engine runs the same deck; the report gives wall time, element-cycles per
+second, speed-up and parallel efficiency against the first layout, and the time per phase. It is
+printed as a markdown table and written as JSON. The displacements of every layout are compared
+with the first one (bitwise), so a speed-up never hides a different answer.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from . import deck, launch, scene
+
+PHASES = ("elements", "contact", "communication", "output", "other")
+
+
+@dataclass
+class LayoutResult:
+    ranks: int
+    threads: int
+    wall_s: float
+    element_cycles_per_s: float
+    speed_up: float
+    efficiency: float
+    phase_s: dict[str, float]
+    same_displacements: bool
+
+
+def parse_layouts(text: str) -> list[tuple[int, int]]:
+    """'1x1,1x2,2x1' -> [(1, 1), (1, 2), (2, 1)]."""
+    layouts = []
+    for item in text.split(","):
+        try:
+            ranks, threads = (int(v) for v in item.lower().split("x"))
+        except ValueError:
+            raise SystemExit(f"paradyn-scaling: error: layout '{item}' is not RANKSxTHREADS, e.g. 2x1") from None
+        if ranks < 1 or threads < 1:
+            raise SystemExit(f"paradyn-scaling: error: layout '{item}' needs at least 1 rank and 1 thread")
+        layouts.append((ranks, threads))
+    return layouts
+
+
+def run_layouts(deck_path: Path, out_dir: Path, layouts: list[tuple[int, int]]) -> list[LayoutResult]:
+    results: list[LayoutResult] = []
+    reference = None
+    for ranks, threads in layouts:
+        res_path = out_dir / f"results_{ranks}x{threads}.h5"
+        launch.run_engine(deck_path, res_path, ranks, threads, log_path=out_dir / f"engine_{ranks}x{threads}.log")
+        with h5py.File(res_path, "r") as f:
+            run = dict(f["run"].attrs)
+            displacement = f["frames/displacement"][()]
+        if reference is None:
+            reference = (float(run["wall_s"]), displacement)
+        wall = float(run["wall_s"])
+        speed_up = reference[0] / wall
+        results.append(LayoutResult(
+            ranks=ranks, threads=threads, wall_s=wall,
+            element_cycles_per_s=float(run["element_cycles_per_s"]), speed_up=speed_up,
+            efficiency=speed_up * layouts[0][0] * layouts[0][1] / (ranks * threads),
+            phase_s={p: float(run[f"phase_{p}_s"]) for p in PHASES},
+            same_displacements=bool(np.array_equal(displacement, reference[1])),
+        ))
+    return results
+
+
+def markdown(results: list[LayoutResult]) -> str:
+    lines = ["| layout | wall (s) | element-cycles/s | speed-up | efficiency | "
+             + " | ".join(PHASES) + " | same answer |",
+             "|" + "---|" * (6 + len(PHASES))]
+    for r in results:
+        lines.append(f"| {r.ranks} x {r.threads} | {r.wall_s:.2f} | {r.element_cycles_per_s:.3e} | "
+                     f"{r.speed_up:.2f} | {100 * r.efficiency:.0f} % | "
+                     + " | ".join(f"{r.phase_s[p]:.2f}" for p in PHASES)
+                     + f" | {'yes' if r.same_displacements else 'NO'} |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="paradyn-scaling",
+        description="Run a scene (or deck) on several MPI rank x OpenMP thread layouts and report "
+                    "wall time, element-cycles/s, speed-up, parallel efficiency and time per phase "
+                    "(markdown on standard output, JSON in the output folder).")
+    parser.add_argument("scene", type=Path, help="scene .toml or deck .h5")
+    parser.add_argument("--layouts", default="1x1,1x2,2x1",
+                        help="comma-separated RANKSxTHREADS; the first is the baseline (default 1x1,1x2,2x1)")
+    parser.add_argument("-o", "--output", type=Path, default=None,
+                        help="output folder (default runs/scaling_<name of the scene's folder>)")
+    args = parser.parse_args(argv)
+    layouts = parse_layouts(args.layouts)
+    name = args.scene.resolve().parent.name if args.scene.suffix == ".toml" else args.scene.stem
+    out_dir = (args.output or Path.cwd() / "runs" / f"scaling_{name}").resolve()
+    out_dir.mkdir(parents=True, exist_ok=True)
+    try:
+        model = (deck.read_deck(args.scene) if args.scene.suffix in (".h5", ".hdf5")
+                 else scene.build_model(scene.load_scene(args.scene)))
+        deck_path = deck.write_deck(model, out_dir / "deck.h5")
+    except (scene.SceneError, deck.DeckError) as error:
+        print(f"paradyn-scaling: error: {error}", file=sys.stderr)
+        return 2
+    try:
+        results = run_layouts(deck_path, out_dir, layouts)
+    except launch.EngineError as error:
+        print(f"paradyn-scaling: error: {error}", file=sys.stderr)
+        return error.exit_code
+    report = {"scene": str(args.scene.resolve()), "elements": model.n_elements, "nodes": model.n_nodes,
+              "layouts": [asdict(r) for r in results]}
+    (out_dir / "scaling.json").write_text(json.dumps(report, indent=2) + "\n")
+    print(markdown(results))
+    print(f"paradyn-scaling: wrote {out_dir / 'scaling.json'}")
+    return 0 if all(r.same_displacements for r in results) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
