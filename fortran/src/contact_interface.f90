@@ -177,7 +177,11 @@ contains
       c%time_force = c%time_force + clock() - t0
     end do
     ! energy absorbed by contact = minus the work of the contact forces on the nodes
-    if (cycle > 0) c%energy = c%energy - 0.5_wp * dt * sum(c%v * (c%force_old + c%force))
+    if (cycle > 0) then
+      do j = 1, c%n_nodes   ! a loop, not an array expression: no temporary in the time loop
+        c%energy = c%energy - 0.5_wp * dt * dot_product(c%v(:, j), c%force_old(:, j) + c%force(:, j))
+      end do
+    end if
   end subroutine contact_forces
 
   !> A sort is due at the set interval, or (interval 0) once any contact node has moved a tenth
@@ -186,13 +190,16 @@ contains
     type(contact_t), intent(in) :: c
     integer, intent(in) :: cycle
     real(wp) :: moved, smallest
-    integer :: p
+    integer :: p, j
     if (c%last_sort < 0) then
       sort_due = .true.
     else if (c%sort_interval > 0) then
       sort_due = cycle - c%last_sort >= c%sort_interval
     else
-      moved = sqrt(maxval(sum((c%x - c%x_at_sort)**2, dim=1)))
+      moved = 0.0_wp
+      do j = 1, c%n_nodes
+        moved = max(moved, norm2(c%x(:, j) - c%x_at_sort(:, j)))
+      end do
       smallest = huge(1.0_wp)
       do p = 1, size(c%passes)
         smallest = min(smallest, c%passes(p)%bucket_size)
