@@ -19,7 +19,8 @@ module contact_interface
   use contact_search, only: node_segment_map, segment_candidates, shell_penalty_stiffness, penalty_force
   implicit none
   private
-  public :: contact_t, contact_setup, contact_forces, contact_pass_t
+  public :: contact_t, contact_setup, contact_pass_t
+  public :: contact_begin, contact_pass_active, contact_search, contact_sum, contact_end
 
   !> Below this slip speed friction falls linearly to zero (a viscous regularisation of stick
   !> that needs no history per contact; a body at rest on a slope creeps at most this fast).
@@ -55,6 +56,8 @@ module contact_interface
     ! per-slave records, reused every step
     integer, allocatable :: record_nodes(:, :) !< (5, n) slave then the 4 master nodes, 0 = none
     real(wp), allocatable :: record_force(:, :, :)  !< (3, 5, n)
+    real(wp), allocatable :: record_penetration(:)  !< (n)
+    integer :: rank = 0, n_ranks = 1               !< this rank's share of the slaves
     integer :: last_sort = -huge(1), sort_interval = 0, contacts_now = 0
     real(wp) :: energy = 0.0_wp, max_penetration = 0.0_wp
     real(wp) :: time_sort = 0, time_search = 0, time_force = 0
@@ -91,7 +94,7 @@ contains
       end do
     end do
     allocate (c%record_nodes(5, n_max), source=0)
-    allocate (c%record_force(3, 5, n_max), source=0.0_wp)
+    allocate (c%record_force(3, 5, n_max), c%record_penetration(n_max), source=0.0_wp)
   end subroutine contact_setup
 
   subroutine pass_setup(deck, pair, slave_part, master_part, contact_id, n_contact, pass)
@@ -135,19 +138,17 @@ contains
     pass%decay = deck%contact_friction_decay(pair)
   end subroutine pass_setup
 
-  !> Contact forces for the gathered positions c%x and velocities c%v at cycle `cycle`, into
-  !> c%force; the contact energy advances by the work of the mean force over the last step, dt.
-  subroutine contact_forces(c, cycle, dt, clock)
+  !> Start a step: keep the last forces, redo the bucket sorts when due.
+  subroutine contact_begin(c, cycle, clock)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: cycle
-    real(wp), intent(in) :: dt
     interface
       function clock() result(seconds)
         import :: wp
         real(wp) :: seconds
       end function clock
     end interface
-    integer :: p, j, k
+    integer :: p
     real(wp) :: t0
     c%force_old = c%force
     c%force = 0.0_wp
@@ -164,25 +165,52 @@ contains
       c%last_sort = cycle
     end if
     c%time_sort = c%time_sort + clock() - t0
-    do p = 1, size(c%passes)
-      if (c%pair_passes(p) == 1 .and. modulo(cycle + p, 2) == 0) cycle  ! the paper's swap
-      call run_pass(c, c%passes(p), clock)
-      t0 = clock()
-      do j = 1, size(c%passes(p)%slaves)   ! fixed order: the same sum for any thread count
-        do k = 1, 5
-          if (c%record_nodes(k, j) > 0) c%force(:, c%record_nodes(k, j)) = &
-            c%force(:, c%record_nodes(k, j)) + c%record_force(:, k, j)
-        end do
+  end subroutine contact_begin
+
+  !> Pass p runs this cycle: always with passes = 2, every other cycle with the paper's swap.
+  pure logical function contact_pass_active(c, p, cycle)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: p, cycle
+    contact_pass_active = c%pair_passes(p) == 2 .or. modulo(cycle + p, 2) == 1
+  end function contact_pass_active
+
+  !> Add the records of pass p (complete on this rank: the caller has shared them between
+  !> ranks) to the contact forces, in slave order so the sum is the same for any layout.
+  subroutine contact_sum(c, p, clock)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: p
+    interface
+      function clock() result(seconds)
+        import :: wp
+        real(wp) :: seconds
+      end function clock
+    end interface
+    integer :: j, k
+    real(wp) :: t0
+    t0 = clock()
+    do j = 1, size(c%passes(p)%slaves)
+      if (c%record_nodes(1, j) == 0) cycle
+      c%contacts_now = c%contacts_now + 1
+      c%max_penetration = max(c%max_penetration, c%record_penetration(j))
+      do k = 1, 5
+        c%force(:, c%record_nodes(k, j)) = c%force(:, c%record_nodes(k, j)) + c%record_force(:, k, j)
       end do
-      c%time_force = c%time_force + clock() - t0
     end do
-    ! energy absorbed by contact = minus the work of the contact forces on the nodes
-    if (cycle > 0) then
-      do j = 1, c%n_nodes   ! a loop, not an array expression: no temporary in the time loop
-        c%energy = c%energy - 0.5_wp * dt * dot_product(c%v(:, j), c%force_old(:, j) + c%force(:, j))
-      end do
-    end if
-  end subroutine contact_forces
+    c%time_force = c%time_force + clock() - t0
+  end subroutine contact_sum
+
+  !> End a step: the contact energy advances by minus the work of the mean contact force over
+  !> the last step dt (the velocities are those of that step).
+  subroutine contact_end(c, cycle, dt)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: cycle
+    real(wp), intent(in) :: dt
+    integer :: j
+    if (cycle == 0) return
+    do j = 1, c%n_nodes   ! a loop, not an array expression: no temporary in the time loop
+      c%energy = c%energy - 0.5_wp * dt * dot_product(c%v(:, j), c%force_old(:, j) + c%force(:, j))
+    end do
+  end subroutine contact_end
 
   !> A sort is due at the set interval, or (interval 0) once any contact node has moved a tenth
   !> of the bucket size since the last sort.
@@ -209,37 +237,39 @@ contains
   end function sort_due
 
   !> Global search (nearest master node), local search (segment and closest point) and penalty
-  !> force for every slave of one pass; OpenMP deals slaves cyclically, one at a time, to the
-  !> threads (the paper's node-wise cyclic decomposition, schedule(static, 1)).
-  subroutine run_pass(c, pass, clock)
+  !> force for this rank's share of the slaves of pass p: slaves are dealt cyclically to the
+  !> ranks, and OpenMP deals a rank's slaves cyclically, one at a time, to the threads (the
+  !> paper's node-wise cyclic decomposition, schedule(static, 1)). Every slave not searched here
+  !> gets an empty record.
+  subroutine contact_search(c, p, clock)
     type(contact_t), intent(inout) :: c
-    type(contact_pass_t), intent(in) :: pass
+    integer, intent(in) :: p
     interface
       function clock() result(seconds)
         import :: wp
         real(wp) :: seconds
       end function clock
     end interface
-    integer :: j, node, segment, contacts
+    integer :: j, node, segment
     integer(ip) :: nearest
-    real(wp) :: p(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
-    real(wp) :: penetration, deepest, t0, stiffness
+    real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
+    real(wp) :: penetration, t0, stiffness
     logical :: touching
     t0 = clock()
-    contacts = 0
-    deepest = 0.0_wp
+    associate (pass => c%passes(p))
     !$omp parallel do schedule(static, 1) default(shared) &
-    !$omp private(j, node, nearest, segment, p, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
-    !$omp penetration, touching, stiffness) reduction(+:contacts) reduction(max:deepest)
+    !$omp private(j, node, nearest, segment, x, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
+    !$omp penetration, touching, stiffness)
     do j = 1, size(pass%slaves)
       c%record_nodes(:, j) = 0
+      if (modulo(j - 1, c%n_ranks) /= c%rank) cycle
       node = pass%slaves(j)
-      p = c%x(:, node)
-      if (.not. near_box(p, pass)) cycle
-      nearest = nearest_master_node(pass%grid, pass%x_sorted, p, &
+      x = c%x(:, node)
+      if (.not. near_box(x, pass)) cycle
+      nearest = nearest_master_node(pass%grid, pass%x_sorted, x, &
                                     max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
       if (nearest == 0) cycle
-      call segment_candidates(p, int(pass%masters(nearest), ip), int(c%n_nodes, ip), c%x, &
+      call segment_candidates(x, int(pass%masters(nearest), ip), int(c%n_nodes, ip), c%x, &
                               int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
                               pass%segment_list, segment, xi, eta, xc, normal)
       if (segment == 0) cycle
@@ -247,23 +277,21 @@ contains
       vseg = c%v(:, pass%segments(:, segment))
       stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 &
                       * min(c%mass(node), minval(c%mass(pass%segments(:, segment)))))
-      call penalty_force(p, pass%t_slave, xseg, pass%t_master, stiffness, f_slave, &
+      call penalty_force(x, pass%t_slave, xseg, pass%t_master, stiffness, f_slave, &
                          f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &
                          mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
                          v_slip=stick_speed, rounded_edges=.true.)
       if (.not. touching) cycle
-      contacts = contacts + 1
-      deepest = max(deepest, penetration)
+      c%record_penetration(j) = penetration
       c%record_nodes(1, j) = node
       c%record_nodes(2:5, j) = pass%segments(:, segment)
       c%record_force(:, 1, j) = f_slave
       c%record_force(:, 2:5, j) = f_master
     end do
     !$omp end parallel do
-    c%contacts_now = c%contacts_now + contacts
-    c%max_penetration = max(c%max_penetration, deepest)
+    end associate
     c%time_search = c%time_search + clock() - t0
-  end subroutine run_pass
+  end subroutine contact_search
 
   !> Cheap rejection: a slave farther than a bucket from the master nodes' sorted bounding box
   !> cannot touch (an idle pair costs one box test per slave).

@@ -9,6 +9,7 @@ module halo_exchange
   private
   public :: halo_t, halo_setup, exchange_corners, gather_nodes, gather_elements, sum_to_root
   public :: node_set_t, node_set_setup, allgather_node_set
+  public :: record_share_t, record_share_setup, share_contact_records
 
   type :: halo_t
     type(MPI_Comm) :: comm
@@ -31,7 +32,54 @@ module halo_exchange
     real(wp), allocatable :: send(:, :), recv(:, :)
   end type node_set_t
 
+  !> Buffers to share the contact records that each rank computed for its share of the slaves.
+  type :: record_share_t
+    real(wp), allocatable :: send(:, :), recv(:, :)
+    integer, allocatable :: counts(:), displs(:)
+  end type record_share_t
+
+  integer, parameter :: record_width = 22   !< slave index, 5 nodes, 15 forces, penetration
+
 contains
+
+  subroutine record_share_setup(n_records, n_ranks, share)
+    integer, intent(in) :: n_records, n_ranks
+    type(record_share_t), intent(out) :: share
+    allocate (share%send(record_width, n_records), share%recv(record_width, n_records))
+    allocate (share%counts(n_ranks), share%displs(n_ranks))
+  end subroutine record_share_setup
+
+  !> Every rank filled the records of its own slaves and left the others empty (node 0); after
+  !> this call every rank holds all n records. Only records in contact travel. Values are copied,
+  !> never summed, so the records are bitwise those of a serial run.
+  subroutine share_contact_records(halo, share, n, nodes, forces, penetration)
+    type(halo_t), intent(in) :: halo
+    type(record_share_t), intent(inout) :: share
+    integer, intent(in) :: n
+    integer, intent(inout) :: nodes(:, :)
+    real(wp), intent(inout) :: forces(:, :, :), penetration(:)
+    integer :: j, k, mine, total
+    mine = 0
+    do j = 1, n
+      if (nodes(1, j) == 0) cycle
+      mine = mine + 1
+      share%send(1, mine) = real(j, wp)
+      share%send(2:6, mine) = real(nodes(:, j), wp)
+      share%send(7:21, mine) = reshape(forces(:, :, j), [15])
+      share%send(22, mine) = penetration(j)
+    end do
+    call MPI_Allgather(mine, 1, MPI_INTEGER, share%counts, 1, MPI_INTEGER, halo%comm)
+    call displacements(share%counts, share%displs, total)
+    call MPI_Allgatherv(share%send, record_width * mine, MPI_DOUBLE_PRECISION, share%recv, &
+                        record_width * share%counts, record_width * share%displs, &
+                        MPI_DOUBLE_PRECISION, halo%comm)
+    do k = 1, total
+      j = nint(share%recv(1, k))
+      nodes(:, j) = nint(share%recv(2:6, k))
+      forces(:, :, j) = reshape(share%recv(7:21, k), [3, 5])
+      penetration(j) = share%recv(22, k)
+    end do
+  end subroutine share_contact_records
 
   !> members: global node ids, ascending.
   subroutine node_set_setup(dom, halo, members, set)
