@@ -48,15 +48,25 @@ def parse_layouts(text: str) -> list[tuple[int, int]]:
     return layouts
 
 
-def run_layouts(deck_path: Path, out_dir: Path, layouts: list[tuple[int, int]]) -> list[LayoutResult]:
+def median_run(deck_path: Path, out_dir: Path, ranks: int, threads: int, repeat: int) -> tuple[dict, np.ndarray]:
+    """Run a layout `repeat` times; the /run attributes of the run with the median wall time,
+    and its displacements (timings on shared machines are noisy: quote medians)."""
+    runs = []
+    for k in range(repeat):
+        res_path = out_dir / f"results_{ranks}x{threads}_{k}.h5"
+        launch.run_engine(deck_path, res_path, ranks, threads, log_path=out_dir / f"engine_{ranks}x{threads}.log")
+        with h5py.File(res_path, "r") as f:
+            runs.append((dict(f["run"].attrs), f["frames/displacement"][()]))
+    runs.sort(key=lambda r: float(r[0]["wall_s"]))
+    return runs[len(runs) // 2]
+
+
+def run_layouts(deck_path: Path, out_dir: Path, layouts: list[tuple[int, int]],
+                repeat: int = 1) -> list[LayoutResult]:
     results: list[LayoutResult] = []
     reference = None
     for ranks, threads in layouts:
-        res_path = out_dir / f"results_{ranks}x{threads}.h5"
-        launch.run_engine(deck_path, res_path, ranks, threads, log_path=out_dir / f"engine_{ranks}x{threads}.log")
-        with h5py.File(res_path, "r") as f:
-            run = dict(f["run"].attrs)
-            displacement = f["frames/displacement"][()]
+        run, displacement = median_run(deck_path, out_dir, ranks, threads, repeat)
         if reference is None:
             reference = (float(run["wall_s"]), displacement)
         wall = float(run["wall_s"])
@@ -92,6 +102,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("scene", type=Path, help="scene .toml or deck .h5")
     parser.add_argument("--layouts", default="1x1,1x2,2x1",
                         help="comma-separated RANKSxTHREADS; the first is the baseline (default 1x1,1x2,2x1)")
+    parser.add_argument("--repeat", type=int, default=1,
+                        help="runs per layout; the median wall time is reported (default 1)")
     parser.add_argument("-o", "--output", type=Path, default=None,
                         help="output folder (default runs/scaling_<name of the scene's folder>)")
     args = parser.parse_args(argv)
@@ -107,11 +119,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"paradyn-scaling: error: {error}", file=sys.stderr)
         return 2
     try:
-        results = run_layouts(deck_path, out_dir, layouts)
+        results = run_layouts(deck_path, out_dir, layouts, max(1, args.repeat))
     except launch.EngineError as error:
         print(f"paradyn-scaling: error: {error}", file=sys.stderr)
         return error.exit_code
     report = {"scene": str(args.scene.resolve()), "elements": model.n_elements, "nodes": model.n_nodes,
+              "repeat": max(1, args.repeat),
               "layouts": [asdict(r) for r in results]}
     (out_dir / "scaling.json").write_text(json.dumps(report, indent=2) + "\n")
     print(markdown(results))
