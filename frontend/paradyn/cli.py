@@ -12,6 +12,9 @@ DESCRIPTION = """\
 Run a ParaDyn scene end to end.
 
 SCENE is a TOML scene file (see docs/scene.md) or a deck.h5 written earlier (docs/formats.md).
+Inside a Slurm allocation the engine runs under srun; --sbatch writes OUTDIR/job.sbatch instead
+of running (submit it with sbatch; it runs the engine, then `paradyn-run --post OUTDIR`).
+--post OUTDIR redoes the post-processing of a finished run from its results.h5 and deck.h5.
 paradyn-run meshes the parts with gmsh, writes OUTDIR/deck.h5 (checked before launch), runs the
 engine under MPI (-n ranks) and OpenMP (-t threads per rank) with a progress bar, and writes into
 OUTDIR:
@@ -40,6 +43,10 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-vtk", action="store_true", help="skip the VTK time series")
     parser.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    parser.add_argument("--sbatch", action="store_true",
+                        help="write OUTDIR/job.sbatch for Slurm instead of running")
+    parser.add_argument("--post", action="store_true",
+                        help="SCENE is an output folder of a finished run: only redo the post-processing")
     return parser
 
 
@@ -79,8 +86,39 @@ def post_process(res_path: Path, out_dir: Path, effects: list[str], extra: dict,
     return outputs
 
 
+def post_only(out_dir: Path, plots: bool, vtk: bool) -> int:
+    """Post-process the results.h5 and deck.h5 of a finished run in out_dir."""
+    res_path, deck_path = out_dir / "results.h5", out_dir / "deck.h5"
+    if not (res_path.is_file() and deck_path.is_file()):
+        print(f"paradyn-run: error: {out_dir} holds no results.h5 and deck.h5; give the output folder of a run",
+              file=sys.stderr)
+        return 2
+    try:
+        effects = scene.effects(deck.read_deck(deck_path))
+        outputs = post_process(res_path, out_dir, effects, {"post_processed": True}, plots=plots, vtk=vtk)
+    except (deck.DeckError, results.ResultsError) as error:
+        print(f"paradyn-run: error: {error}", file=sys.stderr)
+        return 2
+    for label, path in outputs.items():
+        print(f"  {label:18s} {path}")
+    return 0
+
+
+def write_sbatch(deck_path: Path, out_dir: Path, args: argparse.Namespace) -> int:
+    post = [sys.executable, "-m", "paradyn.cli", "--post", str(out_dir)]
+    post += ["--no-plots"] * args.no_plots + ["--no-vtk"] * args.no_vtk
+    script = launch.sbatch_script(deck_path, out_dir / "results.h5", args.ranks, args.threads,
+                                  f"paradyn-{out_dir.name}", post)
+    path = out_dir / "job.sbatch"
+    path.write_text(script)
+    print(f"paradyn-run: wrote {path}; submit it with: sbatch {path}")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    if args.post:
+        return post_only(args.scene.resolve(), plots=not args.no_plots, vtk=not args.no_vtk)
     out_dir = (args.output or default_output(args.scene)).resolve()
     try:
         if not args.scene.is_file():
@@ -90,6 +128,12 @@ def main(argv: list[str] | None = None) -> int:
     except (scene.SceneError, deck.DeckError, ValueError) as error:
         print(f"paradyn-run: error: {error}", file=sys.stderr)
         return 2
+    if args.sbatch:
+        try:
+            return write_sbatch(deck_path, out_dir, args)
+        except launch.EngineError as error:
+            print(f"paradyn-run: error: {error}", file=sys.stderr)
+            return error.exit_code
     res_path = out_dir / "results.h5"
     bar = None if args.quiet else launch.ProgressBar()
     try:

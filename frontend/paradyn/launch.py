@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -86,6 +87,7 @@ def default_layout() -> tuple[int, int]:
 def engine_environment(threads: int) -> dict[str, str]:
     env = dict(os.environ)
     env["OMP_NUM_THREADS"] = str(threads)
+    env["SRUN_CPUS_PER_TASK"] = str(threads)
     env.setdefault("OMP_STACKSIZE", "64M")  # threads with large private arrays need more than the default
     env.setdefault("OMPI_MCA_btl_vader_single_copy_mechanism", "none")  # containers without CMA
     if hasattr(os, "geteuid") and os.geteuid() == 0:
@@ -94,9 +96,22 @@ def engine_environment(threads: int) -> dict[str, str]:
     return env
 
 
+def inside_slurm() -> bool:
+    """True inside a Slurm allocation (SLURM_JOB_ID set and srun on PATH)."""
+    return "SLURM_JOB_ID" in os.environ and shutil.which("srun") is not None
+
+
+def srun_command(engine: str, deck: Path, results: Path, ranks: int, threads: int) -> list[str]:
+    # Slurm 22.05 and later: srun does not inherit --cpus-per-task, so it is passed explicitly
+    return ["srun", "-n", str(ranks), f"--cpus-per-task={threads}", "--export=ALL", engine, str(deck), str(results)]
+
+
 def engine_command(deck: Path, results: Path, ranks: int, threads: int) -> list[str]:
-    """The argument list that runs the engine on `ranks` MPI ranks."""
+    """The argument list that runs the engine on `ranks` MPI ranks: srun inside a Slurm
+    allocation, the engine itself for one rank, mpirun otherwise."""
     engine = str(engine_path())
+    if inside_slurm():
+        return srun_command(engine, deck, results, ranks, threads)
     if ranks == 1:
         return [engine, str(deck), str(results)]
     mpirun = shutil.which("mpirun") or shutil.which("mpiexec")
@@ -106,6 +121,27 @@ def engine_command(deck: Path, results: Path, ranks: int, threads: int) -> list[
     if ranks * threads > (os.cpu_count() or 1):
         command.append("--oversubscribe")
     return command + [engine, str(deck), str(results)]
+
+
+def sbatch_script(deck: Path, results: Path, ranks: int, threads: int, job_name: str,
+                  post_command: list[str]) -> str:
+    """A batch script that runs the engine with srun on `ranks` x `threads`, then `post_command`."""
+    engine = str(engine_path())
+    folder = results.parent
+    lines = [
+        "#!/bin/bash",
+        f"#SBATCH --job-name={job_name}",
+        f"#SBATCH --ntasks={ranks}",
+        f"#SBATCH --cpus-per-task={threads}",
+        f"#SBATCH --output={folder}/slurm-%j.out",
+        "set -euo pipefail",
+        f"export OMP_NUM_THREADS={threads}",
+        f"export SRUN_CPUS_PER_TASK={threads}",
+        "export OMP_STACKSIZE=${OMP_STACKSIZE:-64M}",
+        " ".join(shlex.quote(a) for a in srun_command(engine, deck, results, ranks, threads)),
+        " ".join(shlex.quote(a) for a in post_command),
+    ]
+    return "\n".join(lines) + "\n"
 
 
 def parse_line(line: str) -> tuple[str, dict[str, str]] | None:
