@@ -164,38 +164,12 @@ class Report:
     # 3. wave speeds
 
     def wave_speed(self, lateral: str) -> None:
-        """Mirrors test_wave_speed."""
-        material = V.STEEL_WAVE
-        length, width, thickness, force = 1.0, 0.02, 0.01, 1000.0
-        mesh = M.strip(length, width, 200, 2)
-        loaded = M.nodes_at(mesh, 0, 0.0)
-        x1, x2 = 0.25, 0.75
-        s1, s2 = M.nodes_at(mesh, 0, x1), M.nodes_at(mesh, 0, x2)
-        weights = M.edge_weights(len(s1))
+        """Runs test_wave_speed's problem (test_verification.wave_speed_run)."""
+        c, c_ref, plateau, v_plateau, run = V.wave_speed_run(lateral, self.directory(f"wave_{lateral}"))
         if lateral == "free":
-            fixed, c_ref = {}, material.bar_wave_speed
             name, ref = "Bar wave speed (free sides)", "√(E/ρ)"
         else:
-            fixed = {n: (0, 1, 0, 0, 0, 0) for n in range(mesh.n_nodes)}
-            c_ref = material.plate_wave_speed
             name, ref = "Plate wave speed (u_y = 0)", "√(E/(ρ(1-ν²)))"
-        end = 1.1 * length / material.bar_wave_speed
-        dt = M.stable_time_step(mesh, material)
-        control = Control(end_time=end, output_interval=end, history_interval=0.5 * dt)
-        model = M.shell_model(mesh, thickness, material, control, fixed=fixed,
-                              loads=[M.Load(loaded, 1, -force * M.edge_weights(len(loaded)))],
-                              tracked=np.concatenate([s1, s2]))
-        run = M.run(model, self.directory(f"wave_{lateral}"))
-        h = run.results.history
-        t = h["time"]
-        vx = -h["tracked_velocity"][:, :, 0]
-        v1, v2 = vx[:, : len(s1)] @ weights, vx[:, len(s1):] @ weights
-        v_plateau = force / (material.density * c_ref * width * thickness)
-        t1 = M.first_rise(t, v1, 0.5 * v_plateau)
-        t2 = M.first_rise(t, v2, 0.5 * v_plateau)
-        c = (x2 - x1) / (t2 - t1)
-        window = (t > 1.1 * x2 / c_ref) & (t < 0.95 * (2.0 * length - x2) / c_ref)
-        plateau = float(np.mean(v2[window]))
         self.add(name, "200 x 2", f"{c:.0f} m/s; plateau v = {plateau / v_plateau:.4f} F/(ρcA)",
                  f"{c_ref:.0f} m/s: {ref}, 1-D wave theory", f"{c / c_ref:.4f}",
                  "c and plateau ±2 % (bar and plate differ by 4.2 %)",

@@ -238,6 +238,15 @@ def test_wave_speed(tmp_path, lateral):
     loaded end. The plateau (mean velocity at x2 between 1.1 x2 / c and 0.95 (2 L - x2) / c,
     before the reflection from the free end) must be v within 2 %.
     """
+    c, c_ref, plateau, v_plateau, _ = wave_speed_run(lateral, tmp_path)
+    assert c == pytest.approx(c_ref, rel=0.02)
+    assert plateau == pytest.approx(v_plateau, rel=0.02)
+
+
+def wave_speed_run(lateral: str, directory):
+    """The step-wave strip of test_wave_speed; returns the measured and expected wave speeds,
+    the measured and expected plateau velocities and the run (shared with
+    tests/report_verification.py)."""
     material = STEEL_WAVE
     length, width, thickness, force = 1.0, 0.02, 0.01, 1000.0
     mesh = M.strip(length, width, 200, 2)
@@ -256,18 +265,16 @@ def test_wave_speed(tmp_path, lateral):
     model = M.shell_model(mesh, thickness, material, control, fixed=fixed,
                           loads=[M.Load(loaded, 1, -force * M.edge_weights(len(loaded)))],
                           tracked=np.concatenate([s1, s2]))
-    run = M.run(model, tmp_path)
+    run = M.run(model, directory)
     h = run.results.history
     t = h["time"]
     vx = -h["tracked_velocity"][:, :, 0]
     v1, v2 = vx[:, : len(s1)] @ weights, vx[:, len(s1):] @ weights
     v_plateau = force / (material.density * c_ref * width * thickness)
-
     t1 = M.first_rise(t, v1, 0.5 * v_plateau)
     t2 = M.first_rise(t, v2, 0.5 * v_plateau)
-    assert (x2 - x1) / (t2 - t1) == pytest.approx(c_ref, rel=0.02)
     window = (t > 1.1 * x2 / c_ref) & (t < 0.95 * (2.0 * length - x2) / c_ref)
-    assert np.mean(v2[window]) == pytest.approx(v_plateau, rel=0.02)
+    return (x2 - x1) / (t2 - t1), c_ref, float(np.mean(v2[window])), v_plateau, run
 
 
 # ----------------------------------------------------------------------------------------------

@@ -21,6 +21,15 @@ module contact_interface
   private
   public :: contact_t, contact_setup, contact_pass_t
   public :: contact_begin, contact_pass_active, contact_search, contact_sum, contact_end
+  public :: clock_seconds
+
+  !> The wall clock the phases are timed with (the solver passes MPI_Wtime's wrapper).
+  abstract interface
+    function clock_seconds() result(seconds)
+      import :: wp
+      real(wp) :: seconds
+    end function clock_seconds
+  end interface
 
   !> Below this slip speed friction falls linearly to zero (a viscous regularisation of stick
   !> that needs no history per contact; a body at rest on a slope creeps at most this fast).
@@ -58,7 +67,7 @@ module contact_interface
     real(wp), allocatable :: record_force(:, :, :)  !< (3, 5, n)
     real(wp), allocatable :: record_penetration(:)  !< (n)
     integer :: rank = 0, n_ranks = 1               !< this rank's share of the slaves
-    integer :: last_sort = -huge(1), sort_interval = 0, contacts_now = 0
+    integer :: last_sort = -huge(1), sort_interval = 0
     real(wp) :: energy = 0.0_wp, max_penetration = 0.0_wp
     real(wp) :: time_sort = 0, time_search = 0, time_force = 0
   end type contact_t
@@ -142,17 +151,11 @@ contains
   subroutine contact_begin(c, cycle, clock)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: cycle
-    interface
-      function clock() result(seconds)
-        import :: wp
-        real(wp) :: seconds
-      end function clock
-    end interface
+    procedure(clock_seconds) :: clock
     integer :: p
     real(wp) :: t0
     c%force_old = c%force
     c%force = 0.0_wp
-    c%contacts_now = 0
     c%max_penetration = 0.0_wp
     t0 = clock()
     if (sort_due(c, cycle)) then
@@ -179,18 +182,12 @@ contains
   subroutine contact_sum(c, p, clock)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
-    interface
-      function clock() result(seconds)
-        import :: wp
-        real(wp) :: seconds
-      end function clock
-    end interface
+    procedure(clock_seconds) :: clock
     integer :: j, k
     real(wp) :: t0
     t0 = clock()
     do j = 1, size(c%passes(p)%slaves)
       if (c%record_nodes(1, j) == 0) cycle
-      c%contacts_now = c%contacts_now + 1
       c%max_penetration = max(c%max_penetration, c%record_penetration(j))
       do k = 1, 5
         c%force(:, c%record_nodes(k, j)) = c%force(:, c%record_nodes(k, j)) + c%record_force(:, k, j)
@@ -244,12 +241,7 @@ contains
   subroutine contact_search(c, p, clock)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
-    interface
-      function clock() result(seconds)
-        import :: wp
-        real(wp) :: seconds
-      end function clock
-    end interface
+    procedure(clock_seconds) :: clock
     integer :: j, node, segment
     integer(ip) :: nearest
     real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)

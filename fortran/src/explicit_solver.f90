@@ -53,7 +53,6 @@ module explicit_solver
     real(wp), allocatable :: global_a(:, :), global_b(:, :), global_elements(:, :), element_out(:, :)
     real(wp) :: dt = 0, dt_stable = 0, time = 0, external_work = 0, damping_work = 0
     integer :: cycles = 0, inverted = 0
-    logical :: plastic = .false.
   end type solver_t
 
 contains
@@ -94,7 +93,6 @@ contains
     do p = 1, deck%n_parts
       s%props(p) = part_properties(deck, p)
     end do
-    s%plastic = any(s%props%model == material_j2_plastic)
 
     s%x0 = deck%coordinates(:, s%dom%nodes)
     s%x = s%x0
