@@ -14,8 +14,7 @@ module explicit_solver
                        blt_stable_time_step, blt_element_results, stress_components, &
                        hourglass_components, material_j2_plastic
   use domain_decomposition, only: domain_t, decompose, group_size
-  use halo_exchange, only: halo_t, halo_setup, exchange_corners, gather_nodes, gather_elements, &
-                           sum_to_root, node_set_t, node_set_setup, allgather_node_set, &
+  use halo_exchange, only: halo_t, halo_setup, exchange_corners, sum_to_root, node_set_t, node_set_setup, allgather_node_set, &
                            record_share_t, record_share_setup, share_contact_records
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_pass_active, &
                                contact_search, contact_sum, contact_end
@@ -49,8 +48,9 @@ module explicit_solver
     real(wp), allocatable :: workspace(:, :)
     ! loads and tracked nodes in local numbering (0 where this rank does not hold the node)
     integer, allocatable :: load_node(:)
-    ! gathered fields on rank 0
-    real(wp), allocatable :: global_a(:, :), global_b(:, :), global_elements(:, :), element_out(:, :)
+    ! output buffers: this rank's owned nodes and its elements
+    real(wp), allocatable :: node_out_a(:, :), node_out_b(:, :), element_out(:, :)
+    real(wp), allocatable :: tracked_out(:, :)   !< (6, n_tracked): this rank's share, summed to rank 0
     real(wp) :: dt = 0, dt_stable = 0, time = 0, external_work = 0, damping_work = 0
     integer :: cycles = 0, inverted = 0
   end type solver_t
@@ -186,13 +186,8 @@ contains
     do l = 1, deck%n_loads
       s%load_node(l) = local_node(s%dom, deck%load_node(l))
     end do
-    if (s%rank == 0) then
-      allocate (s%global_a(3, deck%n_nodes), s%global_b(3, deck%n_nodes))
-      allocate (s%global_elements(5, deck%n_elements))
-    else
-      allocate (s%global_a(3, 1), s%global_b(3, 1), s%global_elements(5, 1))
-    end if
-    allocate (s%element_out(5, max(ne, 1)))
+    allocate (s%node_out_a(3, size(s%halo%owned_local)), s%node_out_b(3, size(s%halo%owned_local)))
+    allocate (s%element_out(5, ne), s%tracked_out(6, deck%n_tracked))
   end subroutine solver_setup
 
   !> Local id of a global node, 0 if this rank does not hold it.
@@ -249,6 +244,27 @@ contains
     real(wp) :: seconds
     seconds = MPI_Wtime()
   end function wall_clock
+
+  !> The /run attributes are written collectively and must agree: every rank takes rank 0's timings.
+  subroutine share_root_timings(comm, run)
+    type(MPI_Comm), intent(in) :: comm
+    type(run_record_t), intent(inout) :: run
+    real(wp) :: t(10)
+    t = [run%wall_s, run%element_cycles_per_s, run%phase_elements_s, run%phase_contact_s, &
+         run%phase_communication_s, run%phase_output_s, run%phase_other_s, run%phase_contact_sort_s, &
+         run%phase_contact_search_s, run%phase_contact_force_s]
+    call MPI_Bcast(t, size(t), MPI_DOUBLE_PRECISION, 0, comm)
+    run%wall_s = t(1)
+    run%element_cycles_per_s = t(2)
+    run%phase_elements_s = t(3)
+    run%phase_contact_s = t(4)
+    run%phase_communication_s = t(5)
+    run%phase_output_s = t(6)
+    run%phase_other_s = t(7)
+    run%phase_contact_sort_s = t(8)
+    run%phase_contact_search_s = t(9)
+    run%phase_contact_force_s = t(10)
+  end subroutine share_root_timings
 
   !> Central-difference velocity update, nodes split into one contiguous range per thread.
   subroutine advance_velocities(s, h, damping)
@@ -387,6 +403,7 @@ contains
     run%phase_communication_s = phase(3)
     run%phase_output_s = phase(4)
     run%phase_other_s = max(run%wall_s - sum(phase(1:4)), 0.0_wp)
+    call share_root_timings(s%halo%comm, run)
 
   contains
 
@@ -464,12 +481,13 @@ contains
       end do
     end subroutine apply_loads
 
-    !> Energies and tracked nodes at the current time.
+    !> Energies and tracked nodes at the current time. Each tracked node is reported by its
+    !> owner alone, so the sum over ranks is that owner's value.
     subroutine write_record(status, message)
       integer, intent(out) :: status
       character(len=*), intent(out) :: message
-      real(wp) :: sums(8)
-      integer :: bad, bad_total
+      real(wp) :: sums(8 + 6 * deck%n_tracked)
+      integer :: bad, bad_total, k, j
       sums(1) = kinetic_energy(s%dom%n_nodes, s%mass, s%inertia, s%v_old, s%w_old, s%v, s%w, s%weight)
       sums(2) = sum(s%e_internal)
       sums(3) = sum(s%e_hourglass)
@@ -479,15 +497,22 @@ contains
       sums(6) = merge(s%contact%max_penetration, 0.0_wp, s%rank == 0)
       sums(7) = real(s%inverted, wp)
       sums(8) = merge(1.0_wp, 0.0_wp, any(s%v /= s%v) .or. any(s%f_int /= s%f_int))
+      s%tracked_out = 0.0_wp
+      do k = 1, deck%n_tracked
+        j = local_node(s%dom, deck%tracked_nodes(k))
+        if (j == 0) cycle
+        if (s%dom%node_owned(j) == 0) cycle
+        s%tracked_out(1:3, k) = s%x(:, j) - s%x0(:, j)
+        s%tracked_out(4:6, k) = 0.5_wp * (s%v(:, j) + s%v_old(:, j))
+      end do
+      sums(9:) = reshape(s%tracked_out, [6 * deck%n_tracked])
       call sum_to_root(s%halo, sums)
-      call gather_nodes(s%halo, s%x - s%x0, s%global_a)
-      call gather_nodes(s%halo, 0.5_wp * (s%v + s%v_old), s%global_b)
+      s%tracked_out = reshape(sums(9:), [6, deck%n_tracked])
+      call results_write_history(rf, s%time, sums(1:6), s%tracked_out(1:3, :), s%tracked_out(4:6, :))
       status = 0
       message = ''
       bad = 0
       if (s%rank == 0) then
-        call results_write_history(rf, s%time, sums(1:6), s%global_a(:, deck%tracked_nodes), &
-                                   s%global_b(:, deck%tracked_nodes))
         if (sums(7) > 0.0_wp) bad = 1
         if (sums(8) > 0.0_wp .or. sums(1) /= sums(1)) bad = 2
       end if
@@ -503,8 +528,9 @@ contains
       end if
     end subroutine write_record
 
+    !> Every rank writes its owned nodes and its elements into the frame (collective).
     subroutine write_frame()
-      integer :: g, n, first, nip
+      integer :: g, n, first, nip, k, j
       real(wp) :: membrane(group_size, 3), von_mises(group_size), plastic(group_size)
       do g = 1, s%dom%n_groups
         n = s%dom%group_count(g)
@@ -516,12 +542,13 @@ contains
         s%element_out(4, first:first + n - 1) = von_mises(1:n)
         s%element_out(5, first:first + n - 1) = plastic(1:n)
       end do
-      call gather_nodes(s%halo, s%x - s%x0, s%global_a)
-      call gather_nodes(s%halo, 0.5_wp * (s%v + s%v_old), s%global_b)
-      call gather_elements(s%halo, s%element_out(:, 1:s%dom%n_elements), s%global_elements)
-      if (s%rank == 0) call results_write_frame(rf, s%time, s%global_a, s%global_b, &
-                                                s%global_elements(1:3, :), s%global_elements(4, :), &
-                                                s%global_elements(5, :))
+      do k = 1, size(s%halo%owned_local)
+        j = s%halo%owned_local(k)
+        s%node_out_a(:, k) = s%x(:, j) - s%x0(:, j)
+        s%node_out_b(:, k) = 0.5_wp * (s%v(:, j) + s%v_old(:, j))
+      end do
+      call results_write_frame(rf, s%time, s%node_out_a, s%node_out_b, s%element_out(1:3, :), &
+                               s%element_out(4, :), s%element_out(5, :))
     end subroutine write_frame
 
   end subroutine solver_run

@@ -1,13 +1,14 @@
 !> MPI plumbing around the domain decomposition: the exchange of element-corner forces on shared
-!> nodes with neighbour ranks (nothing else crosses the network each step), and the gathers to
-!> rank 0 for output. Buffers are allocated once, at set-up.
+!> nodes with neighbour ranks (nothing else crosses the network each step besides contact), the
+!> sharing of contact data, and the sums to rank 0 for the history. Buffers are allocated once,
+!> at set-up. Fields are not gathered: each rank writes its own rows of results.h5.
 module halo_exchange
   use mpi_f08
   use paradyn_kinds, only: wp
   use domain_decomposition, only: domain_t
   implicit none
   private
-  public :: halo_t, halo_setup, exchange_corners, gather_nodes, gather_elements, sum_to_root
+  public :: halo_t, halo_setup, exchange_corners, sum_to_root
   public :: node_set_t, node_set_setup, allgather_node_set
   public :: record_share_t, record_share_setup, share_contact_records
 
@@ -16,10 +17,7 @@ module halo_exchange
     integer :: width = 6
     real(wp), allocatable :: send_buffer(:, :), recv_buffer(:, :)
     type(MPI_Request), allocatable :: requests(:)
-    ! gathers to rank 0
-    integer, allocatable :: owned_local(:)          !< local ids of the nodes this rank owns
-    integer, allocatable :: node_counts(:), node_displs(:), gathered_node_ids(:)
-    integer, allocatable :: element_counts(:), element_displs(:)
+    integer, allocatable :: owned_local(:)          !< local ids of the nodes this rank owns (and writes)
   end type halo_t
 
   !> A set of global nodes (for example every node of the parts in contact) whose positions and
@@ -136,22 +134,12 @@ contains
     type(domain_t), intent(in) :: dom
     type(MPI_Comm), intent(in) :: comm
     type(halo_t), intent(out) :: halo
-    integer :: n_owned, total
+    integer :: k
     halo%comm = comm
     allocate (halo%send_buffer(halo%width, max(size(dom%send_slot), 1)))
     allocate (halo%recv_buffer(halo%width, max(size(dom%recv_slot), 1)))
     allocate (halo%requests(2 * dom%n_neighbours))
-    halo%owned_local = pack([(n_owned, n_owned = 1, dom%n_nodes)], dom%node_owned == 1)
-    n_owned = size(halo%owned_local)
-    allocate (halo%node_counts(dom%n_ranks), halo%node_displs(dom%n_ranks))
-    allocate (halo%element_counts(dom%n_ranks), halo%element_displs(dom%n_ranks))
-    call MPI_Gather(n_owned, 1, MPI_INTEGER, halo%node_counts, 1, MPI_INTEGER, 0, comm)
-    call MPI_Gather(dom%n_elements, 1, MPI_INTEGER, halo%element_counts, 1, MPI_INTEGER, 0, comm)
-    call displacements(halo%node_counts, halo%node_displs, total)
-    allocate (halo%gathered_node_ids(max(total, 1)))
-    call MPI_Gatherv(dom%nodes(halo%owned_local), n_owned, MPI_INTEGER, halo%gathered_node_ids, &
-                     halo%node_counts, halo%node_displs, MPI_INTEGER, 0, comm)
-    call displacements(halo%element_counts, halo%element_displs, total)
+    halo%owned_local = pack([(k, k = 1, dom%n_nodes)], dom%node_owned == 1)
   end subroutine halo_setup
 
   subroutine displacements(counts, displs, total)
@@ -192,42 +180,6 @@ contains
     call MPI_Waitall(2 * dom%n_neighbours, halo%requests, MPI_STATUSES_IGNORE)
     corner(:, dom%recv_slot) = halo%recv_buffer(1:w, 1:size(dom%recv_slot))
   end subroutine exchange_corners
-
-  !> Gather a nodal field (m, n_local) to rank 0 in global node order (m, n_global).
-  subroutine gather_nodes(halo, local, global)
-    type(halo_t), intent(in) :: halo
-    real(wp), intent(in) :: local(:, :)
-    real(wp), intent(inout) :: global(:, :)
-    real(wp), allocatable :: packed(:, :), received(:, :)
-    integer :: m, rank, j
-    m = size(local, 1)
-    packed = local(:, halo%owned_local)
-    call MPI_Comm_rank(halo%comm, rank)
-    if (rank == 0) then
-      allocate (received(m, size(halo%gathered_node_ids)))
-    else
-      allocate (received(m, 1))
-    end if
-    call MPI_Gatherv(packed, m * size(halo%owned_local), MPI_DOUBLE_PRECISION, received, &
-                     m * halo%node_counts, m * halo%node_displs, MPI_DOUBLE_PRECISION, 0, halo%comm)
-    if (rank == 0) then
-      do j = 1, sum(halo%node_counts)
-        global(:, halo%gathered_node_ids(j)) = received(:, j)
-      end do
-    end if
-  end subroutine gather_nodes
-
-  !> Gather an element field (m, n_local_elements) to rank 0; blocks are contiguous and in rank
-  !> order, so the result is in global element order.
-  subroutine gather_elements(halo, local, global)
-    type(halo_t), intent(in) :: halo
-    real(wp), intent(in) :: local(:, :)
-    real(wp), intent(inout) :: global(:, :)
-    integer :: m
-    m = size(local, 1)
-    call MPI_Gatherv(local, size(local), MPI_DOUBLE_PRECISION, global, m * halo%element_counts, &
-                     m * halo%element_displs, MPI_DOUBLE_PRECISION, 0, halo%comm)
-  end subroutine gather_elements
 
   subroutine sum_to_root(halo, values)
     type(halo_t), intent(in) :: halo

@@ -47,20 +47,22 @@ program paradyn_engine
   call solver_setup(solver, deck, MPI_COMM_WORLD, status, message)
   if (status /= 0) call fail(status, trim(message))
 
-  if (rank == 0) then
-    call results_create(trim(results_path), deck%coordinates, deck%connectivity, deck%element_part, &
+  associate (owned => solver%dom%nodes(solver%halo%owned_local), elements => solver%dom%elements)
+    call results_create(trim(results_path), MPI_COMM_WORLD, deck%n_nodes, deck%n_elements, owned, elements, &
+                        deck%coordinates(:, owned), deck%connectivity(:, elements), deck%element_part(elements), &
                         deck%n_tracked, results, status, message)
+  end associate
+  if (status /= 0) call fail(1, trim(message))
+  if (rank == 0) then
     write (*, '(a,i0,a,i0,a,i0,a,i0,a,es11.4,a,es11.4,a,es11.4,a)') 'PARADYN-START elements=', &
       deck%n_elements, ' nodes=', deck%n_nodes, ' ranks=', n_ranks, ' threads=', solver%threads, &
       ' dt=', solver%dt, ' dt_stable=', solver%dt_stable, ' end_time=', deck%end_time, &
       ' effects='//solver_effects(deck)
     flush (6)
   end if
-  call MPI_Bcast(status, 1, MPI_INTEGER, 0, MPI_COMM_WORLD)
-  if (status /= 0) call fail(1, trim(message))
 
   call solver_run(solver, deck, results, run, status, message)
-  if (rank == 0) call results_finish(results, run, status == 0)
+  call results_finish(results, run, status == 0)
   if (status /= 0) call fail(status, trim(message))
   if (rank == 0) then
     write (*, '(a,i0,a,es13.6,a,f0.3,a,es11.4)') 'PARADYN-DONE cycles=', run%cycles, ' time=', solver%time, &
