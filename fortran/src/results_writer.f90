@@ -5,18 +5,14 @@
 !> attribute `complete` stays 0. Every call here is collective over the communicator.
 module results_writer
   use hdf5
-  use mpi_f08, only: MPI_Comm, MPI_INFO_NULL, MPI_Comm_rank
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank
   use paradyn_kinds, only: wp
+  use parallel_hdf5, only: row_runs_t, row_runs, phdf5_open, phdf5_close, create_dataset, create_growing, &
+                           write_rows, truncate_growing, write_int_attribute, write_real_attribute
   implicit none
   private
-  public :: results_file_t, results_create, results_write_frame, results_write_history
-  public :: results_finish, run_record_t, row_runs_t, row_runs
-
-  !> The global rows (node or element ids) a rank writes, as runs of consecutive ids.
-  type :: row_runs_t
-    integer :: n_rows = 0                       !< rows in all runs
-    integer, allocatable :: first(:), length(:)
-  end type row_runs_t
+  public :: results_file_t, results_create, results_reopen, results_write_frame, results_write_history
+  public :: results_finish, run_record_t
 
   type :: results_file_t
     integer(hid_t) :: file = -1, transfer = -1
@@ -40,28 +36,10 @@ module results_writer
     'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work', &
     'contact_penetration']
 
-contains
+  character(len=*), parameter :: frame_datasets(6) = [character(len=24) :: 'time', 'displacement', &
+    'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain']
 
-  !> The runs of consecutive ids in an ascending id list.
-  pure function row_runs(ids) result(runs)
-    integer, intent(in) :: ids(:)
-    type(row_runs_t) :: runs
-    logical :: starts(size(ids))
-    integer :: k, r
-    starts = .true.
-    if (size(ids) > 1) starts(2:) = ids(2:) /= ids(:size(ids) - 1) + 1
-    allocate (runs%first(count(starts)), runs%length(count(starts)))
-    r = 0
-    do k = 1, size(ids)
-      if (starts(k)) then
-        r = r + 1
-        runs%first(r) = ids(k)
-        runs%length(r) = 0
-      end if
-      runs%length(r) = runs%length(r) + 1
-    end do
-    runs%n_rows = size(ids)
-  end function row_runs
+contains
 
   !> Creates the file on every rank of comm. node_ids: the global nodes this rank writes
   !> (each node written by exactly one rank), ascending; element_ids: this rank's elements,
@@ -76,34 +54,18 @@ contains
     type(results_file_t), intent(out) :: rf
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
-    integer :: err, k, rank
-    integer(hid_t) :: group, access
+    integer :: err, k
+    integer(hid_t) :: group
     integer(hsize_t) :: nn, ne
-    call MPI_Comm_rank(comm, rank)
-    rf%root = rank == 0
-    rf%n_nodes = n_nodes
-    rf%n_elements = n_elements
-    rf%n_tracked = n_tracked
-    rf%nodes = row_runs(node_ids)
-    rf%elements = row_runs(element_ids)
-    if (rf%root) then
-      rf%tracked = row_runs([(k, k = 1, n_tracked)])
-    else
-      rf%tracked = row_runs([integer ::])
-    end if
+    call set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked)
     nn = int(n_nodes, hsize_t)
     ne = int(n_elements, hsize_t)
-    call h5pcreate_f(H5P_FILE_ACCESS_F, access, err)
-    call h5pset_fapl_mpio_f(access, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, err)
-    call h5fcreate_f(path, H5F_ACC_TRUNC_F, rf%file, err, access_prp=access)
-    call h5pclose_f(access, err)
+    call phdf5_open(path, comm, 'create', rf%file, rf%transfer, err)
     if (err /= 0) then
       status = 1
       message = 'cannot create '//trim(path)//'; check that the folder exists and is writable'
       return
     end if
-    call h5pcreate_f(H5P_DATASET_XFER_F, rf%transfer, err)
-    call h5pset_dxpl_mpio_f(rf%transfer, H5FD_MPIO_COLLECTIVE_F, err)
     call write_int_attribute(rf%file, 'paradyn_results_version', 1)
     call write_int_attribute(rf%file, 'complete', 0)
     call h5gcreate_f(rf%file, 'mesh', group, err)
@@ -111,11 +73,11 @@ contains
     call create_dataset(group, 'connectivity', H5T_STD_I32LE, [4_hsize_t, ne])
     call create_dataset(group, 'part', H5T_STD_I32LE, [ne])
     call h5gclose_f(group, err)
-    call write_rows(rf, '/mesh/coordinates', real_values=reshape(coordinates, [size(coordinates)]), &
-                    fixed=[3_hsize_t, nn], runs=rf%nodes, frame=0)
-    call write_rows(rf, '/mesh/connectivity', int_values=reshape(connectivity - 1, [size(connectivity)]), &
-                    fixed=[4_hsize_t, ne], runs=rf%elements, frame=0)
-    call write_rows(rf, '/mesh/part', int_values=element_part - 1, fixed=[ne], runs=rf%elements, frame=0)
+    call write_rows(rf%file, rf%transfer, '/mesh/coordinates', [3_hsize_t, nn], rf%nodes, 0, &
+                    real_values=reshape(coordinates, [size(coordinates)]))
+    call write_rows(rf%file, rf%transfer, '/mesh/connectivity', [4_hsize_t, ne], rf%elements, 0, &
+                    int_values=reshape(connectivity - 1, [size(connectivity)]))
+    call write_rows(rf%file, rf%transfer, '/mesh/part', [ne], rf%elements, 0, int_values=element_part - 1)
     call h5gcreate_f(rf%file, 'frames', group, err)
     call create_growing(group, 'time', [integer(hsize_t) ::])
     call create_growing(group, 'displacement', [3_hsize_t, nn])
@@ -137,6 +99,44 @@ contains
     message = ''
   end subroutine results_create
 
+  !> Reopens the results of a run for a restart: keeps the first `frames` frames and `records`
+  !> history records (those written before the checkpoint), drops the rest and the /run group.
+  subroutine results_reopen(path, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, frames, &
+                            records, rf, status, message)
+    character(len=*), intent(in) :: path
+    type(MPI_Comm), intent(in) :: comm
+    integer, intent(in) :: n_nodes, n_elements, node_ids(:), element_ids(:), n_tracked, frames, records
+    type(results_file_t), intent(out) :: rf
+    integer, intent(out) :: status
+    character(len=*), intent(out) :: message
+    integer :: err, k
+    logical :: exists
+    call set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked)
+    call phdf5_open(path, comm, 'append', rf%file, rf%transfer, err)
+    if (err /= 0) then
+      status = 1
+      message = 'cannot open '//trim(path)//' to continue it; a restart appends to the results of the '// &
+                'interrupted run, so give the same results path'
+      return
+    end if
+    call write_int_attribute(rf%file, 'complete', 0)
+    call h5lexists_f(rf%file, 'run', exists, err)
+    if (exists) call h5ldelete_f(rf%file, 'run', err)
+    do k = 1, size(frame_datasets)
+      call truncate_growing(rf%file, '/frames/'//trim(frame_datasets(k)), frames)
+    end do
+    call truncate_growing(rf%file, '/history/time', records)
+    do k = 1, history_names_count
+      call truncate_growing(rf%file, '/history/'//trim(history_names(k)), records)
+    end do
+    call truncate_growing(rf%file, '/history/tracked_displacement', records)
+    call truncate_growing(rf%file, '/history/tracked_velocity', records)
+    rf%frames = frames
+    rf%records = records
+    status = 0
+    message = ''
+  end subroutine results_reopen
+
   !> One frame: this rank's owned nodes (3, n) and elements (membrane (3, n), von Mises, plastic
   !> strain), in the order of the ids given to results_create.
   subroutine results_write_frame(rf, time, displacement, velocity, membrane, von_mises, plastic_strain)
@@ -149,15 +149,16 @@ contains
     ne = int(rf%n_elements, hsize_t)
     rf%frames = rf%frames + 1
     call append_root(rf, '/frames/time', [time], [integer(hsize_t) ::], rf%frames)
-    call write_rows(rf, '/frames/displacement', reshape(displacement, [size(displacement)]), &
-                    fixed=[3_hsize_t, nn], runs=rf%nodes, frame=rf%frames)
-    call write_rows(rf, '/frames/velocity', reshape(velocity, [size(velocity)]), &
-                    fixed=[3_hsize_t, nn], runs=rf%nodes, frame=rf%frames)
-    call write_rows(rf, '/frames/element_membrane_stress', reshape(membrane, [size(membrane)]), &
-                    fixed=[3_hsize_t, ne], runs=rf%elements, frame=rf%frames)
-    call write_rows(rf, '/frames/element_von_mises', von_mises, fixed=[ne], runs=rf%elements, frame=rf%frames)
-    call write_rows(rf, '/frames/element_plastic_strain', plastic_strain, fixed=[ne], runs=rf%elements, &
-                    frame=rf%frames)
+    call write_rows(rf%file, rf%transfer, '/frames/displacement', [3_hsize_t, nn], rf%nodes, rf%frames, &
+                    real_values=reshape(displacement, [size(displacement)]))
+    call write_rows(rf%file, rf%transfer, '/frames/velocity', [3_hsize_t, nn], rf%nodes, rf%frames, &
+                    real_values=reshape(velocity, [size(velocity)]))
+    call write_rows(rf%file, rf%transfer, '/frames/element_membrane_stress', [3_hsize_t, ne], rf%elements, &
+                    rf%frames, real_values=reshape(membrane, [size(membrane)]))
+    call write_rows(rf%file, rf%transfer, '/frames/element_von_mises', [ne], rf%elements, rf%frames, &
+                    real_values=von_mises)
+    call write_rows(rf%file, rf%transfer, '/frames/element_plastic_strain', [ne], rf%elements, rf%frames, &
+                    real_values=plastic_strain)
     call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
   end subroutine results_write_frame
 
@@ -175,10 +176,10 @@ contains
     do k = 1, history_names_count
       call append_root(rf, '/history/'//trim(history_names(k)), [values(k)], [integer(hsize_t) ::], rf%records)
     end do
-    call write_rows(rf, '/history/tracked_displacement', reshape(tracked_displacement, &
-                    [size(tracked_displacement)]), fixed=[3_hsize_t, nt], runs=rf%tracked, frame=rf%records)
-    call write_rows(rf, '/history/tracked_velocity', reshape(tracked_velocity, &
-                    [size(tracked_velocity)]), fixed=[3_hsize_t, nt], runs=rf%tracked, frame=rf%records)
+    call write_rows(rf%file, rf%transfer, '/history/tracked_displacement', [3_hsize_t, nt], rf%tracked, &
+                    rf%records, real_values=reshape(tracked_displacement, [size(tracked_displacement)]))
+    call write_rows(rf%file, rf%transfer, '/history/tracked_velocity', [3_hsize_t, nt], rf%tracked, &
+                    rf%records, real_values=reshape(tracked_velocity, [size(tracked_velocity)]))
   end subroutine results_write_history
 
   !> Writes the /run attributes (the same record on every rank), marks the file complete when
@@ -208,45 +209,27 @@ contains
     call write_real_attribute(group, 'phase_contact_search_s', run%phase_contact_search_s)
     call write_real_attribute(group, 'phase_contact_force_s', run%phase_contact_force_s)
     call h5gclose_f(group, err)
-    if (complete) call overwrite_int_attribute(rf%file, 'complete', 1)
-    call h5pclose_f(rf%transfer, err)
-    call h5fclose_f(rf%file, err)
-    rf%file = -1
+    if (complete) call write_int_attribute(rf%file, 'complete', 1)
+    call phdf5_close(rf%file, rf%transfer)
   end subroutine results_finish
 
-  ! ---------------------------------------------------------------- HDF5 plumbing
+  ! ---------------------------------------------------------------- plumbing
 
-  subroutine create_dataset(loc, name, type_id, dims)
-    integer(hid_t), intent(in) :: loc, type_id
-    character(len=*), intent(in) :: name
-    integer(hsize_t), intent(in) :: dims(:)
-    integer(hid_t) :: space, dset
-    integer :: err
-    call h5screate_simple_f(size(dims), dims, space, err)
-    call h5dcreate_f(loc, name, type_id, space, dset, err)
-    call h5dclose_f(dset, err)
-    call h5sclose_f(space, err)
-  end subroutine create_dataset
-
-  !> A chunked dataset whose last (slowest, h5py's first) dimension grows: Fortran shape fixed + [0].
-  subroutine create_growing(loc, name, fixed)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: name
-    integer(hsize_t), intent(in) :: fixed(:)
-    integer(hid_t) :: space, plist, dset
-    integer(hsize_t) :: dims(size(fixed) + 1), maxdims(size(fixed) + 1), chunk(size(fixed) + 1)
-    integer :: err
-    dims = [fixed, 0_hsize_t]
-    maxdims = [fixed, H5S_UNLIMITED_F]
-    chunk = [max(fixed, 1_hsize_t), merge(64_hsize_t, 1_hsize_t, size(fixed) == 0)]
-    call h5screate_simple_f(size(dims), dims, space, err, maxdims)
-    call h5pcreate_f(H5P_DATASET_CREATE_F, plist, err)
-    call h5pset_chunk_f(plist, size(chunk), chunk, err)
-    call h5dcreate_f(loc, name, H5T_NATIVE_DOUBLE, space, dset, err, plist)
-    call h5dclose_f(dset, err)
-    call h5pclose_f(plist, err)
-    call h5sclose_f(space, err)
-  end subroutine create_growing
+  !> The rows this rank writes: its owned nodes and its elements; rank 0 the tracked nodes.
+  subroutine set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked)
+    type(results_file_t), intent(inout) :: rf
+    type(MPI_Comm), intent(in) :: comm
+    integer, intent(in) :: n_nodes, n_elements, node_ids(:), element_ids(:), n_tracked
+    integer :: rank, k
+    call MPI_Comm_rank(comm, rank)
+    rf%root = rank == 0
+    rf%n_nodes = n_nodes
+    rf%n_elements = n_elements
+    rf%n_tracked = n_tracked
+    rf%nodes = row_runs(node_ids)
+    rf%elements = row_runs(element_ids)
+    rf%tracked = row_runs(pack([(k, k = 1, n_tracked)], rf%root))
+  end subroutine set_rows
 
   !> Appends entry `index` of a growing dataset whose whole entry rank 0 writes.
   subroutine append_root(rf, name, values, fixed, index)
@@ -255,99 +238,9 @@ contains
     real(wp), intent(in) :: values(:)
     integer(hsize_t), intent(in) :: fixed(:)
     integer, intent(in) :: index
-    type(row_runs_t) :: whole
-    ! the entry is one row of a dataset of shape [fixed, 1]
-    whole = row_runs(pack([1], rf%root))
-    call write_rows(rf, name, values, [fixed, 1_hsize_t], whole, index, frame_is_row=.true.)
+    ! the entry is the single row of a dataset of shape [fixed, 1]
+    call write_rows(rf%file, rf%transfer, name, [fixed, 1_hsize_t], row_runs(pack([1], rf%root)), index, &
+                    real_values=values, frame_is_row=.true.)
   end subroutine append_root
-
-  !> Collective write of this rank's rows into dataset `name` of Fortran shape `fixed` (rows along
-  !> its last dimension), or, with frame > 0, into entry `frame` of the growing dataset of shape
-  !> [fixed, frames], which is extended first. Values: the rows, in run order.
-  !> frame_is_row: the last dimension of fixed is a dummy 1 standing for the frame itself.
-  subroutine write_rows(rf, name, real_values, fixed, runs, frame, int_values, frame_is_row)
-    type(results_file_t), intent(in) :: rf
-    character(len=*), intent(in) :: name
-    real(wp), intent(in), optional :: real_values(:)
-    integer(hsize_t), intent(in) :: fixed(:)
-    type(row_runs_t), intent(in) :: runs
-    integer, intent(in) :: frame
-    integer, intent(in), optional :: int_values(:)
-    logical, intent(in), optional :: frame_is_row
-    integer(hid_t) :: dset, filespace, memspace
-    integer(hsize_t) :: dims(size(fixed) + 1), offset(size(fixed) + 1), count(size(fixed) + 1)
-    integer(hsize_t) :: n_values(1)
-    integer :: err, k, nd, row_dim
-    logical :: merged
-    merged = .false.
-    if (present(frame_is_row)) merged = frame_is_row
-    row_dim = size(fixed)
-    nd = size(fixed) + merge(1, 0, frame > 0 .and. .not. merged)
-    dims(1:size(fixed)) = fixed
-    if (frame > 0) dims(nd) = int(frame, hsize_t)
-    call h5dopen_f(rf%file, name, dset, err)
-    if (frame > 0) call h5dset_extent_f(dset, dims(1:nd), err)
-    call h5dget_space_f(dset, filespace, err)
-    call h5sselect_none_f(filespace, err)
-    do k = 1, size(runs%first)
-      offset(1:nd) = 0
-      count(1:nd) = dims(1:nd)
-      offset(row_dim) = int(runs%first(k) - 1, hsize_t)
-      count(row_dim) = int(runs%length(k), hsize_t)
-      if (frame > 0) then
-        offset(nd) = int(frame - 1, hsize_t)
-        count(nd) = 1
-      end if
-      call h5sselect_hyperslab_f(filespace, H5S_SELECT_OR_F, offset(1:nd), count(1:nd), err)
-    end do
-    n_values = product(fixed(1:row_dim - 1)) * int(runs%n_rows, hsize_t)
-    call h5screate_simple_f(1, max(n_values, 1_hsize_t), memspace, err)
-    if (n_values(1) == 0) call h5sselect_none_f(memspace, err)
-    if (present(real_values)) then
-      call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, real_values, n_values, err, memspace, filespace, rf%transfer)
-    else
-      call h5dwrite_f(dset, H5T_NATIVE_INTEGER, int_values, n_values, err, memspace, filespace, rf%transfer)
-    end if
-    call h5sclose_f(memspace, err)
-    call h5sclose_f(filespace, err)
-    call h5dclose_f(dset, err)
-  end subroutine write_rows
-
-  subroutine write_int_attribute(loc, name, value)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: value
-    integer(hid_t) :: space, attr
-    integer :: err
-    call h5screate_f(H5S_SCALAR_F, space, err)
-    call h5acreate_f(loc, name, H5T_STD_I32LE, space, attr, err)
-    call h5awrite_f(attr, H5T_NATIVE_INTEGER, value, [1_hsize_t], err)
-    call h5aclose_f(attr, err)
-    call h5sclose_f(space, err)
-  end subroutine write_int_attribute
-
-  subroutine overwrite_int_attribute(loc, name, value)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: value
-    integer(hid_t) :: attr
-    integer :: err
-    call h5aopen_f(loc, name, attr, err)
-    call h5awrite_f(attr, H5T_NATIVE_INTEGER, value, [1_hsize_t], err)
-    call h5aclose_f(attr, err)
-  end subroutine overwrite_int_attribute
-
-  subroutine write_real_attribute(loc, name, value)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: name
-    real(wp), intent(in) :: value
-    integer(hid_t) :: space, attr
-    integer :: err
-    call h5screate_f(H5S_SCALAR_F, space, err)
-    call h5acreate_f(loc, name, H5T_NATIVE_DOUBLE, space, attr, err)
-    call h5awrite_f(attr, H5T_NATIVE_DOUBLE, value, [1_hsize_t], err)
-    call h5aclose_f(attr, err)
-    call h5sclose_f(space, err)
-  end subroutine write_real_attribute
 
 end module results_writer

@@ -1,0 +1,278 @@
+!> Collective parallel HDF5 (MPI-IO) plumbing shared by the results and checkpoint files: every
+!> rank reads or writes its own rows of a global dataset, selected as a union of hyperslabs, one
+!> per run of consecutive global ids. Rows lie along the last Fortran dimension of a dataset
+!> (h5py's first); a growing dataset has one more dimension, the frame. Every call is collective.
+module parallel_hdf5
+  use hdf5
+  use mpi_f08, only: MPI_Comm, MPI_INFO_NULL
+  use paradyn_kinds, only: wp
+  implicit none
+  private
+  public :: row_runs_t, row_runs, phdf5_open, phdf5_close
+  public :: create_dataset, create_growing, write_rows, read_rows, truncate_growing
+  public :: write_int_attribute, write_real_attribute, read_int_attribute, read_real_attribute
+
+  !> The global rows (node or element ids) a rank reads or writes, as runs of consecutive ids.
+  type :: row_runs_t
+    integer :: n_rows = 0                       !< rows in all runs
+    integer, allocatable :: first(:), length(:)
+  end type row_runs_t
+
+contains
+
+  !> The runs of consecutive ids in an ascending id list.
+  pure function row_runs(ids) result(runs)
+    integer, intent(in) :: ids(:)
+    type(row_runs_t) :: runs
+    logical :: starts(size(ids))
+    integer :: k, r
+    starts = .true.
+    if (size(ids) > 1) starts(2:) = ids(2:) /= ids(:size(ids) - 1) + 1
+    allocate (runs%first(count(starts)), runs%length(count(starts)))
+    r = 0
+    do k = 1, size(ids)
+      if (starts(k)) then
+        r = r + 1
+        runs%first(r) = ids(k)
+        runs%length(r) = 0
+      end if
+      runs%length(r) = runs%length(r) + 1
+    end do
+    runs%n_rows = size(ids)
+  end function row_runs
+
+  !> Creates (mode 'create'), or opens for reading ('read') or appending ('append'), a file on
+  !> every rank of comm, with a collective transfer list for the row reads and writes.
+  subroutine phdf5_open(path, comm, mode, file, transfer, err)
+    character(len=*), intent(in) :: path, mode
+    type(MPI_Comm), intent(in) :: comm
+    integer(hid_t), intent(out) :: file, transfer
+    integer, intent(out) :: err
+    integer(hid_t) :: access
+    integer :: ignored
+    call h5pcreate_f(H5P_FILE_ACCESS_F, access, ignored)
+    call h5pset_fapl_mpio_f(access, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, ignored)
+    select case (mode)
+    case ('create')
+      call h5fcreate_f(path, H5F_ACC_TRUNC_F, file, err, access_prp=access)
+    case ('append')
+      call h5fopen_f(path, H5F_ACC_RDWR_F, file, err, access_prp=access)
+    case default
+      call h5fopen_f(path, H5F_ACC_RDONLY_F, file, err, access_prp=access)
+    end select
+    call h5pclose_f(access, ignored)
+    call h5pcreate_f(H5P_DATASET_XFER_F, transfer, ignored)
+    call h5pset_dxpl_mpio_f(transfer, H5FD_MPIO_COLLECTIVE_F, ignored)
+  end subroutine phdf5_open
+
+  subroutine phdf5_close(file, transfer)
+    integer(hid_t), intent(inout) :: file, transfer
+    integer :: err
+    call h5pclose_f(transfer, err)
+    call h5fclose_f(file, err)
+    file = -1
+    transfer = -1
+  end subroutine phdf5_close
+
+  subroutine create_dataset(loc, name, type_id, dims)
+    integer(hid_t), intent(in) :: loc, type_id
+    character(len=*), intent(in) :: name
+    integer(hsize_t), intent(in) :: dims(:)
+    integer(hid_t) :: space, dset
+    integer :: err
+    call h5screate_simple_f(size(dims), dims, space, err)
+    call h5dcreate_f(loc, name, type_id, space, dset, err)
+    call h5dclose_f(dset, err)
+    call h5sclose_f(space, err)
+  end subroutine create_dataset
+
+  !> A chunked float64 dataset of Fortran shape [fixed, 0] whose last dimension grows.
+  subroutine create_growing(loc, name, fixed)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer(hsize_t), intent(in) :: fixed(:)
+    integer(hid_t) :: space, plist, dset
+    integer(hsize_t) :: dims(size(fixed) + 1), maxdims(size(fixed) + 1), chunk(size(fixed) + 1)
+    integer :: err
+    dims = [fixed, 0_hsize_t]
+    maxdims = [fixed, H5S_UNLIMITED_F]
+    chunk = [max(fixed, 1_hsize_t), merge(64_hsize_t, 1_hsize_t, size(fixed) == 0)]
+    call h5screate_simple_f(size(dims), dims, space, err, maxdims)
+    call h5pcreate_f(H5P_DATASET_CREATE_F, plist, err)
+    call h5pset_chunk_f(plist, size(chunk), chunk, err)
+    call h5dcreate_f(loc, name, H5T_NATIVE_DOUBLE, space, dset, err, plist)
+    call h5dclose_f(dset, err)
+    call h5pclose_f(plist, err)
+    call h5sclose_f(space, err)
+  end subroutine create_growing
+
+  !> Cuts a growing dataset back to its first `entries` frames (a restart drops what follows).
+  subroutine truncate_growing(file, name, entries)
+    integer(hid_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: entries
+    integer(hid_t) :: dset, space
+    integer(hsize_t) :: dims(3), maxdims(3)
+    integer :: err, nd
+    call h5dopen_f(file, name, dset, err)
+    call h5dget_space_f(dset, space, err)
+    call h5sget_simple_extent_ndims_f(space, nd, err)
+    call h5sget_simple_extent_dims_f(space, dims(1:nd), maxdims(1:nd), err)
+    call h5sclose_f(space, err)
+    dims(nd) = int(entries, hsize_t)
+    call h5dset_extent_f(dset, dims(1:nd), err)
+    call h5dclose_f(dset, err)
+  end subroutine truncate_growing
+
+  !> Writes this rank's rows (values in run order) into dataset `name` of Fortran shape `fixed`,
+  !> or, with frame > 0, into entry `frame` of the growing dataset [fixed, frames], extended
+  !> first. frame_is_row: fixed ends with a dummy 1 and the frame itself is the row (scalars).
+  subroutine write_rows(file, transfer, name, fixed, runs, frame, real_values, int_values, frame_is_row)
+    integer(hid_t), intent(in) :: file, transfer
+    character(len=*), intent(in) :: name
+    integer(hsize_t), intent(in) :: fixed(:)
+    type(row_runs_t), intent(in) :: runs
+    integer, intent(in) :: frame
+    real(wp), intent(in), optional :: real_values(:)
+    integer, intent(in), optional :: int_values(:)
+    logical, intent(in), optional :: frame_is_row
+    integer(hid_t) :: dset, filespace, memspace
+    integer(hsize_t) :: dims(size(fixed) + 1), n_values(1)
+    integer :: err, nd
+    logical :: merged
+    merged = .false.
+    if (present(frame_is_row)) merged = frame_is_row
+    nd = size(fixed) + merge(1, 0, frame > 0 .and. .not. merged)
+    dims(1:size(fixed)) = fixed
+    if (frame > 0) dims(nd) = int(frame, hsize_t)
+    call h5dopen_f(file, name, dset, err)
+    if (frame > 0) call h5dset_extent_f(dset, dims(1:nd), err)
+    call h5dget_space_f(dset, filespace, err)
+    call select_rows(filespace, dims(1:nd), size(fixed), runs, frame, n_values(1))
+    call h5screate_simple_f(1, max(n_values, 1_hsize_t), memspace, err)
+    if (n_values(1) == 0) call h5sselect_none_f(memspace, err)
+    if (present(real_values)) then
+      call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, real_values, n_values, err, memspace, filespace, transfer)
+    else
+      call h5dwrite_f(dset, H5T_NATIVE_INTEGER, int_values, n_values, err, memspace, filespace, transfer)
+    end if
+    call h5sclose_f(memspace, err)
+    call h5sclose_f(filespace, err)
+    call h5dclose_f(dset, err)
+  end subroutine write_rows
+
+  !> Reads this rank's rows of a float64 dataset of Fortran shape `fixed` into values, in run order.
+  subroutine read_rows(file, transfer, name, fixed, runs, values, err)
+    integer(hid_t), intent(in) :: file, transfer
+    character(len=*), intent(in) :: name
+    integer(hsize_t), intent(in) :: fixed(:)
+    type(row_runs_t), intent(in) :: runs
+    real(wp), intent(out) :: values(:)
+    integer, intent(out) :: err
+    integer(hid_t) :: dset, filespace, memspace
+    integer(hsize_t) :: n_values(1)
+    integer :: ignored
+    call h5dopen_f(file, name, dset, err)
+    if (err /= 0) return
+    call h5dget_space_f(dset, filespace, ignored)
+    call select_rows(filespace, fixed, size(fixed), runs, 0, n_values(1))
+    call h5screate_simple_f(1, max(n_values, 1_hsize_t), memspace, ignored)
+    if (n_values(1) == 0) call h5sselect_none_f(memspace, ignored)
+    call h5dread_f(dset, H5T_NATIVE_DOUBLE, values, n_values, err, memspace, filespace, transfer)
+    call h5sclose_f(memspace, ignored)
+    call h5sclose_f(filespace, ignored)
+    call h5dclose_f(dset, ignored)
+  end subroutine read_rows
+
+  !> Selects the runs' rows (along dimension row_dim) of entry `frame` (when > 0, the last dimension).
+  subroutine select_rows(space, dims, row_dim, runs, frame, n_values)
+    integer(hid_t), intent(in) :: space
+    integer(hsize_t), intent(in) :: dims(:)
+    integer, intent(in) :: row_dim, frame
+    type(row_runs_t), intent(in) :: runs
+    integer(hsize_t), intent(out) :: n_values
+    integer(hsize_t) :: offset(size(dims)), count(size(dims))
+    integer :: k, err, nd
+    nd = size(dims)
+    call h5sselect_none_f(space, err)
+    do k = 1, size(runs%first)
+      offset = 0
+      count = dims
+      offset(row_dim) = int(runs%first(k) - 1, hsize_t)
+      count(row_dim) = int(runs%length(k), hsize_t)
+      if (frame > 0) then
+        offset(nd) = int(frame - 1, hsize_t)
+        count(nd) = 1
+      end if
+      call h5sselect_hyperslab_f(space, H5S_SELECT_OR_F, offset, count, err)
+    end do
+    n_values = product(dims(1:row_dim - 1)) * int(runs%n_rows, hsize_t)
+  end subroutine select_rows
+
+  !> Writes (or overwrites) an integer attribute; every rank passes the same value.
+  subroutine write_int_attribute(loc, name, value)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: value
+    integer(hid_t) :: space, attr
+    integer :: err
+    logical :: exists
+    call h5aexists_f(loc, name, exists, err)
+    if (exists) then
+      call h5aopen_f(loc, name, attr, err)
+    else
+      call h5screate_f(H5S_SCALAR_F, space, err)
+      call h5acreate_f(loc, name, H5T_STD_I32LE, space, attr, err)
+      call h5sclose_f(space, err)
+    end if
+    call h5awrite_f(attr, H5T_NATIVE_INTEGER, value, [1_hsize_t], err)
+    call h5aclose_f(attr, err)
+  end subroutine write_int_attribute
+
+  subroutine write_real_attribute(loc, name, value)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: value
+    integer(hid_t) :: space, attr
+    integer :: err
+    logical :: exists
+    call h5aexists_f(loc, name, exists, err)
+    if (exists) then
+      call h5aopen_f(loc, name, attr, err)
+    else
+      call h5screate_f(H5S_SCALAR_F, space, err)
+      call h5acreate_f(loc, name, H5T_NATIVE_DOUBLE, space, attr, err)
+      call h5sclose_f(space, err)
+    end if
+    call h5awrite_f(attr, H5T_NATIVE_DOUBLE, value, [1_hsize_t], err)
+    call h5aclose_f(attr, err)
+  end subroutine write_real_attribute
+
+  subroutine read_int_attribute(loc, name, value, err)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer, intent(out) :: value, err
+    integer(hid_t) :: attr
+    integer :: ignored
+    value = 0
+    call h5aopen_f(loc, name, attr, err)
+    if (err /= 0) return
+    call h5aread_f(attr, H5T_NATIVE_INTEGER, value, [1_hsize_t], err)
+    call h5aclose_f(attr, ignored)
+  end subroutine read_int_attribute
+
+  subroutine read_real_attribute(loc, name, value, err)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(wp), intent(out) :: value
+    integer, intent(out) :: err
+    integer(hid_t) :: attr
+    integer :: ignored
+    value = 0
+    call h5aopen_f(loc, name, attr, err)
+    if (err /= 0) return
+    call h5aread_f(attr, H5T_NATIVE_DOUBLE, value, [1_hsize_t], err)
+    call h5aclose_f(attr, ignored)
+  end subroutine read_real_attribute
+
+end module parallel_hdf5
