@@ -21,6 +21,7 @@ module contact_interface
   private
   public :: contact_t, contact_setup, contact_pass_t
   public :: contact_begin, contact_pass_active, contact_search, contact_sum, contact_end
+  public :: contact_restore
   public :: clock_seconds
 
   !> The wall clock the phases are timed with (the solver passes MPI_Wtime's wrapper).
@@ -152,23 +153,42 @@ contains
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: cycle
     procedure(clock_seconds) :: clock
-    integer :: p
     real(wp) :: t0
     c%force_old = c%force
     c%force = 0.0_wp
     c%max_penetration = 0.0_wp
     t0 = clock()
-    if (sort_due(c, cycle)) then
-      do p = 1, size(c%passes)
-        c%passes(p)%x_sorted = c%x(:, c%passes(p)%masters)
-        call bucket_grid_build(int(size(c%passes(p)%masters), ip), c%passes(p)%x_sorted, &
-                               c%passes(p)%bucket_size, c%passes(p)%grid)
-      end do
-      c%x_at_sort = c%x
-      c%last_sort = cycle
-    end if
+    if (sort_due(c, cycle)) call sort_passes(c, cycle)
     c%time_sort = c%time_sort + clock() - t0
   end subroutine contact_begin
+
+  !> The bucket sort of every pass at the current positions.
+  subroutine sort_passes(c, cycle)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: cycle
+    integer :: p
+    do p = 1, size(c%passes)
+      c%passes(p)%x_sorted = c%x(:, c%passes(p)%masters)
+      call bucket_grid_build(int(size(c%passes(p)%masters), ip), c%passes(p)%x_sorted, &
+                             c%passes(p)%bucket_size, c%passes(p)%grid)
+    end do
+    c%x_at_sort = c%x
+    c%last_sort = cycle
+  end subroutine sort_passes
+
+  !> The contact state of a checkpoint: the forces of the last step, the energy, the deepest
+  !> penetration, and the bucket sorts redone at the positions of the last sort (so the later
+  !> sorts fall on the same cycles as in the uninterrupted run).
+  subroutine contact_restore(c, force, x_at_sort, last_sort, energy, max_penetration)
+    type(contact_t), intent(inout) :: c
+    real(wp), intent(in) :: force(:, :), x_at_sort(:, :), energy, max_penetration
+    integer, intent(in) :: last_sort
+    c%force = force
+    c%x = x_at_sort
+    call sort_passes(c, last_sort)
+    c%energy = energy
+    c%max_penetration = max_penetration
+  end subroutine contact_restore
 
   !> Pass p runs this cycle: always with passes = 2, every other cycle with the paper's swap.
   pure logical function contact_pass_active(c, p, cycle)

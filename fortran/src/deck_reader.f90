@@ -135,6 +135,8 @@ contains
       if (status_ok()) call read_real_attribute(file, '/control', 'contact_sort_interval', interval, &
                                                 0.0_wp, .false.)
       if (status_ok()) d%contact_sort_interval = nint(interval)
+      if (status_ok()) call read_real_attribute(file, '/control', 'checkpoint_interval', d%checkpoint_interval, &
+                                                0.0_wp, .false.)
     end subroutine read_control
 
     !> Opens a dataset after checking that it exists and has the expected class and shape.

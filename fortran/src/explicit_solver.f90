@@ -20,6 +20,7 @@ module explicit_solver
                                contact_search, contact_sum, contact_end
   use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes
   use time_integration, only: update_velocities, update_positions, point_load_forces, kinetic_energy
+  use stop_signals, only: stop_signal_received
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
   implicit none
   private
@@ -53,6 +54,11 @@ module explicit_solver
     real(wp), allocatable :: tracked_out(:, :)   !< (6, n_tracked): this rank's share, summed to rank 0
     real(wp) :: dt = 0, dt_stable = 0, time = 0, external_work = 0, damping_work = 0
     integer :: cycles = 0, inverted = 0
+    ! where the time loop stands between calls of solver_run (a pause for a checkpoint, a restart)
+    integer :: n_steps = 0, frame_index = 0, record_index = 0, first_cycle = 0
+    logical :: started = .false., finished = .false., stop_requested = .false.
+    real(wp) :: phase(5) = 0   !< wall seconds: elements, contact, communication, output, other
+    real(wp) :: wall_start = 0, last_progress = 0
   end type solver_t
 
 contains
@@ -245,6 +251,14 @@ contains
     seconds = MPI_Wtime()
   end function wall_clock
 
+  !> True on every rank when any rank has received a stop signal (stop_signals).
+  logical function any_rank_stopped(comm)
+    type(MPI_Comm), intent(in) :: comm
+    logical :: mine
+    mine = stop_signal_received()
+    call MPI_Allreduce(mine, any_rank_stopped, 1, MPI_LOGICAL, MPI_LOR, comm)
+  end function any_rank_stopped
+
   !> The /run attributes are written collectively and must agree: every rank takes rank 0's timings.
   subroutine share_root_timings(comm, run)
     type(MPI_Comm), intent(in) :: comm
@@ -322,36 +336,48 @@ contains
     !$omp end parallel do
   end subroutine assemble_forces
 
-  !> The time loop. Returns status 0, or 3 with a message on a numerical failure.
-  subroutine solver_run(s, deck, rf, run, status, message)
+  !> The time loop, from where the solver stands (the start, a pause, or a restored checkpoint)
+  !> to the end time (s%finished), or until a pause: at the first step at or after pause_time, or
+  !> when any rank got a stop signal (s%stop_requested). Returns status 0, or 3 with a message on a
+  !> numerical failure.
+  subroutine solver_run(s, deck, rf, run, status, message, pause_time)
     type(solver_t), intent(inout) :: s
     type(deck_t), intent(in) :: deck
     type(results_file_t), intent(inout) :: rf
     type(run_record_t), intent(out) :: run
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
-    integer :: n_steps, frame_index, record_index
-    real(wp) :: t_start, t_phase, t_last_progress, h
-    real(wp) :: phase(5)   ! elements, contact, communication, output, other
+    real(wp), intent(in) :: pause_time
+    integer, parameter :: signal_poll_cycles = 16   ! a collective check every few cycles costs nothing
+    real(wp) :: t_phase, h
+    real(wp) :: phase(5)   ! this call's copy of s%phase, which the contained procedures add to
     logical :: frame_due, record_due
 
     status = 0
     message = ''
-    phase = 0.0_wp
-    n_steps = max(1, nint(deck%end_time / s%dt))
-    call MPI_Barrier(s%halo%comm)
-    t_start = MPI_Wtime()
-    t_last_progress = t_start
-    frame_index = 0
-    record_index = 0
-    s%time = 0.0_wp
-    s%cycles = 0
-    call forces_at_current_state(0.0_wp)
+    phase = s%phase
+    if (.not. s%started) then
+      s%n_steps = max(1, nint(deck%end_time / s%dt))
+      call MPI_Barrier(s%halo%comm)
+      s%wall_start = MPI_Wtime()
+      s%last_progress = s%wall_start
+      s%first_cycle = s%cycles
+      ! a fresh run computes its first forces; a restored one comes with them
+      if (s%cycles == 0) call forces_at_current_state(0.0_wp)
+      s%started = .true.
+    end if
 
     do
+      if (s%cycles > s%first_cycle .and. s%cycles < s%n_steps) then
+        if (s%time >= pause_time - 1.0e-6_wp * s%dt) exit
+        if (modulo(s%cycles, signal_poll_cycles) == 0) then
+          s%stop_requested = any_rank_stopped(s%halo%comm)
+          if (s%stop_requested) exit
+        end if
+      end if
       if (deck%n_loads > 0) call apply_loads()
-      frame_due = is_due(frame_index, deck%output_interval)
-      record_due = is_due(record_index, deck%history_interval)
+      frame_due = is_due(s%frame_index, deck%output_interval)
+      record_due = is_due(s%record_index, deck%history_interval)
       if (frame_due .or. record_due) then
         s%v_old = s%v
         s%w_old = s%w
@@ -364,28 +390,32 @@ contains
         t_phase = MPI_Wtime()
         if (record_due) then
           call write_record(status, message)
-          record_index = next_index(deck%history_interval)
+          s%record_index = next_index(deck%history_interval)
         end if
         if (frame_due .and. status == 0) then
           call write_frame()
-          frame_index = next_index(deck%output_interval)
+          s%frame_index = next_index(deck%output_interval)
         end if
         phase(4) = phase(4) + MPI_Wtime() - t_phase
         if (status /= 0) exit
       end if
-      if (s%cycles >= n_steps) exit
+      if (s%cycles >= s%n_steps) then
+        s%finished = .true.
+        exit
+      end if
       call advance_positions(s)
-      s%time = merge(deck%end_time, s%time + s%dt, s%cycles + 1 == n_steps)
+      s%time = merge(deck%end_time, s%time + s%dt, s%cycles + 1 == s%n_steps)
       s%cycles = s%cycles + 1
       call forces_at_current_state(s%dt)
-      if (s%rank == 0 .and. MPI_Wtime() - t_last_progress >= deck%progress_interval) then
-        t_last_progress = MPI_Wtime()
+      if (s%rank == 0 .and. MPI_Wtime() - s%last_progress >= deck%progress_interval) then
+        s%last_progress = MPI_Wtime()
         write (*, '(a,i0,a,es13.6,a,es11.4,a,es11.4,a,f0.3)') 'PARADYN-PROGRESS cycle=', s%cycles, &
-          ' time=', s%time, ' dt=', s%dt, ' end_time=', deck%end_time, ' wall_s=', t_last_progress - t_start
+          ' time=', s%time, ' dt=', s%dt, ' end_time=', deck%end_time, ' wall_s=', s%last_progress - s%wall_start
         flush (6)
       end if
     end do
 
+    s%phase = phase
     run%cycles = s%cycles
     run%ranks = s%n_ranks
     run%threads = s%threads
@@ -393,16 +423,16 @@ contains
     run%nodes = deck%n_nodes
     run%dt_s = s%dt
     run%dt_stable_s = s%dt_stable
-    run%wall_s = MPI_Wtime() - t_start
-    run%element_cycles_per_s = real(deck%n_elements, wp) * s%cycles / max(run%wall_s, 1.0e-12_wp)
-    run%phase_elements_s = phase(1)
-    run%phase_contact_s = phase(2)
+    run%wall_s = MPI_Wtime() - s%wall_start
+    run%element_cycles_per_s = real(deck%n_elements, wp) * (s%cycles - s%first_cycle) / max(run%wall_s, 1.0e-12_wp)
+    run%phase_elements_s = s%phase(1)
+    run%phase_contact_s = s%phase(2)
     run%phase_contact_sort_s = s%contact%time_sort
     run%phase_contact_search_s = s%contact%time_search
     run%phase_contact_force_s = s%contact%time_force
-    run%phase_communication_s = phase(3)
-    run%phase_output_s = phase(4)
-    run%phase_other_s = max(run%wall_s - sum(phase(1:4)), 0.0_wp)
+    run%phase_communication_s = s%phase(3)
+    run%phase_output_s = s%phase(4)
+    run%phase_other_s = max(run%wall_s - sum(s%phase(1:4)), 0.0_wp)
     call share_root_timings(s%halo%comm, run)
 
   contains
@@ -411,7 +441,7 @@ contains
     logical function is_due(k, interval)
       integer, intent(in) :: k
       real(wp), intent(in) :: interval
-      is_due = s%time >= k * interval - 1.0e-6_wp * s%dt .or. s%cycles == n_steps
+      is_due = s%time >= k * interval - 1.0e-6_wp * s%dt .or. s%cycles == s%n_steps
     end function is_due
 
     !> Index of the first output time after the current step.

@@ -34,6 +34,7 @@ module model_deck
     real(wp) :: time_step = 0.0_wp, time_step_safety = 0.9_wp, mass_damping = 0.0_wp
     real(wp) :: progress_interval = 0.5_wp
     integer :: contact_sort_interval = 0              !< cycles between bucket sorts, 0 = automatic
+    real(wp) :: checkpoint_interval = 0.0_wp          !< simulated seconds between checkpoints, 0 = none
   end type deck_t
 
 contains
@@ -198,6 +199,10 @@ contains
     end do
     if (d%contact_sort_interval < 0) then
       message = '/control attribute contact_sort_interval must be >= 0 (0 = automatic)'
+      return
+    end if
+    if (.not. (d%checkpoint_interval >= 0.0_wp)) then
+      message = '/control attribute checkpoint_interval must be >= 0 (seconds of simulated time, 0 = none)'
       return
     end if
     do i = 1, d%n_tracked

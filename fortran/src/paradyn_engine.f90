@@ -1,7 +1,10 @@
-!> paradyn-engine DECK.h5 [RESULTS.h5]
+!> paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]]
 !>
 !> Runs one deck under MPI (element blocks across ranks) and OpenMP (groups across threads) and
-!> writes the results file. Exit status: 0 done, 2 bad input, 3 numerical failure, 1 otherwise.
+!> writes the results file, with a checkpoint beside it every /control checkpoint_interval and
+!> when stopped by SIGTERM, SIGINT or SIGUSR1. --restart continues a run from its checkpoint.
+!> Exit status: 0 done, 2 bad input, 3 numerical failure, 4 stopped by a signal (checkpoint
+!> written), 1 otherwise.
 program paradyn_engine
   use mpi_f08
   use hdf5, only: h5open_f, h5close_f
@@ -9,37 +12,62 @@ program paradyn_engine
   use model_deck, only: deck_t
   use deck_reader, only: read_deck
   use explicit_solver, only: solver_t, solver_setup, solver_run, solver_effects
-  use results_writer, only: results_file_t, results_create, results_finish, run_record_t
+  use results_writer, only: results_file_t, results_create, results_reopen, results_finish, run_record_t
+  use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
+  use stop_signals, only: install_stop_handlers
   implicit none
 
   type(deck_t) :: deck
   type(solver_t) :: solver
   type(results_file_t) :: results
   type(run_record_t) :: run
-  character(len=4096) :: deck_path, results_path
+  character(len=4096) :: deck_path, results_path, restart_path, argument
+  character(len=:), allocatable :: checkpoint
   character(len=1024) :: message
-  integer :: rank, n_ranks, status, err, n_args
+  integer :: rank, n_ranks, status, err, n_args, k, n_positional, frames, records
+  logical :: restart
+  real(wp) :: pause_time
 
   call MPI_Init()
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   call MPI_Comm_size(MPI_COMM_WORLD, n_ranks)
   call h5open_f(err)
 
+  call install_stop_handlers()
   n_args = command_argument_count()
-  if (n_args < 1 .or. n_args > 2) then
-    call fail(2, 'usage: paradyn-engine DECK.h5 [RESULTS.h5] (results default to results.h5 beside the deck)')
+  n_positional = 0
+  restart = .false.
+  restart_path = ''
+  deck_path = ''
+  results_path = ''
+  do k = 1, n_args
+    call get_command_argument(k, argument)
+    if (argument == '-h' .or. argument == '--help') then
+      if (rank == 0) write (*, '(a)') 'usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]]', &
+        'Runs a ParaDyn deck (docs/formats.md); launch it with mpirun -n RANKS and OMP_NUM_THREADS.', &
+        '--restart continues an interrupted run from its checkpoint (default RESULTS.checkpoint.h5).'
+      call finish(0)
+    else if (argument == '--restart') then
+      restart = .true.
+    else if (argument(1:10) == '--restart=') then
+      restart = .true.
+      restart_path = argument(11:)
+    else if (argument(1:1) == '-' .or. n_positional == 2) then
+      call fail(2, 'unexpected argument '//trim(argument)// &
+                '; usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]]')
+    else
+      n_positional = n_positional + 1
+      if (n_positional == 1) deck_path = argument
+      if (n_positional == 2) results_path = argument
+    end if
+  end do
+  if (n_positional < 1) then
+    call fail(2, 'usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]] '// &
+              '(results default to results.h5 beside the deck)')
   end if
-  call get_command_argument(1, deck_path)
-  if (deck_path == '-h' .or. deck_path == '--help') then
-    if (rank == 0) write (*, '(a)') 'usage: paradyn-engine DECK.h5 [RESULTS.h5]', &
-      'Runs a ParaDyn deck (docs/formats.md); launch it with mpirun -n RANKS and OMP_NUM_THREADS.'
-    call finish(0)
-  end if
-  if (n_args == 2) then
-    call get_command_argument(2, results_path)
-  else
-    results_path = beside(deck_path, 'results.h5')
-  end if
+  if (n_positional < 2) results_path = beside(deck_path, 'results.h5')
+  checkpoint = checkpoint_path(trim(results_path))
+  if (restart_path == '') restart_path = checkpoint
 
   ! every rank reads and checks the deck; all reach the same verdict
   call read_deck(trim(deck_path), deck, status, message)
@@ -48,9 +76,16 @@ program paradyn_engine
   if (status /= 0) call fail(status, trim(message))
 
   associate (owned => solver%dom%nodes(solver%halo%owned_local), elements => solver%dom%elements)
-    call results_create(trim(results_path), MPI_COMM_WORLD, deck%n_nodes, deck%n_elements, owned, elements, &
-                        deck%coordinates(:, owned), deck%connectivity(:, elements), deck%element_part(elements), &
-                        deck%n_tracked, results, status, message)
+    if (restart) then
+      call checkpoint_read(solver, deck, trim(restart_path), frames, records, status, message)
+      if (status /= 0) call fail(status, trim(message))
+      call results_reopen(trim(results_path), MPI_COMM_WORLD, deck%n_nodes, deck%n_elements, owned, elements, &
+                          deck%n_tracked, frames, records, results, status, message)
+    else
+      call results_create(trim(results_path), MPI_COMM_WORLD, deck%n_nodes, deck%n_elements, owned, elements, &
+                          deck%coordinates(:, owned), deck%connectivity(:, elements), deck%element_part(elements), &
+                          deck%n_tracked, results, status, message)
+    end if
   end associate
   if (status /= 0) call fail(1, trim(message))
   if (rank == 0) then
@@ -58,10 +93,31 @@ program paradyn_engine
       deck%n_elements, ' nodes=', deck%n_nodes, ' ranks=', n_ranks, ' threads=', solver%threads, &
       ' dt=', solver%dt, ' dt_stable=', solver%dt_stable, ' end_time=', deck%end_time, &
       ' effects='//solver_effects(deck)
+    if (restart) write (*, '(a,es13.6,a,i0)') 'PARADYN-RESTART time=', solver%time, ' cycle=', solver%cycles
     flush (6)
   end if
 
-  call solver_run(solver, deck, results, run, status, message)
+  do   ! run to each checkpoint time, write the checkpoint, go on
+    pause_time = huge(1.0_wp)
+    if (deck%checkpoint_interval > 0.0_wp) &
+      pause_time = (floor(solver%time / deck%checkpoint_interval + 1.0e-9_wp) + 1) * deck%checkpoint_interval
+    call solver_run(solver, deck, results, run, status, message, pause_time)
+    if (status /= 0 .or. solver%finished) exit
+    call checkpoint_write(solver, deck, checkpoint, results%frames, results%records, status, message)
+    if (status /= 0) exit
+    if (rank == 0) then
+      write (*, '(a,es13.6,a,i0,a)') 'PARADYN-CHECKPOINT time=', solver%time, ' cycle=', solver%cycles, &
+        ' path='//checkpoint
+      flush (6)
+    end if
+    if (solver%stop_requested) then
+      status = 4
+      write (message, '(a,es12.5,a)') 'stopped by a signal at time ', solver%time, ' s; the checkpoint '// &
+        checkpoint//' holds the state: continue with paradyn-engine '//trim(deck_path)//' '// &
+        trim(results_path)//' --restart (or paradyn-run --restart)'
+      exit
+    end if
+  end do
   call results_finish(results, run, status == 0)
   if (status /= 0) call fail(status, trim(message))
   if (rank == 0) then

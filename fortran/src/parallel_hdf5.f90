@@ -161,24 +161,28 @@ contains
     call h5dclose_f(dset, err)
   end subroutine write_rows
 
-  !> Reads this rank's rows of a float64 dataset of Fortran shape `fixed` into values, in run order.
+  !> Reads this rank's rows of a float64 dataset of Fortran shape `fixed` into values (width,
+  !> rows), in run order.
   subroutine read_rows(file, transfer, name, fixed, runs, values, err)
     integer(hid_t), intent(in) :: file, transfer
     character(len=*), intent(in) :: name
     integer(hsize_t), intent(in) :: fixed(:)
     type(row_runs_t), intent(in) :: runs
-    real(wp), intent(out) :: values(:)
+    real(wp), intent(out) :: values(:, :)
     integer, intent(out) :: err
     integer(hid_t) :: dset, filespace, memspace
     integer(hsize_t) :: n_values(1)
     integer :: ignored
+    real(wp), allocatable :: buffer(:)   ! not on the stack: checkpoints of large meshes
     call h5dopen_f(file, name, dset, err)
     if (err /= 0) return
+    allocate (buffer(max(size(values), 1)))
     call h5dget_space_f(dset, filespace, ignored)
     call select_rows(filespace, fixed, size(fixed), runs, 0, n_values(1))
     call h5screate_simple_f(1, max(n_values, 1_hsize_t), memspace, ignored)
     if (n_values(1) == 0) call h5sselect_none_f(memspace, ignored)
-    call h5dread_f(dset, H5T_NATIVE_DOUBLE, values, n_values, err, memspace, filespace, transfer)
+    call h5dread_f(dset, H5T_NATIVE_DOUBLE, buffer, n_values, err, memspace, filespace, transfer)
+    values = reshape(buffer(1:size(values)), shape(values))
     call h5sclose_f(memspace, ignored)
     call h5sclose_f(filespace, ignored)
     call h5dclose_f(dset, ignored)

@@ -15,6 +15,9 @@ SCENE is a TOML scene file (see docs/scene.md) or a deck.h5 written earlier (doc
 Inside a Slurm allocation the engine runs under srun; --sbatch writes OUTDIR/job.sbatch instead
 of running (submit it with sbatch; it runs the engine, then `paradyn-run --post OUTDIR`).
 --post OUTDIR redoes the post-processing of a finished run from its results.h5 and deck.h5.
+Ctrl-C (or SIGTERM to the engine, as Slurm sends at the time limit) makes the engine write
+OUTDIR/results.checkpoint.h5 and stop; `paradyn-run SCENE -o OUTDIR --restart` continues the run
+from it, on any number of ranks and threads. [run] checkpoint_interval also writes one regularly.
 paradyn-run meshes the parts with gmsh, writes OUTDIR/deck.h5 (checked before launch), runs the
 engine under MPI (-n ranks) and OpenMP (-t threads per rank) with a progress bar, and writes into
 OUTDIR:
@@ -26,7 +29,8 @@ OUTDIR:
   energies.png, tracked.png, deformed.png   plots (unless --no-plots)
   engine.log      the engine's own output
 
-Exit status: 0 on success, 2 for a bad scene or deck, 3 when the run went unstable, 1 otherwise.
+Exit status: 0 on success, 2 for a bad scene or deck, 3 when the run went unstable, 4 when it was
+stopped (Ctrl-C, SIGTERM) after writing its checkpoint, 1 otherwise.
 """
 
 
@@ -45,6 +49,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     parser.add_argument("--sbatch", action="store_true",
                         help="write OUTDIR/job.sbatch for Slurm instead of running")
+    parser.add_argument("--restart", action="store_true",
+                        help="continue an interrupted run in the output folder from its checkpoint "
+                             "(results.checkpoint.h5), with the folder's deck.h5")
     parser.add_argument("--post", action="store_true",
                         help="SCENE is an output folder of a finished run: only redo the post-processing")
     return parser
@@ -64,6 +71,16 @@ def prepare_deck(source: Path, out_dir: Path) -> Path:
         model = scene.build_model(scene.load_scene(source))
     deck.write_deck(model, target)
     return target
+
+
+def restart_deck(out_dir: Path) -> Path:
+    """The deck of the interrupted run in out_dir, kept as it was (the checkpoint belongs to it)."""
+    deck_path, checkpoint = out_dir / "deck.h5", out_dir / "results.checkpoint.h5"
+    if not (deck_path.is_file() and checkpoint.is_file()):
+        raise ValueError(f"{out_dir} holds no deck.h5 and results.checkpoint.h5 to restart from; give the "
+                         f"output folder (-o) of a run that wrote a checkpoint ([run] checkpoint_interval, "
+                         f"or a run stopped with Ctrl-C or SIGTERM)")
+    return deck_path
 
 
 def post_process(res_path: Path, out_dir: Path, effects: list[str], extra: dict, plots: bool,
@@ -124,7 +141,7 @@ def main(argv: list[str] | None = None) -> int:
         if not args.scene.is_file():
             raise scene.SceneError(f"{args.scene}: no such file; give the path of a scene .toml or a deck .h5")
         out_dir.mkdir(parents=True, exist_ok=True)
-        deck_path = prepare_deck(args.scene, out_dir)
+        deck_path = restart_deck(out_dir) if args.restart else prepare_deck(args.scene, out_dir)
     except (scene.SceneError, deck.DeckError, ValueError) as error:
         print(f"paradyn-run: error: {error}", file=sys.stderr)
         return 2
@@ -138,7 +155,7 @@ def main(argv: list[str] | None = None) -> int:
     bar = None if args.quiet else launch.ProgressBar()
     try:
         run = launch.run_engine(deck_path, res_path, args.ranks, args.threads, on_progress=bar,
-                                log_path=out_dir / "engine.log")
+                                log_path=out_dir / "engine.log", restart=args.restart)
     except launch.EngineError as error:
         print(f"paradyn-run: error: {error}", file=sys.stderr)
         return error.exit_code

@@ -44,10 +44,11 @@ class Control:
     mass_damping: float = 0.0
     progress_interval: float = 0.5
     contact_sort_interval: float = 0.0
+    checkpoint_interval: float = 0.0
 
     REQUIRED = ("end_time", "output_interval")
     OPTIONAL = ("history_interval", "time_step", "time_step_safety", "mass_damping", "progress_interval",
-                "contact_sort_interval")
+                "contact_sort_interval", "checkpoint_interval")
 
 
 def _empty_int() -> np.ndarray:
@@ -488,6 +489,8 @@ def _check_control(check: _Checker) -> None:
         "time_step_safety": (lambda v: 0 < v <= 1, "must be in (0, 1]"),
         "mass_damping": (lambda v: v >= 0, "must be >= 0"),
         "progress_interval": (lambda v: v > 0, "must be > 0"),
+        "contact_sort_interval": (lambda v: v >= 0, "must be >= 0 cycles (0 = automatic)"),
+        "checkpoint_interval": (lambda v: v >= 0, "must be >= 0 (0 = no checkpoints)"),
     }
     for name, (ok, rule) in rules.items():
         value = getattr(control, name)

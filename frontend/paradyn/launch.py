@@ -12,13 +12,14 @@ import os
 import re
 import shlex
 import shutil
+import signal
 import subprocess
 import sys
 import time
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Callable, TextIO
+from typing import Callable, Iterator, TextIO
 
 ENGINE_ENV = "PARADYN_ENGINE"
 _FIELD = re.compile(r"(\w+)=\s*(\S+)")
@@ -101,26 +102,30 @@ def inside_slurm() -> bool:
     return "SLURM_JOB_ID" in os.environ and shutil.which("srun") is not None
 
 
-def srun_command(engine: str, deck: Path, results: Path, ranks: int, threads: int) -> list[str]:
+def srun_command(engine: str, deck: Path, results: Path, ranks: int, threads: int,
+                 restart: bool = False) -> list[str]:
     # Slurm 22.05 and later: srun does not inherit --cpus-per-task, so it is passed explicitly
-    return ["srun", "-n", str(ranks), f"--cpus-per-task={threads}", "--export=ALL", engine, str(deck), str(results)]
+    return ["srun", "-n", str(ranks), f"--cpus-per-task={threads}", "--export=ALL", engine, str(deck), str(results),
+            *(["--restart"] if restart else [])]
 
 
-def engine_command(deck: Path, results: Path, ranks: int, threads: int) -> list[str]:
+def engine_command(deck: Path, results: Path, ranks: int, threads: int, restart: bool = False) -> list[str]:
     """The argument list that runs the engine on `ranks` MPI ranks: srun inside a Slurm
-    allocation, the engine itself for one rank, mpirun otherwise."""
+    allocation, the engine itself for one rank, mpirun otherwise. restart: continue from the
+    checkpoint beside the results (docs/outputs.md, "Checkpoints and restarts")."""
     engine = str(engine_path())
+    arguments = [str(deck), str(results), *(["--restart"] if restart else [])]
     if inside_slurm():
-        return srun_command(engine, deck, results, ranks, threads)
+        return srun_command(engine, deck, results, ranks, threads, restart)
     if ranks == 1:
-        return [engine, str(deck), str(results)]
+        return [engine, *arguments]
     mpirun = shutil.which("mpirun") or shutil.which("mpiexec")
     if mpirun is None:
         raise EngineError("mpirun is not on PATH; install Open MPI (apt-get install openmpi-bin)", 1)
     command = [mpirun, "-n", str(ranks), "--bind-to", "none", "-x", "OMP_NUM_THREADS"]
     if ranks * threads > (os.cpu_count() or 1):
         command.append("--oversubscribe")
-    return command + [engine, str(deck), str(results)]
+    return command + [engine, *arguments]
 
 
 def sbatch_script(deck: Path, results: Path, ranks: int, threads: int, job_name: str,
@@ -160,22 +165,28 @@ def run_engine(
     threads: int = 1,
     on_progress: Callable[[Progress], None] | None = None,
     log_path: Path | None = None,
+    restart: bool = False,
 ) -> EngineRun:
-    """Run the engine to completion; raise EngineError with the engine's message if it fails."""
+    """Run the engine to completion; raise EngineError with the engine's message if it fails.
+
+    Ctrl-C (KeyboardInterrupt) does not kill the run: the engine is asked to stop with SIGUSR1
+    (which mpirun forwards to every rank), writes its checkpoint and exits with status 4; the
+    EngineError then says how to continue. The engine runs in its own session so that the
+    terminal's SIGINT reaches only this process, not mpirun (which would kill the ranks)."""
     if ranks < 1 or threads < 1:
         raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", 2)
     # the engine runs in the deck's folder, so relative paths would point elsewhere
     deck, results = Path(deck).resolve(), Path(results).resolve()
-    command = engine_command(deck, results, ranks, threads)
+    command = engine_command(deck, results, ranks, threads, restart)
     run = EngineRun(command=command, exit_code=-1, log_path=log_path)
     log: TextIO = open(log_path, "w") if log_path else open(os.devnull, "w")
     errors: list[str] = []
     with log, subprocess.Popen(
         command, cwd=deck.parent, env=engine_environment(threads), stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT, text=True, bufsize=1,
+        stderr=subprocess.STDOUT, text=True, bufsize=1, start_new_session=True,
     ) as process:
         assert process.stdout is not None
-        for line in process.stdout:
+        for line in _lines_until_done(process):
             log.write(line)
             parsed = parse_line(line)
             if line.startswith("paradyn-engine: "):
@@ -197,6 +208,23 @@ def run_engine(
             + (f"; see {log_path}" if log_path else ""))
         raise EngineError(message, run.exit_code or 1)
     return run
+
+
+def _lines_until_done(process: subprocess.Popen) -> Iterator[str]:
+    """The engine's output lines; on Ctrl-C, ask the engine to checkpoint and stop, and keep
+    reading until it has."""
+    assert process.stdout is not None
+    stop_sent = False
+    while True:
+        try:
+            for line in process.stdout:
+                yield line
+            return
+        except KeyboardInterrupt:
+            if stop_sent:
+                raise
+            process.send_signal(signal.SIGUSR1)
+            stop_sent = True
 
 
 class ProgressBar:
