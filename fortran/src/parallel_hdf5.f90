@@ -218,17 +218,9 @@ contains
     integer(hid_t), intent(in) :: loc
     character(len=*), intent(in) :: name
     integer, intent(in) :: value
-    integer(hid_t) :: space, attr
+    integer(hid_t) :: attr
     integer :: err
-    logical :: exists
-    call h5aexists_f(loc, name, exists, err)
-    if (exists) then
-      call h5aopen_f(loc, name, attr, err)
-    else
-      call h5screate_f(H5S_SCALAR_F, space, err)
-      call h5acreate_f(loc, name, H5T_STD_I32LE, space, attr, err)
-      call h5sclose_f(space, err)
-    end if
+    attr = scalar_attribute(loc, name, H5T_STD_I32LE)
     call h5awrite_f(attr, H5T_NATIVE_INTEGER, value, [1_hsize_t], err)
     call h5aclose_f(attr, err)
   end subroutine write_int_attribute
@@ -237,7 +229,18 @@ contains
     integer(hid_t), intent(in) :: loc
     character(len=*), intent(in) :: name
     real(wp), intent(in) :: value
-    integer(hid_t) :: space, attr
+    integer(hid_t) :: attr
+    integer :: err
+    attr = scalar_attribute(loc, name, H5T_NATIVE_DOUBLE)
+    call h5awrite_f(attr, H5T_NATIVE_DOUBLE, value, [1_hsize_t], err)
+    call h5aclose_f(attr, err)
+  end subroutine write_real_attribute
+
+  !> A scalar attribute opened for writing: the existing one, or a new one of file type type_id.
+  function scalar_attribute(loc, name, type_id) result(attr)
+    integer(hid_t), intent(in) :: loc, type_id
+    character(len=*), intent(in) :: name
+    integer(hid_t) :: attr, space
     integer :: err
     logical :: exists
     call h5aexists_f(loc, name, exists, err)
@@ -245,12 +248,10 @@ contains
       call h5aopen_f(loc, name, attr, err)
     else
       call h5screate_f(H5S_SCALAR_F, space, err)
-      call h5acreate_f(loc, name, H5T_NATIVE_DOUBLE, space, attr, err)
+      call h5acreate_f(loc, name, type_id, space, attr, err)
       call h5sclose_f(space, err)
     end if
-    call h5awrite_f(attr, H5T_NATIVE_DOUBLE, value, [1_hsize_t], err)
-    call h5aclose_f(attr, err)
-  end subroutine write_real_attribute
+  end function scalar_attribute
 
   subroutine read_int_attribute(loc, name, value, err)
     integer(hid_t), intent(in) :: loc
