@@ -118,6 +118,7 @@ program paradyn_engine
       exit
     end if
   end do
+  run%peak_memory_mb = largest_peak_memory_mb()
   call results_finish(results, run, status == 0)
   if (status /= 0) call fail(status, trim(message))
   if (rank == 0) then
@@ -128,6 +129,29 @@ program paradyn_engine
   call finish(0)
 
 contains
+
+  !> The largest peak resident set (VmHWM of /proc/self/status) over the ranks, in MiB; 0 where
+  !> the system does not report it.
+  real(wp) function largest_peak_memory_mb() result(largest)
+    character(len=256) :: line
+    real(wp) :: mine
+    integer :: unit, io, kib
+    mine = 0
+    open (newunit=unit, file='/proc/self/status', action='read', status='old', iostat=io)
+    if (io == 0) then
+      do
+        read (unit, '(a)', iostat=io) line
+        if (io /= 0) exit
+        if (line(1:6) == 'VmHWM:') then
+          read (line(7:), *, iostat=io) kib
+          if (io == 0) mine = kib / 1024.0_wp
+          exit
+        end if
+      end do
+      close (unit)
+    end if
+    call MPI_Allreduce(mine, largest, 1, MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD)
+  end function largest_peak_memory_mb
 
   function beside(path, name) result(other)
     character(len=*), intent(in) :: path, name

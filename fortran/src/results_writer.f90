@@ -29,6 +29,7 @@ module results_writer
     real(wp) :: phase_elements_s = 0, phase_contact_s = 0, phase_communication_s = 0
     real(wp) :: phase_output_s = 0, phase_other_s = 0
     real(wp) :: phase_contact_sort_s = 0, phase_contact_search_s = 0, phase_contact_force_s = 0
+    real(wp) :: peak_memory_mb = 0   !< the largest peak resident memory of any rank (MiB)
   end type run_record_t
 
   integer, parameter :: history_names_count = 6
@@ -208,6 +209,7 @@ contains
     call write_real_attribute(group, 'phase_contact_sort_s', run%phase_contact_sort_s)
     call write_real_attribute(group, 'phase_contact_search_s', run%phase_contact_search_s)
     call write_real_attribute(group, 'phase_contact_force_s', run%phase_contact_force_s)
+    call write_real_attribute(group, 'peak_memory_per_rank_mb', run%peak_memory_mb)
     call h5gclose_f(group, err)
     if (complete) call write_int_attribute(rf%file, 'complete', 1)
     call phdf5_close(rf%file, rf%transfer)
