@@ -19,7 +19,7 @@ module halo_exchange
     ! gathers to rank 0
     integer, allocatable :: owned_local(:)          !< local ids of the nodes this rank owns
     integer, allocatable :: node_counts(:), node_displs(:), gathered_node_ids(:)
-    integer, allocatable :: element_counts(:), element_displs(:)
+    integer, allocatable :: element_counts(:), element_displs(:), gathered_element_ids(:)
   end type halo_t
 
   !> A set of global nodes (for example every node of the parts in contact) whose positions and
@@ -152,6 +152,10 @@ contains
     call MPI_Gatherv(dom%nodes(halo%owned_local), n_owned, MPI_INTEGER, halo%gathered_node_ids, &
                      halo%node_counts, halo%node_displs, MPI_INTEGER, 0, comm)
     call displacements(halo%element_counts, halo%element_displs, total)
+    ! a rank's elements need not be contiguous (rcb): rank 0 places them by global id
+    allocate (halo%gathered_element_ids(max(total, 1)))
+    call MPI_Gatherv(dom%elements, dom%n_elements, MPI_INTEGER, halo%gathered_element_ids, &
+                     halo%element_counts, halo%element_displs, MPI_INTEGER, 0, comm)
   end subroutine halo_setup
 
   subroutine displacements(counts, displs, total)
@@ -217,16 +221,27 @@ contains
     end if
   end subroutine gather_nodes
 
-  !> Gather an element field (m, n_local_elements) to rank 0; blocks are contiguous and in rank
-  !> order, so the result is in global element order.
+  !> Gather an element field (m, n_local_elements) to rank 0 in global element order (m, n_global).
   subroutine gather_elements(halo, local, global)
     type(halo_t), intent(in) :: halo
     real(wp), intent(in) :: local(:, :)
     real(wp), intent(inout) :: global(:, :)
-    integer :: m
+    real(wp), allocatable :: received(:, :)
+    integer :: m, rank, j
     m = size(local, 1)
-    call MPI_Gatherv(local, size(local), MPI_DOUBLE_PRECISION, global, m * halo%element_counts, &
+    call MPI_Comm_rank(halo%comm, rank)
+    if (rank == 0) then
+      allocate (received(m, size(halo%gathered_element_ids)))
+    else
+      allocate (received(m, 1))
+    end if
+    call MPI_Gatherv(local, size(local), MPI_DOUBLE_PRECISION, received, m * halo%element_counts, &
                      m * halo%element_displs, MPI_DOUBLE_PRECISION, 0, halo%comm)
+    if (rank == 0) then
+      do j = 1, sum(halo%element_counts)
+        global(:, halo%gathered_element_ids(j)) = received(:, j)
+      end do
+    end if
   end subroutine gather_elements
 
   subroutine sum_to_root(halo, values)
