@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from paradyn import _kernels as K
-from paradyn import geometry
+from paradyn import deck, geometry
 
 F = np.asfortranarray
 
@@ -733,7 +733,7 @@ def _shared_nodes(connectivity: np.ndarray, owner: np.ndarray) -> int:
 
 
 def _engine_owner(method: str, coordinates: np.ndarray, connectivity: np.ndarray, n_ranks: int) -> np.ndarray:
-    return np.asarray(K.partition_elements({"blocks": 1, "rcb": 2}[method], F(coordinates.T),
+    return np.asarray(K.partition_elements(deck.PARTITIONS[method], F(coordinates.T),
                                            F(connectivity.T.astype(np.int32) + 1), n_ranks))
 
 
