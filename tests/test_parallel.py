@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import models as M
-from paradyn import _kernels, deck, launch, scene
+from paradyn import _kernels, benchmark, deck, launch, scene
 
 pytestmark = pytest.mark.mpi
 
@@ -105,7 +105,6 @@ def test_scaling_benchmark_reports_every_layout(tmp_path: Path, capsys: pytest.C
     """paradyn-scaling (issue 5): one row per layout with wall time, element-cycles/s, speed-up,
     efficiency and the phases, written as JSON; every layout gives the first one's displacements
     bitwise, and the command says so with its exit status."""
-    from paradyn import benchmark
     scene_path = Path(__file__).resolve().parents[1] / "cases" / "small_plate" / "scene.toml"
     status = benchmark.main([str(scene_path), "--layouts", "1x1,2x1,1x2", "-o", str(tmp_path)])
     assert status == 0
@@ -190,3 +189,28 @@ def test_partition_gives_the_one_rank_answer_bitwise(partitioned: dict, layout: 
         assert np.array_equal(data[key], reference[key]), key
     for key in ELEMENT_FIELDS:               # the fields vary, so a misplaced value shows
         assert np.unique(reference[key][-1]).size > 0.9 * reference[key].shape[1], key
+
+
+@pytest.mark.parametrize("method, shared", [("blocks", 9), ("rcb", 5)])
+def test_partition_stats_of_the_small_plate(method: str, shared: int) -> None:
+    """Reference: hand count on the small plate (8 x 4 elements numbered row by row, 9 x 5
+    nodes): on 2 ranks blocks cut along a row line (9 shared nodes), rcb across the long side
+    (5); one neighbour each."""
+    model = scene.build_model(scene.load_scene(ROOT / "cases" / "small_plate" / "scene.toml"))
+    model.control.partition = method
+    assert benchmark.partition_stats(model, 2) == (shared, 1)
+    assert benchmark.partition_stats(model, 1) == (0, 0)
+
+
+def test_scaling_benchmark_partition_option(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """paradyn-scaling --partition rcb writes the method into the deck it runs and the report,
+    with the shared nodes of each layout, and the answer stays the 1-rank one."""
+    scene_path = ROOT / "cases" / "small_plate" / "scene.toml"
+    status = benchmark.main([str(scene_path), "--layouts", "1x1,2x1", "--partition", "rcb", "-o", str(tmp_path)])
+    assert status == 0
+    report = json.loads((tmp_path / "scaling.json").read_text())
+    assert report["partition"] == "rcb"
+    assert [(r["ranks"], r["shared_nodes"], r["same_displacements"]) for r in report["layouts"]] == [
+        (1, 0, True), (2, 5, True)]
+    assert deck.read_deck(tmp_path / "deck.h5").control.partition == "rcb"
+    assert "partition rcb on 2 ranks: 5 shared nodes" in capsys.readouterr().out
