@@ -187,7 +187,7 @@ contains
             if (text(k + 1) == c_null_char) exit
             k = k + 1
           end do
-          value = repeat(" ", k)
+          value = repeat(' ', k)
           do k = 1, len(value)
             value(k:k) = text(k)
           end do
