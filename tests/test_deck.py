@@ -163,6 +163,31 @@ def test_validate_model_rejects_unused_nodes() -> None:
         deck.validate_model(model)
 
 
+@pytest.mark.parametrize("partition", [None, "blocks", "rcb"])
+def test_partition_round_trip(tmp_path: Path, partition: str | None) -> None:
+    """docs/formats.md /control partition: written as a string attribute when set, left out
+    (engine default) when None, and read back as written."""
+    model = _model()
+    model.control.partition = partition
+    path = deck.write_deck(model, tmp_path / "deck.h5")
+    with h5py.File(path, "r") as f:
+        assert f["/control"].attrs.get("partition") == partition
+    assert deck.read_deck(path).control.partition == partition
+
+
+def test_unknown_partition_is_rejected(tmp_path: Path) -> None:
+    """docs/formats.md: partition is "blocks" or "rcb"; anything else is refused before writing,
+    and on reading, with the allowed values in the message."""
+    model = _model()
+    model.control.partition = "metis"
+    with pytest.raises(deck.DeckError, match=r"partition = 'metis' is unknown; use 'blocks' or 'rcb'"):
+        deck.write_deck(model, tmp_path / "deck.h5")
+    assert list(tmp_path.iterdir()) == []
+    path = _broken(tmp_path, lambda f: f["/control"].attrs.__setitem__("partition", 3))
+    with pytest.raises(deck.DeckError, match=r"/control attribute partition = 3 must be one string"):
+        deck.read_deck(path)
+
+
 def test_real_dataset_stored_as_integer_is_rejected(tmp_path: Path) -> None:
     path = _broken(tmp_path, _replace("/materials/density", np.array([7860, 2700], dtype=np.int64)))
     with pytest.raises(deck.DeckError, match=r"/materials/density has dtype int64, must be floating point"):

@@ -79,6 +79,14 @@ def _fractional_version(f: h5py.File) -> None:
     f.attrs["paradyn_deck_version"] = np.float64(1.7)
 
 
+def _unknown_partition(f: h5py.File) -> None:
+    f["/control"].attrs["partition"] = "metis"
+
+
+def _numeric_partition(f: h5py.File) -> None:
+    f["/control"].attrs["partition"] = np.float64(2.0)
+
+
 # (case id, damage, the dataset or attribute both messages must name)
 CASES: list[tuple[str, Callable[[h5py.File], None], str]] = [
     ("missing_thickness", _missing_thickness, "/parts/thickness"),
@@ -88,6 +96,8 @@ CASES: list[tuple[str, Callable[[h5py.File], None], str]] = [
     ("connectivity_out_of_range", _connectivity_out_of_range, "/elements/connectivity"),
     ("wrong_version", _wrong_version, "paradyn_deck_version"),
     ("fractional_version", _fractional_version, "paradyn_deck_version"),
+    ("unknown_partition", _unknown_partition, "partition"),
+    ("numeric_partition", _numeric_partition, "partition"),
 ]
 
 
@@ -140,6 +150,45 @@ def test_frontend_rejects_a_damaged_deck(good_deck: Path, tmp_path: Path, case: 
     path = _damaged(good_deck, tmp_path, damage)
     with pytest.raises(deck.DeckError, match=re.escape(name)):
         deck.validate_deck(path)
+
+
+def test_unknown_partition_message_names_value_and_choices(good_deck: Path, tmp_path: Path) -> None:
+    """docs/formats.md (/control partition): an unknown method is refused with exit status 2,
+    naming the attribute, the value and the methods to use instead; no results file."""
+    path = _damaged(good_deck, tmp_path, _unknown_partition)
+    results = tmp_path / "results.h5"
+    done = _run_engine(path, results)
+    assert done.returncode == 2
+    error = done.stderr.strip()
+    for word in ("/control attribute partition", '"metis"', '"blocks"', '"rcb"', "leave it out"):
+        assert word in error, (word, error)
+    assert not results.exists()
+    with pytest.raises(deck.DeckError, match=r"partition = 'metis' is unknown; use 'blocks' or 'rcb'"):
+        deck.validate_deck(path)
+
+
+@pytest.mark.parametrize("value, method", [
+    pytest.param("blocks", "blocks", id="variable_length_utf8"),
+    pytest.param(np.bytes_(b"rcb"), "rcb", id="fixed_length_ascii"),
+    pytest.param(None, deck.DEFAULT_PARTITION, id="absent"),
+])
+def test_engine_reads_the_partition_attribute(good_deck: Path, tmp_path: Path, value: object,
+                                              method: str) -> None:
+    """docs/formats.md: partition is a string attribute, as h5py writes a str (variable length,
+    UTF-8) or as a fixed-length string; absent means the default. The engine reports the method
+    on its PARADYN-START line and the frontend reads the same value back."""
+    def edit(f: h5py.File) -> None:
+        if value is not None:
+            f["/control"].attrs["partition"] = value
+        elif "partition" in f["/control"].attrs:
+            del f["/control"].attrs["partition"]
+
+    path = _damaged(good_deck, tmp_path, edit)
+    done = _run_engine(path, tmp_path / "results.h5")
+    assert done.returncode == 0, done.stderr
+    start = launch.parse_line(next(line for line in done.stdout.splitlines() if line.startswith("PARADYN-START")))
+    assert start is not None and start[1]["partition"] == method
+    assert deck.read_deck(path).control.partition == (None if value is None else method)
 
 
 def test_paradyn_run_rejects_a_scene_with_a_typo(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

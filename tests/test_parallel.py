@@ -2,7 +2,9 @@
 
 The small plate deck runs on 1 rank x 1 thread (the reference), 2 and 4 ranks (launch adds
 --oversubscribe when there are fewer cores) and 1 rank x 2 threads. Every node sums its element
-corners in ascending global element order, so the field frames must be bitwise equal.
+corners in ascending global element order, so the field frames must be bitwise equal. A plastic
+contact deck does the same for each partition method (/control partition), element fields
+included.
 """
 
 from __future__ import annotations
@@ -15,7 +17,8 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import deck, launch, scene
+import models as M
+from paradyn import _kernels, benchmark, deck, launch, scene
 
 pytestmark = pytest.mark.mpi
 
@@ -107,7 +110,6 @@ def test_scaling_benchmark_reports_every_layout(tmp_path: Path, capsys: pytest.C
     """paradyn-scaling (issue 5): one row per layout with wall time, element-cycles/s, speed-up,
     efficiency and the phases, written as JSON; every layout gives the first one's displacements
     bitwise, and the command says so with its exit status."""
-    from paradyn import benchmark
     scene_path = Path(__file__).resolve().parents[1] / "cases" / "small_plate" / "scene.toml"
     status = benchmark.main([str(scene_path), "--layouts", "1x1,2x1,1x2", "-o", str(tmp_path)])
     assert status == 0
@@ -120,3 +122,100 @@ def test_scaling_benchmark_reports_every_layout(tmp_path: Path, capsys: pytest.C
         assert set(row["phase_s"]) == {"elements", "contact", "communication", "output", "other"}
     assert report["layouts"][0]["speed_up"] == 1.0
     assert "| 2 x 1 |" in capsys.readouterr().out
+
+
+# ----------------------------------------------------------------------------------------------
+# partition methods (docs/formats.md /control partition)
+
+
+ELEMENT_FIELDS = ("element_membrane_stress", "element_von_mises", "element_plastic_strain")
+PARTITION_LAYOUTS = [("rcb", 2), ("rcb", 4), ("blocks", 2)]
+
+
+def _plastic_impact() -> deck.Model:
+    """Two 6 x 6 steel plates 2 mm thick, 0.01 mm apart, the upper one offset by a quarter
+    element and thrown obliquely at (4, 2, -20) m/s at the lower one (friction 0.3), J2 with a
+    20 MPa yield stress so that the impact yields the elements unevenly: every element field of
+    the frames differs from element to element."""
+    plate, t, gap = 0.1, 0.002, 1.0e-5
+    z = 0.5 * (t + gap)
+    lower = M.flat_plate((plate, plate), (6, 6), origin=(-0.5 * plate, -0.5 * plate, -z))
+    upper = M.flat_plate((plate, plate), (6, 6), origin=(-0.5 * plate + plate / 24, -0.5 * plate, z))
+    control = deck.Control(end_time=20.0e-6, output_interval=4.0e-6)
+    model = M.contact_model([M.Body(lower, t), M.Body(upper, t, (4.0, 2.0, -20.0))],
+                            M.Material(young=200.0e9, poisson=0.3, density=7850.0), control,
+                            static_friction=0.3).model
+    model.material_model = np.array([deck.J2_PLASTICITY])
+    model.yield_stress, model.tangent_modulus, model.hardening_mixing = [20.0e6], [1.0e9], [1.0]
+    model.normalise()
+    return model
+
+
+@pytest.fixture(scope="module")
+def partitioned(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, int], dict]:
+    if shutil.which("mpirun") is None and shutil.which("mpiexec") is None:
+        pytest.skip("mpirun is not installed")
+    folder = tmp_path_factory.mktemp("partitions")
+    model = _plastic_impact()
+    out = {}
+    for method, ranks in [("blocks", 1), *PARTITION_LAYOUTS]:
+        model.control.partition = method
+        deck_path = deck.write_deck(model, folder / f"deck_{method}.h5")
+        results = folder / f"results_{method}_{ranks}.h5"
+        run = launch.run_engine(deck_path, results, ranks, 1, log_path=folder / f"engine_{method}_{ranks}.log")
+        with h5py.File(results, "r") as f:
+            data = {k: f["/frames"][k][()] for k in ("displacement", "velocity", *ELEMENT_FIELDS)}
+            data["contact_energy"] = f["/history/contact_energy"][()]
+        data["partition"] = run.start.get("partition")
+        data["owner"] = np.asarray(_kernels.partition_elements(
+            deck.PARTITIONS[method], np.asfortranarray(model.coordinates.T),
+            np.asfortranarray(model.connectivity.T.astype(np.int32) + 1), ranks))
+        out[(method, ranks)] = data
+    return out
+
+
+@pytest.mark.parametrize("layout", PARTITION_LAYOUTS, ids=lambda l: f"{l[0]}-{l[1]}ranks")
+def test_partition_gives_the_one_rank_answer_bitwise(partitioned: dict, layout: tuple[str, int]) -> None:
+    """docs/theory.md (parallel design): whatever rank owns an element, every node sums its
+    corners in ascending global element order, and rank 0 places every gathered element value
+    at its global id. A plastic oblique plate impact with friction on 2 and 4 ranks, partitioned
+    by recursive coordinate bisection (each rank owns elements of both plates, not one range of
+    ids) and by blocks, gives the 1-rank displacements, velocities, element stresses and plastic
+    strains and contact energy bitwise."""
+    reference, data = partitioned[("blocks", 1)], partitioned[layout]
+    method, ranks = layout
+    assert data["partition"] == method
+    owner = data["owner"]
+    assert np.array_equal(np.unique(owner), np.arange(ranks))
+    if method == "rcb":
+        assert np.any(np.diff(owner) < 0)   # not contiguous: the gather must place by id
+    for key in ("displacement", "velocity", *ELEMENT_FIELDS, "contact_energy"):
+        assert data[key].shape == reference[key].shape, key
+        assert np.array_equal(data[key], reference[key]), key
+    for key in ELEMENT_FIELDS:               # the fields vary, so a misplaced value shows
+        assert np.unique(reference[key][-1]).size > 0.9 * reference[key].shape[1], key
+
+
+@pytest.mark.parametrize("method, shared", [("blocks", 9), ("rcb", 5)])
+def test_partition_stats_of_the_small_plate(method: str, shared: int) -> None:
+    """Reference: hand count on the small plate (8 x 4 elements numbered row by row, 9 x 5
+    nodes): on 2 ranks blocks cut along a row line (9 shared nodes), rcb across the long side
+    (5); one neighbour each."""
+    model = scene.build_model(scene.load_scene(ROOT / "cases" / "small_plate" / "scene.toml"))
+    model.control.partition = method
+    assert benchmark.partition_stats(model, 2) == (shared, 1)
+    assert benchmark.partition_stats(model, 1) == (0, 0)
+
+
+def test_scaling_benchmark_partition_option(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """paradyn-scaling --partition rcb writes the method into the deck it runs and the report,
+    with the shared nodes of each layout, and the answer stays the 1-rank one."""
+    scene_path = ROOT / "cases" / "small_plate" / "scene.toml"
+    status = benchmark.main([str(scene_path), "--layouts", "1x1,2x1", "--partition", "rcb", "-o", str(tmp_path)])
+    assert status == 0
+    report = json.loads((tmp_path / "scaling.json").read_text())
+    assert report["partition"] == "rcb"
+    assert [(r["ranks"], r["shared_nodes"], r["same_displacements"]) for r in report["layouts"]] == [
+        (1, 0, True), (2, 5, True)]
+    assert deck.read_deck(tmp_path / "deck.h5").control.partition == "rcb"
+    assert "partition rcb on 2 ranks: 5 shared nodes" in capsys.readouterr().out

@@ -112,6 +112,19 @@ def test_minimal_scene_defaults(tmp_path: Path) -> None:
     assert scene.effects(model) == ["shell_elements", "time_integration"]
 
 
+@pytest.mark.parametrize("line, partition", [("", None), ('partition = "blocks"', "blocks"),
+                                             ('partition = "rcb"', "rcb")])
+def test_run_partition_reaches_the_deck(tmp_path: Path, line: str, partition: str | None) -> None:
+    """docs/scene.md [run] partition: written to the deck's /control partition; absent leaves
+    the attribute out (the engine's default). contact_sort_interval reaches the deck too."""
+    text = MINIMAL.replace("end_time = 1e-3", f"end_time = 1e-3\n{line}\ncontact_sort_interval = 7", 1)
+    model = scene.build_model(scene.load_scene(_write(tmp_path, text)))
+    assert model.control.partition == partition
+    assert model.control.contact_sort_interval == 7
+    back = deck.read_deck(deck.write_deck(model, tmp_path / "deck.h5"))
+    assert back.control.partition == partition and back.control.contact_sort_interval == 7
+
+
 def test_plasticity_and_damping_effects(tmp_path: Path) -> None:
     text = MINIMAL.replace('model = "elastic"', 'model = "j2_plasticity"\nyield_stress = 250e6')
     text = text.replace("output_interval = 1e-4", "output_interval = 1e-4\nmass_damping = 10.0")
@@ -154,6 +167,11 @@ def test_file_geometry_relative_to_scene(tmp_path: Path) -> None:
         ("poisson_ratio = 0.3", "poisson_ratio = 0.3\nyield_stress = 1e6", r"only applies to model"),
         ("elements = [4, 2]", "elements = [4.0, 2]", r"'elements' .* two positive integers"),
         ("[[part]]", "[part]", r"write \[\[part\]\] instead of \[part\]"),
+        ("end_time = 1e-3", 'end_time = 1e-3\npartition = "metis"',
+         r"'partition' = 'metis' in \[run\] is not one of: blocks, rcb"),
+        ("end_time = 1e-3", "end_time = 1e-3\npartition = 2", r"'partition' in \[run\] must be a non-empty string"),
+        ("end_time = 1e-3", "end_time = 1e-3\ncontact_sort_interval = -1",
+         r"'contact_sort_interval' in \[run\] must be >= 0"),
     ],
 )
 def test_scene_errors(tmp_path: Path, old: str, new: str, pattern: str) -> None:

@@ -79,6 +79,111 @@ subroutine block_partition(n_elements, n_ranks, owner)
   end do
 end subroutine block_partition
 
+! Recursive coordinate bisection of element centroids (3, n_elements); owner is 0-based.
+subroutine rcb_partition(n_elements, centroids, n_ranks, owner)
+  use paradyn_kinds, only: wp
+  use domain_decomposition, only: rcb_partition_kernel => rcb_partition
+  implicit none
+  integer, intent(in) :: n_elements, n_ranks
+  real(wp), intent(in) :: centroids(3, n_elements)
+  integer, intent(out) :: owner(n_elements)
+  !f2py integer intent(in), required :: n_elements
+  call rcb_partition_kernel(n_elements, centroids, n_ranks, owner)
+end subroutine rcb_partition
+
+! Owners as the engine computes them for a deck: method 1 blocks, 2 rcb (centroids of the elements).
+! connectivity: 1-based node ids.
+subroutine partition_elements(method, n_nodes, n_elements, coordinates, connectivity, n_ranks, owner)
+  use paradyn_kinds, only: wp
+  use domain_decomposition, only: partition_kernel => partition_elements
+  implicit none
+  integer, intent(in) :: method, n_nodes, n_elements, n_ranks
+  real(wp), intent(in) :: coordinates(3, n_nodes)
+  integer, intent(in) :: connectivity(4, n_elements)
+  integer, intent(out) :: owner(n_elements)
+  call partition_kernel(method, coordinates, connectivity, n_ranks, owner)
+end subroutine partition_elements
+
+! Every rank's domain from decompose for one owner array, and the corner exchange and fixed-order
+! nodal sum of the engine played out between them without MPI: rank q sends corner(:, send_slot)
+! of neighbour k to that neighbour, which stores it at its recv_slot for q.
+! values(:, c, e): the value of corner c of global element e (1-based connectivity, 0-based owner).
+! Returns, per global element, how many ranks hold it as a local element and which one; per global
+! node, how many ranks hold it and how many claim to own it; each rank's neighbour count and send
+! size; node_sum(:, n, r + 1), the nodal sum of rank r (0 where r does not hold node n); status 0,
+! or 1 if a send list and the matching receive list differ in length or a neighbour is one-sided.
+subroutine decomposition_check(n_nodes, n_elements, connectivity, element_part, owner, n_ranks, width, values, &
+                               element_holders, element_rank, node_holders, node_owners, n_neighbours, &
+                               n_sent, node_sum, status)
+  use paradyn_kinds, only: wp
+  use domain_decomposition, only: domain_t, decompose
+  use nodal_assembly, only: assemble_nodes
+  implicit none
+  integer, intent(in) :: n_nodes, n_elements, n_ranks, width
+  integer, intent(in) :: connectivity(4, n_elements), element_part(n_elements), owner(n_elements)
+  real(wp), intent(in) :: values(width, 4, n_elements)
+  integer, intent(out) :: element_holders(n_elements), element_rank(n_elements)
+  integer, intent(out) :: node_holders(n_nodes), node_owners(n_nodes), n_neighbours(n_ranks), n_sent(n_ranks)
+  real(wp), intent(out) :: node_sum(width, n_nodes, n_ranks)
+  integer, intent(out) :: status
+  type(domain_t), allocatable :: dom(:)
+  real(wp), allocatable :: corner(:, :), nodal(:, :)
+  integer, allocatable :: at(:)   ! each rank's corner array is corner(:, at(r) + 1 : at(r + 1))
+  integer :: r, q, k, kq, le, first, last, first_q
+
+  status = 0
+  element_holders = 0
+  element_rank = -1
+  node_holders = 0
+  node_owners = 0
+  node_sum = 0.0_wp
+  allocate (dom(0:n_ranks - 1), at(0:n_ranks))
+  at(0) = 0
+  do r = 0, n_ranks - 1
+    call decompose(n_nodes, n_elements, connectivity, element_part, owner, n_ranks, r, dom(r))
+    n_neighbours(r + 1) = dom(r)%n_neighbours
+    n_sent(r + 1) = size(dom(r)%send_slot)
+    element_holders(dom(r)%elements) = element_holders(dom(r)%elements) + 1
+    element_rank(dom(r)%elements) = r
+    node_holders(dom(r)%nodes) = node_holders(dom(r)%nodes) + 1
+    node_owners(dom(r)%nodes) = node_owners(dom(r)%nodes) + dom(r)%node_owned
+    at(r + 1) = at(r) + 4 * dom(r)%n_elements + dom(r)%n_ghost_slots
+  end do
+  allocate (corner(width, at(n_ranks)), source=0.0_wp)
+  do r = 0, n_ranks - 1
+    do le = 1, dom(r)%n_elements
+      corner(:, at(r) + 4 * le - 3:at(r) + 4 * le) = values(:, :, dom(r)%elements(le))
+    end do
+  end do
+  ! the exchange: what q sends to r lands in r's receive slots for q
+  do r = 0, n_ranks - 1
+    do k = 1, dom(r)%n_neighbours
+      q = dom(r)%neighbour(k)
+      kq = findloc(dom(q)%neighbour, r, dim=1)
+      first = dom(r)%recv_start(k)
+      last = dom(r)%recv_start(k + 1) - 1
+      if (kq == 0) then
+        status = 1
+        return
+      end if
+      first_q = dom(q)%send_start(kq)
+      if (dom(q)%send_start(kq + 1) - first_q /= last - first + 1) then
+        status = 1
+        return
+      end if
+      corner(:, at(r) + dom(r)%recv_slot(first:last)) = &
+        corner(:, at(q) + dom(q)%send_slot(first_q:first_q + last - first))
+    end do
+  end do
+  do r = 0, n_ranks - 1
+    allocate (nodal(width, dom(r)%n_nodes))
+    call assemble_nodes(dom(r)%n_nodes, dom(r)%assembly_start, dom(r)%assembly_slot, &
+                        corner(:, at(r) + 1:at(r + 1)), nodal)
+    node_sum(:, dom(r)%nodes, r + 1) = nodal
+    deallocate (nodal)
+  end do
+end subroutine decomposition_check
+
 ! ------------------------------------------------------------------------------------------------
 ! Contact kernels (contact_buckets, contact_search). Node and segment numbers are 1-based.
 

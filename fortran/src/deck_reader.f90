@@ -1,9 +1,11 @@
 !> Reads a deck (docs/formats.md, version 1) from HDF5 and checks it as strictly as the frontend:
 !> presence, type class and shape of every dataset here, values in model_deck.
 module deck_reader
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_char, c_null_char, c_loc, c_f_pointer, &
+                                          c_associated
   use hdf5
   use paradyn_kinds, only: wp
-  use model_deck, only: deck_t, check_deck_values
+  use model_deck, only: deck_t, check_deck_values, partition_code
   implicit none
   private
   public :: read_deck
@@ -117,6 +119,8 @@ contains
 
     subroutine read_control()
       real(wp) :: interval
+      character(len=:), allocatable :: name
+      logical :: have
       if (.not. link_exists(file, '/control')) then
         message = 'group /control is missing; it carries the attributes end_time and output_interval'
         return
@@ -137,7 +141,74 @@ contains
       if (status_ok()) d%contact_sort_interval = nint(interval)
       if (status_ok()) call read_real_attribute(file, '/control', 'checkpoint_interval', d%checkpoint_interval, &
                                                 0.0_wp, .false.)
+      if (status_ok()) call read_string_attribute('/control', 'partition', name, have)
+      if (status_ok() .and. have) then
+        d%partition_name = name
+        d%partition = partition_code(name)
+      end if
     end subroutine read_control
+
+    !> One string attribute, fixed-length or variable-length (h5py's default for str).
+    subroutine read_string_attribute(object, name, value, have)
+      character(len=*), intent(in) :: object, name
+      character(len=:), allocatable, intent(out) :: value
+      logical, intent(out) :: have
+      integer(hid_t) :: attr, file_type, space
+      integer(hsize_t) :: points
+      integer(size_t) :: length
+      integer :: k
+      logical :: variable
+      type(c_ptr), target :: pointers(1)
+      type(c_ptr) :: buffer   ! HDF5's pointer interface takes a variable, not c_loc(...)
+      character(kind=c_char), pointer :: text(:)
+      character(len=:), allocatable, target :: fixed
+      value = ''
+      call h5aexists_by_name_f(file, object, name, have, err)
+      if (.not. have) return
+      call h5aopen_by_name_f(file, object, name, attr, err)
+      call h5aget_space_f(attr, space, err)
+      call h5sget_simple_extent_npoints_f(space, points, err)
+      if (attribute_class(attr) /= H5T_STRING_F .or. points /= 1) then
+        message = 'attribute '//name//' of '//object//' must be one string'
+        call h5sclose_f(space, err)
+        call h5aclose_f(attr, err)
+        return
+      end if
+      ! read in the file's own string type: HDF5 does not convert between UTF-8 (h5py) and ASCII
+      call h5aget_type_f(attr, file_type, err)
+      call h5tis_variable_str_f(file_type, variable, err)
+      if (variable) then
+        pointers(1) = c_null_ptr
+        buffer = c_loc(pointers)
+        call h5aread_f(attr, file_type, buffer, err)
+        if (err == 0 .and. c_associated(pointers(1))) then
+          ! a C string of unknown length: find its terminating null within a generous bound
+          call c_f_pointer(pointers(1), text, [4096])
+          k = 0
+          do while (k < size(text))
+            if (text(k + 1) == c_null_char) exit
+            k = k + 1
+          end do
+          value = repeat(' ', k)
+          do k = 1, len(value)
+            value(k:k) = text(k)
+          end do
+          call h5dvlen_reclaim_f(file_type, space, H5P_DEFAULT_F, buffer, err)
+        end if
+      else
+        call h5tget_size_f(file_type, length, err)
+        allocate (character(len=length) :: fixed)
+        buffer = c_loc(fixed)
+        call h5aread_f(attr, file_type, buffer, err)
+        k = index(fixed, c_null_char)
+        if (k > 0) fixed = fixed(1:k - 1)
+        value = trim(fixed)
+      end if
+      if (err /= 0) message = 'attribute '//name//' of '//object//' could not be read as a string'
+      call h5tclose_f(file_type, err)
+      call h5sclose_f(space, err)
+      call h5aclose_f(attr, err)
+    end subroutine read_string_attribute
 
     !> Opens a dataset after checking that it exists and has the expected class and shape.
     !> ncomp > 0: h5py shape (nrows, ncomp); ncomp = 0: shape (nrows,). nrows < 0: any length.

@@ -1,12 +1,18 @@
-!> Element-block domain decomposition (the paper's contiguous blocks by element number) and the
-!> bookkeeping every rank needs: its elements and nodes in local numbering, which neighbour ranks
-!> share nodes, which element corners go to and come from each of them, and the fixed-order
-!> assembly lists. Pure computation from the global mesh: no MPI here.
+!> Element domain decomposition and the bookkeeping every rank needs. Two ways to give elements
+!> to ranks: the paper's contiguous blocks by element number (block_owner) and recursive
+!> coordinate bisection of the element centroids (rcb_partition). For any owner array, decompose
+!> builds one rank's elements and nodes in local numbering, which neighbour ranks share nodes,
+!> which element corners go to and come from each of them, and the fixed-order assembly lists.
+!> Pure computation from the global mesh: no MPI here.
 module domain_decomposition
-  use paradyn_kinds, only: ip
+  use paradyn_kinds, only: wp, i8
   implicit none
   private
-  public :: domain_t, block_owner, decompose, group_size
+  public :: domain_t, block_owner, rcb_partition, element_centroids, partition_elements, decompose
+  public :: group_size, partition_blocks, partition_rcb
+
+  integer, parameter :: partition_blocks = 1  !< contiguous blocks by element number (the paper)
+  integer, parameter :: partition_rcb = 2     !< recursive coordinate bisection of element centroids
 
   integer, parameter :: group_size = 64   !< elements per kernel call (one part per group)
 
@@ -43,24 +49,149 @@ contains
     end do
   end function block_owner
 
+  !> Owner rank (0-based) of every element by the chosen method (partition_blocks or partition_rcb).
+  !> coordinates: (3, n_nodes); connectivity: (4, n_elements) global 1-based node ids.
+  pure subroutine partition_elements(method, coordinates, connectivity, n_ranks, owner)
+    integer, intent(in) :: method, n_ranks
+    real(wp), intent(in) :: coordinates(:, :)
+    integer, intent(in) :: connectivity(:, :)
+    integer, intent(out) :: owner(:)
+    real(wp), allocatable :: centroids(:, :)
+    integer :: e
+    if (method == partition_rcb) then
+      allocate (centroids(3, size(connectivity, 2)))
+      call element_centroids(coordinates, connectivity, centroids)
+      call rcb_partition(size(owner), centroids, n_ranks, owner)
+    else
+      do e = 1, size(owner)
+        owner(e) = block_owner(e, size(owner), n_ranks)
+      end do
+    end if
+  end subroutine partition_elements
+
+  !> Centroid of every element: the mean of its four corner positions.
+  pure subroutine element_centroids(coordinates, connectivity, centroids)
+    real(wp), intent(in) :: coordinates(:, :)
+    integer, intent(in) :: connectivity(:, :)
+    real(wp), intent(out) :: centroids(:, :)
+    integer :: e
+    do e = 1, size(connectivity, 2)
+      centroids(:, e) = 0.25_wp * (coordinates(:, connectivity(1, e)) + coordinates(:, connectivity(2, e)) &
+                                   + coordinates(:, connectivity(3, e)) + coordinates(:, connectivity(4, e)))
+    end do
+  end subroutine element_centroids
+
+  !> Recursive coordinate bisection: owner(e) in 0..n_ranks-1 for element centroids (3, n_elements).
+  !> Each set of elements for q ranks is cut across the longest side of its bounding box (the
+  !> lowest axis on a tie); the lower n q_low / q elements in (coordinate, element id) order go to
+  !> the first q_low = q / 2 ranks. Part sizes differ by at most one for any n_ranks, and the
+  !> strict (coordinate, id) order makes the answer the same on every rank and compiler.
+  !> Cost O(n log n log p); work arrays are allocated (they scale with the mesh).
+  pure subroutine rcb_partition(n_elements, centroids, n_ranks, owner)
+    integer, intent(in) :: n_elements, n_ranks
+    real(wp), intent(in) :: centroids(3, n_elements)
+    integer, intent(out) :: owner(n_elements)
+    integer, allocatable :: order(:), buffer(:)
+    integer :: e
+    allocate (order(n_elements), buffer(n_elements))
+    order = [(e, e = 1, n_elements)]
+    call bisect(centroids, 1, n_elements, 0, max(n_ranks, 1), order, buffer, owner)
+  end subroutine rcb_partition
+
+  !> Give the elements order(first:last) to ranks rank0 .. rank0 + q - 1 (one level of rcb_partition).
+  pure recursive subroutine bisect(centroids, first, last, rank0, q, order, buffer, owner)
+    real(wp), intent(in) :: centroids(:, :)
+    integer, intent(in) :: first, last, rank0, q
+    integer, intent(inout) :: order(:), buffer(:), owner(:)
+    integer :: axis, k, q_low, n_low
+    real(wp) :: extent(3)
+    if (q == 1 .or. last < first) then
+      owner(order(first:last)) = rank0
+      return
+    end if
+    do k = 1, 3
+      extent(k) = maxval(centroids(k, order(first:last))) - minval(centroids(k, order(first:last)))
+    end do
+    axis = 1
+    do k = 2, 3
+      if (extent(k) > extent(axis)) axis = k
+    end do
+    q_low = q / 2
+    n_low = int((int(last - first + 1, i8) * q_low) / q)
+    call sort_by_axis(order(first:last), buffer(first:last), centroids, axis)
+    call bisect(centroids, first, first + n_low - 1, rank0, q_low, order, buffer, owner)
+    call bisect(centroids, first + n_low, last, rank0 + q_low, q - q_low, order, buffer, owner)
+  end subroutine bisect
+
+  !> Bottom-up merge sort of element ids by (centroid along axis, id), a strict total order, so
+  !> the result does not depend on the algorithm. work: scratch of the same size.
+  pure subroutine sort_by_axis(ids, work, centroids, axis)
+    integer, intent(inout) :: ids(:), work(:)
+    real(wp), intent(in) :: centroids(:, :)
+    integer, intent(in) :: axis
+    integer :: n, width, lo
+    logical :: in_ids
+    n = size(ids)
+    width = 1
+    in_ids = .true.
+    do while (width < n)
+      do lo = 1, n, 2 * width
+        if (in_ids) then
+          call merge_runs(ids, work, lo, min(lo + width - 1, n), min(lo + 2 * width - 1, n), centroids, axis)
+        else
+          call merge_runs(work, ids, lo, min(lo + width - 1, n), min(lo + 2 * width - 1, n), centroids, axis)
+        end if
+      end do
+      in_ids = .not. in_ids
+      width = 2 * width
+    end do
+    if (.not. in_ids) ids = work
+  end subroutine sort_by_axis
+
+  !> Merge the sorted runs src(lo:mid) and src(mid+1:hi) into dst(lo:hi).
+  pure subroutine merge_runs(src, dst, lo, mid, hi, centroids, axis)
+    integer, intent(in) :: src(:), lo, mid, hi, axis
+    integer, intent(inout) :: dst(:)
+    real(wp), intent(in) :: centroids(:, :)
+    integer :: i, j, k
+    logical :: left
+    i = lo
+    j = mid + 1
+    do k = lo, hi
+      if (i > mid) then
+        left = .false.
+      else if (j > hi) then
+        left = .true.
+      else
+        left = centroids(axis, src(i)) < centroids(axis, src(j)) .or. &
+               (centroids(axis, src(i)) == centroids(axis, src(j)) .and. src(i) < src(j))
+      end if
+      if (left) then
+        dst(k) = src(i)
+        i = i + 1
+      else
+        dst(k) = src(j)
+        j = j + 1
+      end if
+    end do
+  end subroutine merge_runs
+
   !> Build the domain of one rank. connectivity: (4, n_elements) global 1-based node ids;
-  !> element_part: part of each element (groups never mix parts).
-  pure subroutine decompose(n_nodes, n_elements, connectivity, element_part, n_ranks, rank, dom)
+  !> element_part: part of each element (groups never mix parts); owner: rank of each element in
+  !> 0..n_ranks-1, from any method (every rank must pass the same array).
+  pure subroutine decompose(n_nodes, n_elements, connectivity, element_part, owner, n_ranks, rank, dom)
     integer, intent(in) :: n_nodes, n_elements, n_ranks, rank
-    integer, intent(in) :: connectivity(4, n_elements), element_part(n_elements)
+    integer, intent(in) :: connectivity(4, n_elements), element_part(n_elements), owner(n_elements)
     type(domain_t), intent(out) :: dom
     ! allocatable rather than automatic: these scale with the global mesh and must not live on the stack
-    integer, allocatable :: owner(:), inc_start(:), inc_corner(:), rank_start(:)
+    integer, allocatable :: inc_start(:), inc_corner(:), rank_start(:)
     integer, allocatable :: global_to_local(:), ghost_of(:), node_ranks(:), fill(:)
     integer :: e, c, n, s, r, k, le, count, total
 
-    allocate (owner(n_elements), inc_start(n_nodes + 1), inc_corner(4 * n_elements))
+    allocate (inc_start(n_nodes + 1), inc_corner(4 * n_elements))
     allocate (rank_start(n_nodes + 1), global_to_local(n_nodes), ghost_of(4 * n_elements))
     dom%rank = rank
     dom%n_ranks = n_ranks
-    do e = 1, n_elements
-      owner(e) = block_owner(e, n_elements, n_ranks)
-    end do
 
     ! incident corners of every node, ascending by element (corner id = 4 (e - 1) + c)
     inc_start = 0
@@ -151,7 +282,8 @@ contains
         end do
       end do
       dom%send_start(k + 1) = size(dom%send_slot) + 1
-      ! receive lists: r's corners on nodes we hold, in the same global order r sends them
+      ! receive lists: r's corners on nodes we hold, in the order r sends them (r's local
+      ! elements are its owned elements in ascending global id, whatever the owner array)
       do e = 1, n_elements
         if (owner(e) /= r) cycle
         do c = 1, 4

@@ -13,7 +13,7 @@ module explicit_solver
   use shell_blt, only: shell_properties_t, blt_internal_forces, blt_lumped_mass, &
                        blt_stable_time_step, blt_element_results, stress_components, &
                        hourglass_components, material_j2_plastic
-  use domain_decomposition, only: domain_t, decompose, group_size
+  use domain_decomposition, only: domain_t, decompose, partition_elements, group_size
   use halo_exchange, only: halo_t, halo_setup, exchange_corners, sum_to_root, node_set_t, node_set_setup, allgather_node_set, &
                            record_share_t, record_share_setup, share_contact_records
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_pass_active, &
@@ -82,6 +82,7 @@ contains
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
     integer :: g, p, n, nip, first, nl, ne, l, j
+    integer, allocatable :: owner(:)
     real(wp), allocatable :: dt_element(:), node_mass(:), node_inertia(:), xg(:, :, :)
     real(wp) :: dt_local
 
@@ -90,7 +91,10 @@ contains
     call MPI_Comm_rank(comm, s%rank)
     call MPI_Comm_size(comm, s%n_ranks)
     s%threads = omp_get_max_threads()
-    call decompose(deck%n_nodes, deck%n_elements, deck%connectivity, deck%element_part, &
+    ! every rank computes the same owner array from the global deck
+    allocate (owner(deck%n_elements))
+    call partition_elements(deck%partition, deck%coordinates, deck%connectivity, s%n_ranks, owner)
+    call decompose(deck%n_nodes, deck%n_elements, deck%connectivity, deck%element_part, owner, &
                    s%n_ranks, s%rank, s%dom)
     call halo_setup(s%dom, comm, s%halo)
     nl = s%dom%n_nodes

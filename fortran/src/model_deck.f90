@@ -5,9 +5,13 @@ module model_deck
   use paradyn_kinds, only: wp
   use shell_blt, only: shell_properties_t, material_elastic, material_j2_plastic, &
                        max_integration_points, hourglass_viscous, hourglass_stiffness
+  use domain_decomposition, only: partition_blocks, partition_rcb
   implicit none
   private
-  public :: deck_t, part_properties, check_deck_values
+  public :: deck_t, part_properties, check_deck_values, partition_code, partition_label, partition_default
+
+  !> The method when /control has no partition attribute (measured: docs/performance.md).
+  integer, parameter :: partition_default = partition_blocks
 
   type :: deck_t
     integer :: n_nodes = 0, n_elements = 0, n_parts = 0, n_materials = 0
@@ -35,9 +39,38 @@ module model_deck
     real(wp) :: progress_interval = 0.5_wp
     integer :: contact_sort_interval = 0              !< cycles between bucket sorts, 0 = automatic
     real(wp) :: checkpoint_interval = 0.0_wp          !< simulated seconds between checkpoints, 0 = none
+    integer :: partition = partition_default          !< partition_blocks or partition_rcb; 0 = unknown name
+    character(len=:), allocatable :: partition_name   !< /control partition as written, for messages
   end type deck_t
 
 contains
+
+  !> Method code of a /control partition name: partition_blocks, partition_rcb, or 0 if unknown.
+  pure integer function partition_code(name) result(code)
+    character(len=*), intent(in) :: name
+    select case (name)
+    case ('blocks')
+      code = partition_blocks
+    case ('rcb')
+      code = partition_rcb
+    case default
+      code = 0
+    end select
+  end function partition_code
+
+  !> The /control name of a partition method code.
+  pure function partition_label(code) result(name)
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    select case (code)
+    case (partition_blocks)
+      name = 'blocks'
+    case (partition_rcb)
+      name = 'rcb'
+    case default
+      name = 'unknown'
+    end select
+  end function partition_label
 
   pure function part_properties(deck, part) result(props)
     type(deck_t), intent(in) :: deck
@@ -197,6 +230,11 @@ contains
         return
       end if
     end do
+    if (d%partition /= partition_blocks .and. d%partition /= partition_rcb) then
+      message = '/control attribute partition = "'//partition_shown(d)//'" is unknown; use "blocks" '// &
+        '(contiguous element blocks) or "rcb" (recursive coordinate bisection), or leave it out for the default'
+      return
+    end if
     if (d%contact_sort_interval < 0) then
       message = '/control attribute contact_sort_interval must be >= 0 (0 = automatic)'
       return
@@ -234,6 +272,13 @@ contains
     status = 0
     message = ''
   end subroutine check_deck_values
+
+  pure function partition_shown(d) result(name)
+    type(deck_t), intent(in) :: d
+    character(len=:), allocatable :: name
+    name = ''
+    if (allocated(d%partition_name)) name = d%partition_name
+  end function partition_shown
 
   elemental logical function finite(x)
     real(wp), intent(in) :: x

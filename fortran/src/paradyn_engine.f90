@@ -1,6 +1,6 @@
 !> paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]]
 !>
-!> Runs one deck under MPI (element blocks across ranks) and OpenMP (groups across threads) and
+!> Runs one deck under MPI (element partitions across ranks) and OpenMP (groups across threads) and
 !> writes the results file, with a checkpoint beside it every /control checkpoint_interval and
 !> when stopped by SIGTERM, SIGINT or SIGUSR1. --restart continues a run from its checkpoint.
 !> Exit status: 0 done, 2 bad input, 3 numerical failure, 4 stopped by a signal (checkpoint
@@ -9,7 +9,7 @@ program paradyn_engine
   use mpi_f08
   use hdf5, only: h5open_f, h5close_f
   use paradyn_kinds, only: wp
-  use model_deck, only: deck_t
+  use model_deck, only: deck_t, partition_label
   use deck_reader, only: read_deck
   use explicit_solver, only: solver_t, solver_setup, solver_run, solver_effects
   use results_writer, only: results_file_t, results_create, results_reopen, results_finish, run_record_t
@@ -92,7 +92,7 @@ program paradyn_engine
     write (*, '(a,i0,a,i0,a,i0,a,i0,a,es11.4,a,es11.4,a,es11.4,a)') 'PARADYN-START elements=', &
       deck%n_elements, ' nodes=', deck%n_nodes, ' ranks=', n_ranks, ' threads=', solver%threads, &
       ' dt=', solver%dt, ' dt_stable=', solver%dt_stable, ' end_time=', deck%end_time, &
-      ' effects='//solver_effects(deck)
+      ' effects='//solver_effects(deck)//' partition='//partition_label(deck%partition)
     if (restart) write (*, '(a,es13.6,a,i0)') 'PARADYN-RESTART time=', solver%time, ' cycle=', solver%cycles
     flush (6)
   end if

@@ -3,7 +3,8 @@
 For every layout the engine runs the same deck; the report gives wall time, element-cycles per
 second, speed-up and parallel efficiency against the first layout, and the time per phase. It is
 printed as a markdown table and written as JSON. The displacements of every layout are compared
-with the first one (bitwise), so a speed-up never hides a different answer.
+with the first one (bitwise), so a speed-up never hides a different answer. ``--partition`` picks
+how elements are given to ranks; the report counts the shared nodes and neighbours it makes.
 """
 
 from __future__ import annotations
@@ -32,6 +33,32 @@ class LayoutResult:
     efficiency: float
     phase_s: dict[str, float]
     same_displacements: bool
+    shared_nodes: int = 0       # nodes held by more than one rank
+    max_neighbours: int = 0     # most ranks any one rank exchanges corner forces with
+
+
+def partition_stats(model: deck.Model, ranks: int) -> tuple[int, int]:
+    """(shared nodes, largest neighbour count) of the engine's partition of ``model`` on ``ranks``.
+
+    The owners come from the engine's own routine (``paradyn._kernels.partition_elements``)."""
+    from . import _kernels
+    method = deck.PARTITIONS[model.control.partition or deck.DEFAULT_PARTITION]
+    owner = _kernels.partition_elements(
+        method, np.asfortranarray(np.asarray(model.coordinates, dtype=np.float64).T),
+        np.asfortranarray(np.asarray(model.connectivity, dtype=np.int32).T + 1), ranks)
+    node = np.asarray(model.connectivity, dtype=np.int64).ravel()
+    holder = np.repeat(np.asarray(owner, dtype=np.int64), 4)
+    pairs = np.unique(node * ranks + holder)   # distinct (node, rank), sorted by node
+    node_of, rank_of = pairs // ranks, pairs % ranks
+    holders = np.bincount(node_of, minlength=model.n_nodes)
+    start = np.concatenate(([0], np.cumsum(holders)))
+    shared = holders > 1
+    neighbours = np.zeros((ranks, ranks), dtype=bool)
+    for n in np.flatnonzero(shared):
+        r = rank_of[start[n]:start[n + 1]]
+        neighbours[np.ix_(r, r)] = True
+    np.fill_diagonal(neighbours, False)
+    return int(shared.sum()), int(neighbours.sum(axis=1).max(initial=0))
 
 
 def parse_layouts(text: str) -> list[tuple[int, int]]:
@@ -62,11 +89,12 @@ def median_run(deck_path: Path, out_dir: Path, ranks: int, threads: int, repeat:
 
 
 def run_layouts(deck_path: Path, out_dir: Path, layouts: list[tuple[int, int]],
-                repeat: int = 1) -> list[LayoutResult]:
+                repeat: int = 1, model: deck.Model | None = None) -> list[LayoutResult]:
     results: list[LayoutResult] = []
     reference = None
     for ranks, threads in layouts:
         run, displacement = median_run(deck_path, out_dir, ranks, threads, repeat)
+        shared, neighbours = partition_stats(model, ranks) if model is not None else (0, 0)
         if reference is None:
             reference = (float(run["wall_s"]), displacement)
         wall = float(run["wall_s"])
@@ -77,6 +105,7 @@ def run_layouts(deck_path: Path, out_dir: Path, layouts: list[tuple[int, int]],
             efficiency=speed_up * layouts[0][0] * layouts[0][1] / (ranks * threads),
             phase_s={p: float(run[f"phase_{p}_s"]) for p in PHASES},
             same_displacements=bool(np.array_equal(displacement, reference[1])),
+            shared_nodes=shared, max_neighbours=neighbours,
         ))
     return results
 
@@ -104,6 +133,10 @@ def main(argv: list[str] | None = None) -> int:
                         help="comma-separated RANKSxTHREADS; the first is the baseline (default 1x1,1x2,2x1)")
     parser.add_argument("--repeat", type=int, default=1,
                         help="runs per layout; the median wall time is reported (default 1)")
+    parser.add_argument("--partition", choices=tuple(deck.PARTITIONS), default=None,
+                        help="how elements are given to ranks: contiguous 'blocks' by element number or "
+                             "'rcb' (recursive coordinate bisection); default: the scene's [run] partition, "
+                             f"else {deck.DEFAULT_PARTITION}")
     parser.add_argument("-o", "--output", type=Path, default=None,
                         help="output folder (default runs/scaling_<name of the scene's folder>)")
     args = parser.parse_args(argv)
@@ -114,20 +147,27 @@ def main(argv: list[str] | None = None) -> int:
     try:
         model = (deck.read_deck(args.scene) if args.scene.suffix in (".h5", ".hdf5")
                  else scene.build_model(scene.load_scene(args.scene)))
+        if args.partition is not None:
+            model.control.partition = args.partition
         deck_path = deck.write_deck(model, out_dir / "deck.h5")
     except (scene.SceneError, deck.DeckError) as error:
         print(f"paradyn-scaling: error: {error}", file=sys.stderr)
         return 2
     try:
-        results = run_layouts(deck_path, out_dir, layouts, max(1, args.repeat))
+        results = run_layouts(deck_path, out_dir, layouts, max(1, args.repeat), model)
     except launch.EngineError as error:
         print(f"paradyn-scaling: error: {error}", file=sys.stderr)
         return error.exit_code
+    partition = model.control.partition or deck.DEFAULT_PARTITION
     report = {"scene": str(args.scene.resolve()), "elements": model.n_elements, "nodes": model.n_nodes,
-              "repeat": max(1, args.repeat),
+              "repeat": max(1, args.repeat), "partition": partition,
               "layouts": [asdict(r) for r in results]}
     (out_dir / "scaling.json").write_text(json.dumps(report, indent=2) + "\n")
     print(markdown(results))
+    for ranks in sorted({r.ranks for r in results if r.ranks > 1}):
+        row = next(r for r in results if r.ranks == ranks)
+        print(f"paradyn-scaling: partition {partition} on {ranks} ranks: {row.shared_nodes} shared nodes, "
+              f"at most {row.max_neighbours} neighbours per rank")
     print(f"paradyn-scaling: wrote {out_dir / 'scaling.json'}")
     return 0 if all(r.same_displacements for r in results) else 1
 

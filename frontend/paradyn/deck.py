@@ -26,6 +26,9 @@ J2_PLASTICITY = 2
 HOURGLASS_VISCOUS = 1
 HOURGLASS_STIFFNESS = 2
 DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
+# /control partition: how elements are given to MPI ranks (docs/formats.md); codes as the engine's
+PARTITIONS = {"blocks": 1, "rcb": 2}
+DEFAULT_PARTITION = "blocks"   # what the engine uses when the attribute is absent (docs/performance.md)
 
 
 class DeckError(ValueError):
@@ -45,10 +48,12 @@ class Control:
     progress_interval: float = 0.5
     contact_sort_interval: float = 0.0
     checkpoint_interval: float = 0.0
+    partition: str | None = None   # "blocks" or "rcb"; None leaves it to the engine (DEFAULT_PARTITION)
 
     REQUIRED = ("end_time", "output_interval")
     OPTIONAL = ("history_interval", "time_step", "time_step_safety", "mass_damping", "progress_interval",
                 "contact_sort_interval", "checkpoint_interval")
+    STRINGS = ("partition",)
 
 
 def _empty_int() -> np.ndarray:
@@ -504,6 +509,10 @@ def _check_control(check: _Checker) -> None:
             check.fail(f"/control attribute {name} = {value!r} is not a number; give a real value")
         if not np.isfinite(number) or not ok(number):
             check.fail(f"/control attribute {name} = {_fmt(number)} {rule}; fix the [run] settings")
+    if control.partition is not None and control.partition not in PARTITIONS:
+        check.fail(f"/control attribute partition = {control.partition!r} is unknown; use "
+                   f"{' or '.join(repr(p) for p in PARTITIONS)}, or leave it out for the default "
+                   f"({DEFAULT_PARTITION!r})")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -553,6 +562,10 @@ def _write_contents(f: h5py.File, model: Model) -> None:
         value = getattr(model.control, name)
         if value is not None:
             control.attrs[name] = np.float64(value)
+    for name in Control.STRINGS:
+        value = getattr(model.control, name)
+        if value is not None:
+            control.attrs[name] = str(value)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -650,7 +663,7 @@ def _read_control(f: h5py.File, source: str) -> Control:
     if "/control" not in f:
         raise DeckError(f"{source}: group /control is missing; it carries end_time and output_interval")
     attrs = f["/control"].attrs
-    values: dict[str, float | None] = {}
+    values: dict[str, float | str | None] = {}
     for name in Control.REQUIRED + Control.OPTIONAL:
         if name not in attrs:
             if name in Control.REQUIRED:
@@ -661,6 +674,15 @@ def _read_control(f: h5py.File, source: str) -> Control:
             raise DeckError(f"{source}: /control attribute {name} = {raw!r} must be a real scalar; "
                             f"write it as a float64 attribute")
         values[name] = float(raw)
+    for name in Control.STRINGS:
+        if name not in attrs:
+            continue
+        raw = attrs[name]
+        if np.ndim(raw) != 0 or not isinstance(raw, (str, bytes)):
+            shown = raw.item() if isinstance(raw, np.generic) else raw
+            raise DeckError(f"{source}: /control attribute {name} = {shown!r} must be one string; "
+                            f"write it as a str attribute")
+        values[name] = _decode(raw)
     return Control(**values)  # type: ignore[arg-type]
 
 

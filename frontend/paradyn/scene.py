@@ -269,7 +269,7 @@ def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
 
 _TOP_KEYS = ("title", "run", "material", "part", "fix", "load", "track", "contact")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
-             "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval")
+             "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition")
 _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
                   "tangent_modulus", "hardening_mixing")
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
@@ -334,8 +334,10 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
         time_step_safety=r.number(t, "time_step_safety", label, default=0.9, positive=True),
         mass_damping=r.number(t, "mass_damping", label, default=0.0, minimum=0.0),
         progress_interval=r.number(t, "progress_interval", label, default=0.5, positive=True),
-        contact_sort_interval=r.number(t, "contact_sort_interval", label, default=0.0, minimum=0.0),
+        contact_sort_interval=r.integer(t, "contact_sort_interval", label, default=0, minimum=0),
         checkpoint_interval=r.number(t, "checkpoint_interval", label, default=0.0, minimum=0.0),
+        partition=(r.string(t, "partition", label, choices=tuple(deck.PARTITIONS)) if "partition" in t
+                   else None),
     )
     if run.time_step_safety > 1.0:
         raise r.error(f"'time_step_safety' in {label} must be in (0, 1], got {run.time_step_safety}")
