@@ -120,6 +120,7 @@ def test_scaling_benchmark_reports_every_layout(tmp_path: Path, capsys: pytest.C
         assert row["wall_s"] > 0 and row["element_cycles_per_s"] > 0
         assert row["efficiency"] == pytest.approx(row["speed_up"] / (row["ranks"] * row["threads"]))
         assert set(row["phase_s"]) == {"elements", "contact", "communication", "output", "other"}
+        assert row["peak_memory_mb"] > 0
     assert report["layouts"][0]["speed_up"] == 1.0
     assert "| 2 x 1 |" in capsys.readouterr().out
 

@@ -35,6 +35,7 @@ class LayoutResult:
     same_displacements: bool
     shared_nodes: int = 0       # nodes held by more than one rank
     max_neighbours: int = 0     # most ranks any one rank exchanges corner forces with
+    peak_memory_mb: float = 0.0  # largest peak resident memory of any rank (MiB)
 
 
 def partition_stats(model: deck.Model, ranks: int) -> tuple[int, int]:
@@ -106,19 +107,20 @@ def run_layouts(deck_path: Path, out_dir: Path, layouts: list[tuple[int, int]],
             phase_s={p: float(run[f"phase_{p}_s"]) for p in PHASES},
             same_displacements=bool(np.array_equal(displacement, reference[1])),
             shared_nodes=shared, max_neighbours=neighbours,
+            peak_memory_mb=float(run.get("peak_memory_per_rank_mb", 0.0)),
         ))
     return results
 
 
 def markdown(results: list[LayoutResult]) -> str:
     lines = ["| layout | wall (s) | element-cycles/s | speed-up | efficiency | "
-             + " | ".join(PHASES) + " | same answer |",
-             "|" + "---|" * (6 + len(PHASES))]
+             + " | ".join(PHASES) + " | peak MiB/rank | same answer |",
+             "|" + "---|" * (7 + len(PHASES))]
     for r in results:
         lines.append(f"| {r.ranks} x {r.threads} | {r.wall_s:.2f} | {r.element_cycles_per_s:.3e} | "
                      f"{r.speed_up:.2f} | {100 * r.efficiency:.0f} % | "
                      + " | ".join(f"{r.phase_s[p]:.2f}" for p in PHASES)
-                     + f" | {'yes' if r.same_displacements else 'NO'} |")
+                     + f" | {r.peak_memory_mb:.0f} | {'yes' if r.same_displacements else 'NO'} |")
     return "\n".join(lines)
 
 
