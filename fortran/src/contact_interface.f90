@@ -7,20 +7,31 @@
 !> facet's extended plane, which on a faceted cylinder would make contact start early).
 !>
 !> Each pair gives two passes, each body slave to the other's segments: both every step
-!> (passes = 2, the default) or one per step, alternating as in the paper (passes = 1). Every
-!> slave node writes its own record (its force and the forces on the 4 master nodes); the records
-!> are then summed in slave order, so the result does not depend on the number of threads. The
-!> contact nodes' positions are gathered on every rank (halo_exchange) and every rank computes
-!> the same contact forces, so it does not depend on the number of ranks either. No MPI here.
+!> (passes = 2, the default) or one per step, alternating as in the paper (passes = 1). A pass
+!> runs in the paper's two parallel stages (docs/theory.md, parallel contact):
+!>   1. global search (contact_global_search): the slaves are dealt node-wise cyclically to the
+!>      ranks and, inside a rank, to the threads; each slave near the master box gets its nearest
+!>      master node, and the pairs (slave, nearest master) found are this rank's candidates;
+!>   2. the caller shares the candidates between ranks; contact_candidates puts them in
+!>      ascending slave order and gives each rank one contiguous block of equal size (within
+!>      one), and contact_local_search finds the segment, the closest point and the penalty force
+!>      of each candidate of the block, threads sharing the block.
+!> Every candidate writes its own record (its force and the forces on the 4 master nodes); the
+!> records are then summed in candidate order, which is slave order, so the result does not
+!> depend on the number of threads. The contact nodes' positions are gathered on every rank
+!> (halo_exchange), the records are shared by value, and every rank sums all of them, so it does
+!> not depend on the number of ranks either. No MPI here.
 module contact_interface
-  use paradyn_kinds, only: wp, ip
+  use paradyn_kinds, only: wp, ip, i8
   use model_deck, only: deck_t
   use contact_buckets, only: bucket_grid_t, bucket_grid_build, nearest_master_node
-  use contact_search, only: node_segment_map, segment_candidates, shell_penalty_stiffness, penalty_force
+  use contact_search, only: node_segment_map, segment_candidates, shell_penalty_stiffness, penalty_force, &
+                            candidate_block, candidates_in_slave_order
   implicit none
   private
   public :: contact_t, contact_setup, contact_pass_t
-  public :: contact_begin, contact_pass_active, contact_search, contact_sum, contact_end
+  public :: contact_begin, contact_pass_active, contact_global_search, contact_candidates
+  public :: contact_local_search, contact_sum, contact_end
   public :: clock_seconds
 
   !> The wall clock the phases are timed with (the solver passes MPI_Wtime's wrapper).
@@ -39,6 +50,9 @@ module contact_interface
   !> contact cannot make the central-difference step unstable however stiff the penalty or light
   !> the node (docs/theory.md; LS-DYNA's soft-constraint stiffness has the same m / dt^2 form).
   real(wp), parameter :: stable_spring_fraction = 0.25_wp
+  !> The contact energy is summed in fixed chunks of this many contact nodes, in chunk order, so
+  !> the threads can share the sum and it stays the same for any number of threads.
+  integer, parameter :: energy_chunk = 256
 
   type :: contact_pass_t
     integer :: pair = 0
@@ -62,10 +76,18 @@ module contact_interface
     real(wp), allocatable :: x_at_sort(:, :)   !< positions at the last bucket sort
     type(contact_pass_t), allocatable :: passes(:)
     integer, allocatable :: pair_passes(:)     !< 1 or 2 per pass (from its pair)
-    ! per-slave records, reused every step
+    ! candidates of the pass being worked on: n_own found here, n_all shared by every rank (the
+    ! caller fills all_pairs), n_candidates in slave order; pairs are (slave index, master index)
+    integer, allocatable :: nearest(:)          !< workspace, one per slave
+    integer, allocatable :: own_pairs(:, :), all_pairs(:, :), candidates(:, :)  !< (2, n)
+    integer :: n_own = 0, n_all = 0, n_candidates = 0
+    integer :: first = 1, last = 0              !< this rank's block of the candidates
+    integer(i8) :: candidates_searched = 0      !< local searches done on this rank, all steps
+    ! per-candidate records, reused every step
     integer, allocatable :: record_nodes(:, :) !< (5, n) slave then the 4 master nodes, 0 = none
     real(wp), allocatable :: record_force(:, :, :)  !< (3, 5, n)
     real(wp), allocatable :: record_penetration(:)  !< (n)
+    real(wp), allocatable :: energy_part(:)    !< per energy_chunk of contact nodes
     integer :: rank = 0, n_ranks = 1               !< this rank's share of the slaves
     integer :: last_sort = -huge(1), sort_interval = 0
     real(wp) :: energy = 0.0_wp, max_penetration = 0.0_wp
@@ -104,6 +126,8 @@ contains
     end do
     allocate (c%record_nodes(5, n_max), source=0)
     allocate (c%record_force(3, 5, n_max), c%record_penetration(n_max), source=0.0_wp)
+    allocate (c%nearest(n_max), c%own_pairs(2, n_max), c%all_pairs(2, n_max), c%candidates(2, n_max), source=0)
+    allocate (c%energy_part((c%n_nodes + energy_chunk - 1) / energy_chunk), source=0.0_wp)
   end subroutine contact_setup
 
   subroutine pass_setup(deck, pair, slave_part, master_part, contact_id, n_contact, pass)
@@ -177,16 +201,15 @@ contains
     contact_pass_active = c%pair_passes(p) == 2 .or. modulo(cycle + p, 2) == 1
   end function contact_pass_active
 
-  !> Add the records of pass p (complete on this rank: the caller has shared them between
-  !> ranks) to the contact forces, in slave order so the sum is the same for any layout.
-  subroutine contact_sum(c, p, clock)
+  !> Add the records of the pass (complete on this rank: the caller has shared them between
+  !> ranks) to the contact forces, in candidate order (slave order), the same for any layout.
+  subroutine contact_sum(c, clock)
     type(contact_t), intent(inout) :: c
-    integer, intent(in) :: p
     procedure(clock_seconds) :: clock
     integer :: j, k
     real(wp) :: t0
     t0 = clock()
-    do j = 1, size(c%passes(p)%slaves)
+    do j = 1, c%n_candidates
       if (c%record_nodes(1, j) == 0) cycle
       c%max_penetration = max(c%max_penetration, c%record_penetration(j))
       do k = 1, 5
@@ -197,15 +220,28 @@ contains
   end subroutine contact_sum
 
   !> End a step: the contact energy advances by minus the work of the mean contact force over
-  !> the last step dt (the velocities are those of that step).
+  !> the last step dt (the velocities are those of that step). The threads sum fixed chunks of
+  !> nodes, each in node order, and the chunks are added in order: the same for any layout.
   subroutine contact_end(c, cycle, dt)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: cycle
     real(wp), intent(in) :: dt
-    integer :: j
+    integer :: i, j, m
+    real(wp) :: work
     if (cycle == 0) return
-    do j = 1, c%n_nodes   ! a loop, not an array expression: no temporary in the time loop
-      c%energy = c%energy - 0.5_wp * dt * dot_product(c%v(:, j), c%force_old(:, j) + c%force(:, j))
+    !$omp parallel do schedule(static) private(j, m, work)
+    do i = 1, size(c%energy_part)
+      work = 0.0_wp
+      do j = (i - 1) * energy_chunk + 1, min(i * energy_chunk, c%n_nodes)
+        do m = 1, 3   ! scalar loops: no temporary in the time loop
+          work = work + c%v(m, j) * (c%force_old(m, j) + c%force(m, j))
+        end do
+      end do
+      c%energy_part(i) = work
+    end do
+    !$omp end parallel do
+    do i = 1, size(c%energy_part)
+      c%energy = c%energy - 0.5_wp * dt * c%energy_part(i)
     end do
   end subroutine contact_end
 
@@ -222,9 +258,12 @@ contains
       sort_due = cycle - c%last_sort >= c%sort_interval
     else
       moved = 0.0_wp
+      ! a maximum is exact in any order, so the threads may share it
+      !$omp parallel do schedule(static) reduction(max:moved)
       do j = 1, c%n_nodes
         moved = max(moved, norm2(c%x(:, j) - c%x_at_sort(:, j)))
       end do
+      !$omp end parallel do
       smallest = huge(1.0_wp)
       do p = 1, size(c%passes)
         smallest = min(smallest, c%passes(p)%bucket_size)
@@ -233,35 +272,85 @@ contains
     end if
   end function sort_due
 
-  !> Global search (nearest master node), local search (segment and closest point) and penalty
-  !> force for this rank's share of the slaves of pass p: slaves are dealt cyclically to the
-  !> ranks, and OpenMP deals a rank's slaves cyclically, one at a time, to the threads (the
-  !> paper's node-wise cyclic decomposition, schedule(static, 1)). Every slave not searched here
-  !> gets an empty record.
-  subroutine contact_search(c, p, clock)
+  !> Stage 1 of pass p, the global search: this rank's share of the slaves, dealt node-wise
+  !> cyclically to the ranks (slave j to rank mod(j - 1, n_ranks)) and, one at a time, to the
+  !> threads (schedule(static, 1)), as in the paper. A slave near the master box gets its nearest
+  !> master node; the pairs (slave, nearest master) found are own_pairs(:, 1:n_own), ascending.
+  subroutine contact_global_search(c, p, clock)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
     procedure(clock_seconds) :: clock
-    integer :: j, node, segment
-    integer(ip) :: nearest
+    integer :: i, j, n_mine
+    real(wp) :: x(3), t0
+    t0 = clock()
+    associate (pass => c%passes(p))
+    n_mine = max(0, (size(pass%slaves) - c%rank + c%n_ranks - 1) / c%n_ranks)
+    !$omp parallel do schedule(static, 1) default(shared) private(i, j, x)
+    do i = 1, n_mine
+      j = c%rank + 1 + (i - 1) * c%n_ranks
+      x = c%x(:, pass%slaves(j))
+      c%nearest(i) = 0
+      if (near_box(x, pass)) c%nearest(i) = nearest_master_node(pass%grid, pass%x_sorted, x, &
+                                              max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
+    end do
+    !$omp end parallel do
+    c%n_own = 0
+    do i = 1, n_mine
+      if (c%nearest(i) == 0) cycle
+      c%n_own = c%n_own + 1
+      c%own_pairs(1, c%n_own) = c%rank + 1 + (i - 1) * c%n_ranks
+      c%own_pairs(2, c%n_own) = c%nearest(i)
+    end do
+    end associate
+    c%time_search = c%time_search + clock() - t0
+  end subroutine contact_global_search
+
+  !> The candidates of pass p in ascending slave order and this rank's block of them. With one
+  !> rank they are own_pairs; with more, the caller has gathered every rank's pairs in
+  !> all_pairs(:, 1:n_all) (halo_exchange's share_contact_candidates).
+  subroutine contact_candidates(c, p, clock)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: p
+    procedure(clock_seconds) :: clock
+    real(wp) :: t0
+    t0 = clock()
+    if (c%n_ranks == 1) then
+      c%n_candidates = c%n_own
+      c%candidates(:, 1:c%n_own) = c%own_pairs(:, 1:c%n_own)
+    else
+      call candidates_in_slave_order(int(size(c%passes(p)%slaves), ip), int(c%n_all, ip), c%all_pairs, &
+                                     c%nearest, c%n_candidates, c%candidates)
+    end if
+    call candidate_block(int(c%n_candidates, ip), int(c%n_ranks, ip), int(c%rank, ip), c%first, c%last)
+    c%candidates_searched = c%candidates_searched + max(0, c%last - c%first + 1)
+    c%time_search = c%time_search + clock() - t0
+  end subroutine contact_candidates
+
+  !> Stage 2 of pass p on this rank's block of the candidates: the master segment around the
+  !> nearest master node, the closest point on it and the penalty force. The candidates of the
+  !> block cost about the same, and schedule(static, 1) deals them cyclically to the threads
+  !> (measured against static and dynamic chunks: docs/performance.md). Every candidate outside
+  !> the block gets an empty record, to be filled by the sharing of records between ranks.
+  subroutine contact_local_search(c, p, clock)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: p
+    procedure(clock_seconds) :: clock
+    integer :: k, node, segment
     real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
     real(wp) :: penetration, t0, stiffness
     logical :: touching
     t0 = clock()
     associate (pass => c%passes(p))
+    c%record_nodes(1, 1:c%first - 1) = 0
+    c%record_nodes(1, c%last + 1:c%n_candidates) = 0
     !$omp parallel do schedule(static, 1) default(shared) &
-    !$omp private(j, node, nearest, segment, x, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
+    !$omp private(k, node, segment, x, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
     !$omp penetration, touching, stiffness)
-    do j = 1, size(pass%slaves)
-      c%record_nodes(:, j) = 0
-      if (modulo(j - 1, c%n_ranks) /= c%rank) cycle
-      node = pass%slaves(j)
+    do k = c%first, c%last
+      c%record_nodes(:, k) = 0
+      node = pass%slaves(c%candidates(1, k))
       x = c%x(:, node)
-      if (.not. near_box(x, pass)) cycle
-      nearest = nearest_master_node(pass%grid, pass%x_sorted, x, &
-                                    max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
-      if (nearest == 0) cycle
-      call segment_candidates(x, int(pass%masters(nearest), ip), int(c%n_nodes, ip), c%x, &
+      call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
                               int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
                               pass%segment_list, segment, xi, eta, xc, normal)
       if (segment == 0) cycle
@@ -274,16 +363,16 @@ contains
                          mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
                          v_slip=stick_speed, rounded_edges=.true.)
       if (.not. touching) cycle
-      c%record_penetration(j) = penetration
-      c%record_nodes(1, j) = node
-      c%record_nodes(2:5, j) = pass%segments(:, segment)
-      c%record_force(:, 1, j) = f_slave
-      c%record_force(:, 2:5, j) = f_master
+      c%record_penetration(k) = penetration
+      c%record_nodes(1, k) = node
+      c%record_nodes(2:5, k) = pass%segments(:, segment)
+      c%record_force(:, 1, k) = f_slave
+      c%record_force(:, 2:5, k) = f_master
     end do
     !$omp end parallel do
     end associate
-    c%time_search = c%time_search + clock() - t0
-  end subroutine contact_search
+    c%time_force = c%time_force + clock() - t0
+  end subroutine contact_local_search
 
   !> Cheap rejection: a slave farther than a bucket from the master nodes' sorted bounding box
   !> cannot touch (an idle pair costs one box test per slave).

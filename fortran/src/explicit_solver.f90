@@ -16,9 +16,11 @@ module explicit_solver
   use domain_decomposition, only: domain_t, decompose, group_size
   use halo_exchange, only: halo_t, halo_setup, exchange_corners, gather_nodes, gather_elements, &
                            sum_to_root, node_set_t, node_set_setup, allgather_node_set, &
-                           record_share_t, record_share_setup, share_contact_records
+                           record_share_t, record_share_setup, share_contact_records, &
+                           candidate_share_t, candidate_share_setup, share_contact_candidates
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_pass_active, &
-                               contact_search, contact_sum, contact_end
+                               contact_global_search, contact_candidates, contact_local_search, &
+                               contact_sum, contact_end
   use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes
   use time_integration, only: update_velocities, update_positions, point_load_forces, kinetic_energy
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
@@ -35,6 +37,7 @@ module explicit_solver
     type(contact_t) :: contact
     type(node_set_t) :: contact_nodes
     type(record_share_t) :: contact_share
+    type(candidate_share_t) :: candidate_share
     logical :: has_contact = .false.
     integer :: rank = 0, n_ranks = 1, threads = 1
     ! nodal state, local numbering
@@ -181,6 +184,7 @@ contains
       s%contact%rank = s%rank
       s%contact%n_ranks = s%n_ranks
       call record_share_setup(size(s%contact%record_nodes, 2), s%n_ranks, s%contact_share)
+      call candidate_share_setup(s%n_ranks, s%candidate_share)
     end if
     allocate (s%load_node(deck%n_loads))
     do l = 1, deck%n_loads
@@ -428,8 +432,10 @@ contains
       end if
     end subroutine forces_at_current_state
 
-    !> Contact forces at the current positions: each rank searches its cyclic share of the slaves,
-    !> the records are shared, and every rank sums all of them in slave order.
+    !> Contact forces at the current positions, per pass: each rank searches its cyclic share of
+    !> the slaves for candidates, the candidates are shared, each rank locally searches its equal
+    !> block of them, the records are shared, and every rank sums all of them in slave order.
+    !> One rank communicates nothing.
     subroutine contact_step(dt_strain)
       real(wp), intent(in) :: dt_strain
       integer :: p
@@ -437,15 +443,23 @@ contains
       call contact_begin(s%contact, s%cycles, wall_clock)
       do p = 1, size(s%contact%passes)
         if (.not. contact_pass_active(s%contact, p, s%cycles)) cycle
-        call contact_search(s%contact, p, wall_clock)
+        call contact_global_search(s%contact, p, wall_clock)
         if (s%n_ranks > 1) then
           t0 = MPI_Wtime()
-          call share_contact_records(s%halo, s%contact_share, size(s%contact%passes(p)%slaves), &
+          call share_contact_candidates(s%halo, s%candidate_share, s%contact%n_own, s%contact%own_pairs, &
+                                        s%contact%n_all, s%contact%all_pairs)
+          phase(3) = phase(3) + MPI_Wtime() - t0
+        end if
+        call contact_candidates(s%contact, p, wall_clock)
+        call contact_local_search(s%contact, p, wall_clock)
+        if (s%n_ranks > 1) then
+          t0 = MPI_Wtime()
+          call share_contact_records(s%halo, s%contact_share, s%contact%n_candidates, &
                                      s%contact%record_nodes, s%contact%record_force, &
                                      s%contact%record_penetration)
           phase(3) = phase(3) + MPI_Wtime() - t0
         end if
-        call contact_sum(s%contact, p, wall_clock)
+        call contact_sum(s%contact, wall_clock)
       end do
       call contact_end(s%contact, s%cycles, dt_strain)
     end subroutine contact_step

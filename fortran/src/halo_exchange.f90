@@ -10,6 +10,7 @@ module halo_exchange
   public :: halo_t, halo_setup, exchange_corners, gather_nodes, gather_elements, sum_to_root
   public :: node_set_t, node_set_setup, allgather_node_set
   public :: record_share_t, record_share_setup, share_contact_records
+  public :: candidate_share_t, candidate_share_setup, share_contact_candidates
 
   type :: halo_t
     type(MPI_Comm) :: comm
@@ -38,6 +39,11 @@ module halo_exchange
     integer, allocatable :: counts(:), displs(:)
   end type record_share_t
 
+  !> Counts to share the contact candidates (slave, nearest master) each rank found.
+  type :: candidate_share_t
+    integer, allocatable :: counts(:), displs(:)
+  end type candidate_share_t
+
   integer, parameter :: record_width = 22   !< slave index, 5 nodes, 15 forces, penetration
 
 contains
@@ -48,6 +54,30 @@ contains
     allocate (share%send(record_width, n_records), share%recv(record_width, n_records))
     allocate (share%counts(n_ranks), share%displs(n_ranks))
   end subroutine record_share_setup
+
+  subroutine candidate_share_setup(n_ranks, share)
+    integer, intent(in) :: n_ranks
+    type(candidate_share_t), intent(out) :: share
+    allocate (share%counts(n_ranks), share%displs(n_ranks))
+  end subroutine candidate_share_setup
+
+  !> Every rank found n_mine candidate pairs (slave, nearest master) among its cyclic share of
+  !> the slaves; after this call every rank holds all n_all pairs, rank after rank.
+  subroutine share_contact_candidates(halo, share, n_mine, mine, n_all, all)
+    type(halo_t), intent(in) :: halo
+    type(candidate_share_t), intent(inout) :: share
+    integer, intent(in) :: n_mine
+    integer, intent(in) :: mine(:, :)
+    integer, intent(out) :: n_all
+    integer, intent(inout) :: all(:, :)
+    integer :: n_values
+    ! counts in integers (two per pair), so no scaled temporary is built every step
+    call MPI_Allgather(2 * n_mine, 1, MPI_INTEGER, share%counts, 1, MPI_INTEGER, halo%comm)
+    call displacements(share%counts, share%displs, n_values)
+    call MPI_Allgatherv(mine, 2 * n_mine, MPI_INTEGER, all, share%counts, share%displs, &
+                        MPI_INTEGER, halo%comm)
+    n_all = n_values / 2
+  end subroutine share_contact_candidates
 
   !> Every rank filled the records of its own slaves and left the others empty (node 0); after
   !> this call every rank holds all n records. Only records in contact travel. Values are copied,
