@@ -50,9 +50,6 @@ module contact_interface
   !> contact cannot make the central-difference step unstable however stiff the penalty or light
   !> the node (docs/theory.md; LS-DYNA's soft-constraint stiffness has the same m / dt^2 form).
   real(wp), parameter :: stable_spring_fraction = 0.25_wp
-  !> The contact energy is summed in fixed chunks of this many contact nodes, in chunk order, so
-  !> the threads can share the sum and it stays the same for any number of threads.
-  integer, parameter :: energy_chunk = 256
 
   type :: contact_pass_t
     integer :: pair = 0
@@ -73,6 +70,11 @@ module contact_interface
     real(wp), allocatable :: mass(:)           !< lumped mass of each contact node
     real(wp) :: time_step = 0.0_wp             !< the solver's step, for the stability cap
     real(wp), allocatable :: force(:, :), force_old(:, :)  !< contact force per contact node
+    ! the contact nodes that got a record this step and last step, in the order of the sum (the
+    ! same on every rank): only their forces are nonzero, so only they are cleared, applied and
+    ! enter the energy; mark(j) == stamp flags the members of touched
+    integer, allocatable :: touched(:), touched_old(:), mark(:)
+    integer :: n_touched = 0, n_touched_old = 0, stamp = 0
     real(wp), allocatable :: x_at_sort(:, :)   !< positions at the last bucket sort
     type(contact_pass_t), allocatable :: passes(:)
     integer, allocatable :: pair_passes(:)     !< 1 or 2 per pass (from its pair)
@@ -87,7 +89,6 @@ module contact_interface
     integer, allocatable :: record_nodes(:, :) !< (5, n) slave then the 4 master nodes, 0 = none
     real(wp), allocatable :: record_force(:, :, :)  !< (3, 5, n)
     real(wp), allocatable :: record_penetration(:)  !< (n)
-    real(wp), allocatable :: energy_part(:)    !< per energy_chunk of contact nodes
     integer :: rank = 0, n_ranks = 1               !< this rank's share of the slaves
     integer :: last_sort = -huge(1), sort_interval = 0
     real(wp) :: energy = 0.0_wp, max_penetration = 0.0_wp
@@ -127,7 +128,7 @@ contains
     allocate (c%record_nodes(5, n_max), source=0)
     allocate (c%record_force(3, 5, n_max), c%record_penetration(n_max), source=0.0_wp)
     allocate (c%nearest(n_max), c%own_pairs(2, n_max), c%all_pairs(2, n_max), c%candidates(2, n_max), source=0)
-    allocate (c%energy_part((c%n_nodes + energy_chunk - 1) / energy_chunk), source=0.0_wp)
+    allocate (c%touched(c%n_nodes), c%touched_old(c%n_nodes), c%mark(c%n_nodes), source=0)
   end subroutine contact_setup
 
   subroutine pass_setup(deck, pair, slave_part, master_part, contact_id, n_contact, pass)
@@ -171,15 +172,26 @@ contains
     pass%decay = deck%contact_friction_decay(pair)
   end subroutine pass_setup
 
-  !> Start a step: keep the last forces, redo the bucket sorts when due.
+  !> Start a step: keep the last forces, redo the bucket sorts when due. Only the nodes touched
+  !> in the last two steps hold nonzero forces, so only they are copied and cleared.
   subroutine contact_begin(c, cycle, clock)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: cycle
     procedure(clock_seconds) :: clock
-    integer :: p
+    integer :: p, i, j
     real(wp) :: t0
-    c%force_old = c%force
-    c%force = 0.0_wp
+    do i = 1, c%n_touched_old
+      c%force_old(:, c%touched_old(i)) = 0.0_wp
+    end do
+    do i = 1, c%n_touched
+      j = c%touched(i)
+      c%force_old(:, j) = c%force(:, j)
+      c%force(:, j) = 0.0_wp
+      c%touched_old(i) = j
+    end do
+    c%n_touched_old = c%n_touched
+    c%n_touched = 0
+    c%stamp = c%stamp + 1
     c%max_penetration = 0.0_wp
     t0 = clock()
     if (sort_due(c, cycle)) then
@@ -206,43 +218,47 @@ contains
   subroutine contact_sum(c, clock)
     type(contact_t), intent(inout) :: c
     procedure(clock_seconds) :: clock
-    integer :: j, k
+    integer :: j, k, node
     real(wp) :: t0
     t0 = clock()
     do j = 1, c%n_candidates
       if (c%record_nodes(1, j) == 0) cycle
       c%max_penetration = max(c%max_penetration, c%record_penetration(j))
       do k = 1, 5
-        c%force(:, c%record_nodes(k, j)) = c%force(:, c%record_nodes(k, j)) + c%record_force(:, k, j)
+        node = c%record_nodes(k, j)
+        if (c%mark(node) /= c%stamp) then
+          c%mark(node) = c%stamp
+          c%n_touched = c%n_touched + 1
+          c%touched(c%n_touched) = node
+        end if
+        c%force(:, node) = c%force(:, node) + c%record_force(:, k, j)
       end do
     end do
     c%time_force = c%time_force + clock() - t0
   end subroutine contact_sum
 
   !> End a step: the contact energy advances by minus the work of the mean contact force over
-  !> the last step dt (the velocities are those of that step). The threads sum fixed chunks of
-  !> nodes, each in node order, and the chunks are added in order: the same for any layout.
+  !> the last step dt (the velocities are those of that step). Only nodes touched in this step
+  !> or the last have a force; they are summed in the order of the lists, which is the same on
+  !> every rank and for any number of threads.
   subroutine contact_end(c, cycle, dt)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: cycle
     real(wp), intent(in) :: dt
-    integer :: i, j, m
+    integer :: i, j
     real(wp) :: work
     if (cycle == 0) return
-    !$omp parallel do schedule(static) private(j, m, work)
-    do i = 1, size(c%energy_part)
-      work = 0.0_wp
-      do j = (i - 1) * energy_chunk + 1, min(i * energy_chunk, c%n_nodes)
-        do m = 1, 3   ! scalar loops: no temporary in the time loop
-          work = work + c%v(m, j) * (c%force_old(m, j) + c%force(m, j))
-        end do
-      end do
-      c%energy_part(i) = work
+    work = 0.0_wp
+    do i = 1, c%n_touched
+      j = c%touched(i)
+      work = work + dot_product(c%v(:, j), c%force_old(:, j) + c%force(:, j))
     end do
-    !$omp end parallel do
-    do i = 1, size(c%energy_part)
-      c%energy = c%energy - 0.5_wp * dt * c%energy_part(i)
+    do i = 1, c%n_touched_old
+      j = c%touched_old(i)
+      if (c%mark(j) == c%stamp) cycle   ! in both lists: counted above
+      work = work + dot_product(c%v(:, j), c%force_old(:, j))
     end do
+    c%energy = c%energy - 0.5_wp * dt * work
   end subroutine contact_end
 
   !> A sort is due at the set interval, or (interval 0) once any contact node has moved a tenth
@@ -258,12 +274,15 @@ contains
       sort_due = cycle - c%last_sort >= c%sort_interval
     else
       moved = 0.0_wp
-      ! a maximum is exact in any order, so the threads may share it
+      ! a maximum is exact in any order, so the threads may share it; squared distances, one
+      ! square root at the end (norm2's scaling against overflow costs more than the rest)
       !$omp parallel do schedule(static) reduction(max:moved)
       do j = 1, c%n_nodes
-        moved = max(moved, norm2(c%x(:, j) - c%x_at_sort(:, j)))
+        moved = max(moved, (c%x(1, j) - c%x_at_sort(1, j))**2 + (c%x(2, j) - c%x_at_sort(2, j))**2 &
+                           + (c%x(3, j) - c%x_at_sort(3, j))**2)
       end do
       !$omp end parallel do
+      moved = sqrt(moved)
       smallest = huge(1.0_wp)
       do p = 1, size(c%passes)
         smallest = min(smallest, c%passes(p)%bucket_size)

@@ -286,10 +286,12 @@ contains
   end subroutine advance_positions
 
   !> Contact forces act on the nodes like external forces: subtract them from the internal ones.
+  !> Only the nodes touched this step have a force (subtracting a zero would change nothing).
   subroutine apply_contact_forces(s)
     type(solver_t), intent(inout) :: s
-    integer :: k, j
-    do k = 1, s%contact_nodes%n
+    integer :: i, k, j
+    do i = 1, s%contact%n_touched
+      k = s%contact%touched(i)
       j = s%contact_nodes%local(k)
       if (j > 0) s%f_int(1:3, j) = s%f_int(1:3, j) - s%contact%force(:, k)
     end do

@@ -29,7 +29,8 @@ module halo_exchange
     integer :: n = 0
     integer, allocatable :: local(:)          !< local id of each member on this rank, 0 if not held
     integer, allocatable :: owned_member(:)   !< members this rank owns
-    integer, allocatable :: counts(:), displs(:), gathered_member(:)
+    integer, allocatable :: counts(:), displs(:)   !< in doubles, 6 per member
+    integer, allocatable :: gathered_member(:)
     real(wp), allocatable :: send(:, :), recv(:, :)
   end type node_set_t
 
@@ -98,12 +99,12 @@ contains
       share%send(7:21, mine) = reshape(forces(:, :, j), [15])
       share%send(22, mine) = penetration(j)
     end do
-    call MPI_Allgather(mine, 1, MPI_INTEGER, share%counts, 1, MPI_INTEGER, halo%comm)
+    ! counts in doubles, so no scaled temporary is built every step
+    call MPI_Allgather(record_width * mine, 1, MPI_INTEGER, share%counts, 1, MPI_INTEGER, halo%comm)
     call displacements(share%counts, share%displs, total)
     call MPI_Allgatherv(share%send, record_width * mine, MPI_DOUBLE_PRECISION, share%recv, &
-                        record_width * share%counts, record_width * share%displs, &
-                        MPI_DOUBLE_PRECISION, halo%comm)
-    do k = 1, total
+                        share%counts, share%displs, MPI_DOUBLE_PRECISION, halo%comm)
+    do k = 1, total / record_width
       j = nint(share%recv(1, k))
       nodes(:, j) = nint(share%recv(2:6, k))
       forces(:, :, j) = reshape(share%recv(7:21, k), [3, 5])
@@ -144,22 +145,46 @@ contains
     call MPI_Allgatherv(set%owned_member, size(set%owned_member), MPI_INTEGER, set%gathered_member, &
                         set%counts, set%displs, MPI_INTEGER, halo%comm)
     allocate (set%send(6, max(size(set%owned_member), 1)), set%recv(6, max(total, 1)))
+    ! from here on counted in doubles (6 per member), so no scaled temporary is built every step
+    set%counts = 6 * set%counts
+    set%displs = 6 * set%displs
   end subroutine node_set_setup
 
-  !> Positions and velocities of every member of the set, on every rank.
+  !> Positions and velocities of every member of the set, on every rank. One rank holds them
+  !> all and copies them without MPI. Threads share the packing and unpacking.
   subroutine allgather_node_set(halo, set, x, v, x_set, v_set)
     type(halo_t), intent(in) :: halo
     type(node_set_t), intent(inout) :: set
     real(wp), intent(in) :: x(:, :), v(:, :)
     real(wp), intent(out) :: x_set(3, set%n), v_set(3, set%n)
-    integer :: n_owned
+    integer :: n_owned, k, j
+    if (size(set%counts) == 1) then
+      !$omp parallel do schedule(static) private(j)
+      do k = 1, set%n
+        j = set%local(k)
+        x_set(:, k) = x(:, j)
+        v_set(:, k) = v(:, j)
+      end do
+      !$omp end parallel do
+      return
+    end if
     n_owned = size(set%owned_member)
-    set%send(1:3, 1:n_owned) = x(:, set%local(set%owned_member))
-    set%send(4:6, 1:n_owned) = v(:, set%local(set%owned_member))
-    call MPI_Allgatherv(set%send, 6 * n_owned, MPI_DOUBLE_PRECISION, set%recv, 6 * set%counts, &
-                        6 * set%displs, MPI_DOUBLE_PRECISION, halo%comm)
-    x_set(:, set%gathered_member) = set%recv(1:3, 1:set%n)
-    v_set(:, set%gathered_member) = set%recv(4:6, 1:set%n)
+    !$omp parallel do schedule(static) private(j)
+    do k = 1, n_owned
+      j = set%local(set%owned_member(k))
+      set%send(1:3, k) = x(:, j)
+      set%send(4:6, k) = v(:, j)
+    end do
+    !$omp end parallel do
+    call MPI_Allgatherv(set%send, 6 * n_owned, MPI_DOUBLE_PRECISION, set%recv, set%counts, &
+                        set%displs, MPI_DOUBLE_PRECISION, halo%comm)
+    !$omp parallel do schedule(static) private(j)
+    do k = 1, set%n
+      j = set%gathered_member(k)
+      x_set(:, j) = set%recv(1:3, k)
+      v_set(:, j) = set%recv(4:6, k)
+    end do
+    !$omp end parallel do
   end subroutine allgather_node_set
 
   subroutine halo_setup(dom, comm, halo)
