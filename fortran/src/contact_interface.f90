@@ -299,18 +299,22 @@ contains
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
     procedure(clock_seconds) :: clock
-    integer :: i, j, n_mine
+    integer :: i, j, n_mine, nearest
     real(wp) :: x(3), t0
     t0 = clock()
     associate (pass => c%passes(p))
     n_mine = max(0, (size(pass%slaves) - c%rank + c%n_ranks - 1) / c%n_ranks)
-    !$omp parallel do schedule(static, 1) default(shared) private(i, j, x)
+    ! cleared first, so the threads write only the few slaves near the box (writes to
+    ! neighbouring slaves from different threads would fight over their cache line)
+    c%nearest(1:n_mine) = 0
+    !$omp parallel do schedule(static, 1) default(shared) private(i, j, x, nearest)
     do i = 1, n_mine
       j = c%rank + 1 + (i - 1) * c%n_ranks
       x = c%x(:, pass%slaves(j))
-      c%nearest(i) = 0
-      if (near_box(x, pass)) c%nearest(i) = nearest_master_node(pass%grid, pass%x_sorted, x, &
-                                              max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
+      if (.not. near_box(x, pass)) cycle
+      nearest = nearest_master_node(pass%grid, pass%x_sorted, x, &
+                                    max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
+      if (nearest > 0) c%nearest(i) = nearest
     end do
     !$omp end parallel do
     c%n_own = 0
