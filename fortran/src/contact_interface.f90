@@ -19,8 +19,11 @@
 !> Every candidate writes its own record (its force and the forces on the 4 master nodes); the
 !> records are then summed in candidate order, which is slave order, so the result does not
 !> depend on the number of threads. The contact nodes' positions are gathered on every rank
-!> (halo_exchange), the records are shared by value, and every rank sums all of them, so it does
-!> not depend on the number of ranks either. No MPI here.
+!> (halo_exchange): all of them at a sort, and between sorts only those that can come into
+!> contact before the next one (choose_gather_set). The records are shared by value and every
+!> rank sums all of them, so the result does not depend on the number of ranks either. Only the
+!> nodes touched in the last two steps carry a force, so only they are cleared, applied and
+!> summed into the energy. No MPI here.
 module contact_interface
   use paradyn_kinds, only: wp, ip, i8
   use model_deck, only: deck_t
@@ -31,7 +34,7 @@ module contact_interface
   private
   public :: contact_t, contact_setup, contact_pass_t
   public :: contact_begin, contact_pass_active, contact_global_search, contact_candidates
-  public :: contact_local_search, contact_sum, contact_end
+  public :: contact_local_search, contact_sum, contact_end, contact_sort_due, contact_movement
   public :: clock_seconds
 
   !> The wall clock the phases are timed with (the solver passes MPI_Wtime's wrapper).
@@ -59,6 +62,8 @@ module contact_interface
     integer, allocatable :: segment_start(:), segment_list(:)  !< contact node -> its segments
     real(wp), allocatable :: stiffness(:)      !< penalty stiffness per segment (initial geometry)
     real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted
+    integer, allocatable :: near_slaves(:)     !< slaves that can come near the master box before the next sort
+    integer :: n_near = 0
     type(bucket_grid_t) :: grid
     real(wp) :: bucket_size = 0, t_slave = 0, t_master = 0, mu_static = 0, mu_dynamic = 0, decay = 0
   end type contact_pass_t
@@ -76,6 +81,11 @@ module contact_interface
     integer, allocatable :: touched(:), touched_old(:), mark(:)
     integer :: n_touched = 0, n_touched_old = 0, stamp = 0
     real(wp), allocatable :: x_at_sort(:, :)   !< positions at the last bucket sort
+    ! the nodes whose positions the contact can read before the next sort (all of them with a
+    ! fixed sort interval); the caller gathers only these between sorts once gather_subset is set
+    logical, allocatable :: in_gather(:)
+    logical :: gather_subset = .false.
+    logical :: gather_all = .false.             !< never gather a subset (to check that it changes nothing)
     type(contact_pass_t), allocatable :: passes(:)
     integer, allocatable :: pair_passes(:)     !< 1 or 2 per pass (from its pair)
     ! candidates of the pass being worked on: n_own found here, n_all shared by every rank (the
@@ -84,7 +94,8 @@ module contact_interface
     integer, allocatable :: own_pairs(:, :), all_pairs(:, :), candidates(:, :)  !< (2, n)
     integer :: n_own = 0, n_all = 0, n_candidates = 0
     integer :: first = 1, last = 0              !< this rank's block of the candidates
-    integer(i8) :: candidates_searched = 0      !< local searches done on this rank, all steps
+    ! counts over the run: sorts, passes run, candidates (all ranks), local searches on this rank
+    integer(i8) :: n_sorts = 0, n_pass_steps = 0, candidates_total = 0, candidates_searched = 0
     ! per-candidate records, reused every step
     integer, allocatable :: record_nodes(:, :) !< (5, n) slave then the 4 master nodes, 0 = none
     real(wp), allocatable :: record_force(:, :, :)  !< (3, 5, n)
@@ -129,6 +140,7 @@ contains
     allocate (c%record_force(3, 5, n_max), c%record_penetration(n_max), source=0.0_wp)
     allocate (c%nearest(n_max), c%own_pairs(2, n_max), c%all_pairs(2, n_max), c%candidates(2, n_max), source=0)
     allocate (c%touched(c%n_nodes), c%touched_old(c%n_nodes), c%mark(c%n_nodes), source=0)
+    allocate (c%in_gather(c%n_nodes), source=.true.)
   end subroutine contact_setup
 
   subroutine pass_setup(deck, pair, slave_part, master_part, contact_id, n_contact, pass)
@@ -165,6 +177,8 @@ contains
     call node_segment_map(int(n_contact, ip), int(size(elements), ip), pass%segments, pass%segment_start, &
                           pass%segment_list, n_entries)
     allocate (pass%x_sorted(3, size(pass%masters)), source=0.0_wp)
+    pass%near_slaves = [(e, e = 1, size(pass%slaves))]
+    pass%n_near = size(pass%slaves)
     pass%t_slave = deck%thickness(slave_part)
     pass%t_master = deck%thickness(master_part)
     pass%mu_static = deck%contact_static_friction(pair)
@@ -172,12 +186,16 @@ contains
     pass%decay = deck%contact_friction_decay(pair)
   end subroutine pass_setup
 
-  !> Start a step: keep the last forces, redo the bucket sorts when due. Only the nodes touched
-  !> in the last two steps hold nonzero forces, so only they are copied and cleared.
-  subroutine contact_begin(c, cycle, clock)
+  !> Start a step: keep the last forces, redo the bucket sorts if sort (contact_sort_due; the
+  !> positions of all contact nodes are then current). Only the nodes touched in the last two
+  !> steps hold nonzero forces, so only they are copied and cleared. With sort interval 0, a sort
+  !> also chooses the nodes to gather until the next sort (new_gather_set).
+  subroutine contact_begin(c, cycle, sort, clock, new_gather_set)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: cycle
+    logical, intent(in) :: sort
     procedure(clock_seconds) :: clock
+    logical, intent(out) :: new_gather_set
     integer :: p, i, j
     real(wp) :: t0
     do i = 1, c%n_touched_old
@@ -194,7 +212,8 @@ contains
     c%stamp = c%stamp + 1
     c%max_penetration = 0.0_wp
     t0 = clock()
-    if (sort_due(c, cycle)) then
+    new_gather_set = .false.
+    if (sort) then
       do p = 1, size(c%passes)
         c%passes(p)%x_sorted = c%x(:, c%passes(p)%masters)
         call bucket_grid_build(int(size(c%passes(p)%masters), ip), c%passes(p)%x_sorted, &
@@ -202,9 +221,69 @@ contains
       end do
       c%x_at_sort = c%x
       c%last_sort = cycle
+      c%n_sorts = c%n_sorts + 1
+      if (c%sort_interval == 0 .and. .not. c%gather_all) then
+        call choose_gather_set(c)
+        c%gather_subset = .true.
+        new_gather_set = .true.
+      end if
     end if
     c%time_sort = c%time_sort + clock() - t0
   end subroutine contact_begin
+
+  !> After a sort (interval 0): the nodes whose positions the contact can read before the next
+  !> sort. Until then no node moves more than a tenth of the smallest bucket (contact_sort_due),
+  !> so a slave can pass near_box only if it lay within the margin plus that movement of the
+  !> master box at the sort; its nearest master node lies within the search radius plus that
+  !> movement of it; and the local search reads the nodes of the segments around that master.
+  !> Twice the movement is allowed, against round-off. The near slaves are also the only ones
+  !> the global search needs to visit.
+  subroutine choose_gather_set(c)
+    type(contact_t), intent(inout) :: c
+    real(wp) :: reach, margin, lower(3), upper(3), slave_lower(3), slave_upper(3), x(3)
+    integer :: p, j, k
+    reach = 0.2_wp * smallest_bucket(c)
+    c%in_gather = .false.
+    do p = 1, size(c%passes)
+      associate (pass => c%passes(p))
+      margin = pass%bucket_size + pass%t_slave + pass%t_master
+      lower = pass%grid%lower - (margin + reach)
+      upper = pass%grid%upper + (margin + reach)
+      slave_lower = huge(1.0_wp)
+      slave_upper = -huge(1.0_wp)
+      pass%n_near = 0
+      do j = 1, size(pass%slaves)
+        x = c%x(:, pass%slaves(j))
+        if (any(x < lower) .or. any(x > upper)) cycle
+        pass%n_near = pass%n_near + 1
+        pass%near_slaves(pass%n_near) = j
+        c%in_gather(pass%slaves(j)) = .true.
+        slave_lower = min(slave_lower, x)
+        slave_upper = max(slave_upper, x)
+      end do
+      slave_lower = slave_lower - (margin + reach)
+      slave_upper = slave_upper + (margin + reach)
+      do j = 1, size(pass%segments, 2)
+        do k = 1, 4
+          x = c%x(:, pass%segments(k, j))
+          if (all(x >= slave_lower .and. x <= slave_upper)) then
+            c%in_gather(pass%segments(:, j)) = .true.
+            exit
+          end if
+        end do
+      end do
+      end associate
+    end do
+  end subroutine choose_gather_set
+
+  pure real(wp) function smallest_bucket(c) result(smallest)
+    type(contact_t), intent(in) :: c
+    integer :: p
+    smallest = huge(1.0_wp)
+    do p = 1, size(c%passes)
+      smallest = min(smallest, c%passes(p)%bucket_size)
+    end do
+  end function smallest_bucket
 
   !> Pass p runs this cycle: always with passes = 2, every other cycle with the paper's swap.
   pure logical function contact_pass_active(c, p, cycle)
@@ -262,39 +341,60 @@ contains
   end subroutine contact_end
 
   !> A sort is due at the set interval, or (interval 0) once any contact node has moved a tenth
-  !> of the bucket size since the last sort.
-  logical function sort_due(c, cycle)
+  !> of the smallest bucket since the last sort: moved is the largest movement over all contact
+  !> nodes (contact_movement on each rank's own nodes, the largest over the ranks).
+  logical function contact_sort_due(c, cycle, moved) result(due)
     type(contact_t), intent(in) :: c
     integer, intent(in) :: cycle
-    real(wp) :: moved, smallest
-    integer :: p, j
+    real(wp), intent(in) :: moved
     if (c%last_sort < 0) then
-      sort_due = .true.
+      due = .true.
     else if (c%sort_interval > 0) then
-      sort_due = cycle - c%last_sort >= c%sort_interval
+      due = cycle - c%last_sort >= c%sort_interval
     else
-      moved = 0.0_wp
-      ! a maximum is exact in any order, so the threads may share it; squared distances, one
-      ! square root at the end (norm2's scaling against overflow costs more than the rest)
-      !$omp parallel do schedule(static) reduction(max:moved)
-      do j = 1, c%n_nodes
-        moved = max(moved, (c%x(1, j) - c%x_at_sort(1, j))**2 + (c%x(2, j) - c%x_at_sort(2, j))**2 &
-                           + (c%x(3, j) - c%x_at_sort(3, j))**2)
+      due = moved > 0.1_wp * smallest_bucket(c)
+    end if
+  end function contact_sort_due
+
+  !> The largest distance that contact nodes have moved since the last sort: the given nodes
+  !> (members, at columns local(members) of x), or without them every contact node at c%x. A
+  !> maximum is exact in any order, so the threads and ranks may share it; squared distances
+  !> and one square root at the end (norm2's scaling against overflow costs more than the rest).
+  function contact_movement(c, clock, members, local, x) result(moved)
+    type(contact_t), intent(inout) :: c
+    procedure(clock_seconds) :: clock
+    integer, intent(in), optional :: members(:), local(:)
+    real(wp), intent(in), optional :: x(:, :)
+    real(wp) :: moved, t0
+    integer :: i, j, k
+    t0 = clock()
+    moved = 0.0_wp
+    if (present(members) .and. present(local) .and. present(x)) then
+      !$omp parallel do schedule(static) private(j, k) reduction(max:moved)
+      do i = 1, size(members)
+        k = members(i)
+        j = local(k)
+        moved = max(moved, (x(1, j) - c%x_at_sort(1, k))**2 + (x(2, j) - c%x_at_sort(2, k))**2 &
+                           + (x(3, j) - c%x_at_sort(3, k))**2)
       end do
       !$omp end parallel do
-      moved = sqrt(moved)
-      smallest = huge(1.0_wp)
-      do p = 1, size(c%passes)
-        smallest = min(smallest, c%passes(p)%bucket_size)
+    else if (c%sort_interval == 0 .and. c%last_sort >= 0) then   ! else contact_sort_due does not ask
+      !$omp parallel do schedule(static) reduction(max:moved)
+      do k = 1, c%n_nodes
+        moved = max(moved, (c%x(1, k) - c%x_at_sort(1, k))**2 + (c%x(2, k) - c%x_at_sort(2, k))**2 &
+                           + (c%x(3, k) - c%x_at_sort(3, k))**2)
       end do
-      sort_due = moved > 0.1_wp * smallest
+      !$omp end parallel do
     end if
-  end function sort_due
+    moved = sqrt(moved)
+    c%time_sort = c%time_sort + clock() - t0
+  end function contact_movement
 
-  !> Stage 1 of pass p, the global search: this rank's share of the slaves, dealt node-wise
-  !> cyclically to the ranks (slave j to rank mod(j - 1, n_ranks)) and, one at a time, to the
-  !> threads (schedule(static, 1)), as in the paper. A slave near the master box gets its nearest
-  !> master node; the pairs (slave, nearest master) found are own_pairs(:, 1:n_own), ascending.
+  !> Stage 1 of pass p, the global search: this rank's share of the slaves that can be near
+  !> (near_slaves; all slaves with a fixed sort interval), dealt node-wise cyclically to the ranks
+  !> (the k-th to rank mod(k - 1, n_ranks)) and, one at a time, to the threads
+  !> (schedule(static, 1)), as in the paper. A slave near the master box gets its nearest master
+  !> node; the pairs (slave, nearest master) found are own_pairs(:, 1:n_own), ascending.
   subroutine contact_global_search(c, p, clock)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
@@ -303,13 +403,13 @@ contains
     real(wp) :: x(3), t0
     t0 = clock()
     associate (pass => c%passes(p))
-    n_mine = max(0, (size(pass%slaves) - c%rank + c%n_ranks - 1) / c%n_ranks)
+    n_mine = max(0, (pass%n_near - c%rank + c%n_ranks - 1) / c%n_ranks)
     ! cleared first, so the threads write only the few slaves near the box (writes to
     ! neighbouring slaves from different threads would fight over their cache line)
     c%nearest(1:n_mine) = 0
     !$omp parallel do schedule(static, 1) default(shared) private(i, j, x, nearest)
     do i = 1, n_mine
-      j = c%rank + 1 + (i - 1) * c%n_ranks
+      j = pass%near_slaves(c%rank + 1 + (i - 1) * c%n_ranks)
       x = c%x(:, pass%slaves(j))
       if (.not. near_box(x, pass)) cycle
       nearest = nearest_master_node(pass%grid, pass%x_sorted, x, &
@@ -321,7 +421,7 @@ contains
     do i = 1, n_mine
       if (c%nearest(i) == 0) cycle
       c%n_own = c%n_own + 1
-      c%own_pairs(1, c%n_own) = c%rank + 1 + (i - 1) * c%n_ranks
+      c%own_pairs(1, c%n_own) = pass%near_slaves(c%rank + 1 + (i - 1) * c%n_ranks)
       c%own_pairs(2, c%n_own) = c%nearest(i)
     end do
     end associate
@@ -345,6 +445,8 @@ contains
                                      c%nearest, c%n_candidates, c%candidates)
     end if
     call candidate_block(int(c%n_candidates, ip), int(c%n_ranks, ip), int(c%rank, ip), c%first, c%last)
+    c%n_pass_steps = c%n_pass_steps + 1
+    c%candidates_total = c%candidates_total + c%n_candidates
     c%candidates_searched = c%candidates_searched + max(0, c%last - c%first + 1)
     c%time_search = c%time_search + clock() - t0
   end subroutine contact_candidates

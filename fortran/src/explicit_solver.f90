@@ -16,11 +16,12 @@ module explicit_solver
   use domain_decomposition, only: domain_t, decompose, group_size
   use halo_exchange, only: halo_t, halo_setup, exchange_corners, gather_nodes, gather_elements, &
                            sum_to_root, node_set_t, node_set_setup, allgather_node_set, &
+                           node_subset_setup, allgather_node_subset, &
                            record_share_t, record_share_setup, share_contact_records, &
                            candidate_share_t, candidate_share_setup, share_contact_candidates
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_pass_active, &
                                contact_global_search, contact_candidates, contact_local_search, &
-                               contact_sum, contact_end
+                               contact_sum, contact_end, contact_sort_due, contact_movement
   use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes
   use time_integration, only: update_velocities, update_positions, point_load_forces, kinetic_energy
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
@@ -79,6 +80,7 @@ contains
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
     integer :: g, p, n, nip, first, nl, ne, l, j
+    character(len=8) :: gather_mode
     real(wp), allocatable :: dt_element(:), node_mass(:), node_inertia(:), xg(:, :, :)
     real(wp) :: dt_local
 
@@ -183,6 +185,8 @@ contains
       s%contact%time_step = s%dt
       s%contact%rank = s%rank
       s%contact%n_ranks = s%n_ranks
+      call get_environment_variable('PARADYN_CONTACT_GATHER', gather_mode)
+      s%contact%gather_all = gather_mode == 'all'
       call record_share_setup(size(s%contact%record_nodes, 2), s%n_ranks, s%contact_share)
       call candidate_share_setup(s%n_ranks, s%candidate_share)
     end if
@@ -376,6 +380,13 @@ contains
       end if
     end do
 
+    if (s%has_contact) then
+      ! one line per rank for the log: the local searches of each rank (equal blocks) and the sorts
+      write (*, '(5(a,i0))') 'PARADYN-CONTACT rank=', s%rank, ' sorts=', s%contact%n_sorts, ' pass_steps=', &
+        s%contact%n_pass_steps, ' candidates=', s%contact%candidates_total, ' local_searches=', &
+        s%contact%candidates_searched
+      flush (6)
+    end if
     run%cycles = s%cycles
     run%ranks = s%n_ranks
     run%threads = s%threads
@@ -423,9 +434,6 @@ contains
       phase(1) = phase(1) + MPI_Wtime() - t0
       if (s%has_contact) then
         t0 = MPI_Wtime()
-        call allgather_node_set(s%halo, s%contact_nodes, s%x, s%v, s%contact%x, s%contact%v)
-        phase(3) = phase(3) + MPI_Wtime() - t0
-        t0 = MPI_Wtime()
         comm_before = phase(3)
         call contact_step(dt_strain)
         call apply_contact_forces(s)
@@ -434,15 +442,35 @@ contains
       end if
     end subroutine forces_at_current_state
 
-    !> Contact forces at the current positions, per pass: each rank searches its cyclic share of
-    !> the slaves for candidates, the candidates are shared, each rank locally searches its equal
-    !> block of them, the records are shared, and every rank sums all of them in slave order.
-    !> One rank communicates nothing.
+    !> Contact forces at the current positions. The contact nodes' positions are gathered on every
+    !> rank: all of them when a sort is due, else only those that can be in contact before the
+    !> next sort (with each rank's largest movement, which tells whether a sort is due). Then per
+    !> pass: each rank searches its cyclic share of the slaves for candidates, the candidates are
+    !> shared, each rank locally searches its equal block of them, the records are shared, and
+    !> every rank sums all of them in slave order. One rank communicates nothing.
     subroutine contact_step(dt_strain)
       real(wp), intent(in) :: dt_strain
       integer :: p
-      real(wp) :: t0
-      call contact_begin(s%contact, s%cycles, wall_clock)
+      real(wp) :: t0, moved, moved_here
+      logical :: sort, new_gather_set
+      if (s%contact%gather_subset) then
+        moved_here = contact_movement(s%contact, wall_clock, s%contact_nodes%owned_member, &
+                                      s%contact_nodes%local, s%x)
+        t0 = MPI_Wtime()
+        call allgather_node_subset(s%halo, s%contact_nodes, s%x, s%v, s%contact%x, s%contact%v, moved_here, &
+                                   moved)
+        phase(3) = phase(3) + MPI_Wtime() - t0
+        sort = contact_sort_due(s%contact, s%cycles, moved)
+      end if
+      if (.not. s%contact%gather_subset .or. sort) then
+        t0 = MPI_Wtime()
+        call allgather_node_set(s%halo, s%contact_nodes, s%x, s%v, s%contact%x, s%contact%v)
+        phase(3) = phase(3) + MPI_Wtime() - t0
+      end if
+      if (.not. s%contact%gather_subset) sort = contact_sort_due(s%contact, s%cycles, &
+                                                                contact_movement(s%contact, wall_clock))
+      call contact_begin(s%contact, s%cycles, sort, wall_clock, new_gather_set)
+      if (new_gather_set) call node_subset_setup(s%contact_nodes, s%contact%in_gather)
       do p = 1, size(s%contact%passes)
         if (.not. contact_pass_active(s%contact, p, s%cycles)) cycle
         call contact_global_search(s%contact, p, wall_clock)
