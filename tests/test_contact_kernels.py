@@ -529,3 +529,60 @@ def test_friction_opposes_slip_and_is_capped() -> None:
     f, *_ = K.contact_penalty_force(F(p), ts, xseg, tm, k, F(vs), F(np.repeat(vs[:, None], 4, axis=1)),
                                     mus, mud, decay, vslip)
     np.testing.assert_allclose(f, [0, 0, fn], rtol=1e-12, atol=1e-12)
+
+
+# ------------------------------------------------------------------------------------------------
+# Rebalancing the candidates between the stages (the paper's node-wise block decomposition)
+
+
+def candidate_blocks(n_candidates: int, n_ranks: int) -> list[range]:
+    first, last = K.contact_candidate_blocks(n_candidates, n_ranks)
+    return [range(int(f), int(l) + 1) for f, l in zip(first, last)]
+
+
+@pytest.mark.parametrize("n_candidates", [0, 1, 2, 3, 5, 7, 64, 100, 101, 1023])
+@pytest.mark.parametrize("n_ranks", [1, 2, 3, 4, 7, 16])
+def test_candidate_blocks_cover_every_candidate_once_in_equal_blocks(n_candidates: int, n_ranks: int) -> None:
+    """Reference: the paper's section 5 (kave = kont / np candidates per processor). The blocks,
+    in rank order, are 1..n_candidates exactly once, each contiguous and ascending, and their
+    sizes differ by at most one, also with fewer candidates than ranks and with none."""
+    blocks = candidate_blocks(n_candidates, n_ranks)
+    assert len(blocks) == n_ranks
+    assert [k for block in blocks for k in block] == list(range(1, n_candidates + 1))
+    sizes = [len(block) for block in blocks]
+    assert max(sizes) - min(sizes) <= 1
+    assert sum(sizes) == n_candidates
+
+
+def cyclic_pairs(candidate_slaves: np.ndarray, n_ranks: int, rng: np.random.Generator) -> np.ndarray:
+    """The pairs (slave, master) as the all-gather delivers them: slaves dealt cyclically
+    (slave j to rank (j - 1) mod n_ranks), each rank's pairs ascending, rank after rank."""
+    masters = {int(j): int(rng.integers(1, 500)) for j in candidate_slaves}
+    pairs = [(j, masters[j]) for r in range(n_ranks) for j in sorted(masters) if (j - 1) % n_ranks == r]
+    return np.array(pairs, dtype=np.int32).T.reshape(2, -1)
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("n_ranks", [1, 2, 3, 4])
+@pytest.mark.parametrize("spread", ["random", "one_rank", "none"])
+def test_candidates_in_slave_order_then_equal_blocks(seed: int, n_ranks: int, spread: str) -> None:
+    """Reference: sorting in numpy. The candidates gathered rank after rank come out in
+    ascending slave order with their masters, and the blocks are equal even when every candidate
+    lies in one rank's cyclic share (spread "one_rank", the worst case for the global stage)."""
+    rng = np.random.default_rng(seed)
+    n_slaves = 200
+    slaves = np.arange(1, n_slaves + 1)
+    if spread == "random":
+        chosen = slaves[rng.random(n_slaves) < 0.3]
+    elif spread == "one_rank":
+        chosen = slaves[(slaves - 1) % n_ranks == n_ranks - 1][:37]
+    else:
+        chosen = slaves[:0]
+    pairs = cyclic_pairs(chosen, n_ranks, rng)
+    n_candidates, candidates = K.contact_candidates_in_order(n_slaves, F(pairs))
+    expect = pairs[:, np.argsort(pairs[0], kind="stable")]
+    assert n_candidates == len(chosen)
+    np.testing.assert_array_equal(candidates[:, :n_candidates], expect)
+    assert np.all(np.diff(candidates[0, :n_candidates]) > 0)
+    sizes = [len(block) for block in candidate_blocks(n_candidates, n_ranks)]
+    assert max(sizes) - min(sizes) <= 1 and sum(sizes) == n_candidates

@@ -272,3 +272,28 @@ subroutine contact_penalty_force(p, t_slave, xseg, t_master, k, f_slave, f_maste
                      v_slave, v_master, mu_static, mu_dynamic, decay, v_slip, rounded_edges /= 0)
   in_contact = merge(1, 0, contact)
 end subroutine contact_penalty_force
+
+! Candidate pairs (slave, nearest master) as they arrive from all ranks, in ascending slave order
+! (the first n_candidates columns of candidates; slaves are 1..n_slaves, each at most once).
+subroutine contact_candidates_in_order(n_slaves, n_pairs, pairs, n_candidates, candidates)
+  use contact_search, only: candidates_in_slave_order
+  implicit none
+  integer, intent(in) :: n_slaves, n_pairs
+  integer, intent(in) :: pairs(2, n_pairs)
+  integer, intent(out) :: n_candidates, candidates(2, n_slaves)
+  integer :: nearest(n_slaves)
+  candidates = 0
+  call candidates_in_slave_order(n_slaves, n_pairs, pairs, nearest, n_candidates, candidates)
+end subroutine contact_candidates_in_order
+
+! Block first(r + 1)..last(r + 1) of the candidate list for each rank r = 0..n_ranks-1.
+subroutine contact_candidate_blocks(n_candidates, n_ranks, first, last)
+  use contact_search, only: candidate_block
+  implicit none
+  integer, intent(in) :: n_candidates, n_ranks
+  integer, intent(out) :: first(n_ranks), last(n_ranks)
+  integer :: r
+  do r = 0, n_ranks - 1
+    call candidate_block(n_candidates, n_ranks, r, first(r + 1), last(r + 1))
+  end do
+end subroutine contact_candidate_blocks

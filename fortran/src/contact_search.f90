@@ -12,14 +12,19 @@
 !> the contact surfaces of the shells, which lie half a thickness off each mid-surface on both
 !> sides (shells are two-sided).
 !>
+!> Between the global search and stage 2, the candidate pairs (slave, nearest master node) found by
+!> all ranks are put in ascending slave order (candidates_in_slave_order) and cut into one
+!> contiguous block per rank (candidate_block), the paper's node-wise block decomposition.
+!>
 !> Pure: no MPI, no I/O, no module state.
 module contact_search
-  use paradyn_kinds, only: wp, ip
+  use paradyn_kinds, only: wp, ip, i8
   implicit none
   private
   public :: closest_point_on_segment, segment_candidates, node_segment_map
   public :: shell_penalty_stiffness, penalty_force, friction_coefficient, segment_shape_functions
   public :: default_penalty_scale, edge_tolerance
+  public :: candidate_block, candidates_in_slave_order
 
   !> LS-DYNA's default scale factor of the penalty stiffness.
   real(wp), parameter :: default_penalty_scale = 0.1_wp
@@ -400,5 +405,40 @@ contains
       f_master(:, i) = -shape(i) * f_slave
     end do
   end subroutine penalty_force
+
+  !> Block of the candidate list that rank (0-based) of n_ranks works on: candidates first..last
+  !> (empty when last < first). The blocks are contiguous, in rank order, cover 1..n_candidates
+  !> exactly once and their sizes differ by at most one (the paper's kave per processor).
+  pure subroutine candidate_block(n_candidates, n_ranks, rank, first, last)
+    integer(ip), intent(in) :: n_candidates, n_ranks, rank
+    integer(ip), intent(out) :: first, last
+    ! 64-bit products: n_candidates * n_ranks may exceed 2**31
+    first = int(int(rank, i8) * n_candidates / n_ranks, ip) + 1
+    last = int(int(rank + 1, i8) * n_candidates / n_ranks, ip)
+  end subroutine candidate_block
+
+  !> The candidate pairs (slave index, nearest master index) of all ranks, as they arrive rank
+  !> after rank, in ascending slave order: candidates(:, 1:n_candidates). Each slave appears at
+  !> most once in pairs; slaves are 1..n_slaves. nearest is workspace (the master of each slave,
+  !> 0 for none): scattering and reading it back in slave order costs O(n_slaves), no sort.
+  pure subroutine candidates_in_slave_order(n_slaves, n_pairs, pairs, nearest, n_candidates, candidates)
+    integer(ip), intent(in) :: n_slaves, n_pairs
+    integer(ip), intent(in) :: pairs(2, n_pairs)
+    integer(ip), intent(out) :: nearest(n_slaves)
+    integer(ip), intent(out) :: n_candidates
+    integer(ip), intent(inout) :: candidates(:, :)
+    integer(ip) :: j, k
+    nearest = 0
+    do k = 1, n_pairs
+      nearest(pairs(1, k)) = pairs(2, k)
+    end do
+    n_candidates = 0
+    do j = 1, n_slaves
+      if (nearest(j) == 0) cycle
+      n_candidates = n_candidates + 1
+      candidates(1, n_candidates) = j
+      candidates(2, n_candidates) = nearest(j)
+    end do
+  end subroutine candidates_in_slave_order
 
 end module contact_search

@@ -14,10 +14,13 @@ module explicit_solver
                        blt_stable_time_step, blt_element_results, stress_components, &
                        hourglass_components, material_j2_plastic
   use domain_decomposition, only: domain_t, decompose, partition_elements, group_size
-  use halo_exchange, only: halo_t, halo_setup, exchange_corners, sum_to_root, node_set_t, node_set_setup, allgather_node_set, &
-                           record_share_t, record_share_setup, share_contact_records
+  use halo_exchange, only: halo_t, halo_setup, exchange_corners, sum_to_root, node_set_t, node_set_setup, &
+                           allgather_node_set, node_subset_setup, allgather_node_subset, &
+                           record_share_t, record_share_setup, share_contact_records, &
+                           candidate_share_t, candidate_share_setup, share_contact_candidates
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_pass_active, &
-                               contact_search, contact_sum, contact_end
+                               contact_global_search, contact_candidates, contact_local_search, &
+                               contact_sum, contact_end, contact_sort_due, contact_movement
   use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes
   use time_integration, only: update_velocities, update_positions, point_load_forces, kinetic_energy
   use stop_signals, only: stop_signal_received
@@ -35,6 +38,7 @@ module explicit_solver
     type(contact_t) :: contact
     type(node_set_t) :: contact_nodes
     type(record_share_t) :: contact_share
+    type(candidate_share_t) :: candidate_share
     logical :: has_contact = .false.
     integer :: rank = 0, n_ranks = 1, threads = 1
     ! nodal state, local numbering
@@ -83,6 +87,7 @@ contains
     character(len=*), intent(out) :: message
     integer :: g, p, n, nip, first, nl, ne, l, j
     integer, allocatable :: owner(:)
+    character(len=8) :: gather_mode
     real(wp), allocatable :: dt_element(:), node_mass(:), node_inertia(:), xg(:, :, :)
     real(wp) :: dt_local
 
@@ -190,7 +195,10 @@ contains
       s%contact%time_step = s%dt
       s%contact%rank = s%rank
       s%contact%n_ranks = s%n_ranks
+      call get_environment_variable('PARADYN_CONTACT_GATHER', gather_mode)
+      s%contact%gather_all = gather_mode == 'all'
       call record_share_setup(size(s%contact%record_nodes, 2), s%n_ranks, s%contact_share)
+      call candidate_share_setup(s%n_ranks, s%candidate_share)
     end if
     allocate (s%load_node(deck%n_loads))
     do l = 1, deck%n_loads
@@ -316,10 +324,12 @@ contains
   end subroutine advance_positions
 
   !> Contact forces act on the nodes like external forces: subtract them from the internal ones.
+  !> Only the nodes touched this step have a force (subtracting a zero would change nothing).
   subroutine apply_contact_forces(s)
     type(solver_t), intent(inout) :: s
-    integer :: k, j
-    do k = 1, s%contact_nodes%n
+    integer :: i, k, j
+    do i = 1, s%contact%n_touched
+      k = s%contact%touched(i)
       j = s%contact_nodes%local(k)
       if (j > 0) s%f_int(1:3, j) = s%f_int(1:3, j) - s%contact%force(:, k)
     end do
@@ -419,6 +429,13 @@ contains
       end if
     end do
 
+    if (s%has_contact .and. s%finished) then
+      ! one line per rank for the log: the local searches of each rank (equal blocks) and the sorts
+      write (*, '(5(a,i0))') 'PARADYN-CONTACT rank=', s%rank, ' sorts=', s%contact%n_sorts, ' pass_steps=', &
+        s%contact%n_pass_steps, ' candidates=', s%contact%candidates_total, ' local_searches=', &
+        s%contact%candidates_searched
+      flush (6)
+    end if
     s%phase = phase
     run%cycles = s%cycles
     run%ranks = s%n_ranks
@@ -468,9 +485,6 @@ contains
       phase(1) = phase(1) + MPI_Wtime() - t0
       if (s%has_contact) then
         t0 = MPI_Wtime()
-        call allgather_node_set(s%halo, s%contact_nodes, s%x, s%v, s%contact%x, s%contact%v)
-        phase(3) = phase(3) + MPI_Wtime() - t0
-        t0 = MPI_Wtime()
         comm_before = phase(3)
         call contact_step(dt_strain)
         call apply_contact_forces(s)
@@ -479,24 +493,54 @@ contains
       end if
     end subroutine forces_at_current_state
 
-    !> Contact forces at the current positions: each rank searches its cyclic share of the slaves,
-    !> the records are shared, and every rank sums all of them in slave order.
+    !> Contact forces at the current positions. The contact nodes' positions are gathered on every
+    !> rank: all of them when a sort is due, else only those that can be in contact before the
+    !> next sort (with each rank's largest movement, which tells whether a sort is due). Then per
+    !> pass: each rank searches its cyclic share of the slaves for candidates, the candidates are
+    !> shared, each rank locally searches its equal block of them, the records are shared, and
+    !> every rank sums all of them in slave order. One rank communicates nothing.
     subroutine contact_step(dt_strain)
       real(wp), intent(in) :: dt_strain
       integer :: p
-      real(wp) :: t0
-      call contact_begin(s%contact, s%cycles, wall_clock)
+      real(wp) :: t0, moved, moved_here
+      logical :: sort, new_gather_set
+      if (s%contact%gather_subset) then
+        moved_here = contact_movement(s%contact, wall_clock, s%contact_nodes%owned_member, &
+                                      s%contact_nodes%local, s%x)
+        t0 = MPI_Wtime()
+        call allgather_node_subset(s%halo, s%contact_nodes, s%x, s%v, s%contact%x, s%contact%v, moved_here, &
+                                   moved)
+        phase(3) = phase(3) + MPI_Wtime() - t0
+        sort = contact_sort_due(s%contact, s%cycles, moved)
+      end if
+      if (.not. s%contact%gather_subset .or. sort) then
+        t0 = MPI_Wtime()
+        call allgather_node_set(s%halo, s%contact_nodes, s%x, s%v, s%contact%x, s%contact%v)
+        phase(3) = phase(3) + MPI_Wtime() - t0
+      end if
+      if (.not. s%contact%gather_subset) sort = contact_sort_due(s%contact, s%cycles, &
+                                                                contact_movement(s%contact, wall_clock))
+      call contact_begin(s%contact, s%cycles, sort, wall_clock, new_gather_set)
+      if (new_gather_set) call node_subset_setup(s%contact_nodes, s%contact%in_gather)
       do p = 1, size(s%contact%passes)
         if (.not. contact_pass_active(s%contact, p, s%cycles)) cycle
-        call contact_search(s%contact, p, wall_clock)
+        call contact_global_search(s%contact, p, wall_clock)
         if (s%n_ranks > 1) then
           t0 = MPI_Wtime()
-          call share_contact_records(s%halo, s%contact_share, size(s%contact%passes(p)%slaves), &
+          call share_contact_candidates(s%halo, s%candidate_share, s%contact%n_own, s%contact%own_pairs, &
+                                        s%contact%n_all, s%contact%all_pairs)
+          phase(3) = phase(3) + MPI_Wtime() - t0
+        end if
+        call contact_candidates(s%contact, p, wall_clock)
+        call contact_local_search(s%contact, p, wall_clock)
+        if (s%n_ranks > 1) then
+          t0 = MPI_Wtime()
+          call share_contact_records(s%halo, s%contact_share, s%contact%n_candidates, &
                                      s%contact%record_nodes, s%contact%record_force, &
                                      s%contact%record_penetration)
           phase(3) = phase(3) + MPI_Wtime() - t0
         end if
-        call contact_sum(s%contact, p, wall_clock)
+        call contact_sum(s%contact, wall_clock)
       end do
       call contact_end(s%contact, s%cycles, dt_strain)
     end subroutine contact_step

@@ -12,6 +12,7 @@ module solver_checkpoint
   use shell_blt, only: stress_components, hourglass_components
   use explicit_solver, only: solver_t
   use contact_interface, only: contact_restore
+  use halo_exchange, only: node_subset_setup
   use parallel_hdf5, only: row_runs, phdf5_open, phdf5_close, create_dataset, write_rows, &
                            read_rows, write_int_attribute, write_real_attribute, read_int_attribute, &
                            read_real_attribute
@@ -21,6 +22,7 @@ module solver_checkpoint
 
   integer, parameter :: checkpoint_version = 1
   integer, parameter :: node_width = 21   !< x, v, w (3 each), internal and external force (6 each)
+  integer, parameter :: contact_width = 7 !< force, position at the last sort, place in the force sum
 
   interface
     integer(c_int) function c_rename(old, new) bind(C, name='rename')
@@ -108,14 +110,17 @@ contains
     call write_rows(file, transfer, 'work', [2_hsize_t, nr], row_runs([s%rank + 1]), 0, &
                     real_values=[s%external_work, s%damping_work])
     if (s%has_contact) then
-      ! the contact state (force and position at the last sort per contact node) is the same on
-      ! every rank: rank 0 writes it
+      ! the contact state (force, position at the last sort and place in the sum per contact
+      ! node) is the same on every rank: rank 0 writes it
       nc = int(s%contact%n_nodes, hsize_t)
-      allocate (contact(6, s%contact%n_nodes))
+      allocate (contact(contact_width, s%contact%n_nodes), source=0.0_wp)
       contact(1:3, :) = s%contact%force
       contact(4:6, :) = s%contact%x_at_sort
-      call create_dataset(file, 'contact', H5T_NATIVE_DOUBLE, [6_hsize_t, nc])
-      call write_rows(file, transfer, 'contact', [6_hsize_t, nc], &
+      do k = 1, s%contact%n_touched   ! the order in which the last step summed the forces
+        contact(7, s%contact%touched(k)) = real(k, wp)
+      end do
+      call create_dataset(file, 'contact', H5T_NATIVE_DOUBLE, [int(contact_width, hsize_t), nc])
+      call write_rows(file, transfer, 'contact', [int(contact_width, hsize_t), nc], &
                       row_runs(pack([(j, j = 1, int(nc))], s%rank == 0)), 0, real_values=reshape(contact, [size(contact)]))
     end if
     call phdf5_close(file, transfer)
@@ -145,7 +150,7 @@ contains
     real(wp), allocatable :: nodes(:, :), elements(:, :), contact(:, :), work(:, :)
     real(wp) :: dt, energy, penetration
     integer :: err, bad, version, n_nodes, n_elements, n_width, ranks, last_sort, j
-    logical :: exists
+    logical :: exists, new_gather_set
     status = 2
     inquire (file=path, exist=exists)
     if (.not. exists) then
@@ -219,9 +224,12 @@ contains
     end if
     if (s%has_contact) then
       nc = int(s%contact%n_nodes, hsize_t)
-      allocate (contact(6, nc))
-      call read_rows(file, transfer, 'contact', [6_hsize_t, nc], row_runs([(j, j = 1, int(nc))]), contact, err)
-      call contact_restore(s%contact, contact(1:3, :), contact(4:6, :), last_sort, energy, penetration)
+      allocate (contact(contact_width, nc))
+      call read_rows(file, transfer, 'contact', [int(contact_width, hsize_t), nc], row_runs([(j, j = 1, int(nc))]), &
+                     contact, err)
+      call contact_restore(s%contact, contact(1:3, :), nint(contact(7, :)), contact(4:6, :), last_sort, energy, &
+                           penetration, new_gather_set)
+      if (new_gather_set) call node_subset_setup(s%contact_nodes, s%contact%in_gather)
     end if
     call phdf5_close(file, transfer)
     status = 0
