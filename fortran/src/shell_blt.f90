@@ -146,7 +146,7 @@ contains
     real(wp) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
     !> rates: membrane dm(1:3), curvature kappa(4:6), transverse shear gs(7:8)
     real(wp) :: rates(group_size, 8), qrate(group_size, hourglass_components)
-    real(wp) :: s_old(group_size, stress_components), sp(group_size, stress_components)
+    real(wp) :: sp(group_size, stress_components)
     real(wp) :: bp(group_size, 3), ep(group_size), deps(group_size, 3), work(group_size)
     !> res: membrane resultant N (1:3), moment M (4:6), shear Q (7:8)
     real(wp) :: hg(group_size, hourglass_components), res(group_size, 8), fl(group_size, 6, 4)
@@ -164,7 +164,7 @@ contains
       ! --- strain rates on the mid-step geometry; an element inverted there (area_mid <= 0) gets
       ! zero velocities, hence zero rates, and keeps its state
       xg(1:m, :, :) = x(o + 1:o + m, :, :) - 0.5_wp * dt * v(o + 1:o + m, :, :)
-      call frames(m, xg, e, xl, yl, area_mid)
+      call frames(m, group_size, 0, xg, e, xl, yl, area_mid)
       ! a product, not merge(v, 0, ...): a masked load of v would stop the vectoriser
       valid(1:m) = merge(1.0_wp, 0.0_wp, area_mid(1:m) > 0.0_wp)
       do k = 1, 4
@@ -183,36 +183,37 @@ contains
       do k = 1, nip
         z = zeta(k) * half_t
         do c = 1, 3
-          deps(1:m, c) = dt * (rates(1:m, c) + z * rates(1:m, 3 + c))
+          do i = 1, m
+            deps(i, c) = dt * (rates(i, c) + z * rates(i, 3 + c))
+            sp(i, c) = stress(o + i, c, k)
+          end do
         end do
-        s_old(1:m, :) = stress(o + 1:o + m, :, k)
-        sp(1:m, :) = s_old(1:m, :)
-        bp(1:m, :) = back(o + 1:o + m, :, k)
-        ep(1:m) = eps_p(o + 1:o + m, k)
         if (props%model == material_j2_plastic) then
+          bp(1:m, :) = back(o + 1:o + m, :, k)
+          ep(1:m) = eps_p(o + 1:o + m, k)
           call j2_plane_stress_update_points(m, sp, bp, ep, deps, props%young, props%poisson, &
                                              props%yield_stress, props%tangent_modulus, props%hardening_mixing)
+          do c = 1, 3
+            back(o + 1:o + m, c, k) = merge(bp(1:m, c), back(o + 1:o + m, c, k), area_mid(1:m) > 0.0_wp)
+          end do
+          eps_p(o + 1:o + m, k) = merge(ep(1:m), eps_p(o + 1:o + m, k), area_mid(1:m) > 0.0_wp)
         else
           call elastic_plane_stress_update_points(m, sp, deps, props%young, props%poisson)
         end if
         wz = wgt(k) * half_t
         do i = 1, m
-          sp(i, 4) = s_old(i, 4) + shear_step * rates(i, 7)
-          sp(i, 5) = s_old(i, 5) + shear_step * rates(i, 8)
+          sp(i, 4) = stress(o + i, 4, k) + shear_step * rates(i, 7)
+          sp(i, 5) = stress(o + i, 5, k) + shear_step * rates(i, 8)
           work(i) = work(i) + wz * ( &
-                    (0.5_wp * (s_old(i, 1) + sp(i, 1)) * deps(i, 1) &
-                     + 0.5_wp * (s_old(i, 2) + sp(i, 2)) * deps(i, 2) &
-                     + 0.5_wp * (s_old(i, 3) + sp(i, 3)) * deps(i, 3)) &
-                    + (0.5_wp * (s_old(i, 4) + sp(i, 4)) * (dt * rates(i, 7)) &
-                       + 0.5_wp * (s_old(i, 5) + sp(i, 5)) * (dt * rates(i, 8))))
+                    (0.5_wp * (stress(o + i, 1, k) + sp(i, 1)) * deps(i, 1) &
+                     + 0.5_wp * (stress(o + i, 2, k) + sp(i, 2)) * deps(i, 2) &
+                     + 0.5_wp * (stress(o + i, 3, k) + sp(i, 3)) * deps(i, 3)) &
+                    + (0.5_wp * (stress(o + i, 4, k) + sp(i, 4)) * (dt * rates(i, 7)) &
+                       + 0.5_wp * (stress(o + i, 5, k) + sp(i, 5)) * (dt * rates(i, 8))))
         end do
         do c = 1, stress_components
-          stress(o + 1:o + m, c, k) = merge(sp(1:m, c), s_old(1:m, c), area_mid(1:m) > 0.0_wp)
+          stress(o + 1:o + m, c, k) = merge(sp(1:m, c), stress(o + 1:o + m, c, k), area_mid(1:m) > 0.0_wp)
         end do
-        do c = 1, 3
-          back(o + 1:o + m, c, k) = merge(bp(1:m, c), back(o + 1:o + m, c, k), area_mid(1:m) > 0.0_wp)
-        end do
-        eps_p(o + 1:o + m, k) = merge(ep(1:m), eps_p(o + 1:o + m, k), area_mid(1:m) > 0.0_wp)
       end do
       e_internal(o + 1:o + m) = merge(e_internal(o + 1:o + m) + area_mid(1:m) * work(1:m), &
                                       e_internal(o + 1:o + m), area_mid(1:m) > 0.0_wp)
@@ -227,8 +228,7 @@ contains
                                        area_mid(1:m) > 0.0_wp)
 
       ! --- resultants and nodal forces on the end-of-step geometry
-      xg(1:m, :, :) = x(o + 1:o + m, :, :)
-      call frames(m, xg, e, xl, yl, area)
+      call frames(m, n, o, x, e, xl, yl, area)
       call check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
       inverted = inverted + count(.not. (area(1:m) > 0.0_wp))
       call gradient_arrays(m, xl, yl, area, b1, b2, gamma)
@@ -243,26 +243,27 @@ contains
         res(1:m, 7) = res(1:m, 7) + wz * stress(o + 1:o + m, 4, k)
         res(1:m, 8) = res(1:m, 8) + wz * stress(o + 1:o + m, 5, k)
       end do
+      ! into a local array: stored straight into force, gfortran needs too many alias checks
       call nodal_forces(m, e, area, b1, b2, gamma, res, hg, fl)
       force(o + 1:o + m, :, :) = fl(1:m, :, :)
     end do
   end subroutine blt_internal_forces
 
-  !> local_frame for elements 1..m (mid-surface frame, local node coordinates, projected area),
-  !> with |a| = sqrt(a . a) in place of norm2
-  pure subroutine frames(m, x, e, xl, yl, area)
-    integer, intent(in) :: m
-    real(wp), intent(in) :: x(group_size, 3, 4)
+  !> local_frame of elements o+1..o+m of x (mid-surface frame, local node coordinates, projected
+  !> area), with |a| = sqrt(a . a) in place of norm2; results for 1..m
+  pure subroutine frames(m, ld, o, x, e, xl, yl, area)
+    integer, intent(in) :: m, ld, o
+    real(wp), intent(in) :: x(ld, 3, 4)
     real(wp), intent(out) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), area(group_size)
     real(wp) :: d31x, d31y, d31z, d42x, d42y, d42z, nx, ny, nz, gx, gy, gz, r, cx, cy, cz
     integer :: i, k
     do i = 1, m
-      d31x = x(i, 1, 3) - x(i, 1, 1)
-      d31y = x(i, 2, 3) - x(i, 2, 1)
-      d31z = x(i, 3, 3) - x(i, 3, 1)
-      d42x = x(i, 1, 4) - x(i, 1, 2)
-      d42y = x(i, 2, 4) - x(i, 2, 2)
-      d42z = x(i, 3, 4) - x(i, 3, 2)
+      d31x = x(o + i, 1, 3) - x(o + i, 1, 1)
+      d31y = x(o + i, 2, 3) - x(o + i, 2, 1)
+      d31z = x(o + i, 3, 3) - x(o + i, 3, 1)
+      d42x = x(o + i, 1, 4) - x(o + i, 1, 2)
+      d42y = x(o + i, 2, 4) - x(o + i, 2, 2)
+      d42z = x(o + i, 3, 4) - x(o + i, 3, 2)
       nx = d31y * d42z - d31z * d42y
       ny = d31z * d42x - d31x * d42z
       nz = d31x * d42y - d31y * d42x
@@ -270,9 +271,9 @@ contains
       nx = nx / r
       ny = ny / r
       nz = nz / r
-      gx = x(i, 1, 2) + x(i, 1, 3) - x(i, 1, 1) - x(i, 1, 4)
-      gy = x(i, 2, 2) + x(i, 2, 3) - x(i, 2, 1) - x(i, 2, 4)
-      gz = x(i, 3, 2) + x(i, 3, 3) - x(i, 3, 1) - x(i, 3, 4)
+      gx = x(o + i, 1, 2) + x(o + i, 1, 3) - x(o + i, 1, 1) - x(o + i, 1, 4)
+      gy = x(o + i, 2, 2) + x(o + i, 2, 3) - x(o + i, 2, 1) - x(o + i, 2, 4)
+      gz = x(o + i, 3, 2) + x(o + i, 3, 3) - x(o + i, 3, 1) - x(o + i, 3, 4)
       r = gx * nx + gy * ny + gz * nz
       gx = gx - r * nx
       gy = gy - r * ny
@@ -290,9 +291,9 @@ contains
     end do
     do k = 1, 4
       do i = 1, m
-        cx = x(i, 1, k) - 0.25_wp * (x(i, 1, 1) + x(i, 1, 2) + x(i, 1, 3) + x(i, 1, 4))
-        cy = x(i, 2, k) - 0.25_wp * (x(i, 2, 1) + x(i, 2, 2) + x(i, 2, 3) + x(i, 2, 4))
-        cz = x(i, 3, k) - 0.25_wp * (x(i, 3, 1) + x(i, 3, 2) + x(i, 3, 3) + x(i, 3, 4))
+        cx = x(o + i, 1, k) - 0.25_wp * (x(o + i, 1, 1) + x(o + i, 1, 2) + x(o + i, 1, 3) + x(o + i, 1, 4))
+        cy = x(o + i, 2, k) - 0.25_wp * (x(o + i, 2, 1) + x(o + i, 2, 2) + x(o + i, 2, 3) + x(o + i, 2, 4))
+        cz = x(o + i, 3, k) - 0.25_wp * (x(o + i, 3, 1) + x(o + i, 3, 2) + x(o + i, 3, 3) + x(o + i, 3, 4))
         xl(i, k) = cx * e(i, 1, 1) + cy * e(i, 2, 1) + cz * e(i, 3, 1)
         yl(i, k) = cx * e(i, 1, 2) + cy * e(i, 2, 2) + cz * e(i, 3, 2)
       end do
@@ -507,11 +508,9 @@ contains
     real(wp), intent(in) :: res(group_size, 8), hg(group_size, hourglass_components)
     real(wp), intent(out) :: force(group_size, 6, 4)
     real(wp) :: drill_total, f1, f2, f3, f4, f5, f6
-    logical :: keep
     integer :: i, k
     do k = 1, 4
       do i = 1, m
-        keep = area(i) > 0.0_wp
         drill_total = hg(i, 6) + hg(i, 7) + hg(i, 8) + hg(i, 9)
         f1 = area(i) * (b1(i, k) * res(i, 1) + b2(i, k) * res(i, 3)) + gamma(i, k) * hg(i, 1) &
              + 0.5_wp * drill_total * b2(i, k)
@@ -523,12 +522,12 @@ contains
         f5 = area(i) * (b1(i, k) * res(i, 4) + b2(i, k) * res(i, 6) + 0.25_wp * res(i, 7)) &
              + gamma(i, k) * hg(i, 4)
         f6 = hg(i, 5 + k)
-        force(i, 1, k) = merge(e(i, 1, 1) * f1 + e(i, 1, 2) * f2 + e(i, 1, 3) * f3, 0.0_wp, keep)
-        force(i, 2, k) = merge(e(i, 2, 1) * f1 + e(i, 2, 2) * f2 + e(i, 2, 3) * f3, 0.0_wp, keep)
-        force(i, 3, k) = merge(e(i, 3, 1) * f1 + e(i, 3, 2) * f2 + e(i, 3, 3) * f3, 0.0_wp, keep)
-        force(i, 4, k) = merge(e(i, 1, 1) * f4 + e(i, 1, 2) * f5 + e(i, 1, 3) * f6, 0.0_wp, keep)
-        force(i, 5, k) = merge(e(i, 2, 1) * f4 + e(i, 2, 2) * f5 + e(i, 2, 3) * f6, 0.0_wp, keep)
-        force(i, 6, k) = merge(e(i, 3, 1) * f4 + e(i, 3, 2) * f5 + e(i, 3, 3) * f6, 0.0_wp, keep)
+        force(i, 1, k) = merge(e(i, 1, 1) * f1 + e(i, 1, 2) * f2 + e(i, 1, 3) * f3, 0.0_wp, area(i) > 0.0_wp)
+        force(i, 2, k) = merge(e(i, 2, 1) * f1 + e(i, 2, 2) * f2 + e(i, 2, 3) * f3, 0.0_wp, area(i) > 0.0_wp)
+        force(i, 3, k) = merge(e(i, 3, 1) * f1 + e(i, 3, 2) * f2 + e(i, 3, 3) * f3, 0.0_wp, area(i) > 0.0_wp)
+        force(i, 4, k) = merge(e(i, 1, 1) * f4 + e(i, 1, 2) * f5 + e(i, 1, 3) * f6, 0.0_wp, area(i) > 0.0_wp)
+        force(i, 5, k) = merge(e(i, 2, 1) * f4 + e(i, 2, 2) * f5 + e(i, 2, 3) * f6, 0.0_wp, area(i) > 0.0_wp)
+        force(i, 6, k) = merge(e(i, 3, 1) * f4 + e(i, 3, 2) * f5 + e(i, 3, 3) * f6, 0.0_wp, area(i) > 0.0_wp)
       end do
     end do
   end subroutine nodal_forces
