@@ -122,6 +122,9 @@ contains
   !> them, innermost, on per-stage arrays with the element index first. Loop bodies hold scalars
   !> only: a small local array in a body stops gfortran's vectoriser. An element that fails a
   !> check is computed with the others (on a safe area) and its results are dropped by merge.
+  !> An element's arithmetic is bitwise the same in a vector body or a scalar remainder, whatever
+  !> the group's size: nothing is summed across elements, and this file is compiled without FMA
+  !> contraction (fortran/CMakeLists.txt), so the layouts of tests/test_parallel.py agree.
   pure subroutine blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, hourglass, &
                                       force, e_internal, e_hourglass, inverted)
     integer, intent(in) :: n
