@@ -10,6 +10,17 @@ subroutine j2_update(stress, back, eps_p, dstrain, young, poisson, yield_stress,
   call j2_plane_stress_update(stress, back, eps_p, dstrain, young, poisson, yield_stress, tangent, beta)
 end subroutine j2_update
 
+! The array form used by the element kernel: m points, point index first.
+subroutine j2_update_points(m, stress, back, eps_p, dstrain, young, poisson, yield_stress, tangent, beta)
+  use paradyn_kinds, only: wp
+  use material_j2, only: j2_plane_stress_update_points
+  implicit none
+  integer, intent(in) :: m
+  real(wp), intent(inout) :: stress(m, 3), back(m, 3), eps_p(m)
+  real(wp), intent(in) :: dstrain(m, 3), young, poisson, yield_stress, tangent, beta
+  call j2_plane_stress_update_points(m, stress, back, eps_p, dstrain, young, poisson, yield_stress, tangent, beta)
+end subroutine j2_update_points
+
 subroutine thickness_points(n, zeta, weight)
   use paradyn_kinds, only: wp
   use shell_blt, only: thickness_rule

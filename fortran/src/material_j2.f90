@@ -1,13 +1,19 @@
-!> Material laws at one integration point, in plane stress.
+!> Material laws at one integration point, in plane stress, and their array forms across many
+!> points (point index first) that the element kernel vectorises.
 !>
 !> J2 plasticity with linear combined isotropic/kinematic hardening and a radial return that
 !> satisfies the plane-stress condition exactly (Simo & Taylor 1986; Simo & Hughes,
 !> Computational Inelasticity, 1998, sec. 3.4). Stress vectors are (sxx, syy, sxy).
 module material_j2
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
   implicit none
   private
   public :: elastic_plane_stress_update, j2_plane_stress_update, von_mises_plane_stress
+  public :: elastic_plane_stress_update_points, j2_plane_stress_update_points
+
+  !> points per pass of j2_plane_stress_update_points (one element group's worth): fixed-size
+  !> local arrays, no allocation
+  integer, parameter :: batch = 64
 
 contains
 
@@ -119,5 +125,173 @@ contains
     end subroutine evaluate
 
   end subroutine j2_plane_stress_update
+
+  !> elastic_plane_stress_update for points 1..m of arrays laid out point first (stress(:, 1:3))
+  pure subroutine elastic_plane_stress_update_points(m, stress, dstrain, young, poisson)
+    integer, intent(in) :: m
+    real(wp), intent(inout), contiguous :: stress(:, :)
+    real(wp), intent(in), contiguous :: dstrain(:, :)
+    real(wp), intent(in) :: young, poisson
+    real(wp) :: c
+    integer :: i
+    c = young / (1.0_wp - poisson**2)
+    do i = 1, m
+      stress(i, 1) = stress(i, 1) + c * (dstrain(i, 1) + poisson * dstrain(i, 2))
+      stress(i, 2) = stress(i, 2) + c * (dstrain(i, 2) + poisson * dstrain(i, 1))
+      stress(i, 3) = stress(i, 3) + c * 0.5_wp * (1.0_wp - poisson) * dstrain(i, 3)
+    end do
+  end subroutine elastic_plane_stress_update_points
+
+  !> j2_plane_stress_update for points 1..m of arrays laid out point first (stress(:, 1:3)), with
+  !> the same algorithm vectorised across the points: the elastic trial runs on every point, the
+  !> yielding ones are gathered and returned together (return_points). A point's arithmetic does
+  !> not depend on the other points or on its position in the arrays.
+  pure subroutine j2_plane_stress_update_points(m, stress, back, eps_p, dstrain, young, poisson, &
+                                                yield0, tangent, beta)
+    integer, intent(in) :: m
+    real(wp), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
+    real(wp), intent(in), contiguous :: dstrain(:, :)
+    real(wp), intent(in) :: young, poisson, yield0, tangent, beta
+    real(wp), parameter :: root2 = sqrt(2.0_wp)
+    real(wp) :: c, h, h_iso, h_kin, shear, c1, c2, s1, s2, a1, a2, a3, psi, x1, x2, x3
+    real(wp) :: a1t(batch), a2t(batch), a3t(batch), ep(batch), dgamma(batch)
+    logical :: yielding(batch)
+    integer :: idx(batch), first, nb, i, j, np
+
+    c = young / (1.0_wp - poisson**2)
+    h = young * tangent / (young - tangent)
+    h_iso = beta * h
+    h_kin = (1.0_wp - beta) * h
+    shear = young / (2.0_wp * (1.0_wp + poisson))
+    c1 = young / (3.0_wp * (1.0_wp - poisson)) + 2.0_wp * h_kin / 3.0_wp
+    c2 = 2.0_wp * shear + 2.0_wp * h_kin / 3.0_wp
+    ! loop bodies use scalars only: a small array such as xi(3) inside stops the vectoriser
+    do first = 1, m, batch
+      nb = min(batch, m - first + 1)
+      ! elastic trial and yield test on every point (elastic_plane_stress_update, von_mises_plane_stress)
+      do i = first, first + nb - 1
+        stress(i, 1) = stress(i, 1) + c * (dstrain(i, 1) + poisson * dstrain(i, 2))
+        stress(i, 2) = stress(i, 2) + c * (dstrain(i, 2) + poisson * dstrain(i, 1))
+        stress(i, 3) = stress(i, 3) + c * 0.5_wp * (1.0_wp - poisson) * dstrain(i, 3)
+        x1 = stress(i, 1) - back(i, 1)
+        x2 = stress(i, 2) - back(i, 2)
+        x3 = stress(i, 3) - back(i, 3)
+        ! (a NaN does not yield here, where the scalar version would iterate on it)
+        yielding(i - first + 1) = sqrt(max(x1**2 - x1 * x2 + x2**2 + 3.0_wp * x3**2, 0.0_wp)) &
+                                  > yield0 + h_iso * eps_p(i)
+      end do
+      ! gather the yielding points: trial relative stress in the eigenbasis of the projector P
+      np = 0
+      do i = first, first + nb - 1
+        if (yielding(i - first + 1)) then
+          np = np + 1
+          idx(np) = i
+        end if
+      end do
+      if (np == 0) cycle
+      do j = 1, np
+        x1 = stress(idx(j), 1) - back(idx(j), 1)
+        x2 = stress(idx(j), 2) - back(idx(j), 2)
+        a1t(j) = (x1 + x2) / root2
+        a2t(j) = (x2 - x1) / root2
+        a3t(j) = stress(idx(j), 3) - back(idx(j), 3)
+        ep(j) = eps_p(idx(j))
+      end do
+      call return_points(np, a1t, a2t, a3t, ep, c1, c2, yield0, h_iso, dgamma)
+      ! the returned state, in the compact arrays, then scattered back
+      do j = 1, np
+        s1 = 1.0_wp / (1.0_wp + dgamma(j) * c1)
+        s2 = 1.0_wp / (1.0_wp + dgamma(j) * c2)
+        a1 = a1t(j) * s1
+        a2 = a2t(j) * s2
+        a3 = a3t(j) * s2
+        psi = a1**2 / 3.0_wp + a2**2 + 2.0_wp * a3**2
+        ep(j) = ep(j) + dgamma(j) * sqrt(2.0_wp * psi / 3.0_wp)
+        ! xi, kept in a1t, a2t, a3t
+        a1t(j) = (a1 - a2) / root2
+        a2t(j) = (a1 + a2) / root2
+        a3t(j) = a3
+        dgamma(j) = 2.0_wp / 3.0_wp * h_kin * dgamma(j)
+      end do
+      do j = 1, np
+        i = idx(j)
+        back(i, 1) = back(i, 1) + dgamma(j) * a1t(j)
+        back(i, 2) = back(i, 2) + dgamma(j) * a2t(j)
+        back(i, 3) = back(i, 3) + dgamma(j) * a3t(j)
+        eps_p(i) = ep(j)
+        stress(i, 1) = a1t(j) + back(i, 1)
+        stress(i, 2) = a2t(j) + back(i, 2)
+        stress(i, 3) = a3t(j) + back(i, 3)
+      end do
+    end do
+  end subroutine j2_plane_stress_update_points
+
+  !> Consistency parameter dgamma of np <= batch yielding points: the bracket and the safeguarded
+  !> Newton iteration of j2_plane_stress_update in lockstep. Masks freeze a point once it meets its
+  !> own stopping test, so it ends where it would alone, and the loops over points have no exits.
+  !> merge selects only between operands already computed: an operation that only one branch
+  !> needs is moved into that branch, which the vectoriser then cannot if-convert (it may trap).
+  pure subroutine return_points(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dgamma)
+    integer, intent(in) :: np
+    real(wp), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0, h_iso
+    real(wp), intent(out) :: dgamma(np)
+    real(wp) :: lo(batch), hi(batch), f(batch), df(batch), newton, bisection
+    logical :: grow(batch), converged
+    ! 1 while a point iterates: 64-bit flags, as GCC 12 cannot select doubles by a logical array
+    integer(i8) :: active(batch)
+    integer :: iter, j
+
+    ! bracket: a point stops doubling at f(hi) < 0, and f(hi) then stays < 0
+    hi(1:np) = 1.0_wp / c2
+    do iter = 1, 200
+      call yield_functions(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, hi, f, df)
+      do j = 1, np
+        grow(j) = .not. (f(j) < 0.0_wp)
+        hi(j) = hi(j) * merge(2.0_wp, 1.0_wp, grow(j))
+      end do
+      if (.not. any(grow(1:np))) exit
+    end do
+    lo(1:np) = 0.0_wp
+    dgamma = 0.0_wp
+    active(1:np) = 1
+    do iter = 1, 100
+      call yield_functions(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dgamma, f, df)
+      do j = 1, np
+        lo(j) = merge(dgamma(j), lo(j), active(j) == 1 .and. f(j) > 0.0_wp)
+        hi(j) = merge(dgamma(j), hi(j), active(j) == 1 .and. .not. (f(j) > 0.0_wp))
+        ! stop on a small |f| keeping dgamma, or on a closed bracket after the step
+        converged = abs(f(j)) <= 1.0e-13_wp * yield0**2
+        newton = dgamma(j) - f(j) / df(j)
+        bisection = 0.5_wp * (lo(j) + hi(j))
+        newton = merge(bisection, newton, newton <= lo(j) .or. newton >= hi(j) .or. df(j) >= 0.0_wp)
+        dgamma(j) = merge(newton, dgamma(j), active(j) == 1 .and. .not. converged)
+        active(j) = merge(active(j), 0_i8, .not. converged .and. .not. (hi(j) - lo(j) <= 1.0e-15_wp * hi(j)))
+      end do
+      if (all(active(1:np) == 0)) exit
+    end do
+  end subroutine return_points
+
+  !> f(dgamma) = psi / 2 - sy^2 / 3 and its derivative at np points (the evaluate of
+  !> j2_plane_stress_update); one loop, so that both iterations above share it vectorised
+  pure subroutine yield_functions(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dg, fv, dfv)
+    integer, intent(in) :: np
+    real(wp), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0, h_iso, dg(np)
+    real(wp), intent(out) :: fv(np), dfv(np)
+    real(wp) :: t1, t2, p, dp, root, de, dde, sy_new
+    integer :: j
+    do j = 1, np
+      t1 = 1.0_wp / (1.0_wp + dg(j) * c1)
+      t2 = 1.0_wp / (1.0_wp + dg(j) * c2)
+      p = (a1t(j) * t1)**2 / 3.0_wp + (a2t(j)**2 + 2.0_wp * a3t(j)**2) * t2**2
+      dp = -2.0_wp * ((a1t(j) * t1)**2 / 3.0_wp * c1 * t1 + (a2t(j)**2 + 2.0_wp * a3t(j)**2) * t2**2 * c2 * t2)
+      root = sqrt(max(2.0_wp * p / 3.0_wp, 0.0_wp))
+      de = dg(j) * root
+      ! dg dp / (3 root) for root > 0, else 0, with merge only on operands (see return_points)
+      dde = root + merge(dg(j), 0.0_wp, root > 0.0_wp) * dp / (3.0_wp * merge(root, 1.0_wp, root > 0.0_wp))
+      sy_new = yield0 + h_iso * (eps_p(j) + de)
+      fv(j) = 0.5_wp * p - sy_new**2 / 3.0_wp
+      dfv(j) = 0.5_wp * dp - 2.0_wp / 3.0_wp * sy_new * h_iso * dde
+    end do
+  end subroutine yield_functions
 
 end module material_j2

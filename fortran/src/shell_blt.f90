@@ -9,7 +9,9 @@
 !> arrays). They are pure: no MPI, no I/O, no module state.
 module shell_blt
   use paradyn_kinds, only: wp
-  use material_j2, only: elastic_plane_stress_update, j2_plane_stress_update, von_mises_plane_stress
+  use material_j2, only: elastic_plane_stress_update_points, j2_plane_stress_update_points, &
+                         von_mises_plane_stress
+  use domain_decomposition, only: group_size
   implicit none
   private
   public :: shell_properties_t, material_elastic, material_j2_plastic, max_integration_points
@@ -31,7 +33,6 @@ module shell_blt
   !> enough that the rotation about the normal of kinked facets is tied to the in-plane spin
   real(wp), parameter :: drilling_penalty = 1.0e-4_wp
   real(wp), parameter :: shear_correction = 5.0_wp / 6.0_wp
-  real(wp), parameter :: hourglass_vector(4) = [1.0_wp, -1.0_wp, 1.0_wp, -1.0_wp]
 
   !> Section and material of one element group (one part).
   type :: shell_properties_t
@@ -101,39 +102,11 @@ contains
     area = 0.5_wp * ((xl(3) - xl(1)) * (yl(4) - yl(2)) - (xl(4) - xl(2)) * (yl(3) - yl(1)))
   end subroutine local_frame
 
-  !> Every corner of the projected quad turns the same way as the normal (positive corner
-  !> Jacobians). An element turned inside out during a step fails this, or flips its normal.
-  pure logical function corners_convex(xl, yl)
-    real(wp), intent(in) :: xl(4), yl(4)
-    integer :: k, next, prev
-    corners_convex = .true.
-    do k = 1, 4
-      next = modulo(k, 4) + 1
-      prev = modulo(k + 2, 4) + 1
-      if ((xl(next) - xl(k)) * (yl(prev) - yl(k)) - (yl(next) - yl(k)) * (xl(prev) - xl(k)) <= 0.0_wp) then
-        corners_convex = .false.
-      end if
-    end do
-  end function corners_convex
-
   pure function cross(a, b) result(c)
     real(wp), intent(in) :: a(3), b(3)
     real(wp) :: c(3)
     c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
   end function cross
-
-  !> Shape-function derivatives at the centre (B1 = dN/dx, B2 = dN/dy) and the hourglass shape
-  !> vector gamma = h - (h.x) B1 - (h.y) B2, orthogonal to the linear velocity fields.
-  pure subroutine gradient_operators(xl, yl, area, b1, b2, gamma)
-    real(wp), intent(in) :: xl(4), yl(4), area
-    real(wp), intent(out) :: b1(4), b2(4), gamma(4)
-    real(wp) :: r
-    r = 0.5_wp / area
-    b1 = r * [yl(2) - yl(4), yl(3) - yl(1), yl(4) - yl(2), yl(1) - yl(3)]
-    b2 = r * [xl(4) - xl(2), xl(1) - xl(3), xl(2) - xl(4), xl(3) - xl(1)]
-    gamma = hourglass_vector - dot_product(hourglass_vector, xl) * b1 &
-            - dot_product(hourglass_vector, yl) * b2
-  end subroutine gradient_operators
 
   !> Internal nodal forces and moments of a group of BLT shells for one time step.
   !>
@@ -143,6 +116,15 @@ contains
   !> stress (local frame), back stress, effective plastic strain, hourglass resultants.
   !> Element energies accumulate the stress and hourglass work of the step (midpoint rule).
   !> force(i, 1:3, k) is the internal force, force(i, 4:6, k) the internal moment, global axes.
+  !>
+  !> Vectorised across elements: elements are taken group_size at a time, and every stage (frame,
+  !> gradients, strain rates, each through-thickness point, hourglass, forces) is a loop over
+  !> them, innermost, on per-stage arrays with the element index first. Loop bodies hold scalars
+  !> only: a small local array in a body stops gfortran's vectoriser. An element that fails a
+  !> check is computed with the others (on a safe area) and its results are dropped by merge.
+  !> An element's arithmetic is bitwise the same in a vector body or a scalar remainder, whatever
+  !> the group's size: nothing is summed across elements, and this file is compiled without FMA
+  !> contraction (fortran/CMakeLists.txt), so the layouts of tests/test_parallel.py agree.
   pure subroutine blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, hourglass, &
                                       force, e_internal, e_hourglass, inverted)
     integer, intent(in) :: n
@@ -157,118 +139,401 @@ contains
     real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
     integer, intent(inout) :: inverted
 
-    integer :: i, k, nip
+    integer :: first, m, o, i, k, c, nip
     real(wp) :: zeta(max_integration_points), wgt(max_integration_points)
-    real(wp) :: xe(3, 4), e(3, 3), xl(4), yl(4), area, b1(4), b2(4), gamma(4)
-    real(wp) :: vl(3, 4), wl(3, 4), dm(3), kappa(3), gs(2), qrate(hourglass_components), spin
-    real(wp) :: t, half_t, shear, z, deps(3), s_old(stress_components), work, bb, stiff(5), inertia(5)
-    real(wp) :: drill_total
-    real(wp) :: q_old(hourglass_components), res_n(3), res_m(3), res_q(2), fl(6, 4), normal_mid(3)
+    real(wp) :: t, half_t, shear_step, z, wz, wzz
+    ! per-pass arrays, element index first
+    real(wp) :: xg(group_size, 3, 4), vg(group_size, 3, 4), wg(group_size, 3, 4)
+    real(wp) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), normal_mid(group_size, 3)
+    real(wp) :: area_mid(group_size), area(group_size), valid(group_size)
+    real(wp) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
+    !> rates: membrane dm(1:3), curvature kappa(4:6), transverse shear gs(7:8)
+    real(wp) :: rates(group_size, 8), qrate(group_size, hourglass_components)
+    real(wp) :: sp(group_size, stress_components)
+    real(wp) :: bp(group_size, 3), ep(group_size), deps(group_size, 3), work(group_size)
+    !> res: membrane resultant N (1:3), moment M (4:6), shear Q (7:8)
+    real(wp) :: hg(group_size, hourglass_components), res(group_size, 8), fl(group_size, 6, 4)
 
     nip = props%integration_points
     call thickness_rule(nip, zeta(1:nip), wgt(1:nip))
     t = props%thickness
     half_t = 0.5_wp * t
-    shear = props%young / (2.0_wp * (1.0_wp + props%poisson))
+    shear_step = shear_correction * (props%young / (2.0_wp * (1.0_wp + props%poisson))) * dt
 
-    do i = 1, n
-      ! --- strain rates on the mid-step geometry
-      xe = x(i, :, :) - 0.5_wp * dt * v(i, :, :)
-      call local_frame(xe, e, xl, yl, area)
-      if (.not. (area > 0.0_wp)) then
-        inverted = inverted + 1
-        force(i, :, :) = 0.0_wp
-        cycle
-      end if
-      call gradient_operators(xl, yl, area, b1, b2, gamma)
-      vl = matmul(transpose(e), v(i, :, :))
-      wl = matmul(transpose(e), w(i, :, :))
-      dm = [dot_product(b1, vl(1, :)), dot_product(b2, vl(2, :)), &
-            dot_product(b2, vl(1, :)) + dot_product(b1, vl(2, :))]
-      kappa = [dot_product(b1, wl(2, :)), -dot_product(b2, wl(1, :)), &
-               dot_product(b2, wl(2, :)) - dot_product(b1, wl(1, :))]
-      gs = [dot_product(b1, vl(3, :)) + 0.25_wp * sum(wl(2, :)), &
-            dot_product(b2, vl(3, :)) - 0.25_wp * sum(wl(1, :))]
+    do first = 1, n, group_size
+      m = min(group_size, n - first + 1)
+      o = first - 1
 
-      ! --- stress update at each through-thickness point
+      ! --- strain rates on the mid-step geometry; an element inverted there (area_mid <= 0) gets
+      ! zero velocities, hence zero rates, and keeps its state
+      xg(1:m, :, :) = x(o + 1:o + m, :, :) - 0.5_wp * dt * v(o + 1:o + m, :, :)
+      call frames(m, group_size, 0, xg, e, xl, yl, area_mid)
+      ! a product, not merge(v, 0, ...): a masked load of v would stop the vectoriser
+      valid(1:m) = merge(1.0_wp, 0.0_wp, area_mid(1:m) > 0.0_wp)
+      do k = 1, 4
+        do c = 1, 3
+          vg(1:m, c, k) = valid(1:m) * v(o + 1:o + m, c, k)
+          wg(1:m, c, k) = valid(1:m) * w(o + 1:o + m, c, k)
+        end do
+      end do
+      normal_mid(1:m, :) = e(1:m, :, 3)
+      call gradient_arrays(m, xl, yl, area_mid, b1, b2, gamma)
+      call strain_rates(m, e, b1, b2, gamma, vg, wg, rates, qrate)
+
+      ! --- stress update at each through-thickness point on copies (sp, bp, ep), written back by
+      ! merge so that an element inverted at mid-step keeps its state
       work = 0.0_wp
       do k = 1, nip
         z = zeta(k) * half_t
-        deps = dt * (dm + z * kappa)
-        s_old = stress(i, :, k)
+        do c = 1, 3
+          do i = 1, m
+            deps(i, c) = dt * (rates(i, c) + z * rates(i, 3 + c))
+            sp(i, c) = stress(o + i, c, k)
+          end do
+        end do
         if (props%model == material_j2_plastic) then
-          call j2_plane_stress_update(stress(i, 1:3, k), back(i, :, k), eps_p(i, k), deps, &
-                                      props%young, props%poisson, props%yield_stress, &
-                                      props%tangent_modulus, props%hardening_mixing)
+          bp(1:m, :) = back(o + 1:o + m, :, k)
+          ep(1:m) = eps_p(o + 1:o + m, k)
+          call j2_plane_stress_update_points(m, sp, bp, ep, deps, props%young, props%poisson, &
+                                             props%yield_stress, props%tangent_modulus, props%hardening_mixing)
+          do c = 1, 3
+            back(o + 1:o + m, c, k) = merge(bp(1:m, c), back(o + 1:o + m, c, k), area_mid(1:m) > 0.0_wp)
+          end do
+          eps_p(o + 1:o + m, k) = merge(ep(1:m), eps_p(o + 1:o + m, k), area_mid(1:m) > 0.0_wp)
         else
-          call elastic_plane_stress_update(stress(i, 1:3, k), deps, props%young, props%poisson)
+          call elastic_plane_stress_update_points(m, sp, deps, props%young, props%poisson)
         end if
-        stress(i, 4:5, k) = stress(i, 4:5, k) + shear_correction * shear * dt * gs
-        work = work + wgt(k) * half_t * ( &
-               dot_product(0.5_wp * (s_old(1:3) + stress(i, 1:3, k)), deps) + &
-               dot_product(0.5_wp * (s_old(4:5) + stress(i, 4:5, k)), dt * gs))
+        wz = wgt(k) * half_t
+        do i = 1, m
+          sp(i, 4) = stress(o + i, 4, k) + shear_step * rates(i, 7)
+          sp(i, 5) = stress(o + i, 5, k) + shear_step * rates(i, 8)
+          work(i) = work(i) + wz * ( &
+                    (0.5_wp * (stress(o + i, 1, k) + sp(i, 1)) * deps(i, 1) &
+                     + 0.5_wp * (stress(o + i, 2, k) + sp(i, 2)) * deps(i, 2) &
+                     + 0.5_wp * (stress(o + i, 3, k) + sp(i, 3)) * deps(i, 3)) &
+                    + (0.5_wp * (stress(o + i, 4, k) + sp(i, 4)) * (dt * rates(i, 7)) &
+                       + 0.5_wp * (stress(o + i, 5, k) + sp(i, 5)) * (dt * rates(i, 8))))
+        end do
+        do c = 1, stress_components
+          stress(o + 1:o + m, c, k) = merge(sp(1:m, c), stress(o + 1:o + m, c, k), area_mid(1:m) > 0.0_wp)
+        end do
       end do
-      e_internal(i) = e_internal(i) + area * work
+      e_internal(o + 1:o + m) = merge(e_internal(o + 1:o + m) + area_mid(1:m) * work(1:m), &
+                                      e_internal(o + 1:o + m), area_mid(1:m) > 0.0_wp)
 
-      ! --- hourglass resultants: stiffness form integrates k q; viscous form is sqrt(k m) q
-      spin = 0.5_wp * (dot_product(b1, vl(2, :)) - dot_product(b2, vl(1, :)))
-      qrate = [dot_product(gamma, vl(1, :)), dot_product(gamma, vl(2, :)), &
-               dot_product(gamma, wl(1, :)), dot_product(gamma, wl(2, :)), &
-               dot_product(gamma, vl(3, :)), wl(3, :) - spin]
-      bb = sum(b1**2) + sum(b2**2)
-      stiff(1:2) = props%young * t * area * bb / 8.0_wp
-      stiff(3:4) = props%young * t**3 * area * bb / 192.0_wp
-      stiff(5) = props%young * t**3 * area * bb**2 / 192.0_wp
-      q_old = hourglass(i, :)
-      if (props%hourglass_form == hourglass_viscous) then
-        ! element mass for translations, its scaled rotary inertia for rotations (as the lumped mass)
-        inertia(1:2) = props%density * t * area
-        inertia(3:4) = props%density * t * area * (t**2 + area) / 12.0_wp
-        inertia(5) = props%density * t * area
-        hourglass(i, 1:5) = props%hourglass_coefficient * sqrt(stiff * inertia) * qrate(1:5)
-      else
-        hourglass(i, 1:5) = hourglass(i, 1:5) + props%hourglass_coefficient * stiff * dt * qrate(1:5)
-      end if
-      ! drilling moments: elastic, resisting node rotation about the normal relative to the spin
-      hourglass(i, 6:9) = hourglass(i, 6:9) + drilling_penalty * props%young * t * area * dt * qrate(6:9)
-      if (props%hourglass_form == hourglass_viscous) then
-        e_hourglass(i) = e_hourglass(i) + dt * dot_product(hourglass(i, 1:5), qrate(1:5)) &
-                         + dt * dot_product(0.5_wp * (q_old(6:9) + hourglass(i, 6:9)), qrate(6:9))
-      else
-        e_hourglass(i) = e_hourglass(i) + dt * dot_product(0.5_wp * (q_old + hourglass(i, :)), qrate)
-      end if
+      ! --- hourglass resultants and drilling moments
+      hg(1:m, :) = hourglass(o + 1:o + m, :)
+      call hourglass_update(m, props, dt, area_mid, b1, b2, qrate, hg, work)
+      do c = 1, hourglass_components
+        hourglass(o + 1:o + m, c) = merge(hg(1:m, c), hourglass(o + 1:o + m, c), area_mid(1:m) > 0.0_wp)
+      end do
+      e_hourglass(o + 1:o + m) = merge(e_hourglass(o + 1:o + m) + work(1:m), e_hourglass(o + 1:o + m), &
+                                       area_mid(1:m) > 0.0_wp)
 
       ! --- resultants and nodal forces on the end-of-step geometry
-      normal_mid = e(:, 3)
-      xe = x(i, :, :)
-      call local_frame(xe, e, xl, yl, area)
-      if (.not. (area > 0.0_wp .and. dot_product(normal_mid, e(:, 3)) > 0.0_wp &
-                 .and. corners_convex(xl, yl))) then
-        inverted = inverted + 1
-        force(i, :, :) = 0.0_wp
-        cycle
-      end if
-      call gradient_operators(xl, yl, area, b1, b2, gamma)
-      res_n = 0.0_wp
-      res_m = 0.0_wp
-      res_q = 0.0_wp
+      call frames(m, n, o, x, e, xl, yl, area)
+      call check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
+      inverted = inverted + count(.not. (area(1:m) > 0.0_wp))
+      call gradient_arrays(m, xl, yl, area, b1, b2, gamma)
+      res = 0.0_wp
       do k = 1, nip
-        z = zeta(k) * half_t
-        res_n = res_n + wgt(k) * half_t * stress(i, 1:3, k)
-        res_m = res_m + wgt(k) * half_t * z * stress(i, 1:3, k)
-        res_q = res_q + wgt(k) * half_t * stress(i, 4:5, k)
+        wz = wgt(k) * half_t
+        wzz = wgt(k) * half_t * (zeta(k) * half_t)
+        do c = 1, 3
+          res(1:m, c) = res(1:m, c) + wz * stress(o + 1:o + m, c, k)
+          res(1:m, 3 + c) = res(1:m, 3 + c) + wzz * stress(o + 1:o + m, c, k)
+        end do
+        res(1:m, 7) = res(1:m, 7) + wz * stress(o + 1:o + m, 4, k)
+        res(1:m, 8) = res(1:m, 8) + wz * stress(o + 1:o + m, 5, k)
       end do
-      drill_total = sum(hourglass(i, 6:9))
-      fl(1, :) = area * (b1 * res_n(1) + b2 * res_n(3)) + gamma * hourglass(i, 1) + 0.5_wp * drill_total * b2
-      fl(2, :) = area * (b2 * res_n(2) + b1 * res_n(3)) + gamma * hourglass(i, 2) - 0.5_wp * drill_total * b1
-      fl(3, :) = area * (b1 * res_q(1) + b2 * res_q(2)) + gamma * hourglass(i, 5)
-      fl(4, :) = -area * (b2 * res_m(2) + b1 * res_m(3) + 0.25_wp * res_q(2)) + gamma * hourglass(i, 3)
-      fl(5, :) = area * (b1 * res_m(1) + b2 * res_m(3) + 0.25_wp * res_q(1)) + gamma * hourglass(i, 4)
-      fl(6, :) = hourglass(i, 6:9)
-      force(i, 1:3, :) = matmul(e, fl(1:3, :))
-      force(i, 4:6, :) = matmul(e, fl(4:6, :))
+      ! into a local array: stored straight into force, gfortran needs too many alias checks
+      call nodal_forces(m, e, area, b1, b2, gamma, res, hg, fl)
+      force(o + 1:o + m, :, :) = fl(1:m, :, :)
     end do
   end subroutine blt_internal_forces
+
+  !> local_frame of elements o+1..o+m of x (mid-surface frame, local node coordinates, projected
+  !> area), with |a| = sqrt(a . a) in place of norm2; results for 1..m
+  pure subroutine frames(m, ld, o, x, e, xl, yl, area)
+    integer, intent(in) :: m, ld, o
+    real(wp), intent(in) :: x(ld, 3, 4)
+    real(wp), intent(out) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), area(group_size)
+    real(wp) :: d31x, d31y, d31z, d42x, d42y, d42z, nx, ny, nz, gx, gy, gz, r, cx, cy, cz
+    integer :: i, k
+    do i = 1, m
+      d31x = x(o + i, 1, 3) - x(o + i, 1, 1)
+      d31y = x(o + i, 2, 3) - x(o + i, 2, 1)
+      d31z = x(o + i, 3, 3) - x(o + i, 3, 1)
+      d42x = x(o + i, 1, 4) - x(o + i, 1, 2)
+      d42y = x(o + i, 2, 4) - x(o + i, 2, 2)
+      d42z = x(o + i, 3, 4) - x(o + i, 3, 2)
+      nx = d31y * d42z - d31z * d42y
+      ny = d31z * d42x - d31x * d42z
+      nz = d31x * d42y - d31y * d42x
+      r = sqrt(nx * nx + ny * ny + nz * nz)
+      nx = nx / r
+      ny = ny / r
+      nz = nz / r
+      gx = x(o + i, 1, 2) + x(o + i, 1, 3) - x(o + i, 1, 1) - x(o + i, 1, 4)
+      gy = x(o + i, 2, 2) + x(o + i, 2, 3) - x(o + i, 2, 1) - x(o + i, 2, 4)
+      gz = x(o + i, 3, 2) + x(o + i, 3, 3) - x(o + i, 3, 1) - x(o + i, 3, 4)
+      r = gx * nx + gy * ny + gz * nz
+      gx = gx - r * nx
+      gy = gy - r * ny
+      gz = gz - r * nz
+      r = sqrt(gx * gx + gy * gy + gz * gz)
+      e(i, 1, 1) = gx / r
+      e(i, 2, 1) = gy / r
+      e(i, 3, 1) = gz / r
+      e(i, 1, 3) = nx
+      e(i, 2, 3) = ny
+      e(i, 3, 3) = nz
+      e(i, 1, 2) = ny * e(i, 3, 1) - nz * e(i, 2, 1)
+      e(i, 2, 2) = nz * e(i, 1, 1) - nx * e(i, 3, 1)
+      e(i, 3, 2) = nx * e(i, 2, 1) - ny * e(i, 1, 1)
+    end do
+    do k = 1, 4
+      do i = 1, m
+        cx = x(o + i, 1, k) - 0.25_wp * (x(o + i, 1, 1) + x(o + i, 1, 2) + x(o + i, 1, 3) + x(o + i, 1, 4))
+        cy = x(o + i, 2, k) - 0.25_wp * (x(o + i, 2, 1) + x(o + i, 2, 2) + x(o + i, 2, 3) + x(o + i, 2, 4))
+        cz = x(o + i, 3, k) - 0.25_wp * (x(o + i, 3, 1) + x(o + i, 3, 2) + x(o + i, 3, 3) + x(o + i, 3, 4))
+        xl(i, k) = cx * e(i, 1, 1) + cy * e(i, 2, 1) + cz * e(i, 3, 1)
+        yl(i, k) = cx * e(i, 1, 2) + cy * e(i, 2, 2) + cz * e(i, 3, 2)
+      end do
+    end do
+    do i = 1, m
+      area(i) = 0.5_wp * ((xl(i, 3) - xl(i, 1)) * (yl(i, 4) - yl(i, 2)) &
+                          - (xl(i, 4) - xl(i, 2)) * (yl(i, 3) - yl(i, 1)))
+    end do
+  end subroutine frames
+
+  !> Shape-function derivatives at the centre (B1 = dN/dx, B2 = dN/dy) and the hourglass shape
+  !> vector gamma = h - (h.x) B1 - (h.y) B2 (h = 1, -1, 1, -1), orthogonal to the linear velocity
+  !> fields, for elements 1..m; an element of area <= 0 gets those of area 1 (finite, not kept).
+  pure subroutine gradient_arrays(m, xl, yl, area, b1, b2, gamma)
+    integer, intent(in) :: m
+    real(wp), intent(in) :: xl(group_size, 4), yl(group_size, 4), area(group_size)
+    real(wp), intent(out) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
+    real(wp) :: r, hx, hy
+    integer :: i
+    do i = 1, m
+      r = 0.5_wp / merge(area(i), 1.0_wp, area(i) > 0.0_wp)
+      b1(i, 1) = r * (yl(i, 2) - yl(i, 4))
+      b1(i, 2) = r * (yl(i, 3) - yl(i, 1))
+      b1(i, 3) = r * (yl(i, 4) - yl(i, 2))
+      b1(i, 4) = r * (yl(i, 1) - yl(i, 3))
+      b2(i, 1) = r * (xl(i, 4) - xl(i, 2))
+      b2(i, 2) = r * (xl(i, 1) - xl(i, 3))
+      b2(i, 3) = r * (xl(i, 2) - xl(i, 4))
+      b2(i, 4) = r * (xl(i, 3) - xl(i, 1))
+      hx = xl(i, 1) - xl(i, 2) + xl(i, 3) - xl(i, 4)
+      hy = yl(i, 1) - yl(i, 2) + yl(i, 3) - yl(i, 4)
+      gamma(i, 1) = 1.0_wp - hx * b1(i, 1) - hy * b2(i, 1)
+      gamma(i, 2) = -1.0_wp - hx * b1(i, 2) - hy * b2(i, 2)
+      gamma(i, 3) = 1.0_wp - hx * b1(i, 3) - hy * b2(i, 3)
+      gamma(i, 4) = -1.0_wp - hx * b1(i, 4) - hy * b2(i, 4)
+    end do
+  end subroutine gradient_arrays
+
+  !> Strain rates of elements 1..m from the local velocities vl = e^T v, wl = e^T w: membrane
+  !> dm and curvature kappa (Voigt, engineering shear), transverse shear gs, and the hourglass
+  !> rates (5 modes, then the drilling rate of each node about the normal relative to the
+  !> in-plane spin).
+  pure subroutine strain_rates(m, e, b1, b2, gamma, v, w, rates, qrate)
+    integer, intent(in) :: m
+    real(wp), intent(in) :: e(group_size, 3, 3), b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
+    real(wp), intent(in) :: v(group_size, 3, 4), w(group_size, 3, 4)
+    real(wp), intent(out) :: rates(group_size, 8), qrate(group_size, hourglass_components)
+    ! the dot products over the nodes that enter sums and differences
+    real(wp) :: b2v1(group_size), b1v2(group_size), b2w2(group_size), b1w1(group_size)
+    real(wp) :: w1sum(group_size), w2sum(group_size)
+    real(wp) :: vl1, vl2, vl3, wl1, wl2, wl3, spin
+    integer :: i, k
+    rates = 0.0_wp
+    qrate = 0.0_wp
+    b2v1 = 0.0_wp
+    b1v2 = 0.0_wp
+    b2w2 = 0.0_wp
+    b1w1 = 0.0_wp
+    w1sum = 0.0_wp
+    w2sum = 0.0_wp
+    do k = 1, 4
+      do i = 1, m
+        vl1 = e(i, 1, 1) * v(i, 1, k) + e(i, 2, 1) * v(i, 2, k) + e(i, 3, 1) * v(i, 3, k)
+        vl2 = e(i, 1, 2) * v(i, 1, k) + e(i, 2, 2) * v(i, 2, k) + e(i, 3, 2) * v(i, 3, k)
+        vl3 = e(i, 1, 3) * v(i, 1, k) + e(i, 2, 3) * v(i, 2, k) + e(i, 3, 3) * v(i, 3, k)
+        wl1 = e(i, 1, 1) * w(i, 1, k) + e(i, 2, 1) * w(i, 2, k) + e(i, 3, 1) * w(i, 3, k)
+        wl2 = e(i, 1, 2) * w(i, 1, k) + e(i, 2, 2) * w(i, 2, k) + e(i, 3, 2) * w(i, 3, k)
+        wl3 = e(i, 1, 3) * w(i, 1, k) + e(i, 2, 3) * w(i, 2, k) + e(i, 3, 3) * w(i, 3, k)
+        rates(i, 1) = rates(i, 1) + b1(i, k) * vl1
+        rates(i, 2) = rates(i, 2) + b2(i, k) * vl2
+        b2v1(i) = b2v1(i) + b2(i, k) * vl1
+        b1v2(i) = b1v2(i) + b1(i, k) * vl2
+        rates(i, 4) = rates(i, 4) + b1(i, k) * wl2
+        rates(i, 5) = rates(i, 5) + b2(i, k) * wl1
+        b2w2(i) = b2w2(i) + b2(i, k) * wl2
+        b1w1(i) = b1w1(i) + b1(i, k) * wl1
+        rates(i, 7) = rates(i, 7) + b1(i, k) * vl3
+        rates(i, 8) = rates(i, 8) + b2(i, k) * vl3
+        w1sum(i) = w1sum(i) + wl1
+        w2sum(i) = w2sum(i) + wl2
+        qrate(i, 1) = qrate(i, 1) + gamma(i, k) * vl1
+        qrate(i, 2) = qrate(i, 2) + gamma(i, k) * vl2
+        qrate(i, 3) = qrate(i, 3) + gamma(i, k) * wl1
+        qrate(i, 4) = qrate(i, 4) + gamma(i, k) * wl2
+        qrate(i, 5) = qrate(i, 5) + gamma(i, k) * vl3
+        qrate(i, 5 + k) = wl3
+      end do
+    end do
+    do i = 1, m
+      rates(i, 3) = b2v1(i) + b1v2(i)
+      rates(i, 5) = -rates(i, 5)
+      rates(i, 6) = b2w2(i) - b1w1(i)
+      rates(i, 7) = rates(i, 7) + 0.25_wp * w2sum(i)
+      rates(i, 8) = rates(i, 8) - 0.25_wp * w1sum(i)
+      spin = 0.5_wp * (b1v2(i) - b2v1(i))
+      qrate(i, 6) = qrate(i, 6) - spin
+      qrate(i, 7) = qrate(i, 7) - spin
+      qrate(i, 8) = qrate(i, 8) - spin
+      qrate(i, 9) = qrate(i, 9) - spin
+    end do
+  end subroutine strain_rates
+
+  !> Hourglass resultants hg of elements 1..m, updated in place, and their work in the step:
+  !> the stiffness form integrates k q, the viscous form is sqrt(k m) q; the drilling moments are
+  !> elastic, resisting node rotation about the normal relative to the spin.
+  pure subroutine hourglass_update(m, props, dt, area, b1, b2, qrate, hg, work)
+    integer, intent(in) :: m
+    type(shell_properties_t), intent(in) :: props
+    real(wp), intent(in) :: dt, area(group_size), b1(group_size, 4), b2(group_size, 4)
+    real(wp), intent(in) :: qrate(group_size, hourglass_components)
+    real(wp), intent(inout) :: hg(group_size, hourglass_components)
+    real(wp), intent(out) :: work(group_size)
+    real(wp) :: factor(group_size, 5), drill(group_size), power(group_size), power_drill(group_size)
+    real(wp) :: t, a, bb, mass, rotary, q_old
+    integer :: i, c
+    t = props%thickness
+    ! one loop per form: a logical tested inside a loop stops gfortran's vectoriser
+    if (props%hourglass_form == hourglass_viscous) then
+      do i = 1, m
+        a = merge(area(i), 1.0_wp, area(i) > 0.0_wp)
+        bb = (b1(i, 1)**2 + b1(i, 2)**2 + b1(i, 3)**2 + b1(i, 4)**2) &
+             + (b2(i, 1)**2 + b2(i, 2)**2 + b2(i, 3)**2 + b2(i, 4)**2)
+        ! element mass for translations, its scaled rotary inertia for rotations (as the lumped mass)
+        mass = props%density * t * a
+        rotary = props%density * t * a * (t**2 + a) / 12.0_wp
+        factor(i, 1) = props%hourglass_coefficient * sqrt(props%young * t * a * bb / 8.0_wp * mass)
+        factor(i, 3) = props%hourglass_coefficient &
+                       * sqrt(props%young * t**3 * a * bb / 192.0_wp * rotary)
+        factor(i, 5) = props%hourglass_coefficient &
+                       * sqrt(props%young * t**3 * a * bb**2 / 192.0_wp * mass)
+      end do
+    else
+      do i = 1, m
+        a = merge(area(i), 1.0_wp, area(i) > 0.0_wp)
+        bb = (b1(i, 1)**2 + b1(i, 2)**2 + b1(i, 3)**2 + b1(i, 4)**2) &
+             + (b2(i, 1)**2 + b2(i, 2)**2 + b2(i, 3)**2 + b2(i, 4)**2)
+        factor(i, 1) = props%hourglass_coefficient * (props%young * t * a * bb / 8.0_wp) * dt
+        factor(i, 3) = props%hourglass_coefficient * (props%young * t**3 * a * bb / 192.0_wp) * dt
+        factor(i, 5) = props%hourglass_coefficient * (props%young * t**3 * a * bb**2 / 192.0_wp) * dt
+      end do
+    end if
+    do i = 1, m
+      factor(i, 2) = factor(i, 1)
+      factor(i, 4) = factor(i, 3)
+      drill(i) = drilling_penalty * props%young * t * merge(area(i), 1.0_wp, area(i) > 0.0_wp) * dt
+    end do
+    power = 0.0_wp
+    power_drill = 0.0_wp
+    if (props%hourglass_form == hourglass_viscous) then
+      do c = 1, 5
+        do i = 1, m
+          hg(i, c) = factor(i, c) * qrate(i, c)
+          power(i) = power(i) + hg(i, c) * qrate(i, c)
+        end do
+      end do
+    else
+      do c = 1, 5
+        do i = 1, m
+          q_old = hg(i, c)
+          hg(i, c) = hg(i, c) + factor(i, c) * qrate(i, c)
+          power(i) = power(i) + 0.5_wp * (q_old + hg(i, c)) * qrate(i, c)
+        end do
+      end do
+    end if
+    do c = 6, 9
+      do i = 1, m
+        q_old = hg(i, c)
+        hg(i, c) = hg(i, c) + drill(i) * qrate(i, c)
+        power_drill(i) = power_drill(i) + 0.5_wp * (q_old + hg(i, c)) * qrate(i, c)
+      end do
+    end do
+    if (props%hourglass_form == hourglass_viscous) then
+      work(1:m) = dt * power(1:m) + dt * power_drill(1:m)
+    else
+      work(1:m) = dt * (power(1:m) + power_drill(1:m))
+    end if
+  end subroutine hourglass_update
+
+  !> Keeps area > 0 only for elements valid at mid-step and at the end of the step: positive
+  !> area, the normal not flipped, and every corner of the projected quad turning the same way as
+  !> the normal (positive corner Jacobians). An element turned inside out during a step fails
+  !> this, or flips its normal.
+  pure subroutine check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
+    integer, intent(in) :: m
+    real(wp), intent(in) :: area_mid(group_size), normal_mid(group_size, 3), e(group_size, 3, 3)
+    real(wp), intent(in) :: xl(group_size, 4), yl(group_size, 4)
+    real(wp), intent(inout) :: area(group_size)
+    real(wp) :: turn(group_size)
+    integer :: i, k, next, prev
+    turn = huge(1.0_wp)
+    do k = 1, 4
+      next = modulo(k, 4) + 1
+      prev = modulo(k + 2, 4) + 1
+      do i = 1, m
+        turn(i) = min(turn(i), (xl(i, next) - xl(i, k)) * (yl(i, prev) - yl(i, k)) &
+                               - (yl(i, next) - yl(i, k)) * (xl(i, prev) - xl(i, k)))
+      end do
+    end do
+    do i = 1, m
+      area(i) = merge(area(i), 0.0_wp, area_mid(i) > 0.0_wp .and. area(i) > 0.0_wp .and. turn(i) > 0.0_wp &
+                      .and. normal_mid(i, 1) * e(i, 1, 3) + normal_mid(i, 2) * e(i, 2, 3) &
+                            + normal_mid(i, 3) * e(i, 3, 3) > 0.0_wp)
+    end do
+  end subroutine check_end_frames
+
+  !> Nodal forces and moments of elements 1..m in global axes from the resultants res (N, M, Q),
+  !> the hourglass resultants and the drilling moments; zero for an element of area <= 0.
+  pure subroutine nodal_forces(m, e, area, b1, b2, gamma, res, hg, force)
+    integer, intent(in) :: m
+    real(wp), intent(in) :: e(group_size, 3, 3), area(group_size)
+    real(wp), intent(in) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
+    real(wp), intent(in) :: res(group_size, 8), hg(group_size, hourglass_components)
+    real(wp), intent(out) :: force(group_size, 6, 4)
+    real(wp) :: drill_total, f1, f2, f3, f4, f5, f6
+    integer :: i, k
+    do k = 1, 4
+      do i = 1, m
+        drill_total = hg(i, 6) + hg(i, 7) + hg(i, 8) + hg(i, 9)
+        f1 = area(i) * (b1(i, k) * res(i, 1) + b2(i, k) * res(i, 3)) + gamma(i, k) * hg(i, 1) &
+             + 0.5_wp * drill_total * b2(i, k)
+        f2 = area(i) * (b2(i, k) * res(i, 2) + b1(i, k) * res(i, 3)) + gamma(i, k) * hg(i, 2) &
+             - 0.5_wp * drill_total * b1(i, k)
+        f3 = area(i) * (b1(i, k) * res(i, 7) + b2(i, k) * res(i, 8)) + gamma(i, k) * hg(i, 5)
+        f4 = -area(i) * (b2(i, k) * res(i, 5) + b1(i, k) * res(i, 6) + 0.25_wp * res(i, 8)) &
+             + gamma(i, k) * hg(i, 3)
+        f5 = area(i) * (b1(i, k) * res(i, 4) + b2(i, k) * res(i, 6) + 0.25_wp * res(i, 7)) &
+             + gamma(i, k) * hg(i, 4)
+        f6 = hg(i, 5 + k)
+        force(i, 1, k) = merge(e(i, 1, 1) * f1 + e(i, 1, 2) * f2 + e(i, 1, 3) * f3, 0.0_wp, area(i) > 0.0_wp)
+        force(i, 2, k) = merge(e(i, 2, 1) * f1 + e(i, 2, 2) * f2 + e(i, 2, 3) * f3, 0.0_wp, area(i) > 0.0_wp)
+        force(i, 3, k) = merge(e(i, 3, 1) * f1 + e(i, 3, 2) * f2 + e(i, 3, 3) * f3, 0.0_wp, area(i) > 0.0_wp)
+        force(i, 4, k) = merge(e(i, 1, 1) * f4 + e(i, 1, 2) * f5 + e(i, 1, 3) * f6, 0.0_wp, area(i) > 0.0_wp)
+        force(i, 5, k) = merge(e(i, 2, 1) * f4 + e(i, 2, 2) * f5 + e(i, 2, 3) * f6, 0.0_wp, area(i) > 0.0_wp)
+        force(i, 6, k) = merge(e(i, 3, 1) * f4 + e(i, 3, 2) * f5 + e(i, 3, 3) * f6, 0.0_wp, area(i) > 0.0_wp)
+      end do
+    end do
+  end subroutine nodal_forces
 
   !> Lumped mass: a quarter of the element mass at each node, and a rotational inertia scaled so
   !> that rotations never govern the time step: I = m (t^2 + A) / 4 (after Key & Beisinger 1971
