@@ -431,7 +431,8 @@ contains
   !> (near_slaves; all slaves with a fixed sort interval), dealt node-wise cyclically to the ranks
   !> (the k-th to rank mod(k - 1, n_ranks)) and, one at a time, to the threads
   !> (schedule(static, 1)), as in the paper. A slave near the master box gets its nearest master
-  !> node; the pairs (slave, nearest master) found are own_pairs(:, 1:n_own), ascending.
+  !> node; the pairs (place in near_slaves, nearest master) found are own_pairs(:, 1:n_own),
+  !> ascending.
   subroutine contact_global_search(c, p, clock)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
@@ -458,7 +459,7 @@ contains
     do i = 1, n_mine
       if (c%nearest(i) == 0) cycle
       c%n_own = c%n_own + 1
-      c%own_pairs(1, c%n_own) = pass%near_slaves(c%rank + 1 + (i - 1) * c%n_ranks)
+      c%own_pairs(1, c%n_own) = c%rank + 1 + (i - 1) * c%n_ranks
       c%own_pairs(2, c%n_own) = c%nearest(i)
     end do
     end associate
@@ -467,20 +468,25 @@ contains
 
   !> The candidates of pass p in ascending slave order and this rank's block of them. With one
   !> rank they are own_pairs; with more, the caller has gathered every rank's pairs in
-  !> all_pairs(:, 1:n_all) (halo_exchange's share_contact_candidates).
+  !> all_pairs(:, 1:n_all) (halo_exchange's share_contact_candidates). The pairs name a slave by
+  !> its place in near_slaves, which is ascending, so ordering costs O(n_near), not O(n_slaves).
   subroutine contact_candidates(c, p, clock)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
     procedure(clock_seconds) :: clock
     real(wp) :: t0
+    integer :: k
     t0 = clock()
     if (c%n_ranks == 1) then
       c%n_candidates = c%n_own
       c%candidates(:, 1:c%n_own) = c%own_pairs(:, 1:c%n_own)
     else
-      call candidates_in_slave_order(int(size(c%passes(p)%slaves), ip), int(c%n_all, ip), c%all_pairs, &
+      call candidates_in_slave_order(int(c%passes(p)%n_near, ip), int(c%n_all, ip), c%all_pairs, &
                                      c%nearest, c%n_candidates, c%candidates)
     end if
+    do k = 1, c%n_candidates
+      c%candidates(1, k) = c%passes(p)%near_slaves(c%candidates(1, k))
+    end do
     call candidate_block(int(c%n_candidates, ip), int(c%n_ranks, ip), int(c%rank, ip), c%first, c%last)
     c%n_pass_steps = c%n_pass_steps + 1
     c%candidates_total = c%candidates_total + c%n_candidates
