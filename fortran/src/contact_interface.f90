@@ -397,12 +397,13 @@ contains
   !> (members, at columns local(members) of x), or without them every contact node at c%x. A
   !> maximum is exact in any order, so the threads and ranks may share it; squared distances
   !> and one square root at the end (norm2's scaling against overflow costs more than the rest).
-  function contact_movement(c, clock, members, local, x) result(moved)
+  subroutine contact_movement(c, moved, clock, members, local, x)
     type(contact_t), intent(inout) :: c
+    real(wp), intent(out) :: moved
     procedure(clock_seconds) :: clock
     integer, intent(in), optional :: members(:), local(:)
     real(wp), intent(in), optional :: x(:, :)
-    real(wp) :: moved, t0
+    real(wp) :: t0
     integer :: i, j, k
     t0 = clock()
     moved = 0.0_wp
@@ -425,7 +426,7 @@ contains
     end if
     moved = sqrt(moved)
     c%time_sort = c%time_sort + clock() - t0
-  end function contact_movement
+  end subroutine contact_movement
 
   !> Stage 1 of pass p, the global search: this rank's share of the slaves that can be near
   !> (near_slaves; all slaves with a fixed sort interval), dealt node-wise cyclically to the ranks
@@ -437,7 +438,7 @@ contains
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
     procedure(clock_seconds) :: clock
-    integer :: i, j, n_mine, nearest
+    integer :: i, j, n_mine, found
     real(wp) :: x(3), t0
     t0 = clock()
     associate (pass => c%passes(p))
@@ -445,14 +446,14 @@ contains
     ! cleared first, so the threads write only the few slaves near the box (writes to
     ! neighbouring slaves from different threads would fight over their cache line)
     c%nearest(1:n_mine) = 0
-    !$omp parallel do schedule(static, 1) default(shared) private(i, j, x, nearest)
+    !$omp parallel do schedule(static, 1) default(shared) private(i, j, x, found)
     do i = 1, n_mine
       j = pass%near_slaves(c%rank + 1 + (i - 1) * c%n_ranks)
       x = c%x(:, pass%slaves(j))
       if (.not. near_box(x, pass)) cycle
-      nearest = nearest_master_node(pass%grid, pass%x_sorted, x, &
-                                    max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
-      if (nearest > 0) c%nearest(i) = nearest
+      found = nearest_master_node(pass%grid, pass%x_sorted, x, &
+                                  max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
+      if (found > 0) c%nearest(i) = found
     end do
     !$omp end parallel do
     c%n_own = 0

@@ -429,13 +429,6 @@ contains
       end if
     end do
 
-    if (s%has_contact .and. s%finished) then
-      ! one line per rank for the log: the local searches of each rank (equal blocks) and the sorts
-      write (*, '(5(a,i0))') 'PARADYN-CONTACT rank=', s%rank, ' sorts=', s%contact%n_sorts, ' pass_steps=', &
-        s%contact%n_pass_steps, ' candidates=', s%contact%candidates_total, ' local_searches=', &
-        s%contact%candidates_searched
-      flush (6)
-    end if
     s%phase = phase
     run%cycles = s%cycles
     run%ranks = s%n_ranks
@@ -505,8 +498,8 @@ contains
       real(wp) :: t0, moved, moved_here
       logical :: sort, new_gather_set
       if (s%contact%gather_subset) then
-        moved_here = contact_movement(s%contact, wall_clock, s%contact_nodes%owned_member, &
-                                      s%contact_nodes%local, s%x)
+        call contact_movement(s%contact, moved_here, wall_clock, s%contact_nodes%owned_member, &
+                              s%contact_nodes%local, s%x)
         t0 = MPI_Wtime()
         call allgather_node_subset(s%halo, s%contact_nodes, s%x, s%v, s%contact%x, s%contact%v, moved_here, &
                                    moved)
@@ -518,8 +511,10 @@ contains
         call allgather_node_set(s%halo, s%contact_nodes, s%x, s%v, s%contact%x, s%contact%v)
         phase(3) = phase(3) + MPI_Wtime() - t0
       end if
-      if (.not. s%contact%gather_subset) sort = contact_sort_due(s%contact, s%cycles, &
-                                                                contact_movement(s%contact, wall_clock))
+      if (.not. s%contact%gather_subset) then
+        call contact_movement(s%contact, moved, wall_clock)
+        sort = contact_sort_due(s%contact, s%cycles, moved)
+      end if
       call contact_begin(s%contact, s%cycles, sort, wall_clock, new_gather_set)
       if (new_gather_set) call node_subset_setup(s%contact_nodes, s%contact%in_gather)
       do p = 1, size(s%contact%passes)
@@ -543,6 +538,13 @@ contains
         call contact_sum(s%contact, wall_clock)
       end do
       call contact_end(s%contact, s%cycles, dt_strain)
+      if (s%cycles == s%n_steps) then
+        ! one line per rank for the log: the local searches of each rank (equal blocks), the sorts
+        write (*, '(5(a,i0))') 'PARADYN-CONTACT rank=', s%rank, ' sorts=', s%contact%n_sorts, ' pass_steps=', &
+          s%contact%n_pass_steps, ' candidates=', s%contact%candidates_total, ' local_searches=', &
+          s%contact%candidates_searched
+        flush (6)
+      end if
     end subroutine contact_step
 
     !> Loads at the current time and their work since the last step (trapezoidal rule).
