@@ -12,7 +12,8 @@ program paradyn_engine
   use model_deck, only: deck_t, partition_label
   use deck_reader, only: read_deck
   use explicit_solver, only: solver_t, solver_setup, solver_run, solver_effects
-  use results_writer, only: results_file_t, results_create, results_reopen, results_finish, run_record_t
+  use results_writer, only: results_file_t, results_create, results_reopen, results_finish, results_flush, &
+                            run_record_t
   use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
   use stop_signals, only: install_stop_handlers
   implicit none
@@ -103,6 +104,7 @@ program paradyn_engine
       pause_time = (floor(solver%time / deck%checkpoint_interval + 1.0e-9_wp) + 1) * deck%checkpoint_interval
     call solver_run(solver, deck, results, run, status, message, pause_time)
     if (status /= 0 .or. solver%finished) exit
+    call results_flush(results)   ! the checkpoint counts only what the results file holds
     call checkpoint_write(solver, deck, checkpoint, results%frames, results%records, status, message)
     if (status /= 0) exit
     if (rank == 0) then

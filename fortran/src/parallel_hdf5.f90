@@ -127,7 +127,8 @@ contains
   !> Writes this rank's rows (values in run order) into dataset `name` of Fortran shape `fixed`,
   !> or, with frame > 0, into entry `frame` of the growing dataset [fixed, frames], extended
   !> first. frame_is_row: fixed ends with a dummy 1 and the frame itself is the row (scalars).
-  subroutine write_rows(file, transfer, name, fixed, runs, frame, real_values, int_values, frame_is_row)
+  !> n_frames: entries frame .. frame + n_frames - 1 at once (values frame after frame).
+  subroutine write_rows(file, transfer, name, fixed, runs, frame, real_values, int_values, frame_is_row, n_frames)
     integer(hid_t), intent(in) :: file, transfer
     character(len=*), intent(in) :: name
     integer(hsize_t), intent(in) :: fixed(:)
@@ -136,19 +137,22 @@ contains
     real(wp), intent(in), optional :: real_values(:)
     integer, intent(in), optional :: int_values(:)
     logical, intent(in), optional :: frame_is_row
+    integer, intent(in), optional :: n_frames
     integer(hid_t) :: dset, filespace, memspace
     integer(hsize_t) :: dims(size(fixed) + 1), n_values(1)
-    integer :: err, nd
+    integer :: err, nd, count
     logical :: merged
     merged = .false.
     if (present(frame_is_row)) merged = frame_is_row
+    count = 1
+    if (present(n_frames)) count = n_frames
     nd = size(fixed) + merge(1, 0, frame > 0 .and. .not. merged)
     dims(1:size(fixed)) = fixed
-    if (frame > 0) dims(nd) = int(frame, hsize_t)
+    if (frame > 0) dims(nd) = int(frame + count - 1, hsize_t)
     call h5dopen_f(file, name, dset, err)
     if (frame > 0) call h5dset_extent_f(dset, dims(1:nd), err)
     call h5dget_space_f(dset, filespace, err)
-    call select_rows(filespace, dims(1:nd), size(fixed), runs, frame, n_values(1))
+    call select_rows(filespace, dims(1:nd), size(fixed), runs, frame, n_values(1), count)
     call h5screate_simple_f(1, max(n_values, 1_hsize_t), memspace, err)
     if (n_values(1) == 0) call h5sselect_none_f(memspace, err)
     if (present(real_values)) then
@@ -188,16 +192,20 @@ contains
     call h5dclose_f(dset, ignored)
   end subroutine read_rows
 
-  !> Selects the runs' rows (along dimension row_dim) of entry `frame` (when > 0, the last dimension).
-  subroutine select_rows(space, dims, row_dim, runs, frame, n_values)
+  !> Selects the runs' rows (along dimension row_dim) of entries frame .. frame + n_frames - 1
+  !> (when frame > 0, along the last dimension).
+  subroutine select_rows(space, dims, row_dim, runs, frame, n_values, n_frames)
     integer(hid_t), intent(in) :: space
     integer(hsize_t), intent(in) :: dims(:)
     integer, intent(in) :: row_dim, frame
     type(row_runs_t), intent(in) :: runs
     integer(hsize_t), intent(out) :: n_values
+    integer, intent(in), optional :: n_frames
     integer(hsize_t) :: offset(size(dims)), count(size(dims))
-    integer :: k, err, nd
+    integer :: k, err, nd, entries
     nd = size(dims)
+    entries = 1
+    if (present(n_frames) .and. frame > 0) entries = n_frames
     call h5sselect_none_f(space, err)
     do k = 1, size(runs%first)
       offset = 0
@@ -206,11 +214,11 @@ contains
       count(row_dim) = int(runs%length(k), hsize_t)
       if (frame > 0) then
         offset(nd) = int(frame - 1, hsize_t)
-        count(nd) = 1
+        count(nd) = int(entries, hsize_t)
       end if
       call h5sselect_hyperslab_f(space, H5S_SELECT_OR_F, offset, count, err)
     end do
-    n_values = product(dims(1:row_dim - 1)) * int(runs%n_rows, hsize_t)
+    n_values = product(dims(1:row_dim - 1)) * int(runs%n_rows, hsize_t) * int(entries, hsize_t)
   end subroutine select_rows
 
   !> Writes (or overwrites) an integer attribute; every rank passes the same value.

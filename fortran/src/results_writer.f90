@@ -12,12 +12,19 @@ module results_writer
   implicit none
   private
   public :: results_file_t, results_create, results_reopen, results_write_frame, results_write_history
-  public :: results_finish, run_record_t
+  public :: results_finish, results_flush, run_record_t
+
+  integer, parameter :: history_batch = 64   !< history records written in one collective write
 
   type :: results_file_t
     integer(hid_t) :: file = -1, transfer = -1
     integer :: n_nodes = 0, n_elements = 0, n_tracked = 0
-    integer :: frames = 0, records = 0
+    integer :: frames = 0, records = 0   !< written or pending
+    ! history records wait here and are written together (many small collective writes cost more
+    ! than the run's frames): at every frame, checkpoint and finish, and when the buffer is full
+    integer :: pending = 0
+    real(wp), allocatable :: pending_values(:, :)      !< (1 + history names, history_batch)
+    real(wp), allocatable :: pending_tracked(:, :, :)  !< (6, n_tracked, history_batch)
     logical :: root = .false.                   !< this rank writes the history
     type(row_runs_t) :: nodes, elements, tracked
   end type results_file_t
@@ -160,7 +167,7 @@ contains
                     real_values=von_mises)
     call write_rows(rf%file, rf%transfer, '/frames/element_plastic_strain', [ne], rf%elements, rf%frames, &
                     real_values=plastic_strain)
-    call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
+    call results_flush(rf)   ! the history up to this frame, then the file
   end subroutine results_write_frame
 
   !> values: kinetic, internal, hourglass and contact energy, external work, deepest contact
@@ -169,19 +176,42 @@ contains
     type(results_file_t), intent(inout) :: rf
     real(wp), intent(in) :: time, values(history_names_count)
     real(wp), intent(in) :: tracked_displacement(:, :), tracked_velocity(:, :)
-    integer :: k
-    integer(hsize_t) :: nt
-    nt = int(rf%n_tracked, hsize_t)
+    if (.not. allocated(rf%pending_values)) then
+      allocate (rf%pending_values(1 + history_names_count, history_batch))
+      allocate (rf%pending_tracked(6, rf%n_tracked, history_batch))
+    end if
     rf%records = rf%records + 1
-    call append_root(rf, '/history/time', [time], [integer(hsize_t) ::], rf%records)
-    do k = 1, history_names_count
-      call append_root(rf, '/history/'//trim(history_names(k)), [values(k)], [integer(hsize_t) ::], rf%records)
-    end do
-    call write_rows(rf%file, rf%transfer, '/history/tracked_displacement', [3_hsize_t, nt], rf%tracked, &
-                    rf%records, real_values=reshape(tracked_displacement, [size(tracked_displacement)]))
-    call write_rows(rf%file, rf%transfer, '/history/tracked_velocity', [3_hsize_t, nt], rf%tracked, &
-                    rf%records, real_values=reshape(tracked_velocity, [size(tracked_velocity)]))
+    rf%pending = rf%pending + 1
+    rf%pending_values(:, rf%pending) = [time, values]
+    rf%pending_tracked(1:3, :, rf%pending) = tracked_displacement
+    rf%pending_tracked(4:6, :, rf%pending) = tracked_velocity
+    if (rf%pending == history_batch) call results_flush(rf)
   end subroutine results_write_history
+
+  !> Writes the pending history records and flushes the file (collective).
+  subroutine results_flush(rf)
+    type(results_file_t), intent(inout) :: rf
+    integer :: k, first, n, err
+    integer(hsize_t) :: nt
+    n = rf%pending
+    if (n > 0) then
+      first = rf%records - n + 1
+      nt = int(rf%n_tracked, hsize_t)
+      call append_root(rf, '/history/time', rf%pending_values(1, 1:n), [integer(hsize_t) ::], first, n)
+      do k = 1, history_names_count
+        call append_root(rf, '/history/'//trim(history_names(k)), rf%pending_values(1 + k, 1:n), &
+                         [integer(hsize_t) ::], first, n)
+      end do
+      call write_rows(rf%file, rf%transfer, '/history/tracked_displacement', [3_hsize_t, nt], rf%tracked, &
+                      first, real_values=reshape(rf%pending_tracked(1:3, :, 1:n), [3 * rf%n_tracked * n]), &
+                      n_frames=n)
+      call write_rows(rf%file, rf%transfer, '/history/tracked_velocity', [3_hsize_t, nt], rf%tracked, &
+                      first, real_values=reshape(rf%pending_tracked(4:6, :, 1:n), [3 * rf%n_tracked * n]), &
+                      n_frames=n)
+      rf%pending = 0
+    end if
+    call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
+  end subroutine results_flush
 
   !> Writes the /run attributes (the same record on every rank), marks the file complete when
   !> asked, and closes it.
@@ -191,6 +221,7 @@ contains
     logical, intent(in) :: complete
     integer(hid_t) :: group
     integer :: err
+    call results_flush(rf)
     call h5gcreate_f(rf%file, 'run', group, err)
     call write_int_attribute(group, 'cycles', run%cycles)
     call write_int_attribute(group, 'ranks', run%ranks)
@@ -234,15 +265,19 @@ contains
   end subroutine set_rows
 
   !> Appends entry `index` of a growing dataset whose whole entry rank 0 writes.
-  subroutine append_root(rf, name, values, fixed, index)
+  subroutine append_root(rf, name, values, fixed, index, count)
     type(results_file_t), intent(in) :: rf
     character(len=*), intent(in) :: name
     real(wp), intent(in) :: values(:)
     integer(hsize_t), intent(in) :: fixed(:)
     integer, intent(in) :: index
+    integer, intent(in), optional :: count   !< entries index, index + 1, ... (default 1)
+    integer :: n
+    n = 1
+    if (present(count)) n = count
     ! the entry is the single row of a dataset of shape [fixed, 1]
     call write_rows(rf%file, rf%transfer, name, [fixed, 1_hsize_t], row_runs(pack([1], rf%root)), index, &
-                    real_values=values, frame_is_row=.true.)
+                    real_values=values, frame_is_row=.true., n_frames=n)
   end subroutine append_root
 
 end module results_writer
