@@ -1,8 +1,9 @@
 !> Writes results.h5 (docs/formats.md, version 1) collectively with parallel HDF5 (MPI-IO): every
 !> rank writes the rows it owns (its owned nodes, its elements) straight into the global datasets,
-!> so no field is funnelled through one rank. Datasets grow by one frame or record at a time and
-!> the file is flushed after each, so a run that stops early leaves a readable file whose root
-!> attribute `complete` stays 0. Every call here is collective over the communicator.
+!> so no field is funnelled through one rank. Frames are written one at a time, history records
+!> in batches (at every frame, checkpoint and the end), and the file is flushed each time, so a
+!> run that stops early leaves a readable file whose root attribute `complete` stays 0. Every
+!> call here is collective over the communicator.
 module results_writer
   use hdf5
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank
