@@ -19,6 +19,7 @@
 !> Pure: no MPI, no I/O, no module state.
 module contact_search
   use paradyn_kinds, only: wp, ip, i8
+  use vector_algebra, only: cross
   implicit none
   private
   public :: closest_point_on_segment, segment_candidates, node_segment_map
@@ -66,12 +67,6 @@ contains
     real(wp), intent(in) :: x
     clamp = min(1.0_wp, max(-1.0_wp, x))
   end function clamp
-
-  pure function cross(u, v) result(w)
-    real(wp), intent(in) :: u(3), v(3)
-    real(wp) :: w(3)
-    w = [u(2) * v(3) - u(3) * v(2), u(3) * v(1) - u(1) * v(3), u(1) * v(2) - u(2) * v(1)]
-  end function cross
 
   !> Backtracking along the projected path clamp(x + alpha d): the first alpha = 1, 1/2, 1/4, ...
   !> that does not increase the distance by more than its round-off noise. Near the solution f

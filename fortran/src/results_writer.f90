@@ -152,7 +152,6 @@ contains
     type(results_file_t), intent(inout) :: rf
     real(wp), intent(in) :: time, displacement(:, :), velocity(:, :), membrane(:, :)
     real(wp), intent(in) :: von_mises(:), plastic_strain(:)
-    integer :: err
     integer(hsize_t) :: nn, ne
     nn = int(rf%n_nodes, hsize_t)
     ne = int(rf%n_elements, hsize_t)

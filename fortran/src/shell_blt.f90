@@ -9,6 +9,7 @@
 !> arrays). They are pure: no MPI, no I/O, no module state.
 module shell_blt
   use paradyn_kinds, only: wp
+  use vector_algebra, only: cross
   use material_j2, only: elastic_plane_stress_update_points, j2_plane_stress_update_points, &
                          von_mises_plane_stress
   use domain_decomposition, only: group_size
@@ -101,12 +102,6 @@ contains
     end do
     area = 0.5_wp * ((xl(3) - xl(1)) * (yl(4) - yl(2)) - (xl(4) - xl(2)) * (yl(3) - yl(1)))
   end subroutine local_frame
-
-  pure function cross(a, b) result(c)
-    real(wp), intent(in) :: a(3), b(3)
-    real(wp) :: c(3)
-    c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
-  end function cross
 
   !> Internal nodal forces and moments of a group of BLT shells for one time step.
   !>
