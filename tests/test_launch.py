@@ -42,6 +42,32 @@ def test_outside_an_allocation_mpirun_is_used(monkeypatch: pytest.MonkeyPatch) -
     assert launch.engine_command(Path("/d/deck.h5"), Path("/d/results.h5"), 1, 1)[0] == str(launch.engine_path())
 
 
+def test_a_layout_that_fits_the_cores_is_pinned(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Ranks and threads get cores of their own when they fit (a migrating rank lands on a busy
+    core and the others wait for it); more than the cores float, oversubscribed; PARADYN_BIND=none
+    turns pinning off; the user's own OpenMP placement wins."""
+    monkeypatch.delenv("SLURM_JOB_ID", raising=False)
+    monkeypatch.delenv(launch.BIND_ENV, raising=False)
+    monkeypatch.delenv("OMP_PROC_BIND", raising=False)
+    monkeypatch.delenv("OMP_PLACES", raising=False)
+    monkeypatch.setattr(launch, "available_cores", lambda: 4)
+    deck, results = Path("/d/deck.h5"), Path("/d/results.h5")
+
+    def options(ranks: int, threads: int) -> str:
+        return " ".join(launch.engine_command(deck, results, ranks, threads)[1:-2])
+
+    assert "--map-by slot:PE=2 --bind-to core -x OMP_PROC_BIND -x OMP_PLACES" in options(2, 2)
+    assert "--map-by slot:PE=1 --bind-to core" in options(4, 1)
+    assert "--bind-to none --oversubscribe" in options(4, 2)
+    env = launch.engine_environment(2, 2)
+    assert (env["OMP_PROC_BIND"], env["OMP_PLACES"]) == ("close", "cores")
+    assert "OMP_PROC_BIND" not in launch.engine_environment(4, 2)   # does not fit: threads float
+    monkeypatch.setenv("OMP_PROC_BIND", "spread")
+    assert launch.engine_environment(2, 2)["OMP_PROC_BIND"] == "spread"
+    monkeypatch.setenv(launch.BIND_ENV, "none")
+    assert "--bind-to none" in options(2, 1) and "--oversubscribe" not in options(2, 1)
+
+
 def test_sbatch_writes_a_job_script_and_runs_nothing(tmp_path: Path) -> None:
     status = cli.main([str(SMALL_PLATE), "-o", str(tmp_path), "-n", "2", "-t", "3", "--sbatch"])
     assert status == 0

@@ -111,18 +111,26 @@ def test_scaling_benchmark_reports_every_layout(tmp_path: Path, capsys: pytest.C
     efficiency and the phases, written as JSON; every layout gives the first one's displacements
     bitwise, and the command says so with its exit status."""
     scene_path = Path(__file__).resolve().parents[1] / "cases" / "small_plate" / "scene.toml"
-    status = benchmark.main([str(scene_path), "--layouts", "1x1,2x1,1x2", "-o", str(tmp_path)])
+    status = benchmark.main([str(scene_path), "--layouts", "1x1,2x1,1x2", "--repeat", "3", "-o", str(tmp_path)])
     assert status == 0
     report = json.loads((tmp_path / "scaling.json").read_text())
     assert [(r["ranks"], r["threads"]) for r in report["layouts"]] == [(1, 1), (2, 1), (1, 2)]
+    base = report["layouts"][0]["round_wall_s"]
     for row in report["layouts"]:
         assert row["same_displacements"] is True
         assert row["wall_s"] > 0 and row["element_cycles_per_s"] > 0
         assert row["efficiency"] == pytest.approx(row["speed_up"] / (row["ranks"] * row["threads"]))
         assert set(row["phase_s"]) == {"elements", "contact", "communication", "output", "other"}
         assert row["peak_memory_mb"] > 0
+        # three rounds; the reported run is the median one, the speed-up the median of the rounds'
+        assert len(row["round_wall_s"]) == 3 and row["wall_s"] == sorted(row["round_wall_s"])[1]
+        assert row["round_speed_up"] == pytest.approx([b / w for b, w in zip(base, row["round_wall_s"])])
+        assert row["speed_up"] == pytest.approx(sorted(row["round_speed_up"])[1])
+        # one rank is balanced by definition; two ranks are at least as busy as their mean
+        assert row["load_imbalance"] == 1.0 if row["ranks"] == 1 else row["load_imbalance"] >= 1.0
     assert report["layouts"][0]["speed_up"] == 1.0
-    assert "| 2 x 1 |" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "| 2 x 1 |" in out and "speed-up of 2 x 1 in each round:" in out
 
 
 # ----------------------------------------------------------------------------------------------

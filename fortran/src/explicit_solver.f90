@@ -271,6 +271,17 @@ contains
     call MPI_Allreduce(mine, any_rank_stopped, 1, MPI_LOGICAL, MPI_LOR, comm)
   end function any_rank_stopped
 
+  !> The busiest rank's element and contact time over the mean of all ranks (1 = balanced).
+  real(wp) function load_imbalance(comm, busy, n_ranks)
+    type(MPI_Comm), intent(in) :: comm
+    real(wp), intent(in) :: busy
+    integer, intent(in) :: n_ranks
+    real(wp) :: most, total
+    call MPI_Allreduce(busy, most, 1, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
+    call MPI_Allreduce(busy, total, 1, MPI_DOUBLE_PRECISION, MPI_SUM, comm)
+    load_imbalance = most / max(total / n_ranks, tiny(1.0_wp))
+  end function load_imbalance
+
   !> The /run attributes are written collectively and must agree: every rank takes rank 0's timings.
   subroutine share_root_timings(comm, run)
     type(MPI_Comm), intent(in) :: comm
@@ -447,6 +458,14 @@ contains
     run%phase_communication_s = s%phase(3)
     run%phase_output_s = s%phase(4)
     run%phase_other_s = max(run%wall_s - sum(s%phase(1:4)), 0.0_wp)
+    run%load_imbalance = load_imbalance(s%halo%comm, s%phase(1) + s%phase(2), s%n_ranks)
+    if (s%finished) then
+      ! one line per rank for the log: the load balance behind the communication phase
+      write (*, '(a,i0,5(a,f0.4))') 'PARADYN-PHASES rank=', s%rank, ' elements_s=', s%phase(1), &
+        ' contact_s=', s%phase(2), ' communication_s=', s%phase(3), ' output_s=', s%phase(4), &
+        ' nodes_s=', s%phase(5)
+      flush (6)
+    end if
     call share_root_timings(s%halo%comm, run)
 
   contains

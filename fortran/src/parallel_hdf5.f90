@@ -100,6 +100,8 @@ contains
     call h5screate_simple_f(size(dims), dims, space, err, maxdims)
     call h5pcreate_f(H5P_DATASET_CREATE_F, plist, err)
     call h5pset_chunk_f(plist, size(chunk), chunk, err)
+    ! every entry is written before it is read: no fill values (parallel HDF5 writes them at each extension)
+    call h5pset_fill_time_f(plist, H5D_FILL_TIME_NEVER_F, err)
     call h5dcreate_f(loc, name, H5T_NATIVE_DOUBLE, space, dset, err, plist)
     call h5dclose_f(dset, err)
     call h5pclose_f(plist, err)
@@ -153,8 +155,7 @@ contains
     if (frame > 0) call h5dset_extent_f(dset, dims(1:nd), err)
     call h5dget_space_f(dset, filespace, err)
     call select_rows(filespace, dims(1:nd), size(fixed), runs, frame, n_values(1), count)
-    call h5screate_simple_f(1, max(n_values, 1_hsize_t), memspace, err)
-    if (n_values(1) == 0) call h5sselect_none_f(memspace, err)
+    memspace = memory_space(dims(1:nd), size(fixed), runs, frame, count, n_values(1))
     if (present(real_values)) then
       call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, real_values, n_values, err, memspace, filespace, transfer)
     else
@@ -183,14 +184,33 @@ contains
     allocate (buffer(max(size(values), 1)))
     call h5dget_space_f(dset, filespace, ignored)
     call select_rows(filespace, fixed, size(fixed), runs, 0, n_values(1))
-    call h5screate_simple_f(1, max(n_values, 1_hsize_t), memspace, ignored)
-    if (n_values(1) == 0) call h5sselect_none_f(memspace, ignored)
+    memspace = memory_space(fixed, size(fixed), runs, 0, 1, n_values(1))
     call h5dread_f(dset, H5T_NATIVE_DOUBLE, buffer, n_values, err, memspace, filespace, transfer)
     values = reshape(buffer(1:size(values)), shape(values))
     call h5sclose_f(memspace, ignored)
     call h5sclose_f(filespace, ignored)
     call h5dclose_f(dset, ignored)
   end subroutine read_rows
+
+  !> The memory space of n_values values for the selection of select_rows. One run: the shape of
+  !> the selection, which lets HDF5 map it chunk by chunk (a flat space of another shape makes it
+  !> map every value, which cost more than the rest of a frame's write); several runs: flat.
+  integer(hid_t) function memory_space(dims, row_dim, runs, frame, n_frames, n_values) result(space)
+    integer(hsize_t), intent(in) :: dims(:), n_values
+    integer, intent(in) :: row_dim, frame, n_frames
+    type(row_runs_t), intent(in) :: runs
+    integer(hsize_t) :: selection(size(dims))
+    integer :: err
+    if (size(runs%first) == 1) then
+      selection = dims
+      selection(row_dim) = int(runs%length(1), hsize_t)
+      if (frame > 0) selection(size(dims)) = int(n_frames, hsize_t)
+      call h5screate_simple_f(size(dims), selection, space, err)
+    else
+      call h5screate_simple_f(1, [max(n_values, 1_hsize_t)], space, err)
+      if (n_values == 0) call h5sselect_none_f(space, err)
+    end if
+  end function memory_space
 
   !> Selects the runs' rows (along dimension row_dim) of entries frame .. frame + n_frames - 1
   !> (when frame > 0, along the last dimension).
@@ -216,7 +236,8 @@ contains
         offset(nd) = int(frame - 1, hsize_t)
         count(nd) = int(entries, hsize_t)
       end if
-      call h5sselect_hyperslab_f(space, H5S_SELECT_OR_F, offset, count, err)
+      ! the first as a set: a single run stays a regular hyperslab
+      call h5sselect_hyperslab_f(space, merge(H5S_SELECT_SET_F, H5S_SELECT_OR_F, k == 1), offset, count, err)
     end do
     n_values = product(dims(1:row_dim - 1)) * int(runs%n_rows, hsize_t) * int(entries, hsize_t)
   end subroutine select_rows

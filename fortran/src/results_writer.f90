@@ -1,12 +1,13 @@
 !> Writes results.h5 (docs/formats.md, version 1) collectively with parallel HDF5 (MPI-IO): every
 !> rank writes the rows it owns (its owned nodes, its elements) straight into the global datasets,
 !> so no field is funnelled through one rank. Frames are written one at a time, history records
-!> in batches (at every frame, checkpoint and the end), and the file is flushed each time, so a
+!> in batches (at every frame, checkpoint and the end). The file is flushed at a frame once a
+!> second of wall time has passed since the last flush, and at every checkpoint and the end, so a
 !> run that stops early leaves a readable file whose root attribute `complete` stays 0. Every
 !> call here is collective over the communicator.
 module results_writer
   use hdf5
-  use mpi_f08, only: MPI_Comm, MPI_Comm_rank
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Bcast, MPI_LOGICAL, MPI_Wtime
   use paradyn_kinds, only: wp
   use parallel_hdf5, only: row_runs_t, row_runs, phdf5_open, phdf5_close, create_dataset, create_growing, &
                            write_rows, truncate_growing, write_int_attribute, write_real_attribute
@@ -16,6 +17,9 @@ module results_writer
   public :: results_finish, results_flush, run_record_t
 
   integer, parameter :: history_batch = 64   !< history records written in one collective write
+  !> Wall seconds between flushes at frames: a flush syncs the file to disk, which cost more than
+  !> writing the frame itself when done at every frame
+  real(wp), parameter :: flush_interval_s = 1.0_wp
 
   type :: results_file_t
     integer(hid_t) :: file = -1, transfer = -1
@@ -27,6 +31,8 @@ module results_writer
     real(wp), allocatable :: pending_values(:, :)      !< (1 + history names, history_batch)
     real(wp), allocatable :: pending_tracked(:, :, :)  !< (6, n_tracked, history_batch)
     logical :: root = .false.                   !< this rank writes the history
+    type(MPI_Comm) :: comm
+    real(wp) :: last_flush = 0                  !< MPI_Wtime of the last flush (rank 0's decides)
     type(row_runs_t) :: nodes, elements, tracked
   end type results_file_t
 
@@ -38,6 +44,7 @@ module results_writer
     real(wp) :: phase_output_s = 0, phase_other_s = 0
     real(wp) :: phase_contact_sort_s = 0, phase_contact_search_s = 0, phase_contact_force_s = 0
     real(wp) :: peak_memory_mb = 0   !< the largest peak resident memory of any rank (MiB)
+    real(wp) :: load_imbalance = 1   !< busiest rank's element + contact time over the mean
   end type run_record_t
 
   integer, parameter :: history_names_count = 6
@@ -167,7 +174,8 @@ contains
                     real_values=von_mises)
     call write_rows(rf%file, rf%transfer, '/frames/element_plastic_strain', [ne], rf%elements, rf%frames, &
                     real_values=plastic_strain)
-    call results_flush(rf)   ! the history up to this frame, then the file
+    call write_pending(rf)   ! the history up to this frame
+    if (flush_due(rf)) call flush_file(rf)
   end subroutine results_write_frame
 
   !> values: kinetic, internal, hourglass and contact energy, external work, deepest contact
@@ -185,13 +193,34 @@ contains
     rf%pending_values(:, rf%pending) = [time, values]
     rf%pending_tracked(1:3, :, rf%pending) = tracked_displacement
     rf%pending_tracked(4:6, :, rf%pending) = tracked_velocity
-    if (rf%pending == history_batch) call results_flush(rf)
+    if (rf%pending == history_batch) call write_pending(rf)
   end subroutine results_write_history
 
   !> Writes the pending history records and flushes the file (collective).
   subroutine results_flush(rf)
     type(results_file_t), intent(inout) :: rf
-    integer :: k, first, n, err
+    call write_pending(rf)
+    call flush_file(rf)
+  end subroutine results_flush
+
+  subroutine flush_file(rf)
+    type(results_file_t), intent(inout) :: rf
+    integer :: err
+    call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
+    rf%last_flush = MPI_Wtime()
+  end subroutine flush_file
+
+  !> Rank 0's clock decides, so that every rank makes the same collective call.
+  logical function flush_due(rf)
+    type(results_file_t), intent(in) :: rf
+    flush_due = MPI_Wtime() - rf%last_flush >= flush_interval_s
+    call MPI_Bcast(flush_due, 1, MPI_LOGICAL, 0, rf%comm)
+  end function flush_due
+
+  !> Writes the history records that wait in the buffer (collective).
+  subroutine write_pending(rf)
+    type(results_file_t), intent(inout) :: rf
+    integer :: k, first, n
     integer(hsize_t) :: nt
     n = rf%pending
     if (n > 0) then
@@ -210,8 +239,7 @@ contains
                       n_frames=n)
       rf%pending = 0
     end if
-    call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
-  end subroutine results_flush
+  end subroutine write_pending
 
   !> Writes the /run attributes (the same record on every rank), marks the file complete when
   !> asked, and closes it.
@@ -241,6 +269,7 @@ contains
     call write_real_attribute(group, 'phase_contact_search_s', run%phase_contact_search_s)
     call write_real_attribute(group, 'phase_contact_force_s', run%phase_contact_force_s)
     call write_real_attribute(group, 'peak_memory_per_rank_mb', run%peak_memory_mb)
+    call write_real_attribute(group, 'load_imbalance', run%load_imbalance)
     call h5gclose_f(group, err)
     if (complete) call write_int_attribute(rf%file, 'complete', 1)
     call phdf5_close(rf%file, rf%transfer)
@@ -256,6 +285,8 @@ contains
     integer :: rank, k
     call MPI_Comm_rank(comm, rank)
     rf%root = rank == 0
+    rf%comm = comm
+    rf%last_flush = MPI_Wtime()
     rf%n_nodes = n_nodes
     rf%n_elements = n_elements
     rf%n_tracked = n_tracked

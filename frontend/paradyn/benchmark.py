@@ -1,8 +1,11 @@
 """`paradyn-scaling`: run one case on several rank x thread layouts and report parallel speed.
 
 For every layout the engine runs the same deck; the report gives wall time, element-cycles per
-second, speed-up and parallel efficiency against the first layout, and the time per phase. It is
-printed as a markdown table and written as JSON. The displacements of every layout are compared
+second, speed-up and parallel efficiency against the first layout, the time per phase and the load
+imbalance between ranks. It is printed as a markdown table and written as JSON. With ``--repeat``
+the layouts take turns (round after round), so a slow spell of a shared machine slows one round
+of every layout rather than all runs of one; the speed-up is the median over rounds of the ratio
+of the first layout's wall time to the layout's in the same round. The displacements of every layout are compared
 with the first one (bitwise), so a speed-up never hides a different answer. ``--partition`` picks
 how elements are given to ranks; the report counts the shared nodes and neighbours it makes.
 """
@@ -12,7 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import h5py
@@ -36,6 +39,9 @@ class LayoutResult:
     shared_nodes: int = 0       # nodes held by more than one rank
     max_neighbours: int = 0     # most ranks any one rank exchanges corner forces with
     peak_memory_mb: float = 0.0  # largest peak resident memory of any rank (MiB)
+    load_imbalance: float = 1.0  # busiest rank's element + contact time over the mean of all ranks
+    round_wall_s: list[float] = field(default_factory=list)   # wall time of each round
+    round_speed_up: list[float] = field(default_factory=list)  # speed-up in each round
 
 
 def partition_stats(model: deck.Model, ranks: int) -> tuple[int, int]:
@@ -76,51 +82,56 @@ def parse_layouts(text: str) -> list[tuple[int, int]]:
     return layouts
 
 
-def median_run(deck_path: Path, out_dir: Path, ranks: int, threads: int, repeat: int) -> tuple[dict, np.ndarray]:
-    """Run a layout `repeat` times; the /run attributes of the run with the median wall time,
-    and its displacements (timings on shared machines are noisy: quote medians)."""
-    runs = []
-    for k in range(repeat):
-        res_path = out_dir / f"results_{ranks}x{threads}_{k}.h5"
-        launch.run_engine(deck_path, res_path, ranks, threads, log_path=out_dir / f"engine_{ranks}x{threads}.log")
-        with h5py.File(res_path, "r") as f:
-            runs.append((dict(f["run"].attrs), f["frames/displacement"][()]))
-    runs.sort(key=lambda r: float(r[0]["wall_s"]))
-    return runs[len(runs) // 2]
+def run_once(deck_path: Path, out_dir: Path, ranks: int, threads: int, k: int) -> tuple[dict, np.ndarray]:
+    """One run of a layout: its /run attributes and displacements."""
+    res_path = out_dir / f"results_{ranks}x{threads}_{k}.h5"
+    launch.run_engine(deck_path, res_path, ranks, threads, log_path=out_dir / f"engine_{ranks}x{threads}.log")
+    with h5py.File(res_path, "r") as f:
+        return dict(f["run"].attrs), f["frames/displacement"][()]
 
 
 def run_layouts(deck_path: Path, out_dir: Path, layouts: list[tuple[int, int]],
                 repeat: int = 1, model: deck.Model | None = None) -> list[LayoutResult]:
-    results: list[LayoutResult] = []
+    """Run every layout `repeat` times, in rounds; each layout is reported by its run of median
+    wall time (timings on shared machines are noisy: quote medians)."""
+    rounds = [[run_once(deck_path, out_dir, ranks, threads, k) for ranks, threads in layouts]
+              for k in range(repeat)]
+    base_walls = [float(r[0][0]["wall_s"]) for r in rounds]
     reference = None
-    for ranks, threads in layouts:
-        run, displacement = median_run(deck_path, out_dir, ranks, threads, repeat)
-        shared, neighbours = partition_stats(model, ranks) if model is not None else (0, 0)
+    results: list[LayoutResult] = []
+    for i, (ranks, threads) in enumerate(layouts):
+        runs = sorted((r[i] for r in rounds), key=lambda run: float(run[0]["wall_s"]))
+        run, displacement = runs[len(runs) // 2]
         if reference is None:
-            reference = (float(run["wall_s"]), displacement)
-        wall = float(run["wall_s"])
-        speed_up = reference[0] / wall
+            reference = displacement
+        walls = [float(r[i][0]["wall_s"]) for r in rounds]
+        speed_ups = [b / w for b, w in zip(base_walls, walls)]
+        speed_up = float(np.median(speed_ups))
+        shared, neighbours = partition_stats(model, ranks) if model is not None else (0, 0)
         results.append(LayoutResult(
-            ranks=ranks, threads=threads, wall_s=wall,
+            ranks=ranks, threads=threads, wall_s=float(run["wall_s"]),
             element_cycles_per_s=float(run["element_cycles_per_s"]), speed_up=speed_up,
             efficiency=speed_up * layouts[0][0] * layouts[0][1] / (ranks * threads),
             phase_s={p: float(run[f"phase_{p}_s"]) for p in PHASES},
-            same_displacements=bool(np.array_equal(displacement, reference[1])),
+            same_displacements=all(np.array_equal(r[i][1], reference) for r in rounds),
             shared_nodes=shared, max_neighbours=neighbours,
             peak_memory_mb=float(run.get("peak_memory_per_rank_mb", 0.0)),
+            load_imbalance=float(run.get("load_imbalance", 1.0)),
+            round_wall_s=walls, round_speed_up=speed_ups,
         ))
     return results
 
 
 def markdown(results: list[LayoutResult]) -> str:
     lines = ["| layout | wall (s) | element-cycles/s | speed-up | efficiency | "
-             + " | ".join(PHASES) + " | peak MiB/rank | same answer |",
-             "|" + "---|" * (7 + len(PHASES))]
+             + " | ".join(PHASES) + " | imbalance | peak MiB/rank | same answer |",
+             "|" + "---|" * (8 + len(PHASES))]
     for r in results:
         lines.append(f"| {r.ranks} x {r.threads} | {r.wall_s:.2f} | {r.element_cycles_per_s:.3e} | "
                      f"{r.speed_up:.2f} | {100 * r.efficiency:.0f} % | "
                      + " | ".join(f"{r.phase_s[p]:.2f}" for p in PHASES)
-                     + f" | {r.peak_memory_mb:.0f} | {'yes' if r.same_displacements else 'NO'} |")
+                     + f" | {r.load_imbalance:.2f} | {r.peak_memory_mb:.0f} | "
+                     + f"{'yes' if r.same_displacements else 'NO'} |")
     return "\n".join(lines)
 
 
@@ -134,7 +145,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--layouts", default="1x1,1x2,2x1",
                         help="comma-separated RANKSxTHREADS; the first is the baseline (default 1x1,1x2,2x1)")
     parser.add_argument("--repeat", type=int, default=1,
-                        help="runs per layout; the median wall time is reported (default 1)")
+                        help="rounds: every layout runs once per round; medians are reported (default 1)")
     parser.add_argument("--partition", choices=tuple(deck.PARTITIONS), default=None,
                         help="how elements are given to ranks: contiguous 'blocks' by element number or "
                              "'rcb' (recursive coordinate bisection); default: the scene's [run] partition, "
@@ -166,6 +177,10 @@ def main(argv: list[str] | None = None) -> int:
               "layouts": [asdict(r) for r in results]}
     (out_dir / "scaling.json").write_text(json.dumps(report, indent=2) + "\n")
     print(markdown(results))
+    if args.repeat > 1:
+        for r in results[1:]:
+            print(f"paradyn-scaling: speed-up of {r.ranks} x {r.threads} in each round: "
+                  + " ".join(f"{v:.2f}" for v in r.round_speed_up))
     for ranks in sorted({r.ranks for r in results if r.ranks > 1}):
         row = next(r for r in results if r.ranks == ranks)
         print(f"paradyn-scaling: partition {partition} on {ranks} ranks: {row.shared_nodes} shared nodes, "

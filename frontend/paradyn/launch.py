@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Callable, Iterator, TextIO
 
 ENGINE_ENV = "PARADYN_ENGINE"
+BIND_ENV = "PARADYN_BIND"   # "none": let the ranks and threads float over the cores
 _FIELD = re.compile(r"(\w+)=\s*(\S+)")
 
 
@@ -80,14 +81,32 @@ def engine_path() -> Path:
     return path
 
 
+def available_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the system tells it)."""
+    if hasattr(os, "sched_getaffinity"):
+        return max(1, len(os.sched_getaffinity(0)))
+    return max(1, os.cpu_count() or 1)
+
+
+def binds_to_cores(ranks: int, threads: int) -> bool:
+    """Pin every rank and thread to a core of its own when the layout fits the machine (a rank
+    or thread that migrates loses its cache and can land on a busy core, which the others then
+    wait for), unless $PARADYN_BIND is "none"."""
+    return os.environ.get(BIND_ENV, "cores").lower() != "none" and ranks * threads <= available_cores()
+
+
 def default_layout() -> tuple[int, int]:
     """One rank and one thread per core: OpenMP inside a rank is the cheapest layout on one machine."""
     return 1, max(1, os.cpu_count() or 1)
 
 
-def engine_environment(threads: int) -> dict[str, str]:
+def engine_environment(threads: int, ranks: int = 1) -> dict[str, str]:
     env = dict(os.environ)
     env["OMP_NUM_THREADS"] = str(threads)
+    if threads > 1 and binds_to_cores(ranks, threads):
+        # threads on neighbouring cores of the rank's own set; the user's settings win
+        env.setdefault("OMP_PROC_BIND", "close")
+        env.setdefault("OMP_PLACES", "cores")
     env["SRUN_CPUS_PER_TASK"] = str(threads)
     env.setdefault("OMP_STACKSIZE", "64M")  # threads with large private arrays need more than the default
     env.setdefault("OMPI_MCA_btl_vader_single_copy_mechanism", "none")  # containers without CMA
@@ -122,8 +141,15 @@ def engine_command(deck: Path, results: Path, ranks: int, threads: int, restart:
     mpirun = shutil.which("mpirun") or shutil.which("mpiexec")
     if mpirun is None:
         raise EngineError("mpirun is not on PATH; install Open MPI (apt-get install openmpi-bin)", 1)
-    command = [mpirun, "-n", str(ranks), "--bind-to", "none", "-x", "OMP_NUM_THREADS"]
-    if ranks * threads > (os.cpu_count() or 1):
+    command = [mpirun, "-n", str(ranks), "-x", "OMP_NUM_THREADS"]
+    if binds_to_cores(ranks, threads):
+        # each rank on `threads` cores of its own; engine_environment places the threads on them
+        command += ["--map-by", f"slot:PE={threads}", "--bind-to", "core"]
+        if threads > 1:
+            command += ["-x", "OMP_PROC_BIND", "-x", "OMP_PLACES"]
+    else:
+        command += ["--bind-to", "none"]
+    if ranks * threads > available_cores():
         command.append("--oversubscribe")
     return command + [engine, *arguments]
 
@@ -182,7 +208,7 @@ def run_engine(
     log: TextIO = open(log_path, "w") if log_path else open(os.devnull, "w")
     errors: list[str] = []
     with log, subprocess.Popen(
-        command, cwd=deck.parent, env=engine_environment(threads), stdout=subprocess.PIPE,
+        command, cwd=deck.parent, env=engine_environment(threads, ranks), stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT, text=True, bufsize=1, start_new_session=True,
     ) as process:
         assert process.stdout is not None
