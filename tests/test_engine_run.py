@@ -89,6 +89,7 @@ def test_small_plate_summary_has_every_key(plate_run: Path, plate_summary: dict)
     assert all(v is not None and v >= 0 for v in s["phase_s"].values())
     # VmHWM of the engine: at least its own executable and MPI (a few MiB), far below the machine
     assert 5 < s["peak_memory_per_rank_mb"] < 2000
+    assert s["load_imbalance"] == 1.0   # one rank: the busiest is the mean
     assert sum(s["phase_s"].values()) == pytest.approx(s["wall_s"], rel=1e-6, abs=1e-9)
     energy = s["energy"]
     for when in ("initial", "final"):

@@ -131,6 +131,9 @@ def test_scaling_benchmark_reports_every_layout(tmp_path: Path, capsys: pytest.C
     assert report["layouts"][0]["speed_up"] == 1.0
     out = capsys.readouterr().out
     assert "| 2 x 1 |" in out and "speed-up of 2 x 1 in each round:" in out
+    # every rank logs its phases (docs/formats.md), so a wait can be traced to the rank it waited for
+    log = (tmp_path / "engine_2x1.log").read_text()
+    assert all(f"PARADYN-PHASES rank={rank} elements_s=" in log for rank in (0, 1))
 
 
 # ----------------------------------------------------------------------------------------------

@@ -781,6 +781,7 @@ def write_summary(
         "threads": run.get("threads"),
         "element_cycles_per_s": run.get("element_cycles_per_s"),
         "peak_memory_per_rank_mb": run.get("peak_memory_per_rank_mb"),
+        "load_imbalance": run.get("load_imbalance"),
         "phase_s": {p: run.get(f"phase_{p}_s") for p in PHASE_NAMES},
         "contact_phase_s": {p: run.get(f"phase_contact_{p}_s") for p in CONTACT_PHASE_NAMES},
         "frames": results.n_frames,
