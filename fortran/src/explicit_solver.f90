@@ -631,6 +631,8 @@ contains
     subroutine write_frame()
       integer :: g, n, first, nip, k, j
       real(wp) :: membrane(group_size, 3), von_mises(group_size), plastic(group_size)
+      ! threads share the frame's arithmetic; the writes that follow are collective, one call
+      !$omp parallel do schedule(static) private(n, first, nip, membrane, von_mises, plastic)
       do g = 1, s%dom%n_groups
         n = s%dom%group_count(g)
         first = s%dom%group_first(g)
@@ -641,11 +643,14 @@ contains
         s%element_out(4, first:first + n - 1) = von_mises(1:n)
         s%element_out(5, first:first + n - 1) = plastic(1:n)
       end do
+      !$omp end parallel do
+      !$omp parallel do schedule(static) private(j)
       do k = 1, size(s%halo%owned_local)
         j = s%halo%owned_local(k)
         s%node_out_a(:, k) = s%x(:, j) - s%x0(:, j)
         s%node_out_b(:, k) = 0.5_wp * (s%v(:, j) + s%v_old(:, j))
       end do
+      !$omp end parallel do
       call results_write_frame(rf, s%time, s%node_out_a, s%node_out_b, s%element_out(1:3, :), &
                                s%element_out(4, :), s%element_out(5, :))
     end subroutine write_frame

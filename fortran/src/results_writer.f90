@@ -1,7 +1,7 @@
 !> Writes results.h5 (docs/formats.md, version 1) collectively with parallel HDF5 (MPI-IO): every
 !> rank writes the rows it owns (its owned nodes, its elements) straight into the global datasets,
 !> so no field is funnelled through one rank. Frames are written one at a time, history records
-!> in batches (at every frame, checkpoint and the end). The file is flushed at a frame once a
+!> in batches (when a batch is full and at every flush). The file is flushed at a frame once a
 !> second of wall time has passed since the last flush, and at every checkpoint and the end, so a
 !> run that stops early leaves a readable file whose root attribute `complete` stays 0. Every
 !> call here is collective over the communicator.
@@ -26,7 +26,7 @@ module results_writer
     integer :: n_nodes = 0, n_elements = 0, n_tracked = 0
     integer :: frames = 0, records = 0   !< written or pending
     ! history records wait here and are written together (many small collective writes cost more
-    ! than the run's frames): at every frame, checkpoint and finish, and when the buffer is full
+    ! than the run's frames): when the buffer is full and at every flush (checkpoint, finish)
     integer :: pending = 0
     real(wp), allocatable :: pending_values(:, :)      !< (1 + history names, history_batch)
     real(wp), allocatable :: pending_tracked(:, :, :)  !< (6, n_tracked, history_batch)
@@ -174,8 +174,8 @@ contains
                     real_values=von_mises)
     call write_rows(rf%file, rf%transfer, '/frames/element_plastic_strain', [ne], rf%elements, rf%frames, &
                     real_values=plastic_strain)
-    call write_pending(rf)   ! the history up to this frame
-    if (flush_due(rf)) call flush_file(rf)
+    ! the history waits for a full batch or a flush: a write per frame cost more than the frame
+    if (flush_due(rf)) call results_flush(rf)
   end subroutine results_write_frame
 
   !> values: kinetic, internal, hourglass and contact energy, external work, deepest contact
