@@ -7,8 +7,9 @@
 !> facet's extended plane, which on a faceted cylinder would make contact start early).
 !>
 !> Each pair gives two passes, each body slave to the other's segments: both every step
-!> (passes = 2, the default) or one per step, alternating as in the paper (passes = 1). A pass
-!> runs in the paper's two parallel stages (docs/theory.md, parallel contact):
+!> (passes = 2, the default) or one per step, alternating as in the paper (passes = 1). The
+!> passes of a step run together, in the paper's two parallel stages (docs/theory.md, parallel
+!> contact), so a step shares candidates and records once whatever the number of passes:
 !>   1. global search (contact_global_search): the slaves are dealt node-wise cyclically to the
 !>      ranks and, inside a rank, to the threads; each slave near the master box gets its nearest
 !>      master node, and the pairs (slave, nearest master) found are this rank's candidates;
@@ -89,10 +90,12 @@ module contact_interface
     logical :: gather_all = .false.             !< never gather a subset (to check that it changes nothing)
     type(contact_pass_t), allocatable :: passes(:)
     integer, allocatable :: pair_passes(:)     !< 1 or 2 per pass (from its pair)
-    ! candidates of the pass being worked on: n_own found here, n_all shared by every rank (the
-    ! caller fills all_pairs), n_candidates in slave order; pairs are (slave index, master index)
-    integer, allocatable :: nearest(:)          !< workspace, one per slave
-    integer, allocatable :: own_pairs(:, :), all_pairs(:, :), candidates(:, :)  !< (2, n)
+    ! candidates of the step's passes: n_own found here, n_all shared by every rank (the caller
+    ! fills all_pairs), n_candidates in pass order and, within a pass, slave order; pairs are
+    ! (slave index, master index, pass)
+    integer, allocatable :: nearest(:)          !< workspace, one per slave of all passes
+    integer, allocatable :: own_pairs(:, :), all_pairs(:, :), candidates(:, :)  !< (3, n)
+    integer, allocatable :: pass_pairs(:, :)    !< (2, n) workspace: one pass's shared pairs
     integer :: n_own = 0, n_all = 0, n_candidates = 0
     integer :: first = 1, last = 0              !< this rank's block of the candidates
     ! counts over the run: sorts, passes run, candidates (all ranks), local searches on this rank
@@ -127,19 +130,20 @@ contains
               c%x_at_sort(3, c%n_nodes), source=0.0_wp)
     allocate (c%passes(2 * deck%n_contacts), c%pair_passes(2 * deck%n_contacts))
     c%sort_interval = deck%contact_sort_interval
-    n_max = 1
+    n_max = 1   ! slaves of all passes together
     do k = 1, deck%n_contacts
       do i = 1, 2
         p = 2 * (k - 1) + i
         call pass_setup(deck, k, deck%contact_pairs(i, k), deck%contact_pairs(3 - i, k), contact_id, &
                         c%n_nodes, c%passes(p))
         c%pair_passes(p) = deck%contact_passes(k)
-        n_max = max(n_max, size(c%passes(p)%slaves))
+        n_max = n_max + size(c%passes(p)%slaves)
       end do
     end do
     allocate (c%record_nodes(5, n_max), source=0)
     allocate (c%record_force(3, 5, n_max), c%record_penetration(n_max), source=0.0_wp)
-    allocate (c%nearest(n_max), c%own_pairs(2, n_max), c%all_pairs(2, n_max), c%candidates(2, n_max), source=0)
+    allocate (c%nearest(n_max), c%own_pairs(3, n_max), c%all_pairs(3, n_max), c%candidates(3, n_max), &
+              c%pass_pairs(2, n_max), source=0)
     allocate (c%touched(c%n_nodes), c%touched_old(c%n_nodes), c%mark(c%n_nodes), source=0)
     allocate (c%in_gather(c%n_nodes), source=.true.)
   end subroutine contact_setup
@@ -329,8 +333,8 @@ contains
     contact_pass_active = c%pair_passes(p) == 2 .or. modulo(cycle + p, 2) == 1
   end function contact_pass_active
 
-  !> Add the records of the pass (complete on this rank: the caller has shared them between
-  !> ranks) to the contact forces, in candidate order (slave order), the same for any layout.
+  !> Add the records of the step (complete on this rank: the caller has shared them between
+  !> ranks) to the contact forces, in candidate order (pass, then slave), the same for any layout.
   subroutine contact_sum(c, clock)
     type(contact_t), intent(inout) :: c
     procedure(clock_seconds) :: clock
@@ -428,88 +432,121 @@ contains
     c%time_sort = c%time_sort + clock() - t0
   end subroutine contact_movement
 
-  !> Stage 1 of pass p, the global search: this rank's share of the slaves that can be near
-  !> (near_slaves; all slaves with a fixed sort interval), dealt node-wise cyclically to the ranks
-  !> (the k-th to rank mod(k - 1, n_ranks)) and, one at a time, to the threads
-  !> (schedule(static, 1)), as in the paper. A slave near the master box gets its nearest master
-  !> node; the pairs (place in near_slaves, nearest master) found are own_pairs(:, 1:n_own),
-  !> ascending.
-  subroutine contact_global_search(c, p, clock)
+  !> Stage 1, the global search, for every pass active this cycle: this rank's share of the
+  !> slaves that can be near (near_slaves; all slaves with a fixed sort interval), dealt
+  !> node-wise cyclically to the ranks (the k-th to rank mod(k - 1, n_ranks)) and, one at a time,
+  !> to the threads (schedule(static, 1)), as in the paper; the passes' shares run as one loop. A
+  !> slave near the master box gets its nearest master node; the pairs (place in near_slaves,
+  !> nearest master, pass) found are own_pairs(:, 1:n_own), by pass and ascending within one.
+  subroutine contact_global_search(c, cycle, clock)
     type(contact_t), intent(inout) :: c
-    integer, intent(in) :: p
+    integer, intent(in) :: cycle
     procedure(clock_seconds) :: clock
-    integer :: i, j, n_mine, found
+    integer :: i, j, p, found, total, n_mine(size(c%passes)), offset(size(c%passes) + 1)
     real(wp) :: x(3), t0
     t0 = clock()
-    associate (pass => c%passes(p))
-    n_mine = max(0, (pass%n_near - c%rank + c%n_ranks - 1) / c%n_ranks)
+    offset(1) = 0
+    do p = 1, size(c%passes)
+      n_mine(p) = 0
+      if (contact_pass_active(c, p, cycle)) &
+        n_mine(p) = max(0, (c%passes(p)%n_near - c%rank + c%n_ranks - 1) / c%n_ranks)
+      offset(p + 1) = offset(p) + n_mine(p)
+    end do
+    total = offset(size(offset))
     ! cleared first, so the threads write only the few slaves near the box (writes to
     ! neighbouring slaves from different threads would fight over their cache line)
-    c%nearest(1:n_mine) = 0
-    !$omp parallel do schedule(static, 1) default(shared) private(i, j, x, found)
-    do i = 1, n_mine
-      j = pass%near_slaves(c%rank + 1 + (i - 1) * c%n_ranks)
+    c%nearest(1:total) = 0
+    !$omp parallel do schedule(static, 1) default(shared) private(i, j, p, x, found)
+    do i = 1, total
+      p = pass_of(offset, i)
+      associate (pass => c%passes(p))
+      j = pass%near_slaves(c%rank + 1 + (i - offset(p) - 1) * c%n_ranks)
       x = c%x(:, pass%slaves(j))
-      if (.not. near_box(x, pass)) cycle
-      found = nearest_master_node(pass%grid, pass%x_sorted, x, &
-                                  max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
-      if (found > 0) c%nearest(i) = found
+      if (near_box(x, pass)) then
+        found = nearest_master_node(pass%grid, pass%x_sorted, x, &
+                                    max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
+        if (found > 0) c%nearest(i) = found
+      end if
+      end associate
     end do
     !$omp end parallel do
     c%n_own = 0
-    do i = 1, n_mine
-      if (c%nearest(i) == 0) cycle
-      c%n_own = c%n_own + 1
-      c%own_pairs(1, c%n_own) = c%rank + 1 + (i - 1) * c%n_ranks
-      c%own_pairs(2, c%n_own) = c%nearest(i)
+    do p = 1, size(c%passes)
+      do i = offset(p) + 1, offset(p + 1)
+        if (c%nearest(i) == 0) cycle
+        c%n_own = c%n_own + 1
+        c%own_pairs(:, c%n_own) = [c%rank + 1 + (i - offset(p) - 1) * c%n_ranks, c%nearest(i), p]
+      end do
     end do
-    end associate
     c%time_search = c%time_search + clock() - t0
   end subroutine contact_global_search
 
-  !> The candidates of pass p in ascending slave order and this rank's block of them. With one
-  !> rank they are own_pairs; with more, the caller has gathered every rank's pairs in
-  !> all_pairs(:, 1:n_all) (halo_exchange's share_contact_candidates). The pairs name a slave by
-  !> its place in near_slaves, which is ascending, so ordering costs O(n_near), not O(n_slaves).
-  subroutine contact_candidates(c, p, clock)
+  !> The pass whose share of the global search holds entry i (offset: where each pass starts).
+  pure integer function pass_of(offset, i) result(p)
+    integer, intent(in) :: offset(:), i
+    p = 1
+    do while (i > offset(p + 1))
+      p = p + 1
+    end do
+  end function pass_of
+
+  !> The candidates of the step's passes, pass after pass and in ascending slave order within a
+  !> pass, and this rank's block of them. With one rank they are own_pairs; with more, the
+  !> caller has gathered every rank's pairs in all_pairs(:, 1:n_all) (halo_exchange's
+  !> share_contact_candidates). The pairs name a slave by its place in near_slaves, which is
+  !> ascending, so ordering costs O(n_near) per pass, not O(n_slaves).
+  subroutine contact_candidates(c, cycle, clock)
     type(contact_t), intent(inout) :: c
-    integer, intent(in) :: p
+    integer, intent(in) :: cycle
     procedure(clock_seconds) :: clock
     real(wp) :: t0
-    integer :: k
+    integer :: k, p, n_pass, n_found, first
     t0 = clock()
     if (c%n_ranks == 1) then
       c%n_candidates = c%n_own
       c%candidates(:, 1:c%n_own) = c%own_pairs(:, 1:c%n_own)
     else
-      call candidates_in_slave_order(int(c%passes(p)%n_near, ip), int(c%n_all, ip), c%all_pairs, &
-                                     c%nearest, c%n_candidates, c%candidates)
+      c%n_candidates = 0
+      do p = 1, size(c%passes)
+        if (.not. contact_pass_active(c, p, cycle)) cycle
+        n_pass = 0
+        do k = 1, c%n_all
+          if (c%all_pairs(3, k) /= p) cycle
+          n_pass = n_pass + 1
+          c%pass_pairs(:, n_pass) = c%all_pairs(1:2, k)
+        end do
+        first = c%n_candidates + 1
+        call candidates_in_slave_order(int(c%passes(p)%n_near, ip), int(n_pass, ip), c%pass_pairs, &
+                                       c%nearest, n_found, c%candidates(1:2, first:))
+        c%candidates(3, first:first + n_found - 1) = p
+        c%n_candidates = c%n_candidates + n_found
+      end do
     end if
     do k = 1, c%n_candidates
-      c%candidates(1, k) = c%passes(p)%near_slaves(c%candidates(1, k))
+      c%candidates(1, k) = c%passes(c%candidates(3, k))%near_slaves(c%candidates(1, k))
     end do
     call candidate_block(int(c%n_candidates, ip), int(c%n_ranks, ip), int(c%rank, ip), c%first, c%last)
-    c%n_pass_steps = c%n_pass_steps + 1
+    do p = 1, size(c%passes)
+      if (contact_pass_active(c, p, cycle)) c%n_pass_steps = c%n_pass_steps + 1
+    end do
     c%candidates_total = c%candidates_total + c%n_candidates
     c%candidates_searched = c%candidates_searched + max(0, c%last - c%first + 1)
     c%time_search = c%time_search + clock() - t0
   end subroutine contact_candidates
 
-  !> Stage 2 of pass p on this rank's block of the candidates: the master segment around the
-  !> nearest master node, the closest point on it and the penalty force. The candidates of the
-  !> block cost about the same, and schedule(static, 1) deals them cyclically to the threads
-  !> (measured against static and dynamic chunks: docs/performance.md). Every candidate outside
-  !> the block gets an empty record, to be filled by the sharing of records between ranks.
-  subroutine contact_local_search(c, p, clock)
+  !> Stage 2 on this rank's block of the candidates: the master segment around the nearest
+  !> master node, the closest point on it and the penalty force. The candidates of the block
+  !> cost about the same, and schedule(static, 1) deals them cyclically to the threads (measured
+  !> against static and dynamic chunks: docs/performance.md). Every candidate outside the block
+  !> gets an empty record, to be filled by the sharing of records between ranks.
+  subroutine contact_local_search(c, clock)
     type(contact_t), intent(inout) :: c
-    integer, intent(in) :: p
     procedure(clock_seconds) :: clock
     integer :: k, node, segment
     real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
     real(wp) :: penetration, t0, stiffness
     logical :: touching
     t0 = clock()
-    associate (pass => c%passes(p))
     c%record_nodes(1, 1:c%first - 1) = 0
     c%record_nodes(1, c%last + 1:c%n_candidates) = 0
     !$omp parallel do schedule(static, 1) default(shared) &
@@ -517,29 +554,32 @@ contains
     !$omp penetration, touching, stiffness)
     do k = c%first, c%last
       c%record_nodes(:, k) = 0
+      associate (pass => c%passes(c%candidates(3, k)))
       node = pass%slaves(c%candidates(1, k))
       x = c%x(:, node)
       call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
                               int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
                               pass%segment_list, segment, xi, eta, xc, normal)
-      if (segment == 0) cycle
-      xseg = c%x(:, pass%segments(:, segment))
-      vseg = c%v(:, pass%segments(:, segment))
-      stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 &
-                      * min(c%mass(node), minval(c%mass(pass%segments(:, segment)))))
-      call penalty_force(x, pass%t_slave, xseg, pass%t_master, stiffness, f_slave, &
-                         f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &
-                         mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
-                         v_slip=stick_speed, rounded_edges=.true.)
-      if (.not. touching) cycle
-      c%record_penetration(k) = penetration
-      c%record_nodes(1, k) = node
-      c%record_nodes(2:5, k) = pass%segments(:, segment)
-      c%record_force(:, 1, k) = f_slave
-      c%record_force(:, 2:5, k) = f_master
+      if (segment > 0) then
+        xseg = c%x(:, pass%segments(:, segment))
+        vseg = c%v(:, pass%segments(:, segment))
+        stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 &
+                        * min(c%mass(node), minval(c%mass(pass%segments(:, segment)))))
+        call penalty_force(x, pass%t_slave, xseg, pass%t_master, stiffness, f_slave, &
+                           f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &
+                           mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
+                           v_slip=stick_speed, rounded_edges=.true.)
+        if (touching) then
+          c%record_penetration(k) = penetration
+          c%record_nodes(1, k) = node
+          c%record_nodes(2:5, k) = pass%segments(:, segment)
+          c%record_force(:, 1, k) = f_slave
+          c%record_force(:, 2:5, k) = f_master
+        end if
+      end if
+      end associate
     end do
     !$omp end parallel do
-    end associate
     c%time_force = c%time_force + clock() - t0
   end subroutine contact_local_search
 

@@ -536,17 +536,16 @@ contains
       end if
       call contact_begin(s%contact, s%cycles, sort, wall_clock, new_gather_set)
       if (new_gather_set) call node_subset_setup(s%contact_nodes, s%contact%in_gather)
-      do p = 1, size(s%contact%passes)
-        if (.not. contact_pass_active(s%contact, p, s%cycles)) cycle
-        call contact_global_search(s%contact, p, wall_clock)
+      if (any([(contact_pass_active(s%contact, p, s%cycles), p = 1, size(s%contact%passes))])) then
+        call contact_global_search(s%contact, s%cycles, wall_clock)
         if (s%n_ranks > 1) then
           t0 = MPI_Wtime()
           call share_contact_candidates(s%halo, s%candidate_share, s%contact%n_own, s%contact%own_pairs, &
                                         s%contact%n_all, s%contact%all_pairs)
           phase(3) = phase(3) + MPI_Wtime() - t0
         end if
-        call contact_candidates(s%contact, p, wall_clock)
-        call contact_local_search(s%contact, p, wall_clock)
+        call contact_candidates(s%contact, s%cycles, wall_clock)
+        call contact_local_search(s%contact, wall_clock)
         if (s%n_ranks > 1) then
           t0 = MPI_Wtime()
           call share_contact_records(s%halo, s%contact_share, s%contact%n_candidates, &
@@ -555,7 +554,7 @@ contains
           phase(3) = phase(3) + MPI_Wtime() - t0
         end if
         call contact_sum(s%contact, wall_clock)
-      end do
+      end if
       call contact_end(s%contact, s%cycles, dt_strain)
       if (s%cycles == s%n_steps) then
         ! one line per rank for the log: the local searches of each rank (equal blocks), the sorts

@@ -67,7 +67,7 @@ contains
     allocate (share%counts(n_ranks), share%displs(n_ranks))
   end subroutine candidate_share_setup
 
-  !> Every rank found n_mine candidate pairs (slave, nearest master) among its cyclic share of
+  !> Every rank found n_mine candidate pairs (slave, nearest master, pass) among its cyclic share of
   !> the slaves; after this call every rank holds all n_all pairs, rank after rank.
   subroutine share_contact_candidates(halo, share, n_mine, mine, n_all, all)
     type(halo_t), intent(in) :: halo
@@ -76,13 +76,14 @@ contains
     integer, intent(in) :: mine(:, :)
     integer, intent(out) :: n_all
     integer, intent(inout) :: all(:, :)
-    integer :: n_values
-    ! counts in integers (two per pair), so no scaled temporary is built every step
-    call MPI_Allgather(2 * n_mine, 1, MPI_INTEGER, share%counts, 1, MPI_INTEGER, halo%comm)
+    integer :: n_values, width
+    width = size(mine, 1)
+    ! counts in integers (width per pair), so no scaled temporary is built every step
+    call MPI_Allgather(width * n_mine, 1, MPI_INTEGER, share%counts, 1, MPI_INTEGER, halo%comm)
     call displacements(share%counts, share%displs, n_values)
-    call MPI_Allgatherv(mine, 2 * n_mine, MPI_INTEGER, all, share%counts, share%displs, &
+    call MPI_Allgatherv(mine, width * n_mine, MPI_INTEGER, all, share%counts, share%displs, &
                         MPI_INTEGER, halo%comm)
-    n_all = n_values / 2
+    n_all = n_values / width
   end subroutine share_contact_candidates
 
   !> Every rank filled the records of its own slaves and left the others empty (node 0); after
