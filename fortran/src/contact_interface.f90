@@ -34,7 +34,7 @@ module contact_interface
   implicit none
   private
   public :: contact_t, contact_setup, contact_pass_t
-  public :: contact_begin, contact_pass_active, contact_global_search, contact_candidates
+  public :: contact_begin, contact_global_search, contact_candidates
   public :: contact_local_search, contact_sum, contact_end, contact_sort_due, contact_movement
   public :: contact_restore
   public :: clock_seconds

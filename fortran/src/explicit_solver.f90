@@ -18,7 +18,7 @@ module explicit_solver
                            allgather_node_set, node_subset_setup, allgather_node_subset, &
                            record_share_t, record_share_setup, share_contact_records, &
                            candidate_share_t, candidate_share_setup, share_contact_candidates
-  use contact_interface, only: contact_t, contact_setup, contact_begin, contact_pass_active, &
+  use contact_interface, only: contact_t, contact_setup, contact_begin, &
                                contact_global_search, contact_candidates, contact_local_search, &
                                contact_sum, contact_end, contact_sort_due, contact_movement
   use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes
@@ -513,7 +513,6 @@ contains
     !> every rank sums all of them in slave order. One rank communicates nothing.
     subroutine contact_step(dt_strain)
       real(wp), intent(in) :: dt_strain
-      integer :: p
       real(wp) :: t0, moved, moved_here
       logical :: sort, new_gather_set
       if (s%contact%gather_subset) then
@@ -536,25 +535,24 @@ contains
       end if
       call contact_begin(s%contact, s%cycles, sort, wall_clock, new_gather_set)
       if (new_gather_set) call node_subset_setup(s%contact_nodes, s%contact%in_gather)
-      if (any([(contact_pass_active(s%contact, p, s%cycles), p = 1, size(s%contact%passes))])) then
-        call contact_global_search(s%contact, s%cycles, wall_clock)
-        if (s%n_ranks > 1) then
-          t0 = MPI_Wtime()
-          call share_contact_candidates(s%halo, s%candidate_share, s%contact%n_own, s%contact%own_pairs, &
-                                        s%contact%n_all, s%contact%all_pairs)
-          phase(3) = phase(3) + MPI_Wtime() - t0
-        end if
-        call contact_candidates(s%contact, s%cycles, wall_clock)
-        call contact_local_search(s%contact, wall_clock)
-        if (s%n_ranks > 1) then
-          t0 = MPI_Wtime()
-          call share_contact_records(s%halo, s%contact_share, s%contact%n_candidates, &
-                                     s%contact%record_nodes, s%contact%record_force, &
-                                     s%contact%record_penetration)
-          phase(3) = phase(3) + MPI_Wtime() - t0
-        end if
-        call contact_sum(s%contact, wall_clock)
+      ! every pair has a pass active in every cycle, so the stages run every step
+      call contact_global_search(s%contact, s%cycles, wall_clock)
+      if (s%n_ranks > 1) then
+        t0 = MPI_Wtime()
+        call share_contact_candidates(s%halo, s%candidate_share, s%contact%n_own, s%contact%own_pairs, &
+                                      s%contact%n_all, s%contact%all_pairs)
+        phase(3) = phase(3) + MPI_Wtime() - t0
       end if
+      call contact_candidates(s%contact, s%cycles, wall_clock)
+      call contact_local_search(s%contact, wall_clock)
+      if (s%n_ranks > 1) then
+        t0 = MPI_Wtime()
+        call share_contact_records(s%halo, s%contact_share, s%contact%n_candidates, &
+                                   s%contact%record_nodes, s%contact%record_force, &
+                                   s%contact%record_penetration)
+        phase(3) = phase(3) + MPI_Wtime() - t0
+      end if
+      call contact_sum(s%contact, wall_clock)
       call contact_end(s%contact, s%cycles, dt_strain)
       if (s%cycles == s%n_steps) then
         ! one line per rank for the log: the local searches of each rank (equal blocks), the sorts

@@ -5,8 +5,8 @@ second, speed-up and parallel efficiency against the first layout, the time per 
 imbalance between ranks. It is printed as a markdown table and written as JSON. With ``--repeat``
 the layouts take turns (round after round), so a slow spell of a shared machine slows one round
 of every layout rather than all runs of one; the speed-up is the median over rounds of the ratio
-of the first layout's wall time to the layout's in the same round. The displacements of every layout are compared
-with the first one (bitwise), so a speed-up never hides a different answer. ``--partition`` picks
+of the first layout's wall time to the layout's in the same round. The displacements of every
+run are compared with the first run's (bitwise), so a speed-up never hides a different answer. ``--partition`` picks
 how elements are given to ranks; the report counts the shared nodes and neighbours it makes.
 """
 
@@ -90,20 +90,33 @@ def run_once(deck_path: Path, out_dir: Path, ranks: int, threads: int, k: int) -
         return dict(f["run"].attrs), f["frames/displacement"][()]
 
 
+def run_rounds(deck_path: Path, out_dir: Path, layouts: list[tuple[int, int]],
+               repeat: int) -> list[list[tuple[dict, bool]]]:
+    """rounds[k][i]: the /run attributes of layout i in round k, and whether its displacements are
+    bitwise the first run's (only that run's displacements are kept)."""
+    reference = None
+    rounds = []
+    for k in range(repeat):
+        row = []
+        for ranks, threads in layouts:
+            run, displacement = run_once(deck_path, out_dir, ranks, threads, k)
+            if reference is None:
+                reference = displacement
+            row.append((run, bool(np.array_equal(displacement, reference))))
+        rounds.append(row)
+    return rounds
+
+
 def run_layouts(deck_path: Path, out_dir: Path, layouts: list[tuple[int, int]],
                 repeat: int = 1, model: deck.Model | None = None) -> list[LayoutResult]:
     """Run every layout `repeat` times, in rounds; each layout is reported by its run of median
     wall time (timings on shared machines are noisy: quote medians)."""
-    rounds = [[run_once(deck_path, out_dir, ranks, threads, k) for ranks, threads in layouts]
-              for k in range(repeat)]
+    rounds = run_rounds(deck_path, out_dir, layouts, repeat)
     base_walls = [float(r[0][0]["wall_s"]) for r in rounds]
-    reference = None
     results: list[LayoutResult] = []
     for i, (ranks, threads) in enumerate(layouts):
-        runs = sorted((r[i] for r in rounds), key=lambda run: float(run[0]["wall_s"]))
-        run, displacement = runs[len(runs) // 2]
-        if reference is None:
-            reference = displacement
+        runs = sorted((r[i][0] for r in rounds), key=lambda run: float(run["wall_s"]))
+        run = runs[len(runs) // 2]
         walls = [float(r[i][0]["wall_s"]) for r in rounds]
         speed_ups = [b / w for b, w in zip(base_walls, walls)]
         speed_up = float(np.median(speed_ups))
@@ -113,7 +126,7 @@ def run_layouts(deck_path: Path, out_dir: Path, layouts: list[tuple[int, int]],
             element_cycles_per_s=float(run["element_cycles_per_s"]), speed_up=speed_up,
             efficiency=speed_up * layouts[0][0] * layouts[0][1] / (ranks * threads),
             phase_s={p: float(run[f"phase_{p}_s"]) for p in PHASES},
-            same_displacements=all(np.array_equal(r[i][1], reference) for r in rounds),
+            same_displacements=all(r[i][1] for r in rounds),
             shared_nodes=shared, max_neighbours=neighbours,
             peak_memory_mb=float(run.get("peak_memory_per_rank_mb", 0.0)),
             load_imbalance=float(run.get("load_imbalance", 1.0)),
