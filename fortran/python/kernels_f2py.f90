@@ -308,3 +308,41 @@ subroutine contact_candidate_blocks(n_candidates, n_ranks, first, last)
     call candidate_block(n_candidates, n_ranks, r, first(r + 1), last(r + 1))
   end do
 end subroutine contact_candidate_blocks
+
+! The threads' work sharing (work_queues) on a loop of n_items trivial items with n_threads
+! threads: times(i) counts how often item i was handed out, taken_by(i) is the thread (1-based)
+! that took it. hold_first = 1 keeps thread 1 out of the loop until every other thread has run out
+! of items, so that they must take thread 1's range.
+subroutine share_items(n_items, n_threads, hold_first, times, taken_by)
+  use work_queues, only: work_queues_t, queues_start, queues_take
+  use omp_lib, only: omp_get_thread_num, omp_get_num_threads
+  implicit none
+  integer, intent(in) :: n_items, n_threads, hold_first
+  integer, intent(out) :: times(n_items), taken_by(n_items)
+  type(work_queues_t) :: queues
+  integer :: me, item, emptied, finished, seen
+  times = 0
+  taken_by = 0
+  finished = 0
+  call queues_start(queues, n_items, n_threads)
+  !$omp parallel num_threads(n_threads) default(shared) private(me, item, emptied, seen)
+  me = omp_get_thread_num() + 1
+  emptied = 0
+  if (me == 1 .and. hold_first == 1) then
+    do
+      !$omp atomic read
+      seen = finished
+      if (seen == omp_get_num_threads() - 1) exit
+    end do
+  end if
+  do
+    item = queues_take(queues, me, emptied)
+    if (item == 0) exit
+    !$omp atomic update
+    times(item) = times(item) + 1
+    taken_by(item) = me
+  end do
+  !$omp atomic update
+  finished = finished + 1
+  !$omp end parallel
+end subroutine share_items

@@ -13,6 +13,7 @@ module explicit_solver
   use shell_blt, only: shell_properties_t, blt_internal_forces, blt_lumped_mass, &
                        blt_stable_time_step, blt_element_results, stress_components, &
                        hourglass_components, material_j2_plastic
+  use work_queues, only: work_queues_t, queues_start, queues_take
   use domain_decomposition, only: domain_t, decompose, partition_elements, group_size
   use halo_exchange, only: halo_t, halo_setup, exchange_corners, sum_to_root, node_set_t, node_set_setup, &
                            allgather_node_set, node_subset_setup, allgather_node_subset, &
@@ -51,6 +52,7 @@ module explicit_solver
     integer, allocatable :: stress_at(:), back_at(:), eps_p_at(:), hourglass_at(:)
     real(wp), allocatable :: e_internal(:), e_hourglass(:)
     real(wp), allocatable :: workspace(:, :)
+    type(work_queues_t) :: group_queues   !< the threads' shares of the element groups
     ! loads and tracked nodes in local numbering (0 where this rank does not hold the node)
     integer, allocatable :: load_node(:)
     ! output buffers: this rank's owned nodes and its elements
@@ -229,19 +231,25 @@ contains
     end do
   end function local_node
 
-  !> Element forces of every group for the step that ends at the current positions.
+  !> Element forces of every group for the step that ends at the current positions. The threads
+  !> start on their own ranges of groups and then steal (work_queues); a group's forces go to its
+  !> own corners, so the thread that computes it does not matter.
   subroutine element_forces(s, dt_strain)
     type(solver_t), intent(inout) :: s
     real(wp), intent(in) :: dt_strain
-    integer :: g, n, first, p, tid, inverted, ox, ov, ow, of
+    integer :: g, n, first, p, tid, emptied, inverted, ox, ov, ow, of
     inverted = 0
     ox = 1
     ov = ox + 12 * group_size
     ow = ov + 12 * group_size
     of = ow + 12 * group_size
-    !$omp parallel do schedule(static) private(g, n, first, p, tid) reduction(+:inverted)
-    do g = 1, s%dom%n_groups
-      tid = omp_get_thread_num() + 1
+    call queues_start(s%group_queues, s%dom%n_groups, s%threads)
+    !$omp parallel private(g, n, first, p, tid, emptied) reduction(+:inverted)
+    tid = omp_get_thread_num() + 1
+    emptied = 0
+    do
+      g = queues_take(s%group_queues, tid, emptied)
+      if (g == 0) exit
       n = s%dom%group_count(g)
       first = s%dom%group_first(g)
       p = s%dom%group_part(g)
@@ -254,7 +262,7 @@ contains
                                s%workspace(of, tid), s%e_internal(first), s%e_hourglass(first), inverted)
       call scatter_corners(n, first, s%workspace(of, tid), s%corner)
     end do
-    !$omp end parallel do
+    !$omp end parallel
     s%inverted = s%inverted + inverted
   end subroutine element_forces
 
@@ -347,6 +355,8 @@ contains
   end subroutine apply_contact_forces
 
   !> Fixed-order nodal sum of the corner forces, nodes split into one contiguous range per thread.
+  !> (Static: stealing node blocks here, as the element groups do, moved the forces between the
+  !> cores' caches and cost more in the node update than it saved: docs/performance.md.)
   subroutine assemble_forces(s)
     type(solver_t), intent(inout) :: s
     integer :: chunk, j0, nj, nl
