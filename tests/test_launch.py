@@ -68,6 +68,17 @@ def test_a_layout_that_fits_the_cores_is_pinned(monkeypatch: pytest.MonkeyPatch)
     assert "--bind-to none" in options(2, 1) and "--oversubscribe" not in options(2, 1)
 
 
+def test_the_default_layout_is_one_thread_per_core_this_process_may_use(monkeypatch: pytest.MonkeyPatch) -> None:
+    """README: without -n/-t, one rank with a thread per core; the cores are those of the CPU
+    affinity (a container or a batch job may allow fewer than the machine has), as pinning counts."""
+    if hasattr(launch.os, "sched_getaffinity"):
+        monkeypatch.setattr(launch.os, "sched_getaffinity", lambda pid: {0, 2, 5})
+        monkeypatch.setattr(launch.os, "cpu_count", lambda: 8)
+        assert launch.default_layout() == (1, 3)
+    monkeypatch.setattr(launch, "available_cores", lambda: 6)
+    assert launch.default_layout() == (1, 6)
+
+
 def test_sbatch_writes_a_job_script_and_runs_nothing(tmp_path: Path) -> None:
     status = cli.main([str(SMALL_PLATE), "-o", str(tmp_path), "-n", "2", "-t", "3", "--sbatch"])
     assert status == 0

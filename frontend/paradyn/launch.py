@@ -96,8 +96,9 @@ def binds_to_cores(ranks: int, threads: int) -> bool:
 
 
 def default_layout() -> tuple[int, int]:
-    """One rank and one thread per core: OpenMP inside a rank is the cheapest layout on one machine."""
-    return 1, max(1, os.cpu_count() or 1)
+    """One rank and one thread per core this process may use (its CPU affinity, as pinning counts
+    them): OpenMP inside a rank is the cheapest layout on one machine."""
+    return 1, available_cores()
 
 
 def engine_environment(threads: int, ranks: int = 1) -> dict[str, str]:
