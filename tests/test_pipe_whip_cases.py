@@ -100,6 +100,19 @@ def test_scaling_case_has_the_papers_size() -> None:
     assert gap == pytest.approx(GAP, rel=1e-9)
 
 
+def test_fine_scaling_case_is_the_scaling_case_refined() -> None:
+    """pipe_whip_scaling_fine (docs/performance.md, speed-up on a larger mesh) is the scaling case
+    with 80 x 160 elements per pipe (25,600 elements, 25,760 nodes), nothing else changed."""
+    coarse, fine = _load("pipe_whip_scaling"), _load("pipe_whip_scaling_fine")
+    model = scene.build_model(fine)
+    assert (len(model.connectivity), model.n_nodes) == (25600, 25760)
+    for key in ("run", "materials", "fixes", "loads", "tracks", "contacts"):
+        assert getattr(fine, key) == getattr(coarse, key), key
+    refined = [dataclasses.replace(p, geometry=dataclasses.replace(p.geometry, elements_around=80, elements_along=160))
+               for p in coarse.parts]
+    assert fine.parts == refined
+
+
 # ------------------------------------------------------------------------------------------------
 # coarse runs
 
