@@ -102,6 +102,53 @@ def test_restart_on_another_layout(runs: dict[str, Path], ranks: int, threads: i
             assert np.array_equal(data[key], reference[key]), key
 
 
+def _hardening_pipe_whip(folder: Path, name: str, beta: float, **control: float) -> Path:
+    """The pipe whip with the upper pipe on a second steel that yields at 20 MPa, so that it
+    yields before the checkpoints, and hardens (Et = E/50) with mixing beta: below 1 its
+    elements store a back stress; the lower pipe's (perfectly plastic) store none."""
+    model = scene.build_model(scene.load_scene(ROOT / "cases" / "pipe_whip" / "scene.toml"))
+    model.control.end_time = END_TIME
+    model.control.output_interval = 1e-4
+    for key, value in control.items():
+        setattr(model.control, key, value)
+    for field in ("material_model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
+                  "tangent_modulus", "hardening_mixing"):
+        values = getattr(model, field)
+        setattr(model, field, np.append(values, values[0]))
+    model.yield_stress[1] = 20e6
+    model.tangent_modulus[1] = model.youngs_modulus[1] / 50.0
+    model.hardening_mixing[1] = beta
+    model.material_names = [*model.material_names, "hardening_steel"]
+    model.part_material = np.array([0, 1])
+    return deck.write_deck(model, folder / name)
+
+
+@pytest.mark.mpi
+def test_restart_with_back_stresses_is_bitwise(tmp_path: Path) -> None:
+    """Kinematic hardening keeps a back stress in the checkpoint's element rows, which parts
+    without it leave at zero: a restart on 1 and on 2 ranks continues bitwise (fields). The
+    back stress matters here: the same run with isotropic hardening (beta = 1) differs."""
+    plain = _hardening_pipe_whip(tmp_path, "plain.h5", 0.5)
+    isotropic = _hardening_pipe_whip(tmp_path, "isotropic.h5", 1.0)
+    with_checkpoints = _hardening_pipe_whip(tmp_path, "deck.h5", 0.5, checkpoint_interval=CHECKPOINT_INTERVAL)
+    launch.run_engine(plain, tmp_path / "reference.h5")
+    launch.run_engine(isotropic, tmp_path / "isotropic_results.h5")
+    launch.run_engine(with_checkpoints, tmp_path / "results.h5")
+    reference = _read(tmp_path / "reference.h5")
+    # yielding from 0.1 ms on: the checkpoint kept (0.3 ms) holds back stresses
+    assert reference["frames/element_plastic_strain"][2].max() > 0.0
+    assert not np.array_equal(reference["frames/displacement"],
+                              _read(tmp_path / "isotropic_results.h5")["frames/displacement"])
+    for ranks in (1, 2):
+        target = tmp_path / f"restart_{ranks}.h5"
+        shutil.copy(tmp_path / "results.h5", target)
+        shutil.copy(tmp_path / "results.checkpoint.h5", tmp_path / f"restart_{ranks}.checkpoint.h5")
+        launch.run_engine(with_checkpoints, target, ranks, 1, restart=True)
+        data = _read(target)
+        for key in ("frames/displacement", "frames/velocity", "history/tracked_displacement"):
+            assert np.array_equal(data[key], reference[key]), (ranks, key)
+
+
 def test_restart_with_another_deck_is_refused(runs: dict[str, Path], tmp_path: Path) -> None:
     """A checkpoint of another deck: exit 2, a message that names the mismatch and the fix, and
     the results file untouched."""

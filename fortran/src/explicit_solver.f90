@@ -11,7 +11,7 @@ module explicit_solver
   use paradyn_kinds, only: wp
   use model_deck, only: deck_t, part_properties
   use shell_blt, only: shell_properties_t, blt_internal_forces, blt_lumped_mass, &
-                       blt_stable_time_step, blt_element_results, stress_components, &
+                       blt_stable_time_step, blt_element_results, stress_components, back_stress_points, &
                        hourglass_components, material_j2_plastic
   use work_queues, only: work_queues_t, queues_start, queues_take
   use domain_decomposition, only: domain_t, decompose, partition_elements, group_size
@@ -138,7 +138,7 @@ contains
       n = s%dom%group_count(g)
       nip = s%props(s%dom%group_part(g))%integration_points
       s%stress_at(g + 1) = s%stress_at(g) + n * stress_components * nip
-      s%back_at(g + 1) = s%back_at(g) + n * 3 * nip
+      s%back_at(g + 1) = s%back_at(g) + n * 3 * back_stress_points(s%props(s%dom%group_part(g)))
       s%eps_p_at(g + 1) = s%eps_p_at(g) + n * nip
       s%hourglass_at(g + 1) = s%hourglass_at(g) + n * hourglass_components
     end do
@@ -257,7 +257,7 @@ contains
       call gather_group(n, first, s%dom%connectivity, s%v, s%workspace(ov, tid))
       call gather_group(n, first, s%dom%connectivity, s%w, s%workspace(ow, tid))
       call blt_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
-                               s%props(p), dt_strain, s%stress(s%stress_at(g)), s%back(s%back_at(g)), &
+                               s%props(p), dt_strain, s%stress(s%stress_at(g)), s%back(s%back_at(g):), &
                                s%eps_p(s%eps_p_at(g)), s%hourglass(s%hourglass_at(g)), &
                                s%workspace(of, tid), s%e_internal(first), s%e_hourglass(first), inverted)
       call scatter_corners(n, first, s%workspace(of, tid), s%corner)

@@ -10,6 +10,7 @@ module material_j2
   private
   public :: elastic_plane_stress_update, j2_plane_stress_update, von_mises_plane_stress
   public :: elastic_plane_stress_update_points, j2_plane_stress_update_points
+  public :: j2_kinematic_modulus
 
   !> points per pass of j2_plane_stress_update_points (one element group's worth): fixed-size
   !> local arrays, no allocation
@@ -32,6 +33,13 @@ contains
     real(wp), intent(in) :: s(3)
     vm = sqrt(max(s(1)**2 - s(1) * s(2) + s(2)**2 + 3.0_wp * s(3)**2, 0.0_wp))
   end function von_mises_plane_stress
+
+  !> Kinematic hardening modulus (1 - beta) H, H = E Et / (E - Et): zero for perfect plasticity
+  !> and for purely isotropic hardening, where the back stress never leaves zero.
+  pure real(wp) function j2_kinematic_modulus(young, tangent, beta) result(h_kin)
+    real(wp), intent(in) :: young, tangent, beta
+    h_kin = (1.0_wp - beta) * (young * tangent / (young - tangent))
+  end function j2_kinematic_modulus
 
   !> Plane-stress J2 return mapping with combined hardening.
   !>

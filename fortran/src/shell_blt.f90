@@ -11,7 +11,7 @@ module shell_blt
   use paradyn_kinds, only: wp
   use vector_algebra, only: cross
   use material_j2, only: elastic_plane_stress_update_points, j2_plane_stress_update_points, &
-                         von_mises_plane_stress
+                         von_mises_plane_stress, j2_kinematic_modulus
   use domain_decomposition, only: group_size
   implicit none
   private
@@ -19,7 +19,7 @@ module shell_blt
   public :: stress_components, hourglass_components, shear_correction
   public :: hourglass_viscous, hourglass_stiffness
   public :: blt_internal_forces, blt_lumped_mass, blt_stable_time_step, blt_element_results
-  public :: thickness_rule, local_frame
+  public :: thickness_rule, local_frame, back_stress_points
 
   integer, parameter :: material_elastic = 1
   integer, parameter :: material_j2_plastic = 2
@@ -51,6 +51,18 @@ module shell_blt
   end type shell_properties_t
 
 contains
+
+  !> Through-thickness points that store a back stress: every point of a J2 part with kinematic
+  !> hardening, none otherwise (elastic, perfectly plastic or purely isotropic: the back stress
+  !> stays zero there, and not storing it saves over a quarter of the element state's memory traffic).
+  pure integer function back_stress_points(props) result(points)
+    type(shell_properties_t), intent(in) :: props
+    points = 0
+    if (props%model == material_j2_plastic) then
+      if (j2_kinematic_modulus(props%young, props%tangent_modulus, props%hardening_mixing) /= 0.0_wp) &
+        points = props%integration_points
+    end if
+  end function back_stress_points
 
   !> Gauss-Legendre points (in [-1, 1]) and weights (summing to 2) for n = 1..9 points.
   pure subroutine thickness_rule(n, zeta, weight)
@@ -127,7 +139,7 @@ contains
     type(shell_properties_t), intent(in) :: props
     real(wp), intent(in) :: dt
     real(wp), intent(inout) :: stress(n, stress_components, props%integration_points)
-    real(wp), intent(inout) :: back(n, 3, props%integration_points)
+    real(wp), intent(inout) :: back(n, 3, back_stress_points(props))
     real(wp), intent(inout) :: eps_p(n, props%integration_points)
     real(wp), intent(inout) :: hourglass(n, hourglass_components)
     real(wp), intent(out) :: force(n, 6, 4)
@@ -187,13 +199,19 @@ contains
           end do
         end do
         if (props%model == material_j2_plastic) then
-          bp(1:m, :) = back(o + 1:o + m, :, k)
+          if (size(back, 3) > 0) then
+            bp(1:m, :) = back(o + 1:o + m, :, k)
+          else
+            bp(1:m, :) = 0.0_wp   ! no kinematic hardening: the back stress stays zero, unstored
+          end if
           ep(1:m) = eps_p(o + 1:o + m, k)
           call j2_plane_stress_update_points(m, sp, bp, ep, deps, props%young, props%poisson, &
                                              props%yield_stress, props%tangent_modulus, props%hardening_mixing)
-          do c = 1, 3
-            back(o + 1:o + m, c, k) = merge(bp(1:m, c), back(o + 1:o + m, c, k), area_mid(1:m) > 0.0_wp)
-          end do
+          if (size(back, 3) > 0) then
+            do c = 1, 3
+              back(o + 1:o + m, c, k) = merge(bp(1:m, c), back(o + 1:o + m, c, k), area_mid(1:m) > 0.0_wp)
+            end do
+          end if
           eps_p(o + 1:o + m, k) = merge(ep(1:m), eps_p(o + 1:o + m, k), area_mid(1:m) > 0.0_wp)
         else
           call elastic_plane_stress_update_points(m, sp, deps, props%young, props%poisson)

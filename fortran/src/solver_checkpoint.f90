@@ -238,7 +238,8 @@ contains
 
   !> Element state by element. A row holds the stress (components x points), back stress and
   !> plastic strain, each at the width of the most points any part uses, then the hourglass
-  !> resultants and the internal and hourglass energies. The group pools hold (elements, ...) blocks.
+  !> resultants and the internal and hourglass energies. The group pools hold (elements, ...)
+  !> blocks; a part without kinematic hardening has no back stress in them (zero in the rows).
   subroutine pack_elements(s, rows)
     type(solver_t), intent(in) :: s
     real(wp), intent(out) :: rows(:, :)
@@ -255,7 +256,7 @@ contains
                  hourglass => s%hourglass(s%hourglass_at(g):s%hourglass_at(g + 1) - 1))
         do i = 1, n
           rows(o(1) + 1:o(1) + stress_components * nip, first + i - 1) = stress(i::n)
-          rows(o(2) + 1:o(2) + 3 * nip, first + i - 1) = back(i::n)
+          rows(o(2) + 1:o(2) + size(back) / n, first + i - 1) = back(i::n)   ! none without kinematic hardening
           rows(o(3) + 1:o(3) + nip, first + i - 1) = eps_p(i::n)
           rows(o(4) + 1:o(4) + hourglass_components, first + i - 1) = hourglass(i::n)
         end do
@@ -280,7 +281,7 @@ contains
                  hourglass => s%hourglass(s%hourglass_at(g):s%hourglass_at(g + 1) - 1))
         do i = 1, n
           stress(i::n) = rows(o(1) + 1:o(1) + stress_components * nip, first + i - 1)
-          back(i::n) = rows(o(2) + 1:o(2) + 3 * nip, first + i - 1)
+          back(i::n) = rows(o(2) + 1:o(2) + size(back) / n, first + i - 1)
           eps_p(i::n) = rows(o(3) + 1:o(3) + nip, first + i - 1)
           hourglass(i::n) = rows(o(4) + 1:o(4) + hourglass_components, first + i - 1)
         end do
