@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import models as M
-from paradyn import _kernels, benchmark, deck, launch, scene
+from paradyn import benchmark, deck, launch, scene
 
 pytestmark = pytest.mark.mpi
 
@@ -179,9 +179,7 @@ def partitioned(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, int
             data = {k: f["/frames"][k][()] for k in ("displacement", "velocity", *ELEMENT_FIELDS)}
             data["contact_energy"] = f["/history/contact_energy"][()]
         data["partition"] = run.start.get("partition")
-        data["owner"] = np.asarray(_kernels.partition_elements(
-            deck.PARTITIONS[method], np.asfortranarray(model.coordinates.T),
-            np.asfortranarray(model.connectivity.T.astype(np.int32) + 1), ranks))
+        data["owner"] = benchmark.element_owners(model, ranks)
         out[(method, ranks)] = data
     return out
 

@@ -18,8 +18,8 @@
 !>      one), and contact_local_search finds the segment, the closest point and the penalty force
 !>      of each candidate of the block, threads sharing the block.
 !> Every candidate writes its own record (its force and the forces on the 4 master nodes); the
-!> records are then summed in candidate order, which is slave order, so the result does not
-!> depend on the number of threads. The contact nodes' positions are gathered on every rank
+!> records are then summed in candidate order, which is pass order and slave order within a
+!> pass, so the result does not depend on the number of threads. The contact nodes' positions are gathered on every rank
 !> (halo_exchange): all of them at a sort, and between sorts only those that can come into
 !> contact before the next one (choose_gather_set). The records are shared by value and every
 !> rank sums all of them, so the result does not depend on the number of ranks either. Only the

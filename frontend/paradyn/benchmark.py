@@ -6,8 +6,9 @@ imbalance between ranks. It is printed as a markdown table and written as JSON. 
 the layouts take turns (round after round), so a slow spell of a shared machine slows one round
 of every layout rather than all runs of one; the speed-up is the median over rounds of the ratio
 of the first layout's wall time to the layout's in the same round. The displacements of every
-run are compared with the first run's (bitwise), so a speed-up never hides a different answer. ``--partition`` picks
-how elements are given to ranks; the report counts the shared nodes and neighbours it makes.
+run are compared with the first run's (bitwise), so a speed-up never hides a different answer.
+``--partition`` picks how elements are given to ranks; the report counts the shared nodes and
+neighbours it makes.
 """
 
 from __future__ import annotations
@@ -44,15 +45,19 @@ class LayoutResult:
     round_speed_up: list[float] = field(default_factory=list)  # speed-up in each round
 
 
-def partition_stats(model: deck.Model, ranks: int) -> tuple[int, int]:
-    """(shared nodes, largest neighbour count) of the engine's partition of ``model`` on ``ranks``.
-
-    The owners come from the engine's own routine (``paradyn._kernels.partition_elements``)."""
+def element_owners(model: deck.Model, ranks: int) -> np.ndarray:
+    """The rank (0-based) of every element as the engine partitions ``model`` on ``ranks``, from
+    the engine's own routine (``paradyn._kernels.partition_elements``)."""
     from . import _kernels
     method = deck.PARTITIONS[model.control.partition or deck.DEFAULT_PARTITION]
-    owner = _kernels.partition_elements(
+    return np.asarray(_kernels.partition_elements(
         method, np.asfortranarray(np.asarray(model.coordinates, dtype=np.float64).T),
-        np.asfortranarray(np.asarray(model.connectivity, dtype=np.int32).T + 1), ranks)
+        np.asfortranarray(np.asarray(model.connectivity, dtype=np.int32).T + 1), ranks))
+
+
+def partition_stats(model: deck.Model, ranks: int) -> tuple[int, int]:
+    """(shared nodes, largest neighbour count) of the engine's partition of ``model`` on ``ranks``."""
+    owner = element_owners(model, ranks)
     node = np.asarray(model.connectivity, dtype=np.int64).ravel()
     holder = np.repeat(np.asarray(owner, dtype=np.int64), 4)
     pairs = np.unique(node * ranks + holder)   # distinct (node, rank), sorted by node
