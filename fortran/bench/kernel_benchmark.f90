@@ -9,7 +9,7 @@ program kernel_benchmark
   use paradyn_kinds, only: wp
   use shell_blt, only: shell_properties_t, blt_internal_forces, stress_components, &
                        hourglass_components, material_elastic, material_j2_plastic
-  use domain_decomposition, only: group_size
+  use element_groups, only: group_size
   implicit none
   integer :: n_elements, n_cycles, n_groups
   character(len=32) :: arg

@@ -6,15 +6,14 @@
 !> Pure computation from the global mesh: no MPI here.
 module domain_decomposition
   use paradyn_kinds, only: wp, i8
+  use element_groups, only: group_size
   implicit none
   private
   public :: domain_t, block_owner, rcb_partition, element_centroids, partition_elements, decompose
-  public :: group_size, partition_blocks, partition_rcb
+  public :: partition_blocks, partition_rcb
 
   integer, parameter :: partition_blocks = 1  !< contiguous blocks by element number (the paper)
   integer, parameter :: partition_rcb = 2     !< recursive coordinate bisection of element centroids
-
-  integer, parameter :: group_size = 64   !< elements per kernel call (one part per group)
 
   type :: domain_t
     integer :: rank = 0, n_ranks = 1

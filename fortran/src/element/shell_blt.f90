@@ -12,7 +12,7 @@ module shell_blt
   use vector_algebra, only: cross
   use material_j2, only: elastic_plane_stress_update_points, j2_plane_stress_update_points, &
                          von_mises_plane_stress, j2_kinematic_modulus
-  use domain_decomposition, only: group_size
+  use element_groups, only: group_size
   implicit none
   private
   public :: shell_properties_t, material_elastic, material_j2_plastic, max_integration_points

@@ -14,7 +14,8 @@ module explicit_solver
                        blt_stable_time_step, blt_element_results, stress_components, back_stress_points, &
                        hourglass_components, material_j2_plastic
   use work_queues, only: work_queues_t, queues_start, queues_take
-  use domain_decomposition, only: domain_t, decompose, partition_elements, group_size
+  use element_groups, only: group_size
+  use domain_decomposition, only: domain_t, decompose, partition_elements
   use halo_exchange, only: halo_t, halo_setup, exchange_corners, sum_to_root, node_set_t, node_set_setup, &
                            allgather_node_set, node_subset_setup, allgather_node_subset, &
                            record_share_t, record_share_setup, share_contact_records, &

@@ -1,0 +1,46 @@
+"""Bitwise fingerprints of the pipe-whip histories: python tools/history_fingerprint.py [OUT] [CASES...].
+
+Meshes every ``cases/pipe_whip*`` scene (or the ones named), runs the engine on one rank with two
+threads, and prints one SHA-256 per case over every ``/history`` dataset of its ``results.h5`` (raw
+bytes, in name order). A change that must keep the answers (a restructure, a speed-up) keeps every
+line of this output: run it before and after and compare with ``diff``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import sys
+from pathlib import Path
+
+import h5py
+
+from paradyn import deck, scene
+from paradyn.launch import run_engine
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def history_digest(results: Path) -> str:
+    digest = hashlib.sha256()
+    with h5py.File(results, "r") as f:
+        for name in sorted(f["history"]):
+            digest.update(name.encode())
+            digest.update(f["history"][name][()].tobytes())
+    return digest.hexdigest()
+
+
+def main(argv: list[str]) -> int:
+    out = Path(argv[0]) if argv else Path("runs/fingerprint")
+    names = argv[1:] or sorted(p.name for p in (ROOT / "cases").glob("pipe_whip*"))
+    for name in names:
+        folder = out / name
+        folder.mkdir(parents=True, exist_ok=True)
+        deck_path = deck.write_deck(scene.build_model(scene.load_scene(ROOT / "cases" / name / "scene.toml")),
+                                    folder / "deck.h5")
+        run_engine(deck_path, folder / "results.h5", ranks=1, threads=2)
+        print(f"{name:24s} {history_digest(folder / 'results.h5')}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
