@@ -9,9 +9,9 @@ program paradyn_engine
   use mpi_f08
   use hdf5, only: h5open_f, h5close_f
   use paradyn_kinds, only: wp
-  use model_deck, only: deck_t, partition_label
+  use model_deck, only: deck_t
   use deck_reader, only: read_deck
-  use explicit_solver, only: solver_t, solver_setup, solver_run, solver_effects
+  use explicit_solver, only: solver_t, solver_setup, solver_run
   use results_writer, only: results_file_t, results_create, results_reopen, results_finish, results_flush, &
                             run_record_t
   use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
@@ -28,10 +28,17 @@ program paradyn_engine
   integer :: rank, n_ranks, status, err, n_args, k, n_positional, frames, records
   logical :: restart
   real(wp) :: pause_time
+  type(MPI_Comm) :: comm   !< the engine's own duplicate of MPI_COMM_WORLD, passed everywhere
+  integer :: thread_level
 
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  call MPI_Comm_size(MPI_COMM_WORLD, n_ranks)
+  ! MPI is called from one thread at a time, outside the OpenMP regions: FUNNELED is enough
+  call MPI_Init_thread(MPI_THREAD_FUNNELED, thread_level)
+  call MPI_Comm_dup(MPI_COMM_WORLD, comm)
+  call MPI_Comm_rank(comm, rank)
+  call MPI_Comm_size(comm, n_ranks)
+  if (thread_level < MPI_THREAD_FUNNELED) &
+    call fail(1, 'the MPI library does not support MPI_THREAD_FUNNELED, which the OpenMP threads need; '// &
+              'use an MPI built with thread support (Open MPI and MPICH are)')
   call h5open_f(err)
 
   call install_stop_handlers()
@@ -73,48 +80,52 @@ program paradyn_engine
   ! every rank reads and checks the deck; all reach the same verdict
   call read_deck(trim(deck_path), deck, status, message)
   if (status /= 0) call fail(2, trim(deck_path)//': '//trim(message))
-  call solver_setup(solver, deck, MPI_COMM_WORLD, status, message)
+  call solver_setup(solver, deck, comm, status, message)
   if (status /= 0) call fail(status, trim(message))
 
   associate (owned => solver%dom%nodes(solver%halo%owned_local), elements => solver%dom%elements)
     if (restart) then
-      call checkpoint_read(solver, deck, trim(restart_path), frames, records, status, message)
+      call checkpoint_read(solver, trim(restart_path), frames, records, status, message)
       if (status /= 0) call fail(status, trim(message))
-      call results_reopen(trim(results_path), MPI_COMM_WORLD, deck%n_nodes, deck%n_elements, owned, elements, &
+      call results_reopen(trim(results_path), comm, deck%n_nodes, deck%n_elements, owned, elements, &
                           deck%n_tracked, frames, records, results, status, message)
     else
-      call results_create(trim(results_path), MPI_COMM_WORLD, deck%n_nodes, deck%n_elements, owned, elements, &
+      call results_create(trim(results_path), comm, deck%n_nodes, deck%n_elements, owned, elements, &
                           deck%coordinates(:, owned), deck%connectivity(:, elements), deck%element_part(elements), &
                           deck%n_tracked, results, status, message)
     end if
   end associate
   if (status /= 0) call fail(1, trim(message))
+  ! the solver holds what the run needs from here on (its run control): release the global deck
+  deck = deck_t()
   if (rank == 0) then
     write (*, '(a,i0,a,i0,a,i0,a,i0,a,es11.4,a,es11.4,a,es11.4,a)') 'PARADYN-START elements=', &
-      deck%n_elements, ' nodes=', deck%n_nodes, ' ranks=', n_ranks, ' threads=', solver%threads, &
-      ' dt=', solver%dt, ' dt_stable=', solver%dt_stable, ' end_time=', deck%end_time, &
-      ' effects='//solver_effects(deck)//' partition='//partition_label(deck%partition)
-    if (restart) write (*, '(a,es13.6,a,i0)') 'PARADYN-RESTART time=', solver%time, ' cycle=', solver%cycles
+      solver%control%n_elements, ' nodes=', solver%control%n_nodes, ' ranks=', n_ranks, ' threads=', solver%threads, &
+      ' dt=', solver%clock%dt, ' dt_stable=', solver%clock%dt_stable, ' end_time=', solver%clock%end_time, &
+      ' effects='//solver%control%effects//' partition='//solver%control%partition
+    if (restart) write (*, '(a,es13.6,a,i0)') 'PARADYN-RESTART time=', solver%clock%time, ' cycle=', &
+      solver%clock%cycles
     flush (6)
   end if
 
   do   ! run to each checkpoint time, write the checkpoint, go on
     pause_time = huge(1.0_wp)
-    if (deck%checkpoint_interval > 0.0_wp) &
-      pause_time = (floor(solver%time / deck%checkpoint_interval + 1.0e-9_wp) + 1) * deck%checkpoint_interval
-    call solver_run(solver, deck, results, run, status, message, pause_time)
+    if (solver%control%checkpoint_interval > 0.0_wp) &
+      pause_time = (floor(solver%clock%time / solver%control%checkpoint_interval + 1.0e-9_wp) + 1) &
+                   * solver%control%checkpoint_interval
+    call solver_run(solver, results, run, status, message, pause_time)
     if (status /= 0 .or. solver%finished) exit
     call results_flush(results)   ! the checkpoint counts only what the results file holds
-    call checkpoint_write(solver, deck, checkpoint, results%frames, results%records, status, message)
+    call checkpoint_write(solver, checkpoint, results%frames, results%records, status, message)
     if (status /= 0) exit
     if (rank == 0) then
-      write (*, '(a,es13.6,a,i0,a)') 'PARADYN-CHECKPOINT time=', solver%time, ' cycle=', solver%cycles, &
+      write (*, '(a,es13.6,a,i0,a)') 'PARADYN-CHECKPOINT time=', solver%clock%time, ' cycle=', solver%clock%cycles, &
         ' path='//checkpoint
       flush (6)
     end if
     if (solver%stop_requested) then
       status = 4
-      write (message, '(a,es12.5,a)') 'stopped by a signal at time ', solver%time, ' s; the checkpoint '// &
+      write (message, '(a,es12.5,a)') 'stopped by a signal at time ', solver%clock%time, ' s; the checkpoint '// &
         checkpoint//' holds the state: continue with paradyn-engine '//trim(deck_path)//' '// &
         trim(results_path)//' --restart (or paradyn-run --restart)'
       exit
@@ -124,7 +135,7 @@ program paradyn_engine
   call results_finish(results, run, status == 0)
   if (status /= 0) call fail(status, trim(message))
   if (rank == 0) then
-    write (*, '(a,i0,a,es13.6,a,f0.3,a,es11.4)') 'PARADYN-DONE cycles=', run%cycles, ' time=', solver%time, &
+    write (*, '(a,i0,a,es13.6,a,f0.3,a,es11.4)') 'PARADYN-DONE cycles=', run%cycles, ' time=', solver%clock%time, &
       ' wall_s=', run%wall_s, ' element_cycles_per_s=', run%element_cycles_per_s
     flush (6)
   end if
@@ -152,7 +163,7 @@ contains
       end do
       close (unit)
     end if
-    call MPI_Allreduce(mine, largest, 1, MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD)
+    call MPI_Allreduce(mine, largest, 1, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
   end function largest_peak_memory_mb
 
   function beside(path, name) result(other)
@@ -173,6 +184,7 @@ contains
   subroutine finish(code)
     integer, intent(in) :: code
     call h5close_f(err)
+    if (comm /= MPI_COMM_NULL) call MPI_Comm_free(comm)
     call MPI_Finalize()
     if (code == 0) stop
     stop code, quiet=.true.

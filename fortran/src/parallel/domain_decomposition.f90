@@ -10,6 +10,7 @@ module domain_decomposition
   implicit none
   private
   public :: domain_t, block_owner, rcb_partition, element_centroids, partition_elements, decompose
+  public :: local_node
   public :: partition_blocks, partition_rcb
 
   integer, parameter :: partition_blocks = 1  !< contiguous blocks by element number (the paper)
@@ -389,5 +390,26 @@ contains
       a(j + 1) = key
     end do
   end subroutine sort_ascending
+
+  !> Local id of a global node, 0 if this rank does not hold it (binary search: dom%nodes ascends).
+  pure integer function local_node(dom, global) result(local)
+    type(domain_t), intent(in) :: dom
+    integer, intent(in) :: global
+    integer :: lo, hi, mid
+    local = 0
+    lo = 1
+    hi = dom%n_nodes
+    do while (lo <= hi)
+      mid = (lo + hi) / 2
+      if (dom%nodes(mid) == global) then
+        local = mid
+        return
+      else if (dom%nodes(mid) < global) then
+        lo = mid + 1
+      else
+        hi = mid - 1
+      end if
+    end do
+  end function local_node
 
 end module domain_decomposition

@@ -8,11 +8,9 @@ module solver_checkpoint
   use mpi_f08
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
   use paradyn_kinds, only: wp
-  use model_deck, only: deck_t
-  use shell_blt, only: stress_components, hourglass_components
-  use explicit_solver, only: solver_t
-  use contact_interface, only: contact_restore
-  use halo_exchange, only: node_subset_setup
+  use solver_state, only: solver_t
+  use element_state, only: element_row_width, element_rows_pack, element_rows_unpack
+  use contact_parallel, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width
   use parallel_hdf5, only: row_runs, phdf5_open, phdf5_close, create_dataset, write_rows, &
                            read_rows, write_int_attribute, write_real_attribute, read_int_attribute, &
                            read_real_attribute
@@ -22,7 +20,6 @@ module solver_checkpoint
 
   integer, parameter :: checkpoint_version = 1
   integer, parameter :: node_width = 21   !< x, v, w (3 each), internal and external force (6 each)
-  integer, parameter :: contact_width = 7 !< force, position at the last sort, place in the force sum
 
   interface
     integer(c_int) function c_rename(old, new) bind(C, name='rename')
@@ -48,16 +45,8 @@ contains
     path = trim(results_path)//'.checkpoint.h5'
   end function checkpoint_path
 
-  !> Doubles per element: stress, back stress and plastic strain at the most points any part
-  !> uses, the hourglass resultants, and the two energies.
-  pure integer function element_width(deck)
-    type(deck_t), intent(in) :: deck
-    element_width = (stress_components + 3 + 1) * maxval(deck%integration_points) + hourglass_components + 2
-  end function element_width
-
-  subroutine checkpoint_write(s, deck, path, frames, records, status, message)
+  subroutine checkpoint_write(s, path, frames, records, status, message)
     type(solver_t), intent(in) :: s
-    type(deck_t), intent(in) :: deck
     character(len=*), intent(in) :: path
     integer, intent(in) :: frames, records    !< results written so far
     integer, intent(out) :: status
@@ -66,10 +55,10 @@ contains
     integer(hsize_t) :: nn, ne, nc, nr, width
     real(wp), allocatable :: nodes(:, :), elements(:, :), contact(:, :)
     integer :: err, k, j
-    nn = int(deck%n_nodes, hsize_t)
-    ne = int(deck%n_elements, hsize_t)
+    nn = int(s%control%n_nodes, hsize_t)
+    ne = int(s%control%n_elements, hsize_t)
     nr = int(s%n_ranks, hsize_t)
-    width = int(element_width(deck), hsize_t)
+    width = int(element_row_width(s%control%max_points), hsize_t)
     call phdf5_open(path//'.partial', s%halo%comm, 'create', file, transfer, err)
     if (err /= 0) then
       status = 1
@@ -77,31 +66,31 @@ contains
       return
     end if
     call write_int_attribute(file, 'paradyn_checkpoint_version', checkpoint_version)
-    call write_real_attribute(file, 'time', s%time)
-    call write_real_attribute(file, 'dt', s%dt)
-    call write_int_attribute(file, 'cycles', s%cycles)
-    call write_int_attribute(file, 'nodes', deck%n_nodes)
-    call write_int_attribute(file, 'elements', deck%n_elements)
+    call write_real_attribute(file, 'time', s%clock%time)
+    call write_real_attribute(file, 'dt', s%clock%dt)
+    call write_int_attribute(file, 'cycles', s%clock%cycles)
+    call write_int_attribute(file, 'nodes', s%control%n_nodes)
+    call write_int_attribute(file, 'elements', s%control%n_elements)
     call write_int_attribute(file, 'element_width', int(width))
     call write_int_attribute(file, 'ranks', s%n_ranks)
     call write_int_attribute(file, 'frames', frames)
     call write_int_attribute(file, 'records', records)
-    call write_int_attribute(file, 'frame_index', s%frame_index)
-    call write_int_attribute(file, 'record_index', s%record_index)
-    call write_int_attribute(file, 'contact_last_sort', s%contact%last_sort)
-    call write_real_attribute(file, 'contact_energy', s%contact%energy)
-    call write_real_attribute(file, 'contact_max_penetration', s%contact%max_penetration)
+    call write_int_attribute(file, 'frame_index', s%clock%frame_index)
+    call write_int_attribute(file, 'record_index', s%clock%record_index)
+    call write_int_attribute(file, 'contact_last_sort', s%contact%c%last_sort)
+    call write_real_attribute(file, 'contact_energy', s%contact%c%energy)
+    call write_real_attribute(file, 'contact_max_penetration', s%contact%c%max_penetration)
 
     allocate (nodes(node_width, size(s%halo%owned_local)))
     do k = 1, size(s%halo%owned_local)
       j = s%halo%owned_local(k)
-      nodes(:, k) = [s%x(:, j), s%v(:, j), s%w(:, j), s%f_int(:, j), s%f_ext(:, j)]
+      nodes(:, k) = [s%nodes%x(:, j), s%nodes%v(:, j), s%nodes%w(:, j), s%nodes%f_int(:, j), s%nodes%f_ext(:, j)]
     end do
     call create_dataset(file, 'nodes', H5T_NATIVE_DOUBLE, [int(node_width, hsize_t), nn])
     call write_rows(file, transfer, 'nodes', [int(node_width, hsize_t), nn], &
                     row_runs(s%dom%nodes(s%halo%owned_local)), 0, real_values=reshape(nodes, [size(nodes)]))
     allocate (elements(width, s%dom%n_elements))
-    call pack_elements(s, elements)
+    call element_rows_pack(s%elements, s%dom, elements)
     call create_dataset(file, 'elements', H5T_NATIVE_DOUBLE, [width, ne])
     call write_rows(file, transfer, 'elements', [width, ne], row_runs(s%dom%elements), 0, &
                     real_values=reshape(elements, [size(elements)]))
@@ -112,15 +101,11 @@ contains
     if (s%has_contact) then
       ! the contact state (force, position at the last sort and place in the sum per contact
       ! node) is the same on every rank: rank 0 writes it
-      nc = int(s%contact%n_nodes, hsize_t)
-      allocate (contact(contact_width, s%contact%n_nodes), source=0.0_wp)
-      contact(1:3, :) = s%contact%force
-      contact(4:6, :) = s%contact%x_at_sort
-      do k = 1, s%contact%n_touched   ! the order in which the last step summed the forces
-        contact(7, s%contact%touched(k)) = real(k, wp)
-      end do
-      call create_dataset(file, 'contact', H5T_NATIVE_DOUBLE, [int(contact_width, hsize_t), nc])
-      call write_rows(file, transfer, 'contact', [int(contact_width, hsize_t), nc], &
+      nc = int(s%contact%c%n_nodes, hsize_t)
+      allocate (contact(contact_checkpoint_width, s%contact%c%n_nodes))
+      call contact_checkpoint_rows(s%contact, contact)
+      call create_dataset(file, 'contact', H5T_NATIVE_DOUBLE, [int(contact_checkpoint_width, hsize_t), nc])
+      call write_rows(file, transfer, 'contact', [int(contact_checkpoint_width, hsize_t), nc], &
                       row_runs(pack([(j, j = 1, int(nc))], s%rank == 0)), 0, real_values=reshape(contact, [size(contact)]))
     end if
     call phdf5_close(file, transfer)
@@ -139,9 +124,8 @@ contains
   !> Restores a set-up solver (solver_setup done, same deck) to the state of a checkpoint; returns
   !> the number of frames and records the results held at that point. status 2: not a checkpoint
   !> of this deck.
-  subroutine checkpoint_read(s, deck, path, frames, records, status, message)
+  subroutine checkpoint_read(s, path, frames, records, status, message)
     type(solver_t), intent(inout) :: s
-    type(deck_t), intent(in) :: deck
     character(len=*), intent(in) :: path
     integer, intent(out) :: frames, records, status
     character(len=*), intent(out) :: message
@@ -150,7 +134,7 @@ contains
     real(wp), allocatable :: nodes(:, :), elements(:, :), contact(:, :), work(:, :)
     real(wp) :: dt, energy, penetration
     integer :: err, bad, version, n_nodes, n_elements, n_width, ranks, last_sort, j
-    logical :: exists, new_gather_set
+    logical :: exists
     status = 2
     inquire (file=path, exist=exists)
     if (.not. exists) then
@@ -180,38 +164,38 @@ contains
         '; give the .checkpoint.h5 file written by this engine'
       return
     end if
-    if (n_nodes /= deck%n_nodes .or. n_elements /= deck%n_elements .or. n_width /= element_width(deck) &
-        .or. dt /= s%dt) then
+    if (n_nodes /= s%control%n_nodes .or. n_elements /= s%control%n_elements .or. n_width /= element_row_width(s%control%max_points) &
+        .or. dt /= s%clock%dt) then
       call phdf5_close(file, transfer)
       write (message, '(a,i0,a,i0,a,es12.5,a)') 'the checkpoint '//path//' was written for another deck (', &
         n_nodes, ' nodes, ', n_elements, ' elements, time step ', dt, ' s); restart with the deck of the interrupted run'
       return
     end if
-    call read_real_attribute(file, 'time', s%time, err)
-    call read_int_attribute(file, 'cycles', s%cycles, err)
+    call read_real_attribute(file, 'time', s%clock%time, err)
+    call read_int_attribute(file, 'cycles', s%clock%cycles, err)
     call read_int_attribute(file, 'ranks', ranks, err)
     call read_int_attribute(file, 'frames', frames, err)
     call read_int_attribute(file, 'records', records, err)
-    call read_int_attribute(file, 'frame_index', s%frame_index, err)
-    call read_int_attribute(file, 'record_index', s%record_index, err)
+    call read_int_attribute(file, 'frame_index', s%clock%frame_index, err)
+    call read_int_attribute(file, 'record_index', s%clock%record_index, err)
     call read_int_attribute(file, 'contact_last_sort', last_sort, err)
     call read_real_attribute(file, 'contact_energy', energy, err)
     call read_real_attribute(file, 'contact_max_penetration', penetration, err)
 
-    nn = int(deck%n_nodes, hsize_t)
-    ne = int(deck%n_elements, hsize_t)
+    nn = int(s%control%n_nodes, hsize_t)
+    ne = int(s%control%n_elements, hsize_t)
     width = int(n_width, hsize_t)
     ! every rank reads all the nodes it holds, owned or not
     allocate (nodes(node_width, s%dom%n_nodes))
     call read_rows(file, transfer, 'nodes', [int(node_width, hsize_t), nn], row_runs(s%dom%nodes), nodes, err)
-    s%x = nodes(1:3, :)
-    s%v = nodes(4:6, :)
-    s%w = nodes(7:9, :)
-    s%f_int = nodes(10:15, :)
-    s%f_ext = nodes(16:21, :)
+    s%nodes%x = nodes(1:3, :)
+    s%nodes%v = nodes(4:6, :)
+    s%nodes%w = nodes(7:9, :)
+    s%nodes%f_int = nodes(10:15, :)
+    s%nodes%f_ext = nodes(16:21, :)
     allocate (elements(width, s%dom%n_elements))
     call read_rows(file, transfer, 'elements', [width, ne], row_runs(s%dom%elements), elements, err)
-    call unpack_elements(s, elements)
+    call element_rows_unpack(s%elements, s%dom, elements)
     nr = int(ranks, hsize_t)
     allocate (work(2, ranks))
     call read_rows(file, transfer, 'work', [2_hsize_t, nr], row_runs([(j, j = 1, ranks)]), work, err)
@@ -223,83 +207,15 @@ contains
       s%damping_work = merge(sum(work(2, :)), 0.0_wp, s%rank == 0)
     end if
     if (s%has_contact) then
-      nc = int(s%contact%n_nodes, hsize_t)
-      allocate (contact(contact_width, nc))
-      call read_rows(file, transfer, 'contact', [int(contact_width, hsize_t), nc], row_runs([(j, j = 1, int(nc))]), &
+      nc = int(s%contact%c%n_nodes, hsize_t)
+      allocate (contact(contact_checkpoint_width, nc))
+      call read_rows(file, transfer, 'contact', [int(contact_checkpoint_width, hsize_t), nc], row_runs([(j, j = 1, int(nc))]), &
                      contact, err)
-      call contact_restore(s%contact, contact(1:3, :), nint(contact(7, :)), contact(4:6, :), last_sort, energy, &
-                           penetration, new_gather_set)
-      if (new_gather_set) call node_subset_setup(s%contact_nodes, s%contact%in_gather)
+      call contact_checkpoint_restore(s%contact, contact, last_sort, energy, penetration)
     end if
     call phdf5_close(file, transfer)
     status = 0
     message = ''
   end subroutine checkpoint_read
-
-  !> Element state by element. A row holds the stress (components x points), back stress and
-  !> plastic strain, each at the width of the most points any part uses, then the hourglass
-  !> resultants and the internal and hourglass energies. The group pools hold (elements, ...)
-  !> blocks; a part without kinematic hardening has no back stress in them (zero in the rows).
-  subroutine pack_elements(s, rows)
-    type(solver_t), intent(in) :: s
-    real(wp), intent(out) :: rows(:, :)
-    integer :: g, n, first, i, nip, o(4)
-    rows = 0.0_wp
-    do g = 1, s%dom%n_groups
-      n = s%dom%group_count(g)
-      first = s%dom%group_first(g)
-      nip = s%props(s%dom%group_part(g))%integration_points
-      o = row_offsets(size(rows, 1))
-      associate (stress => s%stress(s%stress_at(g):s%stress_at(g + 1) - 1), &
-                 back => s%back(s%back_at(g):s%back_at(g + 1) - 1), &
-                 eps_p => s%eps_p(s%eps_p_at(g):s%eps_p_at(g + 1) - 1), &
-                 hourglass => s%hourglass(s%hourglass_at(g):s%hourglass_at(g + 1) - 1))
-        do i = 1, n
-          rows(o(1) + 1:o(1) + stress_components * nip, first + i - 1) = stress(i::n)
-          rows(o(2) + 1:o(2) + size(back) / n, first + i - 1) = back(i::n)   ! none without kinematic hardening
-          rows(o(3) + 1:o(3) + nip, first + i - 1) = eps_p(i::n)
-          rows(o(4) + 1:o(4) + hourglass_components, first + i - 1) = hourglass(i::n)
-        end do
-      end associate
-    end do
-    rows(size(rows, 1) - 1, :) = s%e_internal
-    rows(size(rows, 1), :) = s%e_hourglass
-  end subroutine pack_elements
-
-  subroutine unpack_elements(s, rows)
-    type(solver_t), intent(inout) :: s
-    real(wp), intent(in) :: rows(:, :)
-    integer :: g, n, first, i, nip, o(4)
-    do g = 1, s%dom%n_groups
-      n = s%dom%group_count(g)
-      first = s%dom%group_first(g)
-      nip = s%props(s%dom%group_part(g))%integration_points
-      o = row_offsets(size(rows, 1))
-      associate (stress => s%stress(s%stress_at(g):s%stress_at(g + 1) - 1), &
-                 back => s%back(s%back_at(g):s%back_at(g + 1) - 1), &
-                 eps_p => s%eps_p(s%eps_p_at(g):s%eps_p_at(g + 1) - 1), &
-                 hourglass => s%hourglass(s%hourglass_at(g):s%hourglass_at(g + 1) - 1))
-        do i = 1, n
-          stress(i::n) = rows(o(1) + 1:o(1) + stress_components * nip, first + i - 1)
-          back(i::n) = rows(o(2) + 1:o(2) + size(back) / n, first + i - 1)
-          eps_p(i::n) = rows(o(3) + 1:o(3) + nip, first + i - 1)
-          hourglass(i::n) = rows(o(4) + 1:o(4) + hourglass_components, first + i - 1)
-        end do
-      end associate
-    end do
-    s%e_internal = rows(size(rows, 1) - 1, :)
-    s%e_hourglass = rows(size(rows, 1), :)
-  end subroutine unpack_elements
-
-  !> Where stress, back stress, plastic strain and hourglass start in an element row of `width`.
-  pure function row_offsets(width) result(o)
-    integer, intent(in) :: width
-    integer :: o(4), nip_max
-    nip_max = (width - hourglass_components - 2) / (stress_components + 3 + 1)
-    o(1) = 0
-    o(2) = stress_components * nip_max
-    o(3) = o(2) + 3 * nip_max
-    o(4) = o(3) + nip_max
-  end function row_offsets
 
 end module solver_checkpoint

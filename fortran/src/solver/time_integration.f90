@@ -4,7 +4,7 @@ module time_integration
   use paradyn_kinds, only: wp
   implicit none
   private
-  public :: update_velocities, update_positions, point_load_forces, kinetic_energy
+  public :: update_velocities, update_positions, kinetic_energy
 
 contains
 
@@ -41,25 +41,6 @@ contains
     real(wp), intent(inout) :: x(3, n)
     x = x + dt * v
   end subroutine update_positions
-
-  !> Point loads at time t: each grows linearly from 0 to its value over its ramp time.
-  !> node holds local node indices (0 for loads on nodes this rank does not hold).
-  pure subroutine point_load_forces(n_loads, node, dof, value, ramp_time, time, force_external)
-    integer, intent(in) :: n_loads, node(n_loads), dof(n_loads)
-    real(wp), intent(in) :: value(n_loads), ramp_time(n_loads), time
-    real(wp), intent(inout) :: force_external(:, :)
-    integer :: l
-    force_external = 0.0_wp
-    do l = 1, n_loads
-      if (node(l) < 1) cycle
-      if (ramp_time(l) > 0.0_wp) then
-        force_external(dof(l), node(l)) = force_external(dof(l), node(l)) &
-                                          + value(l) * min(1.0_wp, time / ramp_time(l))
-      else
-        force_external(dof(l), node(l)) = force_external(dof(l), node(l)) + value(l)
-      end if
-    end do
-  end subroutine point_load_forces
 
   !> Kinetic energy at t(n) of the nodes with weight 1, as 1/2 m v(n-1/2).v(n+1/2) (translations
   !> and rotations): with the midpoint stress work, the quantity that central differences conserve

@@ -1,0 +1,190 @@
+!> The parallel contact protocol of one step, and its checkpoint state: everything the solver asks
+!> of the contact goes through this module (set-up, the step, the forces on the nodes, the
+!> checkpoint rows and their restore), around the pure stages of contact_interface and the MPI
+!> sharing of contact_exchange.
+!>
+!> A step: the contact nodes' positions are gathered on every rank (all of them when a sort is
+!> due, else only those that can be in contact before the next sort, with each rank's largest
+!> movement, which tells whether a sort is due). Then each rank searches its cyclic share of the
+!> slaves of every pass for candidates, the candidates are shared, each rank locally searches its
+!> equal block of them, the records are shared, and every rank sums all of them in pass and slave
+!> order. One rank communicates nothing.
+module contact_parallel
+  use mpi_f08, only: MPI_Comm
+  use paradyn_kinds, only: wp
+  use model_deck, only: deck_t
+  use domain_decomposition, only: domain_t
+  use phase_timers, only: phase_timers_t, wall_clock
+  use contact_interface, only: contact_t, contact_setup, contact_begin, contact_global_search, &
+                               contact_candidates, contact_local_search, contact_sum, contact_end, &
+                               contact_sort_due, contact_movement, contact_restore
+  use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, &
+                              allgather_node_subset, record_share_t, record_share_setup, &
+                              share_contact_records, candidate_share_t, candidate_share_setup, &
+                              share_contact_candidates
+  implicit none
+  private
+  public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply
+  public :: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, contact_log_line
+
+  integer, parameter :: contact_checkpoint_width = 7   !< force, position at the last sort, place in the sum
+
+  type :: parallel_contact_t
+    type(contact_t) :: c                  !< the contact state, the same on every rank
+    type(node_set_t) :: nodes             !< where each contact node lives, and its gathers
+    type(record_share_t) :: records
+    type(candidate_share_t) :: candidates
+    type(MPI_Comm) :: comm
+    integer :: n_ranks = 1
+  end type parallel_contact_t
+
+contains
+
+  !> Contact of the deck's pairs on this rank's domain; mass and v are the local nodal masses and
+  !> velocities, dt the solver's step (for the penalty's stability cap). gather_all: gather every
+  !> contact node every step (a check that the near-contact subset changes nothing).
+  subroutine parallel_contact_setup(pc, deck, dom, comm, mass, v, dt, gather_all)
+    type(parallel_contact_t), intent(out) :: pc
+    type(deck_t), intent(in) :: deck
+    type(domain_t), intent(in) :: dom
+    type(MPI_Comm), intent(in) :: comm
+    real(wp), intent(in) :: mass(:), v(:, :), dt
+    logical, intent(in) :: gather_all
+    pc%comm = comm
+    pc%n_ranks = dom%n_ranks
+    call contact_setup(deck, pc%c)
+    call node_set_setup(dom, comm, pc%c%global_node, pc%nodes)
+    ! the lumped masses of the contact nodes, for the penalty's stability cap
+    call allgather_node_set(comm, pc%nodes, spread(mass, 1, 3), v, pc%c%x, pc%c%v)
+    pc%c%mass = pc%c%x(1, :)
+    pc%c%time_step = dt
+    pc%c%rank = dom%rank
+    pc%c%n_ranks = dom%n_ranks
+    pc%c%gather_all = gather_all
+    call record_share_setup(size(pc%c%record_nodes, 2), dom%n_ranks, pc%records)
+    call candidate_share_setup(dom%n_ranks, pc%candidates)
+  end subroutine parallel_contact_setup
+
+  !> Contact forces at the positions x (local nodes) of this cycle. Communication time goes to
+  !> timers%communication, the rest to timers%contact.
+  subroutine parallel_contact_step(pc, x, v, cycle, dt_strain, timers)
+    type(parallel_contact_t), intent(inout) :: pc
+    real(wp), intent(in) :: x(:, :), v(:, :), dt_strain
+    integer, intent(in) :: cycle
+    type(phase_timers_t), intent(inout) :: timers
+    real(wp) :: t_start, comm_before
+    t_start = wall_clock()
+    comm_before = timers%communication
+    call gather_positions(pc, x, v, cycle, timers)
+    call contact_global_search(pc%c, cycle, wall_clock)
+    if (pc%n_ranks > 1) then
+      call timed_share_candidates(pc, timers)
+    end if
+    call contact_candidates(pc%c, cycle, wall_clock)
+    call contact_local_search(pc%c, wall_clock)
+    if (pc%n_ranks > 1) then
+      call timed_share_records(pc, timers)
+    end if
+    call contact_sum(pc%c, wall_clock)
+    call contact_end(pc%c, cycle, dt_strain)
+    ! the sharing inside counts as communication, not twice
+    timers%contact = timers%contact + wall_clock() - t_start - (timers%communication - comm_before)
+  end subroutine parallel_contact_step
+
+  !> The positions and velocities the step reads, and the bucket sort when one is due.
+  subroutine gather_positions(pc, x, v, cycle, timers)
+    type(parallel_contact_t), intent(inout) :: pc
+    real(wp), intent(in) :: x(:, :), v(:, :)
+    integer, intent(in) :: cycle
+    type(phase_timers_t), intent(inout) :: timers
+    real(wp) :: t0, moved, moved_here
+    logical :: sort, new_gather_set
+    sort = .false.
+    if (pc%c%gather_subset) then
+      call contact_movement(pc%c, moved_here, wall_clock, pc%nodes%owned_member, pc%nodes%local, x)
+      t0 = wall_clock()
+      call allgather_node_subset(pc%comm, pc%nodes, x, v, pc%c%x, pc%c%v, moved_here, moved)
+      timers%communication = timers%communication + wall_clock() - t0
+      sort = contact_sort_due(pc%c, cycle, moved)
+    end if
+    if (.not. pc%c%gather_subset .or. sort) then
+      t0 = wall_clock()
+      call allgather_node_set(pc%comm, pc%nodes, x, v, pc%c%x, pc%c%v)
+      timers%communication = timers%communication + wall_clock() - t0
+    end if
+    if (.not. pc%c%gather_subset) then
+      call contact_movement(pc%c, moved, wall_clock)
+      sort = contact_sort_due(pc%c, cycle, moved)
+    end if
+    call contact_begin(pc%c, cycle, sort, wall_clock, new_gather_set)
+    if (new_gather_set) call node_subset_setup(pc%nodes, pc%c%in_gather)
+  end subroutine gather_positions
+
+  subroutine timed_share_candidates(pc, timers)
+    type(parallel_contact_t), intent(inout) :: pc
+    type(phase_timers_t), intent(inout) :: timers
+    real(wp) :: t0
+    t0 = wall_clock()
+    call share_contact_candidates(pc%comm, pc%candidates, pc%c%n_own, pc%c%own_pairs, pc%c%n_all, pc%c%all_pairs)
+    timers%communication = timers%communication + wall_clock() - t0
+  end subroutine timed_share_candidates
+
+  subroutine timed_share_records(pc, timers)
+    type(parallel_contact_t), intent(inout) :: pc
+    type(phase_timers_t), intent(inout) :: timers
+    real(wp) :: t0
+    t0 = wall_clock()
+    call share_contact_records(pc%comm, pc%records, pc%c%n_candidates, pc%c%record_nodes, pc%c%record_force, &
+                               pc%c%record_penetration)
+    timers%communication = timers%communication + wall_clock() - t0
+  end subroutine timed_share_records
+
+  !> Contact forces act on the nodes like external forces: subtract them from the internal ones
+  !> (local nodes). Only the nodes touched this step have a force.
+  subroutine parallel_contact_apply(pc, f_int)
+    type(parallel_contact_t), intent(in) :: pc
+    real(wp), intent(inout) :: f_int(:, :)
+    integer :: i, k, j
+    do i = 1, pc%c%n_touched
+      k = pc%c%touched(i)
+      j = pc%nodes%local(k)
+      if (j > 0) f_int(1:3, j) = f_int(1:3, j) - pc%c%force(:, k)
+    end do
+  end subroutine parallel_contact_apply
+
+  !> One line per rank for the log: the sorts, the passes run, all ranks' candidates, and the
+  !> local searches of this rank (its equal blocks of the candidates).
+  subroutine contact_log_line(pc, rank)
+    type(parallel_contact_t), intent(in) :: pc
+    integer, intent(in) :: rank
+    write (*, '(5(a,i0))') 'PARADYN-CONTACT rank=', rank, ' sorts=', pc%c%n_sorts, ' pass_steps=', &
+      pc%c%n_pass_steps, ' candidates=', pc%c%candidates_total, ' local_searches=', pc%c%candidates_searched
+    flush (6)
+  end subroutine contact_log_line
+
+  !> The checkpoint rows, one per contact node (the same on every rank): force, position at the
+  !> last sort, and its place k > 0 in the last step's force sum (0 = no force).
+  subroutine contact_checkpoint_rows(pc, rows)
+    type(parallel_contact_t), intent(in) :: pc
+    real(wp), intent(out) :: rows(contact_checkpoint_width, pc%c%n_nodes)
+    integer :: k
+    rows = 0.0_wp
+    rows(1:3, :) = pc%c%force
+    rows(4:6, :) = pc%c%x_at_sort
+    do k = 1, pc%c%n_touched   ! the order in which the last step summed the forces
+      rows(7, pc%c%touched(k)) = real(k, wp)
+    end do
+  end subroutine contact_checkpoint_rows
+
+  !> The contact state of a checkpoint (rows of contact_checkpoint_rows and the attributes).
+  subroutine contact_checkpoint_restore(pc, rows, last_sort, energy, max_penetration)
+    type(parallel_contact_t), intent(inout) :: pc
+    real(wp), intent(in) :: rows(:, :), energy, max_penetration
+    integer, intent(in) :: last_sort
+    logical :: new_gather_set
+    call contact_restore(pc%c, rows(1:3, :), nint(rows(7, :)), rows(4:6, :), last_sort, energy, &
+                         max_penetration, new_gather_set)
+    if (new_gather_set) call node_subset_setup(pc%nodes, pc%c%in_gather)
+  end subroutine contact_checkpoint_restore
+
+end module contact_parallel

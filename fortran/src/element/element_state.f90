@@ -1,0 +1,112 @@
+!> The state of the shell elements of one rank, group by group: each group (one part, at most
+!> group_size elements) owns arrays shaped for the element kernel, element index first, so the
+!> kernel gets whole arrays instead of offsets into pools. Also the element energies, and the rows
+!> by which a checkpoint stores the state element by element.
+module element_state
+  use paradyn_kinds, only: wp
+  use domain_decomposition, only: domain_t
+  use shell_blt, only: shell_properties_t, stress_components, hourglass_components, back_stress_points
+  implicit none
+  private
+  public :: group_state_t, element_state_t, element_state_setup, element_row_width, element_rows_pack, &
+            element_rows_unpack
+
+  type :: group_state_t
+    real(wp), allocatable :: stress(:, :, :)   !< (elements, stress_components, points), local frame
+    real(wp), allocatable :: back(:, :, :)     !< (elements, 3, points), or no points without kinematic hardening
+    real(wp), allocatable :: eps_p(:, :)       !< (elements, points) effective plastic strain
+    real(wp), allocatable :: hourglass(:, :)   !< (elements, hourglass_components) resultants
+  end type group_state_t
+
+  type :: element_state_t
+    type(group_state_t), allocatable :: groups(:)
+    real(wp), allocatable :: e_internal(:), e_hourglass(:)   !< per local element (J)
+    integer :: inverted = 0   !< elements found inside out so far
+  end type element_state_t
+
+contains
+
+  subroutine element_state_setup(es, dom, props)
+    type(element_state_t), intent(out) :: es
+    type(domain_t), intent(in) :: dom
+    type(shell_properties_t), intent(in) :: props(:)
+    integer :: g, n, nip
+    allocate (es%groups(dom%n_groups))
+    do g = 1, dom%n_groups
+      n = dom%group_count(g)
+      nip = props(dom%group_part(g))%integration_points
+      allocate (es%groups(g)%stress(n, stress_components, nip), source=0.0_wp)
+      allocate (es%groups(g)%back(n, 3, back_stress_points(props(dom%group_part(g)))), source=0.0_wp)
+      allocate (es%groups(g)%eps_p(n, nip), es%groups(g)%hourglass(n, hourglass_components), source=0.0_wp)
+    end do
+    allocate (es%e_internal(dom%n_elements), es%e_hourglass(dom%n_elements), source=0.0_wp)
+  end subroutine element_state_setup
+
+  !> Doubles per element row: stress, back stress and plastic strain at the most points any part
+  !> uses, the hourglass resultants, and the two energies.
+  pure integer function element_row_width(max_points) result(width)
+    integer, intent(in) :: max_points
+    width = (stress_components + 3 + 1) * max_points + hourglass_components + 2
+  end function element_row_width
+
+  !> Element state by element (checkpoints). A row holds the stress (components x points), back
+  !> stress and plastic strain, each at the width of the most points any part uses, then the
+  !> hourglass resultants and the internal and hourglass energies. A part without kinematic
+  !> hardening stores no back stress (zeros in the rows).
+  subroutine element_rows_pack(es, dom, rows)
+    type(element_state_t), intent(in) :: es
+    type(domain_t), intent(in) :: dom
+    real(wp), intent(out) :: rows(:, :)
+    integer :: g, i, e, o(4)
+    rows = 0.0_wp
+    o = row_offsets(size(rows, 1))
+    do g = 1, dom%n_groups
+      associate (gs => es%groups(g))
+        do i = 1, dom%group_count(g)
+          e = dom%group_first(g) + i - 1
+          rows(o(1) + 1:o(1) + size(gs%stress(i, :, :)), e) = reshape(gs%stress(i, :, :), [size(gs%stress(i, :, :))])
+          rows(o(2) + 1:o(2) + size(gs%back(i, :, :)), e) = reshape(gs%back(i, :, :), [size(gs%back(i, :, :))])
+          rows(o(3) + 1:o(3) + size(gs%eps_p, 2), e) = gs%eps_p(i, :)
+          rows(o(4) + 1:o(4) + hourglass_components, e) = gs%hourglass(i, :)
+        end do
+      end associate
+    end do
+    rows(size(rows, 1) - 1, :) = es%e_internal
+    rows(size(rows, 1), :) = es%e_hourglass
+  end subroutine element_rows_pack
+
+  subroutine element_rows_unpack(es, dom, rows)
+    type(element_state_t), intent(inout) :: es
+    type(domain_t), intent(in) :: dom
+    real(wp), intent(in) :: rows(:, :)
+    integer :: g, i, e, o(4)
+    o = row_offsets(size(rows, 1))
+    do g = 1, dom%n_groups
+      associate (gs => es%groups(g))
+        do i = 1, dom%group_count(g)
+          e = dom%group_first(g) + i - 1
+          gs%stress(i, :, :) = reshape(rows(o(1) + 1:o(1) + size(gs%stress(i, :, :)), e), &
+                                       [size(gs%stress, 2), size(gs%stress, 3)])
+          gs%back(i, :, :) = reshape(rows(o(2) + 1:o(2) + size(gs%back(i, :, :)), e), &
+                                     [size(gs%back, 2), size(gs%back, 3)])
+          gs%eps_p(i, :) = rows(o(3) + 1:o(3) + size(gs%eps_p, 2), e)
+          gs%hourglass(i, :) = rows(o(4) + 1:o(4) + hourglass_components, e)
+        end do
+      end associate
+    end do
+    es%e_internal = rows(size(rows, 1) - 1, :)
+    es%e_hourglass = rows(size(rows, 1), :)
+  end subroutine element_rows_unpack
+
+  !> Where stress, back stress, plastic strain and hourglass start in an element row of `width`.
+  pure function row_offsets(width) result(o)
+    integer, intent(in) :: width
+    integer :: o(4), nip_max
+    nip_max = (width - hourglass_components - 2) / (stress_components + 3 + 1)
+    o(1) = 0
+    o(2) = stress_components * nip_max
+    o(3) = o(2) + 3 * nip_max
+    o(4) = o(3) + nip_max
+  end function row_offsets
+
+end module element_state

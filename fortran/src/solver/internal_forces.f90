@@ -1,0 +1,128 @@
+!> The forces of one step on the nodes of a rank: element forces by groups on the OpenMP threads,
+!> the corner exchange with neighbour ranks, the fixed-order nodal sum, then the contact. Also the
+!> lumped masses and the elements' stable step, which go through the same corners at set-up.
+module internal_forces
+  use omp_lib, only: omp_get_thread_num
+  use paradyn_kinds, only: wp
+  use element_groups, only: group_size
+  use shell_blt, only: blt_internal_forces, blt_lumped_mass, blt_stable_time_step
+  use work_queues, only: queues_start, queues_take
+  use halo_exchange, only: exchange_corners
+  use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes
+  use phase_timers, only: wall_clock
+  use contact_parallel, only: parallel_contact_step, parallel_contact_apply
+  use solver_state, only: solver_t
+  implicit none
+  private
+  public :: forces_at_current_state, lumped_masses, workspace_per_group
+
+  !> doubles of one thread's workspace: a group's x, v, w (3 x 4 each) and corner forces (6 x 4)
+  integer, parameter :: workspace_per_group = group_size * (3 * 4 * 3 + 6 * 4)
+
+contains
+
+  !> Internal (and contact) forces at the current positions, for the step dt_strain that ended there.
+  subroutine forces_at_current_state(s, dt_strain)
+    type(solver_t), intent(inout) :: s
+    real(wp), intent(in) :: dt_strain
+    real(wp) :: t0
+    t0 = wall_clock()
+    call element_forces(s, dt_strain)
+    s%timers%elements = s%timers%elements + wall_clock() - t0
+    t0 = wall_clock()
+    call exchange_corners(s%dom, s%halo, s%corner)
+    s%timers%communication = s%timers%communication + wall_clock() - t0
+    t0 = wall_clock()
+    call assemble_forces(s)
+    s%timers%elements = s%timers%elements + wall_clock() - t0
+    if (s%has_contact) then
+      call parallel_contact_step(s%contact, s%nodes%x, s%nodes%v, s%clock%cycles, dt_strain, s%timers)
+      call parallel_contact_apply(s%contact, s%nodes%f_int)
+    end if
+  end subroutine forces_at_current_state
+
+  !> Element forces of every group for the step that ends at the current positions. The threads
+  !> start on their own ranges of groups and then steal (work_queues); a group's forces go to its
+  !> own corners, so the thread that computes it does not matter.
+  subroutine element_forces(s, dt_strain)
+    type(solver_t), intent(inout) :: s
+    real(wp), intent(in) :: dt_strain
+    integer :: g, n, first, p, tid, emptied, inverted, ox, ov, ow, of
+    inverted = 0
+    ox = 1
+    ov = ox + 12 * group_size
+    ow = ov + 12 * group_size
+    of = ow + 12 * group_size
+    call queues_start(s%group_queues, s%dom%n_groups, s%threads)
+    !$omp parallel private(g, n, first, p, tid, emptied) reduction(+:inverted)
+    tid = omp_get_thread_num() + 1
+    emptied = 0
+    do
+      g = queues_take(s%group_queues, tid, emptied)
+      if (g == 0) exit
+      n = s%dom%group_count(g)
+      first = s%dom%group_first(g)
+      p = s%dom%group_part(g)
+      call gather_group(n, first, s%dom%connectivity, s%nodes%x, s%workspace(ox, tid))
+      call gather_group(n, first, s%dom%connectivity, s%nodes%v, s%workspace(ov, tid))
+      call gather_group(n, first, s%dom%connectivity, s%nodes%w, s%workspace(ow, tid))
+      associate (gs => s%elements%groups(g))
+        call blt_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
+                                 s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%hourglass, &
+                                 s%workspace(of, tid), s%elements%e_internal(first), s%elements%e_hourglass(first), &
+                                 inverted)
+      end associate
+      call scatter_corners(n, first, s%workspace(of, tid), s%corner)
+    end do
+    !$omp end parallel
+    s%elements%inverted = s%elements%inverted + inverted
+  end subroutine element_forces
+
+  !> Fixed-order nodal sum of the corner forces, nodes split into one contiguous range per thread.
+  !> (Static: stealing node blocks here, as the element groups do, moved the forces between the
+  !> cores' caches and cost more in the node update than it saved: docs/performance.md.)
+  subroutine assemble_forces(s)
+    type(solver_t), intent(inout) :: s
+    integer :: chunk, j0, nj, nl
+    nl = s%dom%n_nodes
+    chunk = max(1, (nl + s%threads - 1) / s%threads)
+    !$omp parallel do schedule(static) private(j0, nj)
+    do j0 = 1, nl, chunk
+      nj = min(chunk, nl - j0 + 1)
+      call assemble_nodes(nj, s%dom%assembly_start(j0:j0 + nj), s%dom%assembly_slot, s%corner, &
+                          s%nodes%f_int(:, j0:j0 + nj - 1))
+    end do
+    !$omp end parallel do
+  end subroutine assemble_forces
+
+  !> Lumped masses and inertias of the local nodes through the same corner exchange and fixed-order
+  !> sum as the forces, and the smallest stable step of this rank's elements.
+  subroutine lumped_masses(s, dt_min)
+    type(solver_t), intent(inout) :: s
+    real(wp), intent(out) :: dt_min
+    integer :: g, n, first, p, j
+    real(wp) :: dt_element(group_size), node_mass(group_size), node_inertia(group_size)
+    real(wp), allocatable :: xg(:, :, :)
+    allocate (xg(group_size, 3, 4))
+    dt_min = huge(1.0_wp)
+    do g = 1, s%dom%n_groups
+      n = s%dom%group_count(g)
+      first = s%dom%group_first(g)
+      p = s%dom%group_part(g)
+      call gather_group(n, first, s%dom%connectivity, s%nodes%x, xg)
+      call blt_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, node_mass, node_inertia)
+      call blt_stable_time_step(n, xg, s%props(p), dt_element)
+      dt_min = min(dt_min, minval(dt_element(1:n)))
+      do j = 1, n
+        s%corner(1:3, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_mass(j)
+        s%corner(4:6, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_inertia(j)
+      end do
+    end do
+    call exchange_corners(s%dom, s%halo, s%corner)
+    call assemble_nodes(s%nodes%n, s%dom%assembly_start, s%dom%assembly_slot, s%corner, s%nodes%f_int)
+    s%nodes%mass = s%nodes%f_int(1, :)
+    s%nodes%inertia = s%nodes%f_int(4, :)
+    s%nodes%f_int = 0.0_wp
+  end subroutine lumped_masses
+
+end module internal_forces

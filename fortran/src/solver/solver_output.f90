@@ -1,0 +1,165 @@
+!> What the time loop writes: history records (energies, tracked nodes, and the checks for NaN and
+!> inverted elements), field frames, progress lines, and the run record of the /run attributes.
+module solver_output
+  use mpi_f08
+  use paradyn_kinds, only: wp
+  use element_groups, only: group_size
+  use shell_blt, only: blt_element_results
+  use halo_exchange, only: sum_to_root
+  use time_integration, only: kinetic_energy
+  use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
+  use solver_state, only: solver_t
+  implicit none
+  private
+  public :: write_record, write_frame, write_progress, run_record, write_phase_line
+
+contains
+
+  !> Energies and tracked nodes at the current time. Each tracked node is reported by its owner
+  !> alone, so the sum over ranks is that owner's value. status 3 with a message when an element
+  !> turned inside out or the solution became NaN.
+  subroutine write_record(s, rf, status, message)
+    type(solver_t), intent(inout) :: s
+    type(results_file_t), intent(inout) :: rf
+    integer, intent(out) :: status
+    character(len=*), intent(out) :: message
+    real(wp) :: sums(8 + 6 * s%control%n_tracked)
+    integer :: bad, bad_total, k, j
+    associate (ns => s%nodes)
+      sums(1) = kinetic_energy(ns%n, ns%mass, ns%inertia, ns%v_old, ns%w_old, ns%v, ns%w, ns%weight)
+      sums(2) = sum(s%elements%e_internal)
+      sums(3) = sum(s%elements%e_hourglass)
+      ! every rank computes the same contact, so rank 0 alone reports it
+      sums(4) = merge(s%contact%c%energy, 0.0_wp, s%rank == 0)
+      sums(5) = s%external_work - s%damping_work
+      sums(6) = merge(s%contact%c%max_penetration, 0.0_wp, s%rank == 0)
+      sums(7) = real(s%elements%inverted, wp)
+      sums(8) = merge(1.0_wp, 0.0_wp, any(ns%v /= ns%v) .or. any(ns%f_int /= ns%f_int))
+      s%tracked_out = 0.0_wp
+      do k = 1, s%control%n_tracked
+        j = s%control%tracked_local(k)
+        if (j == 0) cycle
+        s%tracked_out(1:3, k) = ns%x(:, j) - ns%x0(:, j)
+        s%tracked_out(4:6, k) = 0.5_wp * (ns%v(:, j) + ns%v_old(:, j))
+      end do
+    end associate
+    sums(9:) = reshape(s%tracked_out, [6 * s%control%n_tracked])
+    call sum_to_root(s%halo, sums)
+    s%tracked_out = reshape(sums(9:), [6, s%control%n_tracked])
+    call results_write_history(rf, s%clock%time, sums(1:6), s%tracked_out(1:3, :), s%tracked_out(4:6, :))
+    status = 0
+    message = ''
+    bad = 0
+    if (s%rank == 0) then
+      if (sums(7) > 0.0_wp) bad = 1
+      if (sums(8) > 0.0_wp .or. sums(1) /= sums(1)) bad = 2
+    end if
+    call MPI_Allreduce(bad, bad_total, 1, MPI_INTEGER, MPI_MAX, s%halo%comm)
+    if (bad_total == 1) then
+      status = 3
+      write (message, '(a,i0,a,es12.5,a)') 'an element turned inside out (zero or negative area) by cycle ', &
+        s%clock%cycles, ', time ', s%clock%time, ' s; reduce the time step or the loading, or refine the mesh'
+    else if (bad_total == 2) then
+      status = 3
+      write (message, '(a,i0,a,es12.5,a)') 'the solution became NaN by cycle ', s%clock%cycles, ', time ', &
+        s%clock%time, ' s; the run is unstable (time step too large or a bad material constant)'
+    end if
+  end subroutine write_record
+
+  !> Every rank writes its owned nodes and its elements into the frame (collective).
+  subroutine write_frame(s, rf)
+    type(solver_t), intent(inout) :: s
+    type(results_file_t), intent(inout) :: rf
+    integer :: g, n, first, nip, k, j
+    real(wp) :: membrane(group_size, 3), von_mises(group_size), plastic(group_size)
+    ! threads share the frame's arithmetic; the writes that follow are collective, one call
+    !$omp parallel do schedule(static) private(n, first, nip, membrane, von_mises, plastic)
+    do g = 1, s%dom%n_groups
+      n = s%dom%group_count(g)
+      first = s%dom%group_first(g)
+      nip = s%props(s%dom%group_part(g))%integration_points
+      call blt_element_results(n, nip, s%elements%groups(g)%stress, s%elements%groups(g)%eps_p, &
+                               membrane(1:n, :), von_mises(1:n), plastic(1:n))
+      s%element_out(1:3, first:first + n - 1) = transpose(membrane(1:n, :))
+      s%element_out(4, first:first + n - 1) = von_mises(1:n)
+      s%element_out(5, first:first + n - 1) = plastic(1:n)
+    end do
+    !$omp end parallel do
+    !$omp parallel do schedule(static) private(j)
+    do k = 1, size(s%halo%owned_local)
+      j = s%halo%owned_local(k)
+      s%node_out_a(:, k) = s%nodes%x(:, j) - s%nodes%x0(:, j)
+      s%node_out_b(:, k) = 0.5_wp * (s%nodes%v(:, j) + s%nodes%v_old(:, j))
+    end do
+    !$omp end parallel do
+    call results_write_frame(rf, s%clock%time, s%node_out_a, s%node_out_b, s%element_out(1:3, :), &
+                             s%element_out(4, :), s%element_out(5, :))
+  end subroutine write_frame
+
+  !> A progress line from rank 0 every progress_interval of wall time.
+  subroutine write_progress(s)
+    type(solver_t), intent(inout) :: s
+    if (s%rank /= 0) return
+    if (MPI_Wtime() - s%last_progress < s%control%progress_interval) return
+    s%last_progress = MPI_Wtime()
+    write (*, '(a,i0,a,es13.6,a,es11.4,a,es11.4,a,f0.3)') 'PARADYN-PROGRESS cycle=', s%clock%cycles, &
+      ' time=', s%clock%time, ' dt=', s%clock%dt, ' end_time=', s%clock%end_time, ' wall_s=', &
+      s%last_progress - s%wall_start
+    flush (6)
+  end subroutine write_progress
+
+  !> One line per rank for the log: the load balance behind the communication phase.
+  subroutine write_phase_line(s)
+    type(solver_t), intent(in) :: s
+    write (*, '(a,i0,5(a,f0.4))') 'PARADYN-PHASES rank=', s%rank, ' elements_s=', s%timers%elements, &
+      ' contact_s=', s%timers%contact, ' communication_s=', s%timers%communication, ' output_s=', &
+      s%timers%output, ' nodes_s=', s%timers%nodes
+    flush (6)
+  end subroutine write_phase_line
+
+  !> The /run attributes of where the solver stands. They are written collectively and must
+  !> agree: every rank takes rank 0's timings.
+  function run_record(s) result(run)
+    type(solver_t), intent(in) :: s
+    type(run_record_t) :: run
+    real(wp) :: t(10)
+    run%cycles = s%clock%cycles
+    run%ranks = s%n_ranks
+    run%threads = s%threads
+    run%elements = s%control%n_elements
+    run%nodes = s%control%n_nodes
+    run%dt_s = s%clock%dt
+    run%dt_stable_s = s%clock%dt_stable
+    run%wall_s = MPI_Wtime() - s%wall_start
+    run%element_cycles_per_s = real(s%control%n_elements, wp) * (s%clock%cycles - s%clock%first_cycle) &
+                               / max(run%wall_s, 1.0e-12_wp)
+    run%load_imbalance = load_imbalance(s%halo%comm, s%timers%elements + s%timers%contact, s%n_ranks)
+    t = [run%wall_s, run%element_cycles_per_s, s%timers%elements, s%timers%contact, s%timers%communication, &
+         s%timers%output, max(run%wall_s - (s%timers%elements + s%timers%contact + s%timers%communication &
+                                            + s%timers%output), 0.0_wp), &
+         s%contact%c%time_sort, s%contact%c%time_search, s%contact%c%time_force]
+    call MPI_Bcast(t, size(t), MPI_DOUBLE_PRECISION, 0, s%halo%comm)
+    run%wall_s = t(1)
+    run%element_cycles_per_s = t(2)
+    run%phase_elements_s = t(3)
+    run%phase_contact_s = t(4)
+    run%phase_communication_s = t(5)
+    run%phase_output_s = t(6)
+    run%phase_other_s = t(7)
+    run%phase_contact_sort_s = t(8)
+    run%phase_contact_search_s = t(9)
+    run%phase_contact_force_s = t(10)
+  end function run_record
+
+  !> The busiest rank's element and contact time over the mean of all ranks (1 = balanced).
+  real(wp) function load_imbalance(comm, busy, n_ranks)
+    type(MPI_Comm), intent(in) :: comm
+    real(wp), intent(in) :: busy
+    integer, intent(in) :: n_ranks
+    real(wp) :: most, total
+    call MPI_Allreduce(busy, most, 1, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
+    call MPI_Allreduce(busy, total, 1, MPI_DOUBLE_PRECISION, MPI_SUM, comm)
+    load_imbalance = most / max(total / n_ranks, tiny(1.0_wp))
+  end function load_imbalance
+
+end module solver_output

@@ -1,0 +1,43 @@
+!> The solver of one rank as a set of small parts: where its elements and nodes are (domain, halo),
+!> the section of each part, the nodal and element state, the step clock, the phase timers, the
+!> run control built at set-up, and the contact. The time loop (explicit_solver) only calls them.
+module solver_state
+  use paradyn_kinds, only: wp
+  use domain_decomposition, only: domain_t
+  use halo_exchange, only: halo_t
+  use shell_blt, only: shell_properties_t
+  use work_queues, only: work_queues_t
+  use nodal_state, only: nodal_state_t
+  use element_state, only: element_state_t
+  use step_clock, only: step_clock_t
+  use phase_timers, only: phase_timers_t
+  use run_control, only: run_control_t
+  use contact_parallel, only: parallel_contact_t
+  implicit none
+  private
+  public :: solver_t
+
+  type :: solver_t
+    type(domain_t) :: dom
+    type(halo_t) :: halo
+    type(shell_properties_t), allocatable :: props(:)   !< per part
+    type(nodal_state_t) :: nodes
+    type(element_state_t) :: elements
+    type(step_clock_t) :: clock
+    type(phase_timers_t) :: timers
+    type(run_control_t) :: control
+    type(parallel_contact_t) :: contact
+    logical :: has_contact = .false.
+    integer :: rank = 0, n_ranks = 1, threads = 1
+    real(wp), allocatable :: corner(:, :)      !< (6, corners + ghost slots): forces per element corner
+    real(wp), allocatable :: workspace(:, :)   !< per thread: one group's gathered nodes and forces
+    type(work_queues_t) :: group_queues        !< the threads' shares of the element groups
+    ! output buffers: this rank's owned nodes and its elements
+    real(wp), allocatable :: node_out_a(:, :), node_out_b(:, :), element_out(:, :)
+    real(wp), allocatable :: tracked_out(:, :)   !< (6, n_tracked): this rank's share, summed to rank 0
+    real(wp) :: external_work = 0, damping_work = 0   !< summed over this rank's owned nodes
+    logical :: started = .false., finished = .false., stop_requested = .false.
+    real(wp) :: wall_start = 0, last_progress = 0
+  end type solver_t
+
+end module solver_state
