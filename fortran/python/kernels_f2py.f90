@@ -35,6 +35,7 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
                       e_internal, e_hourglass, inverted, hourglass_form)
   use paradyn_kinds, only: wp
   use shell_blt, only: shell_properties_t, blt_internal_forces
+  use material_factory, only: material_from_name, material_name_of_code
   implicit none
   integer, intent(in) :: n, nip, model
   integer, intent(in) :: hourglass_form  ! 1 viscous, 2 stiffness
@@ -47,8 +48,11 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
   integer, intent(out) :: inverted
   type(shell_properties_t) :: props
-  props = shell_properties_t(thickness, density, young, poisson, yield_stress, tangent, beta, &
-                             hourglass_coefficient, model, nip, hourglass_form)
+  props = shell_properties_t(thickness=thickness, density=density, young=young, poisson=poisson, &
+                             hourglass_coefficient=hourglass_coefficient, integration_points=nip, &
+                             hourglass_form=hourglass_form)
+  call material_from_name(material_name_of_code(model), young, poisson, yield_stress, tangent, beta, &
+                          props%material)
   inverted = 0
   call blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, hourglass, force, &
                            e_internal, e_hourglass, inverted)

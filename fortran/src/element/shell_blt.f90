@@ -10,8 +10,8 @@
 module shell_blt
   use paradyn_kinds, only: wp
   use vector_algebra, only: cross
-  use material_j2, only: elastic_plane_stress_update_points, j2_plane_stress_update_points, &
-                         von_mises_plane_stress, j2_kinematic_modulus
+  use material_j2, only: von_mises_plane_stress
+  use material_model, only: material_t
   use element_groups, only: group_size
   implicit none
   private
@@ -35,33 +35,26 @@ module shell_blt
   real(wp), parameter :: drilling_penalty = 1.0e-4_wp
   real(wp), parameter :: shear_correction = 5.0_wp / 6.0_wp
 
-  !> Section and material of one element group (one part).
+  !> Section and material of one element group (one part). density, young and poisson are the
+  !> material's elastic constants, which the element needs whatever the law (mass, wave speed,
+  !> transverse shear, hourglass and drilling stiffness); the law itself updates the stresses.
   type :: shell_properties_t
     real(wp) :: thickness = 0.0_wp
     real(wp) :: density = 0.0_wp
     real(wp) :: young = 0.0_wp
     real(wp) :: poisson = 0.0_wp
-    real(wp) :: yield_stress = 0.0_wp
-    real(wp) :: tangent_modulus = 0.0_wp
-    real(wp) :: hardening_mixing = 1.0_wp
     real(wp) :: hourglass_coefficient = 0.1_wp
-    integer :: model = material_elastic
     integer :: integration_points = 5
     integer :: hourglass_form = hourglass_stiffness
+    class(material_t), allocatable :: material   !< the stress update at the points (material family)
   end type shell_properties_t
 
 contains
 
-  !> Through-thickness points that store a back stress: every point of a J2 part with kinematic
-  !> hardening, none otherwise (elastic, perfectly plastic or purely isotropic: the back stress
-  !> stays zero there, and not storing it saves over a quarter of the element state's memory traffic).
+  !> Through-thickness points that store a back stress: as many as the part's material asks for.
   pure integer function back_stress_points(props) result(points)
     type(shell_properties_t), intent(in) :: props
-    points = 0
-    if (props%model == material_j2_plastic) then
-      if (j2_kinematic_modulus(props%young, props%tangent_modulus, props%hardening_mixing) /= 0.0_wp) &
-        points = props%integration_points
-    end if
+    points = props%material%back_stress_points(props%integration_points)
   end function back_stress_points
 
   !> Gauss-Legendre points (in [-1, 1]) and weights (summing to 2) for n = 1..9 points.
@@ -149,6 +142,7 @@ contains
     integer :: first, m, o, i, k, c, nip
     real(wp) :: zeta(max_integration_points), wgt(max_integration_points)
     real(wp) :: t, half_t, shear_step, z, wz, wzz
+    logical :: history   !< the material keeps a back stress or plastic strain
     ! per-pass arrays, element index first
     real(wp) :: xg(group_size, 3, 4), vg(group_size, 3, 4), wg(group_size, 3, 4)
     real(wp) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), normal_mid(group_size, 3)
@@ -162,6 +156,7 @@ contains
     real(wp) :: hg(group_size, hourglass_components), res(group_size, 8), fl(group_size, 6, 4)
 
     nip = props%integration_points
+    history = props%material%has_history()
     call thickness_rule(nip, zeta(1:nip), wgt(1:nip))
     t = props%thickness
     half_t = 0.5_wp * t
@@ -198,23 +193,23 @@ contains
             sp(i, c) = stress(o + i, c, k)
           end do
         end do
-        if (props%model == material_j2_plastic) then
+        if (history) then
           if (size(back, 3) > 0) then
             bp(1:m, :) = back(o + 1:o + m, :, k)
           else
             bp(1:m, :) = 0.0_wp   ! no kinematic hardening: the back stress stays zero, unstored
           end if
           ep(1:m) = eps_p(o + 1:o + m, k)
-          call j2_plane_stress_update_points(m, sp, bp, ep, deps, props%young, props%poisson, &
-                                             props%yield_stress, props%tangent_modulus, props%hardening_mixing)
+        end if
+        ! one dispatch per batch of points: the member's loop over them vectorises
+        call props%material%update_points(m, sp, bp, ep, deps)
+        if (history) then
           if (size(back, 3) > 0) then
             do c = 1, 3
               back(o + 1:o + m, c, k) = merge(bp(1:m, c), back(o + 1:o + m, c, k), area_mid(1:m) > 0.0_wp)
             end do
           end if
           eps_p(o + 1:o + m, k) = merge(ep(1:m), eps_p(o + 1:o + m, k), area_mid(1:m) > 0.0_wp)
-        else
-          call elastic_plane_stress_update_points(m, sp, deps, props%young, props%poisson)
         end if
         wz = wgt(k) * half_t
         do i = 1, m

@@ -6,6 +6,7 @@ module model_deck
   use shell_blt, only: shell_properties_t, material_elastic, material_j2_plastic, &
                        max_integration_points, hourglass_viscous, hourglass_stiffness
   use domain_decomposition, only: partition_blocks, partition_rcb
+  use material_factory, only: material_from_name, material_name_of_code
   implicit none
   private
   public :: deck_t, part_properties, check_deck_values, partition_code, partition_label, partition_default
@@ -72,7 +73,8 @@ contains
     end select
   end function partition_label
 
-  pure function part_properties(deck, part) result(props)
+  !> The section of a part and its material, made by the material family's factory.
+  function part_properties(deck, part) result(props)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: part
     type(shell_properties_t) :: props
@@ -82,13 +84,11 @@ contains
     props%hourglass_coefficient = deck%hourglass_coefficient(part)
     props%integration_points = deck%integration_points(part)
     props%hourglass_form = deck%hourglass_form(part)
-    props%model = deck%material_model(m)
     props%density = deck%density(m)
     props%young = deck%young(m)
     props%poisson = deck%poisson(m)
-    props%yield_stress = deck%yield_stress(m)
-    props%tangent_modulus = deck%tangent_modulus(m)
-    props%hardening_mixing = deck%hardening_mixing(m)
+    call material_from_name(material_name_of_code(deck%material_model(m)), deck%young(m), deck%poisson(m), &
+                            deck%yield_stress(m), deck%tangent_modulus(m), deck%hardening_mixing(m), props%material)
   end function part_properties
 
   !> Check every value of a deck whose arrays have the right shapes. Returns 0, or 2 with a

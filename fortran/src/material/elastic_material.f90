@@ -1,0 +1,38 @@
+!> The linear elastic member of the material family (schema name "elastic").
+module elastic_material
+  use paradyn_kinds, only: wp
+  use material_model, only: material_t
+  use material_j2, only: elastic_plane_stress_update_points
+  implicit none
+  private
+  public :: elastic_material_t
+
+  type, extends(material_t) :: elastic_material_t
+  contains
+    procedure :: update_points => elastic_update_points
+    procedure :: back_stress_points => elastic_back_points
+    procedure :: has_history => elastic_has_history
+  end type elastic_material_t
+
+contains
+
+  pure subroutine elastic_update_points(self, m, stress, back, eps_p, dstrain)
+    class(elastic_material_t), intent(in) :: self
+    integer, intent(in) :: m
+    real(wp), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
+    real(wp), intent(in), contiguous :: dstrain(:, :)
+    call elastic_plane_stress_update_points(m, stress, dstrain, self%young, self%poisson)
+  end subroutine elastic_update_points
+
+  pure integer function elastic_back_points(self, nip) result(points)
+    class(elastic_material_t), intent(in) :: self
+    integer, intent(in) :: nip
+    points = 0
+  end function elastic_back_points
+
+  pure logical function elastic_has_history(self) result(changes)
+    class(elastic_material_t), intent(in) :: self
+    changes = .false.
+  end function elastic_has_history
+
+end module elastic_material

@@ -1,0 +1,47 @@
+!> The J2 plasticity member of the material family (schema name "j2_plasticity"): plane stress,
+!> linear combined isotropic/kinematic hardening, radial return (material_j2).
+module j2_material
+  use paradyn_kinds, only: wp
+  use material_model, only: material_t
+  use material_j2, only: j2_plane_stress_update_points, j2_kinematic_modulus
+  implicit none
+  private
+  public :: j2_material_t
+
+  type, extends(material_t) :: j2_material_t
+    real(wp) :: yield_stress = 0.0_wp       !< initial yield stress (Pa)
+    real(wp) :: tangent_modulus = 0.0_wp    !< plastic tangent modulus Et < E (Pa)
+    real(wp) :: hardening_mixing = 1.0_wp   !< beta: 1 isotropic, 0 kinematic
+  contains
+    procedure :: update_points => j2_update_points
+    procedure :: back_stress_points => j2_back_points
+    procedure :: has_history => j2_has_history
+  end type j2_material_t
+
+contains
+
+  pure subroutine j2_update_points(self, m, stress, back, eps_p, dstrain)
+    class(j2_material_t), intent(in) :: self
+    integer, intent(in) :: m
+    real(wp), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
+    real(wp), intent(in), contiguous :: dstrain(:, :)
+    call j2_plane_stress_update_points(m, stress, back, eps_p, dstrain, self%young, self%poisson, &
+                                       self%yield_stress, self%tangent_modulus, self%hardening_mixing)
+  end subroutine j2_update_points
+
+  !> Every point with kinematic hardening; none for perfect plasticity or purely isotropic
+  !> hardening, where the back stress stays zero (not storing it saves over a quarter of the
+  !> element state's memory traffic).
+  pure integer function j2_back_points(self, nip) result(points)
+    class(j2_material_t), intent(in) :: self
+    integer, intent(in) :: nip
+    points = 0
+    if (j2_kinematic_modulus(self%young, self%tangent_modulus, self%hardening_mixing) /= 0.0_wp) points = nip
+  end function j2_back_points
+
+  pure logical function j2_has_history(self) result(changes)
+    class(j2_material_t), intent(in) :: self
+    changes = .true.
+  end function j2_has_history
+
+end module j2_material

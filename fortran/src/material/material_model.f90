@@ -1,0 +1,45 @@
+!> The material family: an abstract plane-stress law that updates the stresses of a batch of
+!> through-thickness points at once (one dispatch per batch, so the members' loops vectorise), and
+!> says how much state per point it keeps. Members: elastic_material (elastic), j2_material
+!> (J2 plasticity with combined hardening); material_factory makes one from its schema name.
+module material_model
+  use paradyn_kinds, only: wp
+  implicit none
+  private
+  public :: material_t
+
+  type, abstract :: material_t
+    real(wp) :: young = 0.0_wp     !< Young's modulus (Pa)
+    real(wp) :: poisson = 0.0_wp   !< Poisson's ratio
+  contains
+    !> stress(1:m, 1:3) += the law's response to dstrain(1:m, 1:3) (engineering shear), updating
+    !> the back stress and plastic strain of points that store them
+    procedure(update_points_interface), deferred :: update_points
+    !> Through-thickness points that store a back stress, of nip (0 where it stays zero)
+    procedure(back_points_interface), deferred :: back_stress_points
+    !> Whether the law changes the back stress or the plastic strain (else they are not written)
+    procedure(history_interface), deferred :: has_history
+  end type material_t
+
+  abstract interface
+    pure subroutine update_points_interface(self, m, stress, back, eps_p, dstrain)
+      import :: material_t, wp
+      class(material_t), intent(in) :: self
+      integer, intent(in) :: m
+      real(wp), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
+      real(wp), intent(in), contiguous :: dstrain(:, :)
+    end subroutine update_points_interface
+
+    pure integer function back_points_interface(self, nip) result(points)
+      import :: material_t
+      class(material_t), intent(in) :: self
+      integer, intent(in) :: nip
+    end function back_points_interface
+
+    pure logical function history_interface(self) result(changes)
+      import :: material_t
+      class(material_t), intent(in) :: self
+    end function history_interface
+  end interface
+
+end module material_model
