@@ -29,11 +29,13 @@ module contact_interface
   use paradyn_kinds, only: wp, ip, i8
   use model_deck, only: deck_t
   use contact_buckets, only: bucket_grid_t, bucket_grid_build, nearest_master_node
-  use contact_search, only: node_segment_map, segment_candidates, shell_penalty_stiffness, penalty_force, &
-                            candidate_block, candidates_in_slave_order
+  use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order
+  use contact_pass, only: contact_pass_t
+  use contact_kind, only: contact_kind_holder_t
+  use contact_factory, only: contact_kind_from_name
   implicit none
   private
-  public :: contact_t, contact_setup, contact_pass_t
+  public :: contact_t, contact_setup
   public :: contact_begin, contact_global_search, contact_candidates
   public :: contact_local_search, contact_sum, contact_end, contact_sort_due, contact_movement
   public :: contact_restore
@@ -55,20 +57,9 @@ module contact_interface
   !> contact cannot make the central-difference step unstable however stiff the penalty or light
   !> the node (docs/theory.md; LS-DYNA's soft-constraint stiffness has the same m / dt^2 form).
   real(wp), parameter :: stable_spring_fraction = 0.25_wp
+  !> The kind of every contact definition of a deck of version 1 (the schema's only kind so far)
+  character(len=*), parameter :: contact_kind_name = 'node_to_segment'
 
-  type :: contact_pass_t
-    integer :: pair = 0
-    integer, allocatable :: slaves(:)          !< contact-node ids of the slave part's nodes
-    integer, allocatable :: masters(:)         !< contact-node ids of the master part's nodes
-    integer, allocatable :: segments(:, :)     !< (4, n) master segments, contact-node ids
-    integer, allocatable :: segment_start(:), segment_list(:)  !< contact node -> its segments
-    real(wp), allocatable :: stiffness(:)      !< penalty stiffness per segment (initial geometry)
-    real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted
-    integer, allocatable :: near_slaves(:)     !< slaves that can come near the master box before the next sort
-    integer :: n_near = 0
-    type(bucket_grid_t) :: grid
-    real(wp) :: bucket_size = 0, t_slave = 0, t_master = 0, mu_static = 0, mu_dynamic = 0, decay = 0
-  end type contact_pass_t
 
   type :: contact_t
     integer :: n_nodes = 0                     !< nodes of all parts in contact
@@ -89,7 +80,6 @@ module contact_interface
     logical :: gather_subset = .false.
     logical :: gather_all = .false.             !< never gather a subset (to check that it changes nothing)
     type(contact_pass_t), allocatable :: passes(:)
-    integer, allocatable :: pair_passes(:)     !< 1 or 2 per pass (from its pair)
     ! candidates of the step's passes: n_own found here, n_all shared by every rank (the caller
     ! fills all_pairs), n_candidates in pass order and, within a pass, slave order; pairs are
     ! (slave index, master index, pass)
@@ -117,7 +107,8 @@ contains
     type(contact_t), intent(out) :: c
     logical, allocatable :: in_contact(:)
     integer, allocatable :: contact_id(:)
-    integer :: i, k, p, n_max, e
+    integer :: i, k, p, n_max, e, n_passes
+    type(contact_kind_holder_t), allocatable :: kinds(:)
     allocate (in_contact(deck%n_nodes), source=.false.)
     do e = 1, deck%n_elements
       if (any(deck%contact_pairs == deck%element_part(e))) in_contact(deck%connectivity(:, e)) = .true.
@@ -128,18 +119,22 @@ contains
     contact_id(c%global_node) = [(i, i = 1, c%n_nodes)]
     allocate (c%x(3, c%n_nodes), c%v(3, c%n_nodes), c%force(3, c%n_nodes), c%force_old(3, c%n_nodes), &
               c%x_at_sort(3, c%n_nodes), source=0.0_wp)
-    allocate (c%passes(2 * deck%n_contacts), c%pair_passes(2 * deck%n_contacts))
     c%sort_interval = deck%contact_sort_interval
-    n_max = 1   ! slaves of all passes together
+    ! each definition's passes, one after the other, from its member of the contact family
+    allocate (kinds(deck%n_contacts))
+    n_passes = 0
     do k = 1, deck%n_contacts
-      do i = 1, 2
-        p = 2 * (k - 1) + i
-        call pass_setup(deck, k, deck%contact_pairs(i, k), deck%contact_pairs(3 - i, k), contact_id, &
-                        c%n_nodes, c%passes(p))
-        c%pair_passes(p) = deck%contact_passes(k)
-        n_max = n_max + size(c%passes(p)%slaves)
-      end do
+      call contact_kind_from_name(contact_kind_name, kinds(k)%kind)
+      n_passes = n_passes + kinds(k)%kind%pass_count()
     end do
+    allocate (c%passes(n_passes))
+    n_passes = 0
+    do k = 1, deck%n_contacts
+      p = kinds(k)%kind%pass_count()
+      call kinds(k)%kind%make_passes(deck, k, contact_id, c%n_nodes, c%passes(n_passes + 1:n_passes + p))
+      n_passes = n_passes + p
+    end do
+    n_max = 1 + sum([(size(c%passes(p)%slaves), p = 1, n_passes)])   ! slaves of all passes together
     allocate (c%record_nodes(5, n_max), source=0)
     allocate (c%record_force(3, 5, n_max), c%record_penetration(n_max), source=0.0_wp)
     allocate (c%nearest(n_max), c%own_pairs(3, n_max), c%all_pairs(3, n_max), c%candidates(3, n_max), &
@@ -147,49 +142,6 @@ contains
     allocate (c%touched(c%n_nodes), c%touched_old(c%n_nodes), c%mark(c%n_nodes), source=0)
     allocate (c%in_gather(c%n_nodes), source=.true.)
   end subroutine contact_setup
-
-  subroutine pass_setup(deck, pair, slave_part, master_part, contact_id, n_contact, pass)
-    type(deck_t), intent(in) :: deck
-    integer, intent(in) :: pair, slave_part, master_part, contact_id(:), n_contact
-    type(contact_pass_t), intent(out) :: pass
-    integer, allocatable :: elements(:)
-    logical, allocatable :: on_part(:)
-    integer :: e, s, n_entries
-    real(wp) :: xseg(3, 4), young, poisson
-    pass%pair = pair
-    allocate (on_part(deck%n_nodes), source=.false.)
-    do e = 1, deck%n_elements
-      if (deck%element_part(e) == slave_part) on_part(deck%connectivity(:, e)) = .true.
-    end do
-    pass%slaves = contact_id(pack([(e, e = 1, deck%n_nodes)], on_part))
-    on_part = .false.
-    elements = pack([(e, e = 1, deck%n_elements)], deck%element_part == master_part)
-    do s = 1, size(elements)
-      on_part(deck%connectivity(:, elements(s))) = .true.
-    end do
-    pass%masters = contact_id(pack([(e, e = 1, deck%n_nodes)], on_part))
-    allocate (pass%segments(4, size(elements)), pass%stiffness(size(elements)))
-    young = deck%young(deck%part_material(master_part))
-    poisson = deck%poisson(deck%part_material(master_part))
-    pass%bucket_size = 0.0_wp
-    do s = 1, size(elements)
-      pass%segments(:, s) = contact_id(deck%connectivity(:, elements(s)))
-      xseg = deck%coordinates(:, deck%connectivity(:, elements(s)))
-      pass%stiffness(s) = shell_penalty_stiffness(xseg, young, poisson, deck%contact_penalty_scale(pair))
-      pass%bucket_size = max(pass%bucket_size, norm2(xseg(:, 3) - xseg(:, 1)), norm2(xseg(:, 4) - xseg(:, 2)))
-    end do
-    allocate (pass%segment_start(n_contact + 1), pass%segment_list(4 * size(elements)))
-    call node_segment_map(int(n_contact, ip), int(size(elements), ip), pass%segments, pass%segment_start, &
-                          pass%segment_list, n_entries)
-    allocate (pass%x_sorted(3, size(pass%masters)), source=0.0_wp)
-    pass%near_slaves = [(e, e = 1, size(pass%slaves))]
-    pass%n_near = size(pass%slaves)
-    pass%t_slave = deck%thickness(slave_part)
-    pass%t_master = deck%thickness(master_part)
-    pass%mu_static = deck%contact_static_friction(pair)
-    pass%mu_dynamic = deck%contact_dynamic_friction(pair)
-    pass%decay = deck%contact_friction_decay(pair)
-  end subroutine pass_setup
 
   !> Start a step: keep the last forces, redo the bucket sorts if sort (contact_sort_due; the
   !> positions of all contact nodes are then current). Only the nodes touched in the last two
@@ -326,11 +278,11 @@ contains
     end do
   end function smallest_bucket
 
-  !> Pass p runs this cycle: always with passes = 2, every other cycle with the paper's swap.
+  !> Pass p runs this cycle: always, or every other cycle with the paper's swap.
   pure logical function contact_pass_active(c, p, cycle)
     type(contact_t), intent(in) :: c
     integer, intent(in) :: p, cycle
-    contact_pass_active = c%pair_passes(p) == 2 .or. modulo(cycle + p, 2) == 1
+    contact_pass_active = c%passes(p)%every_cycle .or. modulo(cycle + c%passes(p)%swap_index, 2) == 1
   end function contact_pass_active
 
   !> Add the records of the step (complete on this rank: the caller has shared them between

@@ -1,0 +1,22 @@
+!> Makes a member of the contact family from its schema name. Adding a member: its module, a case
+!> here, and its name in the schema.
+module contact_factory
+  use contact_kind, only: contact_kind_t
+  use node_to_segment_contact, only: node_to_segment_t
+  implicit none
+  private
+  public :: contact_kind_from_name
+
+contains
+
+  !> The member named name; not allocated for an unknown name.
+  subroutine contact_kind_from_name(name, kind)
+    character(len=*), intent(in) :: name
+    class(contact_kind_t), allocatable, intent(out) :: kind
+    select case (name)
+    case ('node_to_segment')
+      allocate (node_to_segment_t :: kind)
+    end select
+  end subroutine contact_kind_from_name
+
+end module contact_factory

@@ -1,0 +1,76 @@
+!> One contact pass: the slave nodes of one part against the shell segments of another, with
+!> the pass's bucket grid, penalty stiffnesses, thicknesses and friction. The members of the
+!> contact family (contact_kind) build their definitions' passes from these.
+module contact_pass
+  use paradyn_kinds, only: wp, ip
+  use model_deck, only: deck_t
+  use contact_buckets, only: bucket_grid_t
+  use contact_search, only: node_segment_map, shell_penalty_stiffness
+  implicit none
+  private
+  public :: contact_pass_t, pass_between_parts
+
+  type :: contact_pass_t
+    integer :: pair = 0                        !< the contact definition (deck entry) it comes from
+    logical :: every_cycle = .true.            !< runs every cycle, or (the paper's swap) every other one
+    integer :: swap_index = 1                  !< with every_cycle false: runs when cycle + swap_index is odd
+    integer, allocatable :: slaves(:)          !< contact-node ids of the slave part's nodes
+    integer, allocatable :: masters(:)         !< contact-node ids of the master part's nodes
+    integer, allocatable :: segments(:, :)     !< (4, n) master segments, contact-node ids
+    integer, allocatable :: segment_start(:), segment_list(:)  !< contact node -> its segments
+    real(wp), allocatable :: stiffness(:)      !< penalty stiffness per segment (initial geometry)
+    real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted
+    integer, allocatable :: near_slaves(:)     !< slaves that can come near the master box before the next sort
+    integer :: n_near = 0
+    type(bucket_grid_t) :: grid
+    real(wp) :: bucket_size = 0, t_slave = 0, t_master = 0, mu_static = 0, mu_dynamic = 0, decay = 0
+  end type contact_pass_t
+
+contains
+
+  !> The pass of contact definition `pair` with the nodes of slave_part against the shell
+  !> segments of master_part (contact_id: the contact-node id of each global node, 0 if none).
+  subroutine pass_between_parts(deck, pair, slave_part, master_part, contact_id, n_contact, pass)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: pair, slave_part, master_part, contact_id(:), n_contact
+    type(contact_pass_t), intent(out) :: pass
+    integer, allocatable :: elements(:)
+    logical, allocatable :: on_part(:)
+    integer :: e, s, n_entries
+    real(wp) :: xseg(3, 4), young, poisson
+    pass%pair = pair
+    allocate (on_part(deck%n_nodes), source=.false.)
+    do e = 1, deck%n_elements
+      if (deck%element_part(e) == slave_part) on_part(deck%connectivity(:, e)) = .true.
+    end do
+    pass%slaves = contact_id(pack([(e, e = 1, deck%n_nodes)], on_part))
+    on_part = .false.
+    elements = pack([(e, e = 1, deck%n_elements)], deck%element_part == master_part)
+    do s = 1, size(elements)
+      on_part(deck%connectivity(:, elements(s))) = .true.
+    end do
+    pass%masters = contact_id(pack([(e, e = 1, deck%n_nodes)], on_part))
+    allocate (pass%segments(4, size(elements)), pass%stiffness(size(elements)))
+    young = deck%young(deck%part_material(master_part))
+    poisson = deck%poisson(deck%part_material(master_part))
+    pass%bucket_size = 0.0_wp
+    do s = 1, size(elements)
+      pass%segments(:, s) = contact_id(deck%connectivity(:, elements(s)))
+      xseg = deck%coordinates(:, deck%connectivity(:, elements(s)))
+      pass%stiffness(s) = shell_penalty_stiffness(xseg, young, poisson, deck%contact_penalty_scale(pair))
+      pass%bucket_size = max(pass%bucket_size, norm2(xseg(:, 3) - xseg(:, 1)), norm2(xseg(:, 4) - xseg(:, 2)))
+    end do
+    allocate (pass%segment_start(n_contact + 1), pass%segment_list(4 * size(elements)))
+    call node_segment_map(int(n_contact, ip), int(size(elements), ip), pass%segments, pass%segment_start, &
+                          pass%segment_list, n_entries)
+    allocate (pass%x_sorted(3, size(pass%masters)), source=0.0_wp)
+    pass%near_slaves = [(e, e = 1, size(pass%slaves))]
+    pass%n_near = size(pass%slaves)
+    pass%t_slave = deck%thickness(slave_part)
+    pass%t_master = deck%thickness(master_part)
+    pass%mu_static = deck%contact_static_friction(pair)
+    pass%mu_dynamic = deck%contact_dynamic_friction(pair)
+    pass%decay = deck%contact_friction_decay(pair)
+  end subroutine pass_between_parts
+
+end module contact_pass
