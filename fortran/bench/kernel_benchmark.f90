@@ -5,8 +5,7 @@
 !> microseconds per element-cycle. Gathers and the nodal sum are not included (the engine's
 !> element-cycles per second include them).
 program kernel_benchmark
-  use, intrinsic :: iso_fortran_env, only: int64
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
   use shell_blt, only: shell_properties_t, blt_internal_forces, stress_components, hourglass_components
   use material_factory, only: material_from_name
   use element_groups, only: group_size
@@ -48,7 +47,7 @@ contains
     real(wp), allocatable :: e_int(:, :), e_hg(:, :)
     real(wp) :: r(3)
     integer :: g, i, k, c, inverted
-    integer(int64) :: t0, t1, rate
+    integer(i8) :: t0, t1, rate
     allocate (x(group_size, 3, 4, n_groups), v(group_size, 3, 4, n_groups), w(group_size, 3, 4, n_groups))
     allocate (stress(group_size, stress_components, 5, n_groups), back(group_size, 3, 5, n_groups))
     allocate (eps_p(group_size, 5, n_groups), hg(group_size, hourglass_components, n_groups))

@@ -7,6 +7,7 @@
 !> written), 1 otherwise.
 program paradyn_engine
   use mpi_f08
+  use, intrinsic :: iso_c_binding, only: c_int
   use hdf5, only: h5open_f, h5close_f
   use paradyn_kinds, only: wp
   use model_deck, only: deck_t
@@ -17,6 +18,13 @@ program paradyn_engine
   use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
   use stop_signals, only: install_stop_handlers
   implicit none
+
+  interface
+    subroutine c_exit(status) bind(C, name='exit')
+      import :: c_int
+      integer(c_int), value :: status
+    end subroutine c_exit
+  end interface
 
   type(deck_t) :: deck
   type(solver_t) :: solver
@@ -186,8 +194,7 @@ contains
     call h5close_f(err)
     if (comm /= MPI_COMM_NULL) call MPI_Comm_free(comm)
     call MPI_Finalize()
-    if (code == 0) stop
-    stop code, quiet=.true.
+    call c_exit(int(code, c_int))   ! the status alone, without the banner that STOP prints
   end subroutine finish
 
 end program paradyn_engine

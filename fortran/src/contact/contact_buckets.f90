@@ -39,8 +39,9 @@ contains
 
   !> Sort n master nodes coords(:, 1:n) into buckets of edge at least bucket_size. A size that
   !> is not positive selects about one node per bucket: edge = (V / n)^(1/k) with V the product
-  !> of the k nonzero extents of the box (so a flat sheet of nodes gets square buckets). The grid's arrays are reallocated only when their sizes change, so rebuilding the
-  !> grid every step for the same master set allocates nothing after the first build.
+  !> of the k nonzero extents of the box (so a flat sheet of nodes gets square buckets). The grid's
+  !> arrays are reallocated only when their sizes change, so rebuilding the grid every step for the
+  !> same master set allocates nothing after the first build.
   pure subroutine bucket_grid_build(n, coords, bucket_size, grid)
     integer(ip), intent(in) :: n
     real(wp), intent(in) :: coords(3, n), bucket_size

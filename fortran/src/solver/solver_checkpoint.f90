@@ -106,7 +106,8 @@ contains
       call contact_checkpoint_rows(s%contact, contact)
       call create_dataset(file, 'contact', H5T_NATIVE_DOUBLE, [int(contact_checkpoint_width, hsize_t), nc])
       call write_rows(file, transfer, 'contact', [int(contact_checkpoint_width, hsize_t), nc], &
-                      row_runs(pack([(j, j = 1, int(nc))], s%rank == 0)), 0, real_values=reshape(contact, [size(contact)]))
+                      row_runs(pack([(j, j = 1, int(nc))], s%rank == 0)), 0, &
+                      real_values=reshape(contact, [size(contact)]))
     end if
     call phdf5_close(file, transfer)
     call MPI_Barrier(s%halo%comm)
@@ -164,11 +165,13 @@ contains
         '; give the .checkpoint.h5 file written by this engine'
       return
     end if
-    if (n_nodes /= s%control%n_nodes .or. n_elements /= s%control%n_elements .or. n_width /= element_row_width(s%control%max_points) &
+    if (n_nodes /= s%control%n_nodes .or. n_elements /= s%control%n_elements .or. &
+        n_width /= element_row_width(s%control%max_points) &
         .or. dt /= s%clock%dt) then
       call phdf5_close(file, transfer)
       write (message, '(a,i0,a,i0,a,es12.5,a)') 'the checkpoint '//path//' was written for another deck (', &
-        n_nodes, ' nodes, ', n_elements, ' elements, time step ', dt, ' s); restart with the deck of the interrupted run'
+        n_nodes, ' nodes, ', n_elements, ' elements, time step ', dt, &
+        ' s); restart with the deck of the interrupted run'
       return
     end if
     call read_real_attribute(file, 'time', s%clock%time, err)
@@ -209,7 +212,8 @@ contains
     if (s%has_contact) then
       nc = int(s%contact%c%n_nodes, hsize_t)
       allocate (contact(contact_checkpoint_width, nc))
-      call read_rows(file, transfer, 'contact', [int(contact_checkpoint_width, hsize_t), nc], row_runs([(j, j = 1, int(nc))]), &
+      call read_rows(file, transfer, 'contact', [int(contact_checkpoint_width, hsize_t), nc], &
+                     row_runs([(j, j = 1, int(nc))]), &
                      contact, err)
       call contact_checkpoint_restore(s%contact, contact, last_sort, energy, penetration)
     end if
