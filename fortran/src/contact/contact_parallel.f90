@@ -15,9 +15,10 @@ module contact_parallel
   use model_deck, only: deck_t
   use domain_decomposition, only: domain_t
   use phase_timers, only: phase_timers_t, wall_clock
-  use contact_interface, only: contact_t, contact_setup, contact_begin, contact_global_search, &
-                               contact_candidates, contact_local_search, contact_sum, contact_end, &
-                               contact_sort_due, contact_movement, contact_restore
+  use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
+                               contact_restore
+  use contact_stages, only: contact_global_search, contact_candidates, contact_local_search, contact_sum, &
+                            contact_end
   use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, &
                               allgather_node_subset, record_share_t, record_share_setup, &
                               share_contact_records, candidate_share_t, candidate_share_setup, &

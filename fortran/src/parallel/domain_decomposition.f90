@@ -34,6 +34,12 @@ module domain_decomposition
     integer, allocatable :: group_first(:), group_count(:), group_part(:)
   end type domain_t
 
+  !> Which element corners and which ranks meet at each global node (CSR by node).
+  type :: incidence_t
+    integer, allocatable :: corner_start(:), corner(:)   !< incident corners, ascending by element
+    integer, allocatable :: rank_start(:), ranks(:)      !< ranks touching the node, ascending
+  end type incidence_t
+
 contains
 
   !> Rank owning global element e of n_elements in contiguous blocks of near-equal size.
@@ -183,60 +189,81 @@ contains
     integer, intent(in) :: n_nodes, n_elements, n_ranks, rank
     integer, intent(in) :: connectivity(4, n_elements), element_part(n_elements), owner(n_elements)
     type(domain_t), intent(out) :: dom
-    ! allocatable rather than automatic: these scale with the global mesh and must not live on the stack
-    integer, allocatable :: inc_start(:), inc_corner(:), rank_start(:)
-    integer, allocatable :: global_to_local(:), ghost_of(:), node_ranks(:), fill(:)
-    integer :: e, c, n, s, r, k, le, count, total
-
-    allocate (inc_start(n_nodes + 1), inc_corner(4 * n_elements))
-    allocate (rank_start(n_nodes + 1), global_to_local(n_nodes), ghost_of(4 * n_elements))
+    type(incidence_t) :: inc
+    integer, allocatable :: global_to_local(:), ghost_of(:)
     dom%rank = rank
     dom%n_ranks = n_ranks
+    call build_incidence(n_nodes, n_elements, connectivity, owner, inc)
+    call local_elements_and_nodes(n_nodes, n_elements, connectivity, owner, inc, dom, global_to_local)
+    call neighbour_lists(n_elements, connectivity, owner, inc, dom, ghost_of)
+    call assembly_lists(owner, inc, ghost_of, dom)
+    call build_groups(dom, element_part)
+  end subroutine decompose
 
-    ! incident corners of every node, ascending by element (corner id = 4 (e - 1) + c)
-    inc_start = 0
+  !> The incident corners of every node, ascending by element (corner id = 4 (e - 1) + c), and
+  !> the ranks touching it (distinct owners of its incident elements, ascending). Allocatable
+  !> rather than automatic: these scale with the global mesh and must not live on the stack.
+  pure subroutine build_incidence(n_nodes, n_elements, connectivity, owner, inc)
+    integer, intent(in) :: n_nodes, n_elements, connectivity(4, n_elements), owner(n_elements)
+    type(incidence_t), intent(out) :: inc
+    integer, allocatable :: fill(:)
+    integer :: e, c, n, s, r, total
+    allocate (inc%corner_start(n_nodes + 1), inc%corner(4 * n_elements), source=0)
     do e = 1, n_elements
       do c = 1, 4
-        inc_start(connectivity(c, e) + 1) = inc_start(connectivity(c, e) + 1) + 1
+        inc%corner_start(connectivity(c, e) + 1) = inc%corner_start(connectivity(c, e) + 1) + 1
       end do
     end do
-    inc_start(1) = 1
+    inc%corner_start(1) = 1
     do n = 1, n_nodes
-      inc_start(n + 1) = inc_start(n + 1) + inc_start(n)
+      inc%corner_start(n + 1) = inc%corner_start(n + 1) + inc%corner_start(n)
     end do
-    fill = inc_start(1:n_nodes)
+    fill = inc%corner_start(1:n_nodes)
     do e = 1, n_elements
       do c = 1, 4
         n = connectivity(c, e)
-        inc_corner(fill(n)) = 4 * (e - 1) + c
+        inc%corner(fill(n)) = 4 * (e - 1) + c
         fill(n) = fill(n) + 1
       end do
     end do
-
-    ! ranks touching each node (distinct owners of its incident elements, ascending)
-    allocate (node_ranks(4 * n_elements))
-    rank_start(1) = 1
+    allocate (inc%rank_start(n_nodes + 1), inc%ranks(4 * n_elements))
+    inc%rank_start(1) = 1
     total = 0
     do n = 1, n_nodes
-      do s = inc_start(n), inc_start(n + 1) - 1
-        r = owner((inc_corner(s) - 1) / 4 + 1)
-        if (.not. any(node_ranks(rank_start(n):total) == r)) then
+      do s = inc%corner_start(n), inc%corner_start(n + 1) - 1
+        r = owner((inc%corner(s) - 1) / 4 + 1)
+        if (.not. any(inc%ranks(inc%rank_start(n):total) == r)) then
           total = total + 1
-          node_ranks(total) = r
+          inc%ranks(total) = r
         end if
       end do
-      call sort_ascending(node_ranks(rank_start(n):total))
-      rank_start(n + 1) = total + 1
+      call sort_ascending(inc%ranks(inc%rank_start(n):total))
+      inc%rank_start(n + 1) = total + 1
     end do
+  end subroutine build_incidence
 
-    ! local elements and nodes
-    dom%n_elements = count_equal(owner, rank)
+  !> Whether rank r holds an element around global node n.
+  pure logical function touches(inc, node, r)
+    type(incidence_t), intent(in) :: inc
+    integer, intent(in) :: node, r
+    touches = any(inc%ranks(inc%rank_start(node):inc%rank_start(node + 1) - 1) == r)
+  end function touches
+
+  !> This rank's elements and the nodes they touch, in ascending global order; a node is owned by
+  !> the lowest rank touching it.
+  pure subroutine local_elements_and_nodes(n_nodes, n_elements, connectivity, owner, inc, dom, global_to_local)
+    integer, intent(in) :: n_nodes, n_elements, connectivity(4, n_elements), owner(n_elements)
+    type(incidence_t), intent(in) :: inc
+    type(domain_t), intent(inout) :: dom
+    integer, allocatable, intent(out) :: global_to_local(:)
+    integer :: e, n, le
+    dom%n_elements = count_equal(owner, dom%rank)
     allocate (dom%elements(dom%n_elements))
-    dom%elements = pack([(e, e = 1, n_elements)], owner == rank)
-    global_to_local = 0
+    dom%elements = pack([(e, e = 1, n_elements)], owner == dom%rank)
+    allocate (global_to_local(n_nodes), source=0)
     dom%n_nodes = 0
     do n = 1, n_nodes
-      if (touches(n, rank)) then
+      if (touches(inc, n, dom%rank)) then
         dom%n_nodes = dom%n_nodes + 1
         global_to_local(n) = dom%n_nodes
       end if
@@ -245,49 +272,55 @@ contains
     do n = 1, n_nodes
       if (global_to_local(n) > 0) then
         dom%nodes(global_to_local(n)) = n
-        dom%node_owned(global_to_local(n)) = merge(1, 0, node_ranks(rank_start(n)) == rank)
+        dom%node_owned(global_to_local(n)) = merge(1, 0, inc%ranks(inc%rank_start(n)) == dom%rank)
       end if
     end do
     allocate (dom%connectivity(4, dom%n_elements))
     do le = 1, dom%n_elements
       dom%connectivity(:, le) = global_to_local(connectivity(:, dom%elements(le)))
     end do
+  end subroutine local_elements_and_nodes
 
-    ! neighbours: every other rank that touches one of our nodes
-    dom%n_neighbours = 0
+  !> Neighbours (every other rank that touches one of our nodes) and, per neighbour, the corners
+  !> we send (ours on nodes it also holds, ascending element and corner) and the ghost slots we
+  !> receive into (its corners on nodes we hold, in the order it sends them: its local elements
+  !> are its owned elements in ascending global id, whatever the owner array). ghost_of(corner)
+  !> is the slot of a received global corner.
+  pure subroutine neighbour_lists(n_elements, connectivity, owner, inc, dom, ghost_of)
+    integer, intent(in) :: n_elements, connectivity(4, n_elements), owner(n_elements)
+    type(incidence_t), intent(in) :: inc
+    type(domain_t), intent(inout) :: dom
+    integer, allocatable, intent(out) :: ghost_of(:)
+    integer :: e, c, r, k, le, count
     allocate (dom%neighbour(0))
-    do r = 0, n_ranks - 1
-      if (r == rank) cycle
+    do r = 0, dom%n_ranks - 1
+      if (r == dom%rank) cycle
       do le = 1, dom%n_nodes
-        if (touches(dom%nodes(le), r)) then
+        if (touches(inc, dom%nodes(le), r)) then
           dom%neighbour = [dom%neighbour, r]
           exit
         end if
       end do
     end do
     dom%n_neighbours = size(dom%neighbour)
-
-    ! send lists: our corners on nodes that neighbour r also holds, ascending (element, corner)
     allocate (dom%send_start(dom%n_neighbours + 1), dom%recv_start(dom%n_neighbours + 1))
     allocate (dom%send_slot(0), dom%recv_slot(0))
+    allocate (ghost_of(4 * n_elements), source=0)
     dom%send_start(1) = 1
     dom%recv_start(1) = 1
-    ghost_of = 0
     count = 0
     do k = 1, dom%n_neighbours
       r = dom%neighbour(k)
       do le = 1, dom%n_elements
         do c = 1, 4
-          if (touches(connectivity(c, dom%elements(le)), r)) dom%send_slot = [dom%send_slot, 4 * (le - 1) + c]
+          if (touches(inc, connectivity(c, dom%elements(le)), r)) dom%send_slot = [dom%send_slot, 4 * (le - 1) + c]
         end do
       end do
       dom%send_start(k + 1) = size(dom%send_slot) + 1
-      ! receive lists: r's corners on nodes we hold, in the order r sends them (r's local
-      ! elements are its owned elements in ascending global id, whatever the owner array)
       do e = 1, n_elements
         if (owner(e) /= r) cycle
         do c = 1, 4
-          if (touches(connectivity(c, e), rank)) then
+          if (touches(inc, connectivity(c, e), dom%rank)) then
             count = count + 1
             ghost_of(4 * (e - 1) + c) = 4 * dom%n_elements + count
             dom%recv_slot = [dom%recv_slot, 4 * dom%n_elements + count]
@@ -297,56 +330,55 @@ contains
       dom%recv_start(k + 1) = size(dom%recv_slot) + 1
     end do
     dom%n_ghost_slots = count
+  end subroutine neighbour_lists
 
-    ! assembly lists: every incident corner of a local node, ascending global element order
+  !> Assembly lists: every incident corner of a local node, ascending global element order (the
+  !> fixed order of the nodal sum, the same on every layout).
+  pure subroutine assembly_lists(owner, inc, ghost_of, dom)
+    integer, intent(in) :: owner(:), ghost_of(:)
+    type(incidence_t), intent(in) :: inc
+    type(domain_t), intent(inout) :: dom
+    integer :: e, c, n, s, k, le
     allocate (dom%assembly_start(dom%n_nodes + 1))
     dom%assembly_start(1) = 1
     do le = 1, dom%n_nodes
       n = dom%nodes(le)
-      dom%assembly_start(le + 1) = dom%assembly_start(le) + inc_start(n + 1) - inc_start(n)
+      dom%assembly_start(le + 1) = dom%assembly_start(le) + inc%corner_start(n + 1) - inc%corner_start(n)
     end do
     allocate (dom%assembly_slot(dom%assembly_start(dom%n_nodes + 1) - 1))
     k = 0
     do le = 1, dom%n_nodes
       n = dom%nodes(le)
-      do s = inc_start(n), inc_start(n + 1) - 1
+      do s = inc%corner_start(n), inc%corner_start(n + 1) - 1
         k = k + 1
-        e = (inc_corner(s) - 1) / 4 + 1
-        c = inc_corner(s) - 4 * (e - 1)
-        if (owner(e) == rank) then
-          dom%assembly_slot(k) = 4 * (local_element(e) - 1) + c
+        e = (inc%corner(s) - 1) / 4 + 1
+        c = inc%corner(s) - 4 * (e - 1)
+        if (owner(e) == dom%rank) then
+          dom%assembly_slot(k) = 4 * (local_element(dom, e) - 1) + c
         else
-          dom%assembly_slot(k) = ghost_of(inc_corner(s))
+          dom%assembly_slot(k) = ghost_of(inc%corner(s))
         end if
       end do
     end do
+  end subroutine assembly_lists
 
-    call build_groups(dom, element_part)
-
-  contains
-
-    pure logical function touches(node, r)
-      integer, intent(in) :: node, r
-      touches = any(node_ranks(rank_start(node):rank_start(node + 1) - 1) == r)
-    end function touches
-
-    pure integer function local_element(e_global)
-      integer, intent(in) :: e_global
-      integer :: lo, hi, mid
-      lo = 1
-      hi = dom%n_elements
-      do while (lo < hi)
-        mid = (lo + hi) / 2
-        if (dom%elements(mid) < e_global) then
-          lo = mid + 1
-        else
-          hi = mid
-        end if
-      end do
-      local_element = lo
-    end function local_element
-
-  end subroutine decompose
+  !> Local id of a global element this rank owns (binary search: dom%elements ascends).
+  pure integer function local_element(dom, e_global)
+    type(domain_t), intent(in) :: dom
+    integer, intent(in) :: e_global
+    integer :: lo, hi, mid
+    lo = 1
+    hi = dom%n_elements
+    do while (lo < hi)
+      mid = (lo + hi) / 2
+      if (dom%elements(mid) < e_global) then
+        lo = mid + 1
+      else
+        hi = mid
+      end if
+    end do
+    local_element = lo
+  end function local_element
 
   !> Groups of at most group_size consecutive local elements of one part.
   pure subroutine build_groups(dom, element_part)

@@ -1,0 +1,243 @@
+!> The stages of a contact step after the sort, over the state of contact_interface: the global
+!> search (each rank's cyclic share of the slaves finds its nearest master nodes), the candidates
+!> in pass and slave order with this rank's block of them, the local search of the block (segment,
+!> closest point, penalty force), and the sum of the records in candidate order. No MPI here: the
+!> caller (contact_parallel) shares candidates and records between the stages.
+module contact_stages
+  use paradyn_kinds, only: wp, ip
+  use contact_buckets, only: nearest_master_node
+  use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order
+  use contact_pass, only: contact_pass_t
+  use contact_interface, only: contact_t, clock_seconds
+  implicit none
+  private
+  public :: contact_global_search, contact_candidates, contact_local_search, contact_sum, contact_end
+
+  !> Below this slip speed friction falls linearly to zero (a viscous regularisation of stick
+  !> that needs no history per contact; a body at rest on a slope creeps at most this fast).
+  real(wp), parameter :: stick_speed = 1.0e-3_wp  ! m/s
+  !> The penalty spring of a contact never exceeds this fraction of m / dt^2, m the lightest node
+  !> of the slave and its segment: the contact frequency then stays below 0.63 / dt, so the
+  !> contact cannot make the central-difference step unstable however stiff the penalty or light
+  !> the node (docs/theory.md; LS-DYNA's soft-constraint stiffness has the same m / dt^2 form).
+  real(wp), parameter :: stable_spring_fraction = 0.25_wp
+
+contains
+
+  !> Pass p runs this cycle: always, or every other cycle with the paper's swap.
+  pure logical function contact_pass_active(c, p, cycle)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: p, cycle
+    contact_pass_active = c%passes(p)%every_cycle .or. modulo(cycle + c%passes(p)%swap_index, 2) == 1
+  end function contact_pass_active
+
+  !> Add the records of the step (complete on this rank: the caller has shared them between
+  !> ranks) to the contact forces, in candidate order (pass, then slave), the same for any layout.
+  subroutine contact_sum(c, clock)
+    type(contact_t), intent(inout) :: c
+    procedure(clock_seconds) :: clock
+    integer :: j, k, node
+    real(wp) :: t0
+    t0 = clock()
+    do j = 1, c%n_candidates
+      if (c%record_nodes(1, j) == 0) cycle
+      c%max_penetration = max(c%max_penetration, c%record_penetration(j))
+      do k = 1, 5
+        node = c%record_nodes(k, j)
+        if (c%mark(node) /= c%stamp) then
+          c%mark(node) = c%stamp
+          c%n_touched = c%n_touched + 1
+          c%touched(c%n_touched) = node
+        end if
+        c%force(:, node) = c%force(:, node) + c%record_force(:, k, j)
+      end do
+    end do
+    c%time_force = c%time_force + clock() - t0
+  end subroutine contact_sum
+
+  !> End a step: the contact energy advances by minus the work of the mean contact force over
+  !> the last step dt (the velocities are those of that step). Only nodes touched in this step
+  !> or the last have a force; they are summed in the order of the lists, which is the same on
+  !> every rank and for any number of threads.
+  subroutine contact_end(c, cycle, dt)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: cycle
+    real(wp), intent(in) :: dt
+    integer :: i, j
+    real(wp) :: work
+    if (cycle == 0) return
+    work = 0.0_wp
+    do i = 1, c%n_touched
+      j = c%touched(i)
+      work = work + dot_product(c%v(:, j), c%force_old(:, j) + c%force(:, j))
+    end do
+    do i = 1, c%n_touched_old
+      j = c%touched_old(i)
+      if (c%mark(j) == c%stamp) cycle   ! in both lists: counted above
+      work = work + dot_product(c%v(:, j), c%force_old(:, j))
+    end do
+    c%energy = c%energy - 0.5_wp * dt * work
+  end subroutine contact_end
+
+  !> Stage 1, the global search, for every pass active this cycle: this rank's share of the
+  !> slaves that can be near (near_slaves; all slaves with a fixed sort interval), dealt
+  !> node-wise cyclically to the ranks (the k-th to rank mod(k - 1, n_ranks)) and, one at a time,
+  !> to the threads (schedule(static, 1)), as in the paper; the passes' shares run as one loop. A
+  !> slave near the master box gets its nearest master node; the pairs (place in near_slaves,
+  !> nearest master, pass) found are own_pairs(:, 1:n_own), by pass and ascending within one.
+  subroutine contact_global_search(c, cycle, clock)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: cycle
+    procedure(clock_seconds) :: clock
+    integer :: i, j, p, found, total, n_mine(size(c%passes)), offset(size(c%passes) + 1)
+    real(wp) :: x(3), t0
+    t0 = clock()
+    offset(1) = 0
+    do p = 1, size(c%passes)
+      n_mine(p) = 0
+      if (contact_pass_active(c, p, cycle)) &
+        n_mine(p) = max(0, (c%passes(p)%n_near - c%rank + c%n_ranks - 1) / c%n_ranks)
+      offset(p + 1) = offset(p) + n_mine(p)
+    end do
+    total = offset(size(offset))
+    ! cleared first, so the threads write only the few slaves near the box (writes to
+    ! neighbouring slaves from different threads would fight over their cache line)
+    c%nearest(1:total) = 0
+    !$omp parallel do schedule(static, 1) default(shared) private(i, j, p, x, found)
+    do i = 1, total
+      p = pass_of(offset, i)
+      associate (pass => c%passes(p))
+      j = pass%near_slaves(c%rank + 1 + (i - offset(p) - 1) * c%n_ranks)
+      x = c%x(:, pass%slaves(j))
+      if (near_box(x, pass)) then
+        found = nearest_master_node(pass%grid, pass%x_sorted, x, &
+                                    max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
+        if (found > 0) c%nearest(i) = found
+      end if
+      end associate
+    end do
+    !$omp end parallel do
+    c%n_own = 0
+    do p = 1, size(c%passes)
+      do i = offset(p) + 1, offset(p + 1)
+        if (c%nearest(i) == 0) cycle
+        c%n_own = c%n_own + 1
+        c%own_pairs(:, c%n_own) = [c%rank + 1 + (i - offset(p) - 1) * c%n_ranks, c%nearest(i), p]
+      end do
+    end do
+    c%time_search = c%time_search + clock() - t0
+  end subroutine contact_global_search
+
+  !> The pass whose share of the global search holds entry i (offset: where each pass starts).
+  pure integer function pass_of(offset, i) result(p)
+    integer, intent(in) :: offset(:), i
+    p = 1
+    do while (i > offset(p + 1))
+      p = p + 1
+    end do
+  end function pass_of
+
+  !> The candidates of the step's passes, pass after pass and in ascending slave order within a
+  !> pass, and this rank's block of them. With one rank they are own_pairs; with more, the
+  !> caller has gathered every rank's pairs in all_pairs(:, 1:n_all) (halo_exchange's
+  !> share_contact_candidates). The pairs name a slave by its place in near_slaves, which is
+  !> ascending, so ordering costs O(n_near) per pass, not O(n_slaves).
+  subroutine contact_candidates(c, cycle, clock)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: cycle
+    procedure(clock_seconds) :: clock
+    real(wp) :: t0
+    integer :: k, p, n_pass, n_found, first
+    t0 = clock()
+    if (c%n_ranks == 1) then
+      c%n_candidates = c%n_own
+      c%candidates(:, 1:c%n_own) = c%own_pairs(:, 1:c%n_own)
+    else
+      c%n_candidates = 0
+      do p = 1, size(c%passes)
+        if (.not. contact_pass_active(c, p, cycle)) cycle
+        n_pass = 0
+        do k = 1, c%n_all
+          if (c%all_pairs(3, k) /= p) cycle
+          n_pass = n_pass + 1
+          c%pass_pairs(:, n_pass) = c%all_pairs(1:2, k)
+        end do
+        first = c%n_candidates + 1
+        call candidates_in_slave_order(int(c%passes(p)%n_near, ip), int(n_pass, ip), c%pass_pairs, &
+                                       c%nearest, n_found, c%candidates(1:2, first:))
+        c%candidates(3, first:first + n_found - 1) = p
+        c%n_candidates = c%n_candidates + n_found
+      end do
+    end if
+    do k = 1, c%n_candidates
+      c%candidates(1, k) = c%passes(c%candidates(3, k))%near_slaves(c%candidates(1, k))
+    end do
+    call candidate_block(int(c%n_candidates, ip), int(c%n_ranks, ip), int(c%rank, ip), c%first, c%last)
+    do p = 1, size(c%passes)
+      if (contact_pass_active(c, p, cycle)) c%n_pass_steps = c%n_pass_steps + 1
+    end do
+    c%candidates_total = c%candidates_total + c%n_candidates
+    c%candidates_searched = c%candidates_searched + max(0, c%last - c%first + 1)
+    c%time_search = c%time_search + clock() - t0
+  end subroutine contact_candidates
+
+  !> Stage 2 on this rank's block of the candidates: the master segment around the nearest
+  !> master node, the closest point on it and the penalty force. The candidates of the block
+  !> cost about the same, and schedule(static, 1) deals them cyclically to the threads (measured
+  !> against static and dynamic chunks: docs/performance.md). Every candidate outside the block
+  !> gets an empty record, to be filled by the sharing of records between ranks.
+  subroutine contact_local_search(c, clock)
+    type(contact_t), intent(inout) :: c
+    procedure(clock_seconds) :: clock
+    integer :: k, node, segment
+    real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
+    real(wp) :: penetration, t0, stiffness
+    logical :: touching
+    t0 = clock()
+    c%record_nodes(1, 1:c%first - 1) = 0
+    c%record_nodes(1, c%last + 1:c%n_candidates) = 0
+    !$omp parallel do schedule(static, 1) default(shared) &
+    !$omp private(k, node, segment, x, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
+    !$omp penetration, touching, stiffness)
+    do k = c%first, c%last
+      c%record_nodes(:, k) = 0
+      associate (pass => c%passes(c%candidates(3, k)))
+      node = pass%slaves(c%candidates(1, k))
+      x = c%x(:, node)
+      call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
+                              int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
+                              pass%segment_list, segment, xi, eta, xc, normal)
+      if (segment > 0) then
+        xseg = c%x(:, pass%segments(:, segment))
+        vseg = c%v(:, pass%segments(:, segment))
+        stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 &
+                        * min(c%mass(node), minval(c%mass(pass%segments(:, segment)))))
+        call penalty_force(x, pass%t_slave, xseg, pass%t_master, stiffness, f_slave, &
+                           f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &
+                           mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
+                           v_slip=stick_speed, rounded_edges=.true.)
+        if (touching) then
+          c%record_penetration(k) = penetration
+          c%record_nodes(1, k) = node
+          c%record_nodes(2:5, k) = pass%segments(:, segment)
+          c%record_force(:, 1, k) = f_slave
+          c%record_force(:, 2:5, k) = f_master
+        end if
+      end if
+      end associate
+    end do
+    !$omp end parallel do
+    c%time_force = c%time_force + clock() - t0
+  end subroutine contact_local_search
+
+  !> Cheap rejection: a slave farther than a bucket from the master nodes' sorted bounding box
+  !> cannot touch (an idle pair costs one box test per slave).
+  pure logical function near_box(p, pass)
+    real(wp), intent(in) :: p(3)
+    type(contact_pass_t), intent(in) :: pass
+    real(wp) :: margin
+    margin = pass%bucket_size + pass%t_slave + pass%t_master
+    near_box = all(p >= pass%grid%lower - margin .and. p <= pass%grid%upper + margin)
+  end function near_box
+
+end module contact_stages
