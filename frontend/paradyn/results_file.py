@@ -31,7 +31,20 @@ FRAME_DATASETS = {
     "von_mises": "/frames/element_von_mises",
     "plastic_strain": "/frames/element_plastic_strain",
 }
-FRAME_ON_NODES = ("displacement", "velocity")  # the other frame fields are per element
+
+
+@dataclass(frozen=True)
+class FrameArrays:
+    """The fields of one frame (SI units): ``displacement`` and ``velocity`` (n_nodes, 3),
+    ``membrane_stress`` (n_elements, 3), ``von_mises`` and ``plastic_strain`` (n_elements,)."""
+
+    index: int
+    time: float
+    displacement: np.ndarray
+    velocity: np.ndarray
+    membrane_stress: np.ndarray
+    von_mises: np.ndarray
+    plastic_strain: np.ndarray
 
 
 class ResultsError(ValueError):
@@ -244,20 +257,6 @@ def strings(value: Any, one: bool = False) -> list[str]:
         items = list(np.asarray(value).reshape(-1))
     out = [v.decode("utf-8", "replace") if isinstance(v, bytes) else str(v) for v in items]
     return out[:1] if one else out
-
-
-@dataclass(frozen=True)
-class FrameArrays:
-    """The fields of one frame (SI units): ``displacement`` and ``velocity`` (n_nodes, 3),
-    ``membrane_stress`` (n_elements, 3), ``von_mises`` and ``plastic_strain`` (n_elements,)."""
-
-    index: int
-    time: float
-    displacement: np.ndarray
-    velocity: np.ndarray
-    membrane_stress: np.ndarray
-    von_mises: np.ndarray
-    plastic_strain: np.ndarray
 
 
 def read_frame_row(h5: h5py.File, name: str, k: int, tail: tuple[int, ...]) -> np.ndarray:

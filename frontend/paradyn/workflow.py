@@ -11,7 +11,7 @@ import sys
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, Union
+from typing import Any
 
 from . import deck, launch, scene
 from .engine_process import Progress, ProgressBar
@@ -19,7 +19,7 @@ from .postprocess import post_process
 from .reading import Results, read
 from .runners import Runner, SbatchRunner
 
-Source = Union[str, Path, scene.Scene, deck.Model]
+Source = str | Path | scene.Scene | deck.Model  # what paradyn.run accepts
 DECK_SUFFIXES = (".h5", ".hdf5")
 
 
