@@ -129,3 +129,25 @@ def test_run_engine_takes_a_runner_by_name(tmp_path: Path) -> None:
     with h5py.File(tmp_path / "direct.h5") as a, h5py.File(tmp_path / "mpirun.h5") as b:
         for name in a["history"]:
             assert np.array_equal(a["history"][name][()], b["history"][name][()]), name
+
+
+def test_ctrl_c_while_a_progress_line_is_handled_still_stops_with_a_checkpoint(tmp_path: Path) -> None:
+    """Ctrl-C can land while the launcher handles a line (the progress bar writing) rather than
+    while it waits for one: the engine must still get SIGUSR1, checkpoint and exit with status 4
+    (docs/outputs.md, "Checkpoints and restarts")."""
+    from paradyn import deck, scene
+
+    model = scene.build_model(scene.load_scene(Path(__file__).resolve().parents[1] / "cases" / "small_plate" / "scene.toml"))
+    model.control.end_time, model.control.output_interval = 0.2, 2e-3
+    model.control.history_interval, model.control.progress_interval = 2e-4, 1e-3
+    deck_path = deck.write_deck(model, tmp_path / "deck.h5")
+    seen = []
+
+    def interrupted_once(progress: object) -> None:
+        seen.append(progress)
+        if len(seen) == 1:
+            raise KeyboardInterrupt
+
+    with pytest.raises(EngineError, match="stopped by a signal") as error:
+        launch.run_engine(deck_path, tmp_path / "results.h5", 1, 1, on_progress=interrupted_once)
+    assert error.value.exit_code == 4 and (tmp_path / "results.checkpoint.h5").is_file()

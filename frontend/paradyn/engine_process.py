@@ -15,7 +15,7 @@ import signal
 import subprocess
 import sys
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TextIO
@@ -95,10 +95,7 @@ def follow_engine(
         command, cwd=folder, env=environment, stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT, text=True, bufsize=1, start_new_session=True,
     ) as process:
-        assert process.stdout is not None
-        for line in _lines_until_done(process):
-            log.write(line)
-            _take_line(run, line, errors, on_progress)
+        _read_until_done(process, run, log, errors, on_progress)
         run.exit_code = process.wait()
     run.elapsed_s = time.perf_counter() - started
     if run.exit_code != 0 or not run.done:
@@ -127,15 +124,21 @@ def _take_line(run: EngineRun, line: str, errors: list[str],
                              float(fields["end_time"]), float(fields["wall_s"])))
 
 
-def _lines_until_done(process: subprocess.Popen) -> Iterator[str]:
-    """The engine's output lines; on Ctrl-C, ask the engine to checkpoint and stop, and keep
-    reading until it has."""
+def _read_until_done(process: subprocess.Popen, run: EngineRun, log: TextIO, errors: list[str],
+                     on_progress: Callable[[Progress], None] | None) -> None:
+    """Log and take every output line of the engine until it exits. On Ctrl-C, ask the engine to
+    checkpoint and stop (SIGUSR1), and keep reading until it has; a second Ctrl-C gives up.
+
+    The KeyboardInterrupt may arrive while a line is read or while it is handled (the progress
+    bar writing, for instance): both are inside the guarded loop, so either way the engine gets
+    its stop signal rather than being orphaned mid-run."""
     assert process.stdout is not None
     stop_sent = False
     while True:
         try:
             for line in process.stdout:
-                yield line
+                log.write(line)
+                _take_line(run, line, errors, on_progress)
             return
         except KeyboardInterrupt:
             if stop_sent:
