@@ -1,13 +1,12 @@
 """Decks for the verification problems of ``tests/test_verification.py``, built in Python.
 
 Meshes come from :mod:`paradyn.geometry` or from numpy, decks from :class:`paradyn.deck.Model`;
-:func:`run` writes the deck, runs the engine with :func:`paradyn.launch.run_engine` and reads the
-results with :func:`paradyn.read`. Nothing here knows a reference value: the tests hold those.
+:func:`run` writes the deck, runs the engine and reads the results with :func:`paradyn.run`
+(no post-processing). Nothing here knows a reference value: the tests hold those.
 """
 
 from __future__ import annotations
 
-import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,8 +15,7 @@ import numpy as np
 
 import paradyn
 from paradyn import geometry
-from paradyn.deck import ELASTIC, Control, Model, write_deck
-from paradyn.launch import run_engine
+from paradyn.deck import ELASTIC, Control, Model
 
 THREADS = 2  # OpenMP threads per engine run (one rank)
 
@@ -55,7 +53,7 @@ class Load:
 
 @dataclass
 class Run:
-    """An engine run: the results and the wall-clock time of the whole call (s)."""
+    """An engine run: the results and the wall-clock time of the engine process (s)."""
 
     results: paradyn.Results
     wall_s: float
@@ -128,14 +126,8 @@ def shell_model(
 
 def run(model: Model, directory: Path, threads: int = THREADS) -> Run:
     """Write ``directory/deck.h5``, run the engine on one rank, read ``results.h5``."""
-    directory = Path(directory)
-    directory.mkdir(parents=True, exist_ok=True)
-    deck = write_deck(model, directory / "deck.h5")
-    results = directory / "results.h5"
-    start = time.perf_counter()
-    run_engine(deck, results, ranks=1, threads=threads, log_path=directory / "engine.log")
-    wall = time.perf_counter() - start
-    return Run(results=paradyn.read(results), wall_s=wall)
+    results = paradyn.run(model, Path(directory), ranks=1, threads=threads, post=False)
+    return Run(results=results, wall_s=results.engine_run.elapsed_s)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -1,7 +1,7 @@
 """Bitwise fingerprints of the pipe-whip histories: python tools/history_fingerprint.py [OUT] [CASES...].
 
 Meshes every ``cases/pipe_whip*`` scene (or the ones named), runs the engine on one rank with two
-threads, and prints one SHA-256 per case over every ``/history`` dataset of its ``results.h5`` (raw
+threads (``paradyn.run`` without post-processing), and prints one SHA-256 per case over every ``/history`` dataset of its ``results.h5`` (raw
 bytes, in name order). A change that must keep the answers (a restructure, a speed-up) keeps every
 line of this output: run it before and after and compare with ``diff``.
 """
@@ -14,8 +14,7 @@ from pathlib import Path
 
 import h5py
 
-from paradyn import deck, scene
-from paradyn.launch import run_engine
+import paradyn
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -34,10 +33,7 @@ def main(argv: list[str]) -> int:
     names = argv[1:] or sorted(p.name for p in (ROOT / "cases").glob("pipe_whip*"))
     for name in names:
         folder = out / name
-        folder.mkdir(parents=True, exist_ok=True)
-        deck_path = deck.write_deck(scene.build_model(scene.load_scene(ROOT / "cases" / name / "scene.toml")),
-                                    folder / "deck.h5")
-        run_engine(deck_path, folder / "results.h5", ranks=1, threads=2)
+        paradyn.run(ROOT / "cases" / name / "scene.toml", folder, ranks=1, threads=2, post=False)
         print(f"{name:24s} {history_digest(folder / 'results.h5')}", flush=True)
     return 0
 

@@ -7,8 +7,8 @@ Runs case 1 (cases/pipe_whip/scene.toml) with both pipes meshed 16 x 32, 32 x 64
 (elements around x along) with 5 points through the thickness, and the 16 x 32 mesh with 3 and 7
 points. Every variant is the case's scene, read with paradyn.scene.load_scene and edited (mesh
 counts, integration points, run length, one field frame at the end), meshed with
-paradyn.scene.build_model, written with paradyn.deck.write_deck and run with
-paradyn.launch.run_engine on one rank.
+paradyn.scene.build_model, and run with paradyn.run on one rank (deck written, engine run,
+results read, no post-processing).
 
 The tracked points of the scene are given by coordinates; on every mesh the script checks that the
 node it tracks lies exactly on the requested point (a node ring at x = 0 and x = 0.5, a node at
@@ -37,7 +37,8 @@ from pathlib import Path
 
 import numpy as np
 
-from paradyn import deck, launch, results, scene
+import paradyn
+from paradyn import deck, reports, scene
 
 HERE = Path(__file__).resolve().parent
 SCENE = HERE / "scene.toml"
@@ -79,12 +80,8 @@ def run_variant(base: scene.Scene, around: int, along: int, points: int, end_tim
     model = scene.build_model(sc)
     check_tracked_nodes(sc, model)
     folder = workdir / f"mesh_{around}x{along}_ip{points}"
-    folder.mkdir(parents=True, exist_ok=True)
-    deck_path = deck.write_deck(model, folder / "deck.h5")
-    start = time.perf_counter()
-    run = launch.run_engine(deck_path, folder / "results.h5", 1, threads, log_path=folder / "engine.log")
-    total_s = time.perf_counter() - start
-    res = results.read(folder / "results.h5", deck=deck_path)
+    res = paradyn.run(model, folder, ranks=1, threads=threads, post=False)
+    run = res.engine_run
     history = res.history_table()
     down = {p: -1e3 * float(np.interp(TABLE_TIME, history["time"], history[f"{p}_dz"])) for p in POINTS}
     down["upper_centre"] = 0.5 * (down["upper_contact"] + down["upper_top"])
@@ -92,12 +89,12 @@ def run_variant(base: scene.Scene, around: int, along: int, points: int, end_tim
     if history["time"][-1] >= LATE_TIME * (1 - 1e-9):
         late = -1e3 * 0.5 * float(np.interp(LATE_TIME, history["time"],
                                             history["upper_contact_dz"] + history["upper_top_dz"]))
-    energy = results.energy_report(res)
+    energy = reports.energy_report(res)
     return {
         "mesh": f"{around} x {along}", "points": points, "elements": res.n_elements,
         "end_time": end_time, "down": down, "late": late,
         "plastic_strain": float(res.plastic_strain[-1].max()),
-        "wall_s": float(run.done["wall_s"]), "total_s": total_s, "cycles": int(run.done["cycles"]),
+        "wall_s": float(run.done["wall_s"]), "total_s": run.elapsed_s, "cycles": int(run.done["cycles"]),
         "rate": float(run.done["element_cycles_per_s"]), "balance": energy["balance_error"],
         "dt": float(res.run["dt_s"]),
         "max_penetration": float(np.max(history["contact_penetration"])),
@@ -149,7 +146,7 @@ def main(argv: list[str] | None = None) -> int:
     base = scene.load_scene(SCENE)
     start = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="pipe_whip_study_") as tmp:
-        workdir = (args.workdir or Path(tmp)).resolve()  # run_engine starts the engine in the deck folder
+        workdir = (args.workdir or Path(tmp)).resolve()  # the engine starts in the deck folder
         rows = []
         for around, along, points in VARIANTS:
             end_time = args.fine_end_time if around >= 64 else args.end_time

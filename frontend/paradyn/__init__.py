@@ -1,9 +1,11 @@
 """ParaDyn: parallel explicit finite elements for contact-impact of thin shells.
 
 The frontend meshes scenes with gmsh, writes HDF5 decks, launches the Fortran engine and turns its
-results into VTK, CSV, JSON and plots. ``paradyn.read(path)`` opens a results file.
+results into VTK, CSV, JSON and plots. ``paradyn.run(source, out)`` does all of it in one call;
+``paradyn.read(path)`` opens a results file.
 """
-from .results import Results, read
+from .reading import Results, read
+from .workflow import BatchJob, run
 
-__all__ = ["Results", "read"]
+__all__ = ["BatchJob", "Results", "read", "run"]
 __version__ = "0.1.0"

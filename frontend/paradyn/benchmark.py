@@ -19,10 +19,10 @@ import sys
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-import h5py
 import numpy as np
 
-from . import deck, launch, scene
+from . import deck, launch, scene, workflow
+from .atomic_write import write_text_atomic
 
 PHASES = ("elements", "contact", "communication", "output", "other")
 
@@ -88,11 +88,11 @@ def parse_layouts(text: str) -> list[tuple[int, int]]:
 
 
 def run_once(deck_path: Path, out_dir: Path, ranks: int, threads: int, k: int) -> tuple[dict, np.ndarray]:
-    """One run of a layout: its /run attributes and displacements."""
-    res_path = out_dir / f"results_{ranks}x{threads}_{k}.h5"
-    launch.run_engine(deck_path, res_path, ranks, threads, log_path=out_dir / f"engine_{ranks}x{threads}.log")
-    with h5py.File(res_path, "r") as f:
-        return dict(f["run"].attrs), f["frames/displacement"][()]
+    """One run of a layout (round ``k``): its /run attributes and displacements."""
+    res = workflow.run(deck_path, out_dir, ranks, threads, post=False,
+                       results_name=f"results_{ranks}x{threads}_{k}.h5",
+                       log_name=f"engine_{ranks}x{threads}.log")
+    return res.run, np.asarray(res.displacement)
 
 
 def run_rounds(deck_path: Path, out_dir: Path, layouts: list[tuple[int, int]],
@@ -176,8 +176,7 @@ def main(argv: list[str] | None = None) -> int:
     out_dir = (args.output or Path.cwd() / "runs" / f"scaling_{name}").resolve()
     out_dir.mkdir(parents=True, exist_ok=True)
     try:
-        model = (deck.read_deck(args.scene) if args.scene.suffix in (".h5", ".hdf5")
-                 else scene.build_model(scene.load_scene(args.scene)))
+        model = workflow.model_of(args.scene)
         if args.partition is not None:
             model.control.partition = args.partition
         deck_path = deck.write_deck(model, out_dir / "deck.h5")
@@ -193,7 +192,7 @@ def main(argv: list[str] | None = None) -> int:
     report = {"scene": str(args.scene.resolve()), "elements": model.n_elements, "nodes": model.n_nodes,
               "repeat": max(1, args.repeat), "partition": partition,
               "layouts": [asdict(r) for r in results]}
-    (out_dir / "scaling.json").write_text(json.dumps(report, indent=2) + "\n")
+    write_text_atomic(out_dir / "scaling.json", json.dumps(report, indent=2) + "\n")
     print(markdown(results))
     if args.repeat > 1:
         for r in results[1:]:

@@ -6,7 +6,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from . import deck, launch, results, scene
+from . import deck, launch, reading, scene, workflow
+from .postprocess import post_process
 
 DESCRIPTION = """\
 Run a ParaDyn scene end to end.
@@ -62,47 +63,6 @@ def default_output(scene_path: Path) -> Path:
     return Path.cwd() / "runs" / name
 
 
-def prepare_deck(source: Path, out_dir: Path) -> Path:
-    """Write (or check and copy) the deck into the output folder; return its path."""
-    target = out_dir / "deck.h5"
-    if source.suffix in (".h5", ".hdf5"):
-        model = deck.read_deck(source)
-    else:
-        model = scene.build_model(scene.load_scene(source))
-    deck.write_deck(model, target)
-    return target
-
-
-def restart_deck(out_dir: Path) -> Path:
-    """The deck of the interrupted run in out_dir, kept as it was (the checkpoint belongs to it)."""
-    deck_path, checkpoint = out_dir / "deck.h5", out_dir / "results.checkpoint.h5"
-    if not (deck_path.is_file() and checkpoint.is_file()):
-        raise ValueError(f"{out_dir} holds no deck.h5 and results.checkpoint.h5 to restart from; give the "
-                         f"output folder (-o) of a run that wrote a checkpoint ([run] checkpoint_interval, "
-                         f"or a run stopped with Ctrl-C or SIGTERM)")
-    return deck_path
-
-
-def post_process(res_path: Path, out_dir: Path, effects: list[str], extra: dict, plots: bool,
-                 vtk: bool) -> dict[str, Path]:
-    res = results.read(res_path, deck=out_dir / "deck.h5")
-    outputs: dict[str, Path] = {"results": res_path}
-    if vtk:
-        for pvd in results.write_vtk_series(res, out_dir):
-            outputs[f"vtk {pvd.stem}"] = pvd
-    outputs["history"] = results.write_history_csv(res, out_dir / "history.csv")
-    summary_path = out_dir / "summary.json"
-    results.write_summary(res, summary_path, effects=effects, extra=extra)
-    outputs["summary"] = summary_path
-    if plots:
-        from . import plots as plotting
-        outputs["energies plot"] = plotting.plot_energies(res, out_dir / "energies.png")
-        if res.n_tracked:
-            outputs["tracked plot"] = plotting.plot_tracked_histories(res, out_dir / "tracked.png")
-        outputs["deformed picture"] = plotting.render_deformed(res, out_dir / "deformed.png")
-    return outputs
-
-
 def post_only(out_dir: Path, plots: bool, vtk: bool) -> int:
     """Post-process the results.h5 and deck.h5 of a finished run in out_dir."""
     res_path, deck_path = out_dir / "results.h5", out_dir / "deck.h5"
@@ -111,25 +71,23 @@ def post_only(out_dir: Path, plots: bool, vtk: bool) -> int:
               file=sys.stderr)
         return 2
     try:
-        effects = scene.effects(deck.read_deck(deck_path))
-        outputs = post_process(res_path, out_dir, effects, {"post_processed": True}, plots=plots, vtk=vtk)
-    except (deck.DeckError, results.ResultsError) as error:
+        res = reading.read(res_path, deck=deck_path)
+        outputs = post_process(res, out_dir, res.effects, {"post_processed": True}, plots=plots, vtk=vtk)
+    except (deck.DeckError, reading.ResultsError) as error:
         print(f"paradyn-run: error: {error}", file=sys.stderr)
         return 2
+    _print_outputs(outputs)
+    return 0
+
+
+def _print_outputs(outputs: dict[str, Path]) -> None:
     for label, path in outputs.items():
         print(f"  {label:18s} {path}")
-    return 0
 
 
-def write_sbatch(deck_path: Path, out_dir: Path, args: argparse.Namespace) -> int:
-    post = [sys.executable, "-m", "paradyn.cli", "--post", str(out_dir)]
-    post += ["--no-plots"] * args.no_plots + ["--no-vtk"] * args.no_vtk
-    script = launch.sbatch_script(deck_path, out_dir / "results.h5", args.ranks, args.threads,
-                                  f"paradyn-{out_dir.name}", post)
-    path = out_dir / "job.sbatch"
-    path.write_text(script)
-    print(f"paradyn-run: wrote {path}; submit it with: sbatch {path}")
-    return 0
+def _error(error: Exception, status: int) -> int:
+    print(f"paradyn-run: error: {error}", file=sys.stderr)
+    return status
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -138,37 +96,22 @@ def main(argv: list[str] | None = None) -> int:
         return post_only(args.scene.resolve(), plots=not args.no_plots, vtk=not args.no_vtk)
     out_dir = (args.output or default_output(args.scene)).resolve()
     try:
-        if not args.scene.is_file():
-            raise scene.SceneError(f"{args.scene}: no such file; give the path of a scene .toml or a deck .h5")
-        out_dir.mkdir(parents=True, exist_ok=True)
-        deck_path = restart_deck(out_dir) if args.restart else prepare_deck(args.scene, out_dir)
-    except (scene.SceneError, deck.DeckError, ValueError) as error:
-        print(f"paradyn-run: error: {error}", file=sys.stderr)
-        return 2
-    if args.sbatch:
-        try:
-            return write_sbatch(deck_path, out_dir, args)
-        except launch.EngineError as error:
-            print(f"paradyn-run: error: {error}", file=sys.stderr)
-            return error.exit_code
-    res_path = out_dir / "results.h5"
-    bar = None if args.quiet else launch.ProgressBar()
-    try:
-        run = launch.run_engine(deck_path, res_path, args.ranks, args.threads, on_progress=bar,
-                                log_path=out_dir / "engine.log", restart=args.restart)
+        outcome = workflow.run(args.scene, out_dir, args.ranks, args.threads,
+                               runner="sbatch" if args.sbatch else None, restart=args.restart,
+                               progress=not args.quiet, vtk=not args.no_vtk, plots=not args.no_plots)
     except launch.EngineError as error:
-        print(f"paradyn-run: error: {error}", file=sys.stderr)
-        return error.exit_code
-    finally:
-        if bar is not None:
-            bar.close()
-    effects = run.start.get("effects", "").split(",")
-    extra = {"scene": str(args.scene.resolve()), "command": run.command}
-    outputs = post_process(res_path, out_dir, effects, extra, plots=not args.no_plots, vtk=not args.no_vtk)
-    print(f"paradyn-run: {run.done.get('cycles')} cycles in {float(run.done.get('wall_s', 'nan')):.2f} s "
-          f"({float(run.done.get('element_cycles_per_s', 'nan')):.3e} element-cycles/s), effects: {', '.join(effects)}")
-    for label, path in outputs.items():
-        print(f"  {label:18s} {path}")
+        return _error(error, error.exit_code)
+    except reading.ResultsError:
+        raise  # the run finished but its results do not read: a bug to show in full
+    except (scene.SceneError, deck.DeckError, ValueError) as error:
+        return _error(error, 2)
+    if isinstance(outcome, workflow.BatchJob):
+        print(f"paradyn-run: wrote {outcome.script}; submit it with: sbatch {outcome.script}")
+        return 0
+    done, effects = outcome.engine_run.done, outcome.engine_run.start.get("effects", "").split(",")
+    print(f"paradyn-run: {done.get('cycles')} cycles in {float(done.get('wall_s', 'nan')):.2f} s "
+          f"({float(done.get('element_cycles_per_s', 'nan')):.3e} element-cycles/s), effects: {', '.join(effects)}")
+    _print_outputs(outcome.outputs)
     return 0
 
 

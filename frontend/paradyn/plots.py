@@ -1,7 +1,8 @@
 """Pictures of ParaDyn results that work without a display.
 
 matplotlib is used through its Agg canvas directly (no pyplot, so the caller's backend is left
-alone); pyvista renders off screen.
+alone); pyvista renders off screen (:mod:`paradyn.rendering`). This module reads results through
+:mod:`paradyn.reading` only.
 """
 
 from __future__ import annotations
@@ -12,7 +13,9 @@ from typing import Any
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from .results import ENERGY_NAMES, TRACKED_COMPONENTS, Results
+from . import rendering
+from .atomic_write import replacing
+from .reading import ENERGY_NAMES, TRACKED_COMPONENTS, Results
 
 _COMPONENT_LABELS = {
     "dx": ("displacement x", "mm", 1e3),
@@ -29,14 +32,6 @@ _ENERGY_LABELS = {
     "contact_energy": "contact",
     "external_work": "external work",
 }
-_SCALAR_TITLES = {
-    "plastic_strain": "effective plastic strain",
-    "von_mises": "von Mises stress (Pa)",
-    "membrane_stress": "membrane stress magnitude (Pa)",
-    "displacement": "displacement magnitude (m)",
-    "velocity": "velocity magnitude (m/s)",
-    "part": "part",
-}
 
 
 def _figure(title: str) -> tuple[Figure, Any]:
@@ -50,9 +45,9 @@ def _figure(title: str) -> tuple[Figure, Any]:
 
 def _save(fig: Figure, path: str | Path) -> Path:
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
-    fig.savefig(path, format="png")
+    with replacing(path) as temporary:
+        fig.savefig(temporary, format="png")
     return path
 
 
@@ -94,39 +89,6 @@ def plot_energies(results: Results, path: str | Path) -> Path:
     return _save(fig, path)
 
 
-def _plotter_with_frame(
-    results: Results,
-    frame: int,
-    scalars: str,
-    off_screen: bool,
-    window_size: tuple[int, int],
-    show_edges: bool,
-    cmap: str,
-) -> Any:
-    import pyvista as pv
-
-    grid = results.frame(frame)
-    if scalars not in grid.cell_data and scalars not in grid.point_data:
-        available = sorted({*grid.cell_data.keys(), *grid.point_data.keys()})
-        raise ValueError(f"no field {scalars!r} to colour by; choose one of {available}")
-    t = results.frame_times[results.frame_index(frame)]
-    plotter = pv.Plotter(off_screen=off_screen, window_size=list(window_size))
-    plotter.add_mesh(
-        grid,
-        scalars=scalars,
-        preference="cell",
-        cmap=cmap,
-        show_edges=show_edges,
-        scalar_bar_args={"title": _SCALAR_TITLES.get(scalars, scalars)},
-    )
-    plotter.add_text(
-        f"{results.title or results.path.stem}   t = {t * 1e3:.3f} ms", font_size=10
-    )
-    plotter.view_isometric()
-    plotter.reset_camera()
-    return plotter
-
-
 def render_deformed(
     results: Results,
     path: str | Path,
@@ -137,17 +99,8 @@ def render_deformed(
     cmap: str = "viridis",
 ) -> Path:
     """PNG of all parts at frame ``frame`` (deformed), coloured by ``scalars``, off screen."""
-    import pyvista as pv
-
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    pv.OFF_SCREEN = True
-    plotter = _plotter_with_frame(results, frame, scalars, True, window_size, show_edges, cmap)
-    try:
-        plotter.screenshot(str(path))
-    finally:
-        plotter.close()
-    return path
+    picture = rendering.Picture(results.frame(frame), scalars, results.caption(frame))
+    return rendering.render(picture, path, window_size, show_edges, cmap)
 
 
 def show_deformed(
@@ -159,8 +112,8 @@ def show_deformed(
     cmap: str = "viridis",
 ) -> None:
     """Interactive window of :func:`render_deformed`'s picture (needs a display)."""
-    plotter = _plotter_with_frame(results, frame, scalars, False, window_size, show_edges, cmap)
-    plotter.show()
+    picture = rendering.Picture(results.frame(frame), scalars, results.caption(frame))
+    rendering.show(picture, window_size, show_edges, cmap)
 
 
 __all__ = [

@@ -1,0 +1,175 @@
+"""Follow one engine process: its progress lines, Ctrl-C, its exit status.
+
+A runner (:mod:`paradyn.runners`) decides the argument list and the environment; this module
+starts the process with them (never a shell string, never ``os.chdir``), turns the engine's
+``PARADYN-*`` lines into :class:`Progress` records, writes everything the engine prints to a log,
+and decides success: the exit status plus the final ``PARADYN-DONE`` line (docs/formats.md,
+"Engine progress lines").
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TextIO
+
+_FIELD = re.compile(r"(\w+)=\s*(\S+)")
+
+
+class EngineError(RuntimeError):
+    """The engine stopped with a non-zero status; ``exit_code`` keeps that status."""
+
+    def __init__(self, message: str, exit_code: int) -> None:
+        super().__init__(message)
+        self.exit_code = exit_code
+
+
+@dataclass
+class Progress:
+    """One progress line of the engine (times in seconds)."""
+
+    cycle: int
+    time: float
+    dt: float
+    end_time: float
+    wall_s: float
+
+    @property
+    def fraction(self) -> float:
+        return min(1.0, self.time / self.end_time) if self.end_time > 0 else 0.0
+
+    @property
+    def eta_s(self) -> float | None:
+        f = self.fraction
+        return self.wall_s * (1.0 - f) / f if f > 0 else None
+
+
+@dataclass
+class EngineRun:
+    """What the launcher learned from one engine run: the command, the exit status, the fields of
+    the engine's START and DONE lines, the log, and the seconds from start to exit."""
+
+    command: list[str]
+    exit_code: int
+    start: dict[str, str] = field(default_factory=dict)
+    done: dict[str, str] = field(default_factory=dict)
+    log_path: Path | None = None
+    elapsed_s: float = 0.0
+
+
+def parse_line(line: str) -> tuple[str, dict[str, str]] | None:
+    """Split `PARADYN-KIND key=value ...` into (KIND, {key: value}); None for other lines."""
+    if not line.startswith("PARADYN-"):
+        return None
+    head = line.split(maxsplit=1)[0]
+    fields = dict(_FIELD.findall(line[len(head):]))  # Fortran may pad values: `time= 1.0E-03`
+    return head[len("PARADYN-"):], fields
+
+
+def follow_engine(
+    command: list[str],
+    environment: dict[str, str],
+    folder: Path,
+    on_progress: Callable[[Progress], None] | None = None,
+    log_path: Path | None = None,
+) -> EngineRun:
+    """Run ``command`` in ``folder`` to completion; raise EngineError with the engine's message
+    if it fails.
+
+    Ctrl-C (KeyboardInterrupt) does not kill the run: the engine is asked to stop with SIGUSR1
+    (which mpirun forwards to every rank), writes its checkpoint and exits with status 4; the
+    EngineError then says how to continue. The engine runs in its own session so that the
+    terminal's SIGINT reaches only this process, not mpirun (which would kill the ranks)."""
+    run = EngineRun(command=command, exit_code=-1, log_path=log_path)
+    log: TextIO = open(log_path, "w") if log_path else open(os.devnull, "w")
+    errors: list[str] = []
+    started = time.perf_counter()
+    with log, subprocess.Popen(
+        command, cwd=folder, env=environment, stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT, text=True, bufsize=1, start_new_session=True,
+    ) as process:
+        _read_until_done(process, run, log, errors, on_progress)
+        run.exit_code = process.wait()
+    run.elapsed_s = time.perf_counter() - started
+    if run.exit_code != 0 or not run.done:
+        message = "; ".join(e for e in errors if "error" in e) or (
+            f"the engine stopped with status {run.exit_code} without finishing"
+            + (f"; see {log_path}" if log_path else ""))
+        raise EngineError(message, run.exit_code or 1)
+    return run
+
+
+def _take_line(run: EngineRun, line: str, errors: list[str],
+               on_progress: Callable[[Progress], None] | None) -> None:
+    """Record what one output line of the engine says."""
+    if line.startswith("paradyn-engine: "):
+        errors.append(line.strip())
+    parsed = parse_line(line)
+    if parsed is None:
+        return
+    kind, fields = parsed
+    if kind == "START":
+        run.start = fields
+    elif kind == "DONE":
+        run.done = fields
+    elif kind == "PROGRESS" and on_progress is not None:
+        on_progress(Progress(int(fields["cycle"]), float(fields["time"]), float(fields["dt"]),
+                             float(fields["end_time"]), float(fields["wall_s"])))
+
+
+def _read_until_done(process: subprocess.Popen, run: EngineRun, log: TextIO, errors: list[str],
+                     on_progress: Callable[[Progress], None] | None) -> None:
+    """Log and take every output line of the engine until it exits. On Ctrl-C, ask the engine to
+    checkpoint and stop (SIGUSR1), and keep reading until it has; a second Ctrl-C gives up.
+
+    The KeyboardInterrupt may arrive while a line is read or while it is handled (the progress
+    bar writing, for instance): both are inside the guarded loop, so either way the engine gets
+    its stop signal rather than being orphaned mid-run."""
+    assert process.stdout is not None
+    stop_sent = False
+    while True:
+        try:
+            for line in process.stdout:
+                log.write(line)
+                _take_line(run, line, errors, on_progress)
+            return
+        except KeyboardInterrupt:
+            if stop_sent:
+                raise
+            process.send_signal(signal.SIGUSR1)
+            stop_sent = True
+
+
+class ProgressBar:
+    """A one-line progress bar on a terminal, or a line every tenth of the run otherwise."""
+
+    def __init__(self, stream: TextIO = sys.stderr, width: int = 30) -> None:
+        self.stream = stream
+        self.width = width
+        self.tty = stream.isatty()
+        self.last_tenth = -1
+        self.started = time.monotonic()
+
+    def __call__(self, p: Progress) -> None:
+        eta = p.eta_s
+        text = (f"t = {p.time:.4e} / {p.end_time:.4e} s  cycle {p.cycle}  dt {p.dt:.3e} s  "
+                f"ETA {eta:.1f} s" if eta is not None else "")
+        if self.tty:
+            filled = int(self.width * p.fraction)
+            self.stream.write(f"\r[{'#' * filled}{'.' * (self.width - filled)}] {100 * p.fraction:5.1f}% {text}")
+            self.stream.flush()
+        elif int(10 * p.fraction) > self.last_tenth:
+            self.last_tenth = int(10 * p.fraction)
+            self.stream.write(f"{100 * p.fraction:5.1f}% {text}\n")
+
+    def close(self) -> None:
+        if self.tty:
+            self.stream.write("\n")
+            self.stream.flush()

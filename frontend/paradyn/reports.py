@@ -1,0 +1,147 @@
+"""Reports of a run: the history as CSV, the energy report and ``summary.json``.
+
+Keys, columns and units are in docs/outputs.md ("History" and "Run summary"); both files are
+written atomically (:mod:`paradyn.atomic_write`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .atomic_write import write_text_atomic
+from .reading import ENERGY_NAMES, Results
+from .results_file import to_python
+
+PHASE_NAMES = ("elements", "contact", "communication", "output", "other")
+CONTACT_PHASE_NAMES = ("sort", "search", "force")  # the contact phase split
+
+
+def write_history_csv(results: Results, path: str | Path) -> Path:
+    """Write the history table (see :meth:`Results.history_table`) as CSV; return the path.
+
+    One header line, comma separated, every value written with Python's ``repr`` (shortest
+    text that reads back to the same float64).
+    """
+    path = Path(path)
+    table = results.history_table()
+    columns = np.column_stack([np.asarray(v, dtype=np.float64) for v in table.values()])
+    lines = [",".join(table.keys())]
+    lines += [",".join(map(repr, row)) for row in columns.tolist()]
+    return write_text_atomic(path, "\n".join(lines) + "\n")
+
+
+def energy_report(results: Results) -> dict[str, Any]:
+    """Initial and final energies (J) and the energy balance error.
+
+    ``balance_error = |E_total(end) - E_total(0)| / max(max_t KE, max_t IE, max_t |W_ext|, tiny)``
+    with ``E_total = KE + IE + hourglass + contact - W_ext``: the LS-DYNA style energy ratio
+    check (a conservative run keeps it at a few percent at most).  ``hourglass_ratio`` is the
+    final hourglass energy over the largest internal energy (LS-DYNA's rule of thumb: < 0.1).
+    With no history records every value is None.
+    """
+    keys = ("kinetic", "internal", "hourglass", "contact", "external_work")
+    columns = dict(zip(keys, ENERGY_NAMES))
+    h = results.history
+    if results.n_records == 0:
+        empty = {k: None for k in (*keys, "total")}
+        return {
+            "initial": dict(empty),
+            "final": dict(empty),
+            "balance_error": None,
+            "reference_energy": None,
+            "hourglass_ratio": None,
+        }
+    total = results.total_energy()
+    initial = {k: float(h[c][0]) for k, c in columns.items()} | {"total": float(total[0])}
+    final = {k: float(h[c][-1]) for k, c in columns.items()} | {"total": float(total[-1])}
+    reference = max(
+        float(np.max(h["kinetic_energy"])),
+        float(np.max(h["internal_energy"])),
+        float(np.max(np.abs(h["external_work"]))),
+    )
+    scale = max(reference, np.finfo(np.float64).tiny)
+    max_internal = float(np.max(h["internal_energy"]))
+    return {
+        "initial": initial,
+        "final": final,
+        "balance_error": _finite(abs(final["total"] - initial["total"]) / scale),
+        "reference_energy": reference,
+        "hourglass_ratio": _finite(final["hourglass"] / max_internal) if max_internal > 0 else None,
+    }
+
+
+def _finite(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+
+def write_summary(
+    results: Results,
+    path: str | Path,
+    effects: list[str],
+    extra: dict[str, Any] | None = None,
+) -> dict[str, Any]:
+    """Write ``summary.json`` atomically and return its content.
+
+    Run figures come from the ``/run`` attributes (None if the run did not write them);
+    ``elements`` and ``nodes`` fall back to the mesh.  ``extra`` entries are merged last and
+    may replace computed ones.  Keys and units: docs/outputs.md.
+    """
+    run = results.run
+    summary: dict[str, Any] = {
+        "title": results.title,
+        "complete": results.complete,
+        "end_time": (
+            results.end_time if results.end_time is not None else _last(results.time_values)
+        ),
+        "time_reached": (
+            _last(results.history["time"]) if results.n_records else _last(results.time_values)
+        ),
+        "wall_s": run.get("wall_s"),
+        "cycles": run.get("cycles"),
+        "dt_s": run.get("dt_s"),
+        "dt_stable_s": run.get("dt_stable_s"),
+        "elements": run.get("elements", results.n_elements),
+        "nodes": run.get("nodes", results.n_nodes),
+        "ranks": run.get("ranks"),
+        "threads": run.get("threads"),
+        "element_cycles_per_s": run.get("element_cycles_per_s"),
+        "peak_memory_per_rank_mb": run.get("peak_memory_per_rank_mb"),
+        "load_imbalance": run.get("load_imbalance"),
+        "phase_s": {p: run.get(f"phase_{p}_s") for p in PHASE_NAMES},
+        "contact_phase_s": {p: run.get(f"phase_contact_{p}_s") for p in CONTACT_PHASE_NAMES},
+        "frames": results.n_frames,
+        "history_records": results.n_records,
+        "parts": list(results.part_names),
+        "energy": energy_report(results),
+        "effects": list(effects),
+    }
+    if extra:
+        summary.update(extra)
+    summary = _jsonable(summary)
+    write_text_atomic(Path(path), json.dumps(summary, indent=2, allow_nan=False) + "\n")
+    return summary
+
+
+def _last(a: np.ndarray) -> float | None:
+    return float(a[-1]) if a.shape[0] else None
+
+
+def _jsonable(value: Any) -> Any:
+    """Plain JSON values: numpy to Python, Path to str, non-finite floats to None."""
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, Path):
+        return str(value)
+    value = to_python(value)
+    if isinstance(value, list):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value

@@ -1,0 +1,224 @@
+"""Runners: how the engine is started on some ranks and threads.
+
+A :class:`Runner` turns (deck, results, ranks, threads, restart) into an argument list and an
+environment; :meth:`Runner.run` starts the engine with them and follows it
+(:func:`paradyn.engine_process.follow_engine`). The members:
+
+========== ===============================================================================
+``direct`` the engine alone: one rank, no MPI launcher
+``mpirun`` Open MPI's ``mpirun``, with every rank and thread pinned to cores of its own when
+           the layout fits the machine, ``--oversubscribe`` when it does not
+``srun``   Slurm's ``srun``, inside an allocation
+``sbatch`` writes a Slurm job script (srun, then the post-processing) instead of running
+========== ===============================================================================
+
+:func:`create_runner` builds one by name; without a name it picks what ParaDyn always did:
+``srun`` inside a Slurm allocation, else ``direct`` for one rank, else ``mpirun``. A runner only
+knows the :class:`Machine` it is given (the engine, the cores, whether to pin), so it decides
+nothing from hidden state; :func:`paradyn.launch.make_runner` gives it this machine's.
+"""
+
+from __future__ import annotations
+
+import os
+import shlex
+import shutil
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import ClassVar
+
+from .atomic_write import write_text_atomic
+from .engine_process import EngineError, EngineRun, Progress, follow_engine
+
+
+@dataclass(frozen=True)
+class Machine:
+    """What a runner needs to know about where the engine runs."""
+
+    engine: Path  # the paradyn-engine executable
+    cores: int  # the cores this process may run on
+    pinning: bool = True  # pin ranks and threads to cores when they fit ($PARADYN_BIND != none)
+
+    def binds_to_cores(self, ranks: int, threads: int) -> bool:
+        """Pin every rank and thread to a core of its own when the layout fits (a rank or thread
+        that migrates loses its cache and can land on a busy core, which the others then wait
+        for)."""
+        return self.pinning and ranks * threads <= self.cores
+
+    def oversubscribed(self, ranks: int, threads: int) -> bool:
+        return ranks * threads > self.cores
+
+
+def engine_environment(threads: int, bind_threads: bool) -> dict[str, str]:
+    """The engine's environment: this process's, with ``threads`` OpenMP threads (on neighbouring
+    cores of the rank's own set when ``bind_threads``; the user's own placement wins)."""
+    env = dict(os.environ)
+    env["OMP_NUM_THREADS"] = str(threads)
+    if threads > 1 and bind_threads:
+        env.setdefault("OMP_PROC_BIND", "close")
+        env.setdefault("OMP_PLACES", "cores")
+    env["SRUN_CPUS_PER_TASK"] = str(threads)
+    env.setdefault("OMP_STACKSIZE", "64M")  # threads with large private arrays need more than the default
+    env.setdefault("OMPI_MCA_btl_vader_single_copy_mechanism", "none")  # containers without CMA
+    if hasattr(os, "geteuid") and os.geteuid() == 0:
+        env["OMPI_ALLOW_RUN_AS_ROOT"] = "1"
+        env["OMPI_ALLOW_RUN_AS_ROOT_CONFIRM"] = "1"
+    return env
+
+
+def _engine_arguments(deck: Path, results: Path, restart: bool) -> list[str]:
+    return [str(deck), str(results), *(["--restart"] if restart else [])]
+
+
+@dataclass
+class Runner(ABC):
+    """Starts the engine on a deck; members differ in the command that launches it."""
+
+    machine: Machine
+    name: ClassVar[str] = ""
+
+    @abstractmethod
+    def command(self, deck: Path, results: Path, ranks: int, threads: int,
+                restart: bool = False) -> list[str]:
+        """The argument list that runs the engine on ``deck``, writing ``results``; ``restart``
+        continues from the checkpoint beside the results (docs/outputs.md)."""
+
+    def environment(self, ranks: int, threads: int) -> dict[str, str]:
+        """The environment the engine runs in."""
+        return engine_environment(threads, self.machine.binds_to_cores(ranks, threads))
+
+    def run(
+        self,
+        deck: Path,
+        results: Path,
+        ranks: int = 1,
+        threads: int = 1,
+        on_progress: Callable[[Progress], None] | None = None,
+        log_path: Path | None = None,
+        restart: bool = False,
+    ) -> EngineRun:
+        """Run the engine to completion in the deck's folder; raise EngineError if it fails."""
+        if ranks < 1 or threads < 1:
+            raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", 2)
+        # the engine runs in the deck's folder, so relative paths would point elsewhere
+        deck, results = Path(deck).resolve(), Path(results).resolve()
+        command = self.command(deck, results, ranks, threads, restart)
+        return follow_engine(command, self.environment(ranks, threads), deck.parent, on_progress, log_path)
+
+
+@dataclass
+class DirectRunner(Runner):
+    """The engine alone, on one rank (an MPI program runs as a singleton without a launcher)."""
+
+    name: ClassVar[str] = "direct"
+
+    def command(self, deck: Path, results: Path, ranks: int, threads: int,
+                restart: bool = False) -> list[str]:
+        if ranks != 1:
+            raise EngineError(f"the direct runner starts one rank, not {ranks}; use runner='mpirun' "
+                              f"(or 'srun' inside Slurm) for several ranks", 2)
+        return [str(self.machine.engine), *_engine_arguments(deck, results, restart)]
+
+
+@dataclass
+class MpirunRunner(Runner):
+    """``mpirun -n RANKS``: ranks pinned to ``threads`` cores each when the layout fits the
+    machine, floating otherwise; ``--oversubscribe`` when ranks x threads exceed the cores."""
+
+    name: ClassVar[str] = "mpirun"
+
+    def command(self, deck: Path, results: Path, ranks: int, threads: int,
+                restart: bool = False) -> list[str]:
+        mpirun = shutil.which("mpirun") or shutil.which("mpiexec")
+        if mpirun is None:
+            raise EngineError("mpirun is not on PATH; install Open MPI (apt-get install openmpi-bin)", 1)
+        command = [mpirun, "-n", str(ranks), "-x", "OMP_NUM_THREADS"]
+        if self.machine.binds_to_cores(ranks, threads):
+            # each rank on `threads` cores of its own; the environment places the threads on them
+            command += ["--map-by", f"slot:PE={threads}", "--bind-to", "core"]
+            if threads > 1:
+                command += ["-x", "OMP_PROC_BIND", "-x", "OMP_PLACES"]
+        else:
+            command += ["--bind-to", "none"]
+        if self.machine.oversubscribed(ranks, threads):
+            command.append("--oversubscribe")
+        return command + [str(self.machine.engine), *_engine_arguments(deck, results, restart)]
+
+
+@dataclass
+class SrunRunner(Runner):
+    """Slurm's ``srun`` inside an allocation (Slurm places the ranks and threads)."""
+
+    name: ClassVar[str] = "srun"
+
+    def command(self, deck: Path, results: Path, ranks: int, threads: int,
+                restart: bool = False) -> list[str]:
+        # Slurm 22.05 and later: srun does not inherit --cpus-per-task, so it is passed explicitly
+        return ["srun", "-n", str(ranks), f"--cpus-per-task={threads}", "--export=ALL",
+                str(self.machine.engine), *_engine_arguments(deck, results, restart)]
+
+
+@dataclass
+class SbatchRunner(SrunRunner):
+    """Writes a Slurm job script that runs the engine with srun, then ``post_command``; it runs
+    nothing itself (submit the script with ``sbatch``)."""
+
+    name: ClassVar[str] = "sbatch"
+    post_command: list[str] | None = None
+
+    def script(self, deck: Path, results: Path, ranks: int, threads: int, job_name: str) -> str:
+        """The job script's text."""
+        folder = results.parent
+        lines = [
+            "#!/bin/bash",
+            f"#SBATCH --job-name={job_name}",
+            f"#SBATCH --ntasks={ranks}",
+            f"#SBATCH --cpus-per-task={threads}",
+            f"#SBATCH --output={folder}/slurm-%j.out",
+            "set -euo pipefail",
+            f"export OMP_NUM_THREADS={threads}",
+            f"export SRUN_CPUS_PER_TASK={threads}",
+            "export OMP_STACKSIZE=${OMP_STACKSIZE:-64M}",
+            shlex.join(self.command(deck, results, ranks, threads)),
+        ]
+        if self.post_command:
+            lines.append(shlex.join(self.post_command))
+        return "\n".join(lines) + "\n"
+
+    def write_job(self, deck: Path, results: Path, ranks: int, threads: int,
+                  job_name: str | None = None) -> Path:
+        """Write ``job.sbatch`` beside ``results``; return its path."""
+        folder = results.parent
+        text = self.script(deck, results, ranks, threads, job_name or f"paradyn-{folder.name}")
+        return write_text_atomic(folder / "job.sbatch", text)
+
+    def run(self, deck: Path, results: Path, ranks: int = 1, threads: int = 1,
+            on_progress: Callable[[Progress], None] | None = None, log_path: Path | None = None,
+            restart: bool = False) -> EngineRun:
+        raise EngineError("the sbatch runner writes a job script and runs nothing; call "
+                          "write_job(...), or paradyn.run(..., runner='sbatch'), then submit the "
+                          "script with sbatch", 2)
+
+
+RUNNERS: dict[str, type[Runner]] = {
+    cls.name: cls for cls in (DirectRunner, MpirunRunner, SrunRunner, SbatchRunner)
+}
+
+
+def automatic_runner_name(ranks: int, inside_slurm: bool) -> str:
+    """srun inside a Slurm allocation, else the engine alone for one rank, else mpirun."""
+    if inside_slurm:
+        return SrunRunner.name
+    return DirectRunner.name if ranks == 1 else MpirunRunner.name
+
+
+def create_runner(name: str | None, machine: Machine, ranks: int = 1, inside_slurm: bool = False) -> Runner:
+    """The runner called ``name`` (one of :data:`RUNNERS`) on ``machine``; ``None`` or ``"auto"``
+    picks :func:`automatic_runner_name`."""
+    if name is None or name == "auto":
+        name = automatic_runner_name(ranks, inside_slurm)
+    if name not in RUNNERS:
+        raise ValueError(f"unknown runner {name!r}; choose one of {', '.join(RUNNERS)} or 'auto'")
+    return RUNNERS[name](machine)

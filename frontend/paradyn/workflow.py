@@ -1,0 +1,205 @@
+"""``paradyn.run``: a scene, a model or a deck in; the engine run; a results object out.
+
+The one sequence every caller used to write by hand (``paradyn-run``, ``paradyn-scaling``, the
+test models, the studies): write the deck into the output folder, run the engine through a runner
+(:mod:`paradyn.runners`), read ``results.h5``, post-process as asked.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+from . import deck, launch, scene
+from .engine_process import Progress, ProgressBar
+from .postprocess import post_process
+from .reading import Results, read
+from .runners import Runner, SbatchRunner
+
+Source = str | Path | scene.Scene | deck.Model  # what paradyn.run accepts
+DECK_SUFFIXES = (".h5", ".hdf5")
+
+
+@dataclass(frozen=True)
+class BatchJob:
+    """A Slurm job script written by the ``sbatch`` runner instead of a run."""
+
+    script: Path
+    deck: Path
+
+    @property
+    def submit_command(self) -> list[str]:
+        return ["sbatch", str(self.script)]
+
+
+def run(
+    source: Source,
+    out: str | Path,
+    ranks: int | None = None,
+    threads: int | None = None,
+    runner: str | Runner | None = None,
+    *,
+    post: bool = True,
+    vtk: bool = True,
+    history: bool = True,
+    summary: bool = True,
+    plots: bool = True,
+    restart: bool = False,
+    progress: bool | Callable[[Progress], None] = False,
+    extra: dict[str, Any] | None = None,
+    results_name: str = "results.h5",
+    log_name: str | None = "engine.log",
+) -> Results | BatchJob:
+    """Write the deck of ``source`` into ``out``, run the engine, post-process, return the results.
+
+    Parameters
+    ----------
+    source : str, Path, paradyn.scene.Scene or paradyn.deck.Model
+        A scene file (``.toml``), a deck file (``.h5``, read and checked), a scene loaded with
+        :func:`paradyn.scene.load_scene`, or a model built in Python.
+    out : str or Path
+        The output folder (created): ``deck.h5``, ``results.h5``, ``engine.log`` and the
+        post-processing outputs go there (docs/outputs.md).
+    ranks, threads : int, optional
+        MPI ranks and OpenMP threads per rank; by default one rank with a thread per core this
+        process may use (:func:`paradyn.launch.default_layout`).
+    runner : str or Runner, optional
+        ``"direct"``, ``"mpirun"``, ``"srun"``, ``"sbatch"`` or a :class:`~paradyn.runners.Runner`;
+        by default srun inside a Slurm allocation, the engine alone on one rank, mpirun otherwise.
+        ``"sbatch"`` writes ``out/job.sbatch`` (the engine under srun, then
+        ``paradyn-run --post``) and returns a :class:`BatchJob` instead of running.
+    post : bool
+        False skips all post-processing (the flags below then do nothing).
+    vtk, history, summary, plots : bool
+        The VTK time series, ``history.csv``, ``summary.json`` and the PNG pictures; all on by
+        default, as ``paradyn-run`` writes them.
+    restart : bool
+        Continue the run in ``out`` from its checkpoint, with the deck already there (the
+        checkpoint belongs to it; ``source`` is not written again).
+    progress : bool or callable
+        True draws a progress bar on standard error; a callable receives every
+        :class:`~paradyn.launch.Progress`.
+    extra : dict, optional
+        Entries added to ``summary.json`` (after ``scene`` and ``command``).
+    results_name, log_name : str
+        File names of the results and of the engine's log in ``out`` (``log_name=None``: no log).
+
+    Returns
+    -------
+    Results or BatchJob
+        The results (frames read on demand), with ``engine_run`` (the command, the engine's
+        START and DONE fields, the time it took) and ``outputs`` (label -> path of each file
+        post-processing wrote); a :class:`BatchJob` for the ``sbatch`` runner.
+
+    Raises
+    ------
+    paradyn.scene.SceneError, paradyn.deck.DeckError
+        A bad scene or deck (nothing was run).
+    ValueError
+        ``restart`` without a checkpoint in ``out``, or an unknown runner name.
+    paradyn.launch.EngineError
+        The engine failed or was stopped; ``exit_code`` is its status (4: stopped after writing
+        its checkpoint, continue with ``restart=True``).
+
+    Examples
+    --------
+    >>> import paradyn
+    >>> res = paradyn.run("cases/small_plate/scene.toml", "runs/small_plate", ranks=1, threads=2)
+    >>> res.run["cycles"], res.outputs["summary"]                   # doctest: +SKIP
+    (48, PosixPath('runs/small_plate/summary.json'))
+    >>> quick = paradyn.run(model, "runs/try", runner="mpirun", ranks=2, post=False)  # doctest: +SKIP
+    >>> quick.displacement[-1].max()                                # doctest: +SKIP
+    """
+    _check_source(source)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    deck_path = restart_deck(out) if restart else prepare_deck(source, out)
+    default_ranks, default_threads = launch.default_layout()
+    ranks = default_ranks if ranks is None else ranks
+    threads = default_threads if threads is None else threads
+    if runner == SbatchRunner.name or isinstance(runner, SbatchRunner):
+        post_command = _post_command(out, vtk=vtk, plots=plots) if post else None
+        return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
+    bar = ProgressBar() if progress is True else None
+    on_progress = bar if bar is not None else (progress if callable(progress) else None)
+    try:
+        engine_run = launch.run_engine(deck_path, out / results_name, ranks, threads,
+                                       on_progress=on_progress,
+                                       log_path=out / log_name if log_name else None,
+                                       restart=restart, runner=runner)
+    finally:
+        if bar is not None:
+            bar.close()
+    results = read(out / results_name, deck=deck_path)
+    results.engine_run = engine_run
+    if post:
+        effects = engine_run.start.get("effects", "").split(",")
+        details = {"scene": _source_name(source), "command": engine_run.command, **(extra or {})}
+        results.outputs = post_process(results, out, effects, details, vtk=vtk, history=history,
+                                       summary=summary, plots=plots)
+    return results
+
+
+def _check_source(source: Source) -> None:
+    if isinstance(source, (str, Path)):
+        path = Path(source)
+        if not path.is_file():
+            raise scene.SceneError(f"{path}: no such file; give the path of a scene .toml or a deck .h5")
+    elif not isinstance(source, (scene.Scene, deck.Model)):
+        raise TypeError(f"cannot run a {type(source).__name__}; give a scene .toml or deck .h5 path, "
+                        f"a paradyn.scene.Scene or a paradyn.deck.Model")
+
+
+def _source_name(source: Source) -> str | None:
+    """The file a run came from, for the summary (None for a model built in Python)."""
+    if isinstance(source, (str, Path)):
+        return str(Path(source).resolve())
+    if isinstance(source, scene.Scene):
+        return str(Path(source.path).resolve())
+    return None
+
+
+def model_of(source: Source) -> deck.Model:
+    """The deck model of a scene file, a deck file, a loaded scene or a model."""
+    if isinstance(source, deck.Model):
+        return source
+    if isinstance(source, scene.Scene):
+        return scene.build_model(source)
+    path = Path(source)
+    if path.suffix in DECK_SUFFIXES:
+        return deck.read_deck(path)
+    return scene.build_model(scene.load_scene(path))
+
+
+def prepare_deck(source: Source, out_dir: Path) -> Path:
+    """Write (or check and copy) the deck of ``source`` into ``out_dir``; return its path."""
+    return deck.write_deck(model_of(source), out_dir / "deck.h5")
+
+
+def restart_deck(out_dir: Path) -> Path:
+    """The deck of the interrupted run in out_dir, kept as it was (the checkpoint belongs to it)."""
+    deck_path, checkpoint = out_dir / "deck.h5", out_dir / "results.checkpoint.h5"
+    if not (deck_path.is_file() and checkpoint.is_file()):
+        raise ValueError(f"{out_dir} holds no deck.h5 and results.checkpoint.h5 to restart from; give the "
+                         f"output folder (-o) of a run that wrote a checkpoint ([run] checkpoint_interval, "
+                         f"or a run stopped with Ctrl-C or SIGTERM)")
+    return deck_path
+
+
+def _post_command(out_dir: Path, vtk: bool, plots: bool) -> list[str]:
+    """``paradyn-run --post OUT`` as a batch job runs it, with this Python."""
+    command = [sys.executable, "-m", "paradyn.cli", "--post", str(out_dir.resolve())]
+    return command + ["--no-plots"] * (not plots) + ["--no-vtk"] * (not vtk)
+
+
+def _write_batch_job(runner: str | Runner, deck_path: Path, results: Path, ranks: int, threads: int,
+                     post_command: list[str] | None) -> BatchJob:
+    batch = launch.make_runner(runner, ranks)
+    assert isinstance(batch, SbatchRunner)
+    if batch.post_command is None:
+        batch = replace(batch, post_command=post_command)
+    script = batch.write_job(deck_path.resolve(), results.resolve(), ranks, threads)
+    return BatchJob(script=script, deck=deck_path)

@@ -1,0 +1,80 @@
+"""paradyn.run, the facade: a scene file, a loaded scene, a model or a deck in; the deck written
+into the output folder, the engine run through a runner, the post-processing asked for, and the
+results object out (README.md, "Using it")."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+import paradyn
+from paradyn import deck, launch, scene
+
+ROOT = Path(__file__).resolve().parents[1]
+SMALL_PLATE = ROOT / "cases" / "small_plate" / "scene.toml"
+EFFECTS = ["shell_elements", "time_integration", "fixed_boundaries", "point_loads"]
+
+
+@pytest.fixture(scope="module")
+def plate_model() -> deck.Model:
+    return scene.build_model(scene.load_scene(SMALL_PLATE))
+
+
+def test_a_scene_file_runs_end_to_end_with_every_output(tmp_path: Path) -> None:
+    res = paradyn.run(SMALL_PLATE, tmp_path, ranks=1, threads=1, plots=False)
+    assert isinstance(res, paradyn.Results) and res.complete
+    assert list(res.outputs) == ["results", "vtk plate", "history", "summary"]
+    assert all(path.is_file() for path in res.outputs.values())
+    assert (tmp_path / "deck.h5").is_file() and (tmp_path / "engine.log").is_file()
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["scene"] == str(SMALL_PLATE) and summary["command"] == res.engine_run.command
+    assert summary["effects"] == EFFECTS == res.effects
+    assert res.engine_run.done["cycles"] == str(res.run["cycles"]) and res.engine_run.elapsed_s > 0
+
+
+def test_post_false_writes_the_deck_and_results_only(tmp_path: Path, plate_model: deck.Model) -> None:
+    res = paradyn.run(plate_model, tmp_path, ranks=1, threads=1, post=False)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["deck.h5", "engine.log", "results.h5"]
+    assert res.outputs == {} and res.n_frames > 0 and res.part_names == ["plate"]
+
+
+def test_each_kind_of_source_gives_the_same_history(tmp_path: Path, plate_model: deck.Model) -> None:
+    from numpy.testing import assert_array_equal
+
+    first = paradyn.run(SMALL_PLATE, tmp_path / "file", ranks=1, threads=1, post=False)
+    sources = {"scene": scene.load_scene(SMALL_PLATE), "model": plate_model,
+               "deck": tmp_path / "file" / "deck.h5"}
+    for name, source in sources.items():
+        res = paradyn.run(source, tmp_path / name, ranks=1, threads=1, post=False)
+        for column, values in first.history.items():
+            assert_array_equal(res.history[column], values, err_msg=f"{name}: {column}")
+
+
+def test_flags_choose_the_outputs_and_names_choose_the_files(tmp_path: Path, plate_model: deck.Model) -> None:
+    res = paradyn.run(plate_model, tmp_path, ranks=1, threads=1, vtk=False, summary=False, plots=False,
+                      results_name="plate.h5", log_name=None, extra={"case": "plate"})
+    assert list(res.outputs) == ["results", "history"] and res.path == tmp_path / "plate.h5"
+    assert not (tmp_path / "summary.json").exists() and not (tmp_path / "engine.log").exists()
+
+
+def test_the_sbatch_runner_writes_a_job_and_runs_nothing(tmp_path: Path, plate_model: deck.Model) -> None:
+    job = paradyn.run(plate_model, tmp_path, ranks=2, threads=3, runner="sbatch", plots=False)
+    assert isinstance(job, paradyn.BatchJob) and job.submit_command == ["sbatch", str(job.script)]
+    text = job.script.read_text()
+    assert "#SBATCH --ntasks=2" in text and f"--post {tmp_path.resolve()} --no-plots" in text
+    assert not (tmp_path / "results.h5").exists()
+
+
+def test_mistakes_are_named_before_anything_runs(tmp_path: Path, plate_model: deck.Model) -> None:
+    with pytest.raises(scene.SceneError, match="no such file"):
+        paradyn.run(tmp_path / "missing.toml", tmp_path / "out")
+    with pytest.raises(TypeError, match="paradyn.deck.Model"):
+        paradyn.run({"title": "a dict"}, tmp_path / "out")  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="unknown runner 'local'"):
+        paradyn.run(plate_model, tmp_path / "out", ranks=1, threads=1, runner="local")
+    with pytest.raises(ValueError, match="holds no deck.h5 and results.checkpoint.h5"):
+        paradyn.run(plate_model, tmp_path / "empty", restart=True)
+    with pytest.raises(launch.EngineError, match="must be at least 1"):
+        paradyn.run(plate_model, tmp_path / "out", ranks=0, threads=1)
