@@ -3,12 +3,13 @@
 !> Runs one deck under MPI (element partitions across ranks) and OpenMP (groups across threads) and
 !> writes the results file, with a checkpoint beside it every /control checkpoint_interval and
 !> when stopped by SIGTERM, SIGINT or SIGUSR1. --restart continues a run from its checkpoint.
-!> Exit status: 0 done, 2 bad input, 3 numerical failure, 4 stopped by a signal (checkpoint
-!> written), 1 otherwise.
+!> Exit status (paradyn_schema, from schema/results.toml): status_ok, status_bad_input,
+!> status_numerical, status_stopped (by a signal, checkpoint written), status_failure otherwise.
 program paradyn_engine
   use mpi_f08
   use hdf5, only: h5open_f, h5close_f
   use paradyn_kinds, only: wp
+  use paradyn_schema, only: status_ok, status_failure, status_bad_input, status_stopped
   use model_deck, only: deck_t, partition_label
   use deck_reader, only: read_deck
   use explicit_solver, only: solver_t, solver_setup, solver_run, solver_effects
@@ -47,14 +48,14 @@ program paradyn_engine
       if (rank == 0) write (*, '(a)') 'usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]]', &
         'Runs a ParaDyn deck (docs/formats.md); launch it with mpirun -n RANKS and OMP_NUM_THREADS.', &
         '--restart continues an interrupted run from its checkpoint (default RESULTS.checkpoint.h5).'
-      call finish(0)
+      call finish(status_ok)
     else if (argument == '--restart') then
       restart = .true.
     else if (argument(1:10) == '--restart=') then
       restart = .true.
       restart_path = argument(11:)
     else if (argument(1:1) == '-' .or. n_positional == 2) then
-      call fail(2, 'unexpected argument '//trim(argument)// &
+      call fail(status_bad_input, 'unexpected argument '//trim(argument)// &
                 '; usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]]')
     else
       n_positional = n_positional + 1
@@ -63,7 +64,7 @@ program paradyn_engine
     end if
   end do
   if (n_positional < 1) then
-    call fail(2, 'usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]] '// &
+    call fail(status_bad_input, 'usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]] '// &
               '(results default to results.h5 beside the deck)')
   end if
   if (n_positional < 2) results_path = beside(deck_path, 'results.h5')
@@ -72,7 +73,7 @@ program paradyn_engine
 
   ! every rank reads and checks the deck; all reach the same verdict
   call read_deck(trim(deck_path), deck, status, message)
-  if (status /= 0) call fail(2, trim(deck_path)//': '//trim(message))
+  if (status /= status_ok) call fail(status_bad_input, trim(deck_path)//': '//trim(message))
   call solver_setup(solver, deck, MPI_COMM_WORLD, status, message)
   if (status /= 0) call fail(status, trim(message))
 
@@ -88,7 +89,7 @@ program paradyn_engine
                           deck%n_tracked, results, status, message)
     end if
   end associate
-  if (status /= 0) call fail(1, trim(message))
+  if (status /= status_ok) call fail(status_failure, trim(message))
   if (rank == 0) then
     write (*, '(a,i0,a,i0,a,i0,a,i0,a,es11.4,a,es11.4,a,es11.4,a)') 'PARADYN-START elements=', &
       deck%n_elements, ' nodes=', deck%n_nodes, ' ranks=', n_ranks, ' threads=', solver%threads, &
@@ -113,7 +114,7 @@ program paradyn_engine
       flush (6)
     end if
     if (solver%stop_requested) then
-      status = 4
+      status = status_stopped
       write (message, '(a,es12.5,a)') 'stopped by a signal at time ', solver%time, ' s; the checkpoint '// &
         checkpoint//' holds the state: continue with paradyn-engine '//trim(deck_path)//' '// &
         trim(results_path)//' --restart (or paradyn-run --restart)'
@@ -128,7 +129,7 @@ program paradyn_engine
       ' wall_s=', run%wall_s, ' element_cycles_per_s=', run%element_cycles_per_s
     flush (6)
   end if
-  call finish(0)
+  call finish(status_ok)
 
 contains
 
@@ -174,7 +175,7 @@ contains
     integer, intent(in) :: code
     call h5close_f(err)
     call MPI_Finalize()
-    if (code == 0) stop
+    if (code == status_ok) stop
     stop code, quiet=.true.
   end subroutine finish
 
