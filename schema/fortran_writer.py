@@ -140,6 +140,8 @@ class _Writer:
                       "    real(wp) :: default                 !< every entry of an absent optional dataset",
                       "    logical :: has_lower, lower_inclusive, has_upper, upper_inclusive",
                       "    real(wp) :: lower, upper", "    integer :: enum                     !< enum id, enum_none",
+                      "    integer :: n_codes                  !< the enum's codes: codes(1:n_codes)",
+                      "    integer :: codes(max_enum_members)",
                       "    integer :: reference                !< size id of the entity indexed, size_none",
                       f"    character(len={n['rule']}) :: rule", f"    character(len={n['enum_rule']}) :: enum_rule",
                       f"    character(len={n['fix']}) :: fix", "  end type dataset_spec_t", "",
@@ -158,6 +160,12 @@ class _Writer:
     def bounds(self, e: Entry) -> list[str]:
         return [logical("lower" in e.raw), logical(e.get("lower_inclusive", True)), logical("upper" in e.raw),
                 logical(e.get("upper_inclusive", True)), real(e.get("lower")), real(e.get("upper"))]
+
+    def codes(self, e: Entry) -> list[str]:
+        """n_codes and the padded code list of an entry's enum (none: 0 and zeros)."""
+        width = max(len(x["members"]) for x in self.s.enums.values())
+        codes = list(self.s.enum_codes(e.get("enum")).values()) if e.get("enum") else []
+        return [str(len(codes)), "[" + ", ".join(str(c) for c in codes + [0] * (width - len(codes))) + "]"]
 
     def tables(self) -> None:
         s = self.s
@@ -183,7 +191,8 @@ class _Writer:
                      f"size_{shape[0]}", logical(d.defines_rows), logical(d.required),
                      f"condition_{d.get('required_when') or 'none'}", f"condition_{d.get('checked_when') or 'none'}",
                      real(d.get("default"))] + self.bounds(d) + [
-                     f"enum_{d.get('enum') or 'none'}", references.get(d.get("reference"), "size_none"),
+                     f"enum_{d.get('enum') or 'none'}"] + self.codes(d) + [
+                     references.get(d.get("reference"), "size_none"),
                      text(d.rule), text(d.enum_rule), text(d.get("fix"))]
             rows.append(_pack("dataset_spec_t(", items, "    ", ")"))
         self._array("type(dataset_spec_t)", "deck_datasets(n_deck_datasets)", rows)

@@ -155,7 +155,7 @@ def _check_presence(check: _Checker) -> None:
         holds = np.flatnonzero(check.array(_BY_PATH[condition.dataset].python) == condition.code)
         if holds.size:
             check.fail(f"{spec.path} is missing but {condition.dataset}[{int(holds[0])}] = {condition.code}; it is "
-                       f"required when {condition.meaning}: give it for every material")
+                       f"required when {condition.meaning}: give it for every {SIZES[spec.shape[0]].entity}")
 
 
 def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:

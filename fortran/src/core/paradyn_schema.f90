@@ -155,6 +155,8 @@ module paradyn_schema
     logical :: has_lower, lower_inclusive, has_upper, upper_inclusive
     real(wp) :: lower, upper
     integer :: enum                     !< enum id, enum_none
+    integer :: n_codes                  !< the enum's codes: codes(1:n_codes)
+    integer :: codes(max_enum_members)
     integer :: reference                !< size id of the entity indexed, size_none
     character(len=23) :: rule
     character(len=47) :: enum_rule
@@ -191,96 +193,98 @@ module paradyn_schema
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, size_none, '', &
-        '', 'give every node a finite position in metres'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        size_none, '', '', 'give every node a finite position in metres'), &
     dataset_spec_t('/nodes/initial_velocity', class_float, 3, size_n_nodes, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, size_none, '', &
-        '', 'give finite initial velocities in m/s'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        size_none, '', '', 'give finite initial velocities in m/s'), &
     dataset_spec_t('/nodes/initial_angular_velocity', class_float, 3, size_n_nodes, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        size_none, '', '', 'give finite initial angular velocities in rad/s'), &
+        0, [0, 0], size_none, '', '', 'give finite initial angular velocities in rad/s'), &
     dataset_spec_t('/nodes/fixed_dofs', class_int, 6, size_n_nodes, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_dof_state, size_none, &
-        '', 'must be 0 or 1 (0 = free, 1 = fixed)', 'use 1 to fix a dof and 0 to leave it free'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_dof_state, 2, [0, 1], &
+        size_none, '', 'must be 0 or 1 (0 = free, 1 = fixed)', 'use 1 to fix a dof and 0 to leave it free'), &
     dataset_spec_t('/elements/connectivity', class_int, 4, size_n_elements, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, size_n_nodes, &
-        '', '', 'remesh'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        size_n_nodes, '', '', 'remesh'), &
     dataset_spec_t('/elements/part', class_int, 0, size_n_elements, .false., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, size_n_parts, &
-        '', '', 'give every element the index of its part'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        size_n_parts, '', '', 'give every element the index of its part'), &
     dataset_spec_t('/parts/thickness', class_float, 0, size_n_parts, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, size_none, &
-        'must be > 0', '', 'set a positive shell thickness in metres'), &
+        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        size_none, 'must be > 0', '', 'set a positive shell thickness in metres'), &
     dataset_spec_t('/parts/material', class_int, 0, size_n_parts, .false., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
         size_n_materials, '', '', 'give every part the index of its material'), &
     dataset_spec_t('/parts/integration_points', class_int, 0, size_n_parts, .false., .false., condition_none, &
-        condition_none, 5.0_wp, .true., .true., .true., .true., 1.0_wp, 9.0_wp, enum_none, size_none, &
-        'must be between 1 and 9', '', 'choose 1 to 9 Gauss points through the thickness (5 is usual)'), &
+        condition_none, 5.0_wp, .true., .true., .true., .true., 1.0_wp, 9.0_wp, enum_none, 0, [0, 0], &
+        size_none, 'must be between 1 and 9', '', &
+        'choose 1 to 9 Gauss points through the thickness (5 is usual)'), &
     dataset_spec_t('/parts/hourglass_coefficient', class_float, 0, size_n_parts, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        size_none, 'must be >= 0', '', 'use a small non-negative coefficient such as 0.1'), &
+        0, [0, 0], size_none, 'must be >= 0', '', 'use a small non-negative coefficient such as 0.1'), &
     dataset_spec_t('/parts/hourglass_form', class_int, 0, size_n_parts, .false., .false., condition_none, &
-        condition_none, 2.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_hourglass_form, &
-        size_none, '', 'must be 1 or 2 (1 = viscous, 2 = stiffness)', 'use 1 (viscous) or 2 (stiffness)'), &
+        condition_none, 2.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_hourglass_form, 2, &
+        [1, 2], size_none, '', 'must be 1 or 2 (1 = viscous, 2 = stiffness)', &
+        'use 1 (viscous) or 2 (stiffness)'), &
     dataset_spec_t('/materials/model', class_int, 0, size_n_materials, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, &
-        size_none, '', 'must be 1 or 2 (1 = elastic, 2 = j2_plasticity)', &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 2, &
+        [1, 2], size_none, '', 'must be 1 or 2 (1 = elastic, 2 = j2_plasticity)', &
         'use 1 for linear elastic or 2 for J2 plasticity'), &
     dataset_spec_t('/materials/density', class_float, 0, size_n_materials, .false., .true., condition_none, &
-        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, size_none, &
-        'must be > 0', '', 'give the density in kg/m^3'), &
+        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        size_none, 'must be > 0', '', 'give the density in kg/m^3'), &
     dataset_spec_t('/materials/youngs_modulus', class_float, 0, size_n_materials, .false., .true., &
         condition_none, condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        size_none, 'must be > 0', '', 'give Young''s modulus in Pa (200e9 for steel)'), &
+        0, [0, 0], size_none, 'must be > 0', '', 'give Young''s modulus in Pa (200e9 for steel)'), &
     dataset_spec_t('/materials/poisson_ratio', class_float, 0, size_n_materials, .false., .true., &
         condition_none, condition_none, 0.0_wp, .true., .false., .true., .false., -1.0_wp, 0.5_wp, enum_none, &
-        size_none, 'must be in (-1, 0.5)', '', 'give a Poisson ratio such as 0.3'), &
+        0, [0, 0], size_none, 'must be in (-1, 0.5)', '', 'give a Poisson ratio such as 0.3'), &
     dataset_spec_t('/materials/yield_stress', class_float, 0, size_n_materials, .false., .false., &
         condition_j2_plasticity, condition_j2_plasticity, 0.0_wp, .true., .false., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, size_none, 'must be > 0', '', 'give the initial yield stress in Pa'), &
+        0.0_wp, enum_none, 0, [0, 0], size_none, 'must be > 0', '', 'give the initial yield stress in Pa'), &
     dataset_spec_t('/materials/tangent_modulus', class_float, 0, size_n_materials, .false., .false., &
         condition_j2_plasticity, condition_j2_plasticity, 0.0_wp, .true., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, size_none, 'must be >= 0', '', &
+        0.0_wp, enum_none, 0, [0, 0], size_none, 'must be >= 0', '', &
         'give the plastic tangent modulus in Pa below Young''s modulus (0 = perfectly plastic)'), &
     dataset_spec_t('/materials/hardening_mixing', class_float, 0, size_n_materials, .false., .false., &
         condition_j2_plasticity, condition_j2_plasticity, 1.0_wp, .true., .true., .true., .true., 0.0_wp, &
-        1.0_wp, enum_none, size_none, 'must be in [0, 1]', '', &
+        1.0_wp, enum_none, 0, [0, 0], size_none, 'must be in [0, 1]', '', &
         'use 1 for isotropic, 0 for kinematic hardening or a mix in between'), &
     dataset_spec_t('/loads/node', class_int, 0, size_n_loads, .true., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, size_n_nodes, &
-        '', '', 'give the index of the loaded node'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        size_n_nodes, '', '', 'give the index of the loaded node'), &
     dataset_spec_t('/loads/dof', class_int, 0, size_n_loads, .false., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, enum_none, size_none, &
-        'must be between 1 and 6', '', &
+        condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, enum_none, 0, [0, 0], &
+        size_none, 'must be between 1 and 6', '', &
         'use 1..3 for a force along x, y, z and 4..6 for a moment about x, y, z'), &
     dataset_spec_t('/loads/value', class_float, 0, size_n_loads, .false., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, size_none, '', &
-        '', 'give the final load value in N or N m'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        size_none, '', '', 'give the final load value in N or N m'), &
     dataset_spec_t('/loads/ramp_time', class_float, 0, size_n_loads, .false., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, size_none, &
-        'must be >= 0', '', 'give the ramp time in seconds (0 applies the load at once)'), &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        size_none, 'must be >= 0', '', 'give the ramp time in seconds (0 applies the load at once)'), &
     dataset_spec_t('/output/tracked_nodes', class_int, 0, size_n_tracked, .true., .false., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, size_n_nodes, &
-        '', '', 'give the index of each tracked node'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        size_n_nodes, '', '', 'give the index of each tracked node'), &
     dataset_spec_t('/contact/pairs', class_int, 2, size_n_contacts, .true., .false., condition_contact_group, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, size_n_parts, &
-        '', '', 'name two different parts'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        size_n_parts, '', '', 'name two different parts'), &
     dataset_spec_t('/contact/penalty_scale', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        size_none, 'must be > 0', '', 'use a penalty scale factor such as 0.1 (the default)'), &
+        0, [0, 0], size_none, 'must be > 0', '', 'use a penalty scale factor such as 0.1 (the default)'), &
     dataset_spec_t('/contact/static_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
+        0, [0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
     dataset_spec_t('/contact/dynamic_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
+        0, [0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
     dataset_spec_t('/contact/friction_decay', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        size_none, 'must be >= 0', '', 'give a decay coefficient >= 0 in s/m'), &
+        0, [0, 0], size_none, 'must be >= 0', '', 'give a decay coefficient >= 0 in s/m'), &
     dataset_spec_t('/contact/passes', class_int, 0, size_n_contacts, .false., .false., condition_none, &
-        condition_none, 2.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_passes, &
-        size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
+        condition_none, 2.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_passes, 2, &
+        [1, 2], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
         'use 2 (both bodies slave every step) or 1 (slave and master swap every step)') ]
 
   type(attribute_spec_t), parameter :: control_attributes(n_control_attributes) = [ &

@@ -8,7 +8,8 @@ module deck_reader
   use paradyn_kinds, only: wp
   use paradyn_schema, only: deck_version, deck_version_attribute, deck_datasets, control_attributes, &
                             deck_conditions, deck_enums, n_deck_datasets, n_control_attributes, n_sizes, &
-                            size_entity, size_min_rows, class_int, class_float, class_string, condition_none, &
+                            size_entity, size_symbol, size_min_rows, class_int, class_float, class_string, &
+                            condition_none, &
                             status_ok, status_bad_input
   use deck_rules, only: check_field_values, check_attribute_value, selected_rows, integer_text
   use model_deck, only: deck_t, store_deck_field, store_control_value, check_deck_relations
@@ -106,7 +107,9 @@ contains
         if (c%dataset == 0) then
           words = ' (required since the group '//trim(c%group)//' exists)'
         else
-          words = ' (required since '//trim(deck_datasets(c%dataset)%path)//' holds '//integer_text(c%code)//')'
+          words = ' (required since '//trim(deck_datasets(c%dataset)%path)//'['// &
+                  integer_text(findloc(nint(fields(c%dataset)%values(1, :)), c%code, dim=1) - 1)//'] = '// &
+                  integer_text(c%code)//')'
         end if
       end associate
     end function required_because
@@ -175,8 +178,7 @@ contains
       call h5sget_simple_extent_ndims_f(space, ndims, err)
       want_rank = merge(2, 1, deck_datasets(id)%columns > 0)
       if (status_ok_so_far() .and. ndims /= want_rank) then
-        message = 'dataset '//name//' must have '//integer_text(want_rank)//' dimensions, '// &
-                  shape_words(id)
+        message = 'dataset '//name//' has '//integer_text(ndims)//' dimensions; expected '//shape_words(id)
       else if (status_ok_so_far()) then
         call h5sget_simple_extent_dims_f(space, dims(1:ndims), maxdims(1:ndims), err)
         ! the Fortran API reports dimensions fastest first: put rows (h5py's first axis) first
@@ -186,24 +188,24 @@ contains
                     integer_text(int(dims(2)))//'); expected '//shape_words(id)
         else if (rows >= 0 .and. dims(1) /= rows) then
           message = 'dataset '//name//' has '//integer_text(int(dims(1)))//' rows; expected '// &
-                    integer_text(rows)//', '//shape_words(id)
+                    integer_text(rows)//': '//shape_words(id)
         end if
       end if
       call h5sclose_f(space, err)
       if (.not. status_ok_so_far()) call h5dclose_f(dset, err)
     end subroutine open_checked
 
-    !> `(n_nodes, 3): one row per node`
+    !> `shape (n_nodes, 3), one row per node`
     function shape_words(id) result(words)
       integer, intent(in) :: id
       character(len=:), allocatable :: words
       associate (spec => deck_datasets(id))
         if (spec%columns > 0) then
-          words = '(rows, '//integer_text(spec%columns)//')'
+          words = 'shape ('//trim(size_symbol(spec%row_symbol))//', '//integer_text(spec%columns)//')'
         else
-          words = '(rows,)'
+          words = 'shape ('//trim(size_symbol(spec%row_symbol))//',)'
         end if
-        words = words//' with one row per '//trim(size_entity(spec%row_symbol))
+        words = words//', one row per '//trim(size_entity(spec%row_symbol))
       end associate
     end function shape_words
 
@@ -230,7 +232,8 @@ contains
                 '" is unknown: it '//trim(spec%enum_rule)//'; '//trim(spec%fix)
             end if
           else
-            call read_real_attribute(file, '/control', trim(spec%name), values(id), values(id), spec%required)
+            call read_real_attribute(file, '/control', trim(spec%name), values(id), values(id), spec%required, &
+                                     trim(spec%fix))
             if (status_ok_so_far()) call check_attribute_value(id, values(id), message)
           end if
           if (.not. status_ok_so_far()) return
@@ -271,7 +274,7 @@ contains
       call h5aget_space_f(attr, space, err)
       call h5sget_simple_extent_npoints_f(space, points, err)
       if (attribute_class(attr) /= H5T_STRING_F .or. points /= 1) then
-        message = object//' attribute '//name//' must be one string'
+        message = object//' attribute '//name//' must be one string; write it as a str attribute'
         call h5sclose_f(space, err)
         call h5aclose_f(attr, err)
         return
@@ -312,9 +315,9 @@ contains
       call h5aclose_f(attr, err)
     end subroutine read_string_attribute
 
-    subroutine read_real_attribute(loc, object, name, value, default, required)
+    subroutine read_real_attribute(loc, object, name, value, default, required, fix)
       integer(hid_t), intent(in) :: loc
-      character(len=*), intent(in) :: object, name
+      character(len=*), intent(in) :: object, name, fix
       real(wp), intent(out) :: value
       real(wp), intent(in) :: default
       logical, intent(in) :: required
@@ -323,7 +326,7 @@ contains
       value = default
       call h5aexists_by_name_f(loc, object, name, have, err)
       if (.not. have) then
-        if (required) message = object//' attribute '//name//' is missing; see docs/formats.md'
+        if (required) message = object//' attribute '//name//' is missing; '//fix
         return
       end if
       call h5aopen_by_name_f(loc, object, name, attr, err)
@@ -351,7 +354,7 @@ contains
       end if
       call h5aopen_by_name_f(loc, object, name, attr, err)
       if (attribute_class(attr) /= H5T_INTEGER_F) then
-        message = 'attribute '//name//' of '//object//' must be an integer'
+        message = 'root attribute '//name//' must be an integer; write it as an int32 attribute'
       else
         call h5aread_f(attr, H5T_NATIVE_INTEGER, value, [1_hsize_t], err)
       end if

@@ -5,12 +5,11 @@
 module deck_rules
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: deck_datasets, control_attributes, deck_enums, deck_conditions, dataset_spec_t, &
-                            attribute_spec_t, class_int, class_float, size_none, size_entity, condition_none, &
-                            max_enum_members
+  use paradyn_schema, only: deck_datasets, control_attributes, deck_conditions, dataset_spec_t, &
+                            attribute_spec_t, class_int, class_float, size_none, size_entity, condition_none
   implicit none
   private
-  public :: check_field_values, check_attribute_value, selected_rows, within_bounds, is_enum_code, &
+  public :: check_field_values, check_attribute_value, selected_rows, within_bounds, &
             number_text, integer_text
 
 contains
@@ -51,8 +50,8 @@ contains
           else if (.not. within_bounds(v, spec%has_lower, spec%lower_inclusive, spec%lower, &
                                        spec%has_upper, spec%upper_inclusive, spec%upper)) then
             message = entry_text(spec, row, column, v)//' '//trim(spec%rule)//rows_text(spec)//'; '//trim(spec%fix)
-          else if (spec%enum /= 0) then
-            if (.not. is_enum_code(spec%enum, nint(v))) &
+          else if (spec%n_codes > 0) then
+            if (.not. any(spec%codes(1:spec%n_codes) == nint(v))) &
               message = entry_text(spec, row, column, v)//' '//trim(spec%enum_rule)//'; '//trim(spec%fix)
           else if (spec%reference /= size_none) then
             upper = sizes(spec%reference)
@@ -106,15 +105,6 @@ contains
     end if
   end function within_bounds
 
-  pure logical function is_enum_code(enum, code)
-    integer, intent(in) :: enum, code
-    integer :: k
-    is_enum_code = .false.
-    do k = 1, min(deck_enums(enum)%n_members, max_enum_members)
-      if (deck_enums(enum)%codes(k) == code) is_enum_code = .true.
-    end do
-  end function is_enum_code
-
   !> `/path[row] = value` or `/path[row, column] = value`, 0-based as in the file.
   pure function entry_text(spec, row, column, v) result(words)
     type(dataset_spec_t), intent(in) :: spec
@@ -136,19 +126,55 @@ contains
     if (spec%checked_when /= condition_none) words = ' '//trim(deck_conditions(spec%checked_when)%rows)
   end function rows_text
 
-  !> A value as the file holds it: an integer, or a real in a short exponent form.
+  !> A value as the file holds it, as the frontend prints it (Python's %.6g): an integer, or a
+  !> real with at most 6 significant digits and no trailing zeros (-1, 0.0015, 2.5E+11).
   pure function number_text(v, class) result(words)
     real(wp), intent(in) :: v
     integer, intent(in) :: class
     character(len=:), allocatable :: words
-    character(len=32) :: buffer
+    character(len=40) :: buffer
+    integer :: mark
     if (class == class_int .and. abs(v) < 2.0e9_wp) then
       words = integer_text(nint(v))
-    else
+    else if (.not. ieee_is_finite(v)) then
       write (buffer, '(es12.5)') v
       words = trim(adjustl(buffer))
+    else if (v == 0.0_wp) then
+      words = '0'
+    else if (abs(v) >= 1.0e-4_wp .and. abs(v) < 1.0e6_wp) then
+      ! 6 significant digits: as many decimals as the magnitude leaves
+      write (buffer, '(f0.'//integer_text(max(0, 5 - floor(log10(abs(v)))))//')') v
+      words = without_trailing_zeros(trim(adjustl(buffer)))
+      if (words(1:1) == '.') words = '0'//words
+      if (words(1:2) == '-.') words = '-0'//words(2:)
+    else
+      write (buffer, '(es13.5e3)') v
+      buffer = adjustl(buffer)
+      mark = index(buffer, 'E')
+      words = without_trailing_zeros(buffer(1:mark - 1))//'E'//buffer(mark + 1:mark + 1)// &
+              integer_text(abs(exponent_of(buffer(mark + 2:))))
     end if
   end function number_text
+
+  !> `1.500000` -> `1.5`, `2.000` -> `2`; text without a decimal point is left alone.
+  pure function without_trailing_zeros(text) result(words)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: words
+    integer :: last
+    words = text
+    if (index(words, '.') == 0) return
+    last = len(words)
+    do while (last > 1 .and. words(last:last) == '0')
+      last = last - 1
+    end do
+    if (words(last:last) == '.') last = last - 1
+    words = words(1:last)
+  end function without_trailing_zeros
+
+  pure integer function exponent_of(digits)
+    character(len=*), intent(in) :: digits
+    read (digits, *) exponent_of
+  end function exponent_of
 
   pure function integer_text(i) result(words)
     integer, intent(in) :: i
