@@ -33,7 +33,7 @@ contains
     type(field_t) :: fields(n_deck_datasets)
     integer :: sizes(n_sizes)
     integer(hid_t) :: file
-    integer :: err, version, id, k
+    integer :: err, version, id
     logical :: exists
 
     status = status_bad_input
@@ -62,22 +62,26 @@ contains
     call h5fclose_f(file, err)
     if (.not. status_ok_so_far()) return
 
+    ! every field has its class and shape: now its values, then the relations between fields
     do id = 1, n_deck_datasets
-      associate (spec => deck_datasets(id))
-        if (spec%checked_when == condition_none) then
-          call check_field_values(id, fields(id)%values, sizes, &
-                                  [(.true., k = 1, size(fields(id)%values, 2))], message)
-        else
-          call check_field_values(id, fields(id)%values, sizes, selected_rows(id, size(fields(id)%values, 2), &
-                                  fields(deck_conditions(spec%checked_when)%dataset)%values), message)
-        end if
-      end associate
+      call check_field_values(id, fields(id)%values, sizes, rows_to_check(id), message)
       if (.not. status_ok_so_far()) return
       call store_deck_field(d, id, fields(id)%values)
     end do
     call check_deck_relations(d, status, message)
 
   contains
+
+    !> The rows of dataset `id` its rules apply to (those of the J2 materials for the J2 data).
+    function rows_to_check(id) result(selected)
+      integer, intent(in) :: id
+      logical, allocatable :: selected(:)
+      integer :: condition_dataset
+      condition_dataset = id   ! no condition: selected_rows selects every row and ignores the values
+      if (deck_datasets(id)%checked_when /= condition_none) &
+        condition_dataset = deck_conditions(deck_datasets(id)%checked_when)%dataset
+      selected = selected_rows(id, size(fields(id)%values, 2), fields(condition_dataset)%values)
+    end function rows_to_check
 
     logical function status_ok_so_far()
       status_ok_so_far = len_trim(message) == 0
@@ -92,7 +96,7 @@ contains
         if (c%dataset == 0) then
           condition_holds = link_exists(file, trim(c%group))
         else
-          condition_holds = any(nint(fields(c%dataset)%values(1, :)) == c%code)
+          condition_holds = any(fields(c%dataset)%values(1, :) == real(c%code, wp))
         end if
       end associate
     end function condition_holds
@@ -108,7 +112,7 @@ contains
           words = ' (required since the group '//trim(c%group)//' exists)'
         else
           words = ' (required since '//trim(deck_datasets(c%dataset)%path)//'['// &
-                  integer_text(findloc(nint(fields(c%dataset)%values(1, :)), c%code, dim=1) - 1)//'] = '// &
+                  integer_text(findloc(fields(c%dataset)%values(1, :), real(c%code, wp), dim=1) - 1)//'] = '// &
                   integer_text(c%code)//')'
         end if
       end associate

@@ -25,7 +25,7 @@ contains
     selected = .true.
     if (condition == condition_none) return
     if (deck_conditions(condition)%dataset == 0) return
-    selected = nint(condition_values(1, 1:rows)) == deck_conditions(condition)%code
+    selected = condition_values(1, 1:rows) == real(deck_conditions(condition)%code, wp)
   end function selected_rows
 
   !> Checks every selected entry of dataset `id` (values: (max(columns, 1), rows), as in the file).
@@ -51,7 +51,7 @@ contains
                                        spec%has_upper, spec%upper_inclusive, spec%upper)) then
             message = entry_text(spec, row, column, v)//' '//trim(spec%rule)//rows_text(spec)//'; '//trim(spec%fix)
           else if (spec%n_codes > 0) then
-            if (.not. any(spec%codes(1:spec%n_codes) == nint(v))) &
+            if (.not. any(real(spec%codes(1:spec%n_codes), wp) == v)) &
               message = entry_text(spec, row, column, v)//' '//trim(spec%enum_rule)//'; '//trim(spec%fix)
           else if (spec%reference /= size_none) then
             upper = sizes(spec%reference)
@@ -134,11 +134,11 @@ contains
     character(len=:), allocatable :: words
     character(len=40) :: buffer
     integer :: mark
-    if (class == class_int .and. abs(v) < 2.0e9_wp) then
-      words = integer_text(nint(v))
-    else if (.not. ieee_is_finite(v)) then
+    if (.not. ieee_is_finite(v)) then   ! first: a comparison with NaN traps in a Debug build
       write (buffer, '(es12.5)') v
       words = trim(adjustl(buffer))
+    else if (class == class_int .and. abs(v) < 2.0e9_wp) then
+      words = integer_text(nint(v))
     else if (v == 0.0_wp) then
       words = '0'
     else if (abs(v) >= 1.0e-4_wp .and. abs(v) < 1.0e6_wp) then

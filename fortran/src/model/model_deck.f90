@@ -4,7 +4,7 @@
 module model_deck
   use paradyn_kinds, only: wp
   use shell_blt, only: shell_properties_t
-  use paradyn_schema, only: material_j2_plasticity, size_none, deck_datasets, class_float, &
+  use paradyn_schema, only: material_j2_plasticity, size_none, deck_datasets, class_float, class_int, &
                             deck_enums, enum_partition, control_attributes, control_partition, status_ok, &
                             status_bad_input, &
                             dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
@@ -110,8 +110,11 @@ contains
     integer, intent(in) :: id
     real(wp), intent(in) :: values(:, :)
     integer, allocatable :: indices(:, :)
-    indices = nint(values)
-    if (deck_datasets(id)%reference /= size_none) indices = indices + 1
+    if (deck_datasets(id)%class == class_int) then   ! checked: every entry is a small whole number
+      allocate (indices(size(values, 1), size(values, 2)))
+      indices = nint(values)
+      if (deck_datasets(id)%reference /= size_none) indices = indices + 1
+    end if
     select case (id)
     case (dataset_nodes_coordinates)
       d%coordinates = values
