@@ -27,7 +27,7 @@ from paradyn.deck_validation import DeckError, validate_model
 
 __all__ = ["Model", "Control", "DeckError", "write_deck", "read_deck", "validate_deck", "validate_model",
            "ELASTIC", "J2_PLASTICITY", "HOURGLASS_VISCOUS", "HOURGLASS_STIFFNESS", "PARTITIONS",
-           "DEFAULT_PARTITION", "DOF_NAMES", "DECK_VERSION", "VERSION_ATTRIBUTE"]
+           "DEFAULT_PARTITION", "DOF_NAMES", "DECK_VERSION", "VERSION_ATTRIBUTE", "control_default"]
 
 _CONTROL = {a.name: a for a in CONTROL}
 _BY_ATTRIBUTE = {d.python: d for d in DATASETS}
@@ -46,6 +46,13 @@ def control_default(name: str) -> float | str | None:
     return _CONTROL[name].default
 
 
+def _number_default(name: str) -> float:
+    value = control_default(name)
+    if not isinstance(value, (int, float)):
+        raise TypeError(f"schema/deck.toml gives /control attribute {name} no numeric default")
+    return float(value)
+
+
 @dataclass
 class Control:
     """Attributes of the ``/control`` group; ``None`` leaves an optional attribute out (engine default)."""
@@ -53,12 +60,12 @@ class Control:
     end_time: float
     output_interval: float
     history_interval: float | None = None   # None: the engine uses output_interval / 10
-    time_step: float = control_default("time_step")  # type: ignore[assignment]
-    time_step_safety: float = control_default("time_step_safety")  # type: ignore[assignment]
-    mass_damping: float = control_default("mass_damping")  # type: ignore[assignment]
-    progress_interval: float = control_default("progress_interval")  # type: ignore[assignment]
-    contact_sort_interval: float = control_default("contact_sort_interval")  # type: ignore[assignment]
-    checkpoint_interval: float = control_default("checkpoint_interval")  # type: ignore[assignment]
+    time_step: float = _number_default("time_step")
+    time_step_safety: float = _number_default("time_step_safety")
+    mass_damping: float = _number_default("mass_damping")
+    progress_interval: float = _number_default("progress_interval")
+    contact_sort_interval: float = _number_default("contact_sort_interval")
+    checkpoint_interval: float = _number_default("checkpoint_interval")
     partition: str | None = None   # "blocks" or "rcb"; None leaves it to the engine (DEFAULT_PARTITION)
 
     REQUIRED = tuple(a.name for a in CONTROL if a.required)

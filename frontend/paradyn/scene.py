@@ -35,9 +35,9 @@ DOF_GROUPS = {
     "rotations": deck.DOF_NAMES[3:],
 }
 _REQUIRED = object()
-# Where a scene key fills a deck dataset, its default is the deck's (schema/deck.toml).
+# Where a scene key fills a deck dataset, its default is the deck's (schema/deck.toml); the [run]
+# defaults are those of deck.Control, which come from the same schema.
 _DECK_DEFAULT = {d.path: d.default for d in _schema.DATASETS}
-_RUN_DEFAULT = deck.control_default
 
 
 def _enum_name(enum: str, code: object) -> str:
@@ -338,15 +338,15 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
         end_time=r.number(t, "end_time", label, positive=True),
         output_interval=r.number(t, "output_interval", label, positive=True),
         history_interval=r.number(t, "history_interval", label, default=None, positive=True),
-        time_step=r.number(t, "time_step", label, default=_RUN_DEFAULT("time_step"), minimum=0.0),
-        time_step_safety=r.number(t, "time_step_safety", label, default=_RUN_DEFAULT("time_step_safety"),
+        time_step=r.number(t, "time_step", label, default=RunSettings.time_step, minimum=0.0),
+        time_step_safety=r.number(t, "time_step_safety", label, default=RunSettings.time_step_safety,
                                   positive=True),
-        mass_damping=r.number(t, "mass_damping", label, default=_RUN_DEFAULT("mass_damping"), minimum=0.0),
-        progress_interval=r.number(t, "progress_interval", label, default=_RUN_DEFAULT("progress_interval"),
+        mass_damping=r.number(t, "mass_damping", label, default=RunSettings.mass_damping, minimum=0.0),
+        progress_interval=r.number(t, "progress_interval", label, default=RunSettings.progress_interval,
                                    positive=True),
         contact_sort_interval=r.integer(t, "contact_sort_interval", label,
-                                        default=int(_RUN_DEFAULT("contact_sort_interval")), minimum=0),
-        checkpoint_interval=r.number(t, "checkpoint_interval", label, default=_RUN_DEFAULT("checkpoint_interval"),
+                                        default=int(RunSettings.contact_sort_interval), minimum=0),
+        checkpoint_interval=r.number(t, "checkpoint_interval", label, default=RunSettings.checkpoint_interval,
                                      minimum=0.0),
         partition=(r.string(t, "partition", label, choices=tuple(deck.PARTITIONS)) if "partition" in t
                    else None),
