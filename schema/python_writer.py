@@ -145,6 +145,20 @@ def _attribute(a: Entry) -> str:
         ("scene", a.get("scene")), ("fix", a.get("fix"))], positional=True)
 
 
+def _names(constant: str, names: list[str]) -> str:
+    """``CONSTANT = ('a', 'b', ...)`` wrapped at 116 characters."""
+    line = f"{constant} = {tuple(names)!r}"
+    if len(line) <= 116:
+        return line
+    lines, current = [f"{constant} = ("], "   "
+    for name in names:
+        if len(current) + len(repr(name)) + 2 > 116:
+            lines.append(current.rstrip())
+            current = "   "
+        current += f" {name!r},"
+    return "\n".join(lines + [current.rstrip(), ")"])
+
+
 def write(schema: Schema, header: str) -> str:
     deck, results = schema.deck, schema.results
     out = [f'"""{header}\n\nThe deck and results formats of docs/formats.md as Python tables; '
@@ -163,7 +177,8 @@ def write(schema: Schema, header: str) -> str:
                                            ("code", code), ("meaning", c["meaning"]), ("rows", c.get("rows", ""))])
                    .replace("    ConditionSpec(", f"    {name!r}: ConditionSpec(", 1))
     out += ["}", "", "RELATIONS: dict[str, RelationSpec] = {"]
-    out += [f"    {k!r}: RelationSpec({k!r}, {v['path']!r}, {v['meaning']!r})," for k, v in schema.relations.items()]
+    out += [_call("RelationSpec", [("name", k), ("path", v["path"]), ("meaning", v["meaning"])], positional=True)
+            .replace("    RelationSpec(", f"    {k!r}: RelationSpec(", 1) for k, v in schema.relations.items()]
     out += ["}", "", "# fields in the order of DatasetSpec and AttributeSpec above",
             "DATASETS: tuple[DatasetSpec, ...] = ("] + [_dataset(d) for d in schema.datasets] + [")", ""]
     out += ["CONTROL: tuple[AttributeSpec, ...] = ("] + [_attribute(a) for a in schema.control] + [")", ""]
@@ -175,17 +190,18 @@ def write(schema: Schema, header: str) -> str:
     grouped: dict[tuple[str, str], list[str]] = {}
     for what, name, rule in schema.rules():
         grouped.setdefault((what, name), []).append(rule)
-    out += [f"    {key!r}: {tuple(rules)!r}," for key, rules in grouped.items()]
+    out += [f"    {key!r}:\n        {tuple(rules)!r}," if len(f"    {key!r}: {tuple(rules)!r},") > 116
+            else f"    {key!r}: {tuple(rules)!r}," for key, rules in grouped.items()]
     out += ["}", ""]
     out += ["# The results file and the engine's output", ""]
     out += [f"RESULTS_VERSION = {results['results']['version']!r}",
             f"RESULTS_VERSION_ATTRIBUTE = {results['results']['version_attribute']!r}",
-            f"MESH_DATASETS = {tuple(m['path'] for m in results['mesh'])!r}",
-            f"FRAME_FIELDS = {tuple(f['name'] for f in results['frame'])!r}",
-            f"HISTORY_NAMES = {tuple(h['name'] for h in results['history'])!r}",
-            f"RUN_ATTRIBUTES = {tuple(n for r in results['run'] for n in r['names'])!r}",
-            f"PHASES = {tuple(results['phases']['names'])!r}",
-            f"CONTACT_PHASES = {tuple(results['phases']['contact_parts'])!r}",
+            _names("MESH_DATASETS", [m["path"] for m in results["mesh"]]),
+            _names("FRAME_FIELDS", [f["name"] for f in results["frame"]]),
+            _names("HISTORY_NAMES", [h["name"] for h in results["history"]]),
+            _names("RUN_ATTRIBUTES", [n for r in results["run"] for n in r["names"]]),
+            _names("PHASES", results["phases"]["names"]),
+            _names("CONTACT_PHASES", results["phases"]["contact_parts"]),
             "PROGRESS_KINDS: dict[str, tuple[str, ...]] = {"]
     out += [f"    {p['kind']!r}: {tuple(p['keys'])!r}," for p in results["progress"]]
     out += ["}", ""]

@@ -124,7 +124,7 @@ def _check(entry: Entry, allowed: set[str], schema: Schema, kind: str) -> None:
     unknown = set(entry.raw) - allowed
     if unknown:
         raise SchemaError(f"{kind} {entry.name}: unknown fields {sorted(unknown)}")
-    for key in ("type", "units", "meaning", "scene", "fix"):
+    for key in ("type", "meaning", "scene", "fix"):
         if key not in entry.raw:
             raise SchemaError(f"{kind} {entry.name}: field {key} is missing")
     if entry.get("type") not in ("int", "float", "string"):
@@ -139,14 +139,28 @@ def _check(entry: Entry, allowed: set[str], schema: Schema, kind: str) -> None:
         raise SchemaError(f"{kind} {entry.name}: reference must be one of {sorted(references)}")
 
 
+def _normalise_bounds(entry: Entry) -> None:
+    """``lower = { value = 0.0, inclusive = false }`` becomes lower = 0.0, lower_inclusive = false;
+    a plain number is an inclusive bound. Units default to "-"."""
+    entry.raw.setdefault("units", "-")
+    for side in ("lower", "upper"):
+        bound = entry.raw.get(side)
+        if isinstance(bound, dict):
+            if set(bound) != {"value", "inclusive"}:
+                raise SchemaError(f"{entry.name}: {side} takes a number or {{ value = ..., inclusive = ... }}")
+            entry.raw[side], entry.raw[f"{side}_inclusive"] = bound["value"], bool(bound["inclusive"])
+
+
 def load(root: Path) -> Schema:
     deck_path, results_path = root / "schema" / "deck.toml", root / "schema" / "results.toml"
     deck = tomllib.loads(deck_path.read_text(encoding="utf-8"))
     results = tomllib.loads(results_path.read_text(encoding="utf-8"))
     schema = Schema(deck=deck["deck"], sizes=deck["sizes"], conditions=deck["conditions"], enums=deck["enums"],
                     relations=deck["relations"], datasets=[Entry(d) for d in deck["dataset"]],
-                    control=[Entry(a) for a in deck["control"]], name_attributes=deck["name_attribute"],
+                    control=[Entry(a) for a in deck["control"]], name_attributes=deck["deck"]["name_attributes"],
                     results=results, sources=["schema/deck.toml", "schema/results.toml"])
+    for entry in schema.datasets + schema.control:
+        _normalise_bounds(entry)
     seen_rows: set[str] = set()
     for d in schema.datasets:
         _check(d, DATASET_FIELDS, schema, "dataset")

@@ -123,10 +123,6 @@ SIZES: dict[str, SizeSpec] = {
 }
 
 CONDITIONS: dict[str, ConditionSpec] = {
-    'j2_plasticity': ConditionSpec(
-        name='j2_plasticity', group=None, dataset='/materials/model', code=2,
-        meaning='some /materials/model is j2_plasticity', rows='for a j2_plasticity material',
-    ),
     'loads_group': ConditionSpec(
         name='loads_group', group='/loads', dataset=None, code=None, meaning='the group /loads exists', rows='',
     ),
@@ -134,13 +130,26 @@ CONDITIONS: dict[str, ConditionSpec] = {
         name='contact_group', group='/contact', dataset=None, code=None, meaning='the group /contact exists',
         rows='',
     ),
+    'j2_plasticity': ConditionSpec(
+        name='j2_plasticity', group=None, dataset='/materials/model', code=2,
+        meaning='some /materials/model is j2_plasticity', rows='for a j2_plasticity material',
+    ),
 }
 
 RELATIONS: dict[str, RelationSpec] = {
-    'distinct_element_nodes': RelationSpec('distinct_element_nodes', '/elements/connectivity', 'the four nodes of an element are distinct'),
-    'node_in_element': RelationSpec('node_in_element', '/nodes/coordinates', 'every node belongs to an element (a node without elements has no mass)'),
-    'tangent_below_youngs': RelationSpec('tangent_below_youngs', '/materials/tangent_modulus', 'tangent_modulus < youngs_modulus for a j2_plasticity material'),
-    'contact_parts_differ': RelationSpec('contact_parts_differ', '/contact/pairs', 'a contact pair names two different parts'),
+    'distinct_element_nodes': RelationSpec(
+        'distinct_element_nodes', '/elements/connectivity', 'the four nodes of an element are distinct',
+    ),
+    'node_in_element': RelationSpec(
+        'node_in_element', '/nodes/coordinates', 'every node belongs to an element (it has no mass otherwise)',
+    ),
+    'tangent_below_youngs': RelationSpec(
+        'tangent_below_youngs', '/materials/tangent_modulus',
+        'tangent_modulus < youngs_modulus for a j2_plasticity material',
+    ),
+    'contact_parts_differ': RelationSpec(
+        'contact_parts_differ', '/contact/pairs', 'a contact pair names two different parts',
+    ),
 }
 
 # fields in the order of DatasetSpec and AttributeSpec above
@@ -384,7 +393,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/materials/poisson_ratio'): ('missing', 'class', 'shape', 'rows', 'lower', 'upper', 'finite'),
     ('dataset', '/materials/yield_stress'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/materials/tangent_modulus'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
-    ('dataset', '/materials/hardening_mixing'): ('required_when', 'class', 'shape', 'rows', 'lower', 'upper', 'finite'),
+    ('dataset', '/materials/hardening_mixing'):
+        ('required_when', 'class', 'shape', 'rows', 'lower', 'upper', 'finite'),
     ('dataset', '/loads/node'): ('required_when', 'class', 'shape', 'reference'),
     ('dataset', '/loads/dof'): ('required_when', 'class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/loads/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
@@ -417,9 +427,18 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
 RESULTS_VERSION = 1
 RESULTS_VERSION_ATTRIBUTE = 'paradyn_results_version'
 MESH_DATASETS = ('/mesh/coordinates', '/mesh/connectivity', '/mesh/part')
-FRAME_FIELDS = ('time', 'displacement', 'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain')
-HISTORY_NAMES = ('time', 'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work', 'contact_penetration', 'tracked_displacement', 'tracked_velocity')
-RUN_ATTRIBUTES = ('cycles', 'dt_s', 'dt_stable_s', 'wall_s', 'ranks', 'threads', 'elements', 'nodes', 'element_cycles_per_s', 'peak_memory_per_rank_mb', 'load_imbalance', 'phase_elements_s', 'phase_contact_s', 'phase_communication_s', 'phase_output_s', 'phase_other_s', 'phase_contact_sort_s', 'phase_contact_search_s', 'phase_contact_force_s')
+FRAME_FIELDS = (
+    'time', 'displacement', 'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain',
+)
+HISTORY_NAMES = (
+    'time', 'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work',
+    'contact_penetration', 'tracked_displacement', 'tracked_velocity',
+)
+RUN_ATTRIBUTES = (
+    'cycles', 'dt_s', 'dt_stable_s', 'wall_s', 'ranks', 'threads', 'elements', 'nodes', 'element_cycles_per_s',
+    'peak_memory_per_rank_mb', 'load_imbalance', 'phase_elements_s', 'phase_contact_s', 'phase_communication_s',
+    'phase_output_s', 'phase_other_s', 'phase_contact_sort_s', 'phase_contact_search_s', 'phase_contact_force_s',
+)
 PHASES = ('elements', 'contact', 'communication', 'output', 'other')
 CONTACT_PHASES = ('contact_sort', 'contact_search', 'contact_force')
 PROGRESS_KINDS: dict[str, tuple[str, ...]] = {

@@ -11,8 +11,8 @@ module paradyn_schema
       contact_passes_both, partition_blocks, partition_rcb, max_integration_points, status_ok, &
       status_failure, status_bad_input, status_numerical, status_stopped, class_int, class_float, &
       class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, size_n_loads, &
-      size_n_tracked, size_n_contacts, n_sizes, condition_none, condition_j2_plasticity, &
-      condition_loads_group, condition_contact_group, n_conditions, enum_none, enum_material_model, &
+      size_n_tracked, size_n_contacts, n_sizes, condition_none, condition_loads_group, &
+      condition_contact_group, condition_j2_plasticity, n_conditions, enum_none, enum_material_model, &
       enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_partition, n_enums, &
       dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
       dataset_nodes_fixed_dofs, dataset_elements_connectivity, dataset_elements_part, &
@@ -66,9 +66,9 @@ module paradyn_schema
   integer, parameter :: size_n_contacts = 7
   integer, parameter :: n_sizes = 7
   integer, parameter :: condition_none = 0
-  integer, parameter :: condition_j2_plasticity = 1
-  integer, parameter :: condition_loads_group = 2
-  integer, parameter :: condition_contact_group = 3
+  integer, parameter :: condition_loads_group = 1
+  integer, parameter :: condition_contact_group = 2
+  integer, parameter :: condition_j2_plasticity = 3
   integer, parameter :: n_conditions = 3
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
@@ -187,9 +187,9 @@ module paradyn_schema
     enum_spec_t(2, [1, 2], [character(len=13) :: 'blocks', 'rcb']) ]
 
   type(condition_spec_t), parameter :: deck_conditions(n_conditions) = [ &
-    condition_spec_t('', 12, 2, 'for a j2_plasticity material'), &
     condition_spec_t('/loads', 0, 0, ''), &
-    condition_spec_t('/contact', 0, 0, '') ]
+    condition_spec_t('/contact', 0, 0, ''), &
+    condition_spec_t('', 12, 2, 'for a j2_plasticity material') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
