@@ -5,6 +5,8 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.paradyn-installed
 SOURCES := pyproject.toml $(shell find fortran frontend -type f -not -name '*.pyc' 2>/dev/null)
+# the deck and results schema: the Python tables, the Fortran module and the docs tables follow from it
+SCHEMA := $(wildcard schema/*.toml) schema/generate.py $(wildcard schema/*_writer.py) schema/schema_model.py
 
 .PHONY: demo test install engine bench clean
 
@@ -17,8 +19,9 @@ test: $(STAMP)
 
 install: $(STAMP)
 
-$(STAMP): $(SOURCES) setup/system-packages.sh
+$(STAMP): $(SOURCES) $(SCHEMA) setup/system-packages.sh
 	bash setup/system-packages.sh
+	$(PYTHON) schema/generate.py
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
 	$(PY) -m pip install -q "scikit-build-core>=0.10" "numpy>=1.26"

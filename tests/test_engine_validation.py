@@ -208,3 +208,37 @@ def test_paradyn_run_rejects_a_scene_with_a_typo(tmp_path: Path, capsys: pytest.
     assert "hourglas_coefficient" in err
     assert "hourglass_coefficient" in err          # the allowed keys are listed
     assert not (out / "results.h5").exists() and not (out / "deck.h5").exists()
+
+
+def _unused_node(f: h5py.File) -> None:
+    """One more node, with every per-node dataset, that no element uses."""
+    for name in ("/nodes/coordinates", "/nodes/initial_velocity", "/nodes/initial_angular_velocity",
+                 "/nodes/fixed_dofs"):
+        if name in f:
+            _replace(f, name, np.concatenate([f[name][()], f[name][-1:]]))
+
+
+def test_engine_refuses_a_node_that_belongs_to_no_element(good_deck: Path, tmp_path: Path) -> None:
+    """docs/formats.md (relation node_in_element): such a node has no mass. The engine used to
+    accept it (exit 0, the node written at [0, 0, 0]); now it exits with status 2 naming the
+    dataset and the node, as the frontend does."""
+    path = _damaged(good_deck, tmp_path, _unused_node)
+    with h5py.File(path, "r") as f:
+        unused = f["/nodes/coordinates"].shape[0] - 1
+    done = _run_engine(path, tmp_path / "results.h5")
+    assert done.returncode == 2, (done.returncode, done.stderr)
+    assert f"/nodes/coordinates[{unused}] belongs to no element" in done.stderr
+    assert not (tmp_path / "results.h5").exists()
+    with pytest.raises(deck.DeckError, match=re.escape(f"/nodes/coordinates[{unused}] belongs to no element")):
+        deck.validate_deck(path)
+
+
+def test_engine_refuses_a_negative_progress_interval(good_deck: Path, tmp_path: Path) -> None:
+    """docs/formats.md: progress_interval must be > 0. The engine used to run with -1; now it
+    exits with status 2 naming the attribute, as the frontend does."""
+    path = _damaged(good_deck, tmp_path, lambda f: f["/control"].attrs.__setitem__("progress_interval", -1.0))
+    done = _run_engine(path, tmp_path / "results.h5")
+    assert done.returncode == 2, (done.returncode, done.stderr)
+    assert "/control attribute progress_interval = -1" in done.stderr and "must be > 0" in done.stderr
+    with pytest.raises(deck.DeckError, match=r"/control attribute progress_interval = -1 must be > 0"):
+        deck.validate_deck(path)

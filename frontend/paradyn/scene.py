@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from paradyn import deck, geometry
+from paradyn import _schema, deck, geometry
 
 try:
     import tomllib
@@ -27,13 +27,22 @@ class SceneError(ValueError):
     """A scene file that cannot be turned into a model; the message names the file, table and key."""
 
 
-MATERIAL_MODELS = {"elastic": deck.ELASTIC, "j2_plasticity": deck.J2_PLASTICITY}
+MATERIAL_MODELS = dict(_schema.ENUMS["material_model"])
+HOURGLASS_FORMS = dict(_schema.ENUMS["hourglass_form"])
 DOF_GROUPS = {
     "all": deck.DOF_NAMES,
     "translations": deck.DOF_NAMES[:3],
     "rotations": deck.DOF_NAMES[3:],
 }
 _REQUIRED = object()
+# Where a scene key fills a deck dataset, its default is the deck's (schema/deck.toml); the [run]
+# defaults are those of deck.Control, which come from the same schema.
+_DECK_DEFAULT = {d.path: d.default for d in _schema.DATASETS}
+
+
+def _enum_name(enum: str, code: object) -> str:
+    """The scene's name of an enum code (the scene says "stiffness" where the deck holds 2)."""
+    return next(name for name, value in _schema.ENUMS[enum].items() if value == code)
 
 # ----------------------------------------------------------------------------------------------
 # scene dataclasses
@@ -50,9 +59,9 @@ class MaterialSpec:
     density: float
     youngs_modulus: float
     poisson_ratio: float
-    yield_stress: float = 0.0       # j2 only
-    tangent_modulus: float = 0.0    # j2 only
-    hardening_mixing: float = 1.0   # j2 only
+    yield_stress: float = _DECK_DEFAULT["/materials/yield_stress"]          # j2 only
+    tangent_modulus: float = _DECK_DEFAULT["/materials/tangent_modulus"]    # j2 only
+    hardening_mixing: float = _DECK_DEFAULT["/materials/hardening_mixing"]  # j2 only
 
     @property
     def model_code(self) -> int:
@@ -102,9 +111,9 @@ class PartSpec:
     material: str
     thickness: float
     geometry: Geometry
-    integration_points: int = 5
-    hourglass_coefficient: float = 0.1
-    hourglass_form: str = "stiffness"
+    integration_points: int = _DECK_DEFAULT["/parts/integration_points"]
+    hourglass_coefficient: float = _DECK_DEFAULT["/parts/hourglass_coefficient"]
+    hourglass_form: str = _enum_name("hourglass_form", _DECK_DEFAULT["/parts/hourglass_form"])
     initial_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
@@ -134,11 +143,11 @@ class TrackSpec:
 @dataclass
 class ContactSpec:
     parts: tuple[str, str]
-    penalty_scale: float = 0.1
-    static_friction: float = 0.0
-    dynamic_friction: float = 0.0
-    friction_decay: float = 0.0
-    symmetric: bool = True
+    penalty_scale: float = _DECK_DEFAULT["/contact/penalty_scale"]
+    static_friction: float = _DECK_DEFAULT["/contact/static_friction"]
+    dynamic_friction: float = _DECK_DEFAULT["/contact/dynamic_friction"]
+    friction_decay: float = _DECK_DEFAULT["/contact/friction_decay"]
+    symmetric: bool = _DECK_DEFAULT["/contact/passes"] == _schema.ENUMS["contact_passes"]["both"]
 
 
 @dataclass
@@ -275,7 +284,6 @@ _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio",
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
 _PART_KEYS = ("name", "material", "thickness", "integration_points", "hourglass_coefficient",
               "hourglass_form", "initial_velocity", "geometry")
-HOURGLASS_FORMS = {"viscous": deck.HOURGLASS_VISCOUS, "stiffness": deck.HOURGLASS_STIFFNESS}
 _GEOMETRY_KEYS = {
     "cylinder": ("kind", "radius", "length", "axis", "center", "elements_around", "elements_along"),
     "plate": ("kind", "size", "elements", "origin", "u_axis", "v_axis"),
@@ -330,12 +338,16 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
         end_time=r.number(t, "end_time", label, positive=True),
         output_interval=r.number(t, "output_interval", label, positive=True),
         history_interval=r.number(t, "history_interval", label, default=None, positive=True),
-        time_step=r.number(t, "time_step", label, default=0.0, minimum=0.0),
-        time_step_safety=r.number(t, "time_step_safety", label, default=0.9, positive=True),
-        mass_damping=r.number(t, "mass_damping", label, default=0.0, minimum=0.0),
-        progress_interval=r.number(t, "progress_interval", label, default=0.5, positive=True),
-        contact_sort_interval=r.integer(t, "contact_sort_interval", label, default=0, minimum=0),
-        checkpoint_interval=r.number(t, "checkpoint_interval", label, default=0.0, minimum=0.0),
+        time_step=r.number(t, "time_step", label, default=RunSettings.time_step, minimum=0.0),
+        time_step_safety=r.number(t, "time_step_safety", label, default=RunSettings.time_step_safety,
+                                  positive=True),
+        mass_damping=r.number(t, "mass_damping", label, default=RunSettings.mass_damping, minimum=0.0),
+        progress_interval=r.number(t, "progress_interval", label, default=RunSettings.progress_interval,
+                                   positive=True),
+        contact_sort_interval=r.integer(t, "contact_sort_interval", label,
+                                        default=int(RunSettings.contact_sort_interval), minimum=0),
+        checkpoint_interval=r.number(t, "checkpoint_interval", label, default=RunSettings.checkpoint_interval,
+                                     minimum=0.0),
         partition=(r.string(t, "partition", label, choices=tuple(deck.PARTITIONS)) if "partition" in t
                    else None),
     )
@@ -364,8 +376,10 @@ def _parse_material(r: _Reader, t: dict[str, Any], index: int) -> MaterialSpec:
         raise r.error(f"'poisson_ratio' in {label} must satisfy -1 < nu < 0.5, got {material.poisson_ratio}")
     if model == "j2_plasticity":
         material.yield_stress = r.number(t, "yield_stress", label, positive=True)
-        material.tangent_modulus = r.number(t, "tangent_modulus", label, default=0.0, minimum=0.0)
-        material.hardening_mixing = r.number(t, "hardening_mixing", label, default=1.0, minimum=0.0)
+        material.tangent_modulus = r.number(t, "tangent_modulus", label, default=MaterialSpec.tangent_modulus,
+                                            minimum=0.0)
+        material.hardening_mixing = r.number(t, "hardening_mixing", label, default=MaterialSpec.hardening_mixing,
+                                             minimum=0.0)
         if material.tangent_modulus >= material.youngs_modulus:
             raise r.error(f"'tangent_modulus' in {label} must be below youngs_modulus "
                           f"({material.youngs_modulus:g} Pa), got {material.tangent_modulus:g}")
@@ -384,9 +398,12 @@ def _parse_part(r: _Reader, t: dict[str, Any], index: int) -> PartSpec:
         material=r.string(t, "material", label),
         thickness=r.number(t, "thickness", label, positive=True),
         geometry=_parse_geometry(r, r.table(t, "geometry", label), f"[part.geometry] of part '{name}'"),
-        integration_points=r.integer(t, "integration_points", label, default=5, minimum=1, maximum=9),
-        hourglass_coefficient=r.number(t, "hourglass_coefficient", label, default=0.1, minimum=0.0),
-        hourglass_form=r.string(t, "hourglass_form", label, default="stiffness", choices=tuple(HOURGLASS_FORMS)),
+        integration_points=r.integer(t, "integration_points", label, default=PartSpec.integration_points,
+                                     minimum=1, maximum=9),
+        hourglass_coefficient=r.number(t, "hourglass_coefficient", label, default=PartSpec.hourglass_coefficient,
+                                       minimum=0.0),
+        hourglass_form=r.string(t, "hourglass_form", label, default=PartSpec.hourglass_form,
+                                choices=tuple(HOURGLASS_FORMS)),
         initial_velocity=r.vector(t, "initial_velocity", label, default=(0.0, 0.0, 0.0)),
     )
 
@@ -481,17 +498,17 @@ def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
             or parts[0] == parts[1]):
         raise r.error(f"'parts' in {label} must name two different parts, e.g. parts = [\"a\", \"b\"]; "
                       f"got {parts!r}")
-    symmetric = r.raw(t, "symmetric", label, True)
+    symmetric = r.raw(t, "symmetric", label, ContactSpec.symmetric)
     if not isinstance(symmetric, bool):
         raise r.error(f"'symmetric' in {label} must be true (both passes every step) or false "
                       f"(slave and master swap every step, as in the paper); got {symmetric!r}")
-    static = r.number(t, "static_friction", label, default=0.0, minimum=0.0)
+    static = r.number(t, "static_friction", label, default=ContactSpec.static_friction, minimum=0.0)
     return ContactSpec(
         parts=(parts[0], parts[1]),
-        penalty_scale=r.number(t, "penalty_scale", label, default=0.1, positive=True),
+        penalty_scale=r.number(t, "penalty_scale", label, default=ContactSpec.penalty_scale, positive=True),
         static_friction=static,
         dynamic_friction=r.number(t, "dynamic_friction", label, default=static, minimum=0.0),
-        friction_decay=r.number(t, "friction_decay", label, default=0.0, minimum=0.0),
+        friction_decay=r.number(t, "friction_decay", label, default=ContactSpec.friction_decay, minimum=0.0),
         symmetric=symmetric,
     )
 
@@ -668,7 +685,9 @@ def _apply_contacts(scene: Scene, model: deck.Model) -> None:
     model.contact_static_friction = np.array([c.static_friction for c in contacts])
     model.contact_dynamic_friction = np.array([c.dynamic_friction for c in contacts])
     model.contact_friction_decay = np.array([c.friction_decay for c in contacts])
-    model.contact_passes = np.array([2 if c.symmetric else 1 for c in contacts], dtype=np.int32)
+    passes = _schema.ENUMS["contact_passes"]
+    model.contact_passes = np.array([passes["both"] if c.symmetric else passes["alternate"] for c in contacts],
+                                    dtype=np.int32)
 
 
 def effects(model: deck.Model) -> list[str]:

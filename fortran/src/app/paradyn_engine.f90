@@ -3,13 +3,14 @@
 !> Runs one deck under MPI (element partitions across ranks) and OpenMP (groups across threads) and
 !> writes the results file, with a checkpoint beside it every /control checkpoint_interval and
 !> when stopped by SIGTERM, SIGINT or SIGUSR1. --restart continues a run from its checkpoint.
-!> Exit status: 0 done, 2 bad input, 3 numerical failure, 4 stopped by a signal (checkpoint
-!> written), 1 otherwise.
+!> Exit status (paradyn_schema, from schema/results.toml): status_ok, status_bad_input,
+!> status_numerical, status_stopped (by a signal, checkpoint written), status_failure otherwise.
 program paradyn_engine
   use mpi_f08
   use, intrinsic :: iso_c_binding, only: c_int
   use hdf5, only: h5open_f, h5close_f
   use paradyn_kinds, only: wp
+  use paradyn_schema, only: status_ok, status_failure, status_bad_input, status_stopped
   use model_deck, only: deck_t
   use deck_reader, only: read_deck
   use explicit_solver, only: solver_t, solver_setup, solver_run
@@ -45,7 +46,7 @@ program paradyn_engine
   call MPI_Comm_rank(comm, rank)
   call MPI_Comm_size(comm, n_ranks)
   if (thread_level < MPI_THREAD_FUNNELED) &
-    call fail(1, 'the MPI library does not support MPI_THREAD_FUNNELED, which the OpenMP threads need; '// &
+    call fail(status_failure, 'the MPI library does not support MPI_THREAD_FUNNELED, which the OpenMP threads need; '// &
               'use an MPI built with thread support (Open MPI and MPICH are)')
   call h5open_f(err)
 
@@ -62,14 +63,14 @@ program paradyn_engine
       if (rank == 0) write (*, '(a)') 'usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]]', &
         'Runs a ParaDyn deck (docs/formats.md); launch it with mpirun -n RANKS and OMP_NUM_THREADS.', &
         '--restart continues an interrupted run from its checkpoint (default RESULTS.checkpoint.h5).'
-      call finish(0)
+      call finish(status_ok)
     else if (argument == '--restart') then
       restart = .true.
     else if (argument(1:10) == '--restart=') then
       restart = .true.
       restart_path = argument(11:)
     else if (argument(1:1) == '-' .or. n_positional == 2) then
-      call fail(2, 'unexpected argument '//trim(argument)// &
+      call fail(status_bad_input, 'unexpected argument '//trim(argument)// &
                 '; usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]]')
     else
       n_positional = n_positional + 1
@@ -78,7 +79,7 @@ program paradyn_engine
     end if
   end do
   if (n_positional < 1) then
-    call fail(2, 'usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]] '// &
+    call fail(status_bad_input, 'usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]] '// &
               '(results default to results.h5 beside the deck)')
   end if
   if (n_positional < 2) results_path = beside(deck_path, 'results.h5')
@@ -87,14 +88,14 @@ program paradyn_engine
 
   ! every rank reads and checks the deck; all reach the same verdict
   call read_deck(trim(deck_path), deck, status, message)
-  if (status /= 0) call fail(2, trim(deck_path)//': '//trim(message))
+  if (status /= status_ok) call fail(status_bad_input, trim(deck_path)//': '//trim(message))
   call solver_setup(solver, deck, comm, status, message)
-  if (status /= 0) call fail(status, trim(message))
+  if (status /= status_ok) call fail(status, trim(message))
 
   associate (owned => solver%dom%nodes(solver%halo%owned_local), elements => solver%dom%elements)
     if (restart) then
       call checkpoint_read(solver, trim(restart_path), frames, records, status, message)
-      if (status /= 0) call fail(status, trim(message))
+      if (status /= status_ok) call fail(status, trim(message))
       call results_reopen(trim(results_path), comm, deck%n_nodes, deck%n_elements, owned, elements, &
                           deck%n_tracked, frames, records, results, status, message)
     else
@@ -103,7 +104,7 @@ program paradyn_engine
                           deck%n_tracked, results, status, message)
     end if
   end associate
-  if (status /= 0) call fail(1, trim(message))
+  if (status /= status_ok) call fail(status_failure, trim(message))
   ! the solver holds what the run needs from here on (its run control): release the global deck
   deck = deck_t()
   if (rank == 0) then
@@ -122,17 +123,17 @@ program paradyn_engine
       pause_time = (floor(solver%clock%time / solver%control%checkpoint_interval + 1.0e-9_wp) + 1) &
                    * solver%control%checkpoint_interval
     call solver_run(solver, results, run, status, message, pause_time)
-    if (status /= 0 .or. solver%finished) exit
+    if (status /= status_ok .or. solver%finished) exit
     call results_flush(results)   ! the checkpoint counts only what the results file holds
     call checkpoint_write(solver, checkpoint, results%frames, results%records, status, message)
-    if (status /= 0) exit
+    if (status /= status_ok) exit
     if (rank == 0) then
       write (*, '(a,es13.6,a,i0,a)') 'PARADYN-CHECKPOINT time=', solver%clock%time, ' cycle=', solver%clock%cycles, &
         ' path='//checkpoint
       flush (6)
     end if
     if (solver%stop_requested) then
-      status = 4
+      status = status_stopped
       write (message, '(a,es12.5,a)') 'stopped by a signal at time ', solver%clock%time, ' s; the checkpoint '// &
         checkpoint//' holds the state: continue with paradyn-engine '//trim(deck_path)//' '// &
         trim(results_path)//' --restart (or paradyn-run --restart)'
@@ -140,14 +141,14 @@ program paradyn_engine
     end if
   end do
   run%peak_memory_mb = largest_peak_memory_mb()
-  call results_finish(results, run, status == 0)
-  if (status /= 0) call fail(status, trim(message))
+  call results_finish(results, run, status == status_ok)
+  if (status /= status_ok) call fail(status, trim(message))
   if (rank == 0) then
     write (*, '(a,i0,a,es13.6,a,f0.3,a,es11.4)') 'PARADYN-DONE cycles=', run%cycles, ' time=', solver%clock%time, &
       ' wall_s=', run%wall_s, ' element_cycles_per_s=', run%element_cycles_per_s
     flush (6)
   end if
-  call finish(0)
+  call finish(status_ok)
 
 contains
 

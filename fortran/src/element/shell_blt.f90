@@ -13,19 +13,14 @@ module shell_blt
   use material_j2, only: von_mises_plane_stress
   use material_model, only: material_t
   use element_groups, only: group_size
+  use paradyn_schema, only: max_integration_points, hourglass_viscous, hourglass_stiffness
   implicit none
   private
-  public :: shell_properties_t, material_elastic, material_j2_plastic, max_integration_points
+  public :: shell_properties_t
   public :: stress_components, hourglass_components, shear_correction
-  public :: hourglass_viscous, hourglass_stiffness
   public :: blt_internal_forces, blt_lumped_mass, blt_stable_time_step, blt_element_results
   public :: thickness_rule, local_frame, back_stress_points
 
-  integer, parameter :: material_elastic = 1
-  integer, parameter :: material_j2_plastic = 2
-  integer, parameter :: max_integration_points = 9
-  integer, parameter :: hourglass_viscous = 1     !< resultants proportional to the hourglass rates
-  integer, parameter :: hourglass_stiffness = 2   !< resultants integrated from the rates (elastic)
   integer, parameter :: stress_components = 5     !< sxx, syy, sxy, sxz, syz (local frame)
   !> membrane x, y; rotation x, y; transverse w; then the drilling moments of the 4 nodes
   integer, parameter :: hourglass_components = 9

@@ -1,30 +1,42 @@
 !> Reads a deck (docs/formats.md, version 1) from HDF5 and checks it as strictly as the frontend:
-!> presence, type class and shape of every dataset here, values in model_deck.
+!> a loop over the schema's datasets (presence, type class, shape, then the value rules of
+!> deck_rules) and /control attributes, then the relations of model_deck.
 module deck_reader
   use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_char, c_null_char, c_loc, c_f_pointer, &
                                           c_associated
   use hdf5
   use paradyn_kinds, only: wp
-  use model_deck, only: deck_t, check_deck_values, partition_code
+  use paradyn_schema, only: deck_version, deck_version_attribute, deck_datasets, control_attributes, &
+                            deck_conditions, deck_enums, n_deck_datasets, n_control_attributes, n_sizes, &
+                            size_entity, size_symbol, size_min_rows, class_int, class_float, class_string, &
+                            condition_none, &
+                            status_ok, status_bad_input
+  use deck_rules, only: check_field_values, check_attribute_value, selected_rows, integer_text
+  use model_deck, only: deck_t, store_deck_field, store_control_value, check_deck_relations
   implicit none
   private
   public :: read_deck
 
-  integer, parameter :: supported_version = 1
+  !> One dataset as the file holds it: (max(columns, 1), rows), indices 0-based.
+  type :: field_t
+    real(wp), allocatable :: values(:, :)
+  end type field_t
 
 contains
 
-  !> status 0 on success, 2 with a message for a bad deck.
+  !> status_ok on success, status_bad_input with a message for a bad deck.
   subroutine read_deck(path, d, status, message)
     character(len=*), intent(in) :: path
     type(deck_t), intent(out) :: d
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
+    type(field_t) :: fields(n_deck_datasets)
+    integer :: sizes(n_sizes)
     integer(hid_t) :: file
-    integer :: err, version
-    logical :: exists, plastic
+    integer :: err, version, id
+    logical :: exists
 
-    status = 2
+    status = status_bad_input
     message = ''
     inquire (file=path, exist=exists)
     if (.not. exists) then
@@ -36,117 +48,214 @@ contains
       message = trim(path)//': not an HDF5 file'
       return
     end if
-    call read_int_attribute(file, '/', 'paradyn_deck_version', version, -1, .true.)
-    if (status_ok() .and. version /= supported_version) then
-      write (message, '(a,i0,a,i0)') 'root attribute paradyn_deck_version = ', version, &
-        ' is not supported; this engine reads version ', supported_version
+    call read_int_attribute(file, '/', deck_version_attribute, version, -1, .true.)
+    if (status_ok_so_far() .and. version /= deck_version) then
+      message = 'root attribute '//deck_version_attribute//' = '//integer_text(version)// &
+                ' is not supported; this engine reads version '//integer_text(deck_version)
     end if
-    if (status_ok()) call read_real2('/nodes/coordinates', 3, -1, d%coordinates, .true.)
-    if (status_ok()) d%n_nodes = size(d%coordinates, 2)
-    if (status_ok()) call read_int2('/elements/connectivity', 4, -1, d%connectivity, .true.)
-    if (status_ok()) d%n_elements = size(d%connectivity, 2)
-    if (status_ok()) call read_int1('/elements/part', d%n_elements, d%element_part, .true., 0)
-    if (status_ok()) call read_real1('/parts/thickness', -1, d%thickness, .true., 0.0_wp)
-    if (status_ok()) d%n_parts = size(d%thickness)
-    if (status_ok()) call read_int1('/parts/material', d%n_parts, d%part_material, .true., 0)
-    if (status_ok()) call read_int1('/parts/integration_points', d%n_parts, d%integration_points, .false., 5)
-    if (status_ok()) call read_int1('/parts/hourglass_form', d%n_parts, d%hourglass_form, .false., 2)
-    if (status_ok()) call read_real1('/parts/hourglass_coefficient', d%n_parts, d%hourglass_coefficient, &
-                                     .false., 0.1_wp)
-    if (status_ok()) call read_int1('/materials/model', -1, d%material_model, .true., 0)
-    if (status_ok()) d%n_materials = size(d%material_model)
-    if (status_ok()) call read_real1('/materials/density', d%n_materials, d%density, .true., 0.0_wp)
-    if (status_ok()) call read_real1('/materials/youngs_modulus', d%n_materials, d%young, .true., 0.0_wp)
-    if (status_ok()) call read_real1('/materials/poisson_ratio', d%n_materials, d%poisson, .true., 0.0_wp)
-    plastic = .false.
-    if (status_ok()) plastic = any(d%material_model == 2)
-    if (status_ok()) call read_real1('/materials/yield_stress', d%n_materials, d%yield_stress, plastic, 0.0_wp)
-    if (status_ok()) call read_real1('/materials/tangent_modulus', d%n_materials, d%tangent_modulus, &
-                                     plastic, 0.0_wp)
-    if (status_ok()) call read_real1('/materials/hardening_mixing', d%n_materials, d%hardening_mixing, &
-                                     plastic, 1.0_wp)
-    if (status_ok()) call read_real2('/nodes/initial_velocity', 3, d%n_nodes, d%velocity, .false.)
-    if (status_ok()) call read_real2('/nodes/initial_angular_velocity', 3, d%n_nodes, d%angular_velocity, .false.)
-    if (status_ok()) call read_int2('/nodes/fixed_dofs', 6, d%n_nodes, d%fixed, .false.)
-    if (status_ok()) call read_loads()
-    if (status_ok()) call read_contacts()
-    if (status_ok()) call read_int1('/output/tracked_nodes', -1, d%tracked_nodes, .false., 0)
-    if (status_ok()) d%n_tracked = size(d%tracked_nodes)
-    if (status_ok()) call read_control()
+    sizes = -1   ! a row count is known once the first dataset of its symbol is read
+    do id = 1, n_deck_datasets
+      if (.not. status_ok_so_far()) exit
+      call read_field(id)
+    end do
+    if (status_ok_so_far()) call read_control()
     call h5fclose_f(file, err)
-    if (.not. status_ok()) return
+    if (.not. status_ok_so_far()) return
 
-    ! the file holds 0-based indices; the engine counts from 1
-    d%connectivity = d%connectivity + 1
-    d%element_part = d%element_part + 1
-    d%part_material = d%part_material + 1
-    d%load_node = d%load_node + 1
-    d%tracked_nodes = d%tracked_nodes + 1
-    d%contact_pairs = d%contact_pairs + 1
-    call check_deck_values(d, status, message)
+    ! every field has its class and shape: now its values, then the relations between fields
+    do id = 1, n_deck_datasets
+      call check_field_values(id, fields(id)%values, sizes, rows_to_check(id), message)
+      if (.not. status_ok_so_far()) return
+      call store_deck_field(d, id, fields(id)%values)
+    end do
+    call check_deck_relations(d, status, message)
 
   contains
 
-    logical function status_ok()
-      status_ok = len_trim(message) == 0
-    end function status_ok
+    !> The rows of dataset `id` its rules apply to (those of the J2 materials for the J2 data).
+    function rows_to_check(id) result(selected)
+      integer, intent(in) :: id
+      logical, allocatable :: selected(:)
+      integer :: condition_dataset
+      condition_dataset = id   ! no condition: selected_rows selects every row and ignores the values
+      if (deck_datasets(id)%checked_when /= condition_none) &
+        condition_dataset = deck_conditions(deck_datasets(id)%checked_when)%dataset
+      selected = selected_rows(id, size(fields(id)%values, 2), fields(condition_dataset)%values)
+    end function rows_to_check
 
-    subroutine read_loads()
-      logical :: have
-      have = link_exists(file, '/loads')
-      call read_int1('/loads/node', -1, d%load_node, have, 0)
-      if (status_ok()) d%n_loads = size(d%load_node)
-      if (status_ok()) call read_int1('/loads/dof', d%n_loads, d%load_dof, have, 1)
-      if (status_ok()) call read_real1('/loads/value', d%n_loads, d%load_value, have, 0.0_wp)
-      if (status_ok()) call read_real1('/loads/ramp_time', d%n_loads, d%load_ramp_time, have, 0.0_wp)
-    end subroutine read_loads
+    logical function status_ok_so_far()
+      status_ok_so_far = len_trim(message) == 0
+    end function status_ok_so_far
 
-    subroutine read_contacts()
-      logical :: have
-      have = link_exists(file, '/contact')
-      call read_int2('/contact/pairs', 2, -1, d%contact_pairs, have)
-      if (status_ok()) d%n_contacts = size(d%contact_pairs, 2)
-      if (status_ok()) call read_real1('/contact/penalty_scale', d%n_contacts, d%contact_penalty_scale, &
-                                       .false., 0.1_wp)
-      if (status_ok()) call read_real1('/contact/static_friction', d%n_contacts, d%contact_static_friction, &
-                                       .false., 0.0_wp)
-      if (status_ok()) call read_real1('/contact/dynamic_friction', d%n_contacts, &
-                                       d%contact_dynamic_friction, .false., 0.0_wp)
-      if (status_ok()) call read_real1('/contact/friction_decay', d%n_contacts, d%contact_friction_decay, &
-                                       .false., 0.0_wp)
-      if (status_ok()) call read_int1('/contact/passes', d%n_contacts, d%contact_passes, .false., 2)
-    end subroutine read_contacts
+    !> Whether condition `condition` holds for the datasets read so far.
+    logical function condition_holds(condition)
+      integer, intent(in) :: condition
+      condition_holds = .false.
+      if (condition == condition_none) return
+      associate (c => deck_conditions(condition))
+        if (c%dataset == 0) then
+          condition_holds = link_exists(file, trim(c%group))
+        else
+          condition_holds = any(fields(c%dataset)%values(1, :) == real(c%code, wp))
+        end if
+      end associate
+    end function condition_holds
 
+    !> Why an absent dataset is required, for the message.
+    function required_because(condition) result(words)
+      integer, intent(in) :: condition
+      character(len=:), allocatable :: words
+      words = ''
+      if (condition == condition_none) return
+      associate (c => deck_conditions(condition))
+        if (c%dataset == 0) then
+          words = ' (required since the group '//trim(c%group)//' exists)'
+        else
+          words = ' (required since '//trim(deck_datasets(c%dataset)%path)//'['// &
+                  integer_text(findloc(fields(c%dataset)%values(1, :), real(c%code, wp), dim=1) - 1)//'] = '// &
+                  integer_text(c%code)//')'
+        end if
+      end associate
+    end function required_because
+
+    !> Reads dataset `id` after checking presence, class and shape; an absent optional one gets its default.
+    subroutine read_field(id)
+      integer, intent(in) :: id
+      integer(hid_t) :: dset
+      integer(hsize_t) :: dims(2)
+      logical :: found
+      integer :: columns
+      associate (spec => deck_datasets(id), rows => sizes(deck_datasets(id)%row_symbol))
+        columns = max(spec%columns, 1)
+        call open_checked(id, dset, dims, found)
+        if (.not. status_ok_so_far()) return
+        if (.not. found) then
+          if (spec%required .or. condition_holds(spec%required_when)) then
+            message = 'dataset '//trim(spec%path)//' is missing'//required_because(spec%required_when)// &
+                      '; see docs/formats.md for what it holds'
+            return
+          end if
+          rows = max(rows, 0)
+          allocate (fields(id)%values(columns, rows), source=spec%default)
+          return
+        end if
+        if (spec%defines_rows) then
+          rows = int(dims(1))
+          if (rows < size_min_rows(spec%row_symbol)) then
+            message = 'dataset '//trim(spec%path)//' has no rows; a deck needs at least one '// &
+                      trim(size_entity(spec%row_symbol))
+            call h5dclose_f(dset, err)
+            return
+          end if
+        end if
+        allocate (fields(id)%values(columns, dims(1)))
+        call h5dread_f(dset, H5T_NATIVE_DOUBLE, fields(id)%values, [int(columns, hsize_t), dims(1)], err)
+        call h5dclose_f(dset, err)
+      end associate
+    end subroutine read_field
+
+    !> Opens dataset `id` after checking that it has the spec's class and shape. dims(1): rows.
+    subroutine open_checked(id, dset, dims, found)
+      integer, intent(in) :: id
+      integer(hid_t), intent(out) :: dset
+      integer(hsize_t), intent(out) :: dims(2)
+      logical, intent(out) :: found
+      integer(hid_t) :: space, dtype
+      integer(hsize_t) :: maxdims(2)
+      integer :: ndims, cls, want_rank, rows
+      character(len=:), allocatable :: name
+      name = trim(deck_datasets(id)%path)
+      rows = sizes(deck_datasets(id)%row_symbol)
+      dims = 0
+      found = link_exists(file, name)
+      if (.not. found) return
+      call h5dopen_f(file, name, dset, err)
+      call h5dget_type_f(dset, dtype, err)
+      call h5tget_class_f(dtype, cls, err)
+      call h5tclose_f(dtype, err)
+      if (deck_datasets(id)%class == class_float .and. cls /= H5T_FLOAT_F) then
+        message = 'dataset '//name//' must hold floating-point numbers; write it as float64'
+      else if (deck_datasets(id)%class == class_int .and. cls /= H5T_INTEGER_F) then
+        message = 'dataset '//name//' must hold integers; write it with an integer dtype such as int32'
+      end if
+      call h5dget_space_f(dset, space, err)
+      call h5sget_simple_extent_ndims_f(space, ndims, err)
+      want_rank = merge(2, 1, deck_datasets(id)%columns > 0)
+      if (status_ok_so_far() .and. ndims /= want_rank) then
+        message = 'dataset '//name//' has '//integer_text(ndims)//' dimensions; expected '//shape_words(id)
+      else if (status_ok_so_far()) then
+        call h5sget_simple_extent_dims_f(space, dims(1:ndims), maxdims(1:ndims), err)
+        ! the Fortran API reports dimensions fastest first: put rows (h5py's first axis) first
+        if (ndims == 2) dims = [dims(2), dims(1)]
+        if (deck_datasets(id)%columns > 0 .and. dims(min(2, ndims)) /= deck_datasets(id)%columns) then
+          message = 'dataset '//name//' has shape ('//integer_text(int(dims(1)))//', '// &
+                    integer_text(int(dims(2)))//'); expected '//shape_words(id)
+        else if (rows >= 0 .and. dims(1) /= rows) then
+          message = 'dataset '//name//' has '//integer_text(int(dims(1)))//' rows; expected '// &
+                    integer_text(rows)//': '//shape_words(id)
+        end if
+      end if
+      call h5sclose_f(space, err)
+      if (.not. status_ok_so_far()) call h5dclose_f(dset, err)
+    end subroutine open_checked
+
+    !> `shape (n_nodes, 3), one row per node`
+    function shape_words(id) result(words)
+      integer, intent(in) :: id
+      character(len=:), allocatable :: words
+      associate (spec => deck_datasets(id))
+        if (spec%columns > 0) then
+          words = 'shape ('//trim(size_symbol(spec%row_symbol))//', '//integer_text(spec%columns)//')'
+        else
+          words = 'shape ('//trim(size_symbol(spec%row_symbol))//',)'
+        end if
+        words = words//', one row per '//trim(size_entity(spec%row_symbol))
+      end associate
+    end function shape_words
+
+    !> Every /control attribute: presence, class, then its rules; absent ones get their defaults.
     subroutine read_control()
-      real(wp) :: interval
+      real(wp) :: values(n_control_attributes)
       character(len=:), allocatable :: name
       logical :: have
+      integer :: id
       if (.not. link_exists(file, '/control')) then
         message = 'group /control is missing; it carries the attributes end_time and output_interval'
         return
       end if
-      call read_real_attribute(file, '/control', 'end_time', d%end_time, 0.0_wp, .true.)
-      if (status_ok()) call read_real_attribute(file, '/control', 'output_interval', d%output_interval, &
-                                                0.0_wp, .true.)
-      if (status_ok()) call read_real_attribute(file, '/control', 'history_interval', d%history_interval, &
-                                                d%output_interval / 10.0_wp, .false.)
-      if (status_ok()) call read_real_attribute(file, '/control', 'time_step', d%time_step, 0.0_wp, .false.)
-      if (status_ok()) call read_real_attribute(file, '/control', 'time_step_safety', d%time_step_safety, &
-                                                0.9_wp, .false.)
-      if (status_ok()) call read_real_attribute(file, '/control', 'mass_damping', d%mass_damping, 0.0_wp, .false.)
-      if (status_ok()) call read_real_attribute(file, '/control', 'progress_interval', d%progress_interval, &
-                                                0.5_wp, .false.)
-      if (status_ok()) call read_real_attribute(file, '/control', 'contact_sort_interval', interval, &
-                                                0.0_wp, .false.)
-      if (status_ok()) d%contact_sort_interval = nint(interval)
-      if (status_ok()) call read_real_attribute(file, '/control', 'checkpoint_interval', d%checkpoint_interval, &
-                                                0.0_wp, .false.)
-      if (status_ok()) call read_string_attribute('/control', 'partition', name, have)
-      if (status_ok() .and. have) then
-        d%partition_name = name
-        d%partition = partition_code(name)
-      end if
+      do id = 1, n_control_attributes
+        associate (spec => control_attributes(id))
+          values(id) = spec%default
+          if (spec%default_from > 0) values(id) = values(spec%default_from) / spec%default_divisor
+          if (spec%class == class_string) then
+            call read_string_attribute('/control', trim(spec%name), name, have)
+            if (status_ok_so_far() .and. have) then
+              d%partition_name = name
+              values(id) = real(enum_code(spec%enum, name), wp)
+              if (values(id) < 0.0_wp) message = '/control attribute '//trim(spec%name)//' = "'//name// &
+                '" is unknown: it '//trim(spec%enum_rule)//'; '//trim(spec%fix)
+            end if
+          else
+            call read_real_attribute(file, '/control', trim(spec%name), values(id), values(id), spec%required, &
+                                     trim(spec%fix))
+            if (status_ok_so_far()) call check_attribute_value(id, values(id), message)
+          end if
+          if (.not. status_ok_so_far()) return
+          call store_control_value(d, id, values(id))
+        end associate
+      end do
     end subroutine read_control
+
+    !> Code of an enum member's name, -1 if none has it.
+    integer function enum_code(enum, name) result(code)
+      integer, intent(in) :: enum
+      character(len=*), intent(in) :: name
+      integer :: k
+      code = -1
+      do k = 1, deck_enums(enum)%n_members
+        if (name == trim(deck_enums(enum)%names(k))) code = deck_enums(enum)%codes(k)
+      end do
+    end function enum_code
 
     !> One string attribute, fixed-length or variable-length (h5py's default for str).
     subroutine read_string_attribute(object, name, value, have)
@@ -169,7 +278,7 @@ contains
       call h5aget_space_f(attr, space, err)
       call h5sget_simple_extent_npoints_f(space, points, err)
       if (attribute_class(attr) /= H5T_STRING_F .or. points /= 1) then
-        message = 'attribute '//name//' of '//object//' must be one string'
+        message = object//' attribute '//name//' must be one string; write it as a str attribute'
         call h5sclose_f(space, err)
         call h5aclose_f(attr, err)
         return
@@ -210,121 +319,9 @@ contains
       call h5aclose_f(attr, err)
     end subroutine read_string_attribute
 
-    !> Opens a dataset after checking that it exists and has the expected class and shape.
-    !> ncomp > 0: h5py shape (nrows, ncomp); ncomp = 0: shape (nrows,). nrows < 0: any length.
-    subroutine open_checked(name, want_class, ncomp, nrows, dset, dims, found, required)
-      character(len=*), intent(in) :: name
-      integer, intent(in) :: want_class, ncomp, nrows
-      integer(hid_t), intent(out) :: dset
-      integer(hsize_t), intent(out) :: dims(2)
-      logical, intent(out) :: found
-      logical, intent(in) :: required
-      integer(hid_t) :: space, dtype
-      integer(hsize_t) :: maxdims(2)
-      integer :: ndims, cls, want_rank
-      found = link_exists(file, name)
-      if (.not. found) then
-        if (required) message = 'dataset '//name//' is missing; see docs/formats.md for what it holds'
-        return
-      end if
-      call h5dopen_f(file, name, dset, err)
-      call h5dget_type_f(dset, dtype, err)
-      call h5tget_class_f(dtype, cls, err)
-      call h5tclose_f(dtype, err)
-      if (cls /= want_class) then
-        if (want_class == H5T_FLOAT_F) then
-          message = 'dataset '//name//' must hold floating-point numbers'
-        else
-          message = 'dataset '//name//' must hold integers'
-        end if
-      end if
-      call h5dget_space_f(dset, space, err)
-      call h5sget_simple_extent_ndims_f(space, ndims, err)
-      want_rank = merge(2, 1, ncomp > 0)
-      dims = 0
-      if (status_ok() .and. ndims /= want_rank) then
-        write (message, '(a,i0,a)') 'dataset '//name//' must have ', want_rank, ' dimensions'
-      else if (status_ok()) then
-        call h5sget_simple_extent_dims_f(space, dims(1:ndims), maxdims(1:ndims), err)
-        ! the Fortran API reports dimensions fastest first: put rows (h5py's first axis) first
-        if (ndims == 2) dims = [dims(2), dims(1)]
-        if (ncomp > 0 .and. dims(min(2, ndims)) /= ncomp) then
-          write (message, '(a,i0,a,i0,a)') 'dataset '//name//' has shape (', dims(1), ', ', dims(2), &
-            '); expected (n, '//trim(itoa(ncomp))//')'
-        else if (nrows >= 0 .and. dims(1) /= nrows) then
-          write (message, '(a,i0,a,i0,a)') 'dataset '//name//' has ', dims(1), ' rows; expected ', nrows, &
-            ' (one per entity)'
-        end if
-      end if
-      call h5sclose_f(space, err)
-      if (.not. status_ok()) call h5dclose_f(dset, err)
-    end subroutine open_checked
-
-    !> Reads a checked dataset into a real buffer (max(ncomp, 1), rows); HDF5 converts integer
-    !> files exactly (|i| < 2**53). A missing optional dataset gives `default` everywhere.
-    subroutine read_array(name, want_class, ncomp, nrows, buffer, required, default)
-      character(len=*), intent(in) :: name
-      integer, intent(in) :: want_class, ncomp, nrows
-      real(wp), allocatable, intent(out) :: buffer(:, :)
-      logical, intent(in) :: required
-      real(wp), intent(in) :: default
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(2)
-      logical :: found
-      call open_checked(name, want_class, ncomp, nrows, dset, dims, found, required)
-      if (.not. status_ok()) return
-      if (.not. found) then
-        allocate (buffer(max(ncomp, 1), max(nrows, 0)), source=default)
-        return
-      end if
-      allocate (buffer(max(ncomp, 1), dims(1)))
-      call h5dread_f(dset, H5T_NATIVE_DOUBLE, buffer, [int(max(ncomp, 1), hsize_t), dims(1)], err)
-      call h5dclose_f(dset, err)
-    end subroutine read_array
-
-    subroutine read_real2(name, ncomp, nrows, a, required)
-      character(len=*), intent(in) :: name
-      integer, intent(in) :: ncomp, nrows
-      real(wp), allocatable, intent(out) :: a(:, :)
-      logical, intent(in) :: required
-      call read_array(name, H5T_FLOAT_F, ncomp, nrows, a, required, 0.0_wp)
-    end subroutine read_real2
-
-    subroutine read_int2(name, ncomp, nrows, a, required)
-      character(len=*), intent(in) :: name
-      integer, intent(in) :: ncomp, nrows
-      integer, allocatable, intent(out) :: a(:, :)
-      logical, intent(in) :: required
-      real(wp), allocatable :: buffer(:, :)
-      call read_array(name, H5T_INTEGER_F, ncomp, nrows, buffer, required, 0.0_wp)
-      if (allocated(buffer)) a = nint(buffer)
-    end subroutine read_int2
-
-    subroutine read_real1(name, nrows, a, required, default)
-      character(len=*), intent(in) :: name
-      integer, intent(in) :: nrows
-      real(wp), allocatable, intent(out) :: a(:)
-      logical, intent(in) :: required
-      real(wp), intent(in) :: default
-      real(wp), allocatable :: buffer(:, :)
-      call read_array(name, H5T_FLOAT_F, 0, nrows, buffer, required, default)
-      if (allocated(buffer)) a = buffer(1, :)
-    end subroutine read_real1
-
-    subroutine read_int1(name, nrows, a, required, default)
-      character(len=*), intent(in) :: name
-      integer, intent(in) :: nrows
-      integer, allocatable, intent(out) :: a(:)
-      logical, intent(in) :: required
-      integer, intent(in) :: default
-      real(wp), allocatable :: buffer(:, :)
-      call read_array(name, H5T_INTEGER_F, 0, nrows, buffer, required, real(default, wp))
-      if (allocated(buffer)) a = nint(buffer(1, :))
-    end subroutine read_int1
-
-    subroutine read_real_attribute(loc, object, name, value, default, required)
+    subroutine read_real_attribute(loc, object, name, value, default, required, fix)
       integer(hid_t), intent(in) :: loc
-      character(len=*), intent(in) :: object, name
+      character(len=*), intent(in) :: object, name, fix
       real(wp), intent(out) :: value
       real(wp), intent(in) :: default
       logical, intent(in) :: required
@@ -333,12 +330,12 @@ contains
       value = default
       call h5aexists_by_name_f(loc, object, name, have, err)
       if (.not. have) then
-        if (required) message = 'attribute '//name//' of '//object//' is missing; see docs/formats.md'
+        if (required) message = object//' attribute '//name//' is missing; '//fix
         return
       end if
       call h5aopen_by_name_f(loc, object, name, attr, err)
       if (attribute_class(attr) /= H5T_FLOAT_F .and. attribute_class(attr) /= H5T_INTEGER_F) then
-        message = 'attribute '//name//' of '//object//' must be a number'
+        message = object//' attribute '//name//' must be a number; write it as a float64 attribute'
       else
         call h5aread_f(attr, H5T_NATIVE_DOUBLE, value, [1_hsize_t], err)
       end if
@@ -361,7 +358,7 @@ contains
       end if
       call h5aopen_by_name_f(loc, object, name, attr, err)
       if (attribute_class(attr) /= H5T_INTEGER_F) then
-        message = 'attribute '//name//' of '//object//' must be an integer'
+        message = 'root attribute '//name//' must be an integer; write it as an int32 attribute'
       else
         call h5aread_f(attr, H5T_NATIVE_INTEGER, value, [1_hsize_t], err)
       end if
@@ -399,11 +396,5 @@ contains
       end if
     end do
   end function link_exists
-
-  pure function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=12) :: s
-    write (s, '(i0)') i
-  end function itoa
 
 end module deck_reader

@@ -9,6 +9,7 @@ module results_writer
   use hdf5
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Bcast, MPI_LOGICAL, MPI_Wtime
   use paradyn_kinds, only: wp
+  use paradyn_schema, only: status_ok, status_failure
   use parallel_hdf5, only: row_runs_t, row_runs, phdf5_open, phdf5_close, create_dataset, create_growing, &
                            write_rows, truncate_growing, write_int_attribute, write_real_attribute
   implicit none
@@ -78,7 +79,7 @@ contains
     ne = int(n_elements, hsize_t)
     call phdf5_open(path, comm, 'create', rf%file, rf%transfer, err)
     if (err /= 0) then
-      status = 1
+      status = status_failure
       message = 'cannot create '//trim(path)//'; check that the folder exists and is writable'
       return
     end if
@@ -111,7 +112,7 @@ contains
     call create_growing(group, 'tracked_velocity', [3_hsize_t, int(max(n_tracked, 0), hsize_t)])
     call h5gclose_f(group, err)
     call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
-    status = 0
+    status = status_ok
     message = ''
   end subroutine results_create
 
@@ -130,7 +131,7 @@ contains
     call set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked)
     call phdf5_open(path, comm, 'append', rf%file, rf%transfer, err)
     if (err /= 0) then
-      status = 1
+      status = status_failure
       message = 'cannot open '//trim(path)//' to continue it; a restart appends to the results of the '// &
                 'interrupted run, so give the same results path'
       return
@@ -149,7 +150,7 @@ contains
     call truncate_growing(rf%file, '/history/tracked_velocity', records)
     rf%frames = frames
     rf%records = records
-    status = 0
+    status = status_ok
     message = ''
   end subroutine results_reopen
 

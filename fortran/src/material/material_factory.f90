@@ -6,12 +6,10 @@ module material_factory
   use material_model, only: material_t
   use elastic_material, only: elastic_material_t
   use j2_material, only: j2_material_t
+  use paradyn_schema, only: deck_enums, enum_material_model
   implicit none
   private
-  public :: material_from_name, material_name_of_code, material_names
-
-  !> Schema names of the members, in the order of their deck codes (/materials/model = 1, 2, ...)
-  character(len=*), parameter :: material_names(2) = [character(len=13) :: 'elastic', 'j2_plasticity']
+  public :: material_from_name, material_name_of_code
 
 contains
 
@@ -30,12 +28,17 @@ contains
     end select
   end subroutine material_from_name
 
-  !> The schema name of a /materials/model code, '' for an unknown code.
+  !> The schema name of a /materials/model code (schema/deck.toml), '' for an unknown code.
   pure function material_name_of_code(code) result(name)
     integer, intent(in) :: code
     character(len=:), allocatable :: name
+    integer :: k
     name = ''
-    if (code >= 1 .and. code <= size(material_names)) name = trim(material_names(code))
+    associate (members => deck_enums(enum_material_model))
+      do k = 1, members%n_members
+        if (members%codes(k) == code) name = trim(members%names(k))
+      end do
+    end associate
   end function material_name_of_code
 
 end module material_factory

@@ -1,18 +1,36 @@
-!> The whole model as read from a deck (global numbering, 1-based inside the engine), and the
-!> checks of its values that do not depend on how it was read.
+!> The whole model as read from a deck (global numbering, 1-based inside the engine): where each
+!> dataset and /control attribute of the schema (paradyn_schema) goes in deck_t, and the checks
+!> of relations between fields that the schema's per-field rules (deck_rules) cannot express.
 module model_deck
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use paradyn_kinds, only: wp
-  use shell_blt, only: shell_properties_t, material_elastic, material_j2_plastic, &
-                       max_integration_points, hourglass_viscous, hourglass_stiffness
-  use domain_decomposition, only: partition_blocks, partition_rcb
+  use shell_blt, only: shell_properties_t
+  use paradyn_schema, only: material_j2_plasticity, size_none, deck_datasets, class_float, class_int, &
+                            deck_enums, enum_partition, control_attributes, control_partition, status_ok, &
+                            status_bad_input, &
+                            dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
+                            dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
+                            dataset_elements_connectivity, dataset_elements_part, dataset_parts_thickness, &
+                            dataset_parts_material, dataset_parts_integration_points, &
+                            dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
+                            dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
+                            dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
+                            dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, &
+                            dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
+                            dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
+                            dataset_contact_static_friction, dataset_contact_dynamic_friction, &
+                            dataset_contact_friction_decay, dataset_contact_passes, control_end_time, &
+                            control_output_interval, control_history_interval, control_time_step, &
+                            control_time_step_safety, control_mass_damping, control_progress_interval, &
+                            control_contact_sort_interval, control_checkpoint_interval
+  use deck_rules, only: integer_text, number_text
   use material_factory, only: material_from_name, material_name_of_code
   implicit none
   private
-  public :: deck_t, part_properties, check_deck_values, partition_code, partition_label, partition_default
+  public :: deck_t, part_properties, partition_code, partition_label, partition_default
+  public :: store_deck_field, store_control_value, check_deck_relations
 
-  !> The method when /control has no partition attribute (measured: docs/performance.md).
-  integer, parameter :: partition_default = partition_blocks
+  !> The method when /control has no partition attribute (schema default; docs/performance.md).
+  integer, parameter :: partition_default = nint(control_attributes(control_partition)%default)
 
   type :: deck_t
     integer :: n_nodes = 0, n_elements = 0, n_parts = 0, n_materials = 0
@@ -46,31 +64,25 @@ module model_deck
 
 contains
 
-  !> Method code of a /control partition name: partition_blocks, partition_rcb, or 0 if unknown.
+  !> Method code of a /control partition name (the schema's enum), or 0 if unknown.
   pure integer function partition_code(name) result(code)
     character(len=*), intent(in) :: name
-    select case (name)
-    case ('blocks')
-      code = partition_blocks
-    case ('rcb')
-      code = partition_rcb
-    case default
-      code = 0
-    end select
+    integer :: k
+    code = 0
+    do k = 1, deck_enums(enum_partition)%n_members
+      if (name == trim(deck_enums(enum_partition)%names(k))) code = deck_enums(enum_partition)%codes(k)
+    end do
   end function partition_code
 
   !> The /control name of a partition method code.
   pure function partition_label(code) result(name)
     integer, intent(in) :: code
     character(len=:), allocatable :: name
-    select case (code)
-    case (partition_blocks)
-      name = 'blocks'
-    case (partition_rcb)
-      name = 'rcb'
-    case default
-      name = 'unknown'
-    end select
+    integer :: k
+    name = 'unknown'
+    do k = 1, deck_enums(enum_partition)%n_members
+      if (deck_enums(enum_partition)%codes(k) == code) name = trim(deck_enums(enum_partition)%names(k))
+    end do
   end function partition_label
 
   !> The section of a part and its material, made by the material family's factory.
@@ -91,198 +103,181 @@ contains
                             deck%yield_stress(m), deck%tangent_modulus(m), deck%hardening_mixing(m), props%material)
   end function part_properties
 
-  !> Check every value of a deck whose arrays have the right shapes. Returns 0, or 2 with a
-  !> message naming the dataset (0-based indices, as in the file) and the fix.
-  subroutine check_deck_values(d, status, message)
+  !> Puts one dataset, as read from the file ((max(columns, 1), rows), 0-based indices), into its
+  !> field of deck_t; indices become 1-based. One line per dataset of the schema.
+  subroutine store_deck_field(d, id, values)
+    type(deck_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable :: indices(:, :)
+    if (deck_datasets(id)%class == class_int) then   ! checked: every entry is a small whole number
+      allocate (indices(size(values, 1), size(values, 2)))
+      indices = nint(values)
+      if (deck_datasets(id)%reference /= size_none) indices = indices + 1
+    end if
+    select case (id)
+    case (dataset_nodes_coordinates)
+      d%coordinates = values
+      d%n_nodes = size(values, 2)
+    case (dataset_nodes_initial_velocity)
+      d%velocity = values
+    case (dataset_nodes_initial_angular_velocity)
+      d%angular_velocity = values
+    case (dataset_nodes_fixed_dofs)
+      d%fixed = indices
+    case (dataset_elements_connectivity)
+      d%connectivity = indices
+      d%n_elements = size(values, 2)
+    case (dataset_elements_part)
+      d%element_part = indices(1, :)
+    case (dataset_parts_thickness)
+      d%thickness = values(1, :)
+      d%n_parts = size(values, 2)
+    case (dataset_parts_material)
+      d%part_material = indices(1, :)
+    case (dataset_parts_integration_points)
+      d%integration_points = indices(1, :)
+    case (dataset_parts_hourglass_coefficient)
+      d%hourglass_coefficient = values(1, :)
+    case (dataset_parts_hourglass_form)
+      d%hourglass_form = indices(1, :)
+    case (dataset_materials_model)
+      d%material_model = indices(1, :)
+      d%n_materials = size(values, 2)
+    case (dataset_materials_density)
+      d%density = values(1, :)
+    case (dataset_materials_youngs_modulus)
+      d%young = values(1, :)
+    case (dataset_materials_poisson_ratio)
+      d%poisson = values(1, :)
+    case (dataset_materials_yield_stress)
+      d%yield_stress = values(1, :)
+    case (dataset_materials_tangent_modulus)
+      d%tangent_modulus = values(1, :)
+    case (dataset_materials_hardening_mixing)
+      d%hardening_mixing = values(1, :)
+    case (dataset_loads_node)
+      d%load_node = indices(1, :)
+      d%n_loads = size(values, 2)
+    case (dataset_loads_dof)
+      d%load_dof = indices(1, :)
+    case (dataset_loads_value)
+      d%load_value = values(1, :)
+    case (dataset_loads_ramp_time)
+      d%load_ramp_time = values(1, :)
+    case (dataset_output_tracked_nodes)
+      d%tracked_nodes = indices(1, :)
+      d%n_tracked = size(values, 2)
+    case (dataset_contact_pairs)
+      d%contact_pairs = indices
+      d%n_contacts = size(values, 2)
+    case (dataset_contact_penalty_scale)
+      d%contact_penalty_scale = values(1, :)
+    case (dataset_contact_static_friction)
+      d%contact_static_friction = values(1, :)
+    case (dataset_contact_dynamic_friction)
+      d%contact_dynamic_friction = values(1, :)
+    case (dataset_contact_friction_decay)
+      d%contact_friction_decay = values(1, :)
+    case (dataset_contact_passes)
+      d%contact_passes = indices(1, :)
+    end select
+  end subroutine store_deck_field
+
+  !> Puts one /control attribute into deck_t (a string attribute arrives as its enum code).
+  subroutine store_control_value(d, id, value)
+    type(deck_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: value
+    select case (id)
+    case (control_end_time)
+      d%end_time = value
+    case (control_output_interval)
+      d%output_interval = value
+    case (control_history_interval)
+      d%history_interval = value
+    case (control_time_step)
+      d%time_step = value
+    case (control_time_step_safety)
+      d%time_step_safety = value
+    case (control_mass_damping)
+      d%mass_damping = value
+    case (control_progress_interval)
+      d%progress_interval = value
+    case (control_contact_sort_interval)
+      d%contact_sort_interval = nint(value)
+    case (control_checkpoint_interval)
+      d%checkpoint_interval = value
+    case (control_partition)
+      d%partition = nint(value)
+    end select
+  end subroutine store_control_value
+
+  !> Relations between fields of a deck whose every field has passed its own rules (schema
+  !> relations: distinct_element_nodes, tangent_below_youngs, contact_parts_differ,
+  !> node_in_element). Returns status_ok, or status_bad_input with a message naming the dataset,
+  !> the 0-based entry and the fix.
+  subroutine check_deck_relations(d, status, message)
     type(deck_t), intent(in) :: d
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
+    logical, allocatable :: used(:)
     integer :: i, j, k
 
-    status = 2
-    do i = 1, d%n_nodes
-      do k = 1, 3
-        if (.not. finite(d%coordinates(k, i))) then
-          write (message, '(a,i0,a,i0,a)') '/nodes/coordinates[', i - 1, ', ', k - 1, &
-            '] is not a finite number; give every node a real position in metres'
-          return
-        end if
-        if (.not. (finite(d%velocity(k, i)) .and. finite(d%angular_velocity(k, i)))) then
-          write (message, '(a,i0,a)') '/nodes/initial_velocity or initial_angular_velocity of node ', &
-            i - 1, ' is not finite; give finite initial velocities'
-          return
-        end if
-      end do
-      if (any(d%fixed(:, i) /= 0 .and. d%fixed(:, i) /= 1)) then
-        write (message, '(a,i0,a)') '/nodes/fixed_dofs[', i - 1, '] holds a value other than 0 or 1'
-        return
-      end if
-    end do
+    status = status_bad_input
+    message = ''
     do i = 1, d%n_elements
       do k = 1, 4
-        if (d%connectivity(k, i) < 1 .or. d%connectivity(k, i) > d%n_nodes) then
-          write (message, '(a,i0,a,i0,a,i0,a,i0,a)') '/elements/connectivity[', i - 1, ', ', k - 1, &
-            '] = ', d%connectivity(k, i) - 1, ' is not a node index in 0..', d%n_nodes - 1, &
-            '; node indices are 0-based'
-          return
-        end if
         do j = k + 1, 4
           if (d%connectivity(k, i) == d%connectivity(j, i)) then
-            write (message, '(a,i0,a)') '/elements/connectivity[', i - 1, &
-              '] repeats a node; every shell needs four distinct nodes (no triangles)'
+            message = '/elements/connectivity['//integer_text(i - 1)//'] = '//index_list(d%connectivity(:, i))// &
+                      ' repeats a node; every quadrilateral needs four distinct nodes (remesh without '// &
+                      'collapsed elements)'
             return
           end if
         end do
       end do
-      if (d%element_part(i) < 1 .or. d%element_part(i) > d%n_parts) then
-        write (message, '(a,i0,a,i0,a,i0)') '/elements/part[', i - 1, '] = ', d%element_part(i) - 1, &
-          ' is not a part index in 0..', d%n_parts - 1
-        return
-      end if
-    end do
-    do i = 1, d%n_parts
-      if (.not. (d%thickness(i) > 0.0_wp) .or. .not. finite(d%thickness(i))) then
-        write (message, '(a,i0,a,es12.4,a)') '/parts/thickness[', i - 1, '] = ', d%thickness(i), &
-          ' must be > 0; set a positive shell thickness in metres'
-        return
-      end if
-      if (d%part_material(i) < 1 .or. d%part_material(i) > d%n_materials) then
-        write (message, '(a,i0,a,i0)') '/parts/material[', i - 1, '] is not a material index in 0..', &
-          d%n_materials - 1
-        return
-      end if
-      if (d%integration_points(i) < 1 .or. d%integration_points(i) > max_integration_points) then
-        write (message, '(a,i0,a,i0,a)') '/parts/integration_points[', i - 1, '] = ', &
-          d%integration_points(i), ' must be between 1 and 9'
-        return
-      end if
-      if (d%hourglass_form(i) /= hourglass_viscous .and. d%hourglass_form(i) /= hourglass_stiffness) then
-        write (message, '(a,i0,a,i0,a)') '/parts/hourglass_form[', i - 1, '] = ', d%hourglass_form(i), &
-          ' is unknown; use 1 (viscous) or 2 (stiffness)'
-        return
-      end if
-      if (.not. (d%hourglass_coefficient(i) >= 0.0_wp)) then
-        write (message, '(a,i0,a)') '/parts/hourglass_coefficient[', i - 1, '] must be >= 0'
-        return
-      end if
     end do
     do i = 1, d%n_materials
-      if (d%material_model(i) /= material_elastic .and. d%material_model(i) /= material_j2_plastic) then
-        write (message, '(a,i0,a,i0,a)') '/materials/model[', i - 1, '] = ', d%material_model(i), &
-          ' is unknown; use 1 (linear elastic) or 2 (J2 plasticity)'
-        return
-      end if
-      if (.not. (d%density(i) > 0.0_wp .and. d%young(i) > 0.0_wp)) then
-        write (message, '(a,i0,a)') '/materials/density and youngs_modulus of material ', i - 1, &
-          ' must be > 0 (kg/m^3 and Pa)'
-        return
-      end if
-      if (.not. (d%poisson(i) > -1.0_wp .and. d%poisson(i) < 0.5_wp)) then
-        write (message, '(a,i0,a,f8.4,a)') '/materials/poisson_ratio[', i - 1, '] = ', d%poisson(i), &
-          ' must lie in (-1, 0.5)'
-        return
-      end if
-      if (d%material_model(i) == material_j2_plastic) then
-        if (.not. (d%yield_stress(i) > 0.0_wp)) then
-          write (message, '(a,i0,a)') '/materials/yield_stress[', i - 1, '] must be > 0 for J2 plasticity'
-          return
-        end if
-        if (.not. (d%tangent_modulus(i) >= 0.0_wp .and. d%tangent_modulus(i) < d%young(i))) then
-          write (message, '(a,i0,a)') '/materials/tangent_modulus[', i - 1, &
-            '] must satisfy 0 <= Et < E'
-          return
-        end if
-        if (.not. (d%hardening_mixing(i) >= 0.0_wp .and. d%hardening_mixing(i) <= 1.0_wp)) then
-          write (message, '(a,i0,a)') '/materials/hardening_mixing[', i - 1, '] must lie in [0, 1]'
-          return
-        end if
-      end if
-    end do
-    do i = 1, d%n_loads
-      if (d%load_node(i) < 1 .or. d%load_node(i) > d%n_nodes) then
-        write (message, '(a,i0,a)') '/loads/node[', i - 1, '] is not a node index'
-        return
-      end if
-      if (d%load_dof(i) < 1 .or. d%load_dof(i) > 6) then
-        write (message, '(a,i0,a)') '/loads/dof[', i - 1, '] must be 1..6 (forces x, y, z; moments x, y, z)'
-        return
-      end if
-      if (.not. (finite(d%load_value(i)) .and. d%load_ramp_time(i) >= 0.0_wp)) then
-        write (message, '(a,i0,a)') '/loads/value or ramp_time[', i - 1, '] is not finite or ramp_time < 0'
+      if (d%material_model(i) /= material_j2_plasticity) cycle
+      if (.not. (d%tangent_modulus(i) < d%young(i))) then
+        message = '/materials/tangent_modulus['//integer_text(i - 1)//'] = '// &
+                  number_text(d%tangent_modulus(i), class_float)//' must be below /materials/youngs_modulus['// &
+                  integer_text(i - 1)//'] = '//number_text(d%young(i), class_float)// &
+                  ' for a j2_plasticity material; give the plastic tangent modulus in Pa below Young''s modulus'
         return
       end if
     end do
     do i = 1, d%n_contacts
-      if (any(d%contact_pairs(:, i) < 1 .or. d%contact_pairs(:, i) > d%n_parts) .or. &
-          d%contact_pairs(1, i) == d%contact_pairs(2, i)) then
-        write (message, '(a,i0,a,i0)') '/contact/pairs[', i - 1, &
-          '] must name two different parts in 0..', d%n_parts - 1
-        return
-      end if
-      if (.not. (d%contact_penalty_scale(i) > 0.0_wp .and. d%contact_static_friction(i) >= 0.0_wp &
-                 .and. d%contact_dynamic_friction(i) >= 0.0_wp .and. d%contact_friction_decay(i) >= 0.0_wp)) then
-        write (message, '(a,i0,a)') '/contact/penalty_scale[', i - 1, &
-          '] must be > 0 and the friction coefficients and decay >= 0'
-        return
-      end if
-      if (d%contact_passes(i) /= 1 .and. d%contact_passes(i) /= 2) then
-        write (message, '(a,i0,a)') '/contact/passes[', i - 1, '] must be 1 (alternate) or 2 (both)'
+      if (d%contact_pairs(1, i) == d%contact_pairs(2, i)) then
+        message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
+                  ' pairs a part with itself; name two different parts (self-contact is not modelled)'
         return
       end if
     end do
-    if (d%partition /= partition_blocks .and. d%partition /= partition_rcb) then
-      message = '/control attribute partition = "'//partition_shown(d)//'" is unknown; use "blocks" '// &
-        '(contiguous element blocks) or "rcb" (recursive coordinate bisection), or leave it out for the default'
+    allocate (used(d%n_nodes), source=.false.)
+    used(reshape(d%connectivity, [4 * d%n_elements])) = .true.
+    if (.not. all(used)) then
+      k = findloc(used, .false., dim=1)
+      message = '/nodes/coordinates['//integer_text(k - 1)//'] belongs to no element ('// &
+                integer_text(count(.not. used))//' such nodes); a node without elements has no mass, '// &
+                'remove unused nodes'
       return
     end if
-    if (d%contact_sort_interval < 0) then
-      message = '/control attribute contact_sort_interval must be >= 0 (0 = automatic)'
-      return
-    end if
-    if (.not. (d%checkpoint_interval >= 0.0_wp)) then
-      message = '/control attribute checkpoint_interval must be >= 0 (seconds of simulated time, 0 = none)'
-      return
-    end if
-    do i = 1, d%n_tracked
-      if (d%tracked_nodes(i) < 1 .or. d%tracked_nodes(i) > d%n_nodes) then
-        write (message, '(a,i0,a)') '/output/tracked_nodes[', i - 1, '] is not a node index'
-        return
-      end if
+    status = status_ok
+  end subroutine check_deck_relations
+
+  !> `[a, b, ...]` of 1-based indices, shown 0-based as in the file.
+  pure function index_list(indices) result(words)
+    integer, intent(in) :: indices(:)
+    character(len=:), allocatable :: words
+    integer :: k
+    words = '['
+    do k = 1, size(indices)
+      if (k > 1) words = words//', '
+      words = words//integer_text(indices(k) - 1)
     end do
-    if (.not. (d%end_time > 0.0_wp)) then
-      message = '/control attribute end_time must be > 0 (seconds)'
-      return
-    end if
-    if (.not. (d%output_interval > 0.0_wp .and. d%history_interval > 0.0_wp)) then
-      message = '/control attributes output_interval and history_interval must be > 0 (seconds)'
-      return
-    end if
-    if (.not. (d%time_step >= 0.0_wp)) then
-      message = '/control attribute time_step must be >= 0 (0 = automatic)'
-      return
-    end if
-    if (.not. (d%time_step_safety > 0.0_wp .and. d%time_step_safety <= 1.0_wp)) then
-      message = '/control attribute time_step_safety must lie in (0, 1]'
-      return
-    end if
-    if (.not. (d%mass_damping >= 0.0_wp)) then
-      message = '/control attribute mass_damping must be >= 0'
-      return
-    end if
-    status = 0
-    message = ''
-  end subroutine check_deck_values
-
-  pure function partition_shown(d) result(name)
-    type(deck_t), intent(in) :: d
-    character(len=:), allocatable :: name
-    name = ''
-    if (allocated(d%partition_name)) name = d%partition_name
-  end function partition_shown
-
-  elemental logical function finite(x)
-    real(wp), intent(in) :: x
-    finite = ieee_is_finite(x)
-  end function finite
+    words = words//']'
+  end function index_list
 
 end module model_deck

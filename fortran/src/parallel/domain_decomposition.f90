@@ -7,14 +7,15 @@
 module domain_decomposition
   use paradyn_kinds, only: wp, i8
   use element_groups, only: group_size
+  ! the deck's /control partition codes: partition_blocks (the paper's contiguous blocks by element
+  ! number) and partition_rcb (recursive coordinate bisection of the element centroids)
+  use paradyn_schema, only: partition_blocks, partition_rcb
   implicit none
   private
   public :: domain_t, block_owner, rcb_partition, element_centroids, partition_elements, decompose
   public :: local_node
   public :: partition_blocks, partition_rcb
 
-  integer, parameter :: partition_blocks = 1  !< contiguous blocks by element number (the paper)
-  integer, parameter :: partition_rcb = 2     !< recursive coordinate bisection of element centroids
 
   type :: domain_t
     integer :: rank = 0, n_ranks = 1

@@ -10,6 +10,7 @@ module explicit_solver
   use mpi_f08
   use omp_lib, only: omp_get_max_threads
   use paradyn_kinds, only: wp
+  use paradyn_schema, only: status_ok, status_bad_input
   use model_deck, only: deck_t, part_properties
   use domain_decomposition, only: decompose, partition_elements
   use halo_exchange, only: halo_setup
@@ -46,7 +47,7 @@ contains
     real(wp) :: dt_local, dt_min
     logical :: too_large
 
-    status = 0
+    status = status_ok
     message = ''
     call MPI_Comm_rank(comm, s%rank)
     call MPI_Comm_size(comm, s%n_ranks)
@@ -66,7 +67,7 @@ contains
 
     call lumped_masses(s, dt_local)
     if (any(.not. (s%nodes%mass > 0.0_wp))) then
-      status = 2
+      status = status_bad_input
       message = 'a node has no mass (zero-area element?); check /elements/connectivity and the coordinates'
     end if
     call MPI_Allreduce(dt_local, dt_min, 1, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
@@ -96,14 +97,14 @@ contains
     real(wp), intent(in) :: pause_time
     real(wp) :: t0
 
-    status = 0
+    status = status_ok
     message = ''
     if (.not. s%started) call start_loop(s)
     do
       if (pause_due(s, pause_time)) exit
       if (s%control%n_loads > 0) call apply_loads(s)
       call output_and_velocities(s, rf, status, message)
-      if (status /= 0) exit
+      if (status /= status_ok) exit
       if (s%clock%cycles >= s%clock%n_steps) then
         s%finished = .true.
         exit
@@ -157,7 +158,7 @@ contains
     character(len=*), intent(out) :: message
     logical :: frame_due, record_due
     real(wp) :: t0
-    status = 0
+    status = status_ok
     message = ''
     frame_due = output_due(s%clock, s%clock%frame_index, s%control%output_interval)
     record_due = output_due(s%clock, s%clock%record_index, s%control%history_interval)
@@ -171,7 +172,7 @@ contains
       call write_record(s, rf, status, message)
       s%clock%record_index = next_output_index(s%clock, s%control%history_interval)
     end if
-    if (frame_due .and. status == 0) then
+    if (frame_due .and. status == status_ok) then
       call write_frame(s, rf)
       s%clock%frame_index = next_output_index(s%clock, s%control%output_interval)
     end if

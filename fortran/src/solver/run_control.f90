@@ -5,7 +5,7 @@ module run_control
   use paradyn_kinds, only: wp
   use model_deck, only: deck_t, partition_label
   use domain_decomposition, only: domain_t, local_node
-  use shell_blt, only: material_j2_plastic
+  use paradyn_schema, only: material_j2_plasticity
   implicit none
   private
   public :: run_control_t, run_control_setup, deck_effects
@@ -68,7 +68,7 @@ contains
     type(deck_t), intent(in) :: deck
     character(len=:), allocatable :: list
     list = 'shell_elements,time_integration'
-    if (any(deck%material_model(deck%part_material) == material_j2_plastic)) list = list//',plasticity'
+    if (any(deck%material_model(deck%part_material) == material_j2_plasticity)) list = list//',plasticity'
     if (any(deck%fixed /= 0)) list = list//',fixed_boundaries'
     if (deck%n_loads > 0) list = list//',point_loads'
     if (deck%n_contacts > 0) list = list//',contact'

@@ -8,6 +8,7 @@ module solver_checkpoint
   use mpi_f08
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
   use paradyn_kinds, only: wp
+  use paradyn_schema, only: status_ok, status_failure, status_bad_input
   use solver_state, only: solver_t
   use element_state, only: element_row_width, element_rows_pack, element_rows_unpack
   use contact_parallel, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width
@@ -61,7 +62,7 @@ contains
     width = int(element_row_width(s%control%max_points), hsize_t)
     call phdf5_open(path//'.partial', s%halo%comm, 'create', file, transfer, err)
     if (err /= 0) then
-      status = 1
+      status = status_failure
       message = 'cannot create the checkpoint '//path//'.partial; check that the folder is writable'
       return
     end if
@@ -111,11 +112,11 @@ contains
     end if
     call phdf5_close(file, transfer)
     call MPI_Barrier(s%halo%comm)
-    status = 0
+    status = status_ok
     message = ''
     if (s%rank == 0) then
       if (c_rename(path//'.partial'//c_null_char, path//c_null_char) /= 0) then
-        status = 1
+        status = status_failure
         message = 'cannot rename '//path//'.partial to '//path
       end if
     end if
@@ -136,7 +137,7 @@ contains
     real(wp) :: dt, energy, penetration
     integer :: err, bad, version, n_nodes, n_elements, n_width, ranks, last_sort, j
     logical :: exists
-    status = 2
+    status = status_bad_input
     inquire (file=path, exist=exists)
     if (.not. exists) then
       message = 'the checkpoint '//path//' does not exist; a run writes one when /control '// &
@@ -218,7 +219,7 @@ contains
       call contact_checkpoint_restore(s%contact, contact, last_sort, energy, penetration)
     end if
     call phdf5_close(file, transfer)
-    status = 0
+    status = status_ok
     message = ''
   end subroutine checkpoint_read
 

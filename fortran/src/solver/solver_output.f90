@@ -3,6 +3,7 @@
 module solver_output
   use mpi_f08
   use paradyn_kinds, only: wp
+  use paradyn_schema, only: status_ok, status_numerical
   use element_groups, only: group_size
   use shell_blt, only: blt_element_results
   use halo_exchange, only: sum_to_root
@@ -47,7 +48,7 @@ contains
     call sum_to_root(s%halo, sums)
     s%tracked_out = reshape(sums(9:), [6, s%control%n_tracked])
     call results_write_history(rf, s%clock%time, sums(1:6), s%tracked_out(1:3, :), s%tracked_out(4:6, :))
-    status = 0
+    status = status_ok
     message = ''
     bad = 0
     if (s%rank == 0) then
@@ -56,11 +57,11 @@ contains
     end if
     call MPI_Allreduce(bad, bad_total, 1, MPI_INTEGER, MPI_MAX, s%halo%comm)
     if (bad_total == 1) then
-      status = 3
+      status = status_numerical
       write (message, '(a,i0,a,es12.5,a)') 'an element turned inside out (zero or negative area) by cycle ', &
         s%clock%cycles, ', time ', s%clock%time, ' s; reduce the time step or the loading, or refine the mesh'
     else if (bad_total == 2) then
-      status = 3
+      status = status_numerical
       write (message, '(a,i0,a,es12.5,a)') 'the solution became NaN by cycle ', s%clock%cycles, ', time ', &
         s%clock%time, ' s; the run is unstable (time step too large or a bad material constant)'
     end if

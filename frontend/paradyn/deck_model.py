@@ -1,0 +1,186 @@
+"""The deck model: every array of ``deck.h5`` as numpy arrays, and the ``/control`` values.
+
+:class:`Model` holds the deck's arrays with the deck's shapes (0-based indices), the control values
+(:class:`Control`) and the names the frontend uses in its outputs; missing optional arrays get the
+schema's defaults. Writing, reading and validating are in :mod:`paradyn.deck` and
+:mod:`paradyn.deck_validation`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from paradyn._schema import CONTROL, DATASETS, ENUMS
+
+CONTROL_BY_NAME = {a.name: a for a in CONTROL}
+DATASET_BY_ATTRIBUTE = {d.python: d for d in DATASETS}
+
+ELASTIC = ENUMS["material_model"]["elastic"]
+J2_PLASTICITY = ENUMS["material_model"]["j2_plasticity"]
+HOURGLASS_VISCOUS = ENUMS["hourglass_form"]["viscous"]
+HOURGLASS_STIFFNESS = ENUMS["hourglass_form"]["stiffness"]
+# /control partition: how elements are given to MPI ranks (docs/formats.md); codes as the engine's
+PARTITIONS = dict(ENUMS["partition"])
+DEFAULT_PARTITION = str(CONTROL_BY_NAME["partition"].default)   # what the engine uses when the attribute is absent
+
+
+def control_default(name: str) -> float | str | None:
+    """The deck's default of a /control attribute (None where it has none or derives it)."""
+    return CONTROL_BY_NAME[name].default
+
+
+def _number_default(name: str) -> float:
+    value = control_default(name)
+    if not isinstance(value, (int, float)):
+        raise TypeError(f"schema/deck.toml gives /control attribute {name} no numeric default")
+    return float(value)
+
+
+@dataclass
+class Control:
+    """Attributes of the ``/control`` group; ``None`` leaves an optional attribute out (engine default)."""
+
+    end_time: float
+    output_interval: float
+    history_interval: float | None = None   # None: the engine uses output_interval / 10
+    time_step: float = _number_default("time_step")
+    time_step_safety: float = _number_default("time_step_safety")
+    mass_damping: float = _number_default("mass_damping")
+    progress_interval: float = _number_default("progress_interval")
+    contact_sort_interval: float = _number_default("contact_sort_interval")
+    checkpoint_interval: float = _number_default("checkpoint_interval")
+    partition: str | None = None   # "blocks" or "rcb"; None leaves it to the engine (DEFAULT_PARTITION)
+
+    REQUIRED = tuple(a.name for a in CONTROL if a.required)
+    OPTIONAL = tuple(a.name for a in CONTROL if not a.required and a.type == "float")
+    STRINGS = tuple(a.name for a in CONTROL if a.type == "string")
+
+
+def _empty_int() -> np.ndarray:
+    return np.zeros(0, dtype=np.int32)
+
+
+def _empty_float() -> np.ndarray:
+    return np.zeros(0, dtype=np.float64)
+
+
+@dataclass
+class Model:
+    """Everything a deck holds. Array shapes follow docs/formats.md; indices are 0-based.
+
+    Optional node arrays left as ``None`` are filled with the format's defaults (zeros) when the
+    coordinates are known; ``yield_stress``, ``tangent_modulus`` and ``hardening_mixing`` may stay
+    ``None`` when no material uses model 2. Loads and tracked nodes default to none.
+    """
+
+    coordinates: np.ndarray                     # /nodes/coordinates (n_nodes, 3) m
+    connectivity: np.ndarray                    # /elements/connectivity (n_elements, 4)
+    element_part: np.ndarray                    # /elements/part (n_elements,)
+    thickness: np.ndarray                       # /parts/thickness (n_parts,) m
+    part_material: np.ndarray                   # /parts/material (n_parts,)
+    material_model: np.ndarray                  # /materials/model (n_materials,) 1 elastic, 2 J2
+    density: np.ndarray                         # /materials/density kg/m^3
+    youngs_modulus: np.ndarray                  # /materials/youngs_modulus Pa
+    poisson_ratio: np.ndarray                   # /materials/poisson_ratio
+    control: Control
+    initial_velocity: np.ndarray | None = None            # /nodes/initial_velocity (n_nodes, 3)
+    initial_angular_velocity: np.ndarray | None = None    # /nodes/initial_angular_velocity (n_nodes, 3)
+    fixed_dofs: np.ndarray | None = None                  # /nodes/fixed_dofs (n_nodes, 6) 0/1
+    integration_points: np.ndarray | None = None          # /parts/integration_points, default 5
+    hourglass_coefficient: np.ndarray | None = None       # /parts/hourglass_coefficient, default 0.1
+    hourglass_form: np.ndarray | None = None              # /parts/hourglass_form, 1 viscous, 2 stiffness (default)
+    yield_stress: np.ndarray | None = None                # /materials/yield_stress Pa
+    tangent_modulus: np.ndarray | None = None             # /materials/tangent_modulus Pa
+    hardening_mixing: np.ndarray | None = None            # /materials/hardening_mixing
+    load_node: np.ndarray = field(default_factory=_empty_int)       # /loads/node
+    load_dof: np.ndarray = field(default_factory=_empty_int)        # /loads/dof, 1..6
+    load_value: np.ndarray = field(default_factory=_empty_float)    # /loads/value N or N m
+    load_ramp_time: np.ndarray = field(default_factory=_empty_float)  # /loads/ramp_time s
+    tracked_nodes: np.ndarray = field(default_factory=_empty_int)   # /output/tracked_nodes
+    contact_pairs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int32))  # /contact/pairs
+    contact_penalty_scale: np.ndarray | None = None     # /contact/penalty_scale
+    contact_static_friction: np.ndarray | None = None   # /contact/static_friction
+    contact_dynamic_friction: np.ndarray | None = None  # /contact/dynamic_friction
+    contact_friction_decay: np.ndarray | None = None    # /contact/friction_decay s/m
+    contact_passes: np.ndarray | None = None  # /contact/passes: 2 both, 1 alternate
+    title: str = ""
+    part_names: list[str] = field(default_factory=list)
+    material_names: list[str] = field(default_factory=list)
+    tracked_names: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.normalise()
+
+    def normalise(self) -> None:
+        """Turn array-likes into numpy arrays (ints to float64 for real fields) and fill defaults."""
+        for spec in DATASETS:
+            value = getattr(self, spec.python)
+            if value is not None:
+                setattr(self, spec.python, _as_array(value, spec.type))
+        self._fill_defaults()
+
+    def _fill_defaults(self) -> None:
+        """Absent optional arrays get the schema's default once their row count is known.
+
+        Arrays required under a condition (the J2 data) stay ``None`` so that validation can
+        tell whether they were given."""
+        for spec in DATASETS:
+            if spec.required or spec.default is None or spec.required_when is not None:
+                continue
+            rows = getattr(self, spec.shape[0])
+            value = getattr(self, spec.python)
+            if rows is not None and value is None:
+                dtype = np.int32 if spec.type == "int" else np.float64
+                setattr(self, spec.python, np.full((rows, *spec.shape[1:]), spec.default, dtype=dtype))
+
+    @property
+    def n_nodes(self) -> int | None:
+        c = self.coordinates
+        return int(c.shape[0]) if c.ndim == 2 else None
+
+    @property
+    def n_elements(self) -> int | None:
+        c = self.connectivity
+        return int(c.shape[0]) if c.ndim >= 1 else None
+
+    @property
+    def n_parts(self) -> int | None:
+        t = self.thickness
+        return int(t.shape[0]) if t.ndim == 1 else None
+
+    @property
+    def n_materials(self) -> int | None:
+        m = self.material_model
+        return int(m.shape[0]) if m.ndim == 1 else None
+
+    @property
+    def n_loads(self) -> int:
+        return int(np.size(self.load_node))
+
+    @property
+    def n_tracked(self) -> int:
+        return int(np.size(self.tracked_nodes))
+
+    @property
+    def n_contacts(self) -> int:
+        pairs = np.asarray(self.contact_pairs)
+        return int(pairs.shape[0]) if pairs.ndim == 2 else int(pairs.size)
+
+    @property
+    def uses_plasticity(self) -> bool:
+        return bool(np.any(np.asarray(self.material_model) == J2_PLASTICITY))
+
+
+def _as_array(value: object, kind: str) -> np.ndarray:
+    """numpy array; integers and booleans become float64 for real fields, booleans int32 for integer ones.
+
+    Floats are never rounded into integer fields: validation rejects them instead.
+    """
+    array = np.asarray(value)
+    if kind == "float" and array.dtype.kind in "biu":
+        return array.astype(np.float64)
+    if kind == "int" and array.dtype.kind == "b":
+        return array.astype(np.int32)
+    return array

@@ -1,0 +1,221 @@
+"""Validation of a deck model against the schema (docs/formats.md): every dataset's and /control
+attribute's rules from :mod:`paradyn._schema`, then the relations between fields, which are
+written out by hand here and in the engine (model_deck's check_deck_relations).
+
+Used through :func:`paradyn.deck.validate_model` and the deck reader and writer.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from paradyn._schema import (CONDITIONS, CONTROL, DATASETS, ENUMS, NAME_ATTRIBUTES, SIZES, AttributeSpec,
+                             DatasetSpec)
+
+if TYPE_CHECKING:
+    from paradyn.deck_model import Model
+
+J2_PLASTICITY = ENUMS["material_model"]["j2_plasticity"]
+_BY_ATTRIBUTE = {d.python: d for d in DATASETS}
+_BY_PATH = {d.path: d for d in DATASETS}
+_SYMBOL_OF = {s.entity: s.symbol for s in SIZES.values()}
+
+
+class DeckError(ValueError):
+    """A deck (file or in-memory model) that breaks the format of docs/formats.md."""
+
+
+
+
+class _Checker:
+    """Checks a model and raises DeckError with messages prefixed by the source (file or 'model')."""
+
+    def __init__(self, model: Model, source: str) -> None:
+        self.model = model
+        self.source = source
+
+    def fail(self, message: str) -> None:
+        raise DeckError(f"{self.source}: {message}")
+
+    def array(self, attribute: str) -> np.ndarray:
+        return np.asarray(getattr(self.model, attribute))
+
+    def sizes(self) -> dict[str, int]:
+        """Row count of every symbol; the datasets that define a symbol with a minimum must have it."""
+        for spec in DATASETS:
+            size = SIZES[spec.shape[0]]
+            if not spec.defines_rows or size.min_rows == 0:
+                continue
+            a = self.array(spec.python)
+            if a.ndim != len(spec.shape) or a.shape[1:] != tuple(spec.shape[1:]) or a.shape[0] < size.min_rows:
+                self.fail(f"{spec.path} has shape {a.shape}, expected {_symbolic(spec.shape)} with at least "
+                          f"one {size.entity}")
+        return {symbol: int(getattr(self.model, symbol) or 0) for symbol in SIZES}
+
+    def dtype(self, spec: DatasetSpec) -> None:
+        dtype = self.array(spec.python).dtype
+        if spec.type == "int" and dtype.kind not in "iu":
+            self.fail(f"{spec.path} has dtype {dtype}, must be an integer type; write it with an integer "
+                      f"dtype such as int32")
+        if spec.type == "float" and dtype.kind != "f":
+            self.fail(f"{spec.path} has dtype {dtype}, must be floating point; write it with dtype float64")
+
+    def shape(self, spec: DatasetSpec, sizes: dict[str, int]) -> None:
+        actual = self.array(spec.python).shape
+        expected = tuple(sizes[d] if isinstance(d, str) else d for d in spec.shape)
+        if actual != expected:
+            self.fail(f"{spec.path} has shape {actual}, expected {_symbolic(spec.shape)} = {expected}; "
+                      f"every array must have one row per {SIZES[spec.shape[0]].entity}")
+
+    def entries(self, spec: DatasetSpec, bad: np.ndarray, rule: str, fix: str) -> None:
+        """Fail on the first entry where ``bad`` is true, naming index, value and count."""
+        if not np.any(bad):
+            return
+        index = tuple(int(i) for i in np.argwhere(bad)[0])
+        value = self.array(spec.python)[index]
+        more = int(np.count_nonzero(bad)) - 1
+        extra = f" ({more} more entries too)" if more > 0 else ""
+        self.fail(f"{spec.path}[{', '.join(str(i) for i in index)}] = {_fmt(value)} {rule}{extra}; {fix}")
+
+    def values(self, spec: DatasetSpec, sizes: dict[str, int]) -> None:
+        """The schema's per-entry rules: finite, bounds, enum codes, index range."""
+        a = self.array(spec.python)
+        if a.size == 0:
+            return
+        rows, where = self.selected_rows(spec, a)
+        if spec.type == "float":
+            self.entries(spec, rows & ~np.isfinite(a), f"must be finite{where}", spec.fix)
+        if spec.lower is not None or spec.upper is not None:
+            self.entries(spec, rows & ~_within(a, spec), f"{spec.rule}{where}", spec.fix)
+        if spec.enum is not None:
+            self.entries(spec, ~np.isin(a, list(ENUMS[spec.enum].values())), spec.enum_rule, spec.fix)
+        if spec.reference is not None:
+            upper = sizes[_SYMBOL_OF[spec.reference]]
+            self.entries(spec, (a < 0) | (a >= upper), f"is out of range 0..{upper - 1}",
+                         f"{spec.reference} indices are 0-based and must be below the number of "
+                         f"{spec.reference}s ({upper})")
+
+    def selected_rows(self, spec: DatasetSpec, a: np.ndarray) -> tuple[np.ndarray, str]:
+        """Rows the rules apply to (broadcast to ``a``), and words for them in messages."""
+        if spec.checked_when is None:
+            return np.ones(a.shape, dtype=bool), ""
+        condition = CONDITIONS[spec.checked_when]
+        selected = self.array(_BY_PATH[condition.dataset].python) == condition.code
+        return selected.reshape(selected.shape + (1,) * (a.ndim - 1)) & np.ones(a.shape, dtype=bool), \
+            f" {condition.rows}"
+
+
+def _within(a: np.ndarray, spec: DatasetSpec | AttributeSpec) -> np.ndarray:
+    ok = np.ones(np.shape(a), dtype=bool)
+    with np.errstate(invalid="ignore"):
+        if spec.lower is not None:
+            ok &= (a >= spec.lower.value) if spec.lower.inclusive else (a > spec.lower.value)
+        if spec.upper is not None:
+            ok &= (a <= spec.upper.value) if spec.upper.inclusive else (a < spec.upper.value)
+    return ok
+
+
+def _symbolic(shape: tuple[str | int, ...]) -> str:
+    return "(" + ", ".join(str(d) for d in shape) + ("," if len(shape) == 1 else "") + ")"
+
+
+def _fmt(value: object) -> str:
+    if isinstance(value, (float, np.floating)):
+        return f"{float(value):.6g}"
+    if isinstance(value, np.ndarray):
+        return np.array2string(value, precision=6)
+    return str(value)
+
+
+def validate_model(model: Model, source: str = "model") -> None:
+    """Check a model against every rule of docs/formats.md; raise DeckError on the first problem."""
+    model.normalise()
+    check = _Checker(model, source)
+    sizes = check.sizes()
+    _check_presence(check)
+    present = [spec for spec in DATASETS if getattr(model, spec.python) is not None]
+    for spec in present:
+        check.dtype(spec)
+        check.shape(spec, sizes)
+    for spec in present:
+        check.values(spec, sizes)
+    _check_relations(check, sizes)
+    _check_names(check, sizes)
+    _check_control(check)
+
+
+def _check_presence(check: _Checker) -> None:
+    """Datasets required when a dataset condition holds (the J2 data when a material is J2)."""
+    for spec in DATASETS:
+        condition = CONDITIONS.get(spec.required_when or "")
+        if condition is None or condition.dataset is None or getattr(check.model, spec.python) is not None:
+            continue
+        holds = np.flatnonzero(check.array(_BY_PATH[condition.dataset].python) == condition.code)
+        if holds.size:
+            check.fail(f"{spec.path} is missing but {condition.dataset}[{int(holds[0])}] = {condition.code}; it is "
+                       f"required when {condition.meaning}: give it for every {SIZES[spec.shape[0]].entity}")
+
+
+def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
+    """The schema's [relations], which need more than one field (model_deck's check_deck_relations)."""
+    conn = check.array("connectivity")
+    ordered = np.sort(conn, axis=1)
+    repeated = np.any(ordered[:, 1:] == ordered[:, :-1], axis=1)
+    if np.any(repeated):
+        element = int(np.flatnonzero(repeated)[0])
+        check.fail(f"/elements/connectivity[{element}] = {conn[element].tolist()} repeats a node; every "
+                   f"quadrilateral needs four distinct nodes (remesh without collapsed elements)")
+    plastic = check.array("material_model") == J2_PLASTICITY
+    if np.any(plastic):
+        tangent, young = check.array("tangent_modulus"), check.array("youngs_modulus")
+        bad = np.flatnonzero(plastic & ~(tangent < young))
+        if bad.size:
+            i = int(bad[0])
+            check.fail(f"/materials/tangent_modulus[{i}] = {_fmt(tangent[i])} must be below "
+                       f"/materials/youngs_modulus[{i}] = {_fmt(young[i])} for a j2_plasticity material; give "
+                       f"the plastic tangent modulus in Pa below Young's modulus")
+    pairs = check.array("contact_pairs")
+    if sizes["n_contacts"] > 0:
+        check.entries(_BY_ATTRIBUTE["contact_pairs"], pairs[:, 0] == pairs[:, 1], "pairs a part with itself",
+                      "name two different parts (self-contact is not modelled)")
+    used = np.zeros(sizes["n_nodes"], dtype=bool)
+    used[conn.ravel()] = True
+    if not np.all(used):
+        unused = np.flatnonzero(~used)
+        check.fail(f"/nodes/coordinates[{int(unused[0])}] belongs to no element ({unused.size} such nodes); "
+                   f"a node without elements has no mass, remove unused nodes")
+
+
+def _check_names(check: _Checker, sizes: dict[str, int]) -> None:
+    for spec in NAME_ATTRIBUTES:
+        names = getattr(check.model, spec.python)
+        if names and len(names) != sizes[spec.one_per]:
+            check.fail(f"attribute {spec.name} on {spec.group} has {len(names)} names but there are "
+                       f"{sizes[spec.one_per]} {SIZES[spec.one_per].entity}s; give one name each")
+
+
+def _check_control(check: _Checker) -> None:
+    control = check.model.control
+    for spec in CONTROL:
+        value = getattr(control, spec.name)
+        label = f"/control attribute {spec.name}"
+        if value is None:
+            if spec.required:
+                check.fail(f"{label} is missing; {spec.fix}")
+            continue
+        if spec.type == "string":
+            choices = ENUMS[spec.enum or ""]
+            if value not in choices:
+                check.fail(f"{label} = {value!r} is unknown; use {' or '.join(repr(p) for p in choices)}, or "
+                           f"leave it out for the default ({spec.default!r})")
+            continue
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            check.fail(f"{label} = {value!r} is not a number; give a real value")
+        if not np.isfinite(number):
+            check.fail(f"{label} = {_fmt(number)} must be finite; {spec.fix}")
+        if not _within(np.asarray(number), spec):
+            check.fail(f"{label} = {_fmt(number)} {spec.rule}; {spec.fix}")

@@ -1,0 +1,212 @@
+"""Writes frontend/paradyn/_schema.py: the deck and results tables as frozen dataclasses."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from schema_model import Entry, Schema
+
+CLASSES = '''
+
+@dataclass(frozen=True)
+class Bound:
+    """A bound on every entry; ``inclusive`` allows the bound itself."""
+
+    value: float
+    inclusive: bool
+
+
+@dataclass(frozen=True)
+class DatasetSpec:
+    """One deck dataset (schema/deck.toml explains every field)."""
+
+    path: str
+    python: str                       # attribute of paradyn.deck.Model
+    type: str                         # "int" or "float"
+    shape: tuple[str | int, ...]      # row symbol first, then column count
+    required: bool
+    required_when: str | None         # key of CONDITIONS
+    checked_when: str | None          # key of CONDITIONS: values checked only on those rows
+    default: float | int | None
+    lower: Bound | None
+    upper: Bound | None
+    rule: str                         # the bounds in words, for messages
+    enum: str | None                  # key of ENUMS
+    enum_rule: str
+    reference: str | None             # entity the entries index: node, part, material
+    defines_rows: bool                # first dataset of its row symbol: its rows define the count
+    units: str
+    meaning: str
+    scene: str
+    fix: str
+
+
+@dataclass(frozen=True)
+class AttributeSpec:
+    """One attribute of /control (schema/deck.toml explains every field)."""
+
+    name: str
+    type: str                         # "float" (any number) or "string"
+    required: bool
+    default: float | str | None
+    default_from: str | None          # default = that attribute / default_divisor
+    default_divisor: float | None
+    lower: Bound | None
+    upper: Bound | None
+    rule: str
+    enum: str | None
+    enum_rule: str
+    units: str
+    meaning: str
+    scene: str
+    fix: str
+
+
+@dataclass(frozen=True)
+class SizeSpec:
+    symbol: str
+    entity: str
+    min_rows: int
+
+
+@dataclass(frozen=True)
+class ConditionSpec:
+    """A group that exists, or a dataset with an entry equal to an enum member's code."""
+
+    name: str
+    group: str | None
+    dataset: str | None
+    code: int | None
+    meaning: str
+    rows: str                         # words for the rows it selects, for messages
+
+
+@dataclass(frozen=True)
+class RelationSpec:
+    """A hand-checked relation between fields; ``path`` is what its messages name."""
+
+    name: str
+    path: str
+    meaning: str
+
+
+@dataclass(frozen=True)
+class NameAttributeSpec:
+    group: str
+    name: str
+    python: str
+    one_per: str
+'''
+
+
+def _call(name: str, fields: list[tuple[str, Any]], indent: str = "    ", positional: bool = False) -> str:
+    """``Name(a=1, b='x', ...)`` (or ``Name(1, 'x', ...)``) packed into lines of at most 116 characters."""
+    items = [f"{v!r}," for _, v in fields] if positional else [f"{k}={v!r}," for k, v in fields]
+    lines, line = [], indent + "    "
+    for item in items:
+        if len(line) + len(item) + 1 > 116 and line.strip():
+            lines.append(line.rstrip())
+            line = indent + "    "
+        line += item + " "
+    lines.append(line.rstrip())
+    return f"{indent}{name}(\n" + "\n".join(lines) + f"\n{indent}),"
+
+
+class _Literal:
+    def __init__(self, text: str) -> None:
+        self.text = text
+
+    def __repr__(self) -> str:
+        return self.text
+
+
+def _bound(entry: Entry, which: str) -> _Literal | None:
+    if which not in entry.raw:
+        return None
+    return _Literal(f"Bound({entry.raw[which]!r}, {bool(entry.get(which + '_inclusive', True))!r})")
+
+
+def _dataset(d: Entry) -> str:
+    return _call("DatasetSpec", [
+        ("path", d.name), ("python", d.get("python")), ("type", d.get("type")), ("shape", tuple(d.get("shape"))),
+        ("required", d.required), ("required_when", d.get("required_when")),
+        ("checked_when", d.get("checked_when")), ("default", d.get("default")), ("lower", _bound(d, "lower")),
+        ("upper", _bound(d, "upper")), ("rule", d.rule), ("enum", d.get("enum")), ("enum_rule", d.enum_rule),
+        ("reference", d.get("reference")), ("defines_rows", d.defines_rows), ("units", d.get("units")),
+        ("meaning", d.get("meaning")), ("scene", d.get("scene")), ("fix", d.get("fix"))], positional=True)
+
+
+def _attribute(a: Entry) -> str:
+    return _call("AttributeSpec", [
+        ("name", a.name), ("type", a.get("type")), ("required", a.required), ("default", a.get("default")),
+        ("default_from", a.get("default_from")), ("default_divisor", a.get("default_divisor")),
+        ("lower", _bound(a, "lower")), ("upper", _bound(a, "upper")), ("rule", a.rule), ("enum", a.get("enum")),
+        ("enum_rule", a.enum_rule), ("units", a.get("units")), ("meaning", a.get("meaning")),
+        ("scene", a.get("scene")), ("fix", a.get("fix"))], positional=True)
+
+
+def _names(constant: str, names: list[str]) -> str:
+    """``CONSTANT = ('a', 'b', ...)`` wrapped at 116 characters."""
+    line = f"{constant} = {tuple(names)!r}"
+    if len(line) <= 116:
+        return line
+    lines, current = [f"{constant} = ("], "   "
+    for name in names:
+        if len(current) + len(repr(name)) + 2 > 116:
+            lines.append(current.rstrip())
+            current = "   "
+        current += f" {name!r},"
+    return "\n".join(lines + [current.rstrip(), ")"])
+
+
+def write(schema: Schema, header: str) -> str:
+    deck, results = schema.deck, schema.results
+    out = [f'"""{header}\n\nThe deck and results formats of docs/formats.md as Python tables; '
+           'paradyn.deck validates\nwith them and paradyn.scene takes its defaults from them.\n"""',
+           "", "from __future__ import annotations", "", "from dataclasses import dataclass", CLASSES, ""]
+    out += [f"DECK_VERSION = {deck['version']!r}", f"VERSION_ATTRIBUTE = {deck['version_attribute']!r}",
+            f"TITLE_ATTRIBUTE = {deck['title_attribute']!r}", f"DOF_NAMES = {tuple(deck['dof_names'])!r}", ""]
+    out.append("ENUMS: dict[str, dict[str, int]] = {")
+    out += [f"    {name!r}: {schema.enum_codes(name)!r}," for name in schema.enums]
+    out += ["}", "", "SIZES: dict[str, SizeSpec] = {"]
+    out += [f"    {k!r}: SizeSpec({k!r}, {v['entity']!r}, {v['min_rows']!r})," for k, v in schema.sizes.items()]
+    out += ["}", "", "CONDITIONS: dict[str, ConditionSpec] = {"]
+    for name, c in schema.conditions.items():
+        code = schema.condition_code(name)
+        out.append(_call("ConditionSpec", [("name", name), ("group", c.get("group")), ("dataset", c.get("dataset")),
+                                           ("code", code), ("meaning", c["meaning"]), ("rows", c.get("rows", ""))])
+                   .replace("    ConditionSpec(", f"    {name!r}: ConditionSpec(", 1))
+    out += ["}", "", "RELATIONS: dict[str, RelationSpec] = {"]
+    out += [_call("RelationSpec", [("name", k), ("path", v["path"]), ("meaning", v["meaning"])], positional=True)
+            .replace("    RelationSpec(", f"    {k!r}: RelationSpec(", 1) for k, v in schema.relations.items()]
+    out += ["}", "", "# fields in the order of DatasetSpec and AttributeSpec above",
+            "DATASETS: tuple[DatasetSpec, ...] = ("] + [_dataset(d) for d in schema.datasets] + [")", ""]
+    out += ["CONTROL: tuple[AttributeSpec, ...] = ("] + [_attribute(a) for a in schema.control] + [")", ""]
+    out += ["NAME_ATTRIBUTES: tuple[NameAttributeSpec, ...] = ("]
+    out += [f"    NameAttributeSpec({n['group']!r}, {n['name']!r}, {n['python']!r}, {n['one_per']!r}),"
+            for n in schema.name_attributes]
+    out += [")", "", "# Every rule of the deck, by (what, name); tests/test_schema_damage.py breaks each one.",
+            "RULES: dict[tuple[str, str], tuple[str, ...]] = {"]
+    grouped: dict[tuple[str, str], list[str]] = {}
+    for what, name, rule in schema.rules():
+        grouped.setdefault((what, name), []).append(rule)
+    out += [f"    {key!r}:\n        {tuple(rules)!r}," if len(f"    {key!r}: {tuple(rules)!r},") > 116
+            else f"    {key!r}: {tuple(rules)!r}," for key, rules in grouped.items()]
+    out += ["}", ""]
+    out += ["# The results file and the engine's output", ""]
+    out += [f"RESULTS_VERSION = {results['results']['version']!r}",
+            f"RESULTS_VERSION_ATTRIBUTE = {results['results']['version_attribute']!r}",
+            _names("MESH_DATASETS", [m["path"] for m in results["mesh"]]),
+            _names("FRAME_FIELDS", [f["name"] for f in results["frame"]]),
+            _names("HISTORY_NAMES", [h["name"] for h in results["history"]]),
+            _names("RUN_ATTRIBUTES", [n for r in results["run"] for n in r["names"]]),
+            _names("PHASES", results["phases"]["names"]),
+            _names("CONTACT_PHASES", results["phases"]["contact_parts"]),
+            "PROGRESS_KINDS: dict[str, tuple[str, ...]] = {"]
+    out += [f"    {p['kind']!r}: {tuple(p['keys'])!r}," for p in results["progress"]]
+    out += ["}", ""]
+    out += [f"STATUS_{s['name'].upper()} = {s['code']}" for s in results["exit_status"]]
+    out += ["EXIT_STATUSES: dict[int, str] = {"]
+    out += [f"    {s['code']}: {s['name']!r}," for s in results["exit_status"]]
+    out += ["}", ""]
+    return "\n".join(out)
