@@ -15,7 +15,6 @@ import models as M
 from contact_cases import STEEL, T
 from paradyn.deck import Control
 
-
 # ----------------------------------------------------------------------------------------------
 # Friction
 

@@ -162,7 +162,7 @@ def test_bucket_count_is_capped_by_node_count() -> None:
 
 def candidate_blocks(n_candidates: int, n_ranks: int) -> list[range]:
     first, last = K.contact_candidate_blocks(n_candidates, n_ranks)
-    return [range(int(f), int(l) + 1) for f, l in zip(first, last)]
+    return [range(int(start), int(end) + 1) for start, end in zip(first, last, strict=True)]
 
 
 @pytest.mark.parametrize("n_candidates", [0, 1, 2, 3, 5, 7, 64, 100, 101, 1023])

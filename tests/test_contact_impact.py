@@ -23,9 +23,10 @@ interior node's mass and the same spring: the plate is not rigid over 7 us.
 That oscillator has omega dt = 1.2 at the default stable step of a 6 x 6 plate of 2 mm steel
 (1.9 for corner nodes of an edge-to-edge contact), so the contact lasts about two steps. Tests
 that measure the contact response therefore set ``time_step`` to a tenth (or a quarter) of the
-stable step, where the spring is not capped, and say so; tests of exact properties (momentum, decomposition, symmetry) also run at
-the default step. ``test_end_on_strips_at_default_step_conserve_energy`` records what happens at
-the default step, where the stability cap on the penalty spring (docs/theory.md) keeps it sane.
+stable step, where the spring is not capped, and say so; tests of exact properties (momentum,
+decomposition, symmetry) also run at the default step.
+``test_end_on_strips_at_default_step_conserve_energy`` records what happens at the default step,
+where the stability cap on the penalty spring (docs/theory.md) keeps it sane.
 
 Steel, plates and helpers are shared with tests/test_contact_parallel.py and
 tests/test_contact_friction.py through tests/contact_cases.py.
@@ -51,7 +52,6 @@ from contact_cases import (
     _symmetry_error,
 )
 from paradyn import geometry
-
 
 # ----------------------------------------------------------------------------------------------
 # 1. Momentum

@@ -15,7 +15,6 @@ import pytest
 from contact_kernel_cases import SHAPE_SIGNS, F, brute_nearest, flat_quad, surface, warped_quad
 from paradyn import _kernels as K
 
-
 # ------------------------------------------------------------------------------------------------
 # Closest point on a bilinear segment
 
@@ -113,7 +112,7 @@ def test_projection_on_warped_segment_is_the_true_minimiser(seed: int, warp: flo
         np.testing.assert_allclose(xc, x, atol=1e-14)
         r = xc - p
         g = np.array([r @ dxi, r @ deta])
-        for c, gc in zip((xi, eta), g):
+        for c, gc in zip((xi, eta), g, strict=True):
             if abs(c) < 1.0:
                 assert abs(gc) < 1e-10
             else:

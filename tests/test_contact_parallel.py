@@ -16,10 +16,9 @@ import numpy as np
 import pytest
 
 import models as M
-from contact_cases import N, PLATE, STEEL, H, T, _plate_pair
+from contact_cases import PLATE, STEEL, H, N, T, _plate_pair
 from paradyn import launch
 from paradyn.deck import Control, write_deck
-
 
 # ----------------------------------------------------------------------------------------------
 # Decomposition independence
@@ -54,7 +53,7 @@ def layouts(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[int, int], d
 
 
 @pytest.mark.mpi
-@pytest.mark.parametrize("layout", LAYOUTS, ids=lambda l: f"{l[0]}x{l[1]}")
+@pytest.mark.parametrize("layout", LAYOUTS, ids=lambda layout: f"{layout[0]}x{layout[1]}")
 def test_contact_is_bitwise_independent_of_the_decomposition(layouts, layout):
     """docs/theory.md (parallel design) and contact_interface.f90: contact forces are computed
     on every rank from gathered positions and summed in slave order, so the frames of an
@@ -113,7 +112,7 @@ def sliding(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[int, int, st
 
 
 @pytest.mark.mpi
-@pytest.mark.parametrize("layout", SLIDING_LAYOUTS, ids=lambda l: f"{l[0]}x{l[1]}_{l[2]}")
+@pytest.mark.parametrize("layout", SLIDING_LAYOUTS, ids=lambda layout: f"{layout[0]}x{layout[1]}_{layout[2]}")
 def test_gathering_only_the_nodes_near_contact_changes_nothing(sliding, layout):
     """docs/theory.md (parallel contact): between sorts only the contact nodes that can come
     into contact before the next sort are gathered, and the global search visits only those

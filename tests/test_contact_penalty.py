@@ -15,7 +15,6 @@ import pytest
 from contact_kernel_cases import F, flat_quad, shape, surface, warped_quad
 from paradyn import _kernels as K
 
-
 # ------------------------------------------------------------------------------------------------
 # Penalty stiffness and force
 
@@ -57,7 +56,7 @@ def test_penalty_force_pushes_slave_out_on_its_own_side(seed: int) -> None:
         for _ in range(10):
             x0, _, _ = surface(xseg, *rng.uniform(-0.9, 0.9, 2))
             d = rng.uniform(0.001, 0.999) * reach
-            f, fm, pen, contact = K.contact_penalty_force(F(x0 + side * d * n), ts, xseg, tm, k)
+            f, _, pen, contact = K.contact_penalty_force(F(x0 + side * d * n), ts, xseg, tm, k)
             assert contact == 1
             assert pen == pytest.approx(reach - d, rel=1e-10)
             np.testing.assert_allclose(f, side * k * (reach - d) * n, rtol=1e-9, atol=1e-9 * k * reach)
@@ -143,12 +142,12 @@ def test_friction_opposes_slip_and_is_capped() -> None:
     mus, mud, decay, vslip = 0.5, 0.3, 2.0, 0.01
     for vs, capped in (([1.0, -0.5, -3.0], True), ([0.004, 0.003, 2.0], False)):
         vs = np.array(vs)
-        f, fm, pen, contact = K.contact_penalty_force(F(p), ts, xseg, tm, k, F(vs), vm, mus, mud, decay, vslip)
+        f, fm, _, _ = K.contact_penalty_force(F(p), ts, xseg, tm, k, F(vs), vm, mus, mud, decay, vslip)
         vt = np.array([vs[0], vs[1], 0.0])
         speed = np.linalg.norm(vt)
         mu = mud + (mus - mud) * np.exp(-decay * speed)
         ft = -mu * fn * vt / max(speed, vslip)
-        np.testing.assert_allclose(f, ft + [0, 0, fn], rtol=1e-12)
+        np.testing.assert_allclose(f, ft + np.array([0, 0, fn]), rtol=1e-12)
         assert np.linalg.norm(f[:2]) <= mu * fn * (1 + 1e-12)
         if capped:
             assert np.linalg.norm(f[:2]) == pytest.approx(mu * fn, rel=1e-12)

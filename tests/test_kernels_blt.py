@@ -20,7 +20,6 @@ import pytest
 from kernel_cases import C_PLANE, ET, NU, RHO, SY0, E, F, G, T, _rotation
 from paradyn import _kernels as K
 
-
 # ------------------------------------------------------------------------------------------------
 # Gauss points through the thickness
 
@@ -117,8 +116,8 @@ def test_blt_constant_strain_modes_of_a_unit_square(mode: str) -> None:
     in-plane shear v = (g y, 0, 0): sxy = G g dt at every point; bending w_y = k x: sxx =
     E/(1-nu^2) k dt z, syy = nu sxx, moment t^3/12 sxx/z per length, nodal y-moments
     +-M L/2 on the edges x = +-1/2; bending w_x = -k y: syy = E/(1-nu^2) k dt z; twist
-    w = (-k x, k y, 0) / 2 (u = z w_y, v = -z w_x, so gxy = k z): sxy = G k dt z; transverse shear v_z = g x: sxz = 5/6 G g dt and
-    nodal z forces +-Q L/2."""
+    w = (-k x, k y, 0) / 2 (u = z w_y, v = -z w_x, so gxy = k z): sxy = G k dt z; transverse
+    shear v_z = g x: sxz = 5/6 G g dt and nodal z forces +-Q L/2."""
     square = np.array([[-0.5, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0], [-0.5, 0.5, 0.0]])
     rate, dt = 1e3, 1e-9
     v, w = np.zeros((4, 3)), np.zeros((4, 3))

@@ -16,7 +16,6 @@ import pytest
 from kernel_cases import C_PLANE, ET, NU, SY0, E, F, G, H
 from paradyn import _kernels as K
 
-
 # ------------------------------------------------------------------------------------------------
 # J2 plasticity, plane stress, driven along a uniaxial stress path
 
@@ -69,7 +68,7 @@ class UniaxialPoint:
 def _load(point: UniaxialPoint, strain_target: float, de: float) -> list[tuple[float, float, float]]:
     """Increments of ``de`` up to ``strain_target``; returns (strain, sigma, eps_p) after each."""
     path = []
-    n = int(round((strain_target - point.strain) / de))
+    n = round((strain_target - point.strain) / de)
     for _ in range(n):
         point.step(de)
         path.append((point.strain, point.sigma, float(point.eps_p)))
@@ -100,7 +99,7 @@ def test_j2_uniaxial_elastic_slope_yield_point_and_hardening_slope() -> None:
     np.testing.assert_allclose(plastic_slope, H, rtol=1e-6)
 
     # on the yield surface after every plastic step (isotropic: radius sy0 + H eps_p, no back stress)
-    for s, ep in zip(sigma[plastic], eps_p[plastic]):
+    for s, ep in zip(sigma[plastic], eps_p[plastic], strict=True):
         assert abs(s) == pytest.approx(SY0 + H * ep, rel=1e-9)
     # plastic strain consistency: eps_p = total axial strain - sigma / E
     np.testing.assert_allclose(eps_p, strain - sigma / E, rtol=0, atol=1e-9)

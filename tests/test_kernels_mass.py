@@ -15,7 +15,6 @@ import pytest
 from kernel_cases import RHO, E, F, T, _rotation
 from paradyn import _kernels as K
 
-
 # ------------------------------------------------------------------------------------------------
 # mass and stable time step
 

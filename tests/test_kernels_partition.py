@@ -14,7 +14,6 @@ from kernel_cases import F
 from paradyn import _kernels as K
 from paradyn import deck, geometry
 
-
 # ------------------------------------------------------------------------------------------------
 # domain decomposition
 
