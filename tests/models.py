@@ -334,7 +334,7 @@ def scordelis_lo_quarter(n: int) -> ScordelisLo:
 
 
 # ----------------------------------------------------------------------------------------------
-# contact between parts (tests/test_contact.py)
+# contact between parts (tests/test_contact_*.py)
 
 
 @dataclass

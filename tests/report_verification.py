@@ -36,9 +36,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-import models as M  # noqa: E402
-import test_verification as V  # noqa: E402
-from paradyn.deck import Control  # noqa: E402
+import models as M
+import test_verification as V
+from paradyn.deck import Control
 
 
 @dataclass

@@ -9,12 +9,10 @@ scene is the paper's pipe whip (contact, plasticity, fixed nodes) cut to 0.4 ms.
 
 from __future__ import annotations
 
-import os
 import shutil
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import h5py
@@ -237,7 +235,7 @@ def test_ctrl_c_on_paradyn_run_checkpoints_and_restart_finishes(tmp_path: Path) 
     status, output = _start_and_stop(command, tmp_path, signal.SIGINT)
     assert status == 4, output
     assert (out / "results.checkpoint.h5").is_file()
-    finished = subprocess.run(command + ["--restart", "-q"], cwd=tmp_path, capture_output=True, text=True,
+    finished = subprocess.run([*command, "--restart", "-q"], cwd=tmp_path, capture_output=True, text=True,
                               env=launch.engine_environment(1), timeout=300)
     assert finished.returncode == 0, finished.stderr
     with h5py.File(out / "results.h5", "r") as f:

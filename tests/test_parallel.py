@@ -54,7 +54,7 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[int, int], dict
     return out
 
 
-@pytest.mark.parametrize("layout", LAYOUTS, ids=lambda l: f"{l[0]}x{l[1]}")
+@pytest.mark.parametrize("layout", LAYOUTS, ids=lambda layout: f"{layout[0]}x{layout[1]}")
 def test_layout_is_what_was_asked(runs: dict, layout: tuple[int, int]) -> None:
     """docs/formats.md /run attributes: ranks and threads of the run."""
     data = runs[layout]
@@ -62,7 +62,7 @@ def test_layout_is_what_was_asked(runs: dict, layout: tuple[int, int]) -> None:
     assert int(data["run/cycles"]) == int(runs[(1, 1)]["run/cycles"])
 
 
-@pytest.mark.parametrize("layout", LAYOUTS, ids=lambda l: f"{l[0]}x{l[1]}")
+@pytest.mark.parametrize("layout", LAYOUTS, ids=lambda layout: f"{layout[0]}x{layout[1]}")
 def test_frames_are_bitwise_equal(runs: dict, layout: tuple[int, int]) -> None:
     """docs/theory.md: displacements bitwise identical on 1, 2 and 4 ranks and 1 or 2 threads.
     Every rank writes its own rows of each frame and of /mesh (parallel HDF5), so equality with
@@ -75,7 +75,7 @@ def test_frames_are_bitwise_equal(runs: dict, layout: tuple[int, int]) -> None:
     assert np.any(reference["element_von_mises"] != 0.0)
 
 
-@pytest.mark.parametrize("layout", LAYOUTS, ids=lambda l: f"{l[0]}x{l[1]}")
+@pytest.mark.parametrize("layout", LAYOUTS, ids=lambda layout: f"{layout[0]}x{layout[1]}")
 def test_history_is_bitwise_equal_apart_from_energy_sums(runs: dict, layout: tuple[int, int]) -> None:
     """Times, tracked nodes and the external work are bitwise equal; the summed energies agree
     to round-off (1e-14 of the largest energy)."""
@@ -124,7 +124,7 @@ def test_scaling_benchmark_reports_every_layout(tmp_path: Path, capsys: pytest.C
         assert row["peak_memory_mb"] > 0
         # three rounds; the reported run is the median one, the speed-up the median of the rounds'
         assert len(row["round_wall_s"]) == 3 and row["wall_s"] == sorted(row["round_wall_s"])[1]
-        assert row["round_speed_up"] == pytest.approx([b / w for b, w in zip(base, row["round_wall_s"])])
+        assert row["round_speed_up"] == pytest.approx([b / w for b, w in zip(base, row["round_wall_s"], strict=True)])
         assert row["speed_up"] == pytest.approx(sorted(row["round_speed_up"])[1])
         # one rank is balanced by definition; two ranks are at least as busy as their mean
         assert row["load_imbalance"] == 1.0 if row["ranks"] == 1 else row["load_imbalance"] >= 1.0
@@ -184,7 +184,7 @@ def partitioned(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, int
     return out
 
 
-@pytest.mark.parametrize("layout", PARTITION_LAYOUTS, ids=lambda l: f"{l[0]}-{l[1]}ranks")
+@pytest.mark.parametrize("layout", PARTITION_LAYOUTS, ids=lambda layout: f"{layout[0]}-{layout[1]}ranks")
 def test_partition_gives_the_one_rank_answer_bitwise(partitioned: dict, layout: tuple[str, int]) -> None:
     """docs/theory.md (parallel design): whatever rank owns an element, every node sums its
     corners in ascending global element order, and rank 0 places every gathered element value

@@ -11,10 +11,10 @@ import h5py
 import numpy as np
 import pytest
 from numpy.testing import assert_array_equal
-from test_results import N_FRAMES, write_synthetic
 
 import paradyn
 from paradyn.reading import FrameField
+from test_results import N_FRAMES, write_synthetic
 
 PACKAGE = Path(paradyn.__file__).resolve().parent
 FRAME_DATASETS = {

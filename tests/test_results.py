@@ -293,7 +293,7 @@ def test_vtk_series_round_trip(synthetic: Synthetic, tmp_path: Path) -> None:
     assert files == [f"vtk/left_plate_{k:05d}.vtu" for k in range(N_FRAMES)]
 
     all_disp = _displacement(synthetic.coordinates, synthetic.frame_times)
-    for pvd, part in zip(pvds, (0, 1)):
+    for pvd, part in zip(pvds, (0, 1), strict=True):
         reader = pv.get_reader(pvd)
         assert_allclose(reader.time_values, synthetic.frame_times, rtol=0, atol=0)
         for k, t in enumerate(reader.time_values):

@@ -15,6 +15,7 @@ from paradyn.engine_process import EngineError
 
 DECK, RESULTS = Path("/d/deck.h5"), Path("/d/results.h5")
 ENGINE = Path("/opt/paradyn-engine")
+SMALL_PLATE = Path(__file__).resolve().parents[1] / "cases" / "small_plate" / "scene.toml"
 
 
 def machine(cores: int = 4, pinning: bool = True) -> runners.Machine:
@@ -88,7 +89,8 @@ def test_sbatch_writes_a_job_script_and_refuses_to_run(tmp_path: Path) -> None:
     assert script == tmp_path / "job.sbatch"
     lines = script.read_text().splitlines()
     assert lines[0] == "#!/bin/bash" and f"#SBATCH --job-name=paradyn-{tmp_path.name}" in lines
-    assert f"srun -n 2 --cpus-per-task=3 --export=ALL {ENGINE} {tmp_path / 'deck.h5'} {tmp_path / 'results.h5'}" in lines
+    srun = f"srun -n 2 --cpus-per-task=3 --export=ALL {ENGINE} {tmp_path / 'deck.h5'} {tmp_path / 'results.h5'}"
+    assert srun in lines
     assert lines[-1] == " ".join(post)
     with pytest.raises(EngineError, match="writes a job script"):
         batch.run(tmp_path / "deck.h5", tmp_path / "results.h5")
@@ -120,7 +122,7 @@ def test_run_engine_takes_a_runner_by_name(tmp_path: Path) -> None:
 
     if launch.shutil.which("mpirun") is None:
         pytest.skip("no mpirun on PATH")
-    model = scene.build_model(scene.load_scene(Path(__file__).resolve().parents[1] / "cases" / "small_plate" / "scene.toml"))
+    model = scene.build_model(scene.load_scene(SMALL_PLATE))
     deck_path = deck.write_deck(model, tmp_path / "deck.h5")
     direct = launch.run_engine(deck_path, tmp_path / "direct.h5", 1, 1, runner="direct")
     under_mpirun = launch.run_engine(deck_path, tmp_path / "mpirun.h5", 1, 1, runner="mpirun")
@@ -137,7 +139,7 @@ def test_ctrl_c_while_a_progress_line_is_handled_still_stops_with_a_checkpoint(t
     (docs/outputs.md, "Checkpoints and restarts")."""
     from paradyn import deck, scene
 
-    model = scene.build_model(scene.load_scene(Path(__file__).resolve().parents[1] / "cases" / "small_plate" / "scene.toml"))
+    model = scene.build_model(scene.load_scene(SMALL_PLATE))
     model.control.end_time, model.control.output_interval = 0.2, 2e-3
     model.control.history_interval, model.control.progress_interval = 2e-4, 1e-3
     deck_path = deck.write_deck(model, tmp_path / "deck.h5")

@@ -127,8 +127,9 @@ def test_default_time_step_is_stable(tmp_path, poisson):
     scaled so that rotations never govern the step. The mode that couples the nodal rotations
     through the transverse shear had omega ~ sqrt(5 (1 - nu)) c_plate / h with the earlier
     I = m (t^2 + A) / 12: above 2 / dt for nu below about 0.12, and the run went NaN after about
-    110 cycles. With I = m (t^2 + A) / 4 it is sqrt(3) lower, below the membrane limit for every nu. Mesh: the 20 x 2 cantilever strip (h = 0.05 m, t = 0.01 m),
-    step tip load, 2000 cycles: the run completes and conserves energy to 1e-3 of the work done.
+    110 cycles. With I = m (t^2 + A) / 4 it is sqrt(3) lower, below the membrane limit for every
+    nu. Mesh: the 20 x 2 cantilever strip (h = 0.05 m, t = 0.01 m), step tip load, 2000 cycles:
+    the run completes and conserves energy to 1e-3 of the work done.
     """
     material = M.Material(young=STEEL_NU0.young, poisson=poisson, density=STEEL_NU0.density)
     beam = M.cantilever(material)
@@ -193,7 +194,7 @@ def test_rigid_body_motion(tmp_path, motion):
 def rigid_body_run(motion: str, directory):
     """Run the free patch in rigid translation or rotation about x, y or z; return the run and
     the exact final positions of the rigid motion (shared with tests/report_verification.py)."""
-    mesh, thickness, mass, centre = _patch()
+    mesh, thickness, _, centre = _patch()
     x0 = mesh.coordinates
     n = mesh.n_nodes
     dt = M.stable_time_step(mesh, STEEL)
@@ -445,6 +446,6 @@ def test_plate_central_deflection(tmp_path, support):
     test_hourglass_energy_coarse_plate); tolerance 3 %. Engine: 1.021 / 0.988 of the reference
     (4 x 4: 1.115 / 0.925; 16 x 16: 1.006 / 1.001).
     """
-    run, w, reference, _ = _relaxed_plate(tmp_path, 8, support)
+    _, w, reference, _ = _relaxed_plate(tmp_path, 8, support)
     assert _settled(w) < 1e-3
     assert w[-1] == pytest.approx(reference, rel=0.03)

@@ -70,11 +70,11 @@ def test_the_sbatch_runner_writes_a_job_and_runs_nothing(tmp_path: Path, plate_m
 def test_mistakes_are_named_before_anything_runs(tmp_path: Path, plate_model: deck.Model) -> None:
     with pytest.raises(scene.SceneError, match="no such file"):
         paradyn.run(tmp_path / "missing.toml", tmp_path / "out")
-    with pytest.raises(TypeError, match="paradyn.deck.Model"):
+    with pytest.raises(TypeError, match=r"paradyn\.deck\.Model"):
         paradyn.run({"title": "a dict"}, tmp_path / "out")  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="unknown runner 'local'"):
         paradyn.run(plate_model, tmp_path / "out", ranks=1, threads=1, runner="local")
-    with pytest.raises(ValueError, match="holds no deck.h5 and results.checkpoint.h5"):
+    with pytest.raises(ValueError, match=r"holds no deck\.h5 and results\.checkpoint\.h5"):
         paradyn.run(plate_model, tmp_path / "empty", restart=True)
     with pytest.raises(launch.EngineError, match="must be at least 1"):
         paradyn.run(plate_model, tmp_path / "out", ranks=0, threads=1)

@@ -1,9 +1,10 @@
 """Bitwise fingerprints of the pipe-whip histories: python tools/history_fingerprint.py [OUT] [CASES...].
 
 Meshes every ``cases/pipe_whip*`` scene (or the ones named), runs the engine on one rank with two
-threads (``paradyn.run`` without post-processing), and prints one SHA-256 per case over every ``/history`` dataset of its ``results.h5`` (raw
-bytes, in name order). A change that must keep the answers (a restructure, a speed-up) keeps every
-line of this output: run it before and after and compare with ``diff``.
+threads (``paradyn.run`` without post-processing), and prints one SHA-256 per case over every
+``/history`` dataset of its ``results.h5`` (raw bytes, in name order). A change that must keep
+the answers (a restructure, a speed-up) keeps every line of this output: run it before and after
+and compare with ``diff``.
 """
 
 from __future__ import annotations

@@ -30,7 +30,7 @@ def read_history(path: Path) -> dict[str, np.ndarray]:
 def table(history: dict[str, np.ndarray]) -> str:
     t_ms = history["time"] * 1e3
     rows = []
-    columns = list(POINTS) + ["upper_centre"]
+    columns = [*POINTS, "upper_centre"]
     down = {p: -history[f"{p}_dz"] * 1e3 for p in POINTS}
     down["upper_centre"] = 0.5 * (down["upper_contact"] + down["upper_top"])
     header = "| point (downward displacement, mm) | " + " | ".join(f"{t} ms" for t in TIMES_MS) + \

@@ -65,7 +65,7 @@ def variant_scene(base: scene.Scene, around: int, along: int, points: int, end_t
 def check_tracked_nodes(sc: scene.Scene, model: deck.Model) -> float:
     """Largest distance between a tracked node and its requested point (m); fails above 1e-9 m."""
     worst = 0.0
-    for track, node in zip(sc.tracks, model.tracked_nodes):
+    for track, node in zip(sc.tracks, model.tracked_nodes, strict=True):
         distance = float(np.linalg.norm(model.coordinates[node] - np.asarray(track.point)))
         if distance > 1e-9:
             raise SystemExit(f"study.py: tracked point '{track.name}' {list(track.point)} is "
@@ -102,7 +102,7 @@ def run_variant(base: scene.Scene, around: int, along: int, points: int, end_tim
 
 
 def table(rows: list[dict]) -> str:
-    columns = list(POINTS) + ["upper_centre"]
+    columns = [*POINTS, "upper_centre"]
     lines = ["| mesh (per pipe) | points | end (ms) | " + " | ".join(columns) +
              f" | upper_centre, {LATE_TIME * 1e3:g} ms | max plastic strain at end"
              " | wall (s) | cycles | element-cycles/s | energy balance error |",

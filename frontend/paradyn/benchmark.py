@@ -123,7 +123,7 @@ def run_layouts(deck_path: Path, out_dir: Path, layouts: list[tuple[int, int]],
         runs = sorted((r[i][0] for r in rounds), key=lambda run: float(run["wall_s"]))
         run = runs[len(runs) // 2]
         walls = [float(r[i][0]["wall_s"]) for r in rounds]
-        speed_ups = [b / w for b, w in zip(base_walls, walls)]
+        speed_ups = [b / w for b, w in zip(base_walls, walls, strict=True)]
         speed_up = float(np.median(speed_ups))
         shared, neighbours = partition_stats(model, ranks) if model is not None else (0, 0)
         results.append(LayoutResult(

@@ -88,10 +88,9 @@ def follow_engine(
     EngineError then says how to continue. The engine runs in its own session so that the
     terminal's SIGINT reaches only this process, not mpirun (which would kill the ranks)."""
     run = EngineRun(command=command, exit_code=-1, log_path=log_path)
-    log: TextIO = open(log_path, "w") if log_path else open(os.devnull, "w")
     errors: list[str] = []
     started = time.perf_counter()
-    with log, subprocess.Popen(
+    with open(log_path or os.devnull, "w") as log, subprocess.Popen(
         command, cwd=folder, env=environment, stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT, text=True, bufsize=1, start_new_session=True,
     ) as process:

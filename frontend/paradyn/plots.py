@@ -117,8 +117,8 @@ def show_deformed(
 
 
 __all__ = [
-    "plot_tracked_histories",
     "plot_energies",
+    "plot_tracked_histories",
     "render_deformed",
     "show_deformed",
 ]

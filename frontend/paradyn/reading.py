@@ -241,7 +241,7 @@ class Results:
 
     def frame(
         self, k: int = -1, part: int | str | None = None, deformed: bool = True
-    ) -> "pyvista.UnstructuredGrid":
+    ) -> pyvista.UnstructuredGrid:
         """Field frame ``k`` as a pyvista grid of VTK_QUAD cells, read from the file now.
 
         Points are at the deformed position (``deformed=False``: the initial one); point data

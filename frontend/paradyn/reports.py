@@ -45,7 +45,7 @@ def energy_report(results: Results) -> dict[str, Any]:
     With no history records every value is None.
     """
     keys = ("kinetic", "internal", "hourglass", "contact", "external_work")
-    columns = dict(zip(keys, ENERGY_NAMES))
+    columns = dict(zip(keys, ENERGY_NAMES, strict=True))
     h = results.history
     if results.n_records == 0:
         empty = {k: None for k in (*keys, "total")}

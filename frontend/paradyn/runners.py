@@ -144,7 +144,7 @@ class MpirunRunner(Runner):
             command += ["--bind-to", "none"]
         if self.machine.oversubscribed(ranks, threads):
             command.append("--oversubscribe")
-        return command + [str(self.machine.engine), *_engine_arguments(deck, results, restart)]
+        return [*command, str(self.machine.engine), *_engine_arguments(deck, results, restart)]
 
 
 @dataclass

@@ -72,7 +72,7 @@ def _pvd_xml(times: np.ndarray, files: list[str]) -> str:
         '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
         "  <Collection>",
     ]
-    for t, f in zip(times.tolist(), files):
+    for t, f in zip(times.tolist(), files, strict=True):
         lines.append(
             f'    <DataSet timestep="{float(t)!r}" group="" part="0" file={quoteattr(f)}/>'
         )

@@ -23,77 +23,35 @@ interior node's mass and the same spring: the plate is not rigid over 7 us.
 That oscillator has omega dt = 1.2 at the default stable step of a 6 x 6 plate of 2 mm steel
 (1.9 for corner nodes of an edge-to-edge contact), so the contact lasts about two steps. Tests
 that measure the contact response therefore set ``time_step`` to a tenth (or a quarter) of the
-stable step, where the spring is not capped, and say so; tests of exact properties (momentum, decomposition, symmetry) also run at
-the default step. ``test_end_on_strips_at_default_step_conserve_energy`` records what happens at
-the default step, where the stability cap on the penalty spring (docs/theory.md) keeps it sane.
+stable step, where the spring is not capped, and say so; tests of exact properties (momentum,
+decomposition, symmetry) also run at the default step.
+``test_end_on_strips_at_default_step_conserve_energy`` records what happens at the default step,
+where the stability cap on the penalty spring (docs/theory.md) keeps it sane.
+
+Steel, plates and helpers are shared with tests/test_contact_parallel.py and
+tests/test_contact_friction.py through tests/contact_cases.py.
 """
 
 from __future__ import annotations
 
-import shutil
 from pathlib import Path
 
-import h5py
 import numpy as np
 import pytest
 
 import models as M
-from paradyn import geometry, launch
-from paradyn.deck import Control, write_deck
-
-STEEL = M.Material(young=200.0e9, poisson=0.3, density=7850.0)
-T = 0.002           # shell thickness (m)
-PLATE = 0.1         # side of the square plates (m)
-N = 6               # elements along a side
-H = PLATE / N       # element side (m)
-ROTATE_Y = np.array([-1.0, 1.0, -1.0])  # half turn about the y axis: (x, y, z) -> (-x, y, -z)
-
-
-# ----------------------------------------------------------------------------------------------
-# helpers
-
-
-def _plate_pair(clearance: float, shift: float = 0.0, n: int = N) -> tuple[geometry.Mesh, geometry.Mesh]:
-    """Two square plates facing each other across z = 0, ``clearance`` between the contact
-    surfaces. Plate A (below, normal +z) spans x in [-L/2 - shift, L/2 - shift]; plate B is A
-    turned half a turn about the y axis, node for node (B's node i = R A's node i, R = ROTATE_Y),
-    so B spans x in [-L/2 + shift, L/2 + shift] and the two meshes are offset by 2 shift in x.
-    R maps every coordinate to its exact negative or itself, so the deck is symmetric in floating
-    point too."""
-    z = 0.5 * (T + clearance)
-    a = M.flat_plate((PLATE, PLATE), (n, n), origin=(-0.5 * PLATE - shift, -0.5 * PLATE, -z))
-    b = geometry.Mesh(coordinates=a.coordinates * ROTATE_Y, quads=a.quads.copy())
-    return a, b
-
-
-def _symmetry_error(displacement: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    """max |u_B - R u_A| over frames and nodes, relative to max |u|."""
-    diff = displacement[:, b] - displacement[:, a] * ROTATE_Y
-    return float(np.abs(diff).max() / np.abs(displacement).max())
-
-
-def _momentum(masses: np.ndarray, velocity: np.ndarray, nodes: np.ndarray) -> np.ndarray:
-    """sum m v over ``nodes``; velocity (n_records, n_nodes, 3) -> (n_records, 3)."""
-    return np.einsum("n,rnc->rc", masses[nodes], velocity[:, nodes])
-
-
-def _node_pair_oscillator(mass: float, stiffness: float) -> float:
-    """omega of two facing nodes of mass m, each pushed by 2 k (slave and master, passes = 2)."""
-    return 2.0 * np.sqrt(stiffness / mass)
-
-
-def _interior_node_mass(h: float) -> float:
-    return STEEL.density * T * h * h
-
-
-def _control(end_time: float, step_fraction: float | None, stable: float, frames: int = 10,
-             history_every_step: bool = True) -> Control:
-    """``step_fraction`` of the stable step (None: the engine's automatic step)."""
-    dt = stable * (step_fraction if step_fraction is not None else 1.0)
-    return Control(end_time=end_time, output_interval=end_time / frames,
-                   history_interval=dt if history_every_step else end_time / 200,
-                   time_step=0.0 if step_fraction is None else dt)
-
+from contact_cases import (
+    STEEL,
+    H,
+    T,
+    _control,
+    _interior_node_mass,
+    _momentum,
+    _node_pair_oscillator,
+    _plate_pair,
+    _symmetry_error,
+)
+from paradyn import geometry
 
 # ----------------------------------------------------------------------------------------------
 # 1. Momentum
@@ -416,193 +374,3 @@ def test_both_passes_keep_the_symmetric_impact_symmetric(tmp_path):
         assert result["momentum"] <= 1e-12
         assert result["balance"] <= 1e-6
         assert result["contact_energy"] <= 0.01
-
-
-# ----------------------------------------------------------------------------------------------
-# 5. Decomposition independence
-
-
-LAYOUTS = [(2, 1), (4, 1), (1, 2)]
-
-
-@pytest.fixture(scope="module")
-def layouts(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[int, int], dict[str, np.ndarray]]:
-    if shutil.which("mpirun") is None and shutil.which("mpiexec") is None:
-        pytest.skip("mpirun is not installed")
-    folder = tmp_path_factory.mktemp("contact_layouts")
-    a_mesh, b_mesh = _plate_pair(clearance=1.0e-4, shift=0.25 * H)
-    control = Control(end_time=40.0e-6, output_interval=2.0e-6)
-    asm = M.contact_model([M.Body(a_mesh, T), M.Body(b_mesh, T, (2.0, 1.0, -5.0))], STEEL, control,
-                          static_friction=0.3)
-    deck_path = write_deck(asm.model, folder / "deck.h5")
-    out = {}
-    for ranks, threads in [(1, 1), *LAYOUTS]:
-        results = folder / f"results_{ranks}x{threads}.h5"
-        launch.run_engine(deck_path, results, ranks, threads,
-                          log_path=folder / f"engine_{ranks}x{threads}.log")
-        with h5py.File(results, "r") as f:
-            out[(ranks, threads)] = {
-                "displacement": f["/frames/displacement"][()], "velocity": f["/frames/velocity"][()],
-                "contact_energy": f["/history/contact_energy"][()],
-                "contact_penetration": f["/history/contact_penetration"][()],
-                "layout": (int(f["/run"].attrs["ranks"]), int(f["/run"].attrs["threads"])),
-            }
-    return out
-
-
-@pytest.mark.mpi
-@pytest.mark.parametrize("layout", LAYOUTS, ids=lambda l: f"{l[0]}x{l[1]}")
-def test_contact_is_bitwise_independent_of_the_decomposition(layouts, layout):
-    """docs/theory.md (parallel design) and contact_interface.f90: contact forces are computed
-    on every rank from gathered positions and summed in slave order, so the frames of an
-    oblique plate impact with friction (offset meshes, mu = 0.3, default step, 40 us, frames
-    every 2 us) are bitwise equal on 1 rank x 1 thread, 2 and 4 ranks and 1 rank x 2 threads,
-    and so are the contact energy and penetration histories."""
-    reference, data = layouts[(1, 1)], layouts[layout]
-    assert data["layout"] == layout
-    for key in ("displacement", "velocity", "contact_energy", "contact_penetration"):
-        assert data[key].shape == reference[key].shape, key
-        assert np.array_equal(data[key], reference[key]), key
-    assert reference["contact_penetration"].max() > 0.0
-
-
-def _contact_log(path: Path) -> list[dict[str, int]]:
-    """The engine's PARADYN-CONTACT lines (one per rank): sorts, pass_steps, candidates (all
-    ranks) and local_searches (this rank's blocks), summed over the run."""
-    lines = [launch.parse_line(line) for line in path.read_text().splitlines()]
-    return sorted(({k: int(v) for k, v in fields.items()} for kind, fields in filter(None, lines)
-                   if kind == "CONTACT"), key=lambda f: f["rank"])
-
-
-SLIDING_LAYOUTS = [(1, 1, "all"), (2, 1, "all"), (2, 1, "subset"), (4, 1, "subset"), (1, 2, "subset")]
-
-
-@pytest.fixture(scope="module")
-def sliding(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[int, int, str], dict]:
-    """A 0.05 m plate (4 x 4) sliding at 100 m/s along x over a 0.1 m plate (6 x 6) and off its
-    edge, pressed onto it at 3 m/s from 0.1 mm, mu = 0.3, 300 us at the default step: it moves
-    a tenth of a bucket every 18 us, so the buckets are sorted again about 16 times and the set
-    of nodes near contact changes as it goes."""
-    if shutil.which("mpirun") is None and shutil.which("mpiexec") is None:
-        pytest.skip("mpirun is not installed")
-    folder = tmp_path_factory.mktemp("contact_sliding")
-    base = M.flat_plate((PLATE, PLATE), (N, N), origin=(-0.5 * PLATE, -0.5 * PLATE, 0.0))
-    slider = M.flat_plate((0.05, 0.05), (4, 4), origin=(-0.01, -0.025, T + 1.0e-4))
-    control = Control(end_time=300.0e-6, output_interval=10.0e-6)
-    asm = M.contact_model([M.Body(base, T), M.Body(slider, T, (100.0, 0.0, -3.0))], STEEL, control,
-                          static_friction=0.3)
-    deck_path = write_deck(asm.model, folder / "deck.h5")
-    out = {}
-    for ranks, threads, gather in [(1, 1, "subset"), *SLIDING_LAYOUTS]:
-        name = f"{ranks}x{threads}_{gather}"
-        with pytest.MonkeyPatch.context() as mp:
-            mp.setenv("PARADYN_CONTACT_GATHER", gather)
-            launch.run_engine(deck_path, folder / f"results_{name}.h5", ranks, threads,
-                              log_path=folder / f"engine_{name}.log")
-        with h5py.File(folder / f"results_{name}.h5", "r") as f:
-            out[(ranks, threads, gather)] = {
-                "displacement": f["/frames/displacement"][()], "velocity": f["/frames/velocity"][()],
-                "contact_energy": f["/history/contact_energy"][()],
-                "contact_penetration": f["/history/contact_penetration"][()],
-                "log": _contact_log(folder / f"engine_{name}.log"),
-            }
-    return out
-
-
-@pytest.mark.mpi
-@pytest.mark.parametrize("layout", SLIDING_LAYOUTS, ids=lambda l: f"{l[0]}x{l[1]}_{l[2]}")
-def test_gathering_only_the_nodes_near_contact_changes_nothing(sliding, layout):
-    """docs/theory.md (parallel contact): between sorts only the contact nodes that can come
-    into contact before the next sort are gathered, and the global search visits only those
-    slaves. Reference: the same run gathering every contact node every step
-    (PARADYN_CONTACT_GATHER=all). A node missing from the subset would be read at a stale
-    position, so the frames, contact energy and penetration of the sliding plate (many sorts,
-    the subset changing at each) must be bitwise those of 1 rank x 1 thread with the subset."""
-    reference, data = sliding[(1, 1, "subset")], sliding[layout]
-    for key in ("displacement", "velocity", "contact_energy", "contact_penetration"):
-        assert np.array_equal(data[key], reference[key]), key
-    assert reference["contact_penetration"].max() > 0.0
-    assert reference["log"][0]["sorts"] >= 10
-
-
-@pytest.mark.mpi
-@pytest.mark.parametrize("ranks", [2, 4])
-def test_candidate_blocks_are_equal_on_every_rank(sliding, ranks):
-    """The paper's section 5: the candidates of each pass are split into one block per rank whose
-    sizes differ by at most one. Reference: the engine's per-rank counts over the run (log):
-    every candidate is searched by exactly one rank (the local searches add up to the candidates)
-    and no rank searched more than one candidate per pass and step above another."""
-    log = sliding[(ranks, 1, "subset")]["log"]
-    assert [f["rank"] for f in log] == list(range(ranks))
-    total, steps = log[0]["candidates"], log[0]["pass_steps"]
-    assert all(f["candidates"] == total and f["pass_steps"] == steps for f in log)
-    searches = [f["local_searches"] for f in log]
-    assert sum(searches) == total > ranks * steps
-    assert max(searches) - min(searches) <= steps
-
-
-# ----------------------------------------------------------------------------------------------
-# 6. Friction
-
-
-def _slider(tmp_path: Path, mu: float, g: float, vx: float, end_time: float) -> tuple[M.Run, np.ndarray]:
-    """A 0.05 m plate (5 x 5) resting on a fixed 0.1 m plate (10 x 10), sliding at vx along x,
-    pressed down by nodal loads that give it the acceleration g. The slider's edges lie midway
-    between base nodes, so no base node meets them (all contact is face on). Returns the run and
-    the slider's mass fractions (tracked nodes are the slider's)."""
-    base = M.flat_plate((0.1, 0.1), (10, 10), origin=(-0.05, -0.05, 0.0))
-    slider = M.flat_plate((0.05, 0.05), (5, 5), origin=(-0.025, -0.025, T))
-    control = Control(end_time=end_time, output_interval=end_time / 4, history_interval=end_time / 200)
-    bodies = [M.Body(base, T, fixed=True), M.Body(slider, T, (vx, 0.0, 0.0))]
-    probe = M.contact_model(bodies, STEEL, control)
-    nodes = probe.nodes[1]
-    masses = probe.masses()[nodes]
-    weights = masses / masses.sum()
-    asm = M.contact_model(bodies, STEEL, control, static_friction=mu,
-                          loads=[M.Load(nodes, 3, -g * masses)], tracked=nodes)
-    return M.run(asm.model, tmp_path), weights
-
-
-def test_friction_decelerates_the_slider_at_mu_g(tmp_path):
-    """Coulomb friction on a sliding plate.
-
-    Reference: Coulomb's law, M dv_x/dt = -mu N and M dv_z/dt = N - M g for the slider (N the
-    total normal force, every contact slipping well above the regularisation speed 1e-3 m/s):
-    v_x(t) = v0 - mu (g t + v_z(t)). The normal force rings on the penalty springs, but its
-    impulse is M (g t + v_z) exactly, so the identity holds at every record, and on average the
-    deceleration is mu g.
-
-    Slider 0.05 m, 5 x 5, t = 2 mm, on a fixed 0.1 m plate, v0 = 1 m/s along x, g = 100 m/s^2 as
-    nodal loads (mass-weighted, a uniform body force), mu_s = mu_d = 0.3, 1 ms at the automatic
-    step. Measured: fitted deceleration 30.00004 m/s^2 (mu g = 30, 1.2e-6); v_x(end) matches the
-    identity to 5e-8 of the change. Asserted: deceleration within 1e-3 of mu g (friction in
-    one pass only, or without its reaction on the master nodes, would give about mu g / 2);
-    the identity within 1e-4 of the change at every record after the first.
-    """
-    mu, g, v0, end = 0.3, 100.0, 1.0, 1.0e-3
-    run, w = _slider(tmp_path, mu, g, v0, end)
-    h = run.results.history
-    velocity = np.einsum("n,rnc->rc", w, h["tracked_velocity"])
-    t = h["time"]
-    slope = np.polyfit(t, velocity[:, 0], 1)[0]
-    assert -slope == pytest.approx(mu * g, rel=1e-3)
-    predicted = v0 - mu * (g * t + velocity[:, 2])
-    change = v0 - velocity[-1, 0]
-    assert change == pytest.approx(mu * g * end, rel=0.01)
-    assert np.abs(velocity[1:, 0] - predicted[1:]).max() <= 1e-4 * change
-    assert h["contact_penetration"].max() > 0.0
-
-
-def test_frictionless_slider_keeps_its_tangential_velocity(tmp_path):
-    """The slider above with mu = 0: the contact forces are normal to the base's flat segments
-    (the slider's slaves) or to the slider's own segments (the base's slaves), so the slider's
-    mean tangential velocity does not change. Reference: no tangential force; the segments of the
-    pressed slider tilt slightly, which leaves a second-order x force, measured 3.6e-11 m/s over
-    1 ms (it grows as g^2: 3.6e-9 at g = 1000). Asserted: |v_x - v0| <= 1e-9 v0, |v_y| <= 1e-12."""
-    v0 = 1.0
-    run, w = _slider(tmp_path, 0.0, 100.0, v0, 1.0e-3)
-    h = run.results.history
-    velocity = np.einsum("n,rnc->rc", w, h["tracked_velocity"])
-    assert np.abs(velocity[:, 0] - v0).max() <= 1e-9 * v0
-    assert np.abs(velocity[:, 1]).max() <= 1e-12 * v0
-    assert h["contact_penetration"].max() > 0.0

@@ -1,0 +1,143 @@
+"""Contact on several ranks and threads, through the whole stack: decks built in Python
+(``tests/models.py``, ``contact_model``), ``paradyn-engine`` under MPI, results file.
+
+The runs are compared bitwise with one rank and one thread, and the engine's per-rank contact
+counts with the paper's block decomposition. Steel, plates and helpers are in
+tests/contact_cases.py; the contact time scale of thin shells in tests/test_contact_impact.py.
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+import models as M
+from contact_cases import PLATE, STEEL, H, N, T, _plate_pair
+from paradyn import launch
+from paradyn.deck import Control, write_deck
+
+# ----------------------------------------------------------------------------------------------
+# Decomposition independence
+
+
+LAYOUTS = [(2, 1), (4, 1), (1, 2)]
+
+
+@pytest.fixture(scope="module")
+def layouts(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[int, int], dict[str, np.ndarray]]:
+    if shutil.which("mpirun") is None and shutil.which("mpiexec") is None:
+        pytest.skip("mpirun is not installed")
+    folder = tmp_path_factory.mktemp("contact_layouts")
+    a_mesh, b_mesh = _plate_pair(clearance=1.0e-4, shift=0.25 * H)
+    control = Control(end_time=40.0e-6, output_interval=2.0e-6)
+    asm = M.contact_model([M.Body(a_mesh, T), M.Body(b_mesh, T, (2.0, 1.0, -5.0))], STEEL, control,
+                          static_friction=0.3)
+    deck_path = write_deck(asm.model, folder / "deck.h5")
+    out = {}
+    for ranks, threads in [(1, 1), *LAYOUTS]:
+        results = folder / f"results_{ranks}x{threads}.h5"
+        launch.run_engine(deck_path, results, ranks, threads,
+                          log_path=folder / f"engine_{ranks}x{threads}.log")
+        with h5py.File(results, "r") as f:
+            out[(ranks, threads)] = {
+                "displacement": f["/frames/displacement"][()], "velocity": f["/frames/velocity"][()],
+                "contact_energy": f["/history/contact_energy"][()],
+                "contact_penetration": f["/history/contact_penetration"][()],
+                "layout": (int(f["/run"].attrs["ranks"]), int(f["/run"].attrs["threads"])),
+            }
+    return out
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("layout", LAYOUTS, ids=lambda layout: f"{layout[0]}x{layout[1]}")
+def test_contact_is_bitwise_independent_of_the_decomposition(layouts, layout):
+    """docs/theory.md (parallel design) and contact_interface.f90: contact forces are computed
+    on every rank from gathered positions and summed in slave order, so the frames of an
+    oblique plate impact with friction (offset meshes, mu = 0.3, default step, 40 us, frames
+    every 2 us) are bitwise equal on 1 rank x 1 thread, 2 and 4 ranks and 1 rank x 2 threads,
+    and so are the contact energy and penetration histories."""
+    reference, data = layouts[(1, 1)], layouts[layout]
+    assert data["layout"] == layout
+    for key in ("displacement", "velocity", "contact_energy", "contact_penetration"):
+        assert data[key].shape == reference[key].shape, key
+        assert np.array_equal(data[key], reference[key]), key
+    assert reference["contact_penetration"].max() > 0.0
+
+
+def _contact_log(path: Path) -> list[dict[str, int]]:
+    """The engine's PARADYN-CONTACT lines (one per rank): sorts, pass_steps, candidates (all
+    ranks) and local_searches (this rank's blocks), summed over the run."""
+    lines = [launch.parse_line(line) for line in path.read_text().splitlines()]
+    return sorted(({k: int(v) for k, v in fields.items()} for kind, fields in filter(None, lines)
+                   if kind == "CONTACT"), key=lambda f: f["rank"])
+
+
+SLIDING_LAYOUTS = [(1, 1, "all"), (2, 1, "all"), (2, 1, "subset"), (4, 1, "subset"), (1, 2, "subset")]
+
+
+@pytest.fixture(scope="module")
+def sliding(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[int, int, str], dict]:
+    """A 0.05 m plate (4 x 4) sliding at 100 m/s along x over a 0.1 m plate (6 x 6) and off its
+    edge, pressed onto it at 3 m/s from 0.1 mm, mu = 0.3, 300 us at the default step: it moves
+    a tenth of a bucket every 18 us, so the buckets are sorted again about 16 times and the set
+    of nodes near contact changes as it goes."""
+    if shutil.which("mpirun") is None and shutil.which("mpiexec") is None:
+        pytest.skip("mpirun is not installed")
+    folder = tmp_path_factory.mktemp("contact_sliding")
+    base = M.flat_plate((PLATE, PLATE), (N, N), origin=(-0.5 * PLATE, -0.5 * PLATE, 0.0))
+    slider = M.flat_plate((0.05, 0.05), (4, 4), origin=(-0.01, -0.025, T + 1.0e-4))
+    control = Control(end_time=300.0e-6, output_interval=10.0e-6)
+    asm = M.contact_model([M.Body(base, T), M.Body(slider, T, (100.0, 0.0, -3.0))], STEEL, control,
+                          static_friction=0.3)
+    deck_path = write_deck(asm.model, folder / "deck.h5")
+    out = {}
+    for ranks, threads, gather in [(1, 1, "subset"), *SLIDING_LAYOUTS]:
+        name = f"{ranks}x{threads}_{gather}"
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setenv("PARADYN_CONTACT_GATHER", gather)
+            launch.run_engine(deck_path, folder / f"results_{name}.h5", ranks, threads,
+                              log_path=folder / f"engine_{name}.log")
+        with h5py.File(folder / f"results_{name}.h5", "r") as f:
+            out[(ranks, threads, gather)] = {
+                "displacement": f["/frames/displacement"][()], "velocity": f["/frames/velocity"][()],
+                "contact_energy": f["/history/contact_energy"][()],
+                "contact_penetration": f["/history/contact_penetration"][()],
+                "log": _contact_log(folder / f"engine_{name}.log"),
+            }
+    return out
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("layout", SLIDING_LAYOUTS, ids=lambda layout: f"{layout[0]}x{layout[1]}_{layout[2]}")
+def test_gathering_only_the_nodes_near_contact_changes_nothing(sliding, layout):
+    """docs/theory.md (parallel contact): between sorts only the contact nodes that can come
+    into contact before the next sort are gathered, and the global search visits only those
+    slaves. Reference: the same run gathering every contact node every step
+    (PARADYN_CONTACT_GATHER=all). A node missing from the subset would be read at a stale
+    position, so the frames, contact energy and penetration of the sliding plate (many sorts,
+    the subset changing at each) must be bitwise those of 1 rank x 1 thread with the subset."""
+    reference, data = sliding[(1, 1, "subset")], sliding[layout]
+    for key in ("displacement", "velocity", "contact_energy", "contact_penetration"):
+        assert np.array_equal(data[key], reference[key]), key
+    assert reference["contact_penetration"].max() > 0.0
+    assert reference["log"][0]["sorts"] >= 10
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("ranks", [2, 4])
+def test_candidate_blocks_are_equal_on_every_rank(sliding, ranks):
+    """The paper's section 5: the candidates of each pass are split into one block per rank whose
+    sizes differ by at most one. Reference: the engine's per-rank counts over the run (log):
+    every candidate is searched by exactly one rank (the local searches add up to the candidates)
+    and no rank searched more than one candidate per pass and step above another."""
+    log = sliding[(ranks, 1, "subset")]["log"]
+    assert [f["rank"] for f in log] == list(range(ranks))
+    total, steps = log[0]["candidates"], log[0]["pass_steps"]
+    assert all(f["candidates"] == total and f["pass_steps"] == steps for f in log)
+    searches = [f["local_searches"] for f in log]
+    assert sum(searches) == total > ranks * steps
+    assert max(searches) - min(searches) <= steps
