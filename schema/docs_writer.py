@@ -58,7 +58,8 @@ def deck_datasets(schema: Schema) -> str:
 
 
 def control_attributes(schema: Schema) -> str:
-    lines = [_row(["attribute", "type", "units", "presence", "values", "meaning", "scene"]), "|---|---|---|---|---|---|---|"]
+    lines = [_row(["attribute", "type", "units", "presence", "values", "meaning", "scene"]),
+             "|---|---|---|---|---|---|---|"]
     for a in schema.control:
         kind = "string" if a.get("type") == "string" else "number"
         lines.append(_row([f"`{a.name}`", kind, a.get("units"), _status(schema, a), _rules(schema, a),

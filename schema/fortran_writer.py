@@ -101,8 +101,8 @@ class _Writer:
         entities = [v["entity"] for v in s.sizes.values()]
         self.public += ["size_symbol", "size_entity", "size_min_rows"]
         n_symbol, n_entity = _char_len(list(s.sizes)), _char_len(entities)
-        self.body += [""] + _pack(f"  character(len={n_symbol}), parameter :: size_symbol(n_sizes) = "
-                                  f"[character(len={n_symbol}) :: ", [text(n) for n in s.sizes], "", "]")
+        self.body += ["", *_pack(f"  character(len={n_symbol}), parameter :: size_symbol(n_sizes) = "
+                                    f"[character(len={n_symbol}) :: ", [text(n) for n in s.sizes], "", "]")]
         self.body += _pack(f"  character(len={n_entity}), parameter :: size_entity(n_sizes) = "
                            f"[character(len={n_entity}) :: ", [text(e) for e in entities], "", "]")
         self.body += _pack("  integer, parameter :: size_min_rows(n_sizes) = [",
@@ -111,7 +111,8 @@ class _Writer:
     def entry_texts(self) -> dict[str, int]:
         entries = self.s.datasets + self.s.control
         names = [m["name"] for e in self.s.enums.values() for m in e["members"]]
-        return {"path": _char_len([d.name for d in self.s.datasets]), "name": _char_len([a.name for a in self.s.control]),
+        return {"path": _char_len([d.name for d in self.s.datasets]),
+                "name": _char_len([a.name for a in self.s.control]),
                 "rule": _char_len([e.rule for e in entries]), "enum_rule": _char_len([e.enum_rule for e in entries]),
                 "fix": _char_len([e.get("fix") for e in entries]), "member": _char_len(names),
                 "group": _char_len([c.get("group", "") for c in self.s.conditions.values()]),
@@ -126,7 +127,8 @@ class _Writer:
                       "", "  !> A group that exists (group), or a dataset with an entry equal to code.",
                       "  type :: condition_spec_t", f"    character(len={n['group']}) :: group",
                       "    integer :: dataset                  !< dataset id, 0 for a group condition",
-                      "    integer :: code", f"    character(len={n['rows']}) :: rows   !< the rows it selects, in words",
+                      "    integer :: code",
+                      f"    character(len={n['rows']}) :: rows   !< the rows it selects, in words",
                       "  end type condition_spec_t", "",
                       "  !> One deck dataset (schema/deck.toml explains every field).",
                       "  type :: dataset_spec_t", f"    character(len={n['path']}) :: path",
@@ -190,9 +192,8 @@ class _Writer:
             items = [text(d.name), f"class_{d.get('type')}", str(shape[1] if len(shape) > 1 else 0),
                      f"size_{shape[0]}", logical(d.defines_rows), logical(d.required),
                      f"condition_{d.get('required_when') or 'none'}", f"condition_{d.get('checked_when') or 'none'}",
-                     real(d.get("default"))] + self.bounds(d) + [
-                     f"enum_{d.get('enum') or 'none'}"] + self.codes(d) + [
-                     references.get(d.get("reference"), "size_none"),
+                     real(d.get("default")), *self.bounds(d), f"enum_{d.get('enum') or 'none'}",
+                     *self.codes(d), references.get(d.get("reference"), "size_none"),
                      text(d.rule), text(d.enum_rule), text(d.get("fix"))]
             rows.append(_pack("dataset_spec_t(", items, "    ", ")"))
         self._array("type(dataset_spec_t)", "deck_datasets(n_deck_datasets)", rows)
@@ -203,7 +204,7 @@ class _Writer:
                 default = s.enum_codes(a.get("enum"))[default]
             items = [text(a.name), f"class_{a.get('type')}", logical(a.required), real(default),
                      f"control_{a.get('default_from')}" if a.get("default_from") else "0",
-                     real(a.get("default_divisor"))] + self.bounds(a) + [
+                     real(a.get("default_divisor")), *self.bounds(a),
                      f"enum_{a.get('enum') or 'none'}", text(a.rule), text(a.enum_rule), text(a.get("fix"))]
             rows.append(_pack("attribute_spec_t(", items, "    ", ")"))
         self._array("type(attribute_spec_t)", "control_attributes(n_control_attributes)", rows)
@@ -212,7 +213,7 @@ class _Writer:
         self.body += ["", f"  {kind}, parameter :: {name} = [ &"]
         for k, row in enumerate(rows):
             last = k == len(rows) - 1
-            self.body += row[:-1] + [row[-1] + (" ]" if last else ", &")]
+            self.body += [*row[:-1], row[-1] + (" ]" if last else ", &")]
 
     def write(self, header: list[str]) -> str:
         s = self.s

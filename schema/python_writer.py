@@ -101,15 +101,39 @@ class NameAttributeSpec:
 
 def _call(name: str, fields: list[tuple[str, Any]], indent: str = "    ", positional: bool = False) -> str:
     """``Name(a=1, b='x', ...)`` (or ``Name(1, 'x', ...)``) packed into lines of at most 116 characters."""
-    items = [f"{v!r}," for _, v in fields] if positional else [f"{k}={v!r}," for k, v in fields]
-    lines, line = [], indent + "    "
-    for item in items:
+    inner = indent + "    "
+    lines, line = [], inner
+    for key, value in fields:
+        prefix = "" if positional else f"{key}="
+        item = f"{prefix}{value!r},"
+        if len(inner) + len(item) > 116 and isinstance(value, str):
+            # a long text: adjacent literals in parentheses, one per line
+            if line.strip():
+                lines.append(line.rstrip())
+            lines.append(f"{inner}{prefix}(")
+            lines.extend(f"{inner}    {chunk!r}" for chunk in _chunks(value, 116 - len(inner) - 8))
+            line = f"{inner}), "
+            continue
         if len(line) + len(item) + 1 > 116 and line.strip():
             lines.append(line.rstrip())
-            line = indent + "    "
+            line = inner
         line += item + " "
     lines.append(line.rstrip())
     return f"{indent}{name}(\n" + "\n".join(lines) + f"\n{indent}),"
+
+
+def _chunks(text: str, width: int) -> list[str]:
+    """text cut after spaces into pieces of at most width characters (they join back to text)."""
+    pieces, current = [], ""
+    for word in text.split(" "):
+        candidate = f"{current} {word}" if current else word
+        if len(candidate) > width and current:
+            pieces.append(current + " ")
+            current = word
+        else:
+            current = candidate
+    pieces.append(current)
+    return pieces
 
 
 class _Literal:
@@ -156,7 +180,7 @@ def _names(constant: str, names: list[str]) -> str:
             lines.append(current.rstrip())
             current = "   "
         current += f" {name!r},"
-    return "\n".join(lines + [current.rstrip(), ")"])
+    return "\n".join([*lines, current.rstrip(), ")"])
 
 
 def write(schema: Schema, header: str) -> str:

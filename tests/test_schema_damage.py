@@ -270,7 +270,7 @@ def engine_verdicts(base_deck: Path, tmp_path_factory: pytest.TempPathFactory
             damage_for(*rule)[0](f)
         decks[rule] = path
     with ThreadPoolExecutor(max_workers=8) as pool:
-        runs = dict(zip(decks, pool.map(_run_engine, decks.values())))
+        runs = dict(zip(decks, pool.map(_run_engine, decks.values()), strict=True))
     return {rule: (decks[rule], runs[rule]) for rule in decks}
 
 

@@ -178,8 +178,10 @@ DATASETS: tuple[DatasetSpec, ...] = (
     DatasetSpec(
         '/elements/connectivity', 'connectivity', 'int', ('n_elements', 4), True, None, None, None, None, None, '',
         None, '', 'node', True, '-',
-        'four distinct node indices per quadrilateral shell, counter-clockwise seen from the side the normal points to',
-        '[part.geometry]', 'remesh',
+        (
+            'four distinct node indices per quadrilateral shell, counter-clockwise seen from the side the normal '
+            'points to'
+        ), '[part.geometry]', 'remesh',
     ),
     DatasetSpec(
         '/elements/part', 'element_part', 'int', ('n_elements',), True, None, None, None, None, None, '', None, '',
@@ -319,8 +321,10 @@ CONTROL: tuple[AttributeSpec, ...] = (
     ),
     AttributeSpec(
         'output_interval', 'float', True, None, None, None, Bound(0.0, False), None, 'must be > 0', None, '', 's',
-        'frame k is written at the first step at or after k x output_interval, and a frame is always written at the end time',
-        '[run] output_interval', 'set it in seconds (> 0)',
+        (
+            'frame k is written at the first step at or after k x output_interval, and a frame is always written '
+            'at the end time'
+        ), '[run] output_interval', 'set it in seconds (> 0)',
     ),
     AttributeSpec(
         'history_interval', 'float', False, None, 'output_interval', 10, Bound(0.0, False), None, 'must be > 0',
@@ -329,8 +333,11 @@ CONTROL: tuple[AttributeSpec, ...] = (
     ),
     AttributeSpec(
         'time_step', 'float', False, 0.0, None, None, Bound(0.0, True), None, 'must be >= 0', None, '', 's',
-        '0 = automatic; a user step above the stable step is reported and the stable step is used. The step is then reduced, if needed, to end_time / n for a whole number n of steps, so the run ends exactly at end_time',
-        '[run] time_step', 'give a step in seconds, or 0 for the automatic stable step',
+        (
+            '0 = automatic; a user step above the stable step is reported and the stable step is used. The step '
+            'is then reduced, if needed, to end_time / n for a whole number n of steps, so the run ends exactly '
+            'at end_time'
+        ), '[run] time_step', 'give a step in seconds, or 0 for the automatic stable step',
     ),
     AttributeSpec(
         'time_step_safety', 'float', False, 0.9, None, None, Bound(0.0, False), Bound(1.0, True),
@@ -350,20 +357,26 @@ CONTROL: tuple[AttributeSpec, ...] = (
     AttributeSpec(
         'contact_sort_interval', 'float', False, 0.0, None, None, Bound(0.0, True), None, 'must be >= 0', None, '',
         'cycles',
-        '0 = automatic: the bucket sort is redone once a contact node has moved a tenth of the bucket size; n > 0 redoes it every n cycles',
-        '[run] contact_sort_interval', 'give a number of cycles, or 0 for automatic',
+        (
+            '0 = automatic: the bucket sort is redone once a contact node has moved a tenth of the bucket size; n '
+            '> 0 redoes it every n cycles'
+        ), '[run] contact_sort_interval', 'give a number of cycles, or 0 for automatic',
     ),
     AttributeSpec(
         'checkpoint_interval', 'float', False, 0.0, None, None, Bound(0.0, True), None, 'must be >= 0', None, '',
         's',
-        '0 = none; simulated time between checkpoints (the first step at or after each multiple). A stop signal writes one regardless',
-        '[run] checkpoint_interval', 'give simulated seconds between checkpoints, or 0 for none',
+        (
+            '0 = none; simulated time between checkpoints (the first step at or after each multiple). A stop '
+            'signal writes one regardless'
+        ), '[run] checkpoint_interval', 'give simulated seconds between checkpoints, or 0 for none',
     ),
     AttributeSpec(
         'partition', 'string', False, 'blocks', None, None, None, None, '', 'partition',
         'must be "blocks" or "rcb"', '-',
-        'how elements are given to MPI ranks (docs/theory.md). The answer is bitwise the same either way; docs/performance.md says which is faster when',
-        '[run] partition', 'leave it out for the default',
+        (
+            'how elements are given to MPI ranks (docs/theory.md). The answer is bitwise the same either way; '
+            'docs/performance.md says which is faster when'
+        ), '[run] partition', 'leave it out for the default',
     ),
 )
 

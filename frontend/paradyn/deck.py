@@ -20,16 +20,51 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from paradyn._schema import (CONDITIONS, DATASETS, DECK_VERSION, DOF_NAMES, NAME_ATTRIBUTES, SIZES,
-                             TITLE_ATTRIBUTE, VERSION_ATTRIBUTE, DatasetSpec)
-from paradyn.deck_model import (CONTROL_BY_NAME, DATASET_BY_ATTRIBUTE, DEFAULT_PARTITION, ELASTIC,
-                                HOURGLASS_STIFFNESS, HOURGLASS_VISCOUS, J2_PLASTICITY, PARTITIONS, Control, Model,
-                                control_default)
+from paradyn._schema import (
+    CONDITIONS,
+    DATASETS,
+    DECK_VERSION,
+    DOF_NAMES,
+    NAME_ATTRIBUTES,
+    SIZES,
+    TITLE_ATTRIBUTE,
+    VERSION_ATTRIBUTE,
+    DatasetSpec,
+)
+from paradyn.deck_model import (
+    CONTROL_BY_NAME,
+    DATASET_BY_ATTRIBUTE,
+    DEFAULT_PARTITION,
+    ELASTIC,
+    HOURGLASS_STIFFNESS,
+    HOURGLASS_VISCOUS,
+    J2_PLASTICITY,
+    PARTITIONS,
+    Control,
+    Model,
+    control_default,
+)
 from paradyn.deck_validation import DeckError, validate_model
 
-__all__ = ["Model", "Control", "DeckError", "write_deck", "read_deck", "validate_deck", "validate_model",
-           "ELASTIC", "J2_PLASTICITY", "HOURGLASS_VISCOUS", "HOURGLASS_STIFFNESS", "PARTITIONS",
-           "DEFAULT_PARTITION", "DOF_NAMES", "DECK_VERSION", "VERSION_ATTRIBUTE", "control_default"]
+__all__ = [
+    "DECK_VERSION",
+    "DEFAULT_PARTITION",
+    "DOF_NAMES",
+    "ELASTIC",
+    "HOURGLASS_STIFFNESS",
+    "HOURGLASS_VISCOUS",
+    "J2_PLASTICITY",
+    "PARTITIONS",
+    "VERSION_ATTRIBUTE",
+    "Control",
+    "DeckError",
+    "Model",
+    "control_default",
+    "read_deck",
+    "validate_deck",
+    "validate_model",
+    "write_deck",
+]
 
 # ----------------------------------------------------------------------------------------------
 # writing

@@ -11,8 +11,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from paradyn._schema import (CONDITIONS, CONTROL, DATASETS, ENUMS, NAME_ATTRIBUTES, SIZES, AttributeSpec,
-                             DatasetSpec)
+from paradyn._schema import CONDITIONS, CONTROL, DATASETS, ENUMS, NAME_ATTRIBUTES, SIZES, AttributeSpec, DatasetSpec
 
 if TYPE_CHECKING:
     from paradyn.deck_model import Model

@@ -465,7 +465,7 @@ def _parse_fix(r: _Reader, t: dict[str, Any], index: int) -> FixSpec:
     corners = {"lo": box[0], "hi": box[1]}
     lo = r.vector(corners, "lo", f"'box' of {label}")
     hi = r.vector(corners, "hi", f"'box' of {label}")
-    if any(a > b for a, b in zip(lo, hi)):
+    if any(a > b for a, b in zip(lo, hi, strict=True)):
         raise r.error(f"'box' in {label}: the first corner {list(lo)} must not exceed the second {list(hi)} "
                       f"in any coordinate; write [[xmin, ymin, zmin], [xmax, ymax, zmax]]")
     return FixSpec(part=r.string(t, "part", label), box=(lo, hi), dofs=_parse_dofs(r, t, label))
