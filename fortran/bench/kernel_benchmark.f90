@@ -6,7 +6,8 @@
 !> element-cycles per second include them).
 program kernel_benchmark
   use paradyn_kinds, only: wp, i8
-  use shell_blt, only: shell_properties_t, blt_internal_forces, stress_components, hourglass_components
+  use shell_section, only: shell_properties_t, stress_components, hourglass_components
+  use shell_blt, only: blt_internal_forces
   use material_factory, only: material_from_name
   use element_groups, only: group_size
   implicit none

@@ -23,7 +23,7 @@ end subroutine j2_update_points
 
 subroutine thickness_points(n, zeta, weight)
   use paradyn_kinds, only: wp
-  use shell_blt, only: thickness_rule
+  use shell_section, only: thickness_rule
   implicit none
   integer, intent(in) :: n
   real(wp), intent(out) :: zeta(n), weight(n)
@@ -34,7 +34,8 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
                       beta, hourglass_coefficient, model, dt, stress, back, eps_p, hourglass, force, &
                       e_internal, e_hourglass, inverted, hourglass_form)
   use paradyn_kinds, only: wp
-  use shell_blt, only: shell_properties_t, blt_internal_forces
+  use shell_section, only: shell_properties_t
+  use shell_blt, only: blt_internal_forces
   use material_factory, only: material_from_name, material_name_of_code
   implicit none
   integer, intent(in) :: n, nip, model
@@ -60,7 +61,7 @@ end subroutine blt_forces
 
 subroutine blt_mass(n, x, thickness, density, node_mass, node_inertia)
   use paradyn_kinds, only: wp
-  use shell_blt, only: blt_lumped_mass
+  use shell_measures, only: blt_lumped_mass
   implicit none
   integer, intent(in) :: n
   real(wp), intent(in) :: x(n, 3, 4), thickness, density
@@ -70,7 +71,8 @@ end subroutine blt_mass
 
 subroutine blt_time_step(n, x, thickness, density, young, poisson, dt_element)
   use paradyn_kinds, only: wp
-  use shell_blt, only: shell_properties_t, blt_stable_time_step
+  use shell_section, only: shell_properties_t
+  use shell_measures, only: blt_stable_time_step
   implicit none
   integer, intent(in) :: n
   real(wp), intent(in) :: x(n, 3, 4), thickness, density, young, poisson

@@ -5,7 +5,7 @@
 module element_state
   use paradyn_kinds, only: wp
   use domain_decomposition, only: domain_t
-  use shell_blt, only: shell_properties_t, stress_components, hourglass_components, back_stress_points
+  use shell_section, only: shell_properties_t, stress_components, hourglass_components, back_stress_points
   implicit none
   private
   public :: group_state_t, element_state_t, element_state_setup, element_row_width, element_rows_pack, &

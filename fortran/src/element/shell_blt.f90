@@ -10,98 +10,20 @@
 module shell_blt
   use paradyn_kinds, only: wp
   use vector_algebra, only: cross
-  use material_j2, only: von_mises_plane_stress
-  use material_model, only: material_t
   use element_groups, only: group_size
   use paradyn_schema, only: max_integration_points, hourglass_viscous, hourglass_stiffness
+  use shell_section, only: shell_properties_t, stress_components, hourglass_components, shear_correction, &
+                           thickness_rule, back_stress_points
   implicit none
   private
-  public :: shell_properties_t
-  public :: stress_components, hourglass_components, shear_correction
-  public :: blt_internal_forces, blt_lumped_mass, blt_stable_time_step, blt_element_results
-  public :: thickness_rule, local_frame, back_stress_points
+  public :: blt_internal_forces
 
-  integer, parameter :: stress_components = 5     !< sxx, syy, sxy, sxz, syz (local frame)
-  !> membrane x, y; rotation x, y; transverse w; then the drilling moments of the 4 nodes
-  integer, parameter :: hourglass_components = 9
   !> drilling stiffness per node, as a fraction of E t A per radian (after the drilling penalty
   !> of Hughes & Brezzi 1989): small enough to leave membrane and bending response alone, large
   !> enough that the rotation about the normal of kinked facets is tied to the in-plane spin
   real(wp), parameter :: drilling_penalty = 1.0e-4_wp
-  real(wp), parameter :: shear_correction = 5.0_wp / 6.0_wp
-
-  !> Section and material of one element group (one part). density, young and poisson are the
-  !> material's elastic constants, which the element needs whatever the law (mass, wave speed,
-  !> transverse shear, hourglass and drilling stiffness); the law itself updates the stresses.
-  type :: shell_properties_t
-    real(wp) :: thickness = 0.0_wp
-    real(wp) :: density = 0.0_wp
-    real(wp) :: young = 0.0_wp
-    real(wp) :: poisson = 0.0_wp
-    real(wp) :: hourglass_coefficient = 0.1_wp
-    integer :: integration_points = 5
-    integer :: hourglass_form = hourglass_stiffness
-    class(material_t), allocatable :: material   !< the stress update at the points (material family)
-  end type shell_properties_t
 
 contains
-
-  !> Through-thickness points that store a back stress: as many as the part's material asks for.
-  pure integer function back_stress_points(props) result(points)
-    type(shell_properties_t), intent(in) :: props
-    points = props%material%back_stress_points(props%integration_points)
-  end function back_stress_points
-
-  !> Gauss-Legendre points (in [-1, 1]) and weights (summing to 2) for n = 1..9 points.
-  pure subroutine thickness_rule(n, zeta, weight)
-    integer, intent(in) :: n
-    real(wp), intent(out) :: zeta(n), weight(n)
-    real(wp), parameter :: pi = acos(-1.0_wp)
-    real(wp) :: x, p0, p1, p2, dp
-    integer :: i, k, iter
-    do i = 1, n
-      x = -cos(pi * (real(i, wp) - 0.25_wp) / (real(n, wp) + 0.5_wp))
-      do iter = 1, 100
-        p0 = 1.0_wp
-        p1 = x
-        do k = 2, n
-          p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k
-          p0 = p1
-          p1 = p2
-        end do
-        if (n == 1) p0 = 1.0_wp
-        dp = n * (x * p1 - p0) / (x * x - 1.0_wp)
-        if (abs(p1 / dp) < 1.0e-16_wp) exit
-        x = x - p1 / dp
-      end do
-      zeta(i) = x
-      weight(i) = 2.0_wp / ((1.0_wp - x * x) * dp * dp)
-    end do
-  end subroutine thickness_rule
-
-  !> Co-rotational frame of a quadrilateral: e3 normal to both diagonals, e1 along the mean of the
-  !> two sides 1-2 and 4-3 projected into the plane, e2 = e3 x e1. Also the local in-plane
-  !> coordinates of the nodes (origin at the centroid) and the area of the projected quad.
-  pure subroutine local_frame(x, e, xl, yl, area)
-    real(wp), intent(in) :: x(3, 4)
-    real(wp), intent(out) :: e(3, 3), xl(4), yl(4), area
-    real(wp) :: d31(3), d42(3), g(3), c(3)
-    integer :: k
-    d31 = x(:, 3) - x(:, 1)
-    d42 = x(:, 4) - x(:, 2)
-    e(:, 3) = cross(d31, d42)
-    e(:, 3) = e(:, 3) / norm2(e(:, 3))
-    g = x(:, 2) + x(:, 3) - x(:, 1) - x(:, 4)
-    g = g - dot_product(g, e(:, 3)) * e(:, 3)
-    e(:, 1) = g / norm2(g)
-    e(:, 2) = cross(e(:, 3), e(:, 1))
-    c = 0.25_wp * (x(:, 1) + x(:, 2) + x(:, 3) + x(:, 4))
-    do k = 1, 4
-      xl(k) = dot_product(x(:, k) - c, e(:, 1))
-      yl(k) = dot_product(x(:, k) - c, e(:, 2))
-    end do
-    area = 0.5_wp * ((xl(3) - xl(1)) * (yl(4) - yl(2)) - (xl(4) - xl(2)) * (yl(3) - yl(1)))
-  end subroutine local_frame
 
   !> Internal nodal forces and moments of a group of BLT shells for one time step.
   !>
@@ -537,64 +459,5 @@ contains
       end do
     end do
   end subroutine nodal_forces
-
-  !> Lumped mass: a quarter of the element mass at each node, and a rotational inertia scaled so
-  !> that rotations never govern the time step: I = m (t^2 + A) / 4 (after Key & Beisinger 1971
-  !> and Hughes, Liu & Levit 1981, who scale the rotary inertia up for the same reason). The
-  !> fastest rotational mode, rotation coupled with w through transverse shear, has
-  !> omega ~ sqrt(5 (1 - nu) / 3) c / h with this inertia, below the membrane limit for every nu;
-  !> with A / 12 it exceeded that limit for nu < 0.12 (docs/theory.md).
-  pure subroutine blt_lumped_mass(n, x, thickness, density, node_mass, node_inertia)
-    integer, intent(in) :: n
-    real(wp), intent(in) :: x(n, 3, 4), thickness, density
-    real(wp), intent(out) :: node_mass(n), node_inertia(n)
-    real(wp) :: e(3, 3), xl(4), yl(4), area
-    integer :: i
-    do i = 1, n
-      call local_frame(x(i, :, :), e, xl, yl, area)
-      node_mass(i) = 0.25_wp * density * thickness * abs(area)
-      node_inertia(i) = node_mass(i) * (thickness**2 + abs(area)) / 4.0_wp
-    end do
-  end subroutine blt_lumped_mass
-
-  !> Stable time step of each element: L / c with L = area / longest side and
-  !> c = sqrt(E / (rho (1 - nu^2))) the plate wave speed (Hallquist, LS-DYNA Theory Manual).
-  pure subroutine blt_stable_time_step(n, x, props, dt_element)
-    integer, intent(in) :: n
-    real(wp), intent(in) :: x(n, 3, 4)
-    type(shell_properties_t), intent(in) :: props
-    real(wp), intent(out) :: dt_element(n)
-    real(wp) :: e(3, 3), xl(4), yl(4), area, longest, c
-    integer :: i, k
-    c = sqrt(props%young / (props%density * (1.0_wp - props%poisson**2)))
-    do i = 1, n
-      call local_frame(x(i, :, :), e, xl, yl, area)
-      longest = 0.0_wp
-      do k = 1, 4
-        longest = max(longest, norm2(x(i, :, modulo(k, 4) + 1) - x(i, :, k)))
-      end do
-      dt_element(i) = abs(area) / longest / c
-    end do
-  end subroutine blt_stable_time_step
-
-  !> Per-element output: mid-surface membrane stress N / t (local frame), the largest von Mises
-  !> stress and effective plastic strain over the through-thickness points.
-  pure subroutine blt_element_results(n, nip, stress, eps_p, membrane, von_mises, plastic_strain)
-    integer, intent(in) :: n, nip
-    real(wp), intent(in) :: stress(n, stress_components, nip), eps_p(n, nip)
-    real(wp), intent(out) :: membrane(n, 3), von_mises(n), plastic_strain(n)
-    real(wp) :: zeta(max_integration_points), wgt(max_integration_points)
-    integer :: i, k
-    call thickness_rule(nip, zeta(1:nip), wgt(1:nip))
-    do i = 1, n
-      membrane(i, :) = 0.0_wp
-      von_mises(i) = 0.0_wp
-      do k = 1, nip
-        membrane(i, :) = membrane(i, :) + 0.5_wp * wgt(k) * stress(i, 1:3, k)
-        von_mises(i) = max(von_mises(i), von_mises_plane_stress(stress(i, 1:3, k)))
-      end do
-      plastic_strain(i) = maxval(eps_p(i, :))
-    end do
-  end subroutine blt_element_results
 
 end module shell_blt

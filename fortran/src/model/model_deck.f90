@@ -3,7 +3,7 @@
 !> of relations between fields that the schema's per-field rules (deck_rules) cannot express.
 module model_deck
   use paradyn_kinds, only: wp
-  use shell_blt, only: shell_properties_t
+  use shell_section, only: shell_properties_t
   use paradyn_schema, only: material_j2_plasticity, size_none, deck_datasets, class_float, class_int, &
                             deck_enums, enum_partition, control_attributes, control_partition, status_ok, &
                             status_bad_input, &

@@ -5,7 +5,8 @@ module internal_forces
   use omp_lib, only: omp_get_thread_num
   use paradyn_kinds, only: wp
   use element_groups, only: group_size
-  use shell_blt, only: blt_internal_forces, blt_lumped_mass, blt_stable_time_step
+  use shell_blt, only: blt_internal_forces
+  use shell_measures, only: blt_lumped_mass, blt_stable_time_step
   use work_queues, only: queues_start, queues_take
   use halo_exchange, only: exchange_corners
   use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes

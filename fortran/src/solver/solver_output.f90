@@ -5,7 +5,7 @@ module solver_output
   use paradyn_kinds, only: wp
   use paradyn_schema, only: status_ok, status_numerical
   use element_groups, only: group_size
-  use shell_blt, only: blt_element_results
+  use shell_measures, only: blt_element_results
   use halo_exchange, only: sum_to_root
   use time_integration, only: kinetic_energy
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t

@@ -5,7 +5,7 @@ module solver_state
   use paradyn_kinds, only: wp
   use domain_decomposition, only: domain_t
   use halo_exchange, only: halo_t
-  use shell_blt, only: shell_properties_t
+  use shell_section, only: shell_properties_t
   use work_queues, only: work_queues_t
   use nodal_state, only: nodal_state_t
   use element_state, only: element_state_t

@@ -1,0 +1,74 @@
+!> Measures of Belytschko-Lin-Tsay shells outside the force kernel: the lumped nodal masses and
+!> inertias, each element's stable time step, and the per-element results written in frames.
+!> Pure, over groups of n elements with the element index first, like shell_blt.
+module shell_measures
+  use paradyn_kinds, only: wp
+  use paradyn_schema, only: max_integration_points
+  use material_j2, only: von_mises_plane_stress
+  use shell_section, only: shell_properties_t, stress_components, local_frame, thickness_rule
+  implicit none
+  private
+  public :: blt_lumped_mass, blt_stable_time_step, blt_element_results
+
+contains
+
+  !> Lumped mass: a quarter of the element mass at each node, and a rotational inertia scaled so
+  !> that rotations never govern the time step: I = m (t^2 + A) / 4 (after Key & Beisinger 1971
+  !> and Hughes, Liu & Levit 1981, who scale the rotary inertia up for the same reason). The
+  !> fastest rotational mode, rotation coupled with w through transverse shear, has
+  !> omega ~ sqrt(5 (1 - nu) / 3) c / h with this inertia, below the membrane limit for every nu;
+  !> with A / 12 it exceeded that limit for nu < 0.12 (docs/theory.md).
+  pure subroutine blt_lumped_mass(n, x, thickness, density, node_mass, node_inertia)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: x(n, 3, 4), thickness, density
+    real(wp), intent(out) :: node_mass(n), node_inertia(n)
+    real(wp) :: e(3, 3), xl(4), yl(4), area
+    integer :: i
+    do i = 1, n
+      call local_frame(x(i, :, :), e, xl, yl, area)
+      node_mass(i) = 0.25_wp * density * thickness * abs(area)
+      node_inertia(i) = node_mass(i) * (thickness**2 + abs(area)) / 4.0_wp
+    end do
+  end subroutine blt_lumped_mass
+
+  !> Stable time step of each element: L / c with L = area / longest side and
+  !> c = sqrt(E / (rho (1 - nu^2))) the plate wave speed (Hallquist, LS-DYNA Theory Manual).
+  pure subroutine blt_stable_time_step(n, x, props, dt_element)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: x(n, 3, 4)
+    type(shell_properties_t), intent(in) :: props
+    real(wp), intent(out) :: dt_element(n)
+    real(wp) :: e(3, 3), xl(4), yl(4), area, longest, c
+    integer :: i, k
+    c = sqrt(props%young / (props%density * (1.0_wp - props%poisson**2)))
+    do i = 1, n
+      call local_frame(x(i, :, :), e, xl, yl, area)
+      longest = 0.0_wp
+      do k = 1, 4
+        longest = max(longest, norm2(x(i, :, modulo(k, 4) + 1) - x(i, :, k)))
+      end do
+      dt_element(i) = abs(area) / longest / c
+    end do
+  end subroutine blt_stable_time_step
+
+  !> Per-element output: mid-surface membrane stress N / t (local frame), the largest von Mises
+  !> stress and effective plastic strain over the through-thickness points.
+  pure subroutine blt_element_results(n, nip, stress, eps_p, membrane, von_mises, plastic_strain)
+    integer, intent(in) :: n, nip
+    real(wp), intent(in) :: stress(n, stress_components, nip), eps_p(n, nip)
+    real(wp), intent(out) :: membrane(n, 3), von_mises(n), plastic_strain(n)
+    real(wp) :: zeta(max_integration_points), wgt(max_integration_points)
+    integer :: i, k
+    call thickness_rule(nip, zeta(1:nip), wgt(1:nip))
+    do i = 1, n
+      membrane(i, :) = 0.0_wp
+      von_mises(i) = 0.0_wp
+      do k = 1, nip
+        membrane(i, :) = membrane(i, :) + 0.5_wp * wgt(k) * stress(i, 1:3, k)
+        von_mises(i) = max(von_mises(i), von_mises_plane_stress(stress(i, 1:3, k)))
+      end do
+      plastic_strain(i) = maxval(eps_p(i, :))
+    end do
+  end subroutine blt_element_results
+
+end module shell_measures

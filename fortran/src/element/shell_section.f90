@@ -1,0 +1,92 @@
+!> The section of a Belytschko-Lin-Tsay shell part and the geometry every shell routine shares:
+!> the part's properties with its material, the state widths, the through-thickness rule and the
+!> co-rotational frame of one quadrilateral. Pure, no module state.
+module shell_section
+  use paradyn_kinds, only: wp
+  use vector_algebra, only: cross
+  use material_model, only: material_t
+  use paradyn_schema, only: hourglass_stiffness
+  implicit none
+  private
+  public :: shell_properties_t, stress_components, hourglass_components, shear_correction
+  public :: back_stress_points, thickness_rule, local_frame
+
+  integer, parameter :: stress_components = 5     !< sxx, syy, sxy, sxz, syz (local frame)
+  !> membrane x, y; rotation x, y; transverse w; then the drilling moments of the 4 nodes
+  integer, parameter :: hourglass_components = 9
+  real(wp), parameter :: shear_correction = 5.0_wp / 6.0_wp
+
+  !> Section and material of one element group (one part). density, young and poisson are the
+  !> material's elastic constants, which the element needs whatever the law (mass, wave speed,
+  !> transverse shear, hourglass and drilling stiffness); the law itself updates the stresses.
+  type :: shell_properties_t
+    real(wp) :: thickness = 0.0_wp
+    real(wp) :: density = 0.0_wp
+    real(wp) :: young = 0.0_wp
+    real(wp) :: poisson = 0.0_wp
+    real(wp) :: hourglass_coefficient = 0.1_wp
+    integer :: integration_points = 5
+    integer :: hourglass_form = hourglass_stiffness
+    class(material_t), allocatable :: material   !< the stress update at the points (material family)
+  end type shell_properties_t
+
+contains
+
+  !> Through-thickness points that store a back stress: as many as the part's material asks for.
+  pure integer function back_stress_points(props) result(points)
+    type(shell_properties_t), intent(in) :: props
+    points = props%material%back_stress_points(props%integration_points)
+  end function back_stress_points
+
+  !> Gauss-Legendre points (in [-1, 1]) and weights (summing to 2) for n = 1..9 points.
+  pure subroutine thickness_rule(n, zeta, weight)
+    integer, intent(in) :: n
+    real(wp), intent(out) :: zeta(n), weight(n)
+    real(wp), parameter :: pi = acos(-1.0_wp)
+    real(wp) :: x, p0, p1, p2, dp
+    integer :: i, k, iter
+    do i = 1, n
+      x = -cos(pi * (real(i, wp) - 0.25_wp) / (real(n, wp) + 0.5_wp))
+      do iter = 1, 100
+        p0 = 1.0_wp
+        p1 = x
+        do k = 2, n
+          p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k
+          p0 = p1
+          p1 = p2
+        end do
+        if (n == 1) p0 = 1.0_wp
+        dp = n * (x * p1 - p0) / (x * x - 1.0_wp)
+        if (abs(p1 / dp) < 1.0e-16_wp) exit
+        x = x - p1 / dp
+      end do
+      zeta(i) = x
+      weight(i) = 2.0_wp / ((1.0_wp - x * x) * dp * dp)
+    end do
+  end subroutine thickness_rule
+
+  !> Co-rotational frame of a quadrilateral: e3 normal to both diagonals, e1 along the mean of the
+  !> two sides 1-2 and 4-3 projected into the plane, e2 = e3 x e1. Also the local in-plane
+  !> coordinates of the nodes (origin at the centroid) and the area of the projected quad.
+  pure subroutine local_frame(x, e, xl, yl, area)
+    real(wp), intent(in) :: x(3, 4)
+    real(wp), intent(out) :: e(3, 3), xl(4), yl(4), area
+    real(wp) :: d31(3), d42(3), g(3), c(3)
+    integer :: k
+    d31 = x(:, 3) - x(:, 1)
+    d42 = x(:, 4) - x(:, 2)
+    e(:, 3) = cross(d31, d42)
+    e(:, 3) = e(:, 3) / norm2(e(:, 3))
+    g = x(:, 2) + x(:, 3) - x(:, 1) - x(:, 4)
+    g = g - dot_product(g, e(:, 3)) * e(:, 3)
+    e(:, 1) = g / norm2(g)
+    e(:, 2) = cross(e(:, 3), e(:, 1))
+    c = 0.25_wp * (x(:, 1) + x(:, 2) + x(:, 3) + x(:, 4))
+    do k = 1, 4
+      xl(k) = dot_product(x(:, k) - c, e(:, 1))
+      yl(k) = dot_product(x(:, k) - c, e(:, 2))
+    end do
+    area = 0.5_wp * ((xl(3) - xl(1)) * (yl(4) - yl(2)) - (xl(4) - xl(2)) * (yl(3) - yl(1)))
+  end subroutine local_frame
+
+end module shell_section
