@@ -1,4 +1,4 @@
-"""Loads schema/deck.toml and schema/results.toml into plain Python structures for the writers.
+"""Loads schema/deck.toml, control.toml and results.toml into plain Python structures for the writers.
 
 Only the standard library: the generator runs before anything is installed. Each entry is
 checked for the fields the writers need, so that a typo in the TOML fails here with its name
@@ -154,11 +154,12 @@ def _normalise_bounds(entry: Entry) -> None:
 def load(root: Path) -> Schema:
     deck_path, results_path = root / "schema" / "deck.toml", root / "schema" / "results.toml"
     deck = tomllib.loads(deck_path.read_text(encoding="utf-8"))
+    deck["control"] = tomllib.loads((root / "schema" / "control.toml").read_text(encoding="utf-8"))["control"]
     results = tomllib.loads(results_path.read_text(encoding="utf-8"))
     schema = Schema(deck=deck["deck"], sizes=deck["sizes"], conditions=deck["conditions"], enums=deck["enums"],
                     relations=deck["relations"], datasets=[Entry(d) for d in deck["dataset"]],
                     control=[Entry(a) for a in deck["control"]], name_attributes=deck["deck"]["name_attributes"],
-                    results=results, sources=["schema/deck.toml", "schema/results.toml"])
+                    results=results, sources=["schema/deck.toml", "schema/control.toml", "schema/results.toml"])
     for entry in schema.datasets + schema.control:
         _normalise_bounds(entry)
     seen_rows: set[str] = set()

@@ -90,17 +90,17 @@ def sliding(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[int, int, st
     folder = tmp_path_factory.mktemp("contact_sliding")
     base = M.flat_plate((PLATE, PLATE), (N, N), origin=(-0.5 * PLATE, -0.5 * PLATE, 0.0))
     slider = M.flat_plate((0.05, 0.05), (4, 4), origin=(-0.01, -0.025, T + 1.0e-4))
-    control = Control(end_time=300.0e-6, output_interval=10.0e-6)
-    asm = M.contact_model([M.Body(base, T), M.Body(slider, T, (100.0, 0.0, -3.0))], STEEL, control,
-                          static_friction=0.3)
-    deck_path = write_deck(asm.model, folder / "deck.h5")
+    decks = {}
+    for gather, contact_gather in (("subset", None), ("all", "all")):   # /control contact_gather
+        control = Control(end_time=300.0e-6, output_interval=10.0e-6, contact_gather=contact_gather)
+        asm = M.contact_model([M.Body(base, T), M.Body(slider, T, (100.0, 0.0, -3.0))], STEEL, control,
+                              static_friction=0.3)
+        decks[gather] = write_deck(asm.model, folder / f"deck_{gather}.h5")
     out = {}
     for ranks, threads, gather in [(1, 1, "subset"), *SLIDING_LAYOUTS]:
         name = f"{ranks}x{threads}_{gather}"
-        with pytest.MonkeyPatch.context() as mp:
-            mp.setenv("PARADYN_CONTACT_GATHER", gather)
-            launch.run_engine(deck_path, folder / f"results_{name}.h5", ranks, threads,
-                              log_path=folder / f"engine_{name}.log")
+        launch.run_engine(decks[gather], folder / f"results_{name}.h5", ranks, threads,
+                          log_path=folder / f"engine_{name}.log")
         with h5py.File(folder / f"results_{name}.h5", "r") as f:
             out[(ranks, threads, gather)] = {
                 "displacement": f["/frames/displacement"][()], "velocity": f["/frames/velocity"][()],
@@ -117,7 +117,7 @@ def test_gathering_only_the_nodes_near_contact_changes_nothing(sliding, layout):
     """docs/theory.md (parallel contact): between sorts only the contact nodes that can come
     into contact before the next sort are gathered, and the global search visits only those
     slaves. Reference: the same run gathering every contact node every step
-    (PARADYN_CONTACT_GATHER=all). A node missing from the subset would be read at a stale
+    (/control contact_gather = "all"). A node missing from the subset would be read at a stale
     position, so the frames, contact energy and penetration of the sliding plate (many sorts,
     the subset changing at each) must be bitwise those of 1 rank x 1 thread with the subset."""
     reference, data = sliding[(1, 1, "subset")], sliding[layout]

@@ -39,8 +39,10 @@ def _copy_tree(destination: Path) -> Path:
 def test_check_names_every_stale_file(tmp_path: Path) -> None:
     """A change of the schema makes every generated file stale; --check names each and exits 1."""
     root = _copy_tree(tmp_path)
-    toml = root / "schema" / "deck.toml"
-    toml.write_text(toml.read_text().replace("default = 0.9\n", "default = 0.8\n", 1))
+    toml = root / "schema" / "control.toml"
+    text = toml.read_text()
+    assert "default = 0.9\n" in text   # time_step_safety
+    toml.write_text(text.replace("default = 0.9\n", "default = 0.8\n", 1))
     done = _check(root)
     assert done.returncode == 1
     for relative in GENERATED:

@@ -73,9 +73,11 @@ def _base_model() -> deck.Model:
         contact_dynamic_friction=np.array([0.1]),
         contact_friction_decay=np.array([0.5]),
         contact_passes=np.array([2]),
+        contact_kind=np.array([1]),
         control=deck.Control(end_time=2e-6, output_interval=1e-6, history_interval=5e-7, time_step=0.0,
                              time_step_safety=0.9, mass_damping=0.0, progress_interval=0.5,
-                             contact_sort_interval=0, checkpoint_interval=0.0, partition="blocks"),
+                             contact_sort_interval=0, checkpoint_interval=0.0, partition="blocks",
+                             contact_gather="near"),
         title="damage base", part_names=["steel strip", "aluminium strip"], material_names=["steel", "aluminium"],
         tracked_names=["lower tip", "upper tip"],
     )

@@ -52,6 +52,7 @@ class Control:
     contact_sort_interval: float = _number_default("contact_sort_interval")
     checkpoint_interval: float = _number_default("checkpoint_interval")
     partition: str | None = None   # "blocks" or "rcb"; None leaves it to the engine (DEFAULT_PARTITION)
+    contact_gather: str | None = None   # "near" or "all"; None leaves it to the engine ("near")
 
     REQUIRED = tuple(a.name for a in CONTROL if a.required)
     OPTIONAL = tuple(a.name for a in CONTROL if not a.required and a.type == "float")
@@ -105,6 +106,7 @@ class Model:
     contact_dynamic_friction: np.ndarray | None = None  # /contact/dynamic_friction
     contact_friction_decay: np.ndarray | None = None    # /contact/friction_decay s/m
     contact_passes: np.ndarray | None = None  # /contact/passes: 2 both, 1 alternate
+    contact_kind: np.ndarray | None = None    # /contact/kind: 1 node_to_segment
     title: str = ""
     part_names: list[str] = field(default_factory=list)
     material_names: list[str] = field(default_factory=list)

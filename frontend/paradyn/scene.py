@@ -148,6 +148,7 @@ class ContactSpec:
     dynamic_friction: float = _DECK_DEFAULT["/contact/dynamic_friction"]
     friction_decay: float = _DECK_DEFAULT["/contact/friction_decay"]
     symmetric: bool = _DECK_DEFAULT["/contact/passes"] == _schema.ENUMS["contact_passes"]["both"]
+    kind: str = _enum_name("contact_kind", _DECK_DEFAULT["/contact/kind"])
 
 
 @dataclass
@@ -278,7 +279,8 @@ def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
 
 _TOP_KEYS = ("title", "run", "material", "part", "fix", "load", "track", "contact")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
-             "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition")
+             "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
+             "contact_gather")
 _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
                   "tangent_modulus", "hardening_mixing")
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
@@ -292,7 +294,7 @@ _GEOMETRY_KEYS = {
 _FIX_KEYS = ("part", "box", "dofs")
 _LOAD_KEYS = ("part", "point", "dof", "value", "ramp_time")
 _TRACK_KEYS = ("name", "part", "point")
-_CONTACT_KEYS = ("parts", "penalty_scale", "static_friction", "dynamic_friction", "friction_decay",
+_CONTACT_KEYS = ("parts", "kind", "penalty_scale", "static_friction", "dynamic_friction", "friction_decay",
                  "symmetric")
 
 
@@ -350,6 +352,8 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
                                      minimum=0.0),
         partition=(r.string(t, "partition", label, choices=tuple(deck.PARTITIONS)) if "partition" in t
                    else None),
+        contact_gather=(r.string(t, "contact_gather", label, choices=tuple(_schema.ENUMS["contact_gather"]))
+                        if "contact_gather" in t else None),
     )
     if run.time_step_safety > 1.0:
         raise r.error(f"'time_step_safety' in {label} must be in (0, 1], got {run.time_step_safety}")
@@ -510,6 +514,8 @@ def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
         dynamic_friction=r.number(t, "dynamic_friction", label, default=static, minimum=0.0),
         friction_decay=r.number(t, "friction_decay", label, default=ContactSpec.friction_decay, minimum=0.0),
         symmetric=symmetric,
+        kind=(r.string(t, "kind", label, choices=tuple(_schema.ENUMS["contact_kind"])) if "kind" in t
+              else ContactSpec.kind),
     )
 
 
@@ -688,6 +694,7 @@ def _apply_contacts(scene: Scene, model: deck.Model) -> None:
     passes = _schema.ENUMS["contact_passes"]
     model.contact_passes = np.array([passes["both"] if c.symmetric else passes["alternate"] for c in contacts],
                                     dtype=np.int32)
+    model.contact_kind = np.array([_schema.ENUMS["contact_kind"][c.kind] for c in contacts], dtype=np.int32)
 
 
 def effects(model: deck.Model) -> list[str]:

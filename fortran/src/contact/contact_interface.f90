@@ -34,7 +34,7 @@ module contact_interface
   use contact_buckets, only: bucket_grid_build
   use contact_pass, only: contact_pass_t
   use contact_kind, only: contact_kind_holder_t
-  use contact_factory, only: contact_kind_from_name
+  use contact_factory, only: contact_kind_from_name, contact_kind_name_of_code
   implicit none
   private
   public :: contact_t, contact_setup
@@ -50,8 +50,6 @@ module contact_interface
     end function clock_seconds
   end interface
 
-  !> The kind of every contact definition of a deck of version 1 (the schema's only kind so far)
-  character(len=*), parameter :: contact_kind_name = 'node_to_segment'
 
   type :: contact_t
     integer :: n_nodes = 0                     !< nodes of all parts in contact
@@ -116,7 +114,7 @@ contains
     allocate (kinds(deck%n_contacts))
     n_passes = 0
     do k = 1, deck%n_contacts
-      call contact_kind_from_name(contact_kind_name, kinds(k)%kind)
+      call contact_kind_from_name(contact_kind_name_of_code(deck%contact_kind(k)), kinds(k)%kind)
       n_passes = n_passes + kinds(k)%kind%pass_count()
     end do
     allocate (c%passes(n_passes))

@@ -230,7 +230,6 @@ contains
           if (spec%class == class_string) then
             call read_string_attribute('/control', trim(spec%name), name, have)
             if (status_ok_so_far() .and. have) then
-              d%partition_name = name
               values(id) = real(enum_code(spec%enum, name), wp)
               if (values(id) < 0.0_wp) message = '/control attribute '//trim(spec%name)//' = "'//name// &
                 '" is unknown: it '//trim(spec%enum_rule)//'; '//trim(spec%fix)

@@ -18,7 +18,8 @@ module model_deck
                             dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
                             dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
                             dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-                            dataset_contact_friction_decay, dataset_contact_passes, control_end_time, &
+                            dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+                            contact_gather_near, control_contact_gather, control_end_time, &
                             control_output_interval, control_history_interval, control_time_step, &
                             control_time_step_safety, control_mass_damping, control_progress_interval, &
                             control_contact_sort_interval, control_checkpoint_interval
@@ -53,13 +54,14 @@ module model_deck
     real(wp), allocatable :: contact_penalty_scale(:), contact_static_friction(:)
     real(wp), allocatable :: contact_dynamic_friction(:), contact_friction_decay(:)
     integer, allocatable :: contact_passes(:)         !< 2 both bodies slave every step, 1 alternate
+    integer, allocatable :: contact_kind(:)           !< member of the contact family (schema enum contact_kind)
     real(wp) :: end_time = 0.0_wp, output_interval = 0.0_wp, history_interval = 0.0_wp
     real(wp) :: time_step = 0.0_wp, time_step_safety = 0.9_wp, mass_damping = 0.0_wp
     real(wp) :: progress_interval = 0.5_wp
     integer :: contact_sort_interval = 0              !< cycles between bucket sorts, 0 = automatic
     real(wp) :: checkpoint_interval = 0.0_wp          !< simulated seconds between checkpoints, 0 = none
     integer :: partition = partition_default          !< partition_blocks or partition_rcb; 0 = unknown name
-    character(len=:), allocatable :: partition_name   !< /control partition as written, for messages
+    integer :: contact_gather = contact_gather_near   !< which contact nodes are gathered between sorts
   end type deck_t
 
 contains
@@ -181,6 +183,8 @@ contains
       d%contact_friction_decay = values(1, :)
     case (dataset_contact_passes)
       d%contact_passes = indices(1, :)
+    case (dataset_contact_kind)
+      d%contact_kind = indices(1, :)
     end select
   end subroutine store_deck_field
 
@@ -210,6 +214,8 @@ contains
       d%checkpoint_interval = value
     case (control_partition)
       d%partition = nint(value)
+    case (control_contact_gather)
+      d%contact_gather = nint(value)
     end select
   end subroutine store_control_value
 

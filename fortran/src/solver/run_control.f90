@@ -5,7 +5,7 @@ module run_control
   use paradyn_kinds, only: wp
   use model_deck, only: deck_t, partition_label
   use domain_decomposition, only: domain_t, local_node
-  use paradyn_schema, only: material_j2_plasticity
+  use paradyn_schema, only: material_j2_plasticity, contact_gather_all
   implicit none
   private
   public :: run_control_t, run_control_setup, deck_effects
@@ -21,7 +21,7 @@ module run_control
     real(wp), allocatable :: load_value(:), load_ramp_time(:)
     integer, allocatable :: tracked_local(:) !< local node of each tracked node where this rank owns it, else 0
     character(len=:), allocatable :: effects, partition
-    logical :: contact_gather_all = .false.  !< PARADYN_CONTACT_GATHER=all: gather every contact node every step
+    logical :: contact_gather_all = .false.  !< /control contact_gather = "all": every contact node every step
   end type run_control_t
 
 contains
@@ -31,7 +31,6 @@ contains
     type(deck_t), intent(in) :: deck
     type(domain_t), intent(in) :: dom
     integer :: k, j
-    character(len=8) :: gather_mode
     rc%end_time = deck%end_time
     rc%output_interval = deck%output_interval
     rc%history_interval = deck%history_interval
@@ -59,8 +58,7 @@ contains
     end do
     rc%effects = deck_effects(deck)
     rc%partition = partition_label(deck%partition)
-    call get_environment_variable('PARADYN_CONTACT_GATHER', gather_mode)
-    rc%contact_gather_all = gather_mode == 'all'
+    rc%contact_gather_all = deck%contact_gather == contact_gather_all
   end subroutine run_control_setup
 
   !> Effects this deck switches on, in the order the engine runs them.
