@@ -1,0 +1,176 @@
+"""Building the deck model from a scene: :func:`build_model` meshes the parts and assembles a deck.Model.
+
+Parts do not share nodes; fixes select nodes in a box, loads and tracked points take the nearest
+node of their part, contacts become part pairs. :func:`effects` lists what a model switches on.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from paradyn import _schema, deck, geometry
+from paradyn.scene_specs import HOURGLASS_FORMS, PartSpec, Scene, SceneError
+from paradyn.scene_tables import _Reader
+
+# ----------------------------------------------------------------------------------------------
+# building the model
+
+
+@dataclass
+class _PartMesh:
+    spec: PartSpec
+    mesh: geometry.Mesh
+    first_node: int
+
+    @property
+    def nodes(self) -> np.ndarray:
+        return np.arange(self.first_node, self.first_node + self.mesh.n_nodes)
+
+    @property
+    def tolerance(self) -> float:
+        """Largest element edge: how far a load or track point may lie from the part's nodes."""
+        return float(self.mesh.edge_lengths().max())
+
+    @property
+    def size(self) -> float:
+        c = self.mesh.coordinates
+        return float(np.linalg.norm(c.max(axis=0) - c.min(axis=0)))
+
+
+def build_model(scene: Scene) -> deck.Model:
+    """Mesh every part and assemble the deck model (parts do not share nodes)."""
+    r = _Reader(scene.path)
+    meshes = _mesh_parts(r, scene)
+    coordinates = np.concatenate([m.mesh.coordinates for m in meshes])
+    connectivity = np.concatenate([m.mesh.quads + m.first_node for m in meshes])
+    element_part = np.concatenate([np.full(m.mesh.n_elements, i) for i, m in enumerate(meshes)])
+    velocity = np.concatenate([np.tile(m.spec.initial_velocity, (m.mesh.n_nodes, 1)) for m in meshes])
+    by_name = {m.spec.name: m for m in meshes}
+    fixed = _fixed_dofs(r, scene, by_name, len(coordinates))
+    velocity[fixed[:, :3] == 1] = 0.0  # a fixed translation cannot start moving
+    material_index = {m.name: i for i, m in enumerate(scene.materials)}
+    model = deck.Model(
+        coordinates=coordinates,
+        connectivity=connectivity.astype(np.int32),
+        element_part=element_part.astype(np.int32),
+        thickness=np.array([p.thickness for p in scene.parts]),
+        part_material=np.array([material_index[p.material] for p in scene.parts], dtype=np.int32),
+        integration_points=np.array([p.integration_points for p in scene.parts], dtype=np.int32),
+        hourglass_coefficient=np.array([p.hourglass_coefficient for p in scene.parts]),
+        hourglass_form=np.array([HOURGLASS_FORMS[p.hourglass_form] for p in scene.parts], dtype=np.int32),
+        material_model=np.array([m.model_code for m in scene.materials], dtype=np.int32),
+        density=np.array([m.density for m in scene.materials]),
+        youngs_modulus=np.array([m.youngs_modulus for m in scene.materials]),
+        poisson_ratio=np.array([m.poisson_ratio for m in scene.materials]),
+        yield_stress=np.array([m.yield_stress for m in scene.materials]),
+        tangent_modulus=np.array([m.tangent_modulus for m in scene.materials]),
+        hardening_mixing=np.array([m.hardening_mixing for m in scene.materials]),
+        initial_velocity=velocity,
+        fixed_dofs=fixed,
+        control=deck.Control(**vars(scene.run)),
+        title=scene.title,
+        part_names=[p.name for p in scene.parts],
+        material_names=[m.name for m in scene.materials],
+    )
+    _apply_loads(r, scene, by_name, model)
+    _apply_tracks(r, scene, by_name, model)
+    _apply_contacts(scene, model)
+    try:
+        deck.validate_model(model, source=f"{scene.path} (built model)")
+    except deck.DeckError as exc:
+        raise SceneError(str(exc)) from exc
+    return model
+
+
+def _mesh_parts(r: _Reader, scene: Scene) -> list[_PartMesh]:
+    meshes: list[_PartMesh] = []
+    first = 0
+    for part in scene.parts:
+        try:
+            mesh = part.geometry.mesh()
+        except geometry.GeometryError as exc:
+            raise r.error(f"[part.geometry] of part '{part.name}': {exc}") from exc
+        meshes.append(_PartMesh(spec=part, mesh=mesh, first_node=first))
+        first += mesh.n_nodes
+    return meshes
+
+
+def _fixed_dofs(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], n_nodes: int) -> np.ndarray:
+    fixed = np.zeros((n_nodes, 6), dtype=np.int32)
+    columns_of = {name: i for i, name in enumerate(deck.DOF_NAMES)}
+    for index, fix in enumerate(scene.fixes):
+        part = by_name[fix.part]
+        local = geometry.nodes_in_box(part.mesh.coordinates, fix.box[0], fix.box[1],
+                                      tol=1e-9 * max(part.size, 1.0))
+        if local.size == 0:
+            c = part.mesh.coordinates
+            raise r.error(f"[[fix]] #{index + 1}: the box {[list(fix.box[0]), list(fix.box[1])]} contains "
+                          f"no node of part '{fix.part}' (its nodes span {c.min(axis=0).tolist()} to "
+                          f"{c.max(axis=0).tolist()}); enlarge or move the box")
+        columns = [columns_of[d] for d in fix.dofs]
+        fixed[np.ix_(local + part.first_node, columns)] = 1
+    return fixed
+
+
+def _located_node(r: _Reader, part: _PartMesh, point: tuple[float, float, float], label: str) -> int:
+    local = geometry.nearest_node(part.mesh.coordinates, point)
+    distance = float(np.linalg.norm(part.mesh.coordinates[local] - np.asarray(point)))
+    if distance > part.tolerance:
+        raise r.error(f"{label}: point {list(point)} is {distance:.4g} m from the nearest node of part "
+                      f"'{part.spec.name}' (at {part.mesh.coordinates[local].tolist()}), more than one "
+                      f"element size ({part.tolerance:.4g} m); put the point on the part's mid-surface")
+    return local + part.first_node
+
+
+def _apply_loads(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model: deck.Model) -> None:
+    nodes = [_located_node(r, by_name[load.part], load.point, f"[[load]] #{i + 1}")
+             for i, load in enumerate(scene.loads)]
+    model.load_node = np.array(nodes, dtype=np.int32)
+    model.load_dof = np.array([deck.DOF_NAMES.index(load.dof) + 1 for load in scene.loads], dtype=np.int32)
+    model.load_value = np.array([load.value for load in scene.loads], dtype=np.float64)
+    model.load_ramp_time = np.array([load.ramp_time for load in scene.loads], dtype=np.float64)
+
+
+def _apply_tracks(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model: deck.Model) -> None:
+    nodes = [_located_node(r, by_name[track.part], track.point, f"[[track]] '{track.name}'")
+             for track in scene.tracks]
+    model.tracked_nodes = np.array(nodes, dtype=np.int32)
+    model.tracked_names = [track.name for track in scene.tracks]
+
+
+# ----------------------------------------------------------------------------------------------
+# effects
+
+
+def _apply_contacts(scene: Scene, model: deck.Model) -> None:
+    index = {p.name: i for i, p in enumerate(scene.parts)}
+    contacts = scene.contacts
+    model.contact_pairs = np.array([[index[c.parts[0]], index[c.parts[1]]] for c in contacts],
+                                   dtype=np.int32).reshape(-1, 2)
+    model.contact_penalty_scale = np.array([c.penalty_scale for c in contacts])
+    model.contact_static_friction = np.array([c.static_friction for c in contacts])
+    model.contact_dynamic_friction = np.array([c.dynamic_friction for c in contacts])
+    model.contact_friction_decay = np.array([c.friction_decay for c in contacts])
+    passes = _schema.ENUMS["contact_passes"]
+    model.contact_passes = np.array([passes["both"] if c.symmetric else passes["alternate"] for c in contacts],
+                                    dtype=np.int32)
+    model.contact_kind = np.array([_schema.ENUMS["contact_kind"][c.kind] for c in contacts], dtype=np.int32)
+
+
+def effects(model: deck.Model) -> list[str]:
+    """Physical effects a model switches on, in the order the engine reports them."""
+    active = ["shell_elements", "time_integration"]
+    used_materials = np.asarray(model.part_material)[np.unique(np.asarray(model.element_part))]
+    if np.any(np.asarray(model.material_model)[used_materials] == deck.J2_PLASTICITY):
+        active.append("plasticity")
+    if model.fixed_dofs is not None and np.any(np.asarray(model.fixed_dofs) != 0):
+        active.append("fixed_boundaries")
+    if model.n_loads > 0:
+        active.append("point_loads")
+    if model.n_contacts > 0:
+        active.append("contact")
+    if model.control.mass_damping and model.control.mass_damping > 0:
+        active.append("mass_damping")
+    return active

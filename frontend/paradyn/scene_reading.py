@@ -1,0 +1,323 @@
+"""Reading and checking a scene file: :func:`load_scene` turns the TOML text into a :class:`Scene`.
+
+The reader rejects unknown keys, missing keys, wrong types and out-of-range values, then checks that
+names are unique and that every reference (a part's material, the part of a fix, load, track or
+contact) is defined; every problem raises :class:`SceneError` naming the file, the table and the key.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from paradyn import _schema, deck
+from paradyn.scene_specs import (
+    DOF_GROUPS,
+    HOURGLASS_FORMS,
+    MATERIAL_MODELS,
+    ContactSpec,
+    CylinderGeometry,
+    FileGeometry,
+    FixSpec,
+    Geometry,
+    LoadSpec,
+    MaterialSpec,
+    PartSpec,
+    PlateGeometry,
+    RunSettings,
+    Scene,
+    SceneError,
+    TrackSpec,
+)
+from paradyn.scene_tables import _REQUIRED, _Reader
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+    import tomli as tomllib  # type: ignore[no-redef]
+
+
+def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
+    name = table.get("name")
+    suffix = f" '{name}'" if isinstance(name, str) else ""
+    return f"[[{kind}]] #{index + 1}{suffix}"
+
+
+# ----------------------------------------------------------------------------------------------
+# parsing
+
+
+_TOP_KEYS = ("title", "run", "material", "part", "fix", "load", "track", "contact")
+_RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
+             "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
+             "contact_gather")
+_MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
+                  "tangent_modulus", "hardening_mixing")
+_J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
+_PART_KEYS = ("name", "material", "thickness", "integration_points", "hourglass_coefficient",
+              "hourglass_form", "initial_velocity", "geometry")
+_GEOMETRY_KEYS = {
+    "cylinder": ("kind", "radius", "length", "axis", "center", "elements_around", "elements_along"),
+    "plate": ("kind", "size", "elements", "origin", "u_axis", "v_axis"),
+    "file": ("kind", "path"),
+}
+_FIX_KEYS = ("part", "box", "dofs")
+_LOAD_KEYS = ("part", "point", "dof", "value", "ramp_time")
+_TRACK_KEYS = ("name", "part", "point")
+_CONTACT_KEYS = ("parts", "kind", "penalty_scale", "static_friction", "dynamic_friction", "friction_decay",
+                 "symmetric")
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Parse and check a scene file; raise SceneError naming the file, table and key on any problem."""
+    path = Path(path)
+    reader = _Reader(path)
+    data = _parse_toml(path)
+    reader.keys(data, "the top level of the scene", _TOP_KEYS)
+    title = data.get("title", path.stem)
+    if not isinstance(title, str):
+        raise reader.error(f"'title' must be a string, got {title!r}")
+    run = _parse_run(reader, reader.table(data, "run", "the scene"))
+    materials = [_parse_material(reader, t, i) for i, t in enumerate(reader.tables(data, "material"))]
+    parts = [_parse_part(reader, t, i) for i, t in enumerate(reader.tables(data, "part"))]
+    fixes = [_parse_fix(reader, t, i) for i, t in enumerate(reader.tables(data, "fix"))]
+    loads = [_parse_load(reader, t, i) for i, t in enumerate(reader.tables(data, "load"))]
+    tracks = [_parse_track(reader, t, i) for i, t in enumerate(reader.tables(data, "track"))]
+    contacts = [_parse_contact(reader, t, i) for i, t in enumerate(reader.tables(data, "contact"))]
+    scene = Scene(path=path, title=title, run=run, materials=materials, parts=parts,
+                  fixes=fixes, loads=loads, tracks=tracks, contacts=contacts)
+    _check_references(reader, scene)
+    return scene
+
+
+def _parse_toml(path: Path) -> dict[str, Any]:
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError as exc:
+        raise SceneError(f"{path}: scene file not found; check the path") from exc
+    except OSError as exc:
+        raise SceneError(f"{path}: cannot read the scene file ({exc})") from exc
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path}: not valid TOML ({exc}); fix the syntax at that line") from exc
+
+
+def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
+    label = "[run]"
+    r.keys(t, label, _RUN_KEYS)
+    run = RunSettings(
+        end_time=r.number(t, "end_time", label, positive=True),
+        output_interval=r.number(t, "output_interval", label, positive=True),
+        history_interval=r.number(t, "history_interval", label, default=None, positive=True),
+        time_step=r.number(t, "time_step", label, default=RunSettings.time_step, minimum=0.0),
+        time_step_safety=r.number(t, "time_step_safety", label, default=RunSettings.time_step_safety,
+                                  positive=True),
+        mass_damping=r.number(t, "mass_damping", label, default=RunSettings.mass_damping, minimum=0.0),
+        progress_interval=r.number(t, "progress_interval", label, default=RunSettings.progress_interval,
+                                   positive=True),
+        contact_sort_interval=r.integer(t, "contact_sort_interval", label,
+                                        default=int(RunSettings.contact_sort_interval), minimum=0),
+        checkpoint_interval=r.number(t, "checkpoint_interval", label, default=RunSettings.checkpoint_interval,
+                                     minimum=0.0),
+        partition=(r.string(t, "partition", label, choices=tuple(deck.PARTITIONS)) if "partition" in t
+                   else None),
+        contact_gather=(r.string(t, "contact_gather", label, choices=tuple(_schema.ENUMS["contact_gather"]))
+                        if "contact_gather" in t else None),
+    )
+    if run.time_step_safety > 1.0:
+        raise r.error(f"'time_step_safety' in {label} must be in (0, 1], got {run.time_step_safety}")
+    return run
+
+
+def _parse_material(r: _Reader, t: dict[str, Any], index: int) -> MaterialSpec:
+    label = _label("material", index, t)
+    r.keys(t, label, _MATERIAL_KEYS)
+    model = r.string(t, "model", label, choices=tuple(MATERIAL_MODELS))
+    if model == "elastic":
+        extra = [k for k in _J2_KEYS if k in t]
+        if extra:
+            raise r.error(f"'{extra[0]}' in {label} only applies to model = \"j2_plasticity\"; remove it "
+                          f"or change the model")
+    material = MaterialSpec(
+        name=r.string(t, "name", label),
+        model=model,
+        density=r.number(t, "density", label, positive=True),
+        youngs_modulus=r.number(t, "youngs_modulus", label, positive=True),
+        poisson_ratio=r.number(t, "poisson_ratio", label),
+    )
+    if not -1.0 < material.poisson_ratio < 0.5:
+        raise r.error(f"'poisson_ratio' in {label} must satisfy -1 < nu < 0.5, got {material.poisson_ratio}")
+    if model == "j2_plasticity":
+        material.yield_stress = r.number(t, "yield_stress", label, positive=True)
+        material.tangent_modulus = r.number(t, "tangent_modulus", label, default=MaterialSpec.tangent_modulus,
+                                            minimum=0.0)
+        material.hardening_mixing = r.number(t, "hardening_mixing", label, default=MaterialSpec.hardening_mixing,
+                                             minimum=0.0)
+        if material.tangent_modulus >= material.youngs_modulus:
+            raise r.error(f"'tangent_modulus' in {label} must be below youngs_modulus "
+                          f"({material.youngs_modulus:g} Pa), got {material.tangent_modulus:g}")
+        if material.hardening_mixing > 1.0:
+            raise r.error(f"'hardening_mixing' in {label} must be in [0, 1] (1 isotropic, 0 kinematic), "
+                          f"got {material.hardening_mixing}")
+    return material
+
+
+def _parse_part(r: _Reader, t: dict[str, Any], index: int) -> PartSpec:
+    label = _label("part", index, t)
+    r.keys(t, label, _PART_KEYS)
+    name = r.string(t, "name", label)
+    return PartSpec(
+        name=name,
+        material=r.string(t, "material", label),
+        thickness=r.number(t, "thickness", label, positive=True),
+        geometry=_parse_geometry(r, r.table(t, "geometry", label), f"[part.geometry] of part '{name}'"),
+        integration_points=r.integer(t, "integration_points", label, default=PartSpec.integration_points,
+                                     minimum=1, maximum=9),
+        hourglass_coefficient=r.number(t, "hourglass_coefficient", label, default=PartSpec.hourglass_coefficient,
+                                       minimum=0.0),
+        hourglass_form=r.string(t, "hourglass_form", label, default=PartSpec.hourglass_form,
+                                choices=tuple(HOURGLASS_FORMS)),
+        initial_velocity=r.vector(t, "initial_velocity", label, default=(0.0, 0.0, 0.0)),
+    )
+
+
+def _parse_geometry(r: _Reader, t: dict[str, Any], label: str) -> Geometry:
+    kind = r.string(t, "kind", label, choices=tuple(_GEOMETRY_KEYS))
+    r.keys(t, f"{label} (kind = \"{kind}\")", _GEOMETRY_KEYS[kind])
+    if kind == "cylinder":
+        around = r.integer(t, "elements_around", label, default=16, minimum=4)
+        if around % 4:
+            raise r.error(f"'elements_around' in {label} must be a multiple of 4, got {around}")
+        return CylinderGeometry(
+            radius=r.number(t, "radius", label, positive=True),
+            length=r.number(t, "length", label, positive=True),
+            axis=r.vector(t, "axis", label, default=(1.0, 0.0, 0.0)),
+            center=r.vector(t, "center", label, default=(0.0, 0.0, 0.0)),
+            elements_around=around,
+            elements_along=r.integer(t, "elements_along", label, default=32),
+        )
+    if kind == "plate":
+        size = r.vector(t, "size", label, length=2)
+        if min(size) <= 0:
+            raise r.error(f"'size' in {label} must be two positive lengths [lx, ly], got {list(size)}")
+        return PlateGeometry(
+            size=(size[0], size[1]),
+            elements=r.int_pair(t, "elements", label),
+            origin=r.vector(t, "origin", label, default=(0.0, 0.0, 0.0)),
+            u_axis=r.vector(t, "u_axis", label, default=(1.0, 0.0, 0.0)),
+            v_axis=r.vector(t, "v_axis", label, default=(0.0, 1.0, 0.0)),
+        )
+    file = (r.path.parent / r.string(t, "path", label)).resolve()
+    if not file.is_file():
+        raise r.error(f"'path' in {label}: mesh file {file} not found; paths are relative to the "
+                      f"scene file's folder")
+    return FileGeometry(path=file)
+
+
+def _parse_dofs(r: _Reader, t: dict[str, Any], label: str) -> tuple[str, ...]:
+    value = r.raw(t, "dofs", label, ["all"])
+    items = [value] if isinstance(value, str) else value
+    allowed = deck.DOF_NAMES + tuple(DOF_GROUPS)
+    if not isinstance(items, list) or not items or not all(isinstance(v, str) for v in items):
+        raise r.error(f"'dofs' in {label} must be a list of dof names from: {', '.join(allowed)}")
+    chosen: set[str] = set()
+    for item in items:
+        if item not in allowed:
+            raise r.error(f"'dofs' in {label} contains '{item}', which is not one of: {', '.join(allowed)}")
+        chosen.update(DOF_GROUPS.get(item, (item,)))
+    return tuple(d for d in deck.DOF_NAMES if d in chosen)
+
+
+def _parse_fix(r: _Reader, t: dict[str, Any], index: int) -> FixSpec:
+    label = _label("fix", index, t)
+    r.keys(t, label, _FIX_KEYS)
+    box = r.raw(t, "box", label, _REQUIRED)
+    if not isinstance(box, list) or len(box) != 2:
+        raise r.error(f"'box' in {label} must be two corners [[xmin, ymin, zmin], [xmax, ymax, zmax]], "
+                      f"got {box!r}")
+    corners = {"lo": box[0], "hi": box[1]}
+    lo = r.vector(corners, "lo", f"'box' of {label}")
+    hi = r.vector(corners, "hi", f"'box' of {label}")
+    if any(a > b for a, b in zip(lo, hi, strict=True)):
+        raise r.error(f"'box' in {label}: the first corner {list(lo)} must not exceed the second {list(hi)} "
+                      f"in any coordinate; write [[xmin, ymin, zmin], [xmax, ymax, zmax]]")
+    return FixSpec(part=r.string(t, "part", label), box=(lo, hi), dofs=_parse_dofs(r, t, label))
+
+
+def _parse_load(r: _Reader, t: dict[str, Any], index: int) -> LoadSpec:
+    label = _label("load", index, t)
+    r.keys(t, label, _LOAD_KEYS)
+    return LoadSpec(
+        part=r.string(t, "part", label),
+        point=r.vector(t, "point", label),
+        dof=r.string(t, "dof", label, choices=deck.DOF_NAMES),
+        value=r.number(t, "value", label),
+        ramp_time=r.number(t, "ramp_time", label, default=0.0, minimum=0.0),
+    )
+
+
+def _parse_track(r: _Reader, t: dict[str, Any], index: int) -> TrackSpec:
+    label = _label("track", index, t)
+    r.keys(t, label, _TRACK_KEYS)
+    return TrackSpec(name=r.string(t, "name", label), part=r.string(t, "part", label),
+                     point=r.vector(t, "point", label))
+
+
+def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
+    label = f"[[contact]] #{index + 1}"
+    r.keys(t, label, _CONTACT_KEYS)
+    parts = r.raw(t, "parts", label, _REQUIRED)
+    if (not isinstance(parts, list) or len(parts) != 2 or not all(isinstance(p, str) for p in parts)
+            or parts[0] == parts[1]):
+        raise r.error(f"'parts' in {label} must name two different parts, e.g. parts = [\"a\", \"b\"]; "
+                      f"got {parts!r}")
+    symmetric = r.raw(t, "symmetric", label, ContactSpec.symmetric)
+    if not isinstance(symmetric, bool):
+        raise r.error(f"'symmetric' in {label} must be true (both passes every step) or false "
+                      f"(slave and master swap every step, as in the paper); got {symmetric!r}")
+    static = r.number(t, "static_friction", label, default=ContactSpec.static_friction, minimum=0.0)
+    return ContactSpec(
+        parts=(parts[0], parts[1]),
+        penalty_scale=r.number(t, "penalty_scale", label, default=ContactSpec.penalty_scale, positive=True),
+        static_friction=static,
+        dynamic_friction=r.number(t, "dynamic_friction", label, default=static, minimum=0.0),
+        friction_decay=r.number(t, "friction_decay", label, default=ContactSpec.friction_decay, minimum=0.0),
+        symmetric=symmetric,
+        kind=(r.string(t, "kind", label, choices=tuple(_schema.ENUMS["contact_kind"])) if "kind" in t
+              else ContactSpec.kind),
+    )
+
+
+def _check_references(r: _Reader, scene: Scene) -> None:
+    _unique(r, [m.name for m in scene.materials], "material")
+    _unique(r, [p.name for p in scene.parts], "part")
+    _unique(r, [t.name for t in scene.tracks], "track")
+    if not scene.parts:
+        raise r.error("the scene has no [[part]]; add at least one part with a geometry")
+    materials = [m.name for m in scene.materials]
+    for part in scene.parts:
+        if part.material not in materials:
+            known = ", ".join(materials) or "none defined"
+            raise r.error(f"part '{part.name}' uses material '{part.material}', which is not defined "
+                          f"(materials: {known}); add a [[material]] with that name")
+    parts = [p.name for p in scene.parts]
+    for kind, items in (("fix", scene.fixes), ("load", scene.loads), ("track", scene.tracks)):
+        for index, item in enumerate(items):
+            if item.part not in parts:
+                raise r.error(f"[[{kind}]] #{index + 1} refers to part '{item.part}', which is not "
+                              f"defined (parts: {', '.join(parts)})")
+    for index, contact in enumerate(scene.contacts):
+        for name in contact.parts:
+            if name not in parts:
+                raise r.error(f"[[contact]] #{index + 1} names part '{name}', which is not defined "
+                              f"(parts: {', '.join(parts)})")
+
+
+def _unique(r: _Reader, names: list[str], kind: str) -> None:
+    seen: set[str] = set()
+    for name in names:
+        if name in seen:
+            raise r.error(f"two [[{kind}]] entries are named '{name}'; names must be unique")
+        seen.add(name)
