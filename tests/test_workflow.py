@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import h5py
 import pytest
 
 import paradyn
@@ -78,3 +79,21 @@ def test_mistakes_are_named_before_anything_runs(tmp_path: Path, plate_model: de
         paradyn.run(plate_model, tmp_path / "empty", restart=True)
     with pytest.raises(launch.EngineError, match="must be at least 1"):
         paradyn.run(plate_model, tmp_path / "out", ranks=0, threads=1)
+
+
+@pytest.mark.parametrize("ranks", [1, 2])
+def test_the_engine_writes_the_run_names_so_results_h5_stands_alone(tmp_path: Path, plate_model: deck.Model,
+                                                                     ranks: int) -> None:
+    """docs/formats.md (results): the engine copies the deck's title, part names and tracked names
+    into results.h5 and writes the effects it ran, so a results file read without its deck still
+    names everything (the names of cases/small_plate/scene.toml)."""
+    paradyn.run(plate_model, tmp_path, ranks=ranks, threads=1, post=False)
+    with h5py.File(tmp_path / "results.h5", "r") as f:
+        assert f.attrs["title"] == "Small cantilever plate"
+        assert list(f["mesh"].attrs["part_names"]) == ["plate"]
+        assert list(f["history"].attrs["tracked_names"]) == ["tip_corner", "tip_middle", "middle"]
+        assert f["run"].attrs["effects"] == ",".join(EFFECTS)
+    (tmp_path / "deck.h5").unlink()
+    alone = paradyn.read(tmp_path / "results.h5")
+    assert (alone.title, alone.part_names, alone.effects) == ("Small cantilever plate", ["plate"], EFFECTS)
+    assert alone.tracked_names == ["tip_corner", "tip_middle", "middle"]

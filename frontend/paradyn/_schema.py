@@ -467,8 +467,9 @@ HISTORY_NAMES = (
 )
 RUN_ATTRIBUTES = (
     'cycles', 'dt_s', 'dt_stable_s', 'wall_s', 'ranks', 'threads', 'elements', 'nodes', 'element_cycles_per_s',
-    'peak_memory_per_rank_mb', 'load_imbalance', 'phase_elements_s', 'phase_contact_s', 'phase_communication_s',
-    'phase_output_s', 'phase_other_s', 'phase_contact_sort_s', 'phase_contact_search_s', 'phase_contact_force_s',
+    'peak_memory_per_rank_mb', 'effects', 'load_imbalance', 'phase_elements_s', 'phase_contact_s',
+    'phase_communication_s', 'phase_output_s', 'phase_other_s', 'phase_contact_sort_s', 'phase_contact_search_s',
+    'phase_contact_force_s',
 )
 PHASES = ('elements', 'contact', 'communication', 'output', 'other')
 CONTACT_PHASES = ('contact_sort', 'contact_search', 'contact_force')

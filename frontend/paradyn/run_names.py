@@ -42,6 +42,8 @@ def names_in_results(h5: h5py.File) -> RunNames:
         names.title = (strings(h5.attrs["title"], one=True) or [""])[0]
     if "mesh" in h5 and "part_names" in h5["mesh"].attrs:
         names.part_names = strings(h5["mesh"].attrs["part_names"])
+    if "history" in h5 and "tracked_names" in h5["history"].attrs:
+        names.tracked_names = strings(h5["history"].attrs["tracked_names"])
     if "run" in h5 and "effects" in h5["run"].attrs:
         text = (strings(h5["run"].attrs["effects"], one=True) or [""])[0]
         names.effects = [e.strip() for e in text.split(",") if e.strip()]
@@ -109,7 +111,7 @@ def merged(from_results: RunNames, from_deck: RunNames) -> RunNames:
         title=from_results.title if from_results.title is not None else from_deck.title,
         part_names=from_results.part_names or from_deck.part_names,
         n_parts=from_deck.n_parts,
-        tracked_names=from_deck.tracked_names,
+        tracked_names=from_results.tracked_names or from_deck.tracked_names,
         tracked_nodes=from_deck.tracked_nodes,
         end_time=from_deck.end_time,
         effects=from_results.effects,

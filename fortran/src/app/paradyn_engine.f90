@@ -18,6 +18,7 @@ program paradyn_engine
                             run_record_t
   use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
   use stop_signals, only: install_stop_handlers
+  use run_names, only: copy_run_names
   implicit none
 
   interface
@@ -102,6 +103,7 @@ program paradyn_engine
       call results_create(trim(results_path), comm, deck%n_nodes, deck%n_elements, owned, elements, &
                           deck%coordinates(:, owned), deck%connectivity(:, elements), deck%element_part(elements), &
                           deck%n_tracked, results, status, message)
+      if (status == status_ok) call copy_run_names(trim(deck_path), results%file)
     end if
   end associate
   if (status /= status_ok) call fail(status_failure, trim(message))
@@ -141,7 +143,7 @@ program paradyn_engine
     end if
   end do
   run%peak_memory_mb = largest_peak_memory_mb()
-  call results_finish(results, run, status == status_ok)
+  call results_finish(results, run, solver%control%effects, status == status_ok)
   if (status /= status_ok) call fail(status, trim(message))
   if (rank == 0) then
     write (*, '(a,i0,a,es13.6,a,f0.3,a,es11.4)') 'PARADYN-DONE cycles=', run%cycles, ' time=', solver%clock%time, &

@@ -12,6 +12,7 @@ module results_writer
   use paradyn_schema, only: status_ok, status_failure
   use parallel_hdf5, only: row_runs_t, row_runs, phdf5_open, phdf5_close, create_dataset, create_growing, &
                            write_rows, truncate_growing, write_int_attribute, write_real_attribute
+  use run_names, only: write_string_attribute
   implicit none
   private
   public :: results_file_t, results_create, results_reopen, results_write_frame, results_write_history
@@ -244,9 +245,10 @@ contains
 
   !> Writes the /run attributes (the same record on every rank), marks the file complete when
   !> asked, and closes it.
-  subroutine results_finish(rf, run, complete)
+  subroutine results_finish(rf, run, effects, complete)
     type(results_file_t), intent(inout) :: rf
     type(run_record_t), intent(in) :: run
+    character(len=*), intent(in) :: effects   !< the effects the run switched on, comma separated
     logical, intent(in) :: complete
     integer(hid_t) :: group
     integer :: err
@@ -271,6 +273,7 @@ contains
     call write_real_attribute(group, 'phase_contact_force_s', run%phase_contact_force_s)
     call write_real_attribute(group, 'peak_memory_per_rank_mb', run%peak_memory_mb)
     call write_real_attribute(group, 'load_imbalance', run%load_imbalance)
+    call write_string_attribute(group, 'effects', effects)
     call h5gclose_f(group, err)
     if (complete) call write_int_attribute(rf%file, 'complete', 1)
     call phdf5_close(rf%file, rf%transfer)
