@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from . import deck, launch, scene, workflow
+from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_OK
 from .atomic_write import write_text_atomic
 
 PHASES = ("elements", "contact", "communication", "output", "other")
@@ -182,7 +183,7 @@ def main(argv: list[str] | None = None) -> int:
         deck_path = deck.write_deck(model, out_dir / "deck.h5")
     except (scene.SceneError, deck.DeckError) as error:
         print(f"paradyn-scaling: error: {error}", file=sys.stderr)
-        return 2
+        return STATUS_BAD_INPUT
     try:
         results = run_layouts(deck_path, out_dir, layouts, max(1, args.repeat), model)
     except launch.EngineError as error:
@@ -203,7 +204,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"paradyn-scaling: partition {partition} on {ranks} ranks: {row.shared_nodes} shared nodes, "
               f"at most {row.max_neighbours} neighbours per rank")
     print(f"paradyn-scaling: wrote {out_dir / 'scaling.json'}")
-    return 0 if all(r.same_displacements for r in results) else 1
+    return STATUS_OK if all(r.same_displacements for r in results) else STATUS_FAILURE
 
 
 if __name__ == "__main__":

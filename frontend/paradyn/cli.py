@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from . import deck, launch, reading, scene, workflow
+from ._schema import STATUS_BAD_INPUT, STATUS_OK
 from .postprocess import post_process
 
 DESCRIPTION = """\
@@ -69,15 +70,15 @@ def post_only(out_dir: Path, plots: bool, vtk: bool) -> int:
     if not (res_path.is_file() and deck_path.is_file()):
         print(f"paradyn-run: error: {out_dir} holds no results.h5 and deck.h5; give the output folder of a run",
               file=sys.stderr)
-        return 2
+        return STATUS_BAD_INPUT
     try:
         res = reading.read(res_path, deck=deck_path)
         outputs = post_process(res, out_dir, res.effects, {"post_processed": True}, plots=plots, vtk=vtk)
     except (deck.DeckError, reading.ResultsError) as error:
         print(f"paradyn-run: error: {error}", file=sys.stderr)
-        return 2
+        return STATUS_BAD_INPUT
     _print_outputs(outputs)
-    return 0
+    return STATUS_OK
 
 
 def _print_outputs(outputs: dict[str, Path]) -> None:
@@ -104,15 +105,15 @@ def main(argv: list[str] | None = None) -> int:
     except reading.ResultsError:
         raise  # the run finished but its results do not read: a bug to show in full
     except (scene.SceneError, deck.DeckError, ValueError) as error:
-        return _error(error, 2)
+        return _error(error, STATUS_BAD_INPUT)
     if isinstance(outcome, workflow.BatchJob):
         print(f"paradyn-run: wrote {outcome.script}; submit it with: sbatch {outcome.script}")
-        return 0
+        return STATUS_OK
     done, effects = outcome.engine_run.done, outcome.engine_run.start.get("effects", "").split(",")
     print(f"paradyn-run: {done.get('cycles')} cycles in {float(done.get('wall_s', 'nan')):.2f} s "
           f"({float(done.get('element_cycles_per_s', 'nan')):.3e} element-cycles/s), effects: {', '.join(effects)}")
     _print_outputs(outcome.outputs)
-    return 0
+    return STATUS_OK
 
 
 if __name__ == "__main__":

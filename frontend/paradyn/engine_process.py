@@ -20,6 +20,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TextIO
 
+from ._schema import STATUS_FAILURE, STATUS_OK
+
 _FIELD = re.compile(r"(\w+)=\s*(\S+)")
 
 
@@ -97,11 +99,11 @@ def follow_engine(
         _read_until_done(process, run, log, errors, on_progress)
         run.exit_code = process.wait()
     run.elapsed_s = time.perf_counter() - started
-    if run.exit_code != 0 or not run.done:
+    if run.exit_code != STATUS_OK or not run.done:
         message = "; ".join(e for e in errors if "error" in e) or (
             f"the engine stopped with status {run.exit_code} without finishing"
             + (f"; see {log_path}" if log_path else ""))
-        raise EngineError(message, run.exit_code or 1)
+        raise EngineError(message, run.exit_code or STATUS_FAILURE)
     return run
 
 

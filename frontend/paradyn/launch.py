@@ -15,6 +15,7 @@ from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
 
+from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE
 from .engine_process import EngineError, EngineRun, Progress, ProgressBar, parse_line
 from .runners import Machine, Runner, create_runner
 from .runners import engine_environment as _environment_for
@@ -40,7 +41,7 @@ def engine_path() -> Path:
         raise EngineError(
             f"the engine executable {path} does not exist; reinstall ParaDyn with `make install` "
             f"(or `pip install .`), or point ${ENGINE_ENV} at a paradyn-engine you built with CMake",
-            exit_code=1,
+            exit_code=STATUS_FAILURE,
         )
     return path
 
@@ -125,6 +126,6 @@ def run_engine(
     (which mpirun forwards to every rank), writes its checkpoint and exits with status 4; the
     EngineError then says how to continue."""
     if ranks < 1 or threads < 1:
-        raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", 2)
+        raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
     return make_runner(runner, ranks).run(deck, results, ranks, threads, on_progress=on_progress,
                                           log_path=log_path, restart=restart)

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import ClassVar
 
+from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE
 from .atomic_write import write_text_atomic
 from .engine_process import EngineError, EngineRun, Progress, follow_engine
 
@@ -101,7 +102,7 @@ class Runner(ABC):
     ) -> EngineRun:
         """Run the engine to completion in the deck's folder; raise EngineError if it fails."""
         if ranks < 1 or threads < 1:
-            raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", 2)
+            raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
         # the engine runs in the deck's folder, so relative paths would point elsewhere
         deck, results = Path(deck).resolve(), Path(results).resolve()
         command = self.command(deck, results, ranks, threads, restart)
@@ -118,7 +119,7 @@ class DirectRunner(Runner):
                 restart: bool = False) -> list[str]:
         if ranks != 1:
             raise EngineError(f"the direct runner starts one rank, not {ranks}; use runner='mpirun' "
-                              f"(or 'srun' inside Slurm) for several ranks", 2)
+                              f"(or 'srun' inside Slurm) for several ranks", STATUS_BAD_INPUT)
         return [str(self.machine.engine), *_engine_arguments(deck, results, restart)]
 
 
@@ -133,7 +134,7 @@ class MpirunRunner(Runner):
                 restart: bool = False) -> list[str]:
         mpirun = shutil.which("mpirun") or shutil.which("mpiexec")
         if mpirun is None:
-            raise EngineError("mpirun is not on PATH; install Open MPI (apt-get install openmpi-bin)", 1)
+            raise EngineError("mpirun is not on PATH; install Open MPI (apt-get install openmpi-bin)", STATUS_FAILURE)
         command = [mpirun, "-n", str(ranks), "-x", "OMP_NUM_THREADS"]
         if self.machine.binds_to_cores(ranks, threads):
             # each rank on `threads` cores of its own; the environment places the threads on them
@@ -199,7 +200,7 @@ class SbatchRunner(SrunRunner):
             restart: bool = False) -> EngineRun:
         raise EngineError("the sbatch runner writes a job script and runs nothing; call "
                           "write_job(...), or paradyn.run(..., runner='sbatch'), then submit the "
-                          "script with sbatch", 2)
+                          "script with sbatch", STATUS_BAD_INPUT)
 
 
 RUNNERS: dict[str, type[Runner]] = {
