@@ -226,10 +226,38 @@ class _Writer:
         self.size_tables()
         self.types(self.n)
         self.tables()
+        self.public += ["enum_name", "enum_code"]
         publics = _pack("public :: ", self.public, "  ")
         lines = [f"!> {h}" for h in header] + [
             "module paradyn_schema", "  use paradyn_kinds, only: wp", "  implicit none", "  private"]
-        return "\n".join(lines + publics + self.body + ["", "end module paradyn_schema", ""])
+        return "\n".join([*lines, *publics, *self.body, _ENUM_LOOKUPS, "", "end module paradyn_schema", ""])
+
+
+# The two lookups between an enum's codes and names, the same for every enum
+_ENUM_LOOKUPS = '''
+contains
+
+  !> The name of code `code` in enum `enum` (deck_enums), '' for an unknown code.
+  pure function enum_name(enum, code) result(name)
+    integer, intent(in) :: enum, code
+    character(len=:), allocatable :: name
+    integer :: k
+    name = ''
+    do k = 1, deck_enums(enum)%n_members
+      if (deck_enums(enum)%codes(k) == code) name = trim(deck_enums(enum)%names(k))
+    end do
+  end function enum_name
+
+  !> The code of name `name` in enum `enum` (deck_enums), -1 for an unknown name.
+  pure integer function enum_code(enum, name) result(code)
+    integer, intent(in) :: enum
+    character(len=*), intent(in) :: name
+    integer :: k
+    code = -1
+    do k = 1, deck_enums(enum)%n_members
+      if (name == trim(deck_enums(enum)%names(k))) code = deck_enums(enum)%codes(k)
+    end do
+  end function enum_code'''
 
 
 def write(schema: Schema, header: list[str]) -> str:

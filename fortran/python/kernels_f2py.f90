@@ -36,7 +36,8 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   use paradyn_kinds, only: wp
   use shell_section, only: shell_properties_t
   use shell_blt, only: blt_internal_forces
-  use material_factory, only: material_from_name, material_name_of_code
+  use material_factory, only: material_from_name
+  use paradyn_schema, only: enum_name, enum_material_model
   implicit none
   integer, intent(in) :: n, nip, model
   integer, intent(in) :: hourglass_form  ! 1 viscous, 2 stiffness
@@ -52,7 +53,7 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   props = shell_properties_t(thickness=thickness, density=density, young=young, poisson=poisson, &
                              hourglass_coefficient=hourglass_coefficient, integration_points=nip, &
                              hourglass_form=hourglass_form)
-  call material_from_name(material_name_of_code(model), young, poisson, yield_stress, tangent, beta, &
+  call material_from_name(enum_name(enum_material_model, model), young, poisson, yield_stress, tangent, beta, &
                           props%material)
   inverted = 0
   call blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, hourglass, force, &

@@ -34,7 +34,8 @@ module contact_interface
   use contact_buckets, only: bucket_grid_build
   use contact_pass, only: contact_pass_t
   use contact_kind, only: contact_kind_holder_t
-  use contact_factory, only: contact_kind_from_name, contact_kind_name_of_code
+  use contact_factory, only: contact_kind_from_name
+  use paradyn_schema, only: enum_name, enum_contact_kind
   implicit none
   private
   public :: contact_t, contact_setup
@@ -114,7 +115,7 @@ contains
     allocate (kinds(deck%n_contacts))
     n_passes = 0
     do k = 1, deck%n_contacts
-      call contact_kind_from_name(contact_kind_name_of_code(deck%contact_kind(k)), kinds(k)%kind)
+      call contact_kind_from_name(enum_name(enum_contact_kind, deck%contact_kind(k)), kinds(k)%kind)
       n_passes = n_passes + kinds(k)%kind%pass_count()
     end do
     allocate (c%passes(n_passes))

@@ -29,7 +29,7 @@ module paradyn_schema
       control_contact_sort_interval, control_checkpoint_interval, control_partition, control_contact_gather, &
       n_control_attributes, max_enum_members, size_symbol, size_entity, size_min_rows, enum_spec_t, &
       condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, deck_conditions, deck_datasets, &
-      control_attributes
+      control_attributes, enum_name, enum_code
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
 
@@ -329,5 +329,29 @@ module paradyn_schema
     attribute_spec_t('contact_gather', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_contact_gather, '', 'must be "near" or "all"', &
         'leave it out for the default') ]
+
+contains
+
+  !> The name of code `code` in enum `enum` (deck_enums), '' for an unknown code.
+  pure function enum_name(enum, code) result(name)
+    integer, intent(in) :: enum, code
+    character(len=:), allocatable :: name
+    integer :: k
+    name = ''
+    do k = 1, deck_enums(enum)%n_members
+      if (deck_enums(enum)%codes(k) == code) name = trim(deck_enums(enum)%names(k))
+    end do
+  end function enum_name
+
+  !> The code of name `name` in enum `enum` (deck_enums), -1 for an unknown name.
+  pure integer function enum_code(enum, name) result(code)
+    integer, intent(in) :: enum
+    character(len=*), intent(in) :: name
+    integer :: k
+    code = -1
+    do k = 1, deck_enums(enum)%n_members
+      if (name == trim(deck_enums(enum)%names(k))) code = deck_enums(enum)%codes(k)
+    end do
+  end function enum_code
 
 end module paradyn_schema

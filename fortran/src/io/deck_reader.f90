@@ -7,7 +7,7 @@ module deck_reader
   use paradyn_schema, only: deck_version, deck_version_attribute, deck_datasets, control_attributes, &
                             deck_conditions, deck_enums, n_deck_datasets, n_control_attributes, n_sizes, &
                             size_entity, size_symbol, size_min_rows, class_int, class_float, class_string, &
-                            condition_none, &
+                            condition_none, enum_code, &
                             status_ok, status_bad_input
   use deck_rules, only: check_field_values, check_attribute_value, selected_rows, integer_text
   use model_deck, only: deck_t, store_deck_field, store_control_value, check_deck_relations
@@ -257,16 +257,5 @@ contains
       end associate
     end do
   end subroutine read_control
-
-  !> Code of an enum member's name, -1 if none has it.
-  integer function enum_code(enum, name) result(code)
-    integer, intent(in) :: enum
-    character(len=*), intent(in) :: name
-    integer :: k
-    code = -1
-    do k = 1, deck_enums(enum)%n_members
-      if (name == trim(deck_enums(enum)%names(k))) code = deck_enums(enum)%codes(k)
-    end do
-  end function enum_code
 
 end module deck_reader

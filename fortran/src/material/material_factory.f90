@@ -6,10 +6,9 @@ module material_factory
   use material_model, only: material_t
   use elastic_material, only: elastic_material_t
   use j2_material, only: j2_material_t
-  use paradyn_schema, only: deck_enums, enum_material_model
   implicit none
   private
-  public :: material_from_name, material_name_of_code
+  public :: material_from_name
 
 contains
 
@@ -27,18 +26,5 @@ contains
                                                tangent_modulus=tangent_modulus, hardening_mixing=hardening_mixing))
     end select
   end subroutine material_from_name
-
-  !> The schema name of a /materials/model code (schema/deck.toml), '' for an unknown code.
-  pure function material_name_of_code(code) result(name)
-    integer, intent(in) :: code
-    character(len=:), allocatable :: name
-    integer :: k
-    name = ''
-    associate (members => deck_enums(enum_material_model))
-      do k = 1, members%n_members
-        if (members%codes(k) == code) name = trim(members%names(k))
-      end do
-    end associate
-  end function material_name_of_code
 
 end module material_factory

@@ -5,7 +5,7 @@ module model_deck
   use paradyn_kinds, only: wp
   use shell_section, only: shell_properties_t
   use paradyn_schema, only: material_j2_plasticity, size_none, deck_datasets, class_float, class_int, &
-                            deck_enums, enum_partition, control_attributes, control_partition, status_ok, &
+                            enum_name, enum_material_model, control_attributes, control_partition, status_ok, &
                             status_bad_input, &
                             dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
                             dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
@@ -24,10 +24,10 @@ module model_deck
                             control_time_step_safety, control_mass_damping, control_progress_interval, &
                             control_contact_sort_interval, control_checkpoint_interval
   use deck_rules, only: integer_text, number_text
-  use material_factory, only: material_from_name, material_name_of_code
+  use material_factory, only: material_from_name
   implicit none
   private
-  public :: deck_t, part_properties, partition_code, partition_label, partition_default
+  public :: deck_t, part_properties, partition_default
   public :: store_deck_field, store_control_value, check_deck_relations
 
   !> The method when /control has no partition attribute (schema default; docs/performance.md).
@@ -66,27 +66,6 @@ module model_deck
 
 contains
 
-  !> Method code of a /control partition name (the schema's enum), or 0 if unknown.
-  pure integer function partition_code(name) result(code)
-    character(len=*), intent(in) :: name
-    integer :: k
-    code = 0
-    do k = 1, deck_enums(enum_partition)%n_members
-      if (name == trim(deck_enums(enum_partition)%names(k))) code = deck_enums(enum_partition)%codes(k)
-    end do
-  end function partition_code
-
-  !> The /control name of a partition method code.
-  pure function partition_label(code) result(name)
-    integer, intent(in) :: code
-    character(len=:), allocatable :: name
-    integer :: k
-    name = 'unknown'
-    do k = 1, deck_enums(enum_partition)%n_members
-      if (deck_enums(enum_partition)%codes(k) == code) name = trim(deck_enums(enum_partition)%names(k))
-    end do
-  end function partition_label
-
   !> The section of a part and its material, made by the material family's factory.
   function part_properties(deck, part) result(props)
     type(deck_t), intent(in) :: deck
@@ -101,7 +80,7 @@ contains
     props%density = deck%density(m)
     props%young = deck%young(m)
     props%poisson = deck%poisson(m)
-    call material_from_name(material_name_of_code(deck%material_model(m)), deck%young(m), deck%poisson(m), &
+    call material_from_name(enum_name(enum_material_model, deck%material_model(m)), deck%young(m), deck%poisson(m), &
                             deck%yield_stress(m), deck%tangent_modulus(m), deck%hardening_mixing(m), props%material)
   end function part_properties
 

@@ -3,9 +3,9 @@
 !> the sizes for the run record and checkpoints, and the effects the deck switches on.
 module run_control
   use paradyn_kinds, only: wp
-  use model_deck, only: deck_t, partition_label
+  use model_deck, only: deck_t
   use domain_decomposition, only: domain_t, local_node
-  use paradyn_schema, only: material_j2_plasticity, contact_gather_all
+  use paradyn_schema, only: material_j2_plasticity, contact_gather_all, enum_name, enum_partition
   implicit none
   private
   public :: run_control_t, run_control_setup, deck_effects
@@ -57,7 +57,7 @@ contains
       rc%tracked_local(k) = j
     end do
     rc%effects = deck_effects(deck)
-    rc%partition = partition_label(deck%partition)
+    rc%partition = enum_name(enum_partition, deck%partition)
     rc%contact_gather_all = deck%contact_gather == contact_gather_all
   end subroutine run_control_setup
 
