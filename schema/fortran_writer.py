@@ -71,6 +71,24 @@ class _Writer:
         for s in self.s.results["exit_status"]:
             self.constant(f"status_{s['name']}", str(s["code"]), comment=s["meaning"][:80])
 
+    def results_names(self) -> None:
+        """The results file's frame fields and the scalar histories (shape (n_records,), time
+        excluded) by name and by id, in schema order: the results writer's datasets."""
+        frames = [f["name"] for f in self.s.results["frame"]]
+        scalars = [h["name"] for h in self.s.results["history"]
+                   if h["name"] != "time" and list(h["shape"]) == ["n_records"]]
+        self.body += ["", "  ! results datasets (schema/results.toml): frame fields, scalar histories by id"]
+        self.constant("n_frame_fields", str(len(frames)))
+        self.constant("n_history_scalars", str(len(scalars)))
+        for k, name in enumerate(scalars, start=1):
+            self.constant(f"history_{name}", str(k))
+        self.public += ["frame_field_names", "history_scalar_names"]
+        n_frame, n_scalar = _char_len(frames), _char_len(scalars)
+        self.body += _pack(f"  character(len={n_frame}), parameter :: frame_field_names(n_frame_fields) = "
+                           f"[character(len={n_frame}) :: ", [text(n) for n in frames], "", "]")
+        self.body += _pack(f"  character(len={n_scalar}), parameter :: history_scalar_names(n_history_scalars) = "
+                           f"[character(len={n_scalar}) :: ", [text(n) for n in scalars], "", "]")
+
     def ids(self) -> None:
         s = self.s
         self.body += ["", "  ! classes, row symbols, conditions, enums, datasets and /control attributes by id"]
@@ -222,6 +240,7 @@ class _Writer:
         self.constant("deck_version_attribute", text(s.deck["version_attribute"]), "character(len=*)")
         self.enums()
         self.statuses()
+        self.results_names()
         self.ids()
         self.size_tables()
         self.types(self.n)

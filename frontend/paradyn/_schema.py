@@ -465,6 +465,7 @@ HISTORY_NAMES = (
     'time', 'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work',
     'contact_penetration', 'tracked_displacement', 'tracked_velocity',
 )
+ENERGY_NAMES = ('kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work')
 RUN_ATTRIBUTES = (
     'cycles', 'dt_s', 'dt_stable_s', 'wall_s', 'ranks', 'threads', 'elements', 'nodes', 'element_cycles_per_s',
     'peak_memory_per_rank_mb', 'effects', 'load_imbalance', 'phase_elements_s', 'phase_contact_s',

@@ -14,23 +14,13 @@ from typing import Any
 import h5py
 import numpy as np
 
+from ._schema import ENERGY_NAMES, FRAME_FIELDS
+
 SUPPORTED_RESULTS_VERSIONS = (1,)
 
-ENERGY_NAMES = (
-    "kinetic_energy",
-    "internal_energy",
-    "hourglass_energy",
-    "contact_energy",
-    "external_work",
-)
 TRACKED_COMPONENTS = ("dx", "dy", "dz", "vx", "vy", "vz")
-FRAME_DATASETS = {
-    "displacement": "/frames/displacement",
-    "velocity": "/frames/velocity",
-    "membrane_stress": "/frames/element_membrane_stress",
-    "von_mises": "/frames/element_von_mises",
-    "plastic_strain": "/frames/element_plastic_strain",
-}
+# the frame fields of schema/results.toml, under the names Results gives them (element_ dropped)
+FRAME_DATASETS = {name.removeprefix("element_"): f"/frames/{name}" for name in FRAME_FIELDS if name != "time"}
 
 
 @dataclass(frozen=True)

@@ -10,13 +10,16 @@ module paradyn_schema
       hourglass_viscous, hourglass_stiffness, dof_free, dof_fixed, contact_passes_alternate, &
       contact_passes_both, contact_kind_node_to_segment, contact_gather_near, contact_gather_all, &
       partition_blocks, partition_rcb, max_integration_points, status_ok, status_failure, status_bad_input, &
-      status_numerical, status_stopped, class_int, class_float, class_string, size_none, size_n_nodes, &
-      size_n_elements, size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, &
-      n_sizes, condition_none, condition_loads_group, condition_contact_group, condition_j2_plasticity, &
-      n_conditions, enum_none, enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
-      enum_contact_kind, enum_contact_gather, enum_partition, n_enums, dataset_nodes_coordinates, &
-      dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
-      dataset_elements_connectivity, dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
+      status_numerical, status_stopped, n_frame_fields, n_history_scalars, history_kinetic_energy, &
+      history_internal_energy, history_hourglass_energy, history_contact_energy, history_external_work, &
+      history_contact_penetration, frame_field_names, history_scalar_names, class_int, class_float, &
+      class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, size_n_loads, &
+      size_n_tracked, size_n_contacts, n_sizes, condition_none, condition_loads_group, &
+      condition_contact_group, condition_j2_plasticity, n_conditions, enum_none, enum_material_model, &
+      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_contact_gather, &
+      enum_partition, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
+      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_elements_connectivity, &
+      dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
       dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
       dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
       dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
@@ -55,6 +58,21 @@ module paradyn_schema
   integer, parameter :: status_bad_input = 2   !< bad input: a bad deck or command line, or a checkpoint of another deck; no resul
   integer, parameter :: status_numerical = 3   !< a numerical failure (NaN, inverted element); the last good state is saved
   integer, parameter :: status_stopped = 4   !< a stop signal (SIGTERM, SIGINT, SIGUSR1) ended the run after writing its checkpo
+
+  ! results datasets (schema/results.toml): frame fields, scalar histories by id
+  integer, parameter :: n_frame_fields = 6
+  integer, parameter :: n_history_scalars = 6
+  integer, parameter :: history_kinetic_energy = 1
+  integer, parameter :: history_internal_energy = 2
+  integer, parameter :: history_hourglass_energy = 3
+  integer, parameter :: history_contact_energy = 4
+  integer, parameter :: history_external_work = 5
+  integer, parameter :: history_contact_penetration = 6
+  character(len=23), parameter :: frame_field_names(n_frame_fields) = [character(len=23) :: 'time', &
+    'displacement', 'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain']
+  character(len=19), parameter :: history_scalar_names(n_history_scalars) = [character(len=19) :: &
+    'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work', &
+    'contact_penetration']
 
   ! classes, row symbols, conditions, enums, datasets and /control attributes by id
   integer, parameter :: class_int = 1

@@ -9,7 +9,8 @@ module results_writer
   use hdf5
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Bcast, MPI_LOGICAL, MPI_Wtime
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: status_ok, status_failure
+  use paradyn_schema, only: status_ok, status_failure, n_history_scalars, history_scalar_names, &
+                            frame_field_names
   use parallel_hdf5, only: row_runs_t, row_runs, phdf5_open, phdf5_close, create_dataset, create_growing, &
                            write_rows, truncate_growing, write_int_attribute, write_real_attribute
   use run_names, only: write_string_attribute
@@ -48,14 +49,6 @@ module results_writer
     real(wp) :: peak_memory_mb = 0   !< the largest peak resident memory of any rank (MiB)
     real(wp) :: load_imbalance = 1   !< busiest rank's element + contact time over the mean
   end type run_record_t
-
-  integer, parameter :: history_names_count = 6
-  character(len=*), parameter :: history_names(history_names_count) = [character(len=20) :: &
-    'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work', &
-    'contact_penetration']
-
-  character(len=*), parameter :: frame_datasets(6) = [character(len=24) :: 'time', 'displacement', &
-    'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain']
 
 contains
 
@@ -106,8 +99,8 @@ contains
     call h5gclose_f(group, err)
     call h5gcreate_f(rf%file, 'history', group, err)
     call create_growing(group, 'time', [integer(hsize_t) ::])
-    do k = 1, history_names_count
-      call create_growing(group, trim(history_names(k)), [integer(hsize_t) ::])
+    do k = 1, n_history_scalars
+      call create_growing(group, trim(history_scalar_names(k)), [integer(hsize_t) ::])
     end do
     call create_growing(group, 'tracked_displacement', [3_hsize_t, int(max(n_tracked, 0), hsize_t)])
     call create_growing(group, 'tracked_velocity', [3_hsize_t, int(max(n_tracked, 0), hsize_t)])
@@ -140,12 +133,12 @@ contains
     call write_int_attribute(rf%file, 'complete', 0)
     call h5lexists_f(rf%file, 'run', exists, err)
     if (exists) call h5ldelete_f(rf%file, 'run', err)
-    do k = 1, size(frame_datasets)
-      call truncate_growing(rf%file, '/frames/'//trim(frame_datasets(k)), frames)
+    do k = 1, size(frame_field_names)
+      call truncate_growing(rf%file, '/frames/'//trim(frame_field_names(k)), frames)
     end do
     call truncate_growing(rf%file, '/history/time', records)
-    do k = 1, history_names_count
-      call truncate_growing(rf%file, '/history/'//trim(history_names(k)), records)
+    do k = 1, n_history_scalars
+      call truncate_growing(rf%file, '/history/'//trim(history_scalar_names(k)), records)
     end do
     call truncate_growing(rf%file, '/history/tracked_displacement', records)
     call truncate_growing(rf%file, '/history/tracked_velocity', records)
@@ -184,10 +177,10 @@ contains
   !> penetration. Collective; the values of rank 0 are written.
   subroutine results_write_history(rf, time, values, tracked_displacement, tracked_velocity)
     type(results_file_t), intent(inout) :: rf
-    real(wp), intent(in) :: time, values(history_names_count)
+    real(wp), intent(in) :: time, values(n_history_scalars)
     real(wp), intent(in) :: tracked_displacement(:, :), tracked_velocity(:, :)
     if (.not. allocated(rf%pending_values)) then
-      allocate (rf%pending_values(1 + history_names_count, history_batch))
+      allocate (rf%pending_values(1 + n_history_scalars, history_batch))
       allocate (rf%pending_tracked(6, rf%n_tracked, history_batch))
     end if
     rf%records = rf%records + 1
@@ -229,8 +222,8 @@ contains
       first = rf%records - n + 1
       nt = int(rf%n_tracked, hsize_t)
       call append_root(rf, '/history/time', rf%pending_values(1, 1:n), [integer(hsize_t) ::], first, n)
-      do k = 1, history_names_count
-        call append_root(rf, '/history/'//trim(history_names(k)), rf%pending_values(1 + k, 1:n), &
+      do k = 1, n_history_scalars
+        call append_root(rf, '/history/'//trim(history_scalar_names(k)), rf%pending_values(1 + k, 1:n), &
                          [integer(hsize_t) ::], first, n)
       end do
       call write_rows(rf%file, rf%transfer, '/history/tracked_displacement', [3_hsize_t, nt], rf%tracked, &

@@ -3,7 +3,9 @@
 module solver_output
   use mpi_f08
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: status_ok, status_numerical
+  use paradyn_schema, only: status_ok, status_numerical, n_history_scalars, history_kinetic_energy, &
+                            history_internal_energy, history_hourglass_energy, history_contact_energy, &
+                            history_external_work, history_contact_penetration
   use element_groups, only: group_size
   use shell_measures, only: blt_element_results
   use halo_exchange, only: sum_to_root
@@ -24,18 +26,21 @@ contains
     type(results_file_t), intent(inout) :: rf
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
-    real(wp) :: sums(8 + 6 * s%control%n_tracked)
+    ! the scalar histories by their schema ids, two checks, then the tracked nodes' values
+    integer, parameter :: inverted_at = n_history_scalars + 1, nan_at = n_history_scalars + 2
+    real(wp) :: sums(nan_at + 6 * s%control%n_tracked)
     integer :: bad, bad_total, k, j
     associate (ns => s%nodes)
-      sums(1) = kinetic_energy(ns%n, ns%mass, ns%inertia, ns%v_old, ns%w_old, ns%v, ns%w, ns%weight)
-      sums(2) = sum(s%elements%e_internal)
-      sums(3) = sum(s%elements%e_hourglass)
+      sums(history_kinetic_energy) = kinetic_energy(ns%n, ns%mass, ns%inertia, ns%v_old, ns%w_old, ns%v, ns%w, &
+                                                    ns%weight)
+      sums(history_internal_energy) = sum(s%elements%e_internal)
+      sums(history_hourglass_energy) = sum(s%elements%e_hourglass)
       ! every rank computes the same contact, so rank 0 alone reports it
-      sums(4) = merge(s%contact%c%energy, 0.0_wp, s%rank == 0)
-      sums(5) = s%external_work - s%damping_work
-      sums(6) = merge(s%contact%c%max_penetration, 0.0_wp, s%rank == 0)
-      sums(7) = real(s%elements%inverted, wp)
-      sums(8) = merge(1.0_wp, 0.0_wp, any(ns%v /= ns%v) .or. any(ns%f_int /= ns%f_int))
+      sums(history_contact_energy) = merge(s%contact%c%energy, 0.0_wp, s%rank == 0)
+      sums(history_external_work) = s%external_work - s%damping_work
+      sums(history_contact_penetration) = merge(s%contact%c%max_penetration, 0.0_wp, s%rank == 0)
+      sums(inverted_at) = real(s%elements%inverted, wp)
+      sums(nan_at) = merge(1.0_wp, 0.0_wp, any(ns%v /= ns%v) .or. any(ns%f_int /= ns%f_int))
       s%tracked_out = 0.0_wp
       do k = 1, s%control%n_tracked
         j = s%control%tracked_local(k)
@@ -44,16 +49,17 @@ contains
         s%tracked_out(4:6, k) = 0.5_wp * (ns%v(:, j) + ns%v_old(:, j))
       end do
     end associate
-    sums(9:) = reshape(s%tracked_out, [6 * s%control%n_tracked])
+    sums(nan_at + 1:) = reshape(s%tracked_out, [6 * s%control%n_tracked])
     call sum_to_root(s%halo, sums)
-    s%tracked_out = reshape(sums(9:), [6, s%control%n_tracked])
-    call results_write_history(rf, s%clock%time, sums(1:6), s%tracked_out(1:3, :), s%tracked_out(4:6, :))
+    s%tracked_out = reshape(sums(nan_at + 1:), [6, s%control%n_tracked])
+    call results_write_history(rf, s%clock%time, sums(1:n_history_scalars), s%tracked_out(1:3, :), &
+                               s%tracked_out(4:6, :))
     status = status_ok
     message = ''
     bad = 0
     if (s%rank == 0) then
-      if (sums(7) > 0.0_wp) bad = 1
-      if (sums(8) > 0.0_wp .or. sums(1) /= sums(1)) bad = 2
+      if (sums(inverted_at) > 0.0_wp) bad = 1
+      if (sums(nan_at) > 0.0_wp .or. sums(history_kinetic_energy) /= sums(history_kinetic_energy)) bad = 2
     end if
     call MPI_Allreduce(bad, bad_total, 1, MPI_INTEGER, MPI_MAX, s%halo%comm)
     if (bad_total == 1) then
