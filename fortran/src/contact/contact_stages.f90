@@ -139,7 +139,7 @@ contains
 
   !> The candidates of the step's passes, pass after pass and in ascending slave order within a
   !> pass, and this rank's block of them. With one rank they are own_pairs; with more, the
-  !> caller has gathered every rank's pairs in all_pairs(:, 1:n_all) (halo_exchange's
+  !> caller has gathered every rank's pairs in all_pairs(:, 1:n_all) (contact_exchange's
   !> share_contact_candidates). The pairs name a slave by its place in near_slaves, which is
   !> ascending, so ordering costs O(n_near) per pass, not O(n_slaves).
   subroutine contact_candidates(c, cycle, clock)
