@@ -36,7 +36,6 @@ module contact_parallel
     type(record_share_t) :: records
     type(candidate_share_t) :: candidates
     type(MPI_Comm) :: comm
-    integer :: n_ranks = 1
   end type parallel_contact_t
 
 contains
@@ -52,7 +51,6 @@ contains
     real(wp), intent(in) :: mass(:), v(:, :), dt
     logical, intent(in) :: gather_all
     pc%comm = comm
-    pc%n_ranks = dom%n_ranks
     call contact_setup(deck, pc%c)
     call node_set_setup(dom, comm, pc%c%global_node, pc%nodes)
     ! the lumped masses of the contact nodes, for the penalty's stability cap
@@ -78,12 +76,12 @@ contains
     comm_before = timers%communication
     call gather_positions(pc, x, v, cycle, timers)
     call contact_global_search(pc%c, cycle, wall_clock)
-    if (pc%n_ranks > 1) then
+    if (pc%c%n_ranks > 1) then
       call timed_share_candidates(pc, timers)
     end if
     call contact_candidates(pc%c, cycle, wall_clock)
     call contact_local_search(pc%c, wall_clock)
-    if (pc%n_ranks > 1) then
+    if (pc%c%n_ranks > 1) then
       call timed_share_records(pc, timers)
     end if
     call contact_sum(pc%c, wall_clock)

@@ -127,7 +127,7 @@ contains
   subroutine start_loop(s)
     type(solver_t), intent(inout) :: s
     call MPI_Barrier(s%halo%comm)
-    s%wall_start = MPI_Wtime()
+    s%wall_start = wall_clock()
     s%last_progress = s%wall_start
     s%clock%first_cycle = s%clock%cycles
     if (s%clock%cycles == 0) call forces_at_current_state(s, 0.0_wp)

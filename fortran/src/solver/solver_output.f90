@@ -12,6 +12,7 @@ module solver_output
   use time_integration, only: kinetic_energy
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
   use solver_state, only: solver_t
+  use phase_timers, only: wall_clock
   implicit none
   private
   public :: write_record, write_frame, write_progress, run_record, write_phase_line
@@ -107,8 +108,8 @@ contains
   subroutine write_progress(s)
     type(solver_t), intent(inout) :: s
     if (s%rank /= 0) return
-    if (MPI_Wtime() - s%last_progress < s%control%progress_interval) return
-    s%last_progress = MPI_Wtime()
+    if (wall_clock() - s%last_progress < s%control%progress_interval) return
+    s%last_progress = wall_clock()
     write (*, '(a,i0,a,es13.6,a,es11.4,a,es11.4,a,f0.3)') 'PARADYN-PROGRESS cycle=', s%clock%cycles, &
       ' time=', s%clock%time, ' dt=', s%clock%dt, ' end_time=', s%clock%end_time, ' wall_s=', &
       s%last_progress - s%wall_start
@@ -137,7 +138,7 @@ contains
     run%nodes = s%control%n_nodes
     run%dt_s = s%clock%dt
     run%dt_stable_s = s%clock%dt_stable
-    run%wall_s = MPI_Wtime() - s%wall_start
+    run%wall_s = wall_clock() - s%wall_start
     run%element_cycles_per_s = real(s%control%n_elements, wp) * (s%clock%cycles - s%clock%first_cycle) &
                                / max(run%wall_s, 1.0e-12_wp)
     run%load_imbalance = load_imbalance(s%halo%comm, s%timers%elements + s%timers%contact, s%n_ranks)
