@@ -103,7 +103,7 @@ def effects(schema: Schema) -> str:
              "|---|---|---|---|---|---|"]
     for e in schema.effects:
         switch = f"`{e['switch']}`" if e.get("switch") else "-"
-        lines.append(_row([f"`{e['name']}`", e["stage"], e["declared_by"], switch, e.get("timed_with", "itself"),
+        lines.append(_row([f"`{e['name']}`", e["stage"], e["declared_by"], switch, " or ".join(e["timed_with"]) or "itself",
                            e["meaning"]]))
     return "\n".join(lines) + "\n"
 

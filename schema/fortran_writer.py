@@ -123,12 +123,15 @@ class _Writer:
         self.constant("n_effects", str(len(effects)))
         for k, name in enumerate(names, start=1):
             self.constant(f"effect_{name}", str(k))
-        self.public += ["effect_names", "effect_timed_with", "effect_switch"]
+        self.public += ["effect_names", "effect_timed_with", "effect_also_timed_with", "effect_switch"]
         n_name = _char_len(names)
         self.body += _pack(f"  character(len={n_name}), parameter :: effect_names(n_effects) = "
                            f"[character(len={n_name}) :: ", [text(n) for n in names], "", "]")
+        owners = [e["timed_with"] + [""] * (2 - len(e["timed_with"])) for e in effects]
         self.body += _pack("  integer, parameter :: effect_timed_with(n_effects) = [",
-                           [f"effect_{e['timed_with']}" if e.get("timed_with") else "0" for e in effects], "", "]")
+                           [f"effect_{o[0]}" if o[0] else "0" for o in owners], "", "]")
+        self.body += _pack("  integer, parameter :: effect_also_timed_with(n_effects) = [",
+                           [f"effect_{o[1]}" if o[1] else "0" for o in owners], "", "]")
         self.body += _pack("  integer, parameter :: effect_switch(n_effects) = [",
                            [f"control_effect_{e['switch']}" if e.get("switch") else "0" for e in effects], "", "]")
 

@@ -232,8 +232,8 @@ def write(schema: Schema, header: str) -> str:
             "EFFECT_SWITCHES: dict[str, str] = {",
             *[f"    {e['switch']!r}: {e['name']!r}," for e in schema.effects if e.get("switch")],
             "}",
-            "EFFECT_TIMED_WITH: dict[str, str] = {",
-            *[f"    {e['name']!r}: {e['timed_with']!r}," for e in schema.effects if e.get("timed_with")],
+            "EFFECT_TIMED_WITH: dict[str, tuple[str, ...]] = {",
+            *[f"    {e['name']!r}: {tuple(e['timed_with'])!r}," for e in schema.effects if e["timed_with"]],
             "}", "",
             "PROGRESS_KINDS: dict[str, tuple[str, ...]] = {"]
     out += [f"    {p['kind']!r}: {tuple(p['keys'])!r}," for p in results["progress"]]

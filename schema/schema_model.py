@@ -201,9 +201,12 @@ def _effects(root: Path) -> list[dict[str, Any]]:
             raise SchemaError(f"effect {e.get('name')}: unknown fields {sorted(unknown)} or a field missing")
         if e["stage"] not in EFFECT_STAGES:
             raise SchemaError(f"effect {e['name']}: stage must be one of {EFFECT_STAGES}")
-        owner = e.get("timed_with")
-        if owner and (owner not in names or next(o for o in effects if o["name"] == owner).get("timed_with")):
-            raise SchemaError(f"effect {e['name']}: timed_with must name an earlier effect timed by itself")
+        owners = e.get("timed_with", [])
+        e["timed_with"] = owners = [owners] if isinstance(owners, str) else list(owners)
+        if len(owners) > 2 or any(o not in names or next(x for x in effects if x["name"] == o)["timed_with"]
+                                  for o in owners):
+            raise SchemaError(f"effect {e['name']}: timed_with must name one or two earlier effects timed by "
+                              "themselves")
         names.append(e["name"])
     return effects
 

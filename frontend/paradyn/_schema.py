@@ -559,11 +559,11 @@ EFFECT_SWITCHES: dict[str, str] = {
     'contact': 'contact',
     'friction': 'friction',
 }
-EFFECT_TIMED_WITH: dict[str, str] = {
-    'mass_damping': 'time_integration',
-    'fixed_boundaries': 'time_integration',
-    'hourglass': 'elastic_shells',
-    'friction': 'contact',
+EFFECT_TIMED_WITH: dict[str, tuple[str, ...]] = {
+    'mass_damping': ('time_integration',),
+    'fixed_boundaries': ('time_integration',),
+    'hourglass': ('elastic_shells', 'plastic_shells'),
+    'friction': ('contact',),
 }
 
 PROGRESS_KINDS: dict[str, tuple[str, ...]] = {

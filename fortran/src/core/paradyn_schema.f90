@@ -36,9 +36,9 @@ module paradyn_schema
       max_enum_members, n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
       effect_time_integration, effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, &
       effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, effect_friction, &
-      effect_names, effect_timed_with, effect_switch, size_symbol, size_entity, size_min_rows, enum_spec_t, &
-      condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, deck_conditions, deck_datasets, &
-      control_attributes, enum_name, enum_code
+      effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
+      size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
+      deck_conditions, deck_datasets, control_attributes, enum_name, enum_code
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
 
@@ -185,6 +185,8 @@ module paradyn_schema
     'elastic_shells', 'plastic_shells', 'hourglass', 'contact', 'friction']
   integer, parameter :: effect_timed_with(n_effects) = [0, 0, 0, 0, 0, effect_time_integration, &
     effect_time_integration, 0, 0, 0, effect_elastic_shells, 0, effect_contact]
+  integer, parameter :: effect_also_timed_with(n_effects) = [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, &
+    effect_plastic_shells, 0, 0]
   integer, parameter :: effect_switch(n_effects) = [control_effect_point_loads, control_effect_gravity, &
     control_effect_pressure, control_effect_rigid_wall, 0, control_effect_mass_damping, 0, &
     control_effect_prescribed_velocity, 0, control_effect_plasticity, control_effect_hourglass, &

@@ -16,7 +16,7 @@ module results_writer
                            write_long_attribute
   use run_names, only: write_string_attribute
   use effect_table, only: effect_table_t, effect_list
-  use paradyn_schema, only: n_effects, effect_names, effect_timed_with
+  use paradyn_schema, only: n_effects, effect_names, effect_timed_with, effect_also_timed_with
   implicit none
   private
   public :: results_file_t, results_create, results_reopen, results_write_frame, results_write_history
@@ -296,16 +296,28 @@ contains
       call write_long_attribute(row, 'active_cycles', table%active(k))
       call write_long_attribute(row, 'skipped_cycles', table%skipped(k))
       call write_real_attribute(row, 'wall_s', table%seconds(k))
-      if (effect_timed_with(k) > 0) then
-        call write_string_attribute(row, 'timed_with', trim(effect_names(effect_timed_with(k))))
-      else
-        call write_string_attribute(row, 'timed_with', '')
-      end if
+      call write_string_attribute(row, 'timed_with', timed_with(table, k))
       call write_long_attribute(row, 'order', int(k, i8))
       call h5gclose_f(row, err)
     end do
     call h5gclose_f(effects, err)
   end subroutine write_effect_table
+
+  !> The declared effects whose seconds include effect k's, joined by "+" ("" where timed alone).
+  pure function timed_with(table, k) result(owners)
+    type(effect_table_t), intent(in) :: table
+    integer, intent(in) :: k
+    character(len=:), allocatable :: owners
+    integer :: owner(2), j
+    owners = ''
+    owner = [effect_timed_with(k), effect_also_timed_with(k)]
+    do j = 1, 2
+      if (owner(j) == 0) cycle
+      if (.not. table%declared(owner(j))) cycle
+      if (len(owners) > 0) owners = owners//'+'
+      owners = owners//trim(effect_names(owner(j)))
+    end do
+  end function timed_with
 
   ! ---------------------------------------------------------------- plumbing
 
