@@ -103,8 +103,8 @@ def effects(schema: Schema) -> str:
              "|---|---|---|---|---|---|"]
     for e in schema.effects:
         switch = f"`{e['switch']}`" if e.get("switch") else "-"
-        lines.append(_row([f"`{e['name']}`", e["stage"], e["declared_by"], switch, " or ".join(e["timed_with"]) or "itself",
-                           e["meaning"]]))
+        timed = " or ".join(e["timed_with"]) or "itself"
+        lines.append(_row([f"`{e['name']}`", e["stage"], e["declared_by"], switch, timed, e["meaning"]]))
     return "\n".join(lines) + "\n"
 
 
