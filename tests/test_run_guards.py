@@ -91,3 +91,18 @@ def test_strong_but_sound_damping_runs(tmp_path: Path) -> None:
                            tmp_path / "deck.h5")
     done = _engine(path, ranks=1)
     assert done.returncode == 0, done.stderr
+
+
+def test_a_row_count_mismatch_names_the_dataset_that_sets_the_count(tmp_path: Path) -> None:
+    """A /parts/thickness with two rows for one part used to be blamed on /parts/material alone;
+    both sides now name the dataset that set the number of parts."""
+    path = deck.write_deck(_strip(), tmp_path / "deck.h5")
+    with h5py.File(path, "r+") as f:
+        del f["/parts/thickness"]
+        f["/parts/thickness"] = np.array([0.001, 0.002])
+    done = _engine(path, ranks=1)
+    assert done.returncode == STATUS_BAD_INPUT
+    words = "/parts/material has 1 rows but /parts/thickness, which sets the number of parts, has 2"
+    assert words in done.stderr
+    with pytest.raises(deck.DeckError, match=words):
+        deck.validate_deck(path)

@@ -65,8 +65,13 @@ class _Checker:
         actual = self.array(spec.python).shape
         expected = tuple(sizes[d] if isinstance(d, str) else d for d in spec.shape)
         if actual != expected:
+            entity = SIZES[spec.shape[0]].entity
+            setter = next(d for d in DATASETS if d.shape[0] == spec.shape[0] and d.defines_rows)
+            if actual[1:] == expected[1:] and setter.path != spec.path:
+                self.fail(f"{spec.path} has {actual[0]} rows but {setter.path}, which sets the number of {entity}s, "
+                          f"has {expected[0]}; give both one row per {entity} (expected {_symbolic(spec.shape)})")
             self.fail(f"{spec.path} has shape {actual}, expected {_symbolic(spec.shape)} = {expected}; "
-                      f"every array must have one row per {SIZES[spec.shape[0]].entity}")
+                      f"every array must have one row per {entity}")
 
     def entries(self, spec: DatasetSpec, bad: np.ndarray, rule: str, fix: str) -> None:
         """Fail on the first entry where ``bad`` is true, naming index, value and count."""
