@@ -44,9 +44,10 @@ def _vector(v: Sequence[float] | float) -> str:
 
 def _scene(folder: Path, *, origin: Sequence[float], velocity: Sequence[float], end_time: float,
            walls: Sequence[dict[str, Sequence[float] | float]] = (), u_axis: Sequence[float] = (1.0, 0.0, 0.0),
-           v_axis: Sequence[float] = (0.0, 1.0, 0.0), load: float = 0.0) -> tuple[Path, np.ndarray]:
+           v_axis: Sequence[float] = (0.0, 1.0, 0.0), load: float = 0.0, extra: str = "") -> tuple[Path, np.ndarray]:
     """The plate scene with the given walls (keys point, normal, velocity); every node is tracked,
-    in mesh order. ``load`` (N) pushes the first corner along the plate's normal, to bend it.
+    in mesh order. ``load`` (N) pushes the first corner along the plate's normal, to bend it;
+    ``extra`` is TOML text appended at the end (an [effects] table).
     Returns the scene file and the plate's node coordinates."""
     mesh = geometry.plate((SIZE, SIZE), (ELEMENTS, ELEMENTS), origin, u_axis, v_axis)
     lines = [
@@ -68,7 +69,7 @@ def _scene(folder: Path, *, origin: Sequence[float], velocity: Sequence[float], 
         lines += ["[[track]]", f'name = "node{k}"', 'part = "plate"', f"point = {_vector(point)}"]
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / "scene.toml"
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    path.write_text("\n".join(lines) + "\n" + extra, encoding="utf-8")
     return path, mesh.coordinates
 
 
@@ -183,6 +184,25 @@ def test_a_wall_nothing_reaches_changes_no_bit(tmp_path: Path) -> None:
     for name, values in b.history.items():
         assert np.array_equal(a.history[name], values), name
     assert np.array_equal(a.displacement[...], b.displacement[...])
+    # the wall ran every cycle all the same (it is never idle), and only the run with it lists it
+    row = {r.name: r for r in a.effect_table}["rigid_wall"]
+    assert (row.state, row.active_cycles, row.skipped_cycles) == ("on", int(a.run["cycles"]), 0)
+    assert "rigid_wall" not in {r.name for r in b.effect_table}
+
+
+def test_switching_the_wall_off_gives_the_run_without_it(tmp_path: Path) -> None:
+    """[effects] rigid_wall = false (docs/scene.md): the plate flies through the plane z = 0 as
+    if the scene had no [[rigid_wall]], bitwise, and the effect table says the wall was off."""
+    common = {"origin": (0.0, 0.0, 0.001), "velocity": (0.0, 0.0, -5.0), "end_time": 4e-4}
+    off, _ = _scene(tmp_path / "off", walls=[{"point": (0.0, 0.0, 0.0), "normal": (0.0, 0.0, 1.0)}],
+                    extra="[effects]\nrigid_wall = false\n", **common)
+    without, _ = _scene(tmp_path / "none", **common)
+    a, b = _run(off), _run(without)
+    assert a.history["tracked_displacement"][-1, :, 2].max() < -0.001   # through the plane
+    for name, values in b.history.items():
+        assert np.array_equal(a.history[name], values), name
+    row = {r.name: r for r in a.effect_table}["rigid_wall"]
+    assert (row.state, row.active_cycles) == ("off", 0)
 
 
 # ----------------------------------------------------------------------------------------------

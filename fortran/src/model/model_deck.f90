@@ -24,7 +24,8 @@ module model_deck
                             contact_gather_near, control_contact_gather, control_end_time, &
                             control_output_interval, control_history_interval, control_time_step, &
                             control_time_step_safety, control_mass_damping, control_progress_interval, &
-                            control_contact_sort_interval, control_checkpoint_interval
+                            control_contact_sort_interval, control_checkpoint_interval, n_effects, effect_switch, &
+                            switch_off
   use deck_rules, only: integer_text, number_text
   use material_factory, only: material_from_name
   implicit none
@@ -68,6 +69,7 @@ module model_deck
     real(wp) :: checkpoint_interval = 0.0_wp          !< simulated seconds between checkpoints, 0 = none
     integer :: partition = partition_default          !< partition_blocks or partition_rcb; 0 = unknown name
     integer :: contact_gather = contact_gather_near   !< which contact nodes are gathered between sorts
+    logical :: effect_on(n_effects) = .true.          !< false: the scene switched the effect off (/control effect_*)
   end type deck_t
 
 contains
@@ -210,6 +212,8 @@ contains
       d%partition = nint(value)
     case (control_contact_gather)
       d%contact_gather = nint(value)
+    case default   ! an effect's switch (schema/effects.toml)
+      where (effect_switch == id) d%effect_on = nint(value) /= switch_off
     end select
   end subroutine store_control_value
 
