@@ -123,6 +123,7 @@ SIZES: dict[str, SizeSpec] = {
     'n_loads': SizeSpec('n_loads', 'load', 0),
     'n_tracked': SizeSpec('n_tracked', 'tracked node', 0),
     'n_contacts': SizeSpec('n_contacts', 'contact pair', 0),
+    'n_rigid_walls': SizeSpec('n_rigid_walls', 'rigid wall', 0),
 }
 
 CONDITIONS: dict[str, ConditionSpec] = {
@@ -132,6 +133,10 @@ CONDITIONS: dict[str, ConditionSpec] = {
     'contact_group': ConditionSpec(
         name='contact_group', group='/contact', dataset=None, code=None, meaning='the group /contact exists',
         rows='',
+    ),
+    'rigid_walls_group': ConditionSpec(
+        name='rigid_walls_group', group='/rigid_walls', dataset=None, code=None,
+        meaning='the group /rigid_walls exists', rows='',
     ),
     'j2_plasticity': ConditionSpec(
         name='j2_plasticity', group=None, dataset='/materials/model', code=2,
@@ -160,6 +165,13 @@ RELATIONS: dict[str, RelationSpec] = {
     ),
     'contact_parts_differ': RelationSpec(
         'contact_parts_differ', '/contact/pairs', 'a contact pair names two different parts',
+    ),
+    'rigid_wall_normal_nonzero': RelationSpec(
+        'rigid_wall_normal_nonzero', '/rigid_walls/normal', 'the normal of a rigid wall is not the zero vector',
+    ),
+    'rigid_wall_nodes_in_front': RelationSpec(
+        'rigid_wall_nodes_in_front', '/rigid_walls/point',
+        'at the start every node lies on the side of every rigid wall its normal points to (or on it)',
     ),
 }
 
@@ -328,6 +340,30 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'contact_kind', 'must be 1 (1 = node_to_segment)', None, False, '-',
         "the kind of contact (a member of the engine's contact family; docs/architecture.md)", '[[contact]] kind',
         'use 1 (node_to_segment)',
+    ),
+    DatasetSpec(
+        '/rigid_walls/point', 'rigid_wall_point', 'float', ('n_rigid_walls', 3), False, 'rigid_walls_group', None,
+        None, None, None, '', None, '', None, True, 'm',
+        "a point of the wall's plane at time 0; the plane moves with /rigid_walls/velocity",
+        '[[rigid_wall]] point', "give a point of the wall's plane in metres",
+    ),
+    DatasetSpec(
+        '/rigid_walls/normal', 'rigid_wall_normal', 'float', ('n_rigid_walls', 3), False, 'rigid_walls_group',
+        None, None, None, None, '', None, '', None, False, '-',
+        "the wall's normal, pointing to the side where the nodes stay (any length but zero)",
+        '[[rigid_wall]] normal', 'give a nonzero normal pointing from the wall towards the model',
+    ),
+    DatasetSpec(
+        '/rigid_walls/velocity', 'rigid_wall_velocity', 'float', ('n_rigid_walls', 3), False, None, None, 0.0,
+        None, None, '', None, '', None, False, 'm/s',
+        "constant velocity of the wall (0 = stationary; LS-DYNA's *RIGIDWALL_PLANAR_MOVING)",
+        '[[rigid_wall]] velocity', "give the wall's velocity in m/s (0 for a stationary wall)",
+    ),
+    DatasetSpec(
+        '/rigid_walls/penalty_scale', 'rigid_wall_penalty_scale', 'float', ('n_rigid_walls',), False, None, None,
+        0.1, Bound(0.0, False), Bound(0.5, True), 'must be in (0, 0.5]', None, '', None, False, '-',
+        'scale of the penalty stiffness k = scale m / dt^2 of a node of mass m behind the wall (docs/theory.md)',
+        '[[rigid_wall]] penalty_scale', 'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)',
     ),
 )
 
@@ -501,6 +537,10 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/contact/friction_decay'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/contact/passes'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/contact/kind'): ('class', 'shape', 'rows', 'enum'),
+    ('dataset', '/rigid_walls/point'): ('required_when', 'class', 'shape', 'finite'),
+    ('dataset', '/rigid_walls/normal'): ('required_when', 'class', 'shape', 'rows', 'finite'),
+    ('dataset', '/rigid_walls/velocity'): ('class', 'shape', 'rows', 'finite'),
+    ('dataset', '/rigid_walls/penalty_scale'): ('class', 'shape', 'rows', 'lower', 'upper', 'finite'),
     ('control', 'end_time'): ('missing', 'class', 'lower', 'finite'),
     ('control', 'output_interval'): ('missing', 'class', 'lower', 'finite'),
     ('control', 'history_interval'): ('class', 'lower', 'finite'),
@@ -526,6 +566,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('relation', '/nodes/coordinates'): ('convex_elements', 'node_in_element'),
     ('relation', '/materials/tangent_modulus'): ('tangent_below_youngs',),
     ('relation', '/contact/pairs'): ('contact_parts_differ',),
+    ('relation', '/rigid_walls/normal'): ('rigid_wall_normal_nonzero',),
+    ('relation', '/rigid_walls/point'): ('rigid_wall_nodes_in_front',),
 }
 
 # The results file and the engine's output

@@ -14,23 +14,25 @@ module paradyn_schema
       history_kinetic_energy, history_internal_energy, history_hourglass_energy, history_contact_energy, &
       history_external_work, history_contact_penetration, frame_field_names, history_scalar_names, class_int, &
       class_float, class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, &
-      size_n_loads, size_n_tracked, size_n_contacts, n_sizes, condition_none, condition_loads_group, &
-      condition_contact_group, condition_j2_plasticity, n_conditions, enum_none, enum_material_model, &
-      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_contact_gather, &
-      enum_switch, enum_partition, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
-      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_elements_connectivity, &
-      dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
-      dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
-      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
-      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
-      dataset_materials_hardening_mixing, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
-      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
-      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, n_deck_datasets, &
-      control_end_time, control_output_interval, control_history_interval, control_time_step, &
-      control_time_step_safety, control_mass_damping, control_progress_interval, &
-      control_contact_sort_interval, control_checkpoint_interval, control_partition, control_contact_gather, &
-      control_effect_point_loads, control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
+      size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, n_sizes, condition_none, &
+      condition_loads_group, condition_contact_group, condition_rigid_walls_group, condition_j2_plasticity, &
+      n_conditions, enum_none, enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
+      enum_contact_kind, enum_contact_gather, enum_switch, enum_partition, n_enums, &
+      dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
+      dataset_nodes_fixed_dofs, dataset_elements_connectivity, dataset_elements_part, &
+      dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
+      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_materials_model, &
+      dataset_materials_density, dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, &
+      dataset_materials_yield_stress, dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, &
+      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
+      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
+      dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
+      dataset_contact_passes, dataset_contact_kind, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
+      dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, n_deck_datasets, control_end_time, &
+      control_output_interval, control_history_interval, control_time_step, control_time_step_safety, &
+      control_mass_damping, control_progress_interval, control_contact_sort_interval, &
+      control_checkpoint_interval, control_partition, control_contact_gather, control_effect_point_loads, &
+      control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
       control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
       control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
       max_enum_members, n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
@@ -94,12 +96,14 @@ module paradyn_schema
   integer, parameter :: size_n_loads = 5
   integer, parameter :: size_n_tracked = 6
   integer, parameter :: size_n_contacts = 7
-  integer, parameter :: n_sizes = 7
+  integer, parameter :: size_n_rigid_walls = 8
+  integer, parameter :: n_sizes = 8
   integer, parameter :: condition_none = 0
   integer, parameter :: condition_loads_group = 1
   integer, parameter :: condition_contact_group = 2
-  integer, parameter :: condition_j2_plasticity = 3
-  integer, parameter :: n_conditions = 3
+  integer, parameter :: condition_rigid_walls_group = 3
+  integer, parameter :: condition_j2_plasticity = 4
+  integer, parameter :: n_conditions = 4
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
   integer, parameter :: enum_hourglass_form = 2
@@ -140,7 +144,11 @@ module paradyn_schema
   integer, parameter :: dataset_contact_friction_decay = 28
   integer, parameter :: dataset_contact_passes = 29
   integer, parameter :: dataset_contact_kind = 30
-  integer, parameter :: n_deck_datasets = 30
+  integer, parameter :: dataset_rigid_walls_point = 31
+  integer, parameter :: dataset_rigid_walls_normal = 32
+  integer, parameter :: dataset_rigid_walls_velocity = 33
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 34
+  integer, parameter :: n_deck_datasets = 34
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -192,11 +200,11 @@ module paradyn_schema
     control_effect_prescribed_velocity, 0, control_effect_plasticity, control_effect_hourglass, &
     control_effect_contact, control_effect_friction]
 
-  character(len=11), parameter :: size_symbol(n_sizes) = [character(len=11) :: 'n_nodes', 'n_elements', &
-    'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts']
+  character(len=13), parameter :: size_symbol(n_sizes) = [character(len=13) :: 'n_nodes', 'n_elements', &
+    'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_rigid_walls']
   character(len=12), parameter :: size_entity(n_sizes) = [character(len=12) :: 'node', 'element', 'part', &
-    'material', 'load', 'tracked node', 'contact pair']
-  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0]
+    'material', 'load', 'tracked node', 'contact pair', 'rigid wall']
+  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0]
 
   !> Members of an enum: codes and the names a scene or a string attribute uses.
   type :: enum_spec_t
@@ -207,7 +215,7 @@ module paradyn_schema
 
   !> A group that exists (group), or a dataset with an entry equal to code.
   type :: condition_spec_t
-    character(len=8) :: group
+    character(len=12) :: group
     integer :: dataset                  !< dataset id, 0 for a group condition
     integer :: code
     character(len=28) :: rows   !< the rows it selects, in words
@@ -264,6 +272,7 @@ module paradyn_schema
   type(condition_spec_t), parameter :: deck_conditions(n_conditions) = [ &
     condition_spec_t('/loads', 0, 0, ''), &
     condition_spec_t('/contact', 0, 0, ''), &
+    condition_spec_t('/rigid_walls', 0, 0, ''), &
     condition_spec_t('', 12, 2, 'for a j2_plasticity material') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
@@ -363,7 +372,21 @@ module paradyn_schema
         'use 2 (both bodies slave every step) or 1 (slave and master swap every step)'), &
     dataset_spec_t('/contact/kind', class_int, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 1, &
-        [1, 0], size_none, '', 'must be 1 (1 = node_to_segment)', 'use 1 (node_to_segment)') ]
+        [1, 0], size_none, '', 'must be 1 (1 = node_to_segment)', 'use 1 (node_to_segment)'), &
+    dataset_spec_t('/rigid_walls/point', class_float, 3, size_n_rigid_walls, .true., .false., &
+        condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0], size_none, '', '', 'give a point of the wall''s plane in metres'), &
+    dataset_spec_t('/rigid_walls/normal', class_float, 3, size_n_rigid_walls, .false., .false., &
+        condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0], size_none, '', '', &
+        'give a nonzero normal pointing from the wall towards the model'), &
+    dataset_spec_t('/rigid_walls/velocity', class_float, 3, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0], size_none, '', '', 'give the wall''s velocity in m/s (0 for a stationary wall)'), &
+    dataset_spec_t('/rigid_walls/penalty_scale', class_float, 0, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 0.1_wp, .true., .false., .true., .true., 0.0_wp, 0.5_wp, enum_none, &
+        0, [0, 0], size_none, 'must be in (0, 0.5]', '', &
+        'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)') ]
 
   type(attribute_spec_t), parameter :: control_attributes(n_control_attributes) = [ &
     attribute_spec_t('end_time', class_float, .true., 0.0_wp, 0, 0.0_wp, .true., .false., .false., .true., &

@@ -1,23 +1,27 @@
 !> The members of the nodal effect family that a deck declares and the scene did not switch off,
 !> in the order of schema/effects.toml (the order of the step). A new member adds its block here.
 module effect_factory
-  use paradyn_schema, only: effect_point_loads
+  use paradyn_kinds, only: wp
+  use paradyn_schema, only: effect_point_loads, effect_rigid_wall
   use model_deck, only: deck_t
   use domain_decomposition, only: domain_t, local_node
   use effect_table, only: effect_table_t
   use nodal_effect, only: nodal_effect_holder_t
   use point_load_effect, only: point_load_effect_make
+  use rigid_wall_effect, only: rigid_wall_effect_make
   implicit none
   private
   public :: make_nodal_effects
 
 contains
 
-  !> The running nodal effects of the table, built from the deck for this rank's domain.
-  subroutine make_nodal_effects(deck, dom, table, effects)
+  !> The running nodal effects of the table, built from the deck for this rank's domain and a
+  !> run of step dt (the rigid walls' penalty stiffness is scaled to it).
+  subroutine make_nodal_effects(deck, dom, table, dt, effects)
     type(deck_t), intent(in) :: deck
     type(domain_t), intent(in) :: dom
     type(effect_table_t), intent(in) :: table
+    real(wp), intent(in) :: dt
     type(nodal_effect_holder_t), allocatable, intent(out) :: effects(:)
     integer :: k
     allocate (effects(0))
@@ -26,6 +30,11 @@ contains
       allocate (effects(size(effects))%effect, source=point_load_effect_make( &
         [(local_node(dom, deck%load_node(k)), k = 1, deck%n_loads)], deck%load_dof(1:deck%n_loads), &
         deck%load_value(1:deck%n_loads), deck%load_ramp_time(1:deck%n_loads)))
+    end if
+    if (table%running(effect_rigid_wall)) then
+      call append(effects)
+      allocate (effects(size(effects))%effect, source=rigid_wall_effect_make(deck%rigid_wall_point, &
+        deck%rigid_wall_normal, deck%rigid_wall_velocity, deck%rigid_wall_penalty_scale, dt))
     end if
   end subroutine make_nodal_effects
 
