@@ -71,6 +71,8 @@ module model_deck
     integer :: partition = partition_default          !< partition_blocks or partition_rcb; 0 = unknown name
     integer :: contact_gather = contact_gather_near   !< which contact nodes are gathered between sorts
     logical :: effect_on(n_effects) = .true.          !< false: the scene switched the effect off (/control effect_*)
+    character(len=16), allocatable :: fingerprint_groups(:)   !< "nodes", ..., "control" (deck_fingerprint)
+    real(wp), allocatable :: fingerprints(:)                  !< one 32-bit hash per group, held exactly
   end type deck_t
 
 contains
