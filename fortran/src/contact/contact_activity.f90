@@ -6,10 +6,10 @@
 !> decision is the same on every layout.
 !>
 !> A pass is idle for the next n cycles when its two boxes, each grown by
-!> safety_factor x (its largest speed) x n dt, stay farther apart than the search margin (bucket
-!> plus both thicknesses, beyond which the search finds no candidate). The factor allows the
-!> speeds to double before the next check; the check comes again at the latest after
-!> max_idle_cycles, so a slow acceleration cannot build up unseen.
+!> safety_factor x (its largest speed) x n dt, stay farther apart than the margin (the caller
+!> gives the sum of the two thicknesses: a node touches a segment only within half of it). The
+!> factor allows the speeds to double before the next check; the check comes again at the latest
+!> after max_idle_cycles, so a slow acceleration cannot build up unseen (docs/theory.md).
 !>
 !> Pure: no MPI, no I/O, no module state.
 module contact_activity

@@ -224,7 +224,8 @@ contains
     next = max_idle_cycles
     do p = 1, size(c%passes)
       associate (pass => c%passes(p))
-      n = idle_cycles(extents(:, 2 * p - 1), extents(:, 2 * p), pass%bucket_size + pass%t_slave + pass%t_master, dt)
+      ! a node touches a segment only within half the two thicknesses of it: their sum is margin enough
+      n = idle_cycles(extents(:, 2 * p - 1), extents(:, 2 * p), pass%t_slave + pass%t_master, dt)
       idle = n > 0
       next = min(next, merge(n, active_recheck_cycles, idle))
       changed = changed .or. (idle .neqv. pass%idle)
