@@ -95,7 +95,7 @@ module contact_interface
     ! takes no shortcut), the cycle of the next check, and per contact definition the cycles it
     ! ran its stages and the cycles it was skipped as idle
     logical :: check_activity = .true.
-    integer :: next_check = -huge(1)
+    integer :: next_check = -huge(1), last_check = 0
     integer(i8), allocatable :: pair_active_cycles(:), pair_skipped_cycles(:)
     logical :: last_step_worked = .false.       !< the last step ran the search stages
   end type contact_t
@@ -211,8 +211,10 @@ contains
   !> master extents of pass p over all ranks (contact_activity). A pass that cannot touch for the
   !> next cycles falls idle, one that can wakes (its grid rebuilt from the positions of the last
   !> sort if one fell while it slept, which is the grid it would have now); the next check comes
-  !> when the first idle pass may touch, and after active_recheck_cycles at the latest while a
-  !> pass is active. new_gather_set: the caller takes the new set of nodes to gather.
+  !> when the first idle pass may touch, after active_recheck_cycles at the latest while a pass is
+  !> active, and never more than twice as far as the last one came (accelerations that grow, as
+  !> under a ramped load, are seen at least once per doubling of the time since the start or the
+  !> restart). new_gather_set: the caller takes the new set of nodes to gather.
   subroutine contact_activity_update(c, extents, cycle, dt, new_gather_set)
     type(contact_t), intent(inout) :: c
     real(wp), intent(in) :: extents(extent_width, 2 * size(c%passes)), dt
@@ -233,7 +235,8 @@ contains
       if (.not. idle .and. pass%stale .and. c%last_sort >= 0) call sort_pass(c, p)
       end associate
     end do
-    c%next_check = cycle + max(1, next)
+    c%next_check = cycle + max(1, min(next, 2 * (cycle - c%last_check)))
+    c%last_check = cycle
     new_gather_set = changed .and. c%gather_subset
     if (new_gather_set) then
       call choose_gather_set(c)

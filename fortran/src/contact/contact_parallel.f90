@@ -46,6 +46,8 @@ module contact_parallel
     type(MPI_Comm) :: comm
     integer, allocatable :: at(:)             !< local column of each contact node this rank owns, else 0
     real(wp), allocatable :: extents(:, :)    !< (extent_width, 2 passes): the activity check's slave and master extents
+    real(wp), allocatable :: v_before(:, :)   !< velocities of the contact nodes this rank owns, the cycle before a check
+    integer :: v_before_cycle = -huge(1)      !< the cycle they are from
   end type parallel_contact_t
 
 contains
@@ -75,6 +77,7 @@ contains
     allocate (pc%at(pc%c%n_nodes), source=0)
     pc%at(pc%nodes%owned_member) = pc%nodes%local(pc%nodes%owned_member)
     allocate (pc%extents(extent_width, 2 * size(pc%c%passes)))
+    allocate (pc%v_before(3, pc%c%n_nodes), source=0.0_wp)
     call record_share_setup(size(pc%c%record_nodes, 2), dom%n_ranks, pc%records)
     call candidate_share_setup(dom%n_ranks, pc%candidates)
   end subroutine parallel_contact_setup
@@ -89,7 +92,10 @@ contains
     real(wp) :: t_start, comm_before
     t_start = wall_clock()
     comm_before = timers%communication
-    if (pc%c%check_activity .and. cycle >= pc%c%next_check) call activity_check(pc, x, v, cycle, timers)
+    if (pc%c%check_activity) then
+      if (cycle >= pc%c%next_check) call activity_check(pc, x, v, cycle, timers)
+      if (cycle == pc%c%next_check - 1) call keep_velocities(pc, v, cycle)
+    end if
     call contact_count_activity(pc%c)
     call gather_positions(pc, x, v, cycle, timers)
     ! every pass idle and no force left from the last step: no stage has anything to do
@@ -114,9 +120,24 @@ contains
     timers%contact = timers%contact + wall_clock() - t_start - (timers%communication - comm_before)
   end subroutine parallel_contact_step
 
+  !> The velocities of this rank's own contact nodes the cycle before a check, for the
+  !> accelerations the check bounds the motion with.
+  subroutine keep_velocities(pc, v, cycle)
+    type(parallel_contact_t), intent(inout) :: pc
+    real(wp), intent(in) :: v(:, :)
+    integer, intent(in) :: cycle
+    integer :: i, k
+    do i = 1, size(pc%nodes%owned_member)
+      k = pc%nodes%owned_member(i)
+      pc%v_before(:, k) = v(:, pc%at(k))
+    end do
+    pc%v_before_cycle = cycle
+  end subroutine keep_velocities
+
   !> The activity check (contact_activity): the extents of each pass's slaves and masters over
   !> this rank's own nodes, their maxima over the ranks (exact in any order), and which passes
-  !> run until the next check.
+  !> run until the next check. Without the velocities of the cycle before (the first step, a
+  !> restart), the passes stay as they are and the check comes again two cycles later.
   subroutine activity_check(pc, x, v, cycle, timers)
     type(parallel_contact_t), intent(inout) :: pc
     real(wp), intent(in) :: x(:, :), v(:, :)
@@ -125,11 +146,16 @@ contains
     integer :: p
     real(wp) :: t0
     logical :: new_gather_set
+    if (pc%v_before_cycle /= cycle - 1) then
+      pc%c%next_check = cycle + 2
+      pc%c%last_check = cycle
+      return
+    end if
     do p = 1, size(pc%c%passes)
       pc%extents(:, 2 * p - 1) = extent_empty()
       pc%extents(:, 2 * p) = extent_empty()
-      call side_extent(pc%c%passes(p)%slaves, pc%at, x, v, pc%extents(:, 2 * p - 1))
-      call side_extent(pc%c%passes(p)%masters, pc%at, x, v, pc%extents(:, 2 * p))
+      call side_extent(pc%c%passes(p)%slaves, pc%at, x, v, pc%v_before, pc%extents(:, 2 * p - 1))
+      call side_extent(pc%c%passes(p)%masters, pc%at, x, v, pc%v_before, pc%extents(:, 2 * p))
     end do
     if (pc%c%n_ranks > 1) then
       t0 = wall_clock()
