@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 import models as M
-from contact_cases import PLATE, STEEL, T, N
+from contact_cases import PLATE, STEEL, N, T
 from paradyn import launch
 from paradyn.deck import Control, write_deck
 
