@@ -111,7 +111,8 @@ contains
     end if
     call contact_candidates(pc%c, cycle, wall_clock)
     call contact_local_search(pc%c, wall_clock)
-    if (pc%c%n_ranks > 1) then
+    ! no candidate on any rank (every rank holds the same count): no record to share
+    if (pc%c%n_ranks > 1 .and. pc%c%n_candidates > 0) then
       call timed_share_records(pc, timers)
     end if
     call contact_sum(pc%c, wall_clock)
