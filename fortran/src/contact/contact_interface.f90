@@ -92,8 +92,8 @@ module contact_interface
     real(wp) :: energy = 0.0_wp, max_penetration = 0.0_wp
     real(wp) :: time_sort = 0, time_search = 0, time_force = 0
     ! activity (contact_activity): whether idle passes are skipped (not with gather_all, which
-    ! takes no shortcut), the cycle of the next check, and per contact definition the cycles it
-    ! ran its stages and the cycles it was skipped as idle
+    ! takes no shortcut), the cycles of the next check and of the last, and per contact
+    ! definition the cycles it ran its stages and the cycles it was skipped as idle
     logical :: check_activity = .true.
     integer :: next_check = -huge(1), last_check = 0
     integer(i8), allocatable :: pair_active_cycles(:), pair_skipped_cycles(:)
@@ -300,9 +300,10 @@ contains
   end subroutine contact_restore
 
   !> After a sort (interval 0), or when passes wake or fall idle: the nodes whose positions the
-  !> active passes can read before the next sort (at the positions of the last sort). Until then no node moves more than a tenth of the smallest bucket (contact_sort_due),
-  !> so a slave can pass near_box only if it lay within the margin plus that movement of the
-  !> master box at the sort; its nearest master node lies within the search radius plus that
+  !> active passes can read before the next sort (at the positions of the last sort). Until then
+  !> no node moves more than a tenth of the smallest bucket (contact_sort_due), so a slave can
+  !> pass near_box only if it lay within the margin plus that movement of the master box at the
+  !> sort; its nearest master node lies within the search radius plus that
   !> movement of it; and the local search reads the nodes of the segments around that master.
   !> Twice the movement is allowed, against round-off. The near slaves are also the only ones
   !> the global search needs to visit.
