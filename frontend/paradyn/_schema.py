@@ -623,7 +623,7 @@ PROGRESS_KINDS: dict[str, tuple[str, ...]] = {
     'RESTART': ('time', 'cycle'),
     'CHECKPOINT': ('time', 'cycle', 'path'),
     'DONE': ('cycles', 'time', 'wall_s'),
-    'CONTACT': ('rank', 'sorts', 'pass_steps', 'candidates', 'local_searches'),
+    'CONTACT': ('rank', 'sorts', 'pass_steps', 'candidates', 'local_searches', 'idle_cycles'),
     'PHASES': ('rank', 'elements_s', 'contact_s', 'communication_s', 'output_s', 'nodes_s'),
 }
 

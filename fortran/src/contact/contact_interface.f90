@@ -35,12 +35,14 @@ module contact_interface
   use contact_pass, only: contact_pass_t
   use contact_kind, only: contact_kind_holder_t
   use contact_factory, only: contact_kind_from_name
+  use contact_activity, only: extent_width, idle_cycles, max_idle_cycles, active_recheck_cycles
   use paradyn_schema, only: enum_name, enum_contact_kind
   implicit none
   private
   public :: contact_t, contact_setup
   public :: contact_begin, contact_sort_due, contact_movement
   public :: contact_restore
+  public :: contact_activity_update, contact_all_idle, contact_count_activity
   public :: clock_seconds
 
   !> The wall clock the phases are timed with (the solver passes MPI_Wtime's wrapper).
@@ -89,6 +91,13 @@ module contact_interface
     integer :: last_sort = -huge(1), sort_interval = 0
     real(wp) :: energy = 0.0_wp, max_penetration = 0.0_wp
     real(wp) :: time_sort = 0, time_search = 0, time_force = 0
+    ! activity (contact_activity): whether idle passes are skipped (not with gather_all, which
+    ! takes no shortcut), the cycles of the next check and of the last, and per contact
+    ! definition the cycles it ran its stages and the cycles it was skipped as idle
+    logical :: check_activity = .true.
+    integer :: next_check = -huge(1), last_check = 0
+    integer(i8), allocatable :: pair_active_cycles(:), pair_skipped_cycles(:)
+    logical :: last_step_worked = .false.       !< the last step ran the search stages
   end type contact_t
 
 contains
@@ -132,6 +141,7 @@ contains
               c%pass_pairs(2, n_max), source=0)
     allocate (c%touched(c%n_nodes), c%touched_old(c%n_nodes), c%mark(c%n_nodes), source=0)
     allocate (c%in_gather(c%n_nodes), source=.true.)
+    allocate (c%pair_active_cycles(deck%n_contacts), c%pair_skipped_cycles(deck%n_contacts), source=0_i8)
   end subroutine contact_setup
 
   !> Start a step: keep the last forces, redo the bucket sorts if sort (contact_sort_due; the
@@ -172,12 +182,12 @@ contains
     integer, intent(in) :: cycle
     logical, intent(out) :: new_gather_set
     integer :: p
-    do p = 1, size(c%passes)
-      c%passes(p)%x_sorted = c%x(:, c%passes(p)%masters)
-      call bucket_grid_build(int(size(c%passes(p)%masters), ip), c%passes(p)%x_sorted, &
-                             c%passes(p)%bucket_size, c%passes(p)%grid)
-    end do
     c%x_at_sort = c%x
+    do p = 1, size(c%passes)
+      ! an idle pass sorts when it wakes, from these positions (the same grid as sorting now)
+      c%passes(p)%stale = c%passes(p)%idle
+      if (.not. c%passes(p)%idle) call sort_pass(c, p)
+    end do
     c%last_sort = cycle
     c%n_sorts = c%n_sorts + 1
     new_gather_set = c%sort_interval == 0 .and. .not. c%gather_all
@@ -186,6 +196,80 @@ contains
       c%gather_subset = .true.
     end if
   end subroutine sort_passes
+
+  !> The bucket grid of pass p at the positions of the last sort.
+  subroutine sort_pass(c, p)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: p
+    c%passes(p)%x_sorted = c%x_at_sort(:, c%passes(p)%masters)
+    call bucket_grid_build(int(size(c%passes(p)%masters), ip), c%passes(p)%x_sorted, &
+                           c%passes(p)%bucket_size, c%passes(p)%grid)
+    c%passes(p)%stale = .false.
+  end subroutine sort_pass
+
+  !> An activity check at this cycle: extents(:, 2 p - 1) and extents(:, 2 p) are the slave and
+  !> master extents of pass p over all ranks (contact_activity). A pass that cannot touch for the
+  !> next cycles falls idle, one that can wakes (its grid rebuilt from the positions of the last
+  !> sort if one fell while it slept, which is the grid it would have now); the next check comes
+  !> when the first idle pass may touch, after active_recheck_cycles at the latest while a pass is
+  !> active, and never more than twice as far as the last one came (accelerations that grow, as
+  !> under a ramped load, are seen at least once per doubling of the time since the start or the
+  !> restart). new_gather_set: the caller takes the new set of nodes to gather.
+  subroutine contact_activity_update(c, extents, cycle, dt, new_gather_set)
+    type(contact_t), intent(inout) :: c
+    real(wp), intent(in) :: extents(extent_width, 2 * size(c%passes)), dt
+    integer, intent(in) :: cycle
+    logical, intent(out) :: new_gather_set
+    integer :: p, n, next
+    logical :: idle, changed
+    changed = .false.
+    next = max_idle_cycles
+    do p = 1, size(c%passes)
+      associate (pass => c%passes(p))
+      ! a node touches a segment only within half the two thicknesses of it: their sum is margin enough
+      n = idle_cycles(extents(:, 2 * p - 1), extents(:, 2 * p), pass%t_slave + pass%t_master, dt)
+      idle = n > 0
+      next = min(next, merge(n, active_recheck_cycles, idle))
+      changed = changed .or. (idle .neqv. pass%idle)
+      pass%idle = idle
+      if (.not. idle .and. pass%stale .and. c%last_sort >= 0) call sort_pass(c, p)
+      end associate
+    end do
+    c%next_check = cycle + max(1, min(next, 2 * (cycle - c%last_check)))
+    c%last_check = cycle
+    new_gather_set = changed .and. c%gather_subset
+    if (new_gather_set) then
+      call choose_gather_set(c)
+      ! the nodes that carry last step's forces enter this step's energy at their velocities
+      c%in_gather(c%touched(1:c%n_touched)) = .true.
+    end if
+  end subroutine contact_activity_update
+
+  !> No pass runs its stages.
+  pure logical function contact_all_idle(c)
+    type(contact_t), intent(in) :: c
+    integer :: p
+    contact_all_idle = .true.
+    do p = 1, size(c%passes)
+      if (.not. c%passes(p)%idle) contact_all_idle = .false.
+    end do
+  end function contact_all_idle
+
+  !> One more cycle for each contact definition: active if one of its passes is.
+  subroutine contact_count_activity(c)
+    type(contact_t), intent(inout) :: c
+    logical :: active(size(c%pair_active_cycles))
+    integer :: p
+    active = .false.
+    do p = 1, size(c%passes)
+      if (.not. c%passes(p)%idle) active(c%passes(p)%pair) = .true.
+    end do
+    where (active)
+      c%pair_active_cycles = c%pair_active_cycles + 1
+    elsewhere
+      c%pair_skipped_cycles = c%pair_skipped_cycles + 1
+    end where
+  end subroutine contact_count_activity
 
   !> The contact state of a checkpoint at the top of a step: the forces of the last step and the
   !> nodes they act on in the order of the sum (touched_order(j) = k > 0 for the k-th touched
@@ -215,10 +299,11 @@ contains
     c%max_penetration = max_penetration
   end subroutine contact_restore
 
-  !> After a sort (interval 0): the nodes whose positions the contact can read before the next
-  !> sort. Until then no node moves more than a tenth of the smallest bucket (contact_sort_due),
-  !> so a slave can pass near_box only if it lay within the margin plus that movement of the
-  !> master box at the sort; its nearest master node lies within the search radius plus that
+  !> After a sort (interval 0), or when passes wake or fall idle: the nodes whose positions the
+  !> active passes can read before the next sort (at the positions of the last sort). Until then
+  !> no node moves more than a tenth of the smallest bucket (contact_sort_due), so a slave can
+  !> pass near_box only if it lay within the margin plus that movement of the master box at the
+  !> sort; its nearest master node lies within the search radius plus that
   !> movement of it; and the local search reads the nodes of the segments around that master.
   !> Twice the movement is allowed, against round-off. The near slaves are also the only ones
   !> the global search needs to visit.
@@ -229,6 +314,7 @@ contains
     reach = 0.2_wp * smallest_bucket(c)
     c%in_gather = .false.
     do p = 1, size(c%passes)
+      if (c%passes(p)%idle) cycle
       associate (pass => c%passes(p))
       margin = pass%bucket_size + pass%t_slave + pass%t_master
       lower = pass%grid%lower - (margin + reach)
@@ -237,7 +323,7 @@ contains
       slave_upper = -huge(1.0_wp)
       pass%n_near = 0
       do j = 1, size(pass%slaves)
-        x = c%x(:, pass%slaves(j))
+        x = c%x_at_sort(:, pass%slaves(j))
         if (any(x < lower) .or. any(x > upper)) cycle
         pass%n_near = pass%n_near + 1
         pass%near_slaves(pass%n_near) = j
@@ -249,7 +335,7 @@ contains
       slave_upper = slave_upper + (margin + reach)
       do j = 1, size(pass%segments, 2)
         do k = 1, 4
-          x = c%x(:, pass%segments(k, j))
+          x = c%x_at_sort(:, pass%segments(k, j))
           if (all(x >= slave_lower .and. x <= slave_upper)) then
             c%in_gather(pass%segments(:, j)) = .true.
             exit

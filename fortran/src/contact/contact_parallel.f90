@@ -9,14 +9,21 @@
 !> slaves of every pass for candidates, the candidates are shared, each rank locally searches its
 !> equal block of them, the records are shared, and every rank sums all of them in pass and slave
 !> order. One rank communicates nothing.
+!>
+!> Idle is cheap: at activity checks (contact_activity) every rank measures the extents of its own
+!> nodes of each pass, one maximum reduction combines them, and a pass that cannot touch before
+!> the next check runs no stage. When every pass is idle and no force is left from the last step,
+!> the step measures only what the sort schedule needs (so the sorts fall as without the skip, and
+!> the answer is bitwise the same) and skips the search stages and their sharing.
 module contact_parallel
-  use mpi_f08, only: MPI_Comm
-  use paradyn_kinds, only: wp
+  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX
+  use paradyn_kinds, only: wp, i8
   use model_deck, only: deck_t
   use domain_decomposition, only: domain_t
   use phase_timers, only: phase_timers_t, wall_clock
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
-                               contact_restore
+                               contact_restore, contact_activity_update, contact_all_idle, contact_count_activity
+  use contact_activity, only: extent_width, extent_empty, side_extent
   use contact_stages, only: contact_global_search, contact_candidates, contact_local_search, contact_sum, &
                             contact_end
   use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, &
@@ -27,6 +34,7 @@ module contact_parallel
   private
   public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply
   public :: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, contact_log_line
+  public :: parallel_contact_worked, parallel_contact_idle_cycles
 
   integer, parameter :: contact_checkpoint_width = 7   !< force, position at the last sort, place in the sum
 
@@ -36,13 +44,18 @@ module contact_parallel
     type(record_share_t) :: records
     type(candidate_share_t) :: candidates
     type(MPI_Comm) :: comm
+    integer, allocatable :: at(:)             !< local column of each contact node this rank owns, else 0
+    real(wp), allocatable :: extents(:, :)    !< (extent_width, 2 passes): the activity check's slave and master extents
+    real(wp), allocatable :: v_before(:, :)   !< velocities of the contact nodes this rank owns, the cycle before a check
+    integer :: v_before_cycle = -huge(1)      !< the cycle they are from
   end type parallel_contact_t
 
 contains
 
   !> Contact of the deck's pairs on this rank's domain; mass and v are the local nodal masses and
-  !> velocities, dt the solver's step (for the penalty's stability cap). gather_all: gather every
-  !> contact node every step (a check that the near-contact subset changes nothing).
+  !> velocities, dt the solver's step (for the penalty's stability cap). gather_all: no shortcut,
+  !> gather every contact node and run every pass every step (a check that the near-contact
+  !> subset and the skipping of idle pairs change nothing).
   subroutine parallel_contact_setup(pc, deck, dom, comm, mass, v, dt, gather_all)
     type(parallel_contact_t), intent(out) :: pc
     type(deck_t), intent(in) :: deck
@@ -60,6 +73,11 @@ contains
     pc%c%rank = dom%rank
     pc%c%n_ranks = dom%n_ranks
     pc%c%gather_all = gather_all
+    pc%c%check_activity = .not. gather_all
+    allocate (pc%at(pc%c%n_nodes), source=0)
+    pc%at(pc%nodes%owned_member) = pc%nodes%local(pc%nodes%owned_member)
+    allocate (pc%extents(extent_width, 2 * size(pc%c%passes)))
+    allocate (pc%v_before(3, pc%c%n_nodes), source=0.0_wp)
     call record_share_setup(size(pc%c%record_nodes, 2), dom%n_ranks, pc%records)
     call candidate_share_setup(dom%n_ranks, pc%candidates)
   end subroutine parallel_contact_setup
@@ -74,14 +92,27 @@ contains
     real(wp) :: t_start, comm_before
     t_start = wall_clock()
     comm_before = timers%communication
+    if (pc%c%check_activity) then
+      if (cycle >= pc%c%next_check) call activity_check(pc, x, v, cycle, timers)
+      if (cycle == pc%c%next_check - 1) call keep_velocities(pc, v, cycle)
+    end if
+    call contact_count_activity(pc%c)
     call gather_positions(pc, x, v, cycle, timers)
+    ! every pass idle and no force left from the last step: no stage has anything to do
+    pc%c%last_step_worked = .not. (contact_all_idle(pc%c) .and. pc%c%n_touched_old == 0)
+    if (.not. pc%c%last_step_worked) then
+      pc%c%n_candidates = 0
+      timers%contact = timers%contact + wall_clock() - t_start - (timers%communication - comm_before)
+      return
+    end if
     call contact_global_search(pc%c, cycle, wall_clock)
     if (pc%c%n_ranks > 1) then
       call timed_share_candidates(pc, timers)
     end if
     call contact_candidates(pc%c, cycle, wall_clock)
     call contact_local_search(pc%c, wall_clock)
-    if (pc%c%n_ranks > 1) then
+    ! no candidate on any rank (every rank holds the same count): no record to share
+    if (pc%c%n_ranks > 1 .and. pc%c%n_candidates > 0) then
       call timed_share_records(pc, timers)
     end if
     call contact_sum(pc%c, wall_clock)
@@ -90,28 +121,86 @@ contains
     timers%contact = timers%contact + wall_clock() - t_start - (timers%communication - comm_before)
   end subroutine parallel_contact_step
 
-  !> The positions and velocities the step reads, and the bucket sort when one is due.
+  !> The velocities of this rank's own contact nodes the cycle before a check, for the
+  !> accelerations the check bounds the motion with.
+  subroutine keep_velocities(pc, v, cycle)
+    type(parallel_contact_t), intent(inout) :: pc
+    real(wp), intent(in) :: v(:, :)
+    integer, intent(in) :: cycle
+    integer :: i, k
+    do i = 1, size(pc%nodes%owned_member)
+      k = pc%nodes%owned_member(i)
+      pc%v_before(:, k) = v(:, pc%at(k))
+    end do
+    pc%v_before_cycle = cycle
+  end subroutine keep_velocities
+
+  !> The activity check (contact_activity): the extents of each pass's slaves and masters over
+  !> this rank's own nodes, their maxima over the ranks (exact in any order), and which passes
+  !> run until the next check. Without the velocities of the cycle before (the first step, a
+  !> restart), the passes stay as they are and the check comes again two cycles later.
+  subroutine activity_check(pc, x, v, cycle, timers)
+    type(parallel_contact_t), intent(inout) :: pc
+    real(wp), intent(in) :: x(:, :), v(:, :)
+    integer, intent(in) :: cycle
+    type(phase_timers_t), intent(inout) :: timers
+    integer :: p
+    real(wp) :: t0
+    logical :: new_gather_set
+    if (pc%v_before_cycle /= cycle - 1) then
+      pc%c%next_check = cycle + 2
+      pc%c%last_check = cycle
+      return
+    end if
+    do p = 1, size(pc%c%passes)
+      pc%extents(:, 2 * p - 1) = extent_empty()
+      pc%extents(:, 2 * p) = extent_empty()
+      call side_extent(pc%c%passes(p)%slaves, pc%at, x, v, pc%v_before, pc%extents(:, 2 * p - 1))
+      call side_extent(pc%c%passes(p)%masters, pc%at, x, v, pc%v_before, pc%extents(:, 2 * p))
+    end do
+    if (pc%c%n_ranks > 1) then
+      t0 = wall_clock()
+      call MPI_Allreduce(MPI_IN_PLACE, pc%extents, size(pc%extents), MPI_DOUBLE_PRECISION, MPI_MAX, pc%comm)
+      timers%communication = timers%communication + wall_clock() - t0
+    end if
+    ! every step has the solver's step (step_clock), also the first, whose strain step is 0
+    call contact_activity_update(pc%c, pc%extents, cycle, pc%c%time_step, new_gather_set)
+    if (new_gather_set) call node_subset_setup(pc%nodes, pc%c%in_gather)
+  end subroutine activity_check
+
+  !> The positions and velocities the step reads, and the bucket sort when one is due. With every
+  !> pass idle, nothing left to sum and a sort schedule that needs no positions (a fixed interval,
+  !> or the first sort), positions are gathered only for a sort.
   subroutine gather_positions(pc, x, v, cycle, timers)
     type(parallel_contact_t), intent(inout) :: pc
     real(wp), intent(in) :: x(:, :), v(:, :)
     integer, intent(in) :: cycle
     type(phase_timers_t), intent(inout) :: timers
     real(wp) :: t0, moved, moved_here
-    logical :: sort, new_gather_set
+    logical :: sort, new_gather_set, quiet
     sort = .false.
-    if (pc%c%gather_subset) then
+    quiet = .not. pc%c%gather_subset .and. contact_all_idle(pc%c) .and. pc%c%n_touched == 0 &
+            .and. (pc%c%sort_interval > 0 .or. pc%c%last_sort < 0)
+    if (quiet) then
+      sort = contact_sort_due(pc%c, cycle, 0.0_wp)
+      if (sort) then
+        t0 = wall_clock()
+        call allgather_node_set(pc%comm, pc%nodes, x, v, pc%c%x, pc%c%v)
+        timers%communication = timers%communication + wall_clock() - t0
+      end if
+    else if (pc%c%gather_subset) then
       call contact_movement(pc%c, moved_here, wall_clock, pc%nodes%owned_member, pc%nodes%local, x)
       t0 = wall_clock()
       call allgather_node_subset(pc%comm, pc%nodes, x, v, pc%c%x, pc%c%v, moved_here, moved)
       timers%communication = timers%communication + wall_clock() - t0
       sort = contact_sort_due(pc%c, cycle, moved)
     end if
-    if (.not. pc%c%gather_subset .or. sort) then
+    if (.not. quiet .and. (.not. pc%c%gather_subset .or. sort)) then
       t0 = wall_clock()
       call allgather_node_set(pc%comm, pc%nodes, x, v, pc%c%x, pc%c%v)
       timers%communication = timers%communication + wall_clock() - t0
     end if
-    if (.not. pc%c%gather_subset) then
+    if (.not. quiet .and. .not. pc%c%gather_subset) then
       call contact_movement(pc%c, moved, wall_clock)
       sort = contact_sort_due(pc%c, cycle, moved)
     end if
@@ -151,15 +240,29 @@ contains
     end do
   end subroutine parallel_contact_apply
 
-  !> One line per rank for the log: the sorts, the passes run, all ranks' candidates, and the
-  !> local searches of this rank (its equal blocks of the candidates).
+  !> One line per rank for the log: the sorts, the passes run, all ranks' candidates, the local
+  !> searches of this rank (its equal blocks of the candidates), and the cycles the contact
+  !> definitions were skipped as idle (summed over the definitions).
   subroutine contact_log_line(pc, rank)
     type(parallel_contact_t), intent(in) :: pc
     integer, intent(in) :: rank
-    write (*, '(5(a,i0))') 'PARADYN-CONTACT rank=', rank, ' sorts=', pc%c%n_sorts, ' pass_steps=', &
-      pc%c%n_pass_steps, ' candidates=', pc%c%candidates_total, ' local_searches=', pc%c%candidates_searched
+    write (*, '(6(a,i0))') 'PARADYN-CONTACT rank=', rank, ' sorts=', pc%c%n_sorts, ' pass_steps=', &
+      pc%c%n_pass_steps, ' candidates=', pc%c%candidates_total, ' local_searches=', pc%c%candidates_searched, &
+      ' idle_cycles=', parallel_contact_idle_cycles(pc)
     flush (6)
   end subroutine contact_log_line
+
+  !> Whether the last step ran the contact's search stages (false: every pair idle, skipped).
+  pure logical function parallel_contact_worked(pc)
+    type(parallel_contact_t), intent(in) :: pc
+    parallel_contact_worked = pc%c%last_step_worked
+  end function parallel_contact_worked
+
+  !> The cycles the contact definitions were skipped as idle, summed over the definitions.
+  pure integer(i8) function parallel_contact_idle_cycles(pc)
+    type(parallel_contact_t), intent(in) :: pc
+    parallel_contact_idle_cycles = sum(pc%c%pair_skipped_cycles)
+  end function parallel_contact_idle_cycles
 
   !> The checkpoint rows, one per contact node (the same on every rank): force, position at the
   !> last sort, and its place k > 0 in the last step's force sum (0 = no force).

@@ -22,6 +22,9 @@ module contact_pass
     real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted
     integer, allocatable :: near_slaves(:)     !< slaves that can come near the master box before the next sort
     integer :: n_near = 0
+    ! idle: cannot touch before the next activity check, so the pass runs no stage; stale: a
+    ! sort fell while it was idle, so its grid is rebuilt from the positions of that sort on waking
+    logical :: idle = .false., stale = .false.
     type(bucket_grid_t) :: grid
     real(wp) :: bucket_size = 0, t_slave = 0, t_master = 0, mu_static = 0, mu_dynamic = 0, decay = 0
   end type contact_pass_t
