@@ -353,3 +353,32 @@ subroutine share_items(n_items, n_threads, hold_first, times, taken_by)
   finished = finished + 1
   !$omp end parallel
 end subroutine share_items
+
+! Load curves (loads/load_curves.f90): curve k (1-based) of the deck's curves at each of the times t.
+subroutine load_curve_values(n_curves, n_points, first_point, time, value, k, n_t, t, y)
+  use paradyn_kinds, only: wp
+  use load_curves, only: load_curves_t, load_curves_from, curve_value
+  implicit none
+  integer, intent(in) :: n_curves, n_points, first_point(n_curves), k, n_t
+  real(wp), intent(in) :: time(n_points), value(n_points), t(n_t)
+  real(wp), intent(out) :: y(n_t)
+  type(load_curves_t) :: c
+  integer :: i
+  c = load_curves_from(first_point, time, value)
+  do i = 1, n_t
+    y(i) = curve_value(c, k, t(i))
+  end do
+end subroutine load_curve_values
+
+! Pressure on one element (loads/pressure_kernels.f90): its four corner forces (internal-force sign)
+! and the work over a step dt in which the corners move with v.
+subroutine pressure_element(x, v, dt, p_now, p_next, corner, work)
+  use paradyn_kinds, only: wp
+  use pressure_kernels, only: pressure_corner_forces, pressure_step_work
+  implicit none
+  real(wp), intent(in) :: x(3, 4), v(3, 4), dt, p_now, p_next
+  real(wp), intent(out) :: corner(6, 4), work
+  corner = 0.0_wp
+  call pressure_corner_forces([1], reshape([1, 2, 3, 4], [4, 1]), x, p_now, corner)
+  work = pressure_step_work([1], reshape([1, 2, 3, 4], [4, 1]), x, v, dt, p_now, p_next)
+end subroutine pressure_element

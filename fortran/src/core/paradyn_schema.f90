@@ -14,25 +14,29 @@ module paradyn_schema
       history_internal_energy, history_hourglass_energy, history_contact_energy, history_external_work, &
       history_contact_penetration, frame_field_names, history_scalar_names, class_int, class_float, &
       class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, size_n_loads, &
-      size_n_tracked, size_n_contacts, n_sizes, condition_none, condition_loads_group, &
-      condition_contact_group, condition_j2_plasticity, n_conditions, enum_none, enum_material_model, &
-      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_contact_gather, &
-      enum_partition, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
-      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_elements_connectivity, &
-      dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
+      size_n_tracked, size_n_contacts, size_n_curves, size_n_curve_points, size_n_pressures, &
+      size_n_prescribed, n_sizes, condition_none, condition_loads_group, condition_contact_group, &
+      condition_curves_group, condition_pressure_group, condition_prescribed_group, condition_j2_plasticity, &
+      n_conditions, enum_none, enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
+      enum_contact_kind, enum_contact_gather, enum_partition, n_enums, dataset_nodes_coordinates, &
+      dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
+      dataset_elements_connectivity, dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
       dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
       dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
       dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
       dataset_materials_hardening_mixing, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
       dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
       dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, n_deck_datasets, &
-      control_end_time, control_output_interval, control_history_interval, control_time_step, &
-      control_time_step_safety, control_mass_damping, control_progress_interval, &
-      control_contact_sort_interval, control_checkpoint_interval, control_partition, control_contact_gather, &
-      n_control_attributes, max_enum_members, size_symbol, size_entity, size_min_rows, enum_spec_t, &
-      condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, deck_conditions, deck_datasets, &
-      control_attributes, enum_name, enum_code
+      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+      dataset_curves_first_point, dataset_curves_time, dataset_curves_value, dataset_pressure_part, &
+      dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, &
+      dataset_prescribed_value, dataset_prescribed_curve, n_deck_datasets, control_end_time, &
+      control_output_interval, control_history_interval, control_time_step, control_time_step_safety, &
+      control_mass_damping, control_progress_interval, control_contact_sort_interval, &
+      control_checkpoint_interval, control_partition, control_contact_gather, control_gravity_x, &
+      control_gravity_y, control_gravity_z, n_control_attributes, max_enum_members, size_symbol, size_entity, &
+      size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
+      deck_conditions, deck_datasets, control_attributes, enum_name, enum_code
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
 
@@ -86,12 +90,19 @@ module paradyn_schema
   integer, parameter :: size_n_loads = 5
   integer, parameter :: size_n_tracked = 6
   integer, parameter :: size_n_contacts = 7
-  integer, parameter :: n_sizes = 7
+  integer, parameter :: size_n_curves = 8
+  integer, parameter :: size_n_curve_points = 9
+  integer, parameter :: size_n_pressures = 10
+  integer, parameter :: size_n_prescribed = 11
+  integer, parameter :: n_sizes = 11
   integer, parameter :: condition_none = 0
   integer, parameter :: condition_loads_group = 1
   integer, parameter :: condition_contact_group = 2
-  integer, parameter :: condition_j2_plasticity = 3
-  integer, parameter :: n_conditions = 3
+  integer, parameter :: condition_curves_group = 3
+  integer, parameter :: condition_pressure_group = 4
+  integer, parameter :: condition_prescribed_group = 5
+  integer, parameter :: condition_j2_plasticity = 6
+  integer, parameter :: n_conditions = 6
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
   integer, parameter :: enum_hourglass_form = 2
@@ -131,7 +142,17 @@ module paradyn_schema
   integer, parameter :: dataset_contact_friction_decay = 28
   integer, parameter :: dataset_contact_passes = 29
   integer, parameter :: dataset_contact_kind = 30
-  integer, parameter :: n_deck_datasets = 30
+  integer, parameter :: dataset_curves_first_point = 31
+  integer, parameter :: dataset_curves_time = 32
+  integer, parameter :: dataset_curves_value = 33
+  integer, parameter :: dataset_pressure_part = 34
+  integer, parameter :: dataset_pressure_value = 35
+  integer, parameter :: dataset_pressure_curve = 36
+  integer, parameter :: dataset_prescribed_node = 37
+  integer, parameter :: dataset_prescribed_dof = 38
+  integer, parameter :: dataset_prescribed_value = 39
+  integer, parameter :: dataset_prescribed_curve = 40
+  integer, parameter :: n_deck_datasets = 40
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -143,14 +164,19 @@ module paradyn_schema
   integer, parameter :: control_checkpoint_interval = 9
   integer, parameter :: control_partition = 10
   integer, parameter :: control_contact_gather = 11
-  integer, parameter :: n_control_attributes = 11
+  integer, parameter :: control_gravity_x = 12
+  integer, parameter :: control_gravity_y = 13
+  integer, parameter :: control_gravity_z = 14
+  integer, parameter :: n_control_attributes = 14
   integer, parameter :: max_enum_members = 2
 
-  character(len=11), parameter :: size_symbol(n_sizes) = [character(len=11) :: 'n_nodes', 'n_elements', &
-    'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts']
-  character(len=12), parameter :: size_entity(n_sizes) = [character(len=12) :: 'node', 'element', 'part', &
-    'material', 'load', 'tracked node', 'contact pair']
-  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0]
+  character(len=14), parameter :: size_symbol(n_sizes) = [character(len=14) :: 'n_nodes', 'n_elements', &
+    'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_curves', 'n_curve_points', &
+    'n_pressures', 'n_prescribed']
+  character(len=17), parameter :: size_entity(n_sizes) = [character(len=17) :: 'node', 'element', 'part', &
+    'material', 'load', 'tracked node', 'contact pair', 'curve', 'curve point', 'pressure load', &
+    'prescribed motion']
+  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0]
 
   !> Members of an enum: codes and the names a scene or a string attribute uses.
   type :: enum_spec_t
@@ -161,7 +187,7 @@ module paradyn_schema
 
   !> A group that exists (group), or a dataset with an entry equal to code.
   type :: condition_spec_t
-    character(len=8) :: group
+    character(len=11) :: group
     integer :: dataset                  !< dataset id, 0 for a group condition
     integer :: code
     character(len=28) :: rows   !< the rows it selects, in words
@@ -217,6 +243,9 @@ module paradyn_schema
   type(condition_spec_t), parameter :: deck_conditions(n_conditions) = [ &
     condition_spec_t('/loads', 0, 0, ''), &
     condition_spec_t('/contact', 0, 0, ''), &
+    condition_spec_t('/curves', 0, 0, ''), &
+    condition_spec_t('/pressure', 0, 0, ''), &
+    condition_spec_t('/prescribed', 0, 0, ''), &
     condition_spec_t('', 12, 2, 'for a j2_plasticity material') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
@@ -316,7 +345,41 @@ module paradyn_schema
         'use 2 (both bodies slave every step) or 1 (slave and master swap every step)'), &
     dataset_spec_t('/contact/kind', class_int, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 1, &
-        [1, 0], size_none, '', 'must be 1 (1 = node_to_segment)', 'use 1 (node_to_segment)') ]
+        [1, 0], size_none, '', 'must be 1 (1 = node_to_segment)', 'use 1 (node_to_segment)'), &
+    dataset_spec_t('/curves/first_point', class_int, 0, size_n_curves, .true., .false., &
+        condition_curves_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_none, 'must be >= 0', '', &
+        'give the 0-based index of each curve''s first point, 0 first and strictly increasing'), &
+    dataset_spec_t('/curves/time', class_float, 0, size_n_curve_points, .true., .false., &
+        condition_curves_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_none, '', '', &
+        'give finite times in seconds, strictly increasing within each curve'), &
+    dataset_spec_t('/curves/value', class_float, 0, size_n_curve_points, .false., .false., &
+        condition_curves_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_none, '', '', 'give finite curve values (factors on the load''s value)'), &
+    dataset_spec_t('/pressure/part', class_int, 0, size_n_pressures, .true., .false., &
+        condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_n_parts, '', '', 'give the index of the loaded part'), &
+    dataset_spec_t('/pressure/value', class_float, 0, size_n_pressures, .false., .false., &
+        condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_none, '', '', &
+        'give the pressure in Pa (positive pushes along the element normal)'), &
+    dataset_spec_t('/pressure/curve', class_int, 0, size_n_pressures, .false., .false., &
+        condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point'), &
+    dataset_spec_t('/prescribed/node', class_int, 0, size_n_prescribed, .true., .false., &
+        condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_n_nodes, '', '', 'give the index of the node'), &
+    dataset_spec_t('/prescribed/dof', class_int, 0, size_n_prescribed, .false., .false., &
+        condition_prescribed_group, condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, &
+        enum_none, 0, [0, 0], size_none, 'must be between 1 and 6', '', &
+        'use 1..3 for a velocity along x, y, z and 4..6 for an angular velocity about x, y, z'), &
+    dataset_spec_t('/prescribed/value', class_float, 0, size_n_prescribed, .false., .false., &
+        condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_none, '', '', 'give the velocity in m/s (rad/s for a rotation)'), &
+    dataset_spec_t('/prescribed/curve', class_int, 0, size_n_prescribed, .false., .false., &
+        condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point') ]
 
   type(attribute_spec_t), parameter :: control_attributes(n_control_attributes) = [ &
     attribute_spec_t('end_time', class_float, .true., 0.0_wp, 0, 0.0_wp, .true., .false., .false., .true., &
@@ -346,7 +409,13 @@ module paradyn_schema
         0.0_wp, 0.0_wp, enum_partition, '', 'must be "blocks" or "rcb"', 'leave it out for the default'), &
     attribute_spec_t('contact_gather', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_contact_gather, '', 'must be "near" or "all"', &
-        'leave it out for the default') ]
+        'leave it out for the default'), &
+    attribute_spec_t('gravity_x', class_float, .false., 0.0_wp, 0, 0.0_wp, .false., .true., .false., .true., &
+        0.0_wp, 0.0_wp, enum_none, '', '', 'give the acceleration in m/s^2, or 0 for none'), &
+    attribute_spec_t('gravity_y', class_float, .false., 0.0_wp, 0, 0.0_wp, .false., .true., .false., .true., &
+        0.0_wp, 0.0_wp, enum_none, '', '', 'give the acceleration in m/s^2, or 0 for none'), &
+    attribute_spec_t('gravity_z', class_float, .false., 0.0_wp, 0, 0.0_wp, .false., .true., .false., .true., &
+        0.0_wp, 0.0_wp, enum_none, '', '', 'give the acceleration in m/s^2, or 0 for none') ]
 
 contains
 

@@ -22,7 +22,11 @@ module model_deck
                             contact_gather_near, control_contact_gather, control_end_time, &
                             control_output_interval, control_history_interval, control_time_step, &
                             control_time_step_safety, control_mass_damping, control_progress_interval, &
-                            control_contact_sort_interval, control_checkpoint_interval
+                            control_contact_sort_interval, control_checkpoint_interval, &
+                            dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
+                            dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
+                            dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
+                            dataset_prescribed_curve, control_gravity_x, control_gravity_y, control_gravity_z
   use deck_rules, only: integer_text, number_text
   use material_factory, only: material_from_name
   implicit none
@@ -62,6 +66,15 @@ module model_deck
     real(wp) :: checkpoint_interval = 0.0_wp          !< simulated seconds between checkpoints, 0 = none
     integer :: partition = partition_default          !< partition_blocks or partition_rcb; 0 = unknown name
     integer :: contact_gather = contact_gather_near   !< which contact nodes are gathered between sorts
+    ! loads: curves, pressure, prescribed velocity, gravity
+    integer :: n_curves = 0, n_curve_points = 0, n_pressures = 0, n_prescribed = 0
+    integer, allocatable :: curve_first_point(:)      !< (n_curves), 1-based index into curve_time
+    real(wp), allocatable :: curve_time(:), curve_value(:)
+    integer, allocatable :: pressure_part(:), pressure_curve(:)   !< 1-based
+    real(wp), allocatable :: pressure_value(:)
+    integer, allocatable :: prescribed_node(:), prescribed_dof(:), prescribed_curve(:)   !< 1-based node, curve
+    real(wp), allocatable :: prescribed_value(:)
+    real(wp) :: gravity(3) = 0.0_wp                   !< body acceleration, m/s^2
   end type deck_t
 
 contains
@@ -164,6 +177,30 @@ contains
       d%contact_passes = indices(1, :)
     case (dataset_contact_kind)
       d%contact_kind = indices(1, :)
+    case (dataset_curves_first_point)   ! an index without a reference: made 1-based here
+      d%curve_first_point = indices(1, :) + 1
+      d%n_curves = size(values, 2)
+    case (dataset_curves_time)
+      d%curve_time = values(1, :)
+      d%n_curve_points = size(values, 2)
+    case (dataset_curves_value)
+      d%curve_value = values(1, :)
+    case (dataset_pressure_part)
+      d%pressure_part = indices(1, :)
+      d%n_pressures = size(values, 2)
+    case (dataset_pressure_value)
+      d%pressure_value = values(1, :)
+    case (dataset_pressure_curve)
+      d%pressure_curve = indices(1, :)
+    case (dataset_prescribed_node)
+      d%prescribed_node = indices(1, :)
+      d%n_prescribed = size(values, 2)
+    case (dataset_prescribed_dof)
+      d%prescribed_dof = indices(1, :)
+    case (dataset_prescribed_value)
+      d%prescribed_value = values(1, :)
+    case (dataset_prescribed_curve)
+      d%prescribed_curve = indices(1, :)
     end select
   end subroutine store_deck_field
 
@@ -195,12 +232,18 @@ contains
       d%partition = nint(value)
     case (control_contact_gather)
       d%contact_gather = nint(value)
+    case (control_gravity_x)
+      d%gravity(1) = value
+    case (control_gravity_y)
+      d%gravity(2) = value
+    case (control_gravity_z)
+      d%gravity(3) = value
     end select
   end subroutine store_control_value
 
   !> Relations between fields of a deck whose every field has passed its own rules (schema
   !> relations: distinct_element_nodes, tangent_below_youngs, contact_parts_differ,
-  !> node_in_element). Returns status_ok, or status_bad_input with a message naming the dataset,
+  !> node_in_element, curve_first_points, curve_times_increase). Returns status_ok, or status_bad_input with a message naming the dataset,
   !> the 0-based entry and the fix.
   subroutine check_deck_relations(d, status, message)
     type(deck_t), intent(in) :: d
@@ -249,8 +292,41 @@ contains
                 'remove unused nodes'
       return
     end if
+    call check_curve_relations(d, message)
+    if (len_trim(message) > 0) return
     status = status_ok
   end subroutine check_deck_relations
+
+  !> The load curves' relations (curve_first_points, curve_times_increase); message '' when they hold.
+  subroutine check_curve_relations(d, message)
+    type(deck_t), intent(in) :: d
+    character(len=*), intent(out) :: message
+    integer :: i, k, last
+    message = ''
+    do i = 1, d%n_curves
+      if (i == 1) then
+        if (d%curve_first_point(1) == 1 .and. d%n_curve_points >= 1) cycle
+      else if (d%curve_first_point(i) > d%curve_first_point(i - 1) .and. d%curve_first_point(i) <= d%n_curve_points) then
+        cycle
+      end if
+      message = '/curves/first_point['//integer_text(i - 1)//'] = '//integer_text(d%curve_first_point(i) - 1)// &
+                ' breaks the order of the curves; the first curve starts at point 0 and each next one later, '// &
+                'below the number of curve points ('//integer_text(d%n_curve_points)//')'
+      return
+    end do
+    do i = 1, d%n_curves
+      last = d%n_curve_points
+      if (i < d%n_curves) last = d%curve_first_point(i + 1) - 1
+      do k = d%curve_first_point(i) + 1, last
+        if (d%curve_time(k) > d%curve_time(k - 1)) cycle
+        message = '/curves/time['//integer_text(k - 1)//'] = '//number_text(d%curve_time(k), class_float)// &
+                  ' does not follow /curves/time['//integer_text(k - 2)//'] = '// &
+                  number_text(d%curve_time(k - 1), class_float)//' of curve '//integer_text(i - 1)// &
+                  '; give the times of each curve strictly increasing'
+        return
+      end do
+    end do
+  end subroutine check_curve_relations
 
   !> `[a, b, ...]` of 1-based indices, shown 0-based as in the file.
   pure function index_list(indices) result(words)
