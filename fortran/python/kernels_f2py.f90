@@ -370,15 +370,15 @@ subroutine load_curve_values(n_curves, n_points, first_point, time, value, k, n_
   end do
 end subroutine load_curve_values
 
-! Pressure on one element (loads/pressure_kernels.f90): its four corner forces (internal-force sign)
-! and the work over a step dt in which the corners move with v.
-subroutine pressure_element(x, v, dt, p_now, p_next, corner, work)
+! Pressure on one element (loads/pressure_kernels.f90): its four corner forces at x (internal-force
+! sign) and the work over a step dt that ends at x, the corners moving with v.
+subroutine pressure_element(x, v, dt, p_start, p_end, corner, work)
   use paradyn_kinds, only: wp
   use pressure_kernels, only: pressure_corner_forces, pressure_step_work
   implicit none
-  real(wp), intent(in) :: x(3, 4), v(3, 4), dt, p_now, p_next
+  real(wp), intent(in) :: x(3, 4), v(3, 4), dt, p_start, p_end
   real(wp), intent(out) :: corner(6, 4), work
   corner = 0.0_wp
-  call pressure_corner_forces([1], reshape([1, 2, 3, 4], [4, 1]), x, p_now, corner)
-  work = pressure_step_work([1], reshape([1, 2, 3, 4], [4, 1]), x, v, dt, p_now, p_next)
+  call pressure_corner_forces([1], reshape([1, 2, 3, 4], [4, 1]), x, p_end, corner)
+  work = pressure_step_work([1], reshape([1, 2, 3, 4], [4, 1]), x, v, dt, p_start, p_end)
 end subroutine pressure_element

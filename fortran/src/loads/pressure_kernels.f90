@@ -37,11 +37,12 @@ contains
     end do
   end subroutine pressure_corner_forces
 
-  !> Work of the pressure on the listed elements over a step dt in which the corners move with v:
-  !> the trapezoidal rule between the forces at x (pressure p_now) and at x + dt v (p_next).
-  pure real(wp) function pressure_step_work(elements, connectivity, x, v, dt, p_now, p_next) result(work)
+  !> Work of the pressure on the listed elements over a step dt that ended at x, the corners
+  !> moving with v (so from x - dt v): the trapezoidal rule between the forces at the start
+  !> (pressure p_start) and at the end (p_end), as the solver integrates the work of f_ext.
+  pure real(wp) function pressure_step_work(elements, connectivity, x, v, dt, p_start, p_end) result(work)
     integer, intent(in) :: elements(:), connectivity(:, :)
-    real(wp), intent(in) :: x(:, :), v(:, :), dt, p_now, p_next
+    real(wp), intent(in) :: x(:, :), v(:, :), dt, p_start, p_end
     integer :: i, e
     real(wp) :: xe(3, 4), ve(3, 4), f(3)
     work = 0.0_wp
@@ -49,7 +50,7 @@ contains
       e = elements(i)
       xe = x(:, connectivity(:, e))
       ve = v(:, connectivity(:, e))
-      f = p_now * corner_force_per_pressure(xe) + p_next * corner_force_per_pressure(xe + dt * ve)
+      f = p_start * corner_force_per_pressure(xe - dt * ve) + p_end * corner_force_per_pressure(xe)
       work = work + 0.5_wp * dt * dot_product(f, ve(:, 1) + ve(:, 2) + ve(:, 3) + ve(:, 4))
     end do
   end function pressure_step_work
