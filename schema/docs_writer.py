@@ -98,8 +98,18 @@ def relations(schema: Schema) -> str:
     return "\n".join(lines) + "\n"
 
 
+def effects(schema: Schema) -> str:
+    lines = [_row(["effect", "stage", "declared by", "switch ([effects])", "timed with", "meaning"]),
+             "|---|---|---|---|---|---|"]
+    for e in schema.effects:
+        switch = f"`{e['switch']}`" if e.get("switch") else "-"
+        timed = " or ".join(e["timed_with"]) or "itself"
+        lines.append(_row([f"`{e['name']}`", e["stage"], e["declared_by"], switch, timed, e["meaning"]]))
+    return "\n".join(lines) + "\n"
+
+
 def tables(schema: Schema) -> dict[str, str]:
-    return {"deck-datasets": deck_datasets(schema), "deck-relations": relations(schema),
+    return {"effects": effects(schema), "deck-datasets": deck_datasets(schema), "deck-relations": relations(schema),
             "control-attributes": control_attributes(schema),
             "results-datasets": results_datasets(schema), "run-attributes": run_attributes(schema),
             "exit-statuses": exit_statuses(schema)}

@@ -114,6 +114,27 @@ class _Writer:
         self.constant("n_control_attributes", str(len(s.control)))
         self.constant("max_enum_members", str(max(len(e["members"]) for e in s.enums.values())))
 
+    def effects(self) -> None:
+        """The effects of a step by id (schema/effects.toml): names, the effect whose timer each is
+        part of (0: its own), and the /control switch attribute that turns it off (0: none)."""
+        effects = self.s.effects
+        names = [e["name"] for e in effects]
+        self.body += ["", "  ! effects of a step (schema/effects.toml), in the order of the step"]
+        self.constant("n_effects", str(len(effects)))
+        for k, name in enumerate(names, start=1):
+            self.constant(f"effect_{name}", str(k))
+        self.public += ["effect_names", "effect_timed_with", "effect_also_timed_with", "effect_switch"]
+        n_name = _char_len(names)
+        self.body += _pack(f"  character(len={n_name}), parameter :: effect_names(n_effects) = "
+                           f"[character(len={n_name}) :: ", [text(n) for n in names], "", "]")
+        owners = [e["timed_with"] + [""] * (2 - len(e["timed_with"])) for e in effects]
+        self.body += _pack("  integer, parameter :: effect_timed_with(n_effects) = [",
+                           [f"effect_{o[0]}" if o[0] else "0" for o in owners], "", "]")
+        self.body += _pack("  integer, parameter :: effect_also_timed_with(n_effects) = [",
+                           [f"effect_{o[1]}" if o[1] else "0" for o in owners], "", "]")
+        self.body += _pack("  integer, parameter :: effect_switch(n_effects) = [",
+                           [f"control_effect_{e['switch']}" if e.get("switch") else "0" for e in effects], "", "]")
+
     def size_tables(self) -> None:
         s = self.s
         entities = [v["entity"] for v in s.sizes.values()]
@@ -242,6 +263,7 @@ class _Writer:
         self.statuses()
         self.results_names()
         self.ids()
+        self.effects()
         self.size_tables()
         self.types(self.n)
         self.tables()

@@ -227,6 +227,14 @@ def write(schema: Schema, header: str) -> str:
             _names("RUN_ATTRIBUTES", [n for r in results["run"] for n in r["names"]]),
             _names("PHASES", results["phases"]["names"]),
             _names("CONTACT_PHASES", results["phases"]["contact_parts"]),
+            "", "# The effects of a step (schema/effects.toml), in the order of the step",
+            _names("EFFECTS", [e["name"] for e in schema.effects]),
+            "EFFECT_SWITCHES: dict[str, str] = {",
+            *[f"    {e['switch']!r}: {e['name']!r}," for e in schema.effects if e.get("switch")],
+            "}",
+            "EFFECT_TIMED_WITH: dict[str, tuple[str, ...]] = {",
+            *[f"    {e['name']!r}: {tuple(e['timed_with'])!r}," for e in schema.effects if e["timed_with"]],
+            "}", "",
             "PROGRESS_KINDS: dict[str, tuple[str, ...]] = {"]
     out += [f"    {p['kind']!r}: {tuple(p['keys'])!r}," for p in results["progress"]]
     out += ["}", ""]

@@ -1,4 +1,4 @@
-"""Loads schema/deck.toml, control.toml and results.toml into plain Python structures for the writers.
+"""Loads schema/deck.toml, control.toml, effects.toml and results.toml into plain Python structures for the writers.
 
 Only the standard library: the generator runs before anything is installed. Each entry is
 checked for the fields the writers need, so that a typo in the TOML fails here with its name
@@ -59,6 +59,7 @@ class Schema:
     control: list[Entry]
     name_attributes: list[dict[str, Any]]
     results: dict[str, Any]
+    effects: list[dict[str, Any]] = field(default_factory=list)
     sources: list[str] = field(default_factory=list)
 
     def enum_codes(self, name: str) -> dict[str, int]:
@@ -159,7 +160,9 @@ def load(root: Path) -> Schema:
     schema = Schema(deck=deck["deck"], sizes=deck["sizes"], conditions=deck["conditions"], enums=deck["enums"],
                     relations=deck["relations"], datasets=[Entry(d) for d in deck["dataset"]],
                     control=[Entry(a) for a in deck["control"]], name_attributes=deck["deck"]["name_attributes"],
-                    results=results, sources=["schema/deck.toml", "schema/control.toml", "schema/results.toml"])
+                    results=results, effects=_effects(root),
+                    sources=["schema/deck.toml", "schema/control.toml", "schema/effects.toml", "schema/results.toml"])
+    schema.control += [_switch_attribute(e) for e in schema.effects if e.get("switch")]
     for entry in schema.datasets + schema.control:
         _normalise_bounds(entry)
     seen_rows: set[str] = set()
@@ -181,3 +184,36 @@ def load(root: Path) -> Schema:
         if relation["path"] not in {d.name for d in schema.datasets}:
             raise SchemaError(f"relation {name}: path {relation['path']} is not a dataset")
     return schema
+
+
+EFFECT_FIELDS = {"name", "stage", "switch", "timed_with", "declared_by", "meaning"}
+EFFECT_STAGES = ("loads", "velocities", "constraints", "elements", "contact")
+
+
+def _effects(root: Path) -> list[dict[str, Any]]:
+    """schema/effects.toml's effects, checked: known fields, a stage, timed_with naming an earlier
+    effect that is timed itself."""
+    effects = tomllib.loads((root / "schema" / "effects.toml").read_text(encoding="utf-8"))["effect"]
+    names: list[str] = []
+    for e in effects:
+        unknown = set(e) - EFFECT_FIELDS
+        if unknown or not {"name", "stage", "declared_by", "meaning"} <= set(e):
+            raise SchemaError(f"effect {e.get('name')}: unknown fields {sorted(unknown)} or a field missing")
+        if e["stage"] not in EFFECT_STAGES:
+            raise SchemaError(f"effect {e['name']}: stage must be one of {EFFECT_STAGES}")
+        owners = e.get("timed_with", [])
+        e["timed_with"] = owners = [owners] if isinstance(owners, str) else list(owners)
+        if len(owners) > 2 or any(o not in names or next(x for x in effects if x["name"] == o)["timed_with"]
+                                  for o in owners):
+            raise SchemaError(f"effect {e['name']}: timed_with must name one or two earlier effects timed by "
+                              "themselves")
+        names.append(e["name"])
+    return effects
+
+
+def _switch_attribute(effect: dict[str, Any]) -> Entry:
+    """The /control attribute that switches an effect off: effect_<switch> = "on" | "off"."""
+    return Entry({"name": f"effect_{effect['switch']}", "type": "string", "default": "on", "enum": "switch",
+                  "units": "-", "meaning": f"\"off\" switches off {effect['name']}: {effect['meaning']}",
+                  "scene": f"[effects] {effect['switch']}",
+                  "fix": 'use "on" or "off" (the scene\'s [effects] table takes true or false)'})

@@ -129,9 +129,13 @@ def test_pressure_work_balances_the_energy(tmp_path: Path, curve: str) -> None:
     work = h["external_work"]
     assert np.max(np.abs(res.total_energy())) < 1e-5 * work.max()
     if curve == "pulse":
-        after = work[h["time"] >= PERIOD / 2 + res.run["dt_s"]]
+        dt, cycles = float(res.run["dt_s"]), int(res.run["cycles"])
+        after = work[h["time"] >= PERIOD / 2 + dt]
         assert after[0] > 0.0
         np.testing.assert_array_equal(after, after[0])
+        row = next(r for r in res.effect_table if r.name == "pressure")
+        assert row.active_cycles == int(np.ceil(PERIOD / 2 / dt))   # the last one for the work up to the end
+        assert row.active_cycles + row.skipped_cycles == cycles
 
 
 @pytest.mark.mpi

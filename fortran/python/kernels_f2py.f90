@@ -371,14 +371,19 @@ subroutine load_curve_values(n_curves, n_points, first_point, time, value, k, n_
 end subroutine load_curve_values
 
 ! Pressure on one element (loads/pressure_kernels.f90): its four corner forces at x (internal-force
-! sign) and the work over a step dt that ends at x, the corners moving with v.
-subroutine pressure_element(x, v, dt, p_start, p_end, corner, work)
+! sign) under p_end, and the work since the element was at x_start under p_start.
+subroutine pressure_element(x_start, x, p_start, p_end, corner, work)
   use paradyn_kinds, only: wp
-  use pressure_kernels, only: pressure_corner_forces, pressure_step_work
+  use pressure_kernels, only: pressure_corner_forces
   implicit none
-  real(wp), intent(in) :: x(3, 4), v(3, 4), dt, p_start, p_end
+  real(wp), intent(in) :: x_start(3, 4), x(3, 4), p_start, p_end
   real(wp), intent(out) :: corner(6, 4), work
+  real(wp) :: f_previous(3, 1), x_sum_previous(3, 1)
   corner = 0.0_wp
-  call pressure_corner_forces([1], reshape([1, 2, 3, 4], [4, 1]), x, p_end, corner)
-  work = pressure_step_work([1], reshape([1, 2, 3, 4], [4, 1]), x, v, dt, p_start, p_end)
+  work = 0.0_wp
+  call pressure_corner_forces([1], reshape([1, 2, 3, 4], [4, 1]), x_start, p_start, corner, f_previous, &
+                              x_sum_previous, .false., work)
+  corner = 0.0_wp
+  call pressure_corner_forces([1], reshape([1, 2, 3, 4], [4, 1]), x, p_end, corner, f_previous, &
+                              x_sum_previous, .true., work)
 end subroutine pressure_element

@@ -111,6 +111,7 @@ ENUMS: dict[str, dict[str, int]] = {
     'contact_passes': {'alternate': 1, 'both': 2},
     'contact_kind': {'node_to_segment': 1},
     'contact_gather': {'near': 1, 'all': 2},
+    'switch': {'off': 0, 'on': 1},
     'partition': {'blocks': 1, 'rcb': 2},
 }
 
@@ -493,6 +494,62 @@ CONTROL: tuple[AttributeSpec, ...] = (
         'z component of the body acceleration on every node (force m g on the translations)', '[run] gravity',
         'give the acceleration in m/s^2, or 0 for none',
     ),
+    AttributeSpec(
+        'effect_point_loads', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
+        '-', '"off" switches off point_loads: nodal forces and moments growing linearly over a ramp time',
+        '[effects] point_loads', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
+    ),
+    AttributeSpec(
+        'effect_gravity', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
+        '-', '"off" switches off gravity: a body acceleration on every node', '[effects] gravity',
+        'use "on" or "off" (the scene\'s [effects] table takes true or false)',
+    ),
+    AttributeSpec(
+        'effect_pressure', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
+        '-', '"off" switches off pressure: a follower pressure with a load curve on the faces of a part\'s shells',
+        '[effects] pressure', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
+    ),
+    AttributeSpec(
+        'effect_rigid_wall', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
+        '-', '"off" switches off rigid_wall: planar rigid walls, stationary or moving (penalty)',
+        '[effects] rigid_wall', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
+    ),
+    AttributeSpec(
+        'effect_mass_damping', 'string', False, 'on', None, None, None, None, '', 'switch',
+        'must be "off" or "on"', '-',
+        '"off" switches off mass_damping: mass-proportional damping in the velocity update',
+        '[effects] mass_damping', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
+    ),
+    AttributeSpec(
+        'effect_prescribed_velocity', 'string', False, 'on', None, None, None, None, '', 'switch',
+        'must be "off" or "on"', '-',
+        '"off" switches off prescribed_velocity: nodal velocities following a load curve',
+        '[effects] prescribed_velocity', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
+    ),
+    AttributeSpec(
+        'effect_plasticity', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
+        '-',
+        (
+            '"off" switches off plastic_shells: shell forces of the parts with a J2 material (switched off: the '
+            'same parts elastic)'
+        ), '[effects] plasticity', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
+    ),
+    AttributeSpec(
+        'effect_hourglass', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
+        '-',
+        '"off" switches off hourglass: hourglass control of the one-point shells (switched off: coefficient 0)',
+        '[effects] hourglass', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
+    ),
+    AttributeSpec(
+        'effect_contact', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
+        '-', '"off" switches off contact: node-to-segment penalty contact of the declared part pairs',
+        '[effects] contact', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
+    ),
+    AttributeSpec(
+        'effect_friction', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
+        '-', '"off" switches off friction: Coulomb friction in contact (switched off: frictionless)',
+        '[effects] friction', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
+    ),
 )
 
 NAME_ATTRIBUTES: tuple[NameAttributeSpec, ...] = (
@@ -559,6 +616,16 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('control', 'gravity_x'): ('class', 'finite'),
     ('control', 'gravity_y'): ('class', 'finite'),
     ('control', 'gravity_z'): ('class', 'finite'),
+    ('control', 'effect_point_loads'): ('class', 'enum'),
+    ('control', 'effect_gravity'): ('class', 'enum'),
+    ('control', 'effect_pressure'): ('class', 'enum'),
+    ('control', 'effect_rigid_wall'): ('class', 'enum'),
+    ('control', 'effect_mass_damping'): ('class', 'enum'),
+    ('control', 'effect_prescribed_velocity'): ('class', 'enum'),
+    ('control', 'effect_plasticity'): ('class', 'enum'),
+    ('control', 'effect_hourglass'): ('class', 'enum'),
+    ('control', 'effect_contact'): ('class', 'enum'),
+    ('control', 'effect_friction'): ('class', 'enum'),
     ('relation', '/elements/connectivity'): ('distinct_element_nodes',),
     ('relation', '/nodes/coordinates'): ('node_in_element',),
     ('relation', '/materials/tangent_modulus'): ('tangent_below_youngs',),
@@ -588,6 +655,31 @@ RUN_ATTRIBUTES = (
 )
 PHASES = ('elements', 'contact', 'communication', 'output', 'other')
 CONTACT_PHASES = ('contact_sort', 'contact_search', 'contact_force')
+
+# The effects of a step (schema/effects.toml), in the order of the step
+EFFECTS = (
+    'point_loads', 'gravity', 'pressure', 'rigid_wall', 'time_integration', 'mass_damping', 'fixed_boundaries',
+    'prescribed_velocity', 'elastic_shells', 'plastic_shells', 'hourglass', 'contact', 'friction',
+)
+EFFECT_SWITCHES: dict[str, str] = {
+    'point_loads': 'point_loads',
+    'gravity': 'gravity',
+    'pressure': 'pressure',
+    'rigid_wall': 'rigid_wall',
+    'mass_damping': 'mass_damping',
+    'prescribed_velocity': 'prescribed_velocity',
+    'plasticity': 'plastic_shells',
+    'hourglass': 'hourglass',
+    'contact': 'contact',
+    'friction': 'friction',
+}
+EFFECT_TIMED_WITH: dict[str, tuple[str, ...]] = {
+    'mass_damping': ('time_integration',),
+    'fixed_boundaries': ('time_integration',),
+    'hourglass': ('elastic_shells', 'plastic_shells'),
+    'friction': ('contact',),
+}
+
 PROGRESS_KINDS: dict[str, tuple[str, ...]] = {
     'START': ('elements', 'nodes', 'ranks', 'threads', 'dt', 'dt_stable', 'end_time', 'effects', 'partition'),
     'PROGRESS': ('cycle', 'time', 'dt', 'end_time', 'wall_s'),

@@ -9,6 +9,7 @@ from pathlib import Path
 from . import deck, launch, reading, scene, workflow
 from ._schema import STATUS_BAD_INPUT, STATUS_OK
 from .postprocess import post_process
+from .reports import effect_table_text
 
 DESCRIPTION = """\
 Run a ParaDyn scene end to end.
@@ -73,7 +74,7 @@ def post_only(out_dir: Path, plots: bool, vtk: bool) -> int:
         return STATUS_BAD_INPUT
     try:
         res = reading.read(res_path, deck=deck_path)
-        outputs = post_process(res, out_dir, res.effects, {"post_processed": True}, plots=plots, vtk=vtk)
+        outputs = post_process(res, out_dir, {"post_processed": True}, plots=plots, vtk=vtk)
     except (deck.DeckError, reading.ResultsError) as error:
         print(f"paradyn-run: error: {error}", file=sys.stderr)
         return STATUS_BAD_INPUT
@@ -109,9 +110,10 @@ def main(argv: list[str] | None = None) -> int:
     if isinstance(outcome, workflow.BatchJob):
         print(f"paradyn-run: wrote {outcome.script}; submit it with: sbatch {outcome.script}")
         return STATUS_OK
-    done, effects = outcome.engine_run.done, outcome.engine_run.start.get("effects", "").split(",")
+    done = outcome.engine_run.done
     print(f"paradyn-run: {done.get('cycles')} cycles in {float(done.get('wall_s', 'nan')):.2f} s "
-          f"({float(done.get('element_cycles_per_s', 'nan')):.3e} element-cycles/s), effects: {', '.join(effects)}")
+          f"({float(done.get('element_cycles_per_s', 'nan')):.3e} element-cycles/s); effects:")
+    print(effect_table_text(outcome))
     _print_outputs(outcome.outputs)
     return STATUS_OK
 

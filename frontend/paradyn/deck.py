@@ -40,6 +40,7 @@ from paradyn.deck_model import (
     HOURGLASS_VISCOUS,
     J2_PLASTICITY,
     PARTITIONS,
+    SWITCH_ATTRIBUTES,
     Control,
     Model,
     control_default,
@@ -55,6 +56,7 @@ __all__ = [
     "HOURGLASS_VISCOUS",
     "J2_PLASTICITY",
     "PARTITIONS",
+    "SWITCH_ATTRIBUTES",
     "VERSION_ATTRIBUTE",
     "Control",
     "DeckError",
@@ -107,8 +109,8 @@ def _write_contents(f: h5py.File, model: Model) -> None:
         value = getattr(model.control, name)
         if value is not None:
             control.attrs[name] = np.float64(value)
-    for name in Control.STRINGS:
-        value = getattr(model.control, name)
+    for name in Control.STRINGS + tuple(SWITCH_ATTRIBUTES):
+        value = model.control.value(name)
         if value is not None:
             control.attrs[name] = str(value)
 
@@ -215,7 +217,8 @@ def _read_control(f: h5py.File, source: str) -> Control:
             raise DeckError(f"{source}: /control attribute {name} = {raw!r} must be a real scalar; "
                             f"write it as a float64 attribute")
         values[name] = float(raw)
-    for name in Control.STRINGS:
+    switches: dict[str, str] = {}
+    for name in Control.STRINGS + tuple(SWITCH_ATTRIBUTES):
         if name not in attrs:
             continue
         raw = attrs[name]
@@ -223,8 +226,11 @@ def _read_control(f: h5py.File, source: str) -> Control:
             shown = raw.item() if isinstance(raw, np.generic) else raw
             raise DeckError(f"{source}: /control attribute {name} = {shown!r} must be one string; "
                             f"write it as a str attribute")
-        values[name] = _decode(raw)
-    return Control(**values)  # type: ignore[arg-type]
+        if name in SWITCH_ATTRIBUTES:
+            switches[SWITCH_ATTRIBUTES[name]] = _decode(raw)
+        else:
+            values[name] = _decode(raw)
+    return Control(**values, effect_switches=switches)  # type: ignore[arg-type]
 
 
 def _fill_names(model: Model) -> None:

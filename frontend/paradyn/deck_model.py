@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from paradyn._schema import CONTROL, DATASETS, ENUMS
+from paradyn._schema import CONTROL, DATASETS, EFFECT_SWITCHES, ENUMS
 
 CONTROL_BY_NAME = {a.name: a for a in CONTROL}
 DATASET_BY_ATTRIBUTE = {d.python: d for d in DATASETS}
@@ -24,6 +24,8 @@ HOURGLASS_STIFFNESS = ENUMS["hourglass_form"]["stiffness"]
 # /control partition: how elements are given to MPI ranks (docs/formats.md); codes as the engine's
 PARTITIONS = dict(ENUMS["partition"])
 DEFAULT_PARTITION = str(CONTROL_BY_NAME["partition"].default)   # what the engine uses when the attribute is absent
+# /control effect_<switch> = "on" | "off": the scene's [effects] switches (schema/effects.toml)
+SWITCH_ATTRIBUTES = {f"effect_{switch}": switch for switch in EFFECT_SWITCHES}
 
 
 def control_default(name: str) -> float | str | None:
@@ -53,13 +55,21 @@ class Control:
     checkpoint_interval: float = _number_default("checkpoint_interval")
     partition: str | None = None   # "blocks" or "rcb"; None leaves it to the engine (DEFAULT_PARTITION)
     contact_gather: str | None = None   # "near" or "all"; None leaves it to the engine ("near")
+    # [effects] switches, switch name -> "on" or "off" (/control effect_<switch>); absent = "on"
+    effect_switches: dict[str, str] = field(default_factory=dict)
     gravity_x: float = _number_default("gravity_x")   # body acceleration m/s^2 (scene [run] gravity)
     gravity_y: float = _number_default("gravity_y")
     gravity_z: float = _number_default("gravity_z")
 
     REQUIRED = tuple(a.name for a in CONTROL if a.required)
     OPTIONAL = tuple(a.name for a in CONTROL if not a.required and a.type == "float")
-    STRINGS = tuple(a.name for a in CONTROL if a.type == "string")
+    STRINGS = tuple(a.name for a in CONTROL if a.type == "string" and a.name not in SWITCH_ATTRIBUTES)
+
+    def value(self, name: str) -> float | str | None:
+        """The value of /control attribute ``name`` (an effect switch from ``effect_switches``)."""
+        if name in SWITCH_ATTRIBUTES:
+            return self.effect_switches.get(SWITCH_ATTRIBUTES[name])
+        return getattr(self, name)
 
 
 def _empty_int() -> np.ndarray:

@@ -220,7 +220,7 @@ def _check_names(check: _Checker, sizes: dict[str, int]) -> None:
 def _check_control(check: _Checker) -> None:
     control = check.model.control
     for spec in CONTROL:
-        value = getattr(control, spec.name)
+        value = control.value(spec.name)
         label = f"/control attribute {spec.name}"
         if value is None:
             if spec.required:

@@ -17,7 +17,6 @@ from .vtk_export import write_vtk_series
 def post_process(
     results: Results,
     out_dir: str | Path,
-    effects: list[str],
     extra: dict[str, Any] | None = None,
     *,
     vtk: bool = True,
@@ -33,8 +32,6 @@ def post_process(
         The run, as :func:`paradyn.read` opened it.
     out_dir : str or Path
         Where the outputs go (usually the folder of ``results.h5``).
-    effects : list of str
-        The physical effects of the run, for ``summary.json``.
     extra : dict, optional
         Entries merged last into ``summary.json``.
     vtk, history, summary, plots : bool
@@ -55,7 +52,7 @@ def post_process(
         outputs["history"] = write_history_csv(results, out_dir / "history.csv")
     if summary:
         summary_path = out_dir / "summary.json"
-        write_summary(results, summary_path, effects=effects, extra=extra)
+        write_summary(results, summary_path, extra=extra)
         outputs["summary"] = summary_path
     if plots:
         from . import plots as plotting  # matplotlib and pyvista load only when pictures are asked for

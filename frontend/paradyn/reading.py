@@ -140,6 +140,7 @@ class Results:
     end_time: float | None = None
     deck_path: Path | None = None
     effects_written: list[str] | None = None
+    effect_table: list[run_names.EffectRow] = field(default_factory=list)
     engine_run: EngineRun | None = None
     outputs: dict[str, Path] = field(default_factory=dict)
     displacement: FrameField = field(init=False, compare=False)
@@ -195,15 +196,10 @@ class Results:
 
     @property
     def effects(self) -> list[str]:
-        """The physical effects of the run: as the engine wrote them into the results file, else
-        as the deck declares them (empty without either)."""
-        if self.effects_written is not None:
-            return list(self.effects_written)
-        if self.deck_path is None:
-            return []
-        from . import deck, scene  # the deck reader is only needed for files without effects
-
-        return scene.effects(deck.read_deck(self.deck_path))
+        """The effects that ran, in the order of the step, as the engine wrote them (the engine
+        alone decides what a deck declares; empty for a run that did not finish writing them).
+        :attr:`effect_table` has their counters and the effects the scene switched off."""
+        return list(self.effects_written or [])
 
     # ---- frames ------------------------------------------------------------------------------
     def frame_index(self, k: int) -> int:
@@ -391,4 +387,5 @@ def read(
         end_time=names.end_time,
         deck_path=names.deck_path,
         effects_written=names.effects,
+        effect_table=written.effect_table,
     )

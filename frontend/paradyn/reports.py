@@ -6,6 +6,7 @@ written atomically (:mod:`paradyn.atomic_write`).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -82,7 +83,6 @@ def _finite(x: float) -> float | None:
 def write_summary(
     results: Results,
     path: str | Path,
-    effects: list[str],
     extra: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """Write ``summary.json`` atomically and return its content.
@@ -118,13 +118,22 @@ def write_summary(
         "history_records": results.n_records,
         "parts": list(results.part_names),
         "energy": energy_report(results),
-        "effects": list(effects),
+        "effects": [dataclasses.asdict(row) for row in results.effect_table],
     }
     if extra:
         summary.update(extra)
     summary = _jsonable(summary)
     write_text_atomic(Path(path), json.dumps(summary, indent=2, allow_nan=False) + "\n")
     return summary
+
+
+def effect_table_text(results: Results) -> str:
+    """The effect table as aligned text, one effect per line (what paradyn-run prints at the end)."""
+    lines = [f"  {'effect':20s} {'state':5s} {'active':>10s} {'skipped':>10s} {'wall s':>9s}"]
+    for row in results.effect_table:
+        wall = f"(in {row.timed_with})" if row.timed_with else f"{row.wall_s:9.3f}"
+        lines.append(f"  {row.name:20s} {row.state:5s} {row.active_cycles:10d} {row.skipped_cycles:10d} {wall:>9s}")
+    return "\n".join(lines)
 
 
 def _last(a: np.ndarray) -> float | None:

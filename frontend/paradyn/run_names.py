@@ -1,7 +1,8 @@
 """The names of a run: title, part names, tracked point names, effects and the requested end time.
 
 They come from ``results.h5`` where the engine wrote them (root attribute ``title``, ``/mesh``
-attribute ``part_names``, ``/run`` attribute ``effects``), else from the deck the run used
+attribute ``part_names``, ``/run`` attribute ``effects`` and the effect table ``/effects``; the
+engine alone decides which effects a deck declares), else from the deck the run used
 (``deck.h5`` beside the results, or one passed explicitly), else from fallbacks (``part_<i>``,
 ``node_<id>``, ``tracked_<i>``). docs/outputs.md, "Names", says the same for users.
 """
@@ -33,6 +34,34 @@ class RunNames:
     tracked_nodes: np.ndarray | None = None
     end_time: float | None = None
     effects: list[str] | None = None
+    effect_table: list[EffectRow] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class EffectRow:
+    """One effect of a run's effect table (docs/formats.md, the effect table)."""
+
+    name: str
+    state: str              # "on", or "off" where the scene switched it off
+    active_cycles: int      # cycles it did its work
+    skipped_cycles: int     # cycles it was idle and not called
+    wall_s: float           # rank 0's wall seconds (0 where timed with another effect)
+    timed_with: str         # the effect whose seconds include this one's, "" where timed alone
+
+
+def effect_table(h5: h5py.File) -> list[EffectRow]:
+    """The effect table the engine wrote (``/effects``), in the order of the step; empty for a
+    run that did not finish writing it."""
+    if "effects" not in h5:
+        return []
+    rows = []
+    for name, group in h5["effects"].items():
+        a = group.attrs
+        rows.append((int(a["order"]), EffectRow(
+            name=name, state=(strings(a["state"], one=True) or ["on"])[0].strip(),
+            active_cycles=int(a["active_cycles"]), skipped_cycles=int(a["skipped_cycles"]),
+            wall_s=float(a["wall_s"]), timed_with=(strings(a["timed_with"], one=True) or [""])[0])))
+    return [row for _, row in sorted(rows, key=lambda item: item[0])]
 
 
 def names_in_results(h5: h5py.File) -> RunNames:
@@ -47,6 +76,7 @@ def names_in_results(h5: h5py.File) -> RunNames:
     if "run" in h5 and "effects" in h5["run"].attrs:
         text = (strings(h5["run"].attrs["effects"], one=True) or [""])[0]
         names.effects = [e.strip() for e in text.split(",") if e.strip()]
+    names.effect_table = effect_table(h5)
     return names
 
 

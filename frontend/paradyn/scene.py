@@ -6,12 +6,12 @@ Every problem raises :class:`SceneError` with a message that starts with the sce
 
 This module is the scene's public face; the work is split by job: the data types are in
 :mod:`paradyn.scene_specs`, reading and checking a file in :mod:`paradyn.scene_reading`, building
-the deck model (and :func:`effects`) in :mod:`paradyn.scene_building`.
+the deck model in :mod:`paradyn.scene_building`.
 """
 
 from __future__ import annotations
 
-from paradyn.scene_building import build_model, effects
+from paradyn.scene_building import build_model
 from paradyn.scene_reading import load_scene
 from paradyn.scene_specs import (
     DOF_GROUPS,
@@ -50,6 +50,5 @@ __all__ = [
     "SceneError",
     "TrackSpec",
     "build_model",
-    "effects",
     "load_scene",
 ]

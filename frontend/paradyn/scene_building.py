@@ -3,7 +3,7 @@
 Parts do not share nodes; fixes and prescribed velocities select nodes in a box, loads and tracked
 points take the nearest node of their part, contacts become part pairs, curves are numbered in
 scene order with one constant curve added for the pressures and prescribed velocities without one.
-:func:`effects` lists what a model switches on.
+(The engine alone decides which effects a model declares: results.h5 /effects.)
 """
 
 from __future__ import annotations
@@ -148,10 +148,6 @@ def _apply_tracks(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model
     model.tracked_names = [track.name for track in scene.tracks]
 
 
-# ----------------------------------------------------------------------------------------------
-# effects
-
-
 def _apply_contacts(scene: Scene, model: deck.Model) -> None:
     index = {p.name: i for i, p in enumerate(scene.parts)}
     contacts = scene.contacts
@@ -204,19 +200,3 @@ def _apply_curve_loads(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], 
     model.prescribed_value = np.array(scales, dtype=np.float64)
     model.prescribed_curve = np.array(curves, dtype=np.int32)
 
-
-def effects(model: deck.Model) -> list[str]:
-    """Physical effects a model switches on, in the order the engine reports them."""
-    active = ["shell_elements", "time_integration"]
-    used_materials = np.asarray(model.part_material)[np.unique(np.asarray(model.element_part))]
-    if np.any(np.asarray(model.material_model)[used_materials] == deck.J2_PLASTICITY):
-        active.append("plasticity")
-    if model.fixed_dofs is not None and np.any(np.asarray(model.fixed_dofs) != 0):
-        active.append("fixed_boundaries")
-    if model.n_loads > 0:
-        active.append("point_loads")
-    if model.n_contacts > 0:
-        active.append("contact")
-    if model.control.mass_damping and model.control.mass_damping > 0:
-        active.append("mass_damping")
-    return active

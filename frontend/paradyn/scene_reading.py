@@ -52,7 +52,8 @@ def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
 # parsing
 
 
-_TOP_KEYS = ("title", "run", "material", "part", "fix", "load", "track", "contact", "curve", "pressure", "prescribe")
+_TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "track", "contact", "curve",
+             "pressure", "prescribe")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
              "contact_gather", "gravity")
@@ -86,6 +87,7 @@ def load_scene(path: str | Path) -> Scene:
     if not isinstance(title, str):
         raise reader.error(f"'title' must be a string, got {title!r}")
     run = _parse_run(reader, reader.table(data, "run", "the scene"))
+    run.effect_switches = _parse_effects(reader, reader.table(data, "effects", "the scene", required=False))
     materials = [_parse_material(reader, t, i) for i, t in enumerate(reader.tables(data, "material"))]
     parts = [_parse_part(reader, t, i) for i, t in enumerate(reader.tables(data, "part"))]
     fixes = [_parse_fix(reader, t, i) for i, t in enumerate(reader.tables(data, "fix"))]
@@ -142,6 +144,18 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
         raise r.error(f"'time_step_safety' in {label} must be in (0, 1], got {run.time_step_safety}")
     run.gravity_x, run.gravity_y, run.gravity_z = r.vector(t, "gravity", label, default=(0.0, 0.0, 0.0))
     return run
+
+
+def _parse_effects(r: _Reader, t: dict[str, Any]) -> dict[str, str]:
+    """[effects] <switch> = true | false: an effect the scene declares but wants off for a study
+    or a check (schema/effects.toml names the switches)."""
+    r.keys(t, "[effects]", _schema.EFFECT_SWITCHES)
+    switches = {}
+    for name, value in t.items():
+        if not isinstance(value, bool):
+            raise r.error(f"'{name}' in [effects] must be true or false, got {value!r}")
+        switches[name] = "on" if value else "off"
+    return switches
 
 
 def _parse_material(r: _Reader, t: dict[str, Any], index: int) -> MaterialSpec:

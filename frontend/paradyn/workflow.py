@@ -136,9 +136,8 @@ def run(
     results = read(out / results_name, deck=deck_path)
     results.engine_run = engine_run
     if post:
-        effects = engine_run.start.get("effects", "").split(",")
         details = {"scene": _source_name(source), "command": engine_run.command, **(extra or {})}
-        results.outputs = post_process(results, out, effects, details, vtk=vtk, history=history,
+        results.outputs = post_process(results, out, details, vtk=vtk, history=history,
                                        summary=summary, plots=plots)
     return results
 

@@ -19,6 +19,8 @@ program paradyn_engine
   use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
   use stop_signals, only: install_stop_handlers
   use run_names, only: copy_run_names
+  use deck_effects, only: effects_of_deck
+  use effect_table, only: effect_table_t, effect_list
   implicit none
 
   interface
@@ -32,6 +34,7 @@ program paradyn_engine
   type(solver_t) :: solver
   type(results_file_t) :: results
   type(run_record_t) :: run
+  type(effect_table_t) :: effects
   character(len=4096) :: deck_path, results_path, restart_path, argument
   character(len=:), allocatable :: checkpoint
   character(len=1024) :: message
@@ -90,7 +93,8 @@ program paradyn_engine
   ! every rank reads and checks the deck; all reach the same verdict
   call read_deck(trim(deck_path), deck, status, message)
   if (status /= status_ok) call fail(status_bad_input, trim(deck_path)//': '//trim(message))
-  call solver_setup(solver, deck, comm, status, message)
+  call effects_of_deck(deck, effects)   ! what the deck declares; the scene's switched-off effects go
+  call solver_setup(solver, deck, effects, comm, status, message)
   if (status /= status_ok) call fail(status, trim(message))
 
   associate (owned => solver%dom%nodes(solver%halo%owned_local), elements => solver%dom%elements)
@@ -113,7 +117,7 @@ program paradyn_engine
     write (*, '(a,i0,a,i0,a,i0,a,i0,a,es11.4,a,es11.4,a,es11.4,a)') 'PARADYN-START elements=', &
       solver%control%n_elements, ' nodes=', solver%control%n_nodes, ' ranks=', n_ranks, ' threads=', solver%threads, &
       ' dt=', solver%clock%dt, ' dt_stable=', solver%clock%dt_stable, ' end_time=', solver%clock%end_time, &
-      ' effects='//solver%control%effects//' partition='//solver%control%partition
+      ' effects='//effect_list(solver%effects, .false.)//' partition='//solver%control%partition
     if (restart) write (*, '(a,es13.6,a,i0)') 'PARADYN-RESTART time=', solver%clock%time, ' cycle=', &
       solver%clock%cycles
     flush (6)
@@ -143,7 +147,7 @@ program paradyn_engine
     end if
   end do
   run%peak_memory_mb = largest_peak_memory_mb()
-  call results_finish(results, run, solver%control%effects, status == status_ok)
+  call results_finish(results, run, status == status_ok)
   if (status /= status_ok) call fail(status, trim(message))
   if (rank == 0) then
     write (*, '(a,i0,a,es13.6,a,f0.3,a,es11.4)') 'PARADYN-DONE cycles=', run%cycles, ' time=', solver%clock%time, &

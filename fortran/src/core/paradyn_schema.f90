@@ -8,33 +8,40 @@ module paradyn_schema
   private
   public :: deck_version, deck_version_attribute, material_elastic, material_j2_plasticity, &
       hourglass_viscous, hourglass_stiffness, dof_free, dof_fixed, contact_passes_alternate, &
-      contact_passes_both, contact_kind_node_to_segment, contact_gather_near, contact_gather_all, &
-      partition_blocks, partition_rcb, max_integration_points, status_ok, status_failure, status_bad_input, &
-      status_numerical, status_stopped, n_frame_fields, n_history_scalars, history_kinetic_energy, &
-      history_internal_energy, history_hourglass_energy, history_contact_energy, history_external_work, &
-      history_contact_penetration, frame_field_names, history_scalar_names, class_int, class_float, &
-      class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, size_n_loads, &
-      size_n_tracked, size_n_contacts, size_n_curves, size_n_curve_points, size_n_pressures, &
+      contact_passes_both, contact_kind_node_to_segment, contact_gather_near, contact_gather_all, switch_off, &
+      switch_on, partition_blocks, partition_rcb, max_integration_points, status_ok, status_failure, &
+      status_bad_input, status_numerical, status_stopped, n_frame_fields, n_history_scalars, &
+      history_kinetic_energy, history_internal_energy, history_hourglass_energy, history_contact_energy, &
+      history_external_work, history_contact_penetration, frame_field_names, history_scalar_names, class_int, &
+      class_float, class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, &
+      size_n_loads, size_n_tracked, size_n_contacts, size_n_curves, size_n_curve_points, size_n_pressures, &
       size_n_prescribed, n_sizes, condition_none, condition_loads_group, condition_contact_group, &
       condition_curves_group, condition_pressure_group, condition_prescribed_group, condition_j2_plasticity, &
       n_conditions, enum_none, enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
-      enum_contact_kind, enum_contact_gather, enum_partition, n_enums, dataset_nodes_coordinates, &
-      dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
-      dataset_elements_connectivity, dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
-      dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
-      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
-      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
-      dataset_materials_hardening_mixing, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
-      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
-      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
-      dataset_curves_first_point, dataset_curves_time, dataset_curves_value, dataset_pressure_part, &
-      dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, &
-      dataset_prescribed_value, dataset_prescribed_curve, n_deck_datasets, control_end_time, &
-      control_output_interval, control_history_interval, control_time_step, control_time_step_safety, &
-      control_mass_damping, control_progress_interval, control_contact_sort_interval, &
-      control_checkpoint_interval, control_partition, control_contact_gather, control_gravity_x, &
-      control_gravity_y, control_gravity_z, n_control_attributes, max_enum_members, size_symbol, size_entity, &
+      enum_contact_kind, enum_contact_gather, enum_switch, enum_partition, n_enums, &
+      dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
+      dataset_nodes_fixed_dofs, dataset_elements_connectivity, dataset_elements_part, &
+      dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
+      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_materials_model, &
+      dataset_materials_density, dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, &
+      dataset_materials_yield_stress, dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, &
+      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
+      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
+      dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
+      dataset_contact_passes, dataset_contact_kind, dataset_curves_first_point, dataset_curves_time, &
+      dataset_curves_value, dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
+      dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
+      n_deck_datasets, control_end_time, control_output_interval, control_history_interval, &
+      control_time_step, control_time_step_safety, control_mass_damping, control_progress_interval, &
+      control_contact_sort_interval, control_checkpoint_interval, control_partition, control_contact_gather, &
+      control_gravity_x, control_gravity_y, control_gravity_z, control_effect_point_loads, &
+      control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
+      control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
+      control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
+      max_enum_members, n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
+      effect_time_integration, effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, &
+      effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, effect_friction, &
+      effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
       size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
       deck_conditions, deck_datasets, control_attributes, enum_name, enum_code
   integer, parameter :: deck_version = 1
@@ -52,6 +59,8 @@ module paradyn_schema
   integer, parameter :: contact_kind_node_to_segment = 1   !< each part of the pair is slave to the other's shell segments
   integer, parameter :: contact_gather_near = 1   !< between sorts, gather only the contact nodes that can come into contac
   integer, parameter :: contact_gather_all = 2   !< gather every contact node every step (a check: the same answer, slower
+  integer, parameter :: switch_off = 0   !< the effect is switched off
+  integer, parameter :: switch_on = 1   !< the effect runs where the deck declares it
   integer, parameter :: partition_blocks = 1   !< contiguous blocks by element number (the paper)
   integer, parameter :: partition_rcb = 2   !< recursive coordinate bisection of the element centroids
   integer, parameter :: max_integration_points = 9   !< upper bound of /parts/integration_points
@@ -110,8 +119,9 @@ module paradyn_schema
   integer, parameter :: enum_contact_passes = 4
   integer, parameter :: enum_contact_kind = 5
   integer, parameter :: enum_contact_gather = 6
-  integer, parameter :: enum_partition = 7
-  integer, parameter :: n_enums = 7
+  integer, parameter :: enum_switch = 7
+  integer, parameter :: enum_partition = 8
+  integer, parameter :: n_enums = 8
   integer, parameter :: dataset_nodes_coordinates = 1
   integer, parameter :: dataset_nodes_initial_velocity = 2
   integer, parameter :: dataset_nodes_initial_angular_velocity = 3
@@ -167,8 +177,45 @@ module paradyn_schema
   integer, parameter :: control_gravity_x = 12
   integer, parameter :: control_gravity_y = 13
   integer, parameter :: control_gravity_z = 14
-  integer, parameter :: n_control_attributes = 14
+  integer, parameter :: control_effect_point_loads = 15
+  integer, parameter :: control_effect_gravity = 16
+  integer, parameter :: control_effect_pressure = 17
+  integer, parameter :: control_effect_rigid_wall = 18
+  integer, parameter :: control_effect_mass_damping = 19
+  integer, parameter :: control_effect_prescribed_velocity = 20
+  integer, parameter :: control_effect_plasticity = 21
+  integer, parameter :: control_effect_hourglass = 22
+  integer, parameter :: control_effect_contact = 23
+  integer, parameter :: control_effect_friction = 24
+  integer, parameter :: n_control_attributes = 24
   integer, parameter :: max_enum_members = 2
+
+  ! effects of a step (schema/effects.toml), in the order of the step
+  integer, parameter :: n_effects = 13
+  integer, parameter :: effect_point_loads = 1
+  integer, parameter :: effect_gravity = 2
+  integer, parameter :: effect_pressure = 3
+  integer, parameter :: effect_rigid_wall = 4
+  integer, parameter :: effect_time_integration = 5
+  integer, parameter :: effect_mass_damping = 6
+  integer, parameter :: effect_fixed_boundaries = 7
+  integer, parameter :: effect_prescribed_velocity = 8
+  integer, parameter :: effect_elastic_shells = 9
+  integer, parameter :: effect_plastic_shells = 10
+  integer, parameter :: effect_hourglass = 11
+  integer, parameter :: effect_contact = 12
+  integer, parameter :: effect_friction = 13
+  character(len=19), parameter :: effect_names(n_effects) = [character(len=19) :: 'point_loads', 'gravity', &
+    'pressure', 'rigid_wall', 'time_integration', 'mass_damping', 'fixed_boundaries', 'prescribed_velocity', &
+    'elastic_shells', 'plastic_shells', 'hourglass', 'contact', 'friction']
+  integer, parameter :: effect_timed_with(n_effects) = [0, 0, 0, 0, 0, effect_time_integration, &
+    effect_time_integration, 0, 0, 0, effect_elastic_shells, 0, effect_contact]
+  integer, parameter :: effect_also_timed_with(n_effects) = [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, &
+    effect_plastic_shells, 0, 0]
+  integer, parameter :: effect_switch(n_effects) = [control_effect_point_loads, control_effect_gravity, &
+    control_effect_pressure, control_effect_rigid_wall, 0, control_effect_mass_damping, 0, &
+    control_effect_prescribed_velocity, 0, control_effect_plasticity, control_effect_hourglass, &
+    control_effect_contact, control_effect_friction]
 
   character(len=14), parameter :: size_symbol(n_sizes) = [character(len=14) :: 'n_nodes', 'n_elements', &
     'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_curves', 'n_curve_points', &
@@ -217,7 +264,7 @@ module paradyn_schema
 
   !> One attribute of /control; a string attribute holds an enum member's name.
   type :: attribute_spec_t
-    character(len=21) :: name
+    character(len=26) :: name
     integer :: class                    !< class_float (any number) or class_string
     logical :: required
     real(wp) :: default                 !< for a string: the default member's code
@@ -238,6 +285,7 @@ module paradyn_schema
     enum_spec_t(2, [1, 2], [character(len=15) :: 'alternate', 'both']), &
     enum_spec_t(1, [1, 0], [character(len=15) :: 'node_to_segment', '']), &
     enum_spec_t(2, [1, 2], [character(len=15) :: 'near', 'all']), &
+    enum_spec_t(2, [0, 1], [character(len=15) :: 'off', 'on']), &
     enum_spec_t(2, [1, 2], [character(len=15) :: 'blocks', 'rcb']) ]
 
   type(condition_spec_t), parameter :: deck_conditions(n_conditions) = [ &
@@ -415,7 +463,37 @@ module paradyn_schema
     attribute_spec_t('gravity_y', class_float, .false., 0.0_wp, 0, 0.0_wp, .false., .true., .false., .true., &
         0.0_wp, 0.0_wp, enum_none, '', '', 'give the acceleration in m/s^2, or 0 for none'), &
     attribute_spec_t('gravity_z', class_float, .false., 0.0_wp, 0, 0.0_wp, .false., .true., .false., .true., &
-        0.0_wp, 0.0_wp, enum_none, '', '', 'give the acceleration in m/s^2, or 0 for none') ]
+        0.0_wp, 0.0_wp, enum_none, '', '', 'give the acceleration in m/s^2, or 0 for none'), &
+    attribute_spec_t('effect_point_loads', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., &
+        .false., .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
+        'use "on" or "off" (the scene''s [effects] table takes true or false)'), &
+    attribute_spec_t('effect_gravity', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
+        'use "on" or "off" (the scene''s [effects] table takes true or false)'), &
+    attribute_spec_t('effect_pressure', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
+        'use "on" or "off" (the scene''s [effects] table takes true or false)'), &
+    attribute_spec_t('effect_rigid_wall', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
+        'use "on" or "off" (the scene''s [effects] table takes true or false)'), &
+    attribute_spec_t('effect_mass_damping', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., &
+        .false., .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
+        'use "on" or "off" (the scene''s [effects] table takes true or false)'), &
+    attribute_spec_t('effect_prescribed_velocity', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., &
+        .false., .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
+        'use "on" or "off" (the scene''s [effects] table takes true or false)'), &
+    attribute_spec_t('effect_plasticity', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
+        'use "on" or "off" (the scene''s [effects] table takes true or false)'), &
+    attribute_spec_t('effect_hourglass', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
+        'use "on" or "off" (the scene''s [effects] table takes true or false)'), &
+    attribute_spec_t('effect_contact', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
+        'use "on" or "off" (the scene''s [effects] table takes true or false)'), &
+    attribute_spec_t('effect_friction', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
+        'use "on" or "off" (the scene''s [effects] table takes true or false)') ]
 
 contains
 

@@ -3,14 +3,15 @@
 !> per run of consecutive global ids. Rows lie along the last Fortran dimension of a dataset
 !> (h5py's first); a growing dataset has one more dimension, the frame. Every call is collective.
 module parallel_hdf5
+  use, intrinsic :: iso_c_binding, only: c_loc
   use hdf5
   use mpi_f08, only: MPI_Comm, MPI_INFO_NULL
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
   implicit none
   private
   public :: row_runs_t, row_runs, phdf5_open, phdf5_close
   public :: create_dataset, create_growing, write_rows, read_rows, truncate_growing
-  public :: write_int_attribute, write_real_attribute, read_int_attribute, read_real_attribute
+  public :: write_int_attribute, write_long_attribute, write_real_attribute, read_int_attribute, read_real_attribute
 
   !> The global rows (node or element ids) a rank reads or writes, as runs of consecutive ids.
   type :: row_runs_t
@@ -253,6 +254,17 @@ contains
     call h5awrite_f(attr, H5T_NATIVE_INTEGER, value, [1_hsize_t], err)
     call h5aclose_f(attr, err)
   end subroutine write_int_attribute
+
+  subroutine write_long_attribute(loc, name, value)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer(i8), intent(in), target :: value
+    integer(hid_t) :: attr
+    integer :: err
+    attr = scalar_attribute(loc, name, H5T_STD_I64LE)
+    call h5awrite_f(attr, h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(value), err)
+    call h5aclose_f(attr, err)
+  end subroutine write_long_attribute
 
   subroutine write_real_attribute(loc, name, value)
     integer(hid_t), intent(in) :: loc

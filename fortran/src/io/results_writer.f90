@@ -8,12 +8,15 @@
 module results_writer
   use hdf5
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Bcast, MPI_LOGICAL, MPI_Wtime
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: status_ok, status_failure, n_history_scalars, history_scalar_names, &
                             frame_field_names
   use parallel_hdf5, only: row_runs_t, row_runs, phdf5_open, phdf5_close, create_dataset, create_growing, &
-                           write_rows, truncate_growing, write_int_attribute, write_real_attribute
+                           write_rows, truncate_growing, write_int_attribute, write_real_attribute, &
+                           write_long_attribute
   use run_names, only: write_string_attribute
+  use effect_table, only: effect_table_t, effect_list
+  use paradyn_schema, only: n_effects, effect_names, effect_timed_with, effect_also_timed_with
   implicit none
   private
   public :: results_file_t, results_create, results_reopen, results_write_frame, results_write_history
@@ -48,6 +51,7 @@ module results_writer
     real(wp) :: phase_contact_sort_s = 0, phase_contact_search_s = 0, phase_contact_force_s = 0
     real(wp) :: peak_memory_mb = 0   !< the largest peak resident memory of any rank (MiB)
     real(wp) :: load_imbalance = 1   !< busiest rank's element + contact time over the mean
+    type(effect_table_t) :: effects  !< what ran, with its counters and rank 0's seconds
   end type run_record_t
 
 contains
@@ -111,7 +115,8 @@ contains
   end subroutine results_create
 
   !> Reopens the results of a run for a restart: keeps the first `frames` frames and `records`
-  !> history records (those written before the checkpoint), drops the rest and the /run group.
+  !> history records (those written before the checkpoint), drops the rest and the /run and
+  !> /effects groups.
   subroutine results_reopen(path, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, frames, &
                             records, rf, status, message)
     character(len=*), intent(in) :: path
@@ -133,6 +138,8 @@ contains
     call write_int_attribute(rf%file, 'complete', 0)
     call h5lexists_f(rf%file, 'run', exists, err)
     if (exists) call h5ldelete_f(rf%file, 'run', err)
+    call h5lexists_f(rf%file, 'effects', exists, err)
+    if (exists) call h5ldelete_f(rf%file, 'effects', err)
     do k = 1, size(frame_field_names)
       call truncate_growing(rf%file, '/frames/'//trim(frame_field_names(k)), frames)
     end do
@@ -238,10 +245,9 @@ contains
 
   !> Writes the /run attributes (the same record on every rank), marks the file complete when
   !> asked, and closes it.
-  subroutine results_finish(rf, run, effects, complete)
+  subroutine results_finish(rf, run, complete)
     type(results_file_t), intent(inout) :: rf
     type(run_record_t), intent(in) :: run
-    character(len=*), intent(in) :: effects   !< the effects the run switched on, comma separated
     logical, intent(in) :: complete
     integer(hid_t) :: group
     integer :: err
@@ -266,11 +272,52 @@ contains
     call write_real_attribute(group, 'phase_contact_force_s', run%phase_contact_force_s)
     call write_real_attribute(group, 'peak_memory_per_rank_mb', run%peak_memory_mb)
     call write_real_attribute(group, 'load_imbalance', run%load_imbalance)
-    call write_string_attribute(group, 'effects', effects)
+    call write_string_attribute(group, 'effects', effect_list(run%effects, .false.))
+    call write_string_attribute(group, 'effects_off', effect_list(run%effects, .true.))
     call h5gclose_f(group, err)
+    call write_effect_table(rf%file, run%effects)
     if (complete) call write_int_attribute(rf%file, 'complete', 1)
     call phdf5_close(rf%file, rf%transfer)
   end subroutine results_finish
+
+  !> The group /effects: one subgroup per effect the deck declares, in the order of the step, with
+  !> its state ("on", or "off" where the scene switched it off), active and skipped cycles, wall
+  !> seconds, and the effect whose seconds include it ("" where timed alone).
+  subroutine write_effect_table(file, table)
+    integer(hid_t), intent(in) :: file
+    type(effect_table_t), intent(in) :: table
+    integer(hid_t) :: effects, row
+    integer :: k, err
+    call h5gcreate_f(file, 'effects', effects, err)
+    do k = 1, n_effects
+      if (.not. table%declared(k)) cycle
+      call h5gcreate_f(effects, trim(effect_names(k)), row, err)
+      call write_string_attribute(row, 'state', merge('on ', 'off', table%running(k)))
+      call write_long_attribute(row, 'active_cycles', table%active(k))
+      call write_long_attribute(row, 'skipped_cycles', table%skipped(k))
+      call write_real_attribute(row, 'wall_s', table%seconds(k))
+      call write_string_attribute(row, 'timed_with', timed_with(table, k))
+      call write_long_attribute(row, 'order', int(k, i8))
+      call h5gclose_f(row, err)
+    end do
+    call h5gclose_f(effects, err)
+  end subroutine write_effect_table
+
+  !> The declared effects whose seconds include effect k's, joined by "+" ("" where timed alone).
+  pure function timed_with(table, k) result(owners)
+    type(effect_table_t), intent(in) :: table
+    integer, intent(in) :: k
+    character(len=:), allocatable :: owners
+    integer :: owner(2), j
+    owners = ''
+    owner = [effect_timed_with(k), effect_also_timed_with(k)]
+    do j = 1, 2
+      if (owner(j) == 0) cycle
+      if (.not. table%declared(owner(j))) cycle
+      if (len(owners) > 0) owners = owners//'+'
+      owners = owners//trim(effect_names(owner(j)))
+    end do
+  end function timed_with
 
   ! ---------------------------------------------------------------- plumbing
 

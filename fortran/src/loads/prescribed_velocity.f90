@@ -4,12 +4,13 @@
 !> counted on the owned nodes; a prescribed zero still holds the node, so the member is never idle.
 module prescribed_velocity
   use paradyn_kinds, only: wp
+  use paradyn_schema, only: effect_prescribed_velocity
   use nodal_state, only: nodal_state_t
   use nodal_effect, only: nodal_effect_t, stage_constraints
   use load_curves, only: load_curves_t, curve_value
   implicit none
   private
-  public :: prescribed_velocity_t, prescribed_velocity_member, impose_velocities
+  public :: prescribed_velocity_t, prescribed_velocity_make, impose_velocities
 
   type, extends(nodal_effect_t) :: prescribed_velocity_t
     type(load_curves_t) :: curves
@@ -18,22 +19,22 @@ module prescribed_velocity
     real(wp), allocatable :: initial(:)                 !< the dof's velocity at t = 0
     real(wp), allocatable :: target(:), previous(:)     !< workspace: this and the last step's velocity
   contains
-    procedure :: constrain => prescribed_constrain
-    procedure :: acts_at => prescribed_acts_at
+    procedure :: acts_at
+    procedure :: constrain
   end type prescribed_velocity_t
 
 contains
 
   !> The member for the deck's prescribed velocities: local node of each (0 where this rank does
   !> not hold it; those rows are dropped), dof, scale, curve, and the dof's initial velocity.
-  function prescribed_velocity_member(id, curves, local_node, dof, scale, curve, initial) result(e)
-    integer, intent(in) :: id, local_node(:), dof(:), curve(:)
+  function prescribed_velocity_make(curves, local_node, dof, scale, curve, initial) result(e)
+    integer, intent(in) :: local_node(:), dof(:), curve(:)
     type(load_curves_t), intent(in) :: curves
     real(wp), intent(in) :: scale(:), initial(:)
     type(prescribed_velocity_t) :: e
     logical :: held(size(local_node))
     held = local_node > 0
-    e%id = id
+    e%id = effect_prescribed_velocity
     e%curves = curves
     e%node = pack(local_node, held)
     e%dof = pack(dof, held)
@@ -41,7 +42,7 @@ contains
     e%scale = pack(scale, held)
     e%initial = pack(initial, held)
     allocate (e%target(size(e%node)), e%previous(size(e%node)))
-  end function prescribed_velocity_member
+  end function prescribed_velocity_make
 
   !> Sets dof(i) of node(i) to target(i) and adds the reaction's work on the nodes of weight 1:
   !> the impulse m (target - v_free) times the mean of the velocities before and after the step
@@ -69,7 +70,7 @@ contains
 
   !> The half-step velocity of the step from time to time + dt; the last step's was set here too,
   !> from the curve at time - dt / 2 (the initial velocity before the first step).
-  subroutine prescribed_constrain(e, ns, time, dt)
+  subroutine constrain(e, ns, time, dt)
     class(prescribed_velocity_t), intent(inout) :: e
     type(nodal_state_t), intent(inout) :: ns
     real(wp), intent(in) :: time, dt
@@ -80,12 +81,12 @@ contains
     end do
     if (time <= 0.0_wp) e%previous = e%initial
     call impose_velocities(e%node, e%dof, e%target, e%previous, ns%mass, ns%inertia, ns%weight, ns%v, ns%w, e%work)
-  end subroutine prescribed_constrain
+  end subroutine constrain
 
-  logical function prescribed_acts_at(e, stage) result(acts)
+  pure logical function acts_at(e, stage)
     class(prescribed_velocity_t), intent(in) :: e
     integer, intent(in) :: stage
-    acts = stage == stage_constraints
-  end function prescribed_acts_at
+    acts_at = stage == stage_constraints
+  end function acts_at
 
 end module prescribed_velocity

@@ -1,17 +1,17 @@
 !> Pressure on the shell faces of parts (LS-DYNA *LOAD_SHELL): p(t) = scale x curve(t) on every
 !> element of a part, along the element's current normal (a follower load). The corner forces join
-!> the element forces before the corner exchange, so shared nodes sum them in the fixed order; the
-!> work is summed per element over this rank's elements, as the element energies are, step by step
-!> as the solver does for f_ext: at time t, over the step that ended there.
+!> the element forces before the corner exchange, so shared nodes sum them in the fixed order. The
+!> work is summed per element over this rank's elements, as the element energies are: at each
+!> call, what the corner forces did since the last positions (trapezoidal rule in time).
 module pressure_effect
   use paradyn_kinds, only: wp
-  use nodal_state, only: nodal_state_t
-  use nodal_effect, only: nodal_effect_t, stage_loads, stage_corners, stage_constraints
+  use paradyn_schema, only: effect_pressure
+  use nodal_effect, only: nodal_effect_t, stage_corners
   use load_curves, only: load_curves_t, curve_value, curve_ended_at_zero
-  use pressure_kernels, only: pressure_corner_forces, pressure_step_work
+  use pressure_kernels, only: pressure_corner_forces
   implicit none
   private
-  public :: pressure_effect_t, pressure_member
+  public :: pressure_effect_t, pressure_effect_make
 
   type, extends(nodal_effect_t) :: pressure_effect_t
     type(load_curves_t) :: curves
@@ -19,31 +19,30 @@ module pressure_effect
     integer, allocatable :: curve(:)            !< 1-based curve of each load
     integer, allocatable :: first(:)            !< CSR over loads into elements (n_loads + 1)
     integer, allocatable :: elements(:)         !< local elements of each load's part, ascending
-    integer, allocatable :: connectivity(:, :)  !< (4, local elements): local nodes, for the work
-    real(wp) :: dt = 0.0_wp                     !< the step that ends at the next load time (0: unknown)
+    real(wp), allocatable :: f_previous(:, :)   !< (3, entries of elements): corner force at the last call
+    real(wp), allocatable :: x_sum_previous(:, :)   !< (3, entries): sum of the corners' positions then
+    logical :: have_previous = .false.          !< false until the first call (no work before it)
+    real(wp) :: time_previous = 0.0_wp          !< time of the last call
   contains
-    procedure :: add_corner_forces => pressure_add_corner_forces
-    procedure :: add_forces => pressure_work_of_last_step
-    procedure :: constrain => pressure_keep_step
-    procedure :: acts_at => pressure_acts_at
-    procedure :: idle => pressure_idle
+    procedure :: acts_at
+    procedure :: add_corner_forces
+    procedure :: idle
   end type pressure_effect_t
 
 contains
 
-  !> The member for the deck's pressure loads (part, scale, curve; 1-based) on this rank's elements:
-  !> element_part and connectivity of the local elements (local node numbers).
-  function pressure_member(id, curves, part, scale, curve, element_part, connectivity) result(e)
-    integer, intent(in) :: id, part(:), curve(:), element_part(:), connectivity(:, :)
+  !> The member for the deck's pressure loads (part, scale, curve; 1-based) on this rank's local
+  !> elements, whose parts are element_part.
+  function pressure_effect_make(curves, part, scale, curve, element_part) result(e)
     type(load_curves_t), intent(in) :: curves
+    integer, intent(in) :: part(:), curve(:), element_part(:)
     real(wp), intent(in) :: scale(:)
     type(pressure_effect_t) :: e
     integer :: l, k
-    e%id = id
+    e%id = effect_pressure
     e%curves = curves
     e%scale = scale
     e%curve = curve
-    e%connectivity = connectivity
     allocate (e%first(size(part) + 1))
     e%first(1) = 1
     do l = 1, size(part)
@@ -53,65 +52,43 @@ contains
     do l = 1, size(part)
       e%elements(e%first(l):e%first(l + 1) - 1) = pack([(k, k = 1, size(element_part))], element_part == part(l))
     end do
-  end function pressure_member
+    allocate (e%f_previous(3, size(e%elements)), e%x_sum_previous(3, size(e%elements)), source=0.0_wp)
+  end function pressure_effect_make
 
-  !> Pressure of load l at time t.
-  pure real(wp) function load_pressure(e, l, t) result(p)
+  pure logical function acts_at(e, stage)
     class(pressure_effect_t), intent(in) :: e
-    integer, intent(in) :: l
-    real(wp), intent(in) :: t
-    p = e%scale(l) * curve_value(e%curves, e%curve(l), t)
-  end function load_pressure
+    integer, intent(in) :: stage
+    acts_at = stage == stage_corners
+  end function acts_at
 
-  subroutine pressure_add_corner_forces(e, connectivity, x, time, corner)
+  subroutine add_corner_forces(e, connectivity, x, time, corner)
     class(pressure_effect_t), intent(inout) :: e
     integer, intent(in) :: connectivity(:, :)
     real(wp), intent(in) :: x(:, :), time
     real(wp), intent(inout) :: corner(:, :)
     integer :: l
     do l = 1, size(e%scale)
-      if (curve_ended_at_zero(e%curves, e%curve(l), time)) cycle
-      call pressure_corner_forces(e%elements(e%first(l):e%first(l + 1) - 1), connectivity, x, &
-                                  load_pressure(e, l, time), corner)
+      associate (first => e%first(l), last => e%first(l + 1) - 1)
+        call pressure_corner_forces(e%elements(first:last), connectivity, x, &
+                                    e%scale(l) * curve_value(e%curves, e%curve(l), time), corner, &
+                                    e%f_previous(:, first:last), e%x_sum_previous(:, first:last), &
+                                    e%have_previous, e%work)
+      end associate
     end do
-  end subroutine pressure_add_corner_forces
+    e%have_previous = .true.
+    e%time_previous = time
+  end subroutine add_corner_forces
 
-  !> No force on the nodes: the work of the step that ended at time (positions x, half-step
-  !> velocities v of that step, so it started at x - dt v), by the trapezoidal rule in time.
-  subroutine pressure_work_of_last_step(e, ns, time)
-    class(pressure_effect_t), intent(inout) :: e
-    type(nodal_state_t), intent(inout) :: ns
+  !> Idle once every load's curve had ended at zero by the last call: no force now, and none then
+  !> to do work since.
+  pure logical function idle(e, time)
+    class(pressure_effect_t), intent(in) :: e
     real(wp), intent(in) :: time
     integer :: l
-    if (e%dt <= 0.0_wp) return   ! the start: no step ended yet
+    idle = e%have_previous
     do l = 1, size(e%scale)
-      if (curve_ended_at_zero(e%curves, e%curve(l), time - e%dt)) cycle
-      e%work = e%work + pressure_step_work(e%elements(e%first(l):e%first(l + 1) - 1), e%connectivity, ns%x, &
-                                           ns%v, e%dt, load_pressure(e, l, time - e%dt), load_pressure(e, l, time))
+      idle = idle .and. curve_ended_at_zero(e%curves, e%curve(l), e%time_previous)
     end do
-  end subroutine pressure_work_of_last_step
-
-  !> Not a constraint: keeps the step size, which the next load time's work needs.
-  subroutine pressure_keep_step(e, ns, time, dt)
-    class(pressure_effect_t), intent(inout) :: e
-    type(nodal_state_t), intent(inout) :: ns
-    real(wp), intent(in) :: time, dt
-    e%dt = dt
-  end subroutine pressure_keep_step
-
-  logical function pressure_acts_at(e, stage) result(acts)
-    class(pressure_effect_t), intent(in) :: e
-    integer, intent(in) :: stage
-    acts = stage == stage_corners .or. stage == stage_loads .or. stage == stage_constraints
-  end function pressure_acts_at
-
-  !> Idle once every load's curve had ended at zero a step ago: no force, and no work of the
-  !> step that ends at time.
-  logical function pressure_idle(e, time) result(idle)
-    class(pressure_effect_t), intent(in) :: e
-    real(wp), intent(in) :: time
-    integer :: l
-    idle = all([(curve_ended_at_zero(e%curves, e%curve(l), time - e%dt), l = 1, size(e%scale))])
-  end function pressure_idle
+  end function idle
 
 end module pressure_effect

@@ -1,6 +1,6 @@
 !> Follower pressure on shell faces (LS-DYNA *LOAD_SHELL): the equivalent corner forces of the
 !> one-point quadrilateral, p A n / 4 on each corner with A n = (x3 - x1) x (x4 - x2) / 2 from the
-!> current positions, and the work they do over a step.
+!> current positions, and the work they did since the last positions.
 !>
 !> Compiled without floating-point contraction (fortran/CMakeLists.txt): an element's forces and
 !> work must not depend on where it falls in a loop, so that they are the same on every layout.
@@ -9,7 +9,7 @@ module pressure_kernels
   use vector_algebra, only: cross
   implicit none
   private
-  public :: pressure_corner_forces, pressure_step_work, corner_force_per_pressure
+  public :: pressure_corner_forces, corner_force_per_pressure
 
 contains
 
@@ -20,39 +20,31 @@ contains
     f = 0.125_wp * cross(xe(:, 3) - xe(:, 1), xe(:, 4) - xe(:, 2))
   end function corner_force_per_pressure
 
-  !> Subtracts the pressure forces of the listed local elements from their corners: corner holds
-  !> internal forces (6, 4 x elements), which the velocity update subtracts.
-  pure subroutine pressure_corner_forces(elements, connectivity, x, pressure, corner)
+  !> Subtracts the pressure forces of the listed local elements from their corners (6, 4 x
+  !> elements), which hold internal forces (the velocity update subtracts them). With
+  !> have_previous, adds to work what each element's corner force f did since the last call, when
+  !> it was f_previous and the sum of its corners' positions was x_sum_previous (trapezoidal rule:
+  !> the four corners carry the same force); then keeps this call's f and sum.
+  pure subroutine pressure_corner_forces(elements, connectivity, x, pressure, corner, f_previous, &
+                                         x_sum_previous, have_previous, work)
     integer, intent(in) :: elements(:), connectivity(:, :)
     real(wp), intent(in) :: x(:, :), pressure
-    real(wp), intent(inout) :: corner(:, :)
+    real(wp), intent(inout) :: corner(:, :), f_previous(:, :), x_sum_previous(:, :), work
+    logical, intent(in) :: have_previous
     integer :: i, e, k
-    real(wp) :: f(3)
-    do i = 1, size(elements)
-      e = elements(i)
-      f = pressure * corner_force_per_pressure(x(:, connectivity(:, e)))
-      do k = 1, 4
-        corner(1:3, 4 * (e - 1) + k) = corner(1:3, 4 * (e - 1) + k) - f
-      end do
-    end do
-  end subroutine pressure_corner_forces
-
-  !> Work of the pressure on the listed elements over a step dt that ended at x, the corners
-  !> moving with v (so from x - dt v): the trapezoidal rule between the forces at the start
-  !> (pressure p_start) and at the end (p_end), as the solver integrates the work of f_ext.
-  pure real(wp) function pressure_step_work(elements, connectivity, x, v, dt, p_start, p_end) result(work)
-    integer, intent(in) :: elements(:), connectivity(:, :)
-    real(wp), intent(in) :: x(:, :), v(:, :), dt, p_start, p_end
-    integer :: i, e
-    real(wp) :: xe(3, 4), ve(3, 4), f(3)
-    work = 0.0_wp
+    real(wp) :: xe(3, 4), f(3), x_sum(3)
     do i = 1, size(elements)
       e = elements(i)
       xe = x(:, connectivity(:, e))
-      ve = v(:, connectivity(:, e))
-      f = p_start * corner_force_per_pressure(xe - dt * ve) + p_end * corner_force_per_pressure(xe)
-      work = work + 0.5_wp * dt * dot_product(f, ve(:, 1) + ve(:, 2) + ve(:, 3) + ve(:, 4))
+      f = pressure * corner_force_per_pressure(xe)
+      x_sum = xe(:, 1) + xe(:, 2) + xe(:, 3) + xe(:, 4)
+      if (have_previous) work = work + 0.5_wp * dot_product(f_previous(:, i) + f, x_sum - x_sum_previous(:, i))
+      do k = 1, 4
+        corner(1:3, 4 * (e - 1) + k) = corner(1:3, 4 * (e - 1) + k) - f
+      end do
+      f_previous(:, i) = f
+      x_sum_previous(:, i) = x_sum
     end do
-  end function pressure_step_work
+  end subroutine pressure_corner_forces
 
 end module pressure_kernels

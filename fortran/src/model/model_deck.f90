@@ -22,7 +22,8 @@ module model_deck
                             contact_gather_near, control_contact_gather, control_end_time, &
                             control_output_interval, control_history_interval, control_time_step, &
                             control_time_step_safety, control_mass_damping, control_progress_interval, &
-                            control_contact_sort_interval, control_checkpoint_interval, &
+                            control_contact_sort_interval, control_checkpoint_interval, n_effects, effect_switch, &
+                            switch_off, &
                             dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
                             dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
                             dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
@@ -66,6 +67,7 @@ module model_deck
     real(wp) :: checkpoint_interval = 0.0_wp          !< simulated seconds between checkpoints, 0 = none
     integer :: partition = partition_default          !< partition_blocks or partition_rcb; 0 = unknown name
     integer :: contact_gather = contact_gather_near   !< which contact nodes are gathered between sorts
+    logical :: effect_on(n_effects) = .true.          !< false: the scene switched the effect off (/control effect_*)
     ! loads: curves, pressure, prescribed velocity, gravity
     integer :: n_curves = 0, n_curve_points = 0, n_pressures = 0, n_prescribed = 0
     integer, allocatable :: curve_first_point(:)      !< (n_curves), 1-based index into curve_time
@@ -238,6 +240,8 @@ contains
       d%gravity(2) = value
     case (control_gravity_z)
       d%gravity(3) = value
+    case default   ! an effect's switch (schema/effects.toml)
+      where (effect_switch == id) d%effect_on = nint(value) /= switch_off
     end select
   end subroutine store_control_value
 

@@ -1,17 +1,21 @@
 !> The explicit solver: set-up from the deck, and the time loop.
 !>
-!> Lifecycle: solver_setup (decompose, allocate everything, masses, time step, run control; the
-!> deck can be released after it) -> solver_run (the time loop; nothing is allocated inside it).
-!> Each step: loads -> half-step velocities -> output when due -> positions -> forces at the new
-!> positions (internal_forces: element groups on the threads, corner exchange, fixed-order nodal
-!> sum, contact). Effects that the deck does not declare (point loads, damping, plasticity,
-!> contact) are not called.
+!> Lifecycle: solver_setup (decompose, allocate everything, masses, time step, run control, the
+!> effect pipeline; the deck can be released after it) -> solver_run (the time loop; nothing is
+!> allocated inside it). Each step: loads -> half-step velocities -> constraints -> output when
+!> due -> positions -> forces at the new positions (internal_forces: element groups on the
+!> threads, corner loads, corner exchange, fixed-order nodal sum, contact). Effects that the deck
+!> does not declare, or the scene switched off, are not built and not called (effect_pipeline).
 module explicit_solver
   use mpi_f08
   use omp_lib, only: omp_get_max_threads
   use paradyn_kinds, only: wp
   use paradyn_schema, only: status_ok, status_bad_input
+  use paradyn_schema, only: material_j2_plasticity, effect_plastic_shells, effect_elastic_shells
   use model_deck, only: deck_t, part_properties
+  use effect_table, only: effect_table_t
+  use effect_factory, only: make_nodal_effects
+  use effect_pipeline, only: pipeline_setup, apply_loads, apply_constraints, count_every_cycle_effects
   use domain_decomposition, only: decompose, partition_elements
   use halo_exchange, only: halo_setup
   use nodal_state, only: nodal_state_setup, advance_velocities, advance_positions, keep_velocities
@@ -19,7 +23,6 @@ module explicit_solver
   use step_clock, only: clock_setup, clock_advance, output_due, next_output_index, half_step
   use run_control, only: run_control_setup
   use phase_timers, only: wall_clock
-  use point_loads, only: point_load_forces, point_load_work
   use contact_parallel, only: parallel_contact_setup, contact_log_line
   use internal_forces, only: forces_at_current_state, lumped_masses, workspace_per_group
   use solver_output, only: write_record, write_frame, write_progress, run_record, write_phase_line
@@ -34,11 +37,13 @@ module explicit_solver
 
 contains
 
-  !> Everything the time loop needs, from the deck, on this rank of comm. status 2 with a message
-  !> for a mesh that cannot run (a node without mass).
-  subroutine solver_setup(s, deck, comm, status, message)
+  !> Everything the time loop needs, from the deck and its effect table (deck_effects, with the
+  !> switched-off effects already taken out of the deck), on this rank of comm. status 2 with a
+  !> message for a mesh that cannot run (a node without mass).
+  subroutine solver_setup(s, deck, effects, comm, status, message)
     type(solver_t), intent(inout) :: s
     type(deck_t), intent(in) :: deck
+    type(effect_table_t), intent(in) :: effects
     type(MPI_Comm), intent(in) :: comm
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
@@ -62,6 +67,11 @@ contains
     call nodal_state_setup(s%nodes, deck, s%dom)
     call element_state_setup(s%elements, s%dom, s%props)
     call run_control_setup(s%control, deck, s%dom)
+    s%effects = effects
+    call make_nodal_effects(deck, s%dom, effects, s%nodal_effects)
+    call pipeline_setup(s)
+    s%part_effect = merge(effect_plastic_shells, effect_elastic_shells, &
+                          deck%material_model(deck%part_material) == material_j2_plasticity)
     allocate (s%corner(6, 4 * s%dom%n_elements + s%dom%n_ghost_slots), source=0.0_wp)
     allocate (s%workspace(workspace_per_group, s%threads), source=0.0_wp)
 
@@ -102,7 +112,7 @@ contains
     if (.not. s%started) call start_loop(s)
     do
       if (pause_due(s, pause_time)) exit
-      if (s%control%n_loads > 0) call apply_loads(s)
+      if (s%has_loads) call apply_loads(s)
       call output_and_velocities(s, rf, status, message)
       if (status /= status_ok) exit
       if (s%clock%cycles >= s%clock%n_steps) then
@@ -114,6 +124,7 @@ contains
       s%timers%nodes = s%timers%nodes + wall_clock() - t0
       call clock_advance(s%clock)
       call forces_at_current_state(s, s%clock%dt)
+      call count_every_cycle_effects(s)
       call write_progress(s)
     end do
     run = run_record(s)
@@ -166,6 +177,7 @@ contains
     t0 = wall_clock()
     call advance_velocities(s%nodes, half_step(s%clock), s%control%mass_damping, s%threads, s%damping_work)
     s%timers%nodes = s%timers%nodes + wall_clock() - t0
+    if (s%has_constraints) call apply_constraints(s)
     if (.not. (frame_due .or. record_due)) return
     t0 = wall_clock()
     if (record_due) then
@@ -178,17 +190,5 @@ contains
     end if
     s%timers%output = s%timers%output + wall_clock() - t0
   end subroutine output_and_velocities
-
-  !> Loads at the current time and their work since the last step.
-  subroutine apply_loads(s)
-    type(solver_t), intent(inout) :: s
-    associate (ns => s%nodes, rc => s%control)
-      ns%f_ext_old = ns%f_ext
-      call point_load_forces(rc%n_loads, rc%load_node, rc%load_dof, rc%load_value, rc%load_ramp_time, &
-                             s%clock%time, ns%f_ext)
-      if (s%clock%cycles > 0) call point_load_work(ns%n, s%clock%dt, ns%weight, ns%v, ns%w, ns%f_ext_old, &
-                                                   ns%f_ext, s%external_work)
-    end associate
-  end subroutine apply_loads
 
 end module explicit_solver

@@ -12,6 +12,9 @@ module internal_forces
   use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes
   use phase_timers, only: wall_clock
   use contact_parallel, only: parallel_contact_step, parallel_contact_apply
+  use paradyn_schema, only: effect_elastic_shells, effect_plastic_shells, effect_contact, effect_friction
+  use effect_table, only: effect_count, effect_time
+  use effect_pipeline, only: apply_corner_loads
   use solver_state, only: solver_t
   implicit none
   private
@@ -23,39 +26,56 @@ module internal_forces
 contains
 
   !> Internal (and contact) forces at the current positions, for the step dt_strain that ended there.
+  !> The element phase's wall time goes to the effect table's shell rows in proportion to the
+  !> threads' busy time on each material family.
   subroutine forces_at_current_state(s, dt_strain)
     type(solver_t), intent(inout) :: s
     real(wp), intent(in) :: dt_strain
-    real(wp) :: t0
+    real(wp) :: t0, elements_s, busy(2)
     t0 = wall_clock()
-    call element_forces(s, dt_strain)
-    s%timers%elements = s%timers%elements + wall_clock() - t0
+    call element_forces(s, dt_strain, busy)
+    elements_s = wall_clock() - t0
+    if (s%has_corner_loads) call apply_corner_loads(s)
     t0 = wall_clock()
     call exchange_corners(s%dom, s%halo, s%corner)
     s%timers%communication = s%timers%communication + wall_clock() - t0
     t0 = wall_clock()
     call assemble_forces(s)
-    s%timers%elements = s%timers%elements + wall_clock() - t0
+    elements_s = elements_s + wall_clock() - t0
+    s%timers%elements = s%timers%elements + elements_s
+    busy = busy / max(sum(busy), tiny(1.0_wp))
+    call effect_time(s%effects, effect_elastic_shells, elements_s * busy(1))
+    call effect_time(s%effects, effect_plastic_shells, elements_s * busy(2))
     if (s%has_contact) then
+      t0 = wall_clock()
       call parallel_contact_step(s%contact, s%nodes%x, s%nodes%v, s%clock%cycles, dt_strain, s%timers)
       call parallel_contact_apply(s%contact, s%nodes%f_int)
+      call effect_time(s%effects, effect_contact, wall_clock() - t0)
+      if (s%started) then   ! the forces at the start are not a cycle
+        call effect_count(s%effects, effect_contact, .true.)
+        if (s%effects%running(effect_friction)) call effect_count(s%effects, effect_friction, .true.)
+      end if
     end if
   end subroutine forces_at_current_state
 
   !> Element forces of every group for the step that ends at the current positions. The threads
   !> start on their own ranges of groups and then steal (work_queues); a group's forces go to its
-  !> own corners, so the thread that computes it does not matter.
-  subroutine element_forces(s, dt_strain)
+  !> own corners, so the thread that computes it does not matter. busy: the threads' seconds on
+  !> the groups of elastic (1) and plastic (2) parts.
+  subroutine element_forces(s, dt_strain, busy)
     type(solver_t), intent(inout) :: s
     real(wp), intent(in) :: dt_strain
-    integer :: g, n, first, p, tid, emptied, inverted, ox, ov, ow, of
+    real(wp), intent(out) :: busy(2)
+    integer :: g, n, first, p, tid, emptied, inverted, ox, ov, ow, of, family
+    real(wp) :: t0
     inverted = 0
+    busy = 0.0_wp
     ox = 1
     ov = ox + 12 * group_size
     ow = ov + 12 * group_size
     of = ow + 12 * group_size
     call queues_start(s%group_queues, s%dom%n_groups, s%threads)
-    !$omp parallel private(g, n, first, p, tid, emptied) reduction(+:inverted)
+    !$omp parallel private(g, n, first, p, tid, emptied, t0, family) reduction(+:inverted, busy)
     tid = omp_get_thread_num() + 1
     emptied = 0
     do
@@ -64,6 +84,7 @@ contains
       n = s%dom%group_count(g)
       first = s%dom%group_first(g)
       p = s%dom%group_part(g)
+      t0 = wall_clock()
       call gather_group(n, first, s%dom%connectivity, s%nodes%x, s%workspace(ox, tid))
       call gather_group(n, first, s%dom%connectivity, s%nodes%v, s%workspace(ov, tid))
       call gather_group(n, first, s%dom%connectivity, s%nodes%w, s%workspace(ow, tid))
@@ -74,6 +95,8 @@ contains
                                  inverted)
       end associate
       call scatter_corners(n, first, s%workspace(of, tid), s%corner)
+      family = merge(2, 1, s%part_effect(p) == effect_plastic_shells)
+      busy(family) = busy(family) + wall_clock() - t0
     end do
     !$omp end parallel
     s%elements%inverted = s%elements%inverted + inverted

@@ -5,7 +5,7 @@ module solver_output
   use paradyn_kinds, only: wp
   use paradyn_schema, only: status_ok, status_numerical, n_history_scalars, history_kinetic_energy, &
                             history_internal_energy, history_hourglass_energy, history_contact_energy, &
-                            history_external_work, history_contact_penetration
+                            history_external_work, history_contact_penetration, effect_time_integration
   use element_groups, only: group_size
   use shell_measures, only: blt_element_results
   use halo_exchange, only: sum_to_root
@@ -147,6 +147,9 @@ contains
                                             + s%timers%output), 0.0_wp), &
          s%contact%c%time_sort, s%contact%c%time_search, s%contact%c%time_force]
     call MPI_Bcast(t, size(t), MPI_DOUBLE_PRECISION, 0, s%halo%comm)
+    run%effects = s%effects
+    run%effects%seconds(effect_time_integration) = run%effects%seconds(effect_time_integration) + s%timers%nodes
+    call MPI_Bcast(run%effects%seconds, size(run%effects%seconds), MPI_DOUBLE_PRECISION, 0, s%halo%comm)
     run%wall_s = t(1)
     run%element_cycles_per_s = t(2)
     run%phase_elements_s = t(3)

@@ -1,6 +1,6 @@
 !> The solver of one rank as a set of small parts: where its elements and nodes are (domain, halo),
 !> the section of each part, the nodal and element state, the step clock, the phase timers, the
-!> run control built at set-up, and the contact. The time loop (explicit_solver) only calls them.
+!> run control built at set-up, the contact, and the effects of the step (effect_pipeline). The time loop (explicit_solver) only calls them.
 module solver_state
   use paradyn_kinds, only: wp
   use domain_decomposition, only: domain_t
@@ -13,6 +13,8 @@ module solver_state
   use phase_timers, only: phase_timers_t
   use run_control, only: run_control_t
   use contact_parallel, only: parallel_contact_t
+  use effect_table, only: effect_table_t
+  use nodal_effect, only: nodal_effect_holder_t
   implicit none
   private
   public :: solver_t
@@ -28,6 +30,11 @@ module solver_state
     type(run_control_t) :: control
     type(parallel_contact_t) :: contact
     logical :: has_contact = .false.
+    type(effect_table_t) :: effects                          !< what runs, with its counters
+    type(nodal_effect_holder_t), allocatable :: nodal_effects(:)   !< the running loads and constraints
+    logical :: has_loads = .false., has_constraints = .false., has_corner_loads = .false.
+    logical :: external_forces_zero = .true.                 !< f_ext is all zero (no load was active)
+    integer, allocatable :: part_effect(:)                   !< per part: effect_elastic_shells or _plastic_shells
     integer :: rank = 0, n_ranks = 1, threads = 1
     real(wp), allocatable :: corner(:, :)      !< (6, corners + ghost slots): forces per element corner
     real(wp), allocatable :: workspace(:, :)   !< per thread: one group's gathered nodes and forces

@@ -11,14 +11,13 @@ module point_loads
 
 contains
 
-  !> Point loads at time t: each grows linearly from 0 to its value over its ramp time.
+  !> Adds the point loads at time t: each grows linearly from 0 to its value over its ramp time.
   !> node holds local node indices (0 for loads on nodes this rank does not hold).
   pure subroutine point_load_forces(n_loads, node, dof, value, ramp_time, time, force_external)
     integer, intent(in) :: n_loads, node(n_loads), dof(n_loads)
     real(wp), intent(in) :: value(n_loads), ramp_time(n_loads), time
     real(wp), intent(inout) :: force_external(:, :)
     integer :: l
-    force_external = 0.0_wp
     do l = 1, n_loads
       if (node(l) < 1) cycle
       if (ramp_time(l) > 0.0_wp) then

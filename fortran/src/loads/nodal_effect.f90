@@ -1,0 +1,79 @@
+!> The family of effects that act on the nodes (docs/architecture.md, families): loads at the
+!> start of a step, constraints on the velocities after their update, and loads on element
+!> corners before the corner exchange. A member overrides the hooks it uses and says so in
+!> acts_at; the solver's pipeline calls only those, and only for the members the deck declares
+!> (effect_factory), so an effect the scene does not call for costs nothing.
+module nodal_effect
+  use paradyn_kinds, only: wp
+  use nodal_state, only: nodal_state_t
+  implicit none
+  private
+  public :: nodal_effect_t, nodal_effect_holder_t, stage_loads, stage_constraints, stage_corners
+
+  integer, parameter :: stage_loads = 1        !< add_forces: forces at time t on the nodes' f_ext
+  integer, parameter :: stage_constraints = 2  !< constrain: after the half-step velocity update
+  integer, parameter :: stage_corners = 3      !< add_corner_forces: on element corners, before their exchange
+
+  type, abstract :: nodal_effect_t
+    integer :: id = 0              !< the effect's id in paradyn_schema (effect_<name>)
+    !> work done on the model so far by a member that accounts for its own (constraints, corner
+    !> loads), over this rank's owned nodes or its elements; the work of f_ext the solver counts
+    real(wp) :: work = 0.0_wp
+  contains
+    procedure(acts_at_hook), deferred :: acts_at
+    procedure :: add_forces => no_forces
+    procedure :: constrain => no_constraint
+    procedure :: add_corner_forces => no_corner_forces
+    procedure :: idle => never_idle
+  end type nodal_effect_t
+
+  !> A member in a list (a Fortran array cannot hold different members directly).
+  type :: nodal_effect_holder_t
+    class(nodal_effect_t), allocatable :: effect
+  end type nodal_effect_holder_t
+
+  abstract interface
+    !> Whether the member uses the hook of stage (stage_loads, stage_constraints, stage_corners).
+    pure logical function acts_at_hook(e, stage)
+      import :: nodal_effect_t
+      class(nodal_effect_t), intent(in) :: e
+      integer, intent(in) :: stage
+    end function acts_at_hook
+  end interface
+
+contains
+
+  !> Adds to ns%f_ext the forces at time (positions ns%x); every rank that holds a node adds the
+  !> whole force, as each rank updates its own copy of a shared node.
+  subroutine no_forces(e, ns, time)
+    class(nodal_effect_t), intent(inout) :: e
+    type(nodal_state_t), intent(inout) :: ns
+    real(wp), intent(in) :: time
+  end subroutine no_forces
+
+  !> Sets velocities after the update of the step from time to time + dt (ns%v, ns%w are the
+  !> half-step velocities), before the positions move; adds its work to e%work.
+  subroutine no_constraint(e, ns, time, dt)
+    class(nodal_effect_t), intent(inout) :: e
+    type(nodal_state_t), intent(inout) :: ns
+    real(wp), intent(in) :: time, dt
+  end subroutine no_constraint
+
+  !> Adds forces on element corners (corner 4 (e - 1) + k of local element e, the internal-force
+  !> sign) at the positions x of time, before the corners are exchanged and summed in fixed order.
+  subroutine no_corner_forces(e, connectivity, x, time, corner)
+    class(nodal_effect_t), intent(inout) :: e
+    integer, intent(in) :: connectivity(:, :)
+    real(wp), intent(in) :: x(:, :), time
+    real(wp), intent(inout) :: corner(:, :)
+  end subroutine no_corner_forces
+
+  !> Whether the member has nothing to do at time (its curves ended at zero, say): the pipeline
+  !> then skips it and counts the cycle as skipped.
+  pure logical function never_idle(e, time) result(idle)
+    class(nodal_effect_t), intent(in) :: e
+    real(wp), intent(in) :: time
+    idle = .false.
+  end function never_idle
+
+end module nodal_effect
