@@ -16,6 +16,7 @@ import h5py
 import numpy as np
 import pytest
 
+import paradyn
 from paradyn import _kernels, deck, scene
 
 # two curves: a trapezoid (ramp up, hold, ramp down to 0) and a single point
@@ -147,3 +148,29 @@ def test_a_dof_prescribed_twice_is_refused(tmp_path: Path) -> None:
                    'dof = "uy"\nvalue = 1.0\n'
     with pytest.raises(scene.SceneError, match="already has its uy velocity prescribed"):
         scene.build_model(_scene(tmp_path, text))
+
+
+@pytest.mark.parametrize("switch", ["gravity", "pressure", "prescribed_velocity"])
+def test_a_load_switched_off_is_the_scene_without_it(tmp_path: Path, switch: str) -> None:
+    """[effects] <switch> = false runs bitwise as the scene written without that load (issue 13),
+    and the effect table says it was declared but off; with it on, the run differs."""
+    without = {"gravity": SCENE.replace("gravity = [0.0, 0.0, -9.81]\n", ""),
+               "pressure": SCENE.replace('[[pressure]]\npart = "plate"\nvalue = 1e5\ncurve = "pulse"\n', "")
+                                .replace('[[pressure]]\npart = "plate"\nvalue = -2e3\n', ""),
+               "prescribed_velocity": SCENE[:SCENE.index("[[prescribe]]")]}[switch]
+    assert without != SCENE
+    runs = {}
+    for name, text in [("off", SCENE + f"[effects]\n{switch} = false\n"), ("without", without), ("on", SCENE)]:
+        folder = tmp_path / name
+        folder.mkdir()
+        (folder / "scene.toml").write_text(text)
+        runs[name] = paradyn.run(folder / "scene.toml", folder / "out", ranks=1, threads=1, post=False)
+    off, on = runs["off"], runs["on"]
+    for key in ("displacement", "velocity"):
+        assert np.array_equal(np.asarray(getattr(off, key)), np.asarray(getattr(runs["without"], key))), key
+    for key, values in off.history.items():
+        assert np.array_equal(values, runs["without"].history[key]), key
+    assert not np.array_equal(np.asarray(on.displacement[-1]), np.asarray(off.displacement[-1]))
+    row = next(r for r in off.effect_table if r.name == switch)
+    assert row.state == "off" and row.active_cycles == 0
+    assert next(r for r in on.effect_table if r.name == switch).active_cycles == int(on.run["cycles"])
