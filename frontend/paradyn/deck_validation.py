@@ -166,6 +166,7 @@ def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
         element = int(np.flatnonzero(repeated)[0])
         check.fail(f"/elements/connectivity[{element}] = {conn[element].tolist()} repeats a node; every "
                    f"quadrilateral needs four distinct nodes (remesh without collapsed elements)")
+    _check_distinct_elements(check, conn)
     plastic = check.array("material_model") == J2_PLASTICITY
     if np.any(plastic):
         tangent, young = check.array("tangent_modulus"), check.array("youngs_modulus")
@@ -207,6 +208,20 @@ def _check_curve_relations(check: _Checker, sizes: dict[str, int]) -> None:
             k = int(start + steps[0] + 1)
             check.fail(f"/curves/time[{k}] = {_fmt(time[k])} does not follow /curves/time[{k - 1}] = "
                        f"{_fmt(time[k - 1])} of curve {c}; give the times of each curve strictly increasing")
+
+
+def _check_distinct_elements(check: _Checker, conn: np.ndarray) -> None:
+    """No two elements have the same four nodes (in any order): the second of the first such pair is named."""
+    if conn.shape[0] < 2:
+        return
+    ordered = np.sort(conn, axis=1)
+    _, first, inverse = np.unique(ordered, axis=0, return_index=True, return_inverse=True)
+    twins = np.flatnonzero(first[inverse.ravel()] != np.arange(conn.shape[0]))
+    if twins.size:
+        element = int(twins[0])
+        original = int(first[inverse.ravel()[element]])
+        check.fail(f"/elements/connectivity[{element}] = {conn[element].tolist()} has the same nodes as element "
+                   f"{original}; a duplicated element doubles its mass and stiffness, remove it")
 
 
 def _check_names(check: _Checker, sizes: dict[str, int]) -> None:

@@ -8,7 +8,7 @@
 program paradyn_engine
   use mpi_f08
   use, intrinsic :: iso_c_binding, only: c_int
-  use hdf5, only: h5open_f, h5close_f
+  use hdf5, only: h5open_f, h5close_f, h5eset_auto_f
   use paradyn_kinds, only: wp
   use paradyn_schema, only: status_ok, status_failure, status_bad_input, status_stopped
   use model_deck, only: deck_t
@@ -53,6 +53,7 @@ program paradyn_engine
     call fail(status_failure, 'the MPI library does not support MPI_THREAD_FUNNELED, which the OpenMP threads need; '// &
               'use an MPI built with thread support (Open MPI and MPICH are)')
   call h5open_f(err)
+  call h5eset_auto_f(0, err)   ! HDF5's own error stacks would bury the engine's one-line message
 
   call install_stop_handlers()
   n_args = command_argument_count()

@@ -46,12 +46,12 @@ contains
     message = ''
     inquire (file=path, exist=exists)
     if (.not. exists) then
-      message = trim(path)//': no such file; give the path of a deck written by paradyn-run or h5py'
+      message = 'no such file; give the path of a deck written by paradyn-run or h5py'
       return
     end if
     call h5fopen_f(path, H5F_ACC_RDONLY_F, r%file, err)
     if (err /= 0) then
-      message = trim(path)//': not an HDF5 file'
+      message = 'not an HDF5 file (or a damaged one); give the deck.h5 that paradyn-run or paradyn.deck.write_deck wrote'
       return
     end if
     call read_int_attribute(r%file, '/', deck_version_attribute, version, -1, .true., r%message)

@@ -246,9 +246,9 @@ contains
   end subroutine store_control_value
 
   !> Relations between fields of a deck whose every field has passed its own rules (schema
-  !> relations: distinct_element_nodes, tangent_below_youngs, contact_parts_differ,
-  !> node_in_element, curve_first_points, curve_times_increase). Returns status_ok, or status_bad_input with a message naming the dataset,
-  !> the 0-based entry and the fix.
+  !> relations: distinct_element_nodes, distinct_elements, tangent_below_youngs, contact_parts_differ,
+  !> node_in_element, curve_first_points, curve_times_increase). Returns status_ok, or
+  !> status_bad_input with a message naming the dataset, the 0-based entry and the fix.
   subroutine check_deck_relations(d, status, message)
     type(deck_t), intent(in) :: d
     integer, intent(out) :: status
@@ -270,6 +270,8 @@ contains
         end do
       end do
     end do
+    call check_distinct_elements(d, message)
+    if (message /= '') return
     do i = 1, d%n_materials
       if (d%material_model(i) /= material_j2_plasticity) cycle
       if (.not. (d%tangent_modulus(i) < d%young(i))) then
@@ -300,6 +302,59 @@ contains
     if (len_trim(message) > 0) return
     status = status_ok
   end subroutine check_deck_relations
+
+  !> No two elements with the same four nodes (in any order). Elements are bucketed by their
+  !> smallest node, so only elements that share it are compared: linear in the elements.
+  subroutine check_distinct_elements(d, message)
+    type(deck_t), intent(in) :: d
+    character(len=*), intent(inout) :: message
+    integer, allocatable :: start(:), members(:), sorted(:, :), fill(:)
+    integer :: i, j, k, low
+    allocate (sorted(4, d%n_elements), start(d%n_nodes + 1), fill(d%n_nodes), source=0)
+    do i = 1, d%n_elements
+      sorted(:, i) = sorted_four(d%connectivity(:, i))
+      start(sorted(1, i) + 1) = start(sorted(1, i) + 1) + 1
+    end do
+    start(1) = 1
+    do j = 1, d%n_nodes
+      start(j + 1) = start(j + 1) + start(j)
+    end do
+    allocate (members(d%n_elements))
+    do i = 1, d%n_elements
+      low = sorted(1, i)
+      members(start(low) + fill(low)) = i
+      fill(low) = fill(low) + 1
+    end do
+    do j = 1, d%n_nodes
+      do k = start(j) + 1, start(j + 1) - 1   ! each later member against the earlier ones
+        do i = start(j), k - 1
+          if (all(sorted(:, members(i)) == sorted(:, members(k)))) then
+            message = '/elements/connectivity['//integer_text(max(members(i), members(k)) - 1)//'] = '// &
+                      index_list(d%connectivity(:, max(members(i), members(k))))//' has the same nodes as element '// &
+                      integer_text(min(members(i), members(k)) - 1)//'; a duplicated element doubles its mass '// &
+                      'and stiffness, remove it'
+            return
+          end if
+        end do
+      end do
+    end do
+  end subroutine check_distinct_elements
+
+  pure function sorted_four(nodes) result(s)
+    integer, intent(in) :: nodes(4)
+    integer :: s(4), i, j, t
+    s = nodes
+    do i = 2, 4
+      t = s(i)
+      j = i - 1
+      do while (j >= 1)
+        if (s(j) <= t) exit
+        s(j + 1) = s(j)
+        j = j - 1
+      end do
+      s(j + 1) = t
+    end do
+  end function sorted_four
 
   !> The load curves' relations (curve_first_points, curve_times_increase); message '' when they hold.
   subroutine check_curve_relations(d, message)

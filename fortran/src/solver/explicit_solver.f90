@@ -20,7 +20,7 @@ module explicit_solver
   use halo_exchange, only: halo_setup
   use nodal_state, only: nodal_state_setup, advance_velocities, advance_positions, keep_velocities
   use element_state, only: element_state_setup
-  use step_clock, only: clock_setup, clock_advance, output_due, next_output_index, half_step
+  use step_clock, only: step_clock_t, clock_setup, clock_advance, output_due, next_output_index, half_step
   use run_control, only: run_control_setup
   use phase_timers, only: wall_clock
   use contact_parallel, only: parallel_contact_setup, contact_log_line
@@ -28,12 +28,16 @@ module explicit_solver
   use solver_output, only: write_record, write_frame, write_progress, run_record, write_phase_line
   use solver_state, only: solver_t
   use stop_signals, only: stop_signal_received
+  use status_agreement, only: agree_on_status
   use results_writer, only: results_file_t, run_record_t
   implicit none
   private
   public :: solver_t, solver_setup, solver_run
 
   integer, parameter :: signal_poll_cycles = 16   !< a collective check every few cycles costs nothing
+  !> the most steps a run may take: beyond, it cannot finish on any machine (1e9 steps of the
+  !> smallest mesh at 1e8 element-cycles/s are hours; the cycle counters are 32-bit)
+  real(wp), parameter :: max_steps = 1.0e9_wp
 
 contains
 
@@ -82,6 +86,9 @@ contains
     end if
     call MPI_Allreduce(dt_local, dt_min, 1, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
     call clock_setup(s%clock, dt_min, deck%time_step_safety, deck%time_step, deck%end_time, too_large)
+    if (status == status_ok) call check_step(s%clock, deck, status, message)
+    call agree_on_status(comm, status, message)   ! one rank's verdict stops all of them
+    if (status /= status_ok) return
     if (too_large .and. s%rank == 0) then
       write (0, '(a,es11.4,a,es11.4,a)') 'paradyn-engine: warning: the requested time step ', &
         deck%time_step, ' s is above the stable step ', s%clock%dt_stable, ' s; using the stable step'
@@ -93,6 +100,29 @@ contains
     allocate (s%node_out_a(3, size(s%halo%owned_local)), s%node_out_b(3, size(s%halo%owned_local)))
     allocate (s%element_out(5, s%dom%n_elements), s%tracked_out(6, deck%n_tracked))
   end subroutine solver_setup
+
+  !> Refuses a run that cannot finish or would go wrong from the first step: more steps than
+  !> max_steps (issue 17: the estimate is named), or mass damping so strong that it reverses the
+  !> velocities every step (a dt >= 2, where the update's factor 1 - a dt / 2 turns negative).
+  subroutine check_step(clock, deck, status, message)
+    type(step_clock_t), intent(in) :: clock
+    type(deck_t), intent(in) :: deck
+    integer, intent(inout) :: status
+    character(len=*), intent(inout) :: message
+    real(wp) :: steps
+    steps = deck%end_time / clock%dt
+    if (steps > max_steps) then
+      status = status_bad_input
+      write (message, '(a,es10.3,a,es10.3,a,es9.2,a)') 'end_time / time step = ', steps, ' steps (dt = ', &
+        clock%dt, ' s), more than the limit of ', max_steps, &
+        '; shorten /control end_time, or check the mesh for a tiny element that sets the step'
+    else if (deck%mass_damping * clock%dt >= 2.0_wp) then
+      status = status_bad_input
+      write (message, '(a,es10.3,a,es10.3,a)') '/control mass_damping x dt = ', deck%mass_damping * clock%dt, &
+        ' (dt = ', clock%dt, ' s) must be below 2, or the damping reverses the velocities every step; '// &
+        'use a smaller mass_damping (dynamic relaxation needs about twice the lowest natural frequency)'
+    end if
+  end subroutine check_step
 
   !> The time loop, from where the solver stands (the start, a pause, or a restored checkpoint)
   !> to the end time (s%finished), or until a pause: at the first step at or after pause_time, or

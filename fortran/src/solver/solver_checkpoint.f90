@@ -197,6 +197,7 @@ contains
     s%nodes%w = nodes(7:9, :)
     s%nodes%f_int = nodes(10:15, :)
     s%nodes%f_ext = nodes(16:21, :)
+    s%external_forces_zero = all(s%nodes%f_ext == 0.0_wp)   ! the loads stage skips only when they are
     allocate (elements(width, s%dom%n_elements))
     call read_rows(file, transfer, 'elements', [width, ne], row_runs(s%dom%elements), elements, err)
     call element_rows_unpack(s%elements, s%dom, elements)

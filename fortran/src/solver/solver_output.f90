@@ -149,7 +149,10 @@ contains
     call MPI_Bcast(t, size(t), MPI_DOUBLE_PRECISION, 0, s%halo%comm)
     run%effects = s%effects
     run%effects%seconds(effect_time_integration) = run%effects%seconds(effect_time_integration) + s%timers%nodes
+    ! rank 0's counts too: a member that holds nothing on a rank may skip there (attributes must agree)
     call MPI_Bcast(run%effects%seconds, size(run%effects%seconds), MPI_DOUBLE_PRECISION, 0, s%halo%comm)
+    call MPI_Bcast(run%effects%active, size(run%effects%active), MPI_INTEGER8, 0, s%halo%comm)
+    call MPI_Bcast(run%effects%skipped, size(run%effects%skipped), MPI_INTEGER8, 0, s%halo%comm)
     run%wall_s = t(1)
     run%element_cycles_per_s = t(2)
     run%phase_elements_s = t(3)

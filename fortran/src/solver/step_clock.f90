@@ -34,9 +34,13 @@ contains
         too_large = .true.
       end if
     end if
+    clock%end_time = end_time
+    if (end_time / clock%dt > 0.5_wp * huge(1)) then   ! the caller refuses the run (no integer overflow here)
+      clock%n_steps = huge(1)
+      return
+    end if
     ! whole steps of equal size that end exactly at end_time (never above the chosen step)
     clock%dt = end_time / max(1, ceiling(end_time / clock%dt - 1.0e-9_wp))
-    clock%end_time = end_time
     clock%n_steps = max(1, nint(end_time / clock%dt))
   end subroutine clock_setup
 

@@ -1,0 +1,84 @@
+"""Issue 17 (and 14): runs that cannot go right are refused before they start, with a message
+that names the problem, and a check that fails on one rank stops every rank (no hang)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+from dataclasses import replace
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from paradyn import deck, geometry
+from paradyn._schema import STATUS_BAD_INPUT
+from paradyn.launch import current_machine, engine_path
+from paradyn.runners import MpirunRunner
+
+
+def _strip(end_time: float = 2e-6, **control: float) -> deck.Model:
+    mesh = geometry.plate((0.02, 0.01), (2, 1))   # nodes 0 1 2 / 3 4 5; elements (0 1 4 3), (1 2 5 4)
+    return deck.Model(
+        coordinates=mesh.coordinates, connectivity=mesh.quads,
+        element_part=np.zeros(mesh.n_elements, dtype=np.int32), thickness=np.array([0.001]),
+        part_material=np.array([0]), material_model=np.array([1]), density=np.array([7860.0]),
+        youngs_modulus=np.array([200e9]), poisson_ratio=np.array([0.3]),
+        control=deck.Control(end_time=end_time, output_interval=end_time, **control))
+
+
+def _engine(deck_path: Path, ranks: int) -> subprocess.CompletedProcess[str]:
+    """The engine under mpirun as paradyn-run starts it, with a timeout that turns a hang into a failure."""
+    runner = MpirunRunner(replace(current_machine(), engine=engine_path()))
+    command = runner.command(deck_path, deck_path.with_name("results.h5"), ranks, 1, False)
+    env = dict(os.environ, **runner.environment(ranks, 1))
+    return subprocess.run(command, env=env, capture_output=True, text=True, timeout=60)
+
+
+@pytest.mark.mpi
+def test_a_massless_node_on_the_second_rank_stops_both_ranks(tmp_path: Path) -> None:
+    """A zero-area element held by rank 1 alone (blocks: element 1 on rank 1) used to leave rank 0
+    waiting in the next collective forever; now every rank stops with rank 1's message."""
+    path = deck.write_deck(_strip(), tmp_path / "deck.h5")
+    with h5py.File(path, "r+") as f:   # nodes 2 and 5 onto nodes 1 and 4: element 1 has no area
+        xyz = f["/nodes/coordinates"][()]
+        xyz[2], xyz[5] = xyz[1], xyz[4]
+        f["/nodes/coordinates"][...] = xyz
+    done = _engine(path, ranks=2)
+    assert done.returncode == STATUS_BAD_INPUT, done.stderr
+    assert "a node has no mass" in done.stderr
+    assert done.stderr.count("paradyn-engine: error:") == 1   # printed once, by rank 0
+    assert not path.with_name("results.h5").exists()
+
+
+def test_an_absurd_step_count_is_refused_naming_the_estimate(tmp_path: Path) -> None:
+    """A requested step of 1e-15 s over 1 ms is 1e12 steps: refused before the first step (it
+    used to overflow the step count and take one step of end_time, exit 0)."""
+    path = deck.write_deck(_strip(end_time=1e-3, time_step=1e-15), tmp_path / "deck.h5")
+    done = _engine(path, ranks=1)
+    assert done.returncode == STATUS_BAD_INPUT, done.stdout
+    assert "1.000E+12 steps" in done.stderr and "end_time" in done.stderr
+
+
+def test_damping_that_reverses_velocities_is_refused(tmp_path: Path) -> None:
+    """mass_damping x dt >= 2 makes the update's factor 1 - a dt / 2 negative: the velocities flip
+    every step and the kinetic energy turns negative (exit 0 before); now refused."""
+    path = deck.write_deck(_strip(mass_damping=1e12), tmp_path / "deck.h5")
+    done = _engine(path, ranks=1)
+    assert done.returncode == STATUS_BAD_INPUT, done.stdout
+    assert "mass_damping x dt" in done.stderr and "must be below 2" in done.stderr
+
+
+def test_strong_but_sound_damping_runs(tmp_path: Path) -> None:
+    """The control case: damping with a dt of 1 runs (a refusal must not catch it)."""
+    model = _strip()
+    path = deck.write_deck(model, tmp_path / "probe.h5")
+    done = _engine(path, ranks=1)
+    assert done.returncode == 0, done.stderr
+    with h5py.File(path.with_name("results.h5")) as f:
+        dt = float(f["run"].attrs["dt_s"])
+    path = deck.write_deck(replace(model, control=replace(model.control, mass_damping=1.0 / dt)),
+                           tmp_path / "deck.h5")
+    done = _engine(path, ranks=1)
+    assert done.returncode == 0, done.stderr
