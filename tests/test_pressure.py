@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import paradyn
-from paradyn import deck, launch, scene
+from paradyn import _kernels, deck, launch, scene
 
 E, NU, RHO = 200e9, 0.3, 7850.0
 R, LENGTH, T = 0.1, 0.2, 0.002
@@ -69,6 +69,23 @@ def _model(tmp_path: Path, text: str) -> deck.Model:
     path = tmp_path / "scene.toml"
     path.write_text(text)
     return scene.build_model(scene.load_scene(path))
+
+
+def test_corner_forces_of_one_element_are_p_a_n_over_4() -> None:
+    """Kernel: a 2 x 1 m rectangle in the x-y plane, counter-clockwise (normal +z), p = 3 Pa:
+    each corner gets p A n / 4 = 1.5 N along +z, stored with the internal-force sign; moved by
+    0.01 m along z under p = 3 then 5 Pa, the work is the mean pressure times A times 0.01 m."""
+    x = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [0.0, 1.0, 0.0]]).T.copy(order="F")
+    moved = x + np.array([[0.0], [0.0], [0.01]])
+    corner, work = _kernels.pressure_element(x, moved, 3.0, 5.0)
+    np.testing.assert_allclose(corner[:3], np.tile([[0.0], [0.0], [-2.5]], (1, 4)), rtol=1e-15)   # p_end = 5
+    np.testing.assert_array_equal(corner[3:], 0.0)
+    assert work == pytest.approx(0.5 * (3.0 + 5.0) * 2.0 * 0.01, rel=1e-12)
+    warped = x.copy()
+    warped[2, 2] = 0.4   # corner 3 lifted: A n = (x3 - x1) x (x4 - x2) / 2, not the flat rectangle's
+    corner, _ = _kernels.pressure_element(warped, warped, 1.0, 1.0)
+    expected = -np.cross(warped[:, 2] - warped[:, 0], warped[:, 3] - warped[:, 1]) / 8.0
+    np.testing.assert_allclose(corner[:3, 0], expected, rtol=1e-15)
 
 
 @pytest.fixture(scope="module")

@@ -68,6 +68,7 @@ contains
     real(wp), intent(inout) :: corner(:, :)
     integer :: l
     do l = 1, size(e%scale)
+      if (ended(e, l)) cycle
       associate (first => e%first(l), last => e%first(l + 1) - 1)
         call pressure_corner_forces(e%elements(first:last), connectivity, x, &
                                     e%scale(l) * curve_value(e%curves, e%curve(l), time), corner, &
@@ -85,10 +86,14 @@ contains
     class(pressure_effect_t), intent(in) :: e
     real(wp), intent(in) :: time
     integer :: l
-    idle = e%have_previous
-    do l = 1, size(e%scale)
-      idle = idle .and. curve_ended_at_zero(e%curves, e%curve(l), e%time_previous)
-    end do
+    idle = all([(ended(e, l), l = 1, size(e%scale))])
   end function idle
+
+  !> Whether load l had ended at zero by the last call (then it has no force and no more work).
+  pure logical function ended(e, l)
+    class(pressure_effect_t), intent(in) :: e
+    integer, intent(in) :: l
+    ended = e%have_previous .and. curve_ended_at_zero(e%curves, e%curve(l), e%time_previous)
+  end function ended
 
 end module pressure_effect
