@@ -110,7 +110,8 @@ def _set_entry(name: str, index: tuple[int, ...], value: float) -> Callable[[h5p
     [
         (lambda f: f.__delitem__("/parts/thickness"), r"/parts/thickness is missing"),
         (lambda f: f.__delitem__("/materials/yield_stress"), r"/materials/yield_stress is missing"),
-        (_replace("/elements/part", np.zeros(5, dtype=np.int32)), r"/elements/part has shape \(5,\)"),
+        (_replace("/elements/part", np.zeros(5, dtype=np.int32)),
+         r"/elements/part has 5 rows but /elements/connectivity, which sets the number of elements"),
         (_replace("/nodes/coordinates", np.zeros((15, 2))), r"/nodes/coordinates has shape"),
         (_replace("/elements/connectivity", np.zeros((8, 4))), r"/elements/connectivity has dtype float64"),
         (_set_entry("/parts/thickness", (1,), -0.003),

@@ -37,19 +37,28 @@ def _engine(deck_path: Path, ranks: int) -> subprocess.CompletedProcess[str]:
 
 
 @pytest.mark.mpi
-def test_a_massless_node_on_the_second_rank_stops_both_ranks(tmp_path: Path) -> None:
-    """A zero-area element held by rank 1 alone (blocks: element 1 on rank 1) used to leave rank 0
-    waiting in the next collective forever; now every rank stops with rank 1's message."""
+@pytest.mark.parametrize("fault", ["zero_area", "bow_tie"])
+def test_a_bad_element_on_the_second_rank_stops_both_ranks(tmp_path: Path, fault: str) -> None:
+    """A zero-area or bow-tie element held by rank 1 (blocks: element 1 on rank 1) used to leave
+    rank 0 waiting in the next collective forever; now the element is named before the run, once,
+    and every rank stops with status 2 (the check that a node has mass, which runs on each rank's
+    share, is agreed between the ranks for the same reason)."""
     path = deck.write_deck(_strip(), tmp_path / "deck.h5")
-    with h5py.File(path, "r+") as f:   # nodes 2 and 5 onto nodes 1 and 4: element 1 has no area
+    with h5py.File(path, "r+") as f:
         xyz = f["/nodes/coordinates"][()]
-        xyz[2], xyz[5] = xyz[1], xyz[4]
+        if fault == "zero_area":   # nodes 2 and 5 onto nodes 1 and 4
+            xyz[2], xyz[5] = xyz[1].copy(), xyz[4].copy()
+        else:                      # nodes 2 and 5 swapped: the element crosses itself
+            xyz[[2, 5]] = xyz[[5, 2]]
         f["/nodes/coordinates"][...] = xyz
     done = _engine(path, ranks=2)
     assert done.returncode == STATUS_BAD_INPUT, done.stderr
-    assert "a node has no mass" in done.stderr
-    assert done.stderr.count("paradyn-engine: error:") == 1   # printed once, by rank 0
+    words = "collapsed or crossed"   # a bow-tie of a rectangle has parallel diagonals: no normal at all
+    assert "element 1 (part 0, nodes [1, 2, 5, 4]) is collapsed or crossed at node" in done.stderr
+    assert done.stderr.count("paradyn-engine: error:") == 1
     assert not path.with_name("results.h5").exists()
+    with pytest.raises(deck.DeckError, match=words):   # the frontend names it too
+        deck.validate_deck(path)
 
 
 def test_an_absurd_step_count_is_refused_naming_the_estimate(tmp_path: Path) -> None:
@@ -82,3 +91,18 @@ def test_strong_but_sound_damping_runs(tmp_path: Path) -> None:
                            tmp_path / "deck.h5")
     done = _engine(path, ranks=1)
     assert done.returncode == 0, done.stderr
+
+
+def test_a_row_count_mismatch_names_the_dataset_that_sets_the_count(tmp_path: Path) -> None:
+    """A /parts/thickness with two rows for one part used to be blamed on /parts/material alone;
+    both sides now name the dataset that set the number of parts."""
+    path = deck.write_deck(_strip(), tmp_path / "deck.h5")
+    with h5py.File(path, "r+") as f:
+        del f["/parts/thickness"]
+        f["/parts/thickness"] = np.array([0.001, 0.002])
+    done = _engine(path, ranks=1)
+    assert done.returncode == STATUS_BAD_INPUT
+    words = "/parts/material has 1 rows but /parts/thickness, which sets the number of parts, has 2"
+    assert words in done.stderr
+    with pytest.raises(deck.DeckError, match=words):
+        deck.validate_deck(path)

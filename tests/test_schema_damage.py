@@ -202,6 +202,14 @@ def _duplicate_an_element(f: h5py.File) -> None:
     f["/elements/connectivity"][...] = data
 
 
+def _fold_an_element(f: h5py.File) -> None:
+    """Element 0's third corner moved inside it: concave there."""
+    xyz, conn = f["/nodes/coordinates"][()], f["/elements/connectivity"][()]
+    a, b, c, d = conn[0]
+    xyz[c] = 0.25 * (xyz[a] + xyz[b] + xyz[d] + xyz[a])
+    f["/nodes/coordinates"][...] = xyz
+
+
 def _tangent_equal_to_youngs(f: h5py.File) -> None:
     f["/materials/tangent_modulus"][0] = f["/materials/youngs_modulus"][0]
 
@@ -222,6 +230,7 @@ def _curve_time_repeated(f: h5py.File) -> None:
 RELATION_DAMAGES: dict[str, Damage] = {
     "distinct_element_nodes": _repeat_first_node,
     "distinct_elements": _duplicate_an_element,
+    "convex_elements": _fold_an_element,
     "node_in_element": _add_unused_node,
     "tangent_below_youngs": _tangent_equal_to_youngs,
     "contact_parts_differ": _pair_with_itself,

@@ -158,6 +158,10 @@ RELATIONS: dict[str, RelationSpec] = {
     'distinct_element_nodes': RelationSpec(
         'distinct_element_nodes', '/elements/connectivity', 'the four nodes of an element are distinct',
     ),
+    'convex_elements': RelationSpec(
+        'convex_elements', '/nodes/coordinates',
+        'every element is a convex quadrilateral without coincident or collinear corners',
+    ),
     'distinct_elements': RelationSpec(
         'distinct_elements', '/elements/connectivity',
         'no two elements have the same four nodes (a duplicated element doubles its mass and stiffness)',
@@ -631,7 +635,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('control', 'effect_contact'): ('class', 'enum'),
     ('control', 'effect_friction'): ('class', 'enum'),
     ('relation', '/elements/connectivity'): ('distinct_element_nodes', 'distinct_elements'),
-    ('relation', '/nodes/coordinates'): ('node_in_element',),
+    ('relation', '/nodes/coordinates'): ('convex_elements', 'node_in_element'),
     ('relation', '/materials/tangent_modulus'): ('tangent_below_youngs',),
     ('relation', '/contact/pairs'): ('contact_parts_differ',),
     ('relation', '/curves/first_point'): ('curve_first_points',),

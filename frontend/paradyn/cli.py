@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from . import deck, launch, reading, scene, workflow
-from ._schema import STATUS_BAD_INPUT, STATUS_OK
+from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_OK
 from .postprocess import post_process
 from .reports import effect_table_text
 
@@ -107,6 +107,8 @@ def main(argv: list[str] | None = None) -> int:
         raise  # the run finished but its results do not read: a bug to show in full
     except (scene.SceneError, deck.DeckError, ValueError) as error:
         return _error(error, STATUS_BAD_INPUT)
+    except OSError as error:   # a disk that fills or a file system that fails while writing the outputs
+        return _error(error, STATUS_FAILURE)
     if isinstance(outcome, workflow.BatchJob):
         print(f"paradyn-run: wrote {outcome.script}; submit it with: sbatch {outcome.script}")
         return STATUS_OK

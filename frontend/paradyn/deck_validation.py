@@ -65,8 +65,13 @@ class _Checker:
         actual = self.array(spec.python).shape
         expected = tuple(sizes[d] if isinstance(d, str) else d for d in spec.shape)
         if actual != expected:
+            entity = SIZES[spec.shape[0]].entity
+            setter = next(d for d in DATASETS if d.shape[0] == spec.shape[0] and d.defines_rows)
+            if actual[1:] == expected[1:] and setter.path != spec.path:
+                self.fail(f"{spec.path} has {actual[0]} rows but {setter.path}, which sets the number of {entity}s, "
+                          f"has {expected[0]}; give both one row per {entity} (expected {_symbolic(spec.shape)})")
             self.fail(f"{spec.path} has shape {actual}, expected {_symbolic(spec.shape)} = {expected}; "
-                      f"every array must have one row per {SIZES[spec.shape[0]].entity}")
+                      f"every array must have one row per {entity}")
 
     def entries(self, spec: DatasetSpec, bad: np.ndarray, rule: str, fix: str) -> None:
         """Fail on the first entry where ``bad`` is true, naming index, value and count."""
@@ -167,6 +172,7 @@ def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
         check.fail(f"/elements/connectivity[{element}] = {conn[element].tolist()} repeats a node; every "
                    f"quadrilateral needs four distinct nodes (remesh without collapsed elements)")
     _check_distinct_elements(check, conn)
+    _check_element_shapes(check, conn)
     plastic = check.array("material_model") == J2_PLASTICITY
     if np.any(plastic):
         tangent, young = check.array("tangent_modulus"), check.array("youngs_modulus")
@@ -222,6 +228,29 @@ def _check_distinct_elements(check: _Checker, conn: np.ndarray) -> None:
         original = int(first[inverse.ravel()[element]])
         check.fail(f"/elements/connectivity[{element}] = {conn[element].tolist()} has the same nodes as element "
                    f"{original}; a duplicated element doubles its mass and stiffness, remove it")
+
+
+def _check_element_shapes(check: _Checker, conn: np.ndarray) -> None:
+    """Every element convex without coincident or collinear corners (the engine's quad_shape): at each
+    corner the turn from the incoming to the outgoing side points along the normal of the diagonals."""
+    x = check.array("coordinates")[conn]                       # (elements, 4, 3)
+    normal = np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1])
+    incoming = x - np.roll(x, 1, axis=1)
+    outgoing = np.roll(x, -1, axis=1) - x
+    turn = np.einsum("eki,ei->ek", np.cross(incoming, outgoing), normal)
+    floor = 1e-10 * np.einsum("ei,ei->e", normal, normal)[:, None]
+    bad = (np.abs(turn) <= floor) | (floor == 0.0) | (turn < 0.0)
+    if not np.any(bad):
+        return
+    element = int(np.flatnonzero(bad.any(axis=1))[0])
+    corner = int(np.flatnonzero(bad[element])[0])
+    node, part = int(conn[element, corner]), int(check.array("element_part")[element])
+    if abs(turn[element, corner]) <= floor[element, 0] or floor[element, 0] == 0.0:
+        check.fail(f"/nodes/coordinates: element {element} (part {part}, nodes {conn[element].tolist()}) is "
+                   f"collapsed or crossed at node {node} (coincident or collinear corners, or sides that cross); "
+                   f"remesh it")
+    check.fail(f"/nodes/coordinates: element {element} (part {part}, nodes {conn[element].tolist()}) is concave or "
+               f"twisted at node {node}; remesh it (a concave quadrilateral turns inside out at the first step)")
 
 
 def _check_names(check: _Checker, sizes: dict[str, int]) -> None:

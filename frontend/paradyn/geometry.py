@@ -303,7 +303,7 @@ def load_mesh(path: str | Path) -> Mesh:
                             f"scene are relative to the scene file)")
     try:
         data = meshio.read(path)
-    except Exception as exc:  # meshio raises many types for unreadable files
+    except (Exception, SystemExit) as exc:  # meshio raises many types, and exits on some unreadable files
         raise GeometryError(f"{path}: meshio cannot read this file ({exc}); export the mesh as "
                             f"gmsh .msh or VTK .vtu") from exc
     counts: dict[str, int] = {}

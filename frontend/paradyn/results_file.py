@@ -55,6 +55,11 @@ def open_results(path: Path) -> h5py.File:
 
 def _open_error(path: Path, exc: OSError) -> str:
     text = str(exc)
+    if "truncated" in text.lower():   # checked first: HDF5 may also mention the lock it could not take
+        return (
+            f"{path} is truncated: it ends before the data it declares (a copy or a disk that stopped "
+            f"while writing it); copy it again from the run, or rerun with --restart from its checkpoint ({text})"
+        )
     if "lock" in text.lower():
         return (
             f"{path} is locked, probably by an engine that is still writing it; wait for the "

@@ -8,6 +8,7 @@ contact) is defined; every problem raises :class:`SceneError` naming the file, t
 from __future__ import annotations
 
 import itertools
+import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -90,6 +91,7 @@ def load_scene(path: str | Path) -> Scene:
     run.effect_switches = _parse_effects(reader, reader.table(data, "effects", "the scene", required=False))
     materials = [_parse_material(reader, t, i) for i, t in enumerate(reader.tables(data, "material"))]
     parts = [_parse_part(reader, t, i) for i, t in enumerate(reader.tables(data, "part"))]
+    _check_mesh_size(reader, parts)
     fixes = [_parse_fix(reader, t, i) for i, t in enumerate(reader.tables(data, "fix"))]
     loads = [_parse_load(reader, t, i) for i, t in enumerate(reader.tables(data, "load"))]
     tracks = [_parse_track(reader, t, i) for i, t in enumerate(reader.tables(data, "track"))]
@@ -112,6 +114,9 @@ def _parse_toml(path: Path) -> dict[str, Any]:
         raise SceneError(f"{path}: scene file not found; check the path") from exc
     except OSError as exc:
         raise SceneError(f"{path}: cannot read the scene file ({exc})") from exc
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"{path}: not a text file in UTF-8 ({exc.reason} at byte {exc.start}); save the scene "
+                         f"as UTF-8 TOML") from exc
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -241,6 +246,39 @@ def _parse_geometry(r: _Reader, t: dict[str, Any], label: str) -> Geometry:
         raise r.error(f"'path' in {label}: mesh file {file} not found; paths are relative to the "
                       f"scene file's folder")
     return FileGeometry(path=file)
+
+
+# Memory of one element through meshing, the deck and the engine (bytes, measured order of magnitude:
+# gmsh's mesh, the deck's arrays, the engine's state and results buffers); docs/scene.md.
+BYTES_PER_ELEMENT = 4000
+
+
+def _machine_memory() -> int:
+    """Physical memory of this machine in bytes (0 where the system does not say)."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):
+        return 0
+
+
+def _requested_elements(geometry: Geometry) -> int:
+    """The elements a generated geometry asks for (0 for a mesh file, which is already made)."""
+    if isinstance(geometry, CylinderGeometry):
+        return geometry.elements_around * geometry.elements_along
+    if isinstance(geometry, PlateGeometry):
+        return geometry.elements[0] * geometry.elements[1]
+    return 0
+
+
+def _check_mesh_size(r: _Reader, parts: list[PartSpec]) -> None:
+    """A mesh request beyond this machine's memory is refused before meshing starts (issue 17)."""
+    counts = {p.name: _requested_elements(p.geometry) for p in parts}
+    total, memory = sum(counts.values()), _machine_memory()
+    if memory and total * BYTES_PER_ELEMENT > memory:
+        largest = max(counts, key=counts.__getitem__)
+        raise r.error(f"the parts ask for {total:.3g} elements (part '{largest}': {counts[largest]:.3g}), about "
+                      f"{total * BYTES_PER_ELEMENT / 2**30:.0f} GiB to mesh and run, more than this machine's "
+                      f"{memory / 2**30:.0f} GiB; use fewer elements")
 
 
 def _parse_dofs(r: _Reader, t: dict[str, Any], label: str) -> tuple[str, ...]:

@@ -7,6 +7,7 @@ test models, the studies): write the deck into the output folder, run the engine
 
 from __future__ import annotations
 
+import os
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -114,8 +115,7 @@ def run(
     >>> quick.displacement[-1].max()                                # doctest: +SKIP
     """
     _check_source(source)
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_folder(out)
     deck_path = restart_deck(out) if restart else prepare_deck(source, out)
     default_ranks, default_threads = launch.default_layout()
     ranks = default_ranks if ranks is None else ranks
@@ -140,6 +140,29 @@ def run(
         results.outputs = post_process(results, out, details, vtk=vtk, history=history,
                                        summary=summary, plots=plots)
     return results
+
+
+class OutputFolderError(ValueError):
+    """The output folder cannot be made or written: a bad command line or call (exit status 2)."""
+
+
+def output_folder(out: str | Path) -> Path:
+    """The output folder, created, after checking that a run can write there (issue 17: a path that
+    is a file, lies under a file, or is read-only gets a message, not a traceback halfway)."""
+    out = Path(out)
+    blocking = next((p for p in [out, *out.parents] if p.exists() and not p.is_dir()), None)
+    if blocking is not None:
+        raise OutputFolderError(f"{out}: cannot be the output folder, {blocking} is a file; give a folder path "
+                      f"(paradyn-run -o FOLDER)")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputFolderError(f"{out}: cannot create the output folder ({exc.strerror}); give a folder you can "
+                      f"write (paradyn-run -o FOLDER)") from exc
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise OutputFolderError(f"{out}: the output folder is not writable; give a folder you can write "
+                      f"(paradyn-run -o FOLDER), or change its permissions")
+    return out
 
 
 def _check_source(source: Source) -> None:

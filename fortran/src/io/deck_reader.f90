@@ -164,6 +164,16 @@ contains
     end associate
   end subroutine read_field
 
+  !> The dataset that sets the row count of dataset id's row symbol (the first with that symbol).
+  pure integer function row_setter(id) result(setter)
+    integer, intent(in) :: id
+    do setter = 1, id
+      if (deck_datasets(setter)%row_symbol == deck_datasets(id)%row_symbol .and. &
+          deck_datasets(setter)%defines_rows) return
+    end do
+    setter = id
+  end function row_setter
+
   !> Opens dataset `id` after checking that it has the spec's class and shape. dims(1): rows.
   subroutine open_checked(r, id, dset, dims, found)
     type(deck_file_t), intent(inout) :: r
@@ -202,8 +212,11 @@ contains
         r%message = 'dataset '//name//' has shape ('//integer_text(int(dims(1)))//', '// &
                   integer_text(int(dims(2)))//'); expected '//shape_words(id)
       else if (rows >= 0 .and. dims(1) /= rows) then
-        r%message = 'dataset '//name//' has '//integer_text(int(dims(1)))//' rows; expected '// &
-                  integer_text(rows)//': '//shape_words(id)
+        r%message = 'dataset '//name//' has '//integer_text(int(dims(1)))//' rows but '// &
+                  trim(deck_datasets(row_setter(id))%path)//', which sets the number of '// &
+                  trim(size_entity(deck_datasets(id)%row_symbol))//'s, has '//integer_text(rows)// &
+                  '; give both one row per '//trim(size_entity(deck_datasets(id)%row_symbol))// &
+                  ' (expected '//shape_words(id)//')'
       end if
     end if
     call h5sclose_f(space, err)

@@ -30,6 +30,7 @@ module model_deck
                             dataset_prescribed_curve, control_gravity_x, control_gravity_y, control_gravity_z
   use deck_rules, only: integer_text, number_text
   use material_factory, only: material_from_name
+  use quad_shape, only: quad_shape_fault, shape_sound, shape_concave
   implicit none
   private
   public :: deck_t, part_properties, partition_default
@@ -272,6 +273,8 @@ contains
     end do
     call check_distinct_elements(d, message)
     if (message /= '') return
+    call check_element_shapes(d, message)
+    if (message /= '') return
     do i = 1, d%n_materials
       if (d%material_model(i) /= material_j2_plasticity) cycle
       if (.not. (d%tangent_modulus(i) < d%young(i))) then
@@ -339,6 +342,28 @@ contains
       end do
     end do
   end subroutine check_distinct_elements
+
+  !> Every element convex, without coincident or collinear corners (quad_shape).
+  subroutine check_element_shapes(d, message)
+    type(deck_t), intent(in) :: d
+    character(len=*), intent(inout) :: message
+    integer :: i, fault, corner, node
+    do i = 1, d%n_elements
+      call quad_shape_fault(d%coordinates(:, d%connectivity(:, i)), fault, corner)
+      if (fault == shape_sound) cycle
+      node = d%connectivity(corner, i)
+      if (fault == shape_concave) then
+        message = '/nodes/coordinates: element '//integer_text(i - 1)//' (part '//integer_text(d%element_part(i) - 1)// &
+                  ', nodes '//index_list(d%connectivity(:, i))//') is concave or twisted at node '// &
+                  integer_text(node - 1)//'; remesh it (a concave quadrilateral turns inside out at the first step)'
+      else
+        message = '/nodes/coordinates: element '//integer_text(i - 1)//' (part '//integer_text(d%element_part(i) - 1)// &
+                  ', nodes '//index_list(d%connectivity(:, i))//') is collapsed or crossed at node '// &
+                  integer_text(node - 1)//' (coincident or collinear corners, or sides that cross); remesh it'
+      end if
+      return
+    end do
+  end subroutine check_element_shapes
 
   pure function sorted_four(nodes) result(s)
     integer, intent(in) :: nodes(4)
