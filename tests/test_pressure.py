@@ -65,6 +65,13 @@ curve = "ramp"
 {extra}"""
 
 
+def _all_loads_text() -> str:
+    """The cylinder with its ramped pressure, gravity, and a prescribed velocity on one end ring."""
+    extra = ('[[prescribe]]\npart = "pipe"\nbox = [[-1.0, -1.0, -1.0], [-0.0999, 1.0, 1.0]]\ndof = "ux"\n'
+             'value = -0.5\ncurve = "ramp"\n')
+    return _scene_text(2.0 * PERIOD, 0.0, extra).replace("mass_damping", 'gravity = [0.0, -9.81, 3.0]\nmass_damping')
+
+
 def _model(tmp_path: Path, text: str) -> deck.Model:
     path = tmp_path / "scene.toml"
     path.write_text(text)
@@ -161,9 +168,7 @@ def test_loads_are_bitwise_independent_of_the_layout(tmp_path: Path) -> None:
     and on 2 threads bitwise equal to one rank and one thread (docs/theory.md, parallel design)."""
     if shutil.which("mpirun") is None and shutil.which("mpiexec") is None:
         pytest.skip("mpirun is not installed")
-    extra = ('[[prescribe]]\npart = "pipe"\nbox = [[-1.0, -1.0, -1.0], [-0.0999, 1.0, 1.0]]\ndof = "ux"\n'
-             'value = -0.5\ncurve = "ramp"\n')
-    text = _scene_text(2.0 * PERIOD, 0.0, extra).replace("mass_damping", 'gravity = [0.0, -9.81, 3.0]\nmass_damping')
+    text = _all_loads_text()
     path = deck.write_deck(_model(tmp_path, text), tmp_path / "deck.h5")
     fields = {}
     for ranks, threads in [(1, 1), (2, 1), (1, 2)]:
@@ -179,3 +184,27 @@ def test_loads_are_bitwise_independent_of_the_layout(tmp_path: Path) -> None:
         for key in ("displacement", "velocity", "element_von_mises"):
             assert np.array_equal(fields[layout][key], reference[key]), (layout, key)
         np.testing.assert_allclose(fields[layout]["work"], reference["work"], rtol=1e-13, atol=0)
+
+
+@pytest.mark.xfail(strict=True, reason="a restore does not yet give corner members the positions they keep "
+                   "between calls: the pressure's work of the first step after a restart is missing "
+                   "(solver_checkpoint's checkpoint_read should call each corner member once at the restored "
+                   "positions and drop that call's work)")
+def test_restart_with_pressure_is_bitwise(tmp_path: Path) -> None:
+    """A run with pressure, gravity and a prescribed velocity restarted from its checkpoint on the
+    same layout equals the uninterrupted run bit for bit, the external work included."""
+    text = _all_loads_text()
+    model = _model(tmp_path, text)
+    plain = deck.write_deck(model, tmp_path / "plain.h5")
+    model.control.checkpoint_interval = 0.9 * PERIOD
+    with_checkpoints = deck.write_deck(model, tmp_path / "deck.h5")
+    launch.run_engine(plain, tmp_path / "reference.h5")
+    launch.run_engine(with_checkpoints, tmp_path / "results.h5")
+    shutil.copy(tmp_path / "results.h5", tmp_path / "again.h5")
+    shutil.copy(tmp_path / "results.checkpoint.h5", tmp_path / "again.checkpoint.h5")
+    launch.run_engine(with_checkpoints, tmp_path / "again.h5", 1, 1, restart=True)
+    with h5py.File(tmp_path / "reference.h5", "r") as a, h5py.File(tmp_path / "again.h5", "r") as b:
+        for group in ("frames", "history"):
+            for key in a[group]:
+                assert np.array_equal(a[group][key][()], b[group][key][()]), (group, key)
+
