@@ -218,9 +218,8 @@ def test_a_stop_signal_writes_a_checkpoint_to_restart_from(runs: dict[str, Path]
             assert np.array_equal(data[key], reference[key]), key
 
 
-def test_ctrl_c_on_paradyn_run_checkpoints_and_restart_finishes(tmp_path: Path) -> None:
-    """paradyn-run turns Ctrl-C (SIGINT) into a checkpoint and exit status 4, and
-    `paradyn-run --restart` in the same folder finishes the run (complete results)."""
+def _long_small_plate(tmp_path: Path) -> Path:
+    """The small plate run for 0.2 s (a thousand times longer), with early progress lines."""
     scene_text = (ROOT / "cases" / "small_plate" / "scene.toml").read_text()
     for old, new in [("end_time = 2e-4 ", "end_time = 0.2 "), ("output_interval = 2e-5 ", "output_interval = 2e-3 "),
                      ("history_interval = 2e-6 ", "history_interval = 2e-4 "),
@@ -229,9 +228,29 @@ def test_ctrl_c_on_paradyn_run_checkpoints_and_restart_finishes(tmp_path: Path) 
         scene_text = scene_text.replace(old, new, 1)
     scene_path = tmp_path / "scene.toml"
     scene_path.write_text(scene_text)
+    return scene_path
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("stop, ranks", [(signal.SIGTERM, 1), (signal.SIGTERM, 2), (signal.SIGUSR1, 1)])
+def test_every_stop_signal_to_paradyn_run_checkpoints(tmp_path: Path, stop: signal.Signals, ranks: int) -> None:
+    """Issue 17: SIGTERM (a batch system's stop) and SIGUSR1 to paradyn-run itself reach the engine,
+    which writes its checkpoint; paradyn-run exits with the engine's status 4, on 1 or 2 ranks."""
     out = tmp_path / "out"
-    command = [sys.executable, "-m", "paradyn.cli", str(scene_path), "-o", str(out), "-n", "1", "-t", "1",
-               "--no-plots", "--no-vtk"]
+    command = [sys.executable, "-m", "paradyn.cli", str(_long_small_plate(tmp_path)), "-o", str(out), "-n",
+               str(ranks), "-t", "1", "--no-plots", "--no-vtk"]
+    status, output = _start_and_stop(command, tmp_path, stop)
+    assert status == 4, output
+    assert (out / "results.checkpoint.h5").is_file()
+    assert "stopped by a signal" in output
+
+
+def test_ctrl_c_on_paradyn_run_checkpoints_and_restart_finishes(tmp_path: Path) -> None:
+    """paradyn-run turns Ctrl-C (SIGINT) into a checkpoint and exit status 4, and
+    `paradyn-run --restart` in the same folder finishes the run (complete results)."""
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "paradyn.cli", str(_long_small_plate(tmp_path)), "-o", str(out), "-n", "1",
+               "-t", "1", "--no-plots", "--no-vtk"]
     status, output = _start_and_stop(command, tmp_path, signal.SIGINT)
     assert status == 4, output
     assert (out / "results.checkpoint.h5").is_file()

@@ -1,7 +1,7 @@
 """Every rule of the deck schema, broken one at a time, is refused by both validators.
 
 A small valid deck (two parts, a J2 and an elastic material, loads, a contact pair, tracked
-nodes, every optional dataset and /control attribute present) is damaged once per rule that
+nodes, a rigid wall, every optional dataset and /control attribute present) is damaged once per rule that
 ``schema/deck.toml`` declares (``paradyn._schema.RULES``): a required dataset or attribute
 removed, the wrong type class, the wrong shape or row count, each bound crossed, an unknown enum
 code, an index out of range, a non-finite value, each cross-field relation broken. The damages
@@ -75,6 +75,10 @@ def _base_model() -> deck.Model:
         contact_friction_decay=np.array([0.5]),
         contact_passes=np.array([2]),
         contact_kind=np.array([1]),
+        rigid_wall_point=np.array([[0.0, 0.0, -0.01]]),
+        rigid_wall_normal=np.array([[0.0, 0.0, 2.0]]),
+        rigid_wall_velocity=np.array([[0.0, 0.0, 0.5]]),
+        rigid_wall_penalty_scale=np.array([0.2]),
         curve_first_point=np.array([0, 2]),
         curve_time=np.array([0.0, 1e-6, 0.0]),
         curve_value=np.array([0.0, 1.0, 1.0]),
@@ -218,6 +222,14 @@ def _pair_with_itself(f: h5py.File) -> None:
     f["/contact/pairs"][0, 1] = f["/contact/pairs"][0, 0]
 
 
+def _zero_wall_normal(f: h5py.File) -> None:
+    f["/rigid_walls/normal"][0] = 0.0
+
+
+def _wall_above_the_model(f: h5py.File) -> None:
+    f["/rigid_walls/point"][0, 2] = 0.001   # between the strips: the lower one starts behind the wall
+
+
 def _curves_out_of_order(f: h5py.File) -> None:
     f["/curves/first_point"][1] = f["/curves/first_point"][0]
 
@@ -234,6 +246,8 @@ RELATION_DAMAGES: dict[str, Damage] = {
     "node_in_element": _add_unused_node,
     "tangent_below_youngs": _tangent_equal_to_youngs,
     "contact_parts_differ": _pair_with_itself,
+    "rigid_wall_normal_nonzero": _zero_wall_normal,
+    "rigid_wall_nodes_in_front": _wall_above_the_model,
     "curve_first_points": _curves_out_of_order,
     "curve_times_increase": _curve_time_repeated,
 }

@@ -123,6 +123,7 @@ SIZES: dict[str, SizeSpec] = {
     'n_loads': SizeSpec('n_loads', 'load', 0),
     'n_tracked': SizeSpec('n_tracked', 'tracked node', 0),
     'n_contacts': SizeSpec('n_contacts', 'contact pair', 0),
+    'n_rigid_walls': SizeSpec('n_rigid_walls', 'rigid wall', 0),
     'n_curves': SizeSpec('n_curves', 'curve', 0),
     'n_curve_points': SizeSpec('n_curve_points', 'curve point', 0),
     'n_pressures': SizeSpec('n_pressures', 'pressure load', 0),
@@ -136,6 +137,10 @@ CONDITIONS: dict[str, ConditionSpec] = {
     'contact_group': ConditionSpec(
         name='contact_group', group='/contact', dataset=None, code=None, meaning='the group /contact exists',
         rows='',
+    ),
+    'rigid_walls_group': ConditionSpec(
+        name='rigid_walls_group', group='/rigid_walls', dataset=None, code=None,
+        meaning='the group /rigid_walls exists', rows='',
     ),
     'curves_group': ConditionSpec(
         name='curves_group', group='/curves', dataset=None, code=None, meaning='the group /curves exists', rows='',
@@ -175,6 +180,13 @@ RELATIONS: dict[str, RelationSpec] = {
     ),
     'contact_parts_differ': RelationSpec(
         'contact_parts_differ', '/contact/pairs', 'a contact pair names two different parts',
+    ),
+    'rigid_wall_normal_nonzero': RelationSpec(
+        'rigid_wall_normal_nonzero', '/rigid_walls/normal', 'the normal of a rigid wall is not the zero vector',
+    ),
+    'rigid_wall_nodes_in_front': RelationSpec(
+        'rigid_wall_nodes_in_front', '/rigid_walls/point',
+        'at the start every node lies on the side of every rigid wall its normal points to (or on it)',
     ),
     'curve_first_points': RelationSpec(
         'curve_first_points', '/curves/first_point',
@@ -350,6 +362,30 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'contact_kind', 'must be 1 (1 = node_to_segment)', None, False, '-',
         "the kind of contact (a member of the engine's contact family; docs/architecture.md)", '[[contact]] kind',
         'use 1 (node_to_segment)',
+    ),
+    DatasetSpec(
+        '/rigid_walls/point', 'rigid_wall_point', 'float', ('n_rigid_walls', 3), False, 'rigid_walls_group', None,
+        None, None, None, '', None, '', None, True, 'm',
+        "a point of the wall's plane at time 0; the plane moves with /rigid_walls/velocity",
+        '[[rigid_wall]] point', "give a point of the wall's plane in metres",
+    ),
+    DatasetSpec(
+        '/rigid_walls/normal', 'rigid_wall_normal', 'float', ('n_rigid_walls', 3), False, 'rigid_walls_group',
+        None, None, None, None, '', None, '', None, False, '-',
+        "the wall's normal, pointing to the side where the nodes stay (any length but zero)",
+        '[[rigid_wall]] normal', 'give a nonzero normal pointing from the wall towards the model',
+    ),
+    DatasetSpec(
+        '/rigid_walls/velocity', 'rigid_wall_velocity', 'float', ('n_rigid_walls', 3), False, None, None, 0.0,
+        None, None, '', None, '', None, False, 'm/s',
+        "constant velocity of the wall (0 = stationary; LS-DYNA's *RIGIDWALL_PLANAR_MOVING)",
+        '[[rigid_wall]] velocity', "give the wall's velocity in m/s (0 for a stationary wall)",
+    ),
+    DatasetSpec(
+        '/rigid_walls/penalty_scale', 'rigid_wall_penalty_scale', 'float', ('n_rigid_walls',), False, None, None,
+        0.1, Bound(0.0, False), Bound(0.5, True), 'must be in (0, 0.5]', None, '', None, False, '-',
+        'scale of the penalty stiffness k = scale m / dt^2 of a node of mass m behind the wall (docs/theory.md)',
+        '[[rigid_wall]] penalty_scale', 'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)',
     ),
     DatasetSpec(
         '/curves/first_point', 'curve_first_point', 'int', ('n_curves',), False, 'curves_group', None, None,
@@ -600,6 +636,10 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/contact/friction_decay'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/contact/passes'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/contact/kind'): ('class', 'shape', 'rows', 'enum'),
+    ('dataset', '/rigid_walls/point'): ('required_when', 'class', 'shape', 'finite'),
+    ('dataset', '/rigid_walls/normal'): ('required_when', 'class', 'shape', 'rows', 'finite'),
+    ('dataset', '/rigid_walls/velocity'): ('class', 'shape', 'rows', 'finite'),
+    ('dataset', '/rigid_walls/penalty_scale'): ('class', 'shape', 'rows', 'lower', 'upper', 'finite'),
     ('dataset', '/curves/first_point'): ('required_when', 'class', 'shape', 'lower'),
     ('dataset', '/curves/time'): ('required_when', 'class', 'shape', 'finite'),
     ('dataset', '/curves/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
@@ -638,6 +678,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('relation', '/nodes/coordinates'): ('convex_elements', 'node_in_element'),
     ('relation', '/materials/tangent_modulus'): ('tangent_below_youngs',),
     ('relation', '/contact/pairs'): ('contact_parts_differ',),
+    ('relation', '/rigid_walls/normal'): ('rigid_wall_normal_nonzero',),
+    ('relation', '/rigid_walls/point'): ('rigid_wall_nodes_in_front',),
     ('relation', '/curves/first_point'): ('curve_first_points',),
     ('relation', '/curves/time'): ('curve_times_increase',),
 }

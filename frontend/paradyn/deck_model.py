@@ -86,7 +86,7 @@ class Model:
 
     Optional node arrays left as ``None`` are filled with the format's defaults (zeros) when the
     coordinates are known; ``yield_stress``, ``tangent_modulus`` and ``hardening_mixing`` may stay
-    ``None`` when no material uses model 2. Loads and tracked nodes default to none.
+    ``None`` when no material uses model 2. Loads, tracked nodes, contacts and rigid walls default to none.
     """
 
     coordinates: np.ndarray                     # /nodes/coordinates (n_nodes, 3) m
@@ -120,6 +120,10 @@ class Model:
     contact_friction_decay: np.ndarray | None = None    # /contact/friction_decay s/m
     contact_passes: np.ndarray | None = None  # /contact/passes: 2 both, 1 alternate
     contact_kind: np.ndarray | None = None    # /contact/kind: 1 node_to_segment
+    rigid_wall_point: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))   # /rigid_walls/point m
+    rigid_wall_normal: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # /rigid_walls/normal
+    rigid_wall_velocity: np.ndarray | None = None       # /rigid_walls/velocity m/s, default 0 (stationary)
+    rigid_wall_penalty_scale: np.ndarray | None = None  # /rigid_walls/penalty_scale, default 0.1
     curve_first_point: np.ndarray = field(default_factory=_empty_int)   # /curves/first_point (n_curves,)
     curve_time: np.ndarray = field(default_factory=_empty_float)        # /curves/time (n_curve_points,) s
     curve_value: np.ndarray = field(default_factory=_empty_float)       # /curves/value (n_curve_points,)
@@ -192,6 +196,11 @@ class Model:
     def n_contacts(self) -> int:
         pairs = np.asarray(self.contact_pairs)
         return int(pairs.shape[0]) if pairs.ndim == 2 else int(pairs.size)
+
+    @property
+    def n_rigid_walls(self) -> int:
+        points = np.asarray(self.rigid_wall_point)
+        return int(points.shape[0]) if points.ndim == 2 else int(points.size)
 
     @property
     def n_curves(self) -> int:

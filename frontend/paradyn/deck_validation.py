@@ -192,7 +192,27 @@ def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
         unused = np.flatnonzero(~used)
         check.fail(f"/nodes/coordinates[{int(unused[0])}] belongs to no element ({unused.size} such nodes); "
                    f"a node without elements has no mass, remove unused nodes")
+    _check_rigid_walls(check, sizes)
     _check_curve_relations(check, sizes)
+
+
+def _check_rigid_walls(check: _Checker, sizes: dict[str, int]) -> None:
+    """rigid_wall_normal_nonzero and rigid_wall_nodes_in_front (model_deck's check_rigid_walls): a
+    node counts as behind a wall below 1e-9 of the model's size, so nodes on the plane pass."""
+    coordinates = check.array("coordinates")
+    tolerance = 1e-9 * float(np.max(np.abs(coordinates)))
+    for w in range(sizes["n_rigid_walls"]):
+        normal = check.array("rigid_wall_normal")[w]
+        length = float(np.linalg.norm(normal))
+        if not length > 0.0:
+            check.fail(f"/rigid_walls/normal[{w}] is the zero vector; give a nonzero normal pointing from the "
+                       f"wall towards the model")
+        distance = (coordinates - check.array("rigid_wall_point")[w]) @ normal / length
+        k = int(np.argmin(distance))
+        if distance[k] < -tolerance:
+            check.fail(f"/rigid_walls/point[{w}] puts node {k} behind the wall at the start (signed distance "
+                       f"{_fmt(distance[k])} m along /rigid_walls/normal); move the point or flip the normal so "
+                       f"that the model starts on the side the normal points to")
 
 
 def _check_curve_relations(check: _Checker, sizes: dict[str, int]) -> None:

@@ -14,11 +14,12 @@ import re
 import signal
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TextIO
+from typing import Any, TextIO
 
 from ._schema import STATUS_FAILURE, STATUS_OK
 
@@ -96,8 +97,13 @@ def follow_engine(
         command, cwd=folder, env=environment, stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT, text=True, bufsize=1, start_new_session=True,
     ) as process:
-        _read_until_done(process, run, log, errors, on_progress)
-        run.exit_code = process.wait()
+        previous = _forward_stop_signals(process)
+        try:
+            _read_until_done(process, run, log, errors, on_progress)
+            run.exit_code = process.wait()
+        finally:
+            for number, handler in previous.items():
+                signal.signal(number, handler)
     run.elapsed_s = time.perf_counter() - started
     if run.exit_code != STATUS_OK or not run.done:
         message = "; ".join(e for e in errors if "error" in e) or (
@@ -105,6 +111,22 @@ def follow_engine(
             + (f"; see {log_path}" if log_path else ""))
         raise EngineError(message, run.exit_code or STATUS_FAILURE)
     return run
+
+
+def _forward_stop_signals(process: subprocess.Popen) -> dict[int, Any]:
+    """While the engine runs, SIGTERM and SIGUSR1 to this process become SIGUSR1 to the engine (which
+    mpirun forwards to every rank): the engine writes its checkpoint and exits with status 4, and so
+    does paradyn-run (issue 17), instead of this process dying and leaving the run without a
+    checkpoint. Returns the handlers to restore (none outside the main thread, where Python cannot
+    set them)."""
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+
+    def forward(number: int, frame: object) -> None:
+        if process.poll() is None:
+            process.send_signal(signal.SIGUSR1)
+
+    return {number: signal.signal(number, forward) for number in (signal.SIGTERM, signal.SIGUSR1)}
 
 
 def _take_line(run: EngineRun, line: str, errors: list[str],

@@ -79,6 +79,7 @@ def build_model(scene: Scene) -> deck.Model:
     _apply_loads(r, scene, by_name, model)
     _apply_tracks(r, scene, by_name, model)
     _apply_contacts(scene, model)
+    _apply_rigid_walls(scene, model)
     _apply_curve_loads(r, scene, by_name, model)
     try:
         deck.validate_model(model, source=f"{scene.path} (built model)")
@@ -161,6 +162,14 @@ def _apply_contacts(scene: Scene, model: deck.Model) -> None:
     model.contact_passes = np.array([passes["both"] if c.symmetric else passes["alternate"] for c in contacts],
                                     dtype=np.int32)
     model.contact_kind = np.array([_schema.ENUMS["contact_kind"][c.kind] for c in contacts], dtype=np.int32)
+
+
+def _apply_rigid_walls(scene: Scene, model: deck.Model) -> None:
+    walls = scene.rigid_walls
+    model.rigid_wall_point = np.array([w.point for w in walls], dtype=np.float64).reshape(-1, 3)
+    model.rigid_wall_normal = np.array([w.normal for w in walls], dtype=np.float64).reshape(-1, 3)
+    model.rigid_wall_velocity = np.array([w.velocity for w in walls], dtype=np.float64).reshape(-1, 3)
+    model.rigid_wall_penalty_scale = np.array([w.penalty_scale for w in walls], dtype=np.float64)
 
 
 def _apply_curve_loads(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model: deck.Model) -> None:

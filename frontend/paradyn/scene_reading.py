@@ -30,6 +30,7 @@ from paradyn.scene_specs import (
     PlateGeometry,
     PrescribeSpec,
     PressureSpec,
+    RigidWallSpec,
     RunSettings,
     Scene,
     SceneError,
@@ -53,8 +54,8 @@ def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
 # parsing
 
 
-_TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "track", "contact", "curve",
-             "pressure", "prescribe")
+_TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "track", "contact", "rigid_wall",
+             "curve", "pressure", "prescribe")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
              "contact_gather", "gravity")
@@ -76,6 +77,8 @@ _PRESSURE_KEYS = ("part", "value", "curve")
 _PRESCRIBE_KEYS = ("part", "box", "dof", "value", "curve")
 _CONTACT_KEYS = ("parts", "kind", "penalty_scale", "static_friction", "dynamic_friction", "friction_decay",
                  "symmetric")
+_RIGID_WALL_KEYS = ("point", "normal", "velocity", "penalty_scale")
+_RIGID_WALL_SCALE_MAX = next(d.upper.value for d in _schema.DATASETS if d.path == "/rigid_walls/penalty_scale")
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -96,12 +99,13 @@ def load_scene(path: str | Path) -> Scene:
     loads = [_parse_load(reader, t, i) for i, t in enumerate(reader.tables(data, "load"))]
     tracks = [_parse_track(reader, t, i) for i, t in enumerate(reader.tables(data, "track"))]
     contacts = [_parse_contact(reader, t, i) for i, t in enumerate(reader.tables(data, "contact"))]
+    walls = [_parse_rigid_wall(reader, t, i) for i, t in enumerate(reader.tables(data, "rigid_wall"))]
     curves = [_parse_curve(reader, t, i) for i, t in enumerate(reader.tables(data, "curve"))]
     pressures = [_parse_pressure(reader, t, i) for i, t in enumerate(reader.tables(data, "pressure"))]
     prescribed = [_parse_prescribe(reader, t, i) for i, t in enumerate(reader.tables(data, "prescribe"))]
     scene = Scene(path=path, title=title, run=run, materials=materials, parts=parts,
-                  fixes=fixes, loads=loads, tracks=tracks, contacts=contacts, curves=curves, pressures=pressures,
-                  prescribed=prescribed)
+                  fixes=fixes, loads=loads, tracks=tracks, contacts=contacts, rigid_walls=walls, curves=curves,
+                  pressures=pressures, prescribed=prescribed)
     _check_references(reader, scene)
     _check_load_references(reader, scene)
     return scene
@@ -357,6 +361,22 @@ def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
         kind=(r.string(t, "kind", label, choices=tuple(_schema.ENUMS["contact_kind"])) if "kind" in t
               else ContactSpec.kind),
     )
+
+
+def _parse_rigid_wall(r: _Reader, t: dict[str, Any], index: int) -> RigidWallSpec:
+    label = f"[[rigid_wall]] #{index + 1}"
+    r.keys(t, label, _RIGID_WALL_KEYS)
+    normal = r.vector(t, "normal", label)
+    if not any(normal):
+        raise r.error(f"'normal' in {label} is the zero vector; give a normal pointing from the wall towards "
+                      f"the model, e.g. normal = [0.0, 0.0, 1.0]")
+    scale = r.number(t, "penalty_scale", label, default=RigidWallSpec.penalty_scale, positive=True)
+    if scale > _RIGID_WALL_SCALE_MAX:
+        raise r.error(f"'penalty_scale' in {label} = {scale!r} is above {_RIGID_WALL_SCALE_MAX}, where a node "
+                      f"pressed into the wall may become unstable; use a value such as 0.1 (the default)")
+    return RigidWallSpec(point=r.vector(t, "point", label), normal=normal,
+                         velocity=r.vector(t, "velocity", label, default=RigidWallSpec.velocity),
+                         penalty_scale=scale)
 
 
 def _parse_curve(r: _Reader, t: dict[str, Any], index: int) -> CurveSpec:

@@ -1,9 +1,9 @@
 """The scene's data types: what :func:`paradyn.scene.load_scene` returns and :func:`paradyn.scene.build_model` reads.
 
 :class:`Scene` holds the run settings (:data:`RunSettings`, the deck's :class:`deck.Control`), the
-materials, the parts with their geometry specs, and the fixes, loads, tracked points, contacts, load
-curves, pressures and prescribed velocities; where a key fills a deck dataset its default is the
-deck's (schema/deck.toml). :class:`SceneError` is the error of every scene problem.
+materials, the parts with their geometry specs, and the fixes, loads, tracked points, contacts, rigid
+walls, load curves, pressures and prescribed velocities; where a key fills a deck dataset its
+default is the deck's (schema/deck.toml). :class:`SceneError` is the error of every scene problem.
 """
 
 from __future__ import annotations
@@ -142,6 +142,17 @@ class ContactSpec:
 
 
 @dataclass
+class RigidWallSpec:
+    """An infinite plane through ``point`` that every node of the model stays in front of (the side
+    ``normal`` points to), moving at ``velocity`` (docs/scene.md, [[rigid_wall]])."""
+
+    point: tuple[float, float, float]
+    normal: tuple[float, float, float]
+    velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    penalty_scale: float = _DECK_DEFAULT["/rigid_walls/penalty_scale"]
+
+
+@dataclass
 class CurveSpec:
     """A load curve: piecewise linear, first value before the first time, last value after the last."""
 
@@ -177,6 +188,7 @@ class Scene:
     loads: list[LoadSpec] = field(default_factory=list)
     tracks: list[TrackSpec] = field(default_factory=list)
     contacts: list[ContactSpec] = field(default_factory=list)
+    rigid_walls: list[RigidWallSpec] = field(default_factory=list)
     curves: list[CurveSpec] = field(default_factory=list)
     pressures: list[PressureSpec] = field(default_factory=list)
     prescribed: list[PrescribeSpec] = field(default_factory=list)

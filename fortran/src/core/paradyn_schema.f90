@@ -14,21 +14,23 @@ module paradyn_schema
       history_kinetic_energy, history_internal_energy, history_hourglass_energy, history_contact_energy, &
       history_external_work, history_contact_penetration, frame_field_names, history_scalar_names, class_int, &
       class_float, class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, &
-      size_n_loads, size_n_tracked, size_n_contacts, size_n_curves, size_n_curve_points, size_n_pressures, &
-      size_n_prescribed, n_sizes, condition_none, condition_loads_group, condition_contact_group, &
-      condition_curves_group, condition_pressure_group, condition_prescribed_group, condition_j2_plasticity, &
-      n_conditions, enum_none, enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
-      enum_contact_kind, enum_contact_gather, enum_switch, enum_partition, n_enums, &
-      dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
-      dataset_nodes_fixed_dofs, dataset_elements_connectivity, dataset_elements_part, &
-      dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
-      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_materials_model, &
-      dataset_materials_density, dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, &
-      dataset_materials_yield_stress, dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, &
-      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
-      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
-      dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
-      dataset_contact_passes, dataset_contact_kind, dataset_curves_first_point, dataset_curves_time, &
+      size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
+      size_n_pressures, size_n_prescribed, n_sizes, condition_none, condition_loads_group, &
+      condition_contact_group, condition_rigid_walls_group, condition_curves_group, condition_pressure_group, &
+      condition_prescribed_group, condition_j2_plasticity, n_conditions, enum_none, enum_material_model, &
+      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_contact_gather, &
+      enum_switch, enum_partition, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
+      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_elements_connectivity, &
+      dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
+      dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
+      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
+      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
+      dataset_materials_hardening_mixing, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
+      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
+      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
+      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+      dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
+      dataset_rigid_walls_penalty_scale, dataset_curves_first_point, dataset_curves_time, &
       dataset_curves_value, dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
       dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
       n_deck_datasets, control_end_time, control_output_interval, control_history_interval, &
@@ -99,19 +101,21 @@ module paradyn_schema
   integer, parameter :: size_n_loads = 5
   integer, parameter :: size_n_tracked = 6
   integer, parameter :: size_n_contacts = 7
-  integer, parameter :: size_n_curves = 8
-  integer, parameter :: size_n_curve_points = 9
-  integer, parameter :: size_n_pressures = 10
-  integer, parameter :: size_n_prescribed = 11
-  integer, parameter :: n_sizes = 11
+  integer, parameter :: size_n_rigid_walls = 8
+  integer, parameter :: size_n_curves = 9
+  integer, parameter :: size_n_curve_points = 10
+  integer, parameter :: size_n_pressures = 11
+  integer, parameter :: size_n_prescribed = 12
+  integer, parameter :: n_sizes = 12
   integer, parameter :: condition_none = 0
   integer, parameter :: condition_loads_group = 1
   integer, parameter :: condition_contact_group = 2
-  integer, parameter :: condition_curves_group = 3
-  integer, parameter :: condition_pressure_group = 4
-  integer, parameter :: condition_prescribed_group = 5
-  integer, parameter :: condition_j2_plasticity = 6
-  integer, parameter :: n_conditions = 6
+  integer, parameter :: condition_rigid_walls_group = 3
+  integer, parameter :: condition_curves_group = 4
+  integer, parameter :: condition_pressure_group = 5
+  integer, parameter :: condition_prescribed_group = 6
+  integer, parameter :: condition_j2_plasticity = 7
+  integer, parameter :: n_conditions = 7
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
   integer, parameter :: enum_hourglass_form = 2
@@ -152,17 +156,21 @@ module paradyn_schema
   integer, parameter :: dataset_contact_friction_decay = 28
   integer, parameter :: dataset_contact_passes = 29
   integer, parameter :: dataset_contact_kind = 30
-  integer, parameter :: dataset_curves_first_point = 31
-  integer, parameter :: dataset_curves_time = 32
-  integer, parameter :: dataset_curves_value = 33
-  integer, parameter :: dataset_pressure_part = 34
-  integer, parameter :: dataset_pressure_value = 35
-  integer, parameter :: dataset_pressure_curve = 36
-  integer, parameter :: dataset_prescribed_node = 37
-  integer, parameter :: dataset_prescribed_dof = 38
-  integer, parameter :: dataset_prescribed_value = 39
-  integer, parameter :: dataset_prescribed_curve = 40
-  integer, parameter :: n_deck_datasets = 40
+  integer, parameter :: dataset_rigid_walls_point = 31
+  integer, parameter :: dataset_rigid_walls_normal = 32
+  integer, parameter :: dataset_rigid_walls_velocity = 33
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 34
+  integer, parameter :: dataset_curves_first_point = 35
+  integer, parameter :: dataset_curves_time = 36
+  integer, parameter :: dataset_curves_value = 37
+  integer, parameter :: dataset_pressure_part = 38
+  integer, parameter :: dataset_pressure_value = 39
+  integer, parameter :: dataset_pressure_curve = 40
+  integer, parameter :: dataset_prescribed_node = 41
+  integer, parameter :: dataset_prescribed_dof = 42
+  integer, parameter :: dataset_prescribed_value = 43
+  integer, parameter :: dataset_prescribed_curve = 44
+  integer, parameter :: n_deck_datasets = 44
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -218,12 +226,12 @@ module paradyn_schema
     control_effect_contact, control_effect_friction]
 
   character(len=14), parameter :: size_symbol(n_sizes) = [character(len=14) :: 'n_nodes', 'n_elements', &
-    'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_curves', 'n_curve_points', &
-    'n_pressures', 'n_prescribed']
+    'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_rigid_walls', 'n_curves', &
+    'n_curve_points', 'n_pressures', 'n_prescribed']
   character(len=17), parameter :: size_entity(n_sizes) = [character(len=17) :: 'node', 'element', 'part', &
-    'material', 'load', 'tracked node', 'contact pair', 'curve', 'curve point', 'pressure load', &
-    'prescribed motion']
-  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0]
+    'material', 'load', 'tracked node', 'contact pair', 'rigid wall', 'curve', 'curve point', &
+    'pressure load', 'prescribed motion']
+  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0]
 
   !> Members of an enum: codes and the names a scene or a string attribute uses.
   type :: enum_spec_t
@@ -234,7 +242,7 @@ module paradyn_schema
 
   !> A group that exists (group), or a dataset with an entry equal to code.
   type :: condition_spec_t
-    character(len=11) :: group
+    character(len=12) :: group
     integer :: dataset                  !< dataset id, 0 for a group condition
     integer :: code
     character(len=28) :: rows   !< the rows it selects, in words
@@ -291,6 +299,7 @@ module paradyn_schema
   type(condition_spec_t), parameter :: deck_conditions(n_conditions) = [ &
     condition_spec_t('/loads', 0, 0, ''), &
     condition_spec_t('/contact', 0, 0, ''), &
+    condition_spec_t('/rigid_walls', 0, 0, ''), &
     condition_spec_t('/curves', 0, 0, ''), &
     condition_spec_t('/pressure', 0, 0, ''), &
     condition_spec_t('/prescribed', 0, 0, ''), &
@@ -394,6 +403,20 @@ module paradyn_schema
     dataset_spec_t('/contact/kind', class_int, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 1, &
         [1, 0], size_none, '', 'must be 1 (1 = node_to_segment)', 'use 1 (node_to_segment)'), &
+    dataset_spec_t('/rigid_walls/point', class_float, 3, size_n_rigid_walls, .true., .false., &
+        condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0], size_none, '', '', 'give a point of the wall''s plane in metres'), &
+    dataset_spec_t('/rigid_walls/normal', class_float, 3, size_n_rigid_walls, .false., .false., &
+        condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0], size_none, '', '', &
+        'give a nonzero normal pointing from the wall towards the model'), &
+    dataset_spec_t('/rigid_walls/velocity', class_float, 3, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0], size_none, '', '', 'give the wall''s velocity in m/s (0 for a stationary wall)'), &
+    dataset_spec_t('/rigid_walls/penalty_scale', class_float, 0, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 0.1_wp, .true., .false., .true., .true., 0.0_wp, 0.5_wp, enum_none, &
+        0, [0, 0], size_none, 'must be in (0, 0.5]', '', &
+        'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)'), &
     dataset_spec_t('/curves/first_point', class_int, 0, size_n_curves, .true., .false., &
         condition_curves_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_none, 0, [0, 0], size_none, 'must be >= 0', '', &

@@ -2,12 +2,14 @@
 !> in the order of schema/effects.toml (the order of the step). A new member adds its block here.
 module effect_factory
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: effect_point_loads, effect_gravity, effect_pressure, effect_prescribed_velocity
+  use paradyn_schema, only: effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
+                            effect_prescribed_velocity
   use model_deck, only: deck_t
   use domain_decomposition, only: domain_t, local_node
   use effect_table, only: effect_table_t
   use nodal_effect, only: nodal_effect_holder_t
   use point_load_effect, only: point_load_effect_make
+  use rigid_wall_effect, only: rigid_wall_effect_make
   use load_curves, only: load_curves_t, load_curves_from
   use gravity_effect, only: gravity_effect_make
   use pressure_effect, only: pressure_effect_make
@@ -18,11 +20,13 @@ module effect_factory
 
 contains
 
-  !> The running nodal effects of the table, built from the deck for this rank's domain.
-  subroutine make_nodal_effects(deck, dom, table, effects)
+  !> The running nodal effects of the table, built from the deck for this rank's domain and a
+  !> run of step dt (the rigid walls' penalty stiffness is scaled to it).
+  subroutine make_nodal_effects(deck, dom, table, dt, effects)
     type(deck_t), intent(in) :: deck
     type(domain_t), intent(in) :: dom
     type(effect_table_t), intent(in) :: table
+    real(wp), intent(in) :: dt
     type(nodal_effect_holder_t), allocatable, intent(out) :: effects(:)
     type(load_curves_t) :: curves
     integer :: k
@@ -43,6 +47,11 @@ contains
       call append(effects)
       allocate (effects(size(effects))%effect, source=pressure_effect_make(curves, deck%pressure_part, &
         deck%pressure_value, deck%pressure_curve, deck%element_part(dom%elements)))
+    end if
+    if (table%running(effect_rigid_wall)) then
+      call append(effects)
+      allocate (effects(size(effects))%effect, source=rigid_wall_effect_make(deck%rigid_wall_point, &
+        deck%rigid_wall_normal, deck%rigid_wall_velocity, deck%rigid_wall_penalty_scale, dt))
     end if
     if (table%running(effect_prescribed_velocity)) then
       call append(effects)

@@ -7,7 +7,8 @@ module deck_effects
   use paradyn_schema, only: n_effects, material_j2_plasticity, material_elastic, effect_point_loads, &
                             effect_time_integration, effect_mass_damping, effect_fixed_boundaries, &
                             effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, &
-                            effect_friction, effect_gravity, effect_pressure, effect_prescribed_velocity
+                            effect_friction, effect_gravity, effect_pressure, effect_rigid_wall, &
+                            effect_prescribed_velocity
   use model_deck, only: deck_t
   use effect_table, only: effect_table_t
   implicit none
@@ -30,6 +31,7 @@ contains
     declared(effect_elastic_shells) = any(part_model /= material_j2_plasticity)
     declared(effect_plastic_shells) = any(part_model == material_j2_plasticity)
     declared(effect_hourglass) = any(deck%hourglass_coefficient > 0.0_wp)
+    declared(effect_rigid_wall) = deck%n_rigid_walls > 0
     declared(effect_contact) = deck%n_contacts > 0
     if (deck%n_contacts > 0) declared(effect_friction) = any(deck%contact_static_friction > 0.0_wp) .or. &
                                                           any(deck%contact_dynamic_friction > 0.0_wp)
@@ -48,6 +50,7 @@ contains
     associate (off => table%declared .and. .not. table%running)
       if (off(effect_point_loads)) deck%n_loads = 0
       if (off(effect_mass_damping)) deck%mass_damping = 0.0_wp
+      if (off(effect_rigid_wall)) deck%n_rigid_walls = 0
       if (off(effect_plastic_shells)) then
         where (deck%material_model == material_j2_plasticity) deck%material_model = material_elastic
         table%declared(effect_elastic_shells) = .true.   ! those parts now run as elastic shells

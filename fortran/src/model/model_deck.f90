@@ -19,6 +19,8 @@ module model_deck
                             dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
                             dataset_contact_static_friction, dataset_contact_dynamic_friction, &
                             dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+                            dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
+                            dataset_rigid_walls_penalty_scale, &
                             contact_gather_near, control_contact_gather, control_end_time, &
                             control_output_interval, control_history_interval, control_time_step, &
                             control_time_step_safety, control_mass_damping, control_progress_interval, &
@@ -41,7 +43,7 @@ module model_deck
 
   type :: deck_t
     integer :: n_nodes = 0, n_elements = 0, n_parts = 0, n_materials = 0
-    integer :: n_loads = 0, n_tracked = 0, n_contacts = 0
+    integer :: n_loads = 0, n_tracked = 0, n_contacts = 0, n_rigid_walls = 0
     real(wp), allocatable :: coordinates(:, :)        !< (3, n_nodes)
     real(wp), allocatable :: velocity(:, :)           !< (3, n_nodes)
     real(wp), allocatable :: angular_velocity(:, :)   !< (3, n_nodes)
@@ -61,6 +63,10 @@ module model_deck
     real(wp), allocatable :: contact_dynamic_friction(:), contact_friction_decay(:)
     integer, allocatable :: contact_passes(:)         !< 2 both bodies slave every step, 1 alternate
     integer, allocatable :: contact_kind(:)           !< member of the contact family (schema enum contact_kind)
+    real(wp), allocatable :: rigid_wall_point(:, :)   !< (3, n_rigid_walls), a point of the plane at time 0
+    real(wp), allocatable :: rigid_wall_normal(:, :)  !< (3, n_rigid_walls), towards the model, as given
+    real(wp), allocatable :: rigid_wall_velocity(:, :)   !< (3, n_rigid_walls), constant
+    real(wp), allocatable :: rigid_wall_penalty_scale(:)  !< k = scale m / dt^2
     real(wp) :: end_time = 0.0_wp, output_interval = 0.0_wp, history_interval = 0.0_wp
     real(wp) :: time_step = 0.0_wp, time_step_safety = 0.9_wp, mass_damping = 0.0_wp
     real(wp) :: progress_interval = 0.5_wp
@@ -180,6 +186,15 @@ contains
       d%contact_passes = indices(1, :)
     case (dataset_contact_kind)
       d%contact_kind = indices(1, :)
+    case (dataset_rigid_walls_point)
+      d%rigid_wall_point = values
+      d%n_rigid_walls = size(values, 2)
+    case (dataset_rigid_walls_normal)
+      d%rigid_wall_normal = values
+    case (dataset_rigid_walls_velocity)
+      d%rigid_wall_velocity = values
+    case (dataset_rigid_walls_penalty_scale)
+      d%rigid_wall_penalty_scale = values(1, :)
     case (dataset_curves_first_point)   ! an index without a reference: made 1-based here
       d%curve_first_point = indices(1, :) + 1
       d%n_curves = size(values, 2)
@@ -248,8 +263,9 @@ contains
 
   !> Relations between fields of a deck whose every field has passed its own rules (schema
   !> relations: distinct_element_nodes, distinct_elements, tangent_below_youngs, contact_parts_differ,
-  !> node_in_element, curve_first_points, curve_times_increase). Returns status_ok, or
-  !> status_bad_input with a message naming the dataset, the 0-based entry and the fix.
+  !> node_in_element, then the rigid walls' and the load curves' (curve_first_points,
+  !> curve_times_increase)). Returns status_ok, or status_bad_input with a message naming the
+  !> dataset, the 0-based entry and the fix.
   subroutine check_deck_relations(d, status, message)
     type(deck_t), intent(in) :: d
     integer, intent(out) :: status
@@ -301,10 +317,47 @@ contains
                 'remove unused nodes'
       return
     end if
+    call check_rigid_walls(d, message)
+    if (len_trim(message) > 0) return
     call check_curve_relations(d, message)
     if (len_trim(message) > 0) return
     status = status_ok
   end subroutine check_deck_relations
+
+  !> The schema relations rigid_wall_normal_nonzero and rigid_wall_nodes_in_front: message stays
+  !> blank when they hold. A node counts as behind a wall below a distance of 1e-9 of the model's
+  !> size, so that nodes placed on the plane are not refused for a rounding error.
+  subroutine check_rigid_walls(d, message)
+    type(deck_t), intent(in) :: d
+    character(len=*), intent(inout) :: message
+    real(wp) :: length, tolerance, lowest, distance
+    integer :: w, j, k
+    tolerance = 1.0e-9_wp * maxval(abs(d%coordinates))
+    do w = 1, d%n_rigid_walls
+      length = norm2(d%rigid_wall_normal(:, w))
+      if (.not. (length > 0.0_wp)) then
+        message = '/rigid_walls/normal['//integer_text(w - 1)//'] is the zero vector; give a nonzero normal '// &
+                  'pointing from the wall towards the model'
+        return
+      end if
+      k = 1
+      lowest = huge(1.0_wp)
+      do j = 1, d%n_nodes
+        distance = dot_product(d%coordinates(:, j) - d%rigid_wall_point(:, w), d%rigid_wall_normal(:, w)) / length
+        if (distance < lowest) then
+          lowest = distance
+          k = j
+        end if
+      end do
+      if (lowest < -tolerance) then
+        message = '/rigid_walls/point['//integer_text(w - 1)//'] puts node '//integer_text(k - 1)// &
+                  ' behind the wall at the start (signed distance '//number_text(lowest, class_float)// &
+                  ' m along /rigid_walls/normal); move the point or flip the normal so that the model starts '// &
+                  'on the side the normal points to'
+        return
+      end if
+    end do
+  end subroutine check_rigid_walls
 
   !> No two elements with the same four nodes (in any order). Elements are bucketed by their
   !> smallest node, so only elements that share it are compared: linear in the elements.

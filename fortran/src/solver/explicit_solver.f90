@@ -72,8 +72,6 @@ contains
     call element_state_setup(s%elements, s%dom, s%props)
     call run_control_setup(s%control, deck, s%dom)
     s%effects = effects
-    call make_nodal_effects(deck, s%dom, effects, s%nodal_effects)
-    call pipeline_setup(s)
     s%part_effect = merge(effect_plastic_shells, effect_elastic_shells, &
                           deck%material_model(deck%part_material) == material_j2_plasticity)
     allocate (s%corner(6, 4 * s%dom%n_elements + s%dom%n_ghost_slots), source=0.0_wp)
@@ -93,6 +91,8 @@ contains
       write (0, '(a,es11.4,a,es11.4,a)') 'paradyn-engine: warning: the requested time step ', &
         deck%time_step, ' s is above the stable step ', s%clock%dt_stable, ' s; using the stable step'
     end if
+    call make_nodal_effects(deck, s%dom, effects, s%clock%dt, s%nodal_effects)   ! after the step: walls need it
+    call pipeline_setup(s)
 
     s%has_contact = deck%n_contacts > 0
     if (s%has_contact) call parallel_contact_setup(s%contact, deck, s%dom, comm, s%nodes%mass, s%nodes%v, &
