@@ -112,6 +112,9 @@ class _Writer:
         for k, a in enumerate(s.control, start=1):
             self.constant(f"control_{a.name}", str(k))
         self.constant("n_control_attributes", str(len(s.control)))
+        self.public.append("control_restart_may_change")
+        self.body += _pack("  logical, parameter :: control_restart_may_change(n_control_attributes) = [",
+                           [logical(a.name in s.deck["restart_may_change"]) for a in s.control], "", "]")
         self.constant("max_enum_members", str(max(len(e["members"]) for e in s.enums.values())))
 
     def effects(self) -> None:

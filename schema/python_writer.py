@@ -189,7 +189,8 @@ def write(schema: Schema, header: str) -> str:
            'paradyn.deck validates\nwith them and paradyn.scene takes its defaults from them.\n"""',
            "", "from __future__ import annotations", "", "from dataclasses import dataclass", CLASSES, ""]
     out += [f"DECK_VERSION = {deck['version']!r}", f"VERSION_ATTRIBUTE = {deck['version_attribute']!r}",
-            f"TITLE_ATTRIBUTE = {deck['title_attribute']!r}", f"DOF_NAMES = {tuple(deck['dof_names'])!r}", ""]
+            f"TITLE_ATTRIBUTE = {deck['title_attribute']!r}", f"DOF_NAMES = {tuple(deck['dof_names'])!r}",
+            _names("RESTART_MAY_CHANGE", deck["restart_may_change"]), ""]
     out.append("ENUMS: dict[str, dict[str, int]] = {")
     out += [f"    {name!r}: {schema.enum_codes(name)!r}," for name in schema.enums]
     out += ["}", "", "SIZES: dict[str, SizeSpec] = {"]

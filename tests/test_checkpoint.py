@@ -13,6 +13,7 @@ import shutil
 import signal
 import subprocess
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import h5py
@@ -162,6 +163,42 @@ def test_restart_with_another_deck_is_refused(runs: dict[str, Path], tmp_path: P
     assert (tmp_path / "results.h5").read_bytes() == before
 
 
+@pytest.mark.parametrize("edit, group", [
+    (lambda m: m.density.__imul__(1.01), "materials"),
+    (lambda m: m.thickness.__imul__(1.01), "parts"),
+    (lambda m: setattr(m.control, "mass_damping", 1.0), "control"),
+])
+def test_restart_with_the_same_mesh_but_another_model_is_refused(runs: dict[str, Path], tmp_path: Path,
+                                                                  edit: Callable, group: str) -> None:
+    """Issue 17: a checkpoint knows its deck by a fingerprint per group; the same mesh with another
+    density, thickness or damping (same sizes and time step, so the old size checks passed) is
+    refused naming the group that differs."""
+    model = deck.read_deck(runs["deck"])
+    edit(model)
+    other = deck.write_deck(model, tmp_path / "other.h5")
+    shutil.copy(runs["results"], tmp_path / "results.h5")
+    shutil.copy(runs["checkpoint"], tmp_path / "results.checkpoint.h5")
+    with pytest.raises(launch.EngineError) as error:
+        launch.run_engine(other, tmp_path / "results.h5", restart=True)
+    assert error.value.exit_code == 2
+    assert f"its /{group} differs from this deck's" in str(error.value)
+    assert "output_interval, history_interval, progress_interval, checkpoint_interval" in str(error.value)
+
+
+def test_restart_may_change_the_output_intervals(runs: dict[str, Path], tmp_path: Path) -> None:
+    """The /control attributes of schema [deck] restart_may_change are left out of the fingerprint:
+    a restart with another history and progress interval runs (the answer is the same)."""
+    model = deck.read_deck(runs["deck"])
+    model.control.history_interval = 2 * model.control.history_interval
+    model.control.progress_interval = 3.0
+    edited = deck.write_deck(model, tmp_path / "deck.h5")
+    shutil.copy(runs["results"], tmp_path / "results.h5")
+    shutil.copy(runs["checkpoint"], tmp_path / "results.checkpoint.h5")
+    launch.run_engine(edited, tmp_path / "results.h5", restart=True)
+    with h5py.File(tmp_path / "results.h5", "r") as f:
+        assert f.attrs["complete"] == 1
+
+
 def test_restart_without_a_checkpoint_is_refused(runs: dict[str, Path], tmp_path: Path) -> None:
     with pytest.raises(launch.EngineError) as error:
         launch.run_engine(runs["deck"], tmp_path / "results.h5", restart=True)
@@ -261,3 +298,26 @@ def test_ctrl_c_on_paradyn_run_checkpoints_and_restart_finishes(tmp_path: Path) 
         assert f.attrs["complete"] == 1
         assert f["/frames/time"][-1] == pytest.approx(0.2, rel=1e-12)
         assert f["/frames/time"].shape == (101,)
+
+
+def test_restart_with_an_edited_scene_takes_intervals_and_refuses_the_rest(tmp_path: Path) -> None:
+    """Issue 17: --restart used to ignore an edited scene without a word. Now a new end time (the
+    model's own) is refused naming it, and a new history interval is taken into the run's deck."""
+    scene_path = _long_small_plate(tmp_path)
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "paradyn.cli", str(scene_path), "-o", str(out), "-n", "1", "-t", "1",
+               "--no-plots", "--no-vtk"]
+    status, _ = _start_and_stop(command, tmp_path, signal.SIGINT)
+    assert status == 4
+    text = scene_path.read_text()
+    scene_path.write_text(text.replace("end_time = 0.2 ", "end_time = 0.3 ", 1))
+    refused = subprocess.run([*command, "--restart", "-q"], cwd=tmp_path, capture_output=True, text=True,
+                             env=launch.engine_environment(1), timeout=300)
+    assert refused.returncode == 2
+    assert "the scene changed since the run started (/control end_time)" in refused.stderr
+    scene_path.write_text(text.replace("history_interval = 2e-4 ", "history_interval = 4e-4 ", 1))
+    taken = subprocess.run([*command, "--restart", "-q"], cwd=tmp_path, capture_output=True, text=True,
+                           env=launch.engine_environment(1), timeout=300)
+    assert taken.returncode == 0, taken.stderr
+    assert "restart takes the scene's new /control history_interval" in taken.stdout
+    assert deck.read_deck(out / "deck.h5").control.history_interval == pytest.approx(4e-4)

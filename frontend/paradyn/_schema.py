@@ -103,6 +103,7 @@ DECK_VERSION = 1
 VERSION_ATTRIBUTE = 'paradyn_deck_version'
 TITLE_ATTRIBUTE = 'title'
 DOF_NAMES = ('ux', 'uy', 'uz', 'rx', 'ry', 'rz')
+RESTART_MAY_CHANGE = ('output_interval', 'history_interval', 'progress_interval', 'checkpoint_interval')
 
 ENUMS: dict[str, dict[str, int]] = {
     'material_model': {'elastic': 1, 'j2_plasticity': 2},

@@ -18,6 +18,7 @@ from . import deck, launch, scene
 from .engine_process import Progress, ProgressBar
 from .postprocess import post_process
 from .reading import Results, read
+from .restart import restart_deck
 from .runners import Runner, SbatchRunner
 
 Source = str | Path | scene.Scene | deck.Model  # what paradyn.run accepts
@@ -116,7 +117,7 @@ def run(
     """
     _check_source(source)
     out = output_folder(out)
-    deck_path = restart_deck(out) if restart else prepare_deck(source, out)
+    deck_path = restart_deck(out, _restart_model(source)) if restart else prepare_deck(source, out)
     default_ranks, default_threads = launch.default_layout()
     ranks = default_ranks if ranks is None else ranks
     threads = default_threads if threads is None else threads
@@ -201,14 +202,12 @@ def prepare_deck(source: Source, out_dir: Path) -> Path:
     return deck.write_deck(model_of(source), out_dir / "deck.h5")
 
 
-def restart_deck(out_dir: Path) -> Path:
-    """The deck of the interrupted run in out_dir, kept as it was (the checkpoint belongs to it)."""
-    deck_path, checkpoint = out_dir / "deck.h5", out_dir / "results.checkpoint.h5"
-    if not (deck_path.is_file() and checkpoint.is_file()):
-        raise ValueError(f"{out_dir} holds no deck.h5 and results.checkpoint.h5 to restart from; give the "
-                         f"output folder (-o) of a run that wrote a checkpoint ([run] checkpoint_interval, "
-                         f"or a run stopped with Ctrl-C or SIGTERM)")
-    return deck_path
+def _restart_model(source: Source) -> deck.Model | None:
+    """The model a restart compares with the run's deck: the scene or model as it is now (a deck
+    file given as the source is the run's own deck or another one, and the engine checks it)."""
+    if isinstance(source, (str, Path)) and Path(source).suffix in DECK_SUFFIXES:
+        return None
+    return model_of(source)
 
 
 def _post_command(out_dir: Path, vtk: bool, plots: bool) -> list[str]:

@@ -40,12 +40,13 @@ module paradyn_schema
       control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
       control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
       control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
-      max_enum_members, n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
-      effect_time_integration, effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, &
-      effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, effect_friction, &
-      effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
-      size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
-      deck_conditions, deck_datasets, control_attributes, enum_name, enum_code
+      control_restart_may_change, max_enum_members, n_effects, effect_point_loads, effect_gravity, &
+      effect_pressure, effect_rigid_wall, effect_time_integration, effect_mass_damping, &
+      effect_fixed_boundaries, effect_prescribed_velocity, effect_elastic_shells, effect_plastic_shells, &
+      effect_hourglass, effect_contact, effect_friction, effect_names, effect_timed_with, &
+      effect_also_timed_with, effect_switch, size_symbol, size_entity, size_min_rows, enum_spec_t, &
+      condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, deck_conditions, deck_datasets, &
+      control_attributes, enum_name, enum_code
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
 
@@ -196,6 +197,9 @@ module paradyn_schema
   integer, parameter :: control_effect_contact = 23
   integer, parameter :: control_effect_friction = 24
   integer, parameter :: n_control_attributes = 24
+  logical, parameter :: control_restart_may_change(n_control_attributes) = [.false., .true., .true., .false., &
+    .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .false., &
+    .false., .false., .false., .false., .false., .false., .false., .false.]
   integer, parameter :: max_enum_members = 2
 
   ! effects of a step (schema/effects.toml), in the order of the step

@@ -3,11 +3,12 @@
 !> deck_rules) and /control attributes, then the relations of model_deck.
 module deck_reader
   use hdf5
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
+  use deck_fingerprint, only: fingerprint_start, fingerprint_add, group_of
   use paradyn_schema, only: deck_version, deck_version_attribute, deck_datasets, control_attributes, &
                             deck_conditions, deck_enums, n_deck_datasets, n_control_attributes, n_sizes, &
                             size_entity, size_symbol, size_min_rows, class_int, class_float, class_string, &
-                            condition_none, enum_code, &
+                            condition_none, enum_code, control_restart_may_change, &
                             status_ok, status_bad_input
   use deck_rules, only: check_field_values, check_attribute_value, selected_rows, integer_text
   use model_deck, only: deck_t, store_deck_field, store_control_value, check_deck_relations
@@ -27,6 +28,7 @@ module deck_reader
     integer(hid_t) :: file = -1
     type(field_t) :: fields(n_deck_datasets)
     integer :: sizes(n_sizes) = -1
+    real(wp) :: control(n_control_attributes) = 0.0_wp   !< the /control values as read, or their defaults
     character(len=1024) :: message = ''
   end type deck_file_t
 
@@ -74,6 +76,7 @@ contains
       if (len_trim(message) > 0) return
       call store_deck_field(d, id, r%fields(id)%values)
     end do
+    call fingerprint_deck(r, d)
     call check_deck_relations(d, status, message)
   end subroutine read_deck
 
@@ -237,6 +240,39 @@ contains
     end associate
   end function shape_words
 
+  !> One fingerprint per group of the deck, in the order the schema first names the group, and one
+  !> of the /control attributes a restart may not change (deck_fingerprint).
+  subroutine fingerprint_deck(r, d)
+    type(deck_file_t), intent(in) :: r
+    type(deck_t), intent(inout) :: d
+    character(len=16) :: groups(n_deck_datasets + 1)
+    real(wp) :: rows(1)
+    integer(i8) :: hashes(n_deck_datasets + 1)
+    integer :: id, j, k, n
+    n = 0
+    do id = 1, n_deck_datasets
+      k = 0
+      do j = 1, n   ! (gfortran's findloc on strings of two lengths does not find them)
+        if (groups(j) == group_of(trim(deck_datasets(id)%path))) k = j
+      end do
+      if (k == 0) then
+        n = n + 1
+        k = n
+        groups(k) = group_of(trim(deck_datasets(id)%path))
+        hashes(k) = fingerprint_start()
+      end if
+      rows = real(size(r%fields(id)%values, 2), wp)
+      call fingerprint_add(hashes(k), rows)
+      call fingerprint_add(hashes(k), reshape(r%fields(id)%values, [size(r%fields(id)%values)]))
+    end do
+    n = n + 1
+    groups(n) = 'control'
+    hashes(n) = fingerprint_start()
+    call fingerprint_add(hashes(n), pack(r%control, .not. control_restart_may_change))
+    d%fingerprint_groups = groups(1:n)
+    d%fingerprints = real(hashes(1:n), wp)
+  end subroutine fingerprint_deck
+
   !> Every /control attribute: presence, class, then its rules; absent ones get their defaults.
   subroutine read_control(r, d)
     type(deck_file_t), intent(inout) :: r
@@ -267,6 +303,7 @@ contains
         end if
         if (.not. status_ok_so_far(r)) return
         call store_control_value(d, id, values(id))
+        r%control(id) = values(id)
       end associate
     end do
   end subroutine read_control

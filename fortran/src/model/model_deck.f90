@@ -75,6 +75,8 @@ module model_deck
     integer :: partition = partition_default          !< partition_blocks or partition_rcb; 0 = unknown name
     integer :: contact_gather = contact_gather_near   !< which contact nodes are gathered between sorts
     logical :: effect_on(n_effects) = .true.          !< false: the scene switched the effect off (/control effect_*)
+    character(len=16), allocatable :: fingerprint_groups(:)   !< "nodes", ..., "control" (deck_fingerprint)
+    real(wp), allocatable :: fingerprints(:)                  !< one 32-bit hash per group, held exactly
     ! loads: curves, pressure, prescribed velocity, gravity
     integer :: n_curves = 0, n_curve_points = 0, n_pressures = 0, n_prescribed = 0
     integer, allocatable :: curve_first_point(:)      !< (n_curves), 1-based index into curve_time

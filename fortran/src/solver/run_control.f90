@@ -19,6 +19,8 @@ module run_control
     integer, allocatable :: tracked_local(:) !< local node of each tracked node where this rank owns it, else 0
     character(len=:), allocatable :: partition
     logical :: contact_gather_all = .false.  !< /control contact_gather = "all": every contact node every step
+    character(len=16), allocatable :: fingerprint_groups(:)   !< the deck's, for the checkpoint
+    real(wp), allocatable :: fingerprints(:)
   end type run_control_t
 
 contains
@@ -47,6 +49,8 @@ contains
     end do
     rc%partition = enum_name(enum_partition, deck%partition)
     rc%contact_gather_all = deck%contact_gather == contact_gather_all
+    rc%fingerprint_groups = deck%fingerprint_groups
+    rc%fingerprints = deck%fingerprints
   end subroutine run_control_setup
 
 end module run_control

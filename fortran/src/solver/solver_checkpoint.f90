@@ -8,8 +8,10 @@ module solver_checkpoint
   use mpi_f08
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: status_ok, status_failure, status_bad_input
+  use paradyn_schema, only: status_ok, status_failure, status_bad_input, n_control_attributes, control_attributes, &
+                            control_restart_may_change
   use solver_state, only: solver_t
+  use run_control, only: run_control_t
   use element_state, only: element_row_width, element_rows_pack, element_rows_unpack
   use contact_parallel, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width
   use parallel_hdf5, only: row_runs, phdf5_open, phdf5_close, create_dataset, write_rows, &
@@ -67,6 +69,9 @@ contains
       return
     end if
     call write_int_attribute(file, 'paradyn_checkpoint_version', checkpoint_version)
+    do j = 1, size(s%control%fingerprints)   ! the deck it belongs to, group by group
+      call write_real_attribute(file, 'fingerprint_'//trim(s%control%fingerprint_groups(j)), s%control%fingerprints(j))
+    end do
     call write_real_attribute(file, 'time', s%clock%time)
     call write_real_attribute(file, 'dt', s%clock%dt)
     call write_int_attribute(file, 'cycles', s%clock%cycles)
@@ -123,6 +128,42 @@ contains
     call MPI_Bcast(status, 1, MPI_INTEGER, 0, s%halo%comm)
   end subroutine checkpoint_write
 
+  !> '' when the checkpoint's deck fingerprints equal this deck's, else a message naming the
+  !> first group that differs (a checkpoint without them was written by an older engine).
+  subroutine check_fingerprints(file, control, path, message)
+    integer(hid_t), intent(in) :: file
+    type(run_control_t), intent(in) :: control
+    character(len=*), intent(in) :: path
+    character(len=*), intent(out) :: message
+    real(wp) :: stored
+    integer :: k, err
+    message = ''
+    do k = 1, size(control%fingerprints)
+      call read_real_attribute(file, 'fingerprint_'//trim(control%fingerprint_groups(k)), stored, err)
+      if (err /= 0) then
+        message = 'the checkpoint '//path//' does not say which deck it belongs to (an older engine wrote it); '// &
+                  'rerun from the start'
+      else if (stored /= control%fingerprints(k)) then
+        message = 'the checkpoint '//path//' was written for another deck: its /'// &
+                  trim(control%fingerprint_groups(k))//' differs from this deck''s; restart with the deck of '// &
+                  'the interrupted run (a restart may change only the /control attributes '//may_change()//')'
+      end if
+      if (message /= '') return
+    end do
+  end subroutine check_fingerprints
+
+  !> The /control attributes a restart may change (schema [deck] restart_may_change), as words.
+  function may_change() result(words)
+    character(len=:), allocatable :: words
+    integer :: id
+    words = ''
+    do id = 1, n_control_attributes
+      if (.not. control_restart_may_change(id)) cycle
+      if (len(words) > 0) words = words//', '
+      words = words//trim(control_attributes(id)%name)
+    end do
+  end function may_change
+
   !> Restores a set-up solver (solver_setup done, same deck) to the state of a checkpoint; returns
   !> the number of frames and records the results held at that point. status 2: not a checkpoint
   !> of this deck.
@@ -152,6 +193,7 @@ contains
     bad = 0
     call read_int_attribute(file, 'paradyn_checkpoint_version', version, err)
     bad = bad + abs(err)
+
     call read_int_attribute(file, 'nodes', n_nodes, err)
     bad = bad + abs(err)
     call read_int_attribute(file, 'elements', n_elements, err)
@@ -164,6 +206,11 @@ contains
       call phdf5_close(file, transfer)
       write (message, '(a,i0,a)') path//' is not a ParaDyn checkpoint of version ', checkpoint_version, &
         '; give the .checkpoint.h5 file written by this engine'
+      return
+    end if
+    call check_fingerprints(file, s%control, path, message)
+    if (message /= '') then
+      call phdf5_close(file, transfer)
       return
     end if
     if (n_nodes /= s%control%n_nodes .or. n_elements /= s%control%n_elements .or. &
