@@ -36,7 +36,8 @@ _ENTITY_SYMBOL = {s.entity: s.symbol for s in SIZES.values()}
 
 
 def _base_model() -> deck.Model:
-    """Two 2 x 1 strips 1.5 mm apart: part 0 (J2 steel) below, part 1 (elastic aluminium) above."""
+    """Two 2 x 1 strips 1.5 mm apart: part 0 (J2 steel) below, part 1 (elastic aluminium) above,
+    with gravity, a pressure on part 1 and a prescribed velocity, over two load curves."""
     lower = geometry.plate((0.02, 0.01), (2, 1))
     upper = geometry.plate((0.02, 0.01), (2, 1), origin=(0.0, 0.0, 0.0015))
     n = lower.n_nodes
@@ -78,10 +79,20 @@ def _base_model() -> deck.Model:
         rigid_wall_normal=np.array([[0.0, 0.0, 2.0]]),
         rigid_wall_velocity=np.array([[0.0, 0.0, 0.5]]),
         rigid_wall_penalty_scale=np.array([0.2]),
+        curve_first_point=np.array([0, 2]),
+        curve_time=np.array([0.0, 1e-6, 0.0]),
+        curve_value=np.array([0.0, 1.0, 1.0]),
+        pressure_part=np.array([1]),
+        pressure_value=np.array([1e3]),
+        pressure_curve=np.array([0]),
+        prescribed_node=np.array([1]),
+        prescribed_dof=np.array([1]),
+        prescribed_value=np.array([0.1]),
+        prescribed_curve=np.array([1]),
         control=deck.Control(end_time=2e-6, output_interval=1e-6, history_interval=5e-7, time_step=0.0,
                              time_step_safety=0.9, mass_damping=0.0, progress_interval=0.5,
                              contact_sort_interval=0, checkpoint_interval=0.0, partition="blocks",
-                             contact_gather="near",
+                             contact_gather="near", gravity_x=0.0, gravity_y=0.0, gravity_z=-9.81,
                              effect_switches={switch: "on" for switch in _schema.EFFECT_SWITCHES}),
         title="damage base", part_names=["steel strip", "aluminium strip"], material_names=["steel", "aluminium"],
         tracked_names=["lower tip", "upper tip"],
@@ -219,6 +230,14 @@ def _wall_above_the_model(f: h5py.File) -> None:
     f["/rigid_walls/point"][0, 2] = 0.001   # between the strips: the lower one starts behind the wall
 
 
+def _curves_out_of_order(f: h5py.File) -> None:
+    f["/curves/first_point"][1] = f["/curves/first_point"][0]
+
+
+def _curve_time_repeated(f: h5py.File) -> None:
+    f["/curves/time"][1] = f["/curves/time"][0]
+
+
 # The schema's [relations]: hand-written on both sides, so each needs its own damage here.
 RELATION_DAMAGES: dict[str, Damage] = {
     "distinct_element_nodes": _repeat_first_node,
@@ -229,6 +248,8 @@ RELATION_DAMAGES: dict[str, Damage] = {
     "contact_parts_differ": _pair_with_itself,
     "rigid_wall_normal_nonzero": _zero_wall_normal,
     "rigid_wall_nodes_in_front": _wall_above_the_model,
+    "curve_first_points": _curves_out_of_order,
+    "curve_times_increase": _curve_time_repeated,
 }
 
 

@@ -353,3 +353,37 @@ subroutine share_items(n_items, n_threads, hold_first, times, taken_by)
   finished = finished + 1
   !$omp end parallel
 end subroutine share_items
+
+! Load curves (loads/load_curves.f90): curve k (1-based) of the deck's curves at each of the times t.
+subroutine load_curve_values(n_curves, n_points, first_point, time, value, k, n_t, t, y)
+  use paradyn_kinds, only: wp
+  use load_curves, only: load_curves_t, load_curves_from, curve_value
+  implicit none
+  integer, intent(in) :: n_curves, n_points, first_point(n_curves), k, n_t
+  real(wp), intent(in) :: time(n_points), value(n_points), t(n_t)
+  real(wp), intent(out) :: y(n_t)
+  type(load_curves_t) :: c
+  integer :: i
+  c = load_curves_from(first_point, time, value)
+  do i = 1, n_t
+    y(i) = curve_value(c, k, t(i))
+  end do
+end subroutine load_curve_values
+
+! Pressure on one element (loads/pressure_kernels.f90): its four corner forces at x (internal-force
+! sign) under p_end, and the work since the element was at x_start under p_start.
+subroutine pressure_element(x_start, x, p_start, p_end, corner, work)
+  use paradyn_kinds, only: wp
+  use pressure_kernels, only: pressure_corner_forces
+  implicit none
+  real(wp), intent(in) :: x_start(3, 4), x(3, 4), p_start, p_end
+  real(wp), intent(out) :: corner(6, 4), work
+  real(wp) :: f_previous(3, 1), x_sum_previous(3, 1)
+  corner = 0.0_wp
+  work = 0.0_wp
+  call pressure_corner_forces([1], reshape([1, 2, 3, 4], [4, 1]), x_start, p_start, corner, f_previous, &
+                              x_sum_previous, .false., work)
+  corner = 0.0_wp
+  call pressure_corner_forces([1], reshape([1, 2, 3, 4], [4, 1]), x, p_end, corner, f_previous, &
+                              x_sum_previous, .true., work)
+end subroutine pressure_element

@@ -125,6 +125,10 @@ SIZES: dict[str, SizeSpec] = {
     'n_tracked': SizeSpec('n_tracked', 'tracked node', 0),
     'n_contacts': SizeSpec('n_contacts', 'contact pair', 0),
     'n_rigid_walls': SizeSpec('n_rigid_walls', 'rigid wall', 0),
+    'n_curves': SizeSpec('n_curves', 'curve', 0),
+    'n_curve_points': SizeSpec('n_curve_points', 'curve point', 0),
+    'n_pressures': SizeSpec('n_pressures', 'pressure load', 0),
+    'n_prescribed': SizeSpec('n_prescribed', 'prescribed motion', 0),
 }
 
 CONDITIONS: dict[str, ConditionSpec] = {
@@ -138,6 +142,17 @@ CONDITIONS: dict[str, ConditionSpec] = {
     'rigid_walls_group': ConditionSpec(
         name='rigid_walls_group', group='/rigid_walls', dataset=None, code=None,
         meaning='the group /rigid_walls exists', rows='',
+    ),
+    'curves_group': ConditionSpec(
+        name='curves_group', group='/curves', dataset=None, code=None, meaning='the group /curves exists', rows='',
+    ),
+    'pressure_group': ConditionSpec(
+        name='pressure_group', group='/pressure', dataset=None, code=None, meaning='the group /pressure exists',
+        rows='',
+    ),
+    'prescribed_group': ConditionSpec(
+        name='prescribed_group', group='/prescribed', dataset=None, code=None,
+        meaning='the group /prescribed exists', rows='',
     ),
     'j2_plasticity': ConditionSpec(
         name='j2_plasticity', group=None, dataset='/materials/model', code=2,
@@ -173,6 +188,13 @@ RELATIONS: dict[str, RelationSpec] = {
     'rigid_wall_nodes_in_front': RelationSpec(
         'rigid_wall_nodes_in_front', '/rigid_walls/point',
         'at the start every node lies on the side of every rigid wall its normal points to (or on it)',
+    ),
+    'curve_first_points': RelationSpec(
+        'curve_first_points', '/curves/first_point',
+        'the first points of the curves start at 0 and increase strictly, below the number of curve points',
+    ),
+    'curve_times_increase': RelationSpec(
+        'curve_times_increase', '/curves/time', 'the times of a curve increase strictly',
     ),
 }
 
@@ -366,6 +388,68 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'scale of the penalty stiffness k = scale m / dt^2 of a node of mass m behind the wall (docs/theory.md)',
         '[[rigid_wall]] penalty_scale', 'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)',
     ),
+    DatasetSpec(
+        '/curves/first_point', 'curve_first_point', 'int', ('n_curves',), False, 'curves_group', None, None,
+        Bound(0, True), None, 'must be >= 0', None, '', None, True, '-',
+        (
+            "index of each curve's first point in /curves/time and /curves/value (0 for the first curve, strictly "
+            "increasing); a curve runs to the next one's first point"
+        ), '[[curve]]', "give the 0-based index of each curve's first point, 0 first and strictly increasing",
+    ),
+    DatasetSpec(
+        '/curves/time', 'curve_time', 'float', ('n_curve_points',), False, 'curves_group', None, None, None, None,
+        '', None, '', None, True, 's',
+        (
+            'time of each curve point, strictly increasing within a curve; the first value holds before the first '
+            'time and the last after the last'
+        ), '[[curve]] time', 'give finite times in seconds, strictly increasing within each curve',
+    ),
+    DatasetSpec(
+        '/curves/value', 'curve_value', 'float', ('n_curve_points',), False, 'curves_group', None, None, None,
+        None, '', None, '', None, False, '-',
+        "value of each curve point: the factor on a load's value, linear between points", '[[curve]] value',
+        "give finite curve values (factors on the load's value)",
+    ),
+    DatasetSpec(
+        '/pressure/part', 'pressure_part', 'int', ('n_pressures',), False, 'pressure_group', None, None, None,
+        None, '', None, '', 'part', True, '-', 'part whose every element carries the pressure',
+        '[[pressure]] part', 'give the index of the loaded part',
+    ),
+    DatasetSpec(
+        '/pressure/value', 'pressure_value', 'float', ('n_pressures',), False, 'pressure_group', None, None, None,
+        None, '', None, '', None, False, 'Pa',
+        (
+            'pressure scale: p(t) = value x curve(t), pushing each element along its current normal '
+            '(counter-clockwise connectivity)'
+        ), '[[pressure]] value', 'give the pressure in Pa (positive pushes along the element normal)',
+    ),
+    DatasetSpec(
+        '/pressure/curve', 'pressure_curve', 'int', ('n_pressures',), False, 'pressure_group', None, None, None,
+        None, '', None, '', 'curve', False, '-', 'curve of each pressure load', '[[pressure]] curve',
+        'give the index of a curve of /curves/first_point',
+    ),
+    DatasetSpec(
+        '/prescribed/node', 'prescribed_node', 'int', ('n_prescribed',), False, 'prescribed_group', None, None,
+        None, None, '', None, '', 'node', True, '-', 'node whose dof moves with a prescribed velocity',
+        '[[prescribe]] part, box', 'give the index of the node',
+    ),
+    DatasetSpec(
+        '/prescribed/dof', 'prescribed_dof', 'int', ('n_prescribed',), False, 'prescribed_group', None, None,
+        Bound(1, True), Bound(6, True), 'must be between 1 and 6', None, '', None, False, '-',
+        '1..3 velocity along x, y, z; 4..6 angular velocity about x, y, z', '[[prescribe]] dof',
+        'use 1..3 for a velocity along x, y, z and 4..6 for an angular velocity about x, y, z',
+    ),
+    DatasetSpec(
+        '/prescribed/value', 'prescribed_value', 'float', ('n_prescribed',), False, 'prescribed_group', None, None,
+        None, None, '', None, '', None, False, 'm/s or rad/s',
+        'velocity scale: v(t) = value x curve(t), set after each velocity update', '[[prescribe]] value',
+        'give the velocity in m/s (rad/s for a rotation)',
+    ),
+    DatasetSpec(
+        '/prescribed/curve', 'prescribed_curve', 'int', ('n_prescribed',), False, 'prescribed_group', None, None,
+        None, None, '', None, '', 'curve', False, '-', 'curve of each prescribed velocity', '[[prescribe]] curve',
+        'give the index of a curve of /curves/first_point',
+    ),
 )
 
 CONTROL: tuple[AttributeSpec, ...] = (
@@ -439,6 +523,21 @@ CONTROL: tuple[AttributeSpec, ...] = (
             'which contact nodes every rank gathers between bucket sorts (docs/theory.md, parallel contact). The '
             'answer is bitwise the same either way'
         ), '[run] contact_gather', 'leave it out for the default',
+    ),
+    AttributeSpec(
+        'gravity_x', 'float', False, 0.0, None, None, None, None, '', None, '', 'm/s^2',
+        'x component of the body acceleration on every node (force m g on the translations)', '[run] gravity',
+        'give the acceleration in m/s^2, or 0 for none',
+    ),
+    AttributeSpec(
+        'gravity_y', 'float', False, 0.0, None, None, None, None, '', None, '', 'm/s^2',
+        'y component of the body acceleration on every node (force m g on the translations)', '[run] gravity',
+        'give the acceleration in m/s^2, or 0 for none',
+    ),
+    AttributeSpec(
+        'gravity_z', 'float', False, 0.0, None, None, None, None, '', None, '', 'm/s^2',
+        'z component of the body acceleration on every node (force m g on the translations)', '[run] gravity',
+        'give the acceleration in m/s^2, or 0 for none',
     ),
     AttributeSpec(
         'effect_point_loads', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
@@ -542,6 +641,16 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/rigid_walls/normal'): ('required_when', 'class', 'shape', 'rows', 'finite'),
     ('dataset', '/rigid_walls/velocity'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/rigid_walls/penalty_scale'): ('class', 'shape', 'rows', 'lower', 'upper', 'finite'),
+    ('dataset', '/curves/first_point'): ('required_when', 'class', 'shape', 'lower'),
+    ('dataset', '/curves/time'): ('required_when', 'class', 'shape', 'finite'),
+    ('dataset', '/curves/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
+    ('dataset', '/pressure/part'): ('required_when', 'class', 'shape', 'reference'),
+    ('dataset', '/pressure/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
+    ('dataset', '/pressure/curve'): ('required_when', 'class', 'shape', 'rows', 'reference'),
+    ('dataset', '/prescribed/node'): ('required_when', 'class', 'shape', 'reference'),
+    ('dataset', '/prescribed/dof'): ('required_when', 'class', 'shape', 'rows', 'lower', 'upper'),
+    ('dataset', '/prescribed/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
+    ('dataset', '/prescribed/curve'): ('required_when', 'class', 'shape', 'rows', 'reference'),
     ('control', 'end_time'): ('missing', 'class', 'lower', 'finite'),
     ('control', 'output_interval'): ('missing', 'class', 'lower', 'finite'),
     ('control', 'history_interval'): ('class', 'lower', 'finite'),
@@ -553,6 +662,9 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('control', 'checkpoint_interval'): ('class', 'lower', 'finite'),
     ('control', 'partition'): ('class', 'enum'),
     ('control', 'contact_gather'): ('class', 'enum'),
+    ('control', 'gravity_x'): ('class', 'finite'),
+    ('control', 'gravity_y'): ('class', 'finite'),
+    ('control', 'gravity_z'): ('class', 'finite'),
     ('control', 'effect_point_loads'): ('class', 'enum'),
     ('control', 'effect_gravity'): ('class', 'enum'),
     ('control', 'effect_pressure'): ('class', 'enum'),
@@ -569,6 +681,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('relation', '/contact/pairs'): ('contact_parts_differ',),
     ('relation', '/rigid_walls/normal'): ('rigid_wall_normal_nonzero',),
     ('relation', '/rigid_walls/point'): ('rigid_wall_nodes_in_front',),
+    ('relation', '/curves/first_point'): ('curve_first_points',),
+    ('relation', '/curves/time'): ('curve_times_increase',),
 }
 
 # The results file and the engine's output

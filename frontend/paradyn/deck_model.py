@@ -57,6 +57,9 @@ class Control:
     contact_gather: str | None = None   # "near" or "all"; None leaves it to the engine ("near")
     # [effects] switches, switch name -> "on" or "off" (/control effect_<switch>); absent = "on"
     effect_switches: dict[str, str] = field(default_factory=dict)
+    gravity_x: float = _number_default("gravity_x")   # body acceleration m/s^2 (scene [run] gravity)
+    gravity_y: float = _number_default("gravity_y")
+    gravity_z: float = _number_default("gravity_z")
 
     REQUIRED = tuple(a.name for a in CONTROL if a.required)
     OPTIONAL = tuple(a.name for a in CONTROL if not a.required and a.type == "float")
@@ -121,6 +124,16 @@ class Model:
     rigid_wall_normal: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # /rigid_walls/normal
     rigid_wall_velocity: np.ndarray | None = None       # /rigid_walls/velocity m/s, default 0 (stationary)
     rigid_wall_penalty_scale: np.ndarray | None = None  # /rigid_walls/penalty_scale, default 0.1
+    curve_first_point: np.ndarray = field(default_factory=_empty_int)   # /curves/first_point (n_curves,)
+    curve_time: np.ndarray = field(default_factory=_empty_float)        # /curves/time (n_curve_points,) s
+    curve_value: np.ndarray = field(default_factory=_empty_float)       # /curves/value (n_curve_points,)
+    pressure_part: np.ndarray = field(default_factory=_empty_int)       # /pressure/part (n_pressures,)
+    pressure_value: np.ndarray = field(default_factory=_empty_float)    # /pressure/value Pa
+    pressure_curve: np.ndarray = field(default_factory=_empty_int)      # /pressure/curve
+    prescribed_node: np.ndarray = field(default_factory=_empty_int)     # /prescribed/node (n_prescribed,)
+    prescribed_dof: np.ndarray = field(default_factory=_empty_int)      # /prescribed/dof, 1..6
+    prescribed_value: np.ndarray = field(default_factory=_empty_float)  # /prescribed/value m/s or rad/s
+    prescribed_curve: np.ndarray = field(default_factory=_empty_int)    # /prescribed/curve
     title: str = ""
     part_names: list[str] = field(default_factory=list)
     material_names: list[str] = field(default_factory=list)
@@ -188,6 +201,27 @@ class Model:
     def n_rigid_walls(self) -> int:
         points = np.asarray(self.rigid_wall_point)
         return int(points.shape[0]) if points.ndim == 2 else int(points.size)
+
+    @property
+    def n_curves(self) -> int:
+        return int(np.size(self.curve_first_point))
+
+    @property
+    def n_curve_points(self) -> int:
+        return int(np.size(self.curve_time))
+
+    @property
+    def n_pressures(self) -> int:
+        return int(np.size(self.pressure_part))
+
+    @property
+    def n_prescribed(self) -> int:
+        return int(np.size(self.prescribed_node))
+
+    @property
+    def gravity(self) -> tuple[float, float, float]:
+        c = self.control
+        return (float(c.gravity_x), float(c.gravity_y), float(c.gravity_z))
 
     @property
     def uses_plasticity(self) -> bool:

@@ -193,6 +193,7 @@ def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
         check.fail(f"/nodes/coordinates[{int(unused[0])}] belongs to no element ({unused.size} such nodes); "
                    f"a node without elements has no mass, remove unused nodes")
     _check_rigid_walls(check, sizes)
+    _check_curve_relations(check, sizes)
 
 
 def _check_rigid_walls(check: _Checker, sizes: dict[str, int]) -> None:
@@ -212,6 +213,27 @@ def _check_rigid_walls(check: _Checker, sizes: dict[str, int]) -> None:
             check.fail(f"/rigid_walls/point[{w}] puts node {k} behind the wall at the start (signed distance "
                        f"{_fmt(distance[k])} m along /rigid_walls/normal); move the point or flip the normal so "
                        f"that the model starts on the side the normal points to")
+
+
+def _check_curve_relations(check: _Checker, sizes: dict[str, int]) -> None:
+    """curve_first_points and curve_times_increase (model_deck's check_curve_relations)."""
+    first, points = check.array("curve_first_point"), sizes["n_curve_points"]
+    previous = np.concatenate([[-1], first[:-1]])
+    ok = (first > previous) & (first < points)
+    if first.size:
+        ok[0] = first[0] == 0 and points >= 1
+    if not np.all(ok):
+        i = int(np.flatnonzero(~ok)[0])
+        check.fail(f"/curves/first_point[{i}] = {int(first[i])} breaks the order of the curves; the first curve "
+                   f"starts at point 0 and each next one later, below the number of curve points ({points})")
+    time = check.array("curve_time")
+    stops = [*first[1:], points] if first.size else []
+    for c, (start, stop) in enumerate(zip(first, stops, strict=True)):
+        steps = np.flatnonzero(~(np.diff(time[start:stop]) > 0))
+        if steps.size:
+            k = int(start + steps[0] + 1)
+            check.fail(f"/curves/time[{k}] = {_fmt(time[k])} does not follow /curves/time[{k - 1}] = "
+                       f"{_fmt(time[k - 1])} of curve {c}; give the times of each curve strictly increasing")
 
 
 def _check_distinct_elements(check: _Checker, conn: np.ndarray) -> None:

@@ -1,8 +1,9 @@
 """Building the deck model from a scene: :func:`build_model` meshes the parts and assembles a deck.Model.
 
-Parts do not share nodes; fixes select nodes in a box, loads and tracked points take the nearest
-node of their part, contacts become part pairs. (The engine alone decides which effects a model
-declares: results.h5 /effects.)
+Parts do not share nodes; fixes and prescribed velocities select nodes in a box, loads and tracked
+points take the nearest node of their part, contacts become part pairs, curves are numbered in
+scene order with one constant curve added for the pressures and prescribed velocities without one.
+(The engine alone decides which effects a model declares: results.h5 /effects.)
 """
 
 from __future__ import annotations
@@ -79,6 +80,7 @@ def build_model(scene: Scene) -> deck.Model:
     _apply_tracks(r, scene, by_name, model)
     _apply_contacts(scene, model)
     _apply_rigid_walls(scene, model)
+    _apply_curve_loads(r, scene, by_name, model)
     try:
         deck.validate_model(model, source=f"{scene.path} (built model)")
     except deck.DeckError as exc:
@@ -103,17 +105,22 @@ def _fixed_dofs(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], n_nodes
     fixed = np.zeros((n_nodes, 6), dtype=np.int32)
     columns_of = {name: i for i, name in enumerate(deck.DOF_NAMES)}
     for index, fix in enumerate(scene.fixes):
-        part = by_name[fix.part]
-        local = geometry.nodes_in_box(part.mesh.coordinates, fix.box[0], fix.box[1],
-                                      tol=1e-9 * max(part.size, 1.0))
-        if local.size == 0:
-            c = part.mesh.coordinates
-            raise r.error(f"[[fix]] #{index + 1}: the box {[list(fix.box[0]), list(fix.box[1])]} contains "
-                          f"no node of part '{fix.part}' (its nodes span {c.min(axis=0).tolist()} to "
-                          f"{c.max(axis=0).tolist()}); enlarge or move the box")
+        nodes = _nodes_in_box(r, by_name[fix.part], fix.box, f"[[fix]] #{index + 1}")
         columns = [columns_of[d] for d in fix.dofs]
-        fixed[np.ix_(local + part.first_node, columns)] = 1
+        fixed[np.ix_(nodes, columns)] = 1
     return fixed
+
+
+def _nodes_in_box(r: _Reader, part: _PartMesh, box: tuple[tuple[float, ...], tuple[float, ...]],
+                  label: str) -> np.ndarray:
+    """Global indices of the part's nodes inside the box; an empty box is an error."""
+    local = geometry.nodes_in_box(part.mesh.coordinates, box[0], box[1], tol=1e-9 * max(part.size, 1.0))
+    if local.size == 0:
+        c = part.mesh.coordinates
+        raise r.error(f"{label}: the box {[list(box[0]), list(box[1])]} contains "
+                      f"no node of part '{part.spec.name}' (its nodes span {c.min(axis=0).tolist()} to "
+                      f"{c.max(axis=0).tolist()}); enlarge or move the box")
+    return local + part.first_node
 
 
 def _located_node(r: _Reader, part: _PartMesh, point: tuple[float, float, float], label: str) -> int:
@@ -163,3 +170,42 @@ def _apply_rigid_walls(scene: Scene, model: deck.Model) -> None:
     model.rigid_wall_normal = np.array([w.normal for w in walls], dtype=np.float64).reshape(-1, 3)
     model.rigid_wall_velocity = np.array([w.velocity for w in walls], dtype=np.float64).reshape(-1, 3)
     model.rigid_wall_penalty_scale = np.array([w.penalty_scale for w in walls], dtype=np.float64)
+
+
+def _apply_curve_loads(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model: deck.Model) -> None:
+    """Curves in scene order, then one constant curve (factor 1) if a pressure or prescribed
+    velocity has none, so that every load of the deck names a curve."""
+    curve_index = {c.name: i for i, c in enumerate(scene.curves)}
+    times = [list(c.time) for c in scene.curves]
+    values = [list(c.value) for c in scene.curves]
+    if any(load.curve is None for load in [*scene.pressures, *scene.prescribed]):
+        times.append([0.0])
+        values.append([1.0])
+    constant = len(scene.curves)
+    model.curve_first_point = np.cumsum([0] + [len(t) for t in times])[:-1].astype(np.int32)
+    model.curve_time = np.array([t for curve in times for t in curve], dtype=np.float64)
+    model.curve_value = np.array([v for curve in values for v in curve], dtype=np.float64)
+    part_index = {p.name: i for i, p in enumerate(scene.parts)}
+    model.pressure_part = np.array([part_index[p.part] for p in scene.pressures], dtype=np.int32)
+    model.pressure_value = np.array([p.value for p in scene.pressures], dtype=np.float64)
+    model.pressure_curve = np.array([constant if p.curve is None else curve_index[p.curve] for p in scene.pressures],
+                                    dtype=np.int32)
+    rows: dict[tuple[int, int], int] = {}   # (node, dof) -> [[prescribe]] entry
+    nodes, dofs, scales, curves = [], [], [], []
+    for index, motion in enumerate(scene.prescribed):
+        label = f"[[prescribe]] #{index + 1}"
+        dof = deck.DOF_NAMES.index(motion.dof) + 1
+        for node in _nodes_in_box(r, by_name[motion.part], motion.box, label):
+            if (int(node), dof) in rows:
+                raise r.error(f"{label}: node {int(node)} already has its {motion.dof} velocity prescribed by "
+                              f"[[prescribe]] #{rows[(int(node), dof)] + 1}; make the boxes or dofs distinct")
+            rows[(int(node), dof)] = index
+            nodes.append(int(node))
+            dofs.append(dof)
+            scales.append(motion.value)
+            curves.append(constant if motion.curve is None else curve_index[motion.curve])
+    model.prescribed_node = np.array(nodes, dtype=np.int32)
+    model.prescribed_dof = np.array(dofs, dtype=np.int32)
+    model.prescribed_value = np.array(scales, dtype=np.float64)
+    model.prescribed_curve = np.array(curves, dtype=np.int32)
+

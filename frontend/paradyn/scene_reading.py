@@ -7,6 +7,7 @@ contact) is defined; every problem raises :class:`SceneError` naming the file, t
 
 from __future__ import annotations
 
+import itertools
 import os
 from collections.abc import Mapping
 from pathlib import Path
@@ -18,6 +19,7 @@ from paradyn.scene_specs import (
     HOURGLASS_FORMS,
     MATERIAL_MODELS,
     ContactSpec,
+    CurveSpec,
     CylinderGeometry,
     FileGeometry,
     FixSpec,
@@ -26,6 +28,8 @@ from paradyn.scene_specs import (
     MaterialSpec,
     PartSpec,
     PlateGeometry,
+    PrescribeSpec,
+    PressureSpec,
     RigidWallSpec,
     RunSettings,
     Scene,
@@ -50,10 +54,11 @@ def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
 # parsing
 
 
-_TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "track", "contact", "rigid_wall")
+_TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "track", "contact", "rigid_wall",
+             "curve", "pressure", "prescribe")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
-             "contact_gather")
+             "contact_gather", "gravity")
 _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
                   "tangent_modulus", "hardening_mixing")
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
@@ -67,6 +72,9 @@ _GEOMETRY_KEYS = {
 _FIX_KEYS = ("part", "box", "dofs")
 _LOAD_KEYS = ("part", "point", "dof", "value", "ramp_time")
 _TRACK_KEYS = ("name", "part", "point")
+_CURVE_KEYS = ("name", "time", "value")
+_PRESSURE_KEYS = ("part", "value", "curve")
+_PRESCRIBE_KEYS = ("part", "box", "dof", "value", "curve")
 _CONTACT_KEYS = ("parts", "kind", "penalty_scale", "static_friction", "dynamic_friction", "friction_decay",
                  "symmetric")
 _RIGID_WALL_KEYS = ("point", "normal", "velocity", "penalty_scale")
@@ -92,9 +100,14 @@ def load_scene(path: str | Path) -> Scene:
     tracks = [_parse_track(reader, t, i) for i, t in enumerate(reader.tables(data, "track"))]
     contacts = [_parse_contact(reader, t, i) for i, t in enumerate(reader.tables(data, "contact"))]
     walls = [_parse_rigid_wall(reader, t, i) for i, t in enumerate(reader.tables(data, "rigid_wall"))]
+    curves = [_parse_curve(reader, t, i) for i, t in enumerate(reader.tables(data, "curve"))]
+    pressures = [_parse_pressure(reader, t, i) for i, t in enumerate(reader.tables(data, "pressure"))]
+    prescribed = [_parse_prescribe(reader, t, i) for i, t in enumerate(reader.tables(data, "prescribe"))]
     scene = Scene(path=path, title=title, run=run, materials=materials, parts=parts,
-                  fixes=fixes, loads=loads, tracks=tracks, contacts=contacts, rigid_walls=walls)
+                  fixes=fixes, loads=loads, tracks=tracks, contacts=contacts, rigid_walls=walls, curves=curves,
+                  pressures=pressures, prescribed=prescribed)
     _check_references(reader, scene)
+    _check_load_references(reader, scene)
     return scene
 
 
@@ -138,6 +151,7 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
     )
     if run.time_step_safety > 1.0:
         raise r.error(f"'time_step_safety' in {label} must be in (0, 1], got {run.time_step_safety}")
+    run.gravity_x, run.gravity_y, run.gravity_z = r.vector(t, "gravity", label, default=(0.0, 0.0, 0.0))
     return run
 
 
@@ -288,6 +302,10 @@ def _parse_dofs(r: _Reader, t: dict[str, Any], label: str) -> tuple[str, ...]:
 def _parse_fix(r: _Reader, t: dict[str, Any], index: int) -> FixSpec:
     label = _label("fix", index, t)
     r.keys(t, label, _FIX_KEYS)
+    return FixSpec(part=r.string(t, "part", label), box=_parse_box(r, t, label), dofs=_parse_dofs(r, t, label))
+
+
+def _parse_box(r: _Reader, t: dict[str, Any], label: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
     box = r.raw(t, "box", label, _REQUIRED)
     if not isinstance(box, list) or len(box) != 2:
         raise r.error(f"'box' in {label} must be two corners [[xmin, ymin, zmin], [xmax, ymax, zmax]], "
@@ -298,7 +316,7 @@ def _parse_fix(r: _Reader, t: dict[str, Any], index: int) -> FixSpec:
     if any(a > b for a, b in zip(lo, hi, strict=True)):
         raise r.error(f"'box' in {label}: the first corner {list(lo)} must not exceed the second {list(hi)} "
                       f"in any coordinate; write [[xmin, ymin, zmin], [xmax, ymax, zmax]]")
-    return FixSpec(part=r.string(t, "part", label), box=(lo, hi), dofs=_parse_dofs(r, t, label))
+    return (lo, hi)
 
 
 def _parse_load(r: _Reader, t: dict[str, Any], index: int) -> LoadSpec:
@@ -359,6 +377,55 @@ def _parse_rigid_wall(r: _Reader, t: dict[str, Any], index: int) -> RigidWallSpe
     return RigidWallSpec(point=r.vector(t, "point", label), normal=normal,
                          velocity=r.vector(t, "velocity", label, default=RigidWallSpec.velocity),
                          penalty_scale=scale)
+
+
+def _parse_curve(r: _Reader, t: dict[str, Any], index: int) -> CurveSpec:
+    label = _label("curve", index, t)
+    r.keys(t, label, _CURVE_KEYS)
+    name = r.string(t, "name", label)
+    points = {key: r.raw(t, key, label, _REQUIRED) for key in ("time", "value")}
+    for key, items in points.items():
+        if not isinstance(items, list) or not items:
+            raise r.error(f"'{key}' in {label} must be a non-empty list of numbers, got {items!r}")
+    if len(points["time"]) != len(points["value"]):
+        raise r.error(f"{label} has {len(points['time'])} times and {len(points['value'])} values; give one "
+                      f"value per time")
+    time = r.vector(points, "time", label, length=len(points["time"]))
+    value = r.vector(points, "value", label, length=len(points["value"]))
+    if any(b <= a for a, b in itertools.pairwise(time)):
+        raise r.error(f"'time' in {label} must increase strictly, got {list(time)}")
+    return CurveSpec(name=name, time=time, value=value)
+
+
+def _parse_pressure(r: _Reader, t: dict[str, Any], index: int) -> PressureSpec:
+    label = _label("pressure", index, t)
+    r.keys(t, label, _PRESSURE_KEYS)
+    return PressureSpec(part=r.string(t, "part", label), value=r.number(t, "value", label),
+                        curve=r.string(t, "curve", label) if "curve" in t else None)
+
+
+def _parse_prescribe(r: _Reader, t: dict[str, Any], index: int) -> PrescribeSpec:
+    label = _label("prescribe", index, t)
+    r.keys(t, label, _PRESCRIBE_KEYS)
+    return PrescribeSpec(part=r.string(t, "part", label), box=_parse_box(r, t, label),
+                         dof=r.string(t, "dof", label, choices=deck.DOF_NAMES), value=r.number(t, "value", label),
+                         curve=r.string(t, "curve", label) if "curve" in t else None)
+
+
+def _check_load_references(r: _Reader, scene: Scene) -> None:
+    """Curves are uniquely named; pressures and prescribed velocities name defined parts and curves."""
+    _unique(r, [c.name for c in scene.curves], "curve")
+    parts, curves = [p.name for p in scene.parts], [c.name for c in scene.curves]
+    for kind, items in (("pressure", scene.pressures), ("prescribe", scene.prescribed)):
+        for index, item in enumerate(items):
+            if item.part not in parts:
+                raise r.error(f"[[{kind}]] #{index + 1} refers to part '{item.part}', which is not "
+                              f"defined (parts: {', '.join(parts)})")
+            if item.curve is not None and item.curve not in curves:
+                known = ", ".join(curves) or "none defined"
+                raise r.error(f"[[{kind}]] #{index + 1} refers to curve '{item.curve}', which is not defined "
+                              f"(curves: {known}); add a [[curve]] with that name or leave 'curve' out for a "
+                              f"constant load")
 
 
 def _check_references(r: _Reader, scene: Scene) -> None:

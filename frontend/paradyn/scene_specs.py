@@ -1,9 +1,9 @@
 """The scene's data types: what :func:`paradyn.scene.load_scene` returns and :func:`paradyn.scene.build_model` reads.
 
 :class:`Scene` holds the run settings (:data:`RunSettings`, the deck's :class:`deck.Control`), the
-materials, the parts with their geometry specs, and the fixes, loads, tracked points, contacts and
-rigid walls; where a key fills a deck dataset its default is the deck's (schema/deck.toml). :class:`SceneError`
-is the error of every scene problem.
+materials, the parts with their geometry specs, and the fixes, loads, tracked points, contacts, rigid
+walls, load curves, pressures and prescribed velocities; where a key fills a deck dataset its
+default is the deck's (schema/deck.toml). :class:`SceneError` is the error of every scene problem.
 """
 
 from __future__ import annotations
@@ -153,6 +153,31 @@ class RigidWallSpec:
 
 
 @dataclass
+class CurveSpec:
+    """A load curve: piecewise linear, first value before the first time, last value after the last."""
+
+    name: str
+    time: tuple[float, ...]
+    value: tuple[float, ...]
+
+
+@dataclass
+class PressureSpec:
+    part: str
+    value: float                    # Pa; positive pushes along the element normal
+    curve: str | None = None        # None: a constant factor 1
+
+
+@dataclass
+class PrescribeSpec:
+    part: str
+    box: tuple[tuple[float, float, float], tuple[float, float, float]]
+    dof: str
+    value: float                    # m/s or rad/s
+    curve: str | None = None        # None: a constant factor 1
+
+
+@dataclass
 class Scene:
     path: Path
     title: str
@@ -164,6 +189,9 @@ class Scene:
     tracks: list[TrackSpec] = field(default_factory=list)
     contacts: list[ContactSpec] = field(default_factory=list)
     rigid_walls: list[RigidWallSpec] = field(default_factory=list)
+    curves: list[CurveSpec] = field(default_factory=list)
+    pressures: list[PressureSpec] = field(default_factory=list)
+    prescribed: list[PrescribeSpec] = field(default_factory=list)
 
     def part(self, name: str) -> PartSpec:
         for p in self.parts:

@@ -14,24 +14,29 @@ module paradyn_schema
       history_kinetic_energy, history_internal_energy, history_hourglass_energy, history_contact_energy, &
       history_external_work, history_contact_penetration, frame_field_names, history_scalar_names, class_int, &
       class_float, class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, &
-      size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, n_sizes, condition_none, &
-      condition_loads_group, condition_contact_group, condition_rigid_walls_group, condition_j2_plasticity, &
-      n_conditions, enum_none, enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
-      enum_contact_kind, enum_contact_gather, enum_switch, enum_partition, n_enums, &
-      dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
-      dataset_nodes_fixed_dofs, dataset_elements_connectivity, dataset_elements_part, &
-      dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
-      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_materials_model, &
-      dataset_materials_density, dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, &
-      dataset_materials_yield_stress, dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, &
-      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
-      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
-      dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
-      dataset_contact_passes, dataset_contact_kind, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
-      dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, n_deck_datasets, control_end_time, &
-      control_output_interval, control_history_interval, control_time_step, control_time_step_safety, &
-      control_mass_damping, control_progress_interval, control_contact_sort_interval, &
-      control_checkpoint_interval, control_partition, control_contact_gather, control_effect_point_loads, &
+      size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
+      size_n_pressures, size_n_prescribed, n_sizes, condition_none, condition_loads_group, &
+      condition_contact_group, condition_rigid_walls_group, condition_curves_group, condition_pressure_group, &
+      condition_prescribed_group, condition_j2_plasticity, n_conditions, enum_none, enum_material_model, &
+      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_contact_gather, &
+      enum_switch, enum_partition, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
+      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_elements_connectivity, &
+      dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
+      dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
+      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
+      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
+      dataset_materials_hardening_mixing, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
+      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
+      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
+      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+      dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
+      dataset_rigid_walls_penalty_scale, dataset_curves_first_point, dataset_curves_time, &
+      dataset_curves_value, dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
+      dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
+      n_deck_datasets, control_end_time, control_output_interval, control_history_interval, &
+      control_time_step, control_time_step_safety, control_mass_damping, control_progress_interval, &
+      control_contact_sort_interval, control_checkpoint_interval, control_partition, control_contact_gather, &
+      control_gravity_x, control_gravity_y, control_gravity_z, control_effect_point_loads, &
       control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
       control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
       control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
@@ -98,13 +103,20 @@ module paradyn_schema
   integer, parameter :: size_n_tracked = 6
   integer, parameter :: size_n_contacts = 7
   integer, parameter :: size_n_rigid_walls = 8
-  integer, parameter :: n_sizes = 8
+  integer, parameter :: size_n_curves = 9
+  integer, parameter :: size_n_curve_points = 10
+  integer, parameter :: size_n_pressures = 11
+  integer, parameter :: size_n_prescribed = 12
+  integer, parameter :: n_sizes = 12
   integer, parameter :: condition_none = 0
   integer, parameter :: condition_loads_group = 1
   integer, parameter :: condition_contact_group = 2
   integer, parameter :: condition_rigid_walls_group = 3
-  integer, parameter :: condition_j2_plasticity = 4
-  integer, parameter :: n_conditions = 4
+  integer, parameter :: condition_curves_group = 4
+  integer, parameter :: condition_pressure_group = 5
+  integer, parameter :: condition_prescribed_group = 6
+  integer, parameter :: condition_j2_plasticity = 7
+  integer, parameter :: n_conditions = 7
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
   integer, parameter :: enum_hourglass_form = 2
@@ -149,7 +161,17 @@ module paradyn_schema
   integer, parameter :: dataset_rigid_walls_normal = 32
   integer, parameter :: dataset_rigid_walls_velocity = 33
   integer, parameter :: dataset_rigid_walls_penalty_scale = 34
-  integer, parameter :: n_deck_datasets = 34
+  integer, parameter :: dataset_curves_first_point = 35
+  integer, parameter :: dataset_curves_time = 36
+  integer, parameter :: dataset_curves_value = 37
+  integer, parameter :: dataset_pressure_part = 38
+  integer, parameter :: dataset_pressure_value = 39
+  integer, parameter :: dataset_pressure_curve = 40
+  integer, parameter :: dataset_prescribed_node = 41
+  integer, parameter :: dataset_prescribed_dof = 42
+  integer, parameter :: dataset_prescribed_value = 43
+  integer, parameter :: dataset_prescribed_curve = 44
+  integer, parameter :: n_deck_datasets = 44
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -161,20 +183,23 @@ module paradyn_schema
   integer, parameter :: control_checkpoint_interval = 9
   integer, parameter :: control_partition = 10
   integer, parameter :: control_contact_gather = 11
-  integer, parameter :: control_effect_point_loads = 12
-  integer, parameter :: control_effect_gravity = 13
-  integer, parameter :: control_effect_pressure = 14
-  integer, parameter :: control_effect_rigid_wall = 15
-  integer, parameter :: control_effect_mass_damping = 16
-  integer, parameter :: control_effect_prescribed_velocity = 17
-  integer, parameter :: control_effect_plasticity = 18
-  integer, parameter :: control_effect_hourglass = 19
-  integer, parameter :: control_effect_contact = 20
-  integer, parameter :: control_effect_friction = 21
-  integer, parameter :: n_control_attributes = 21
+  integer, parameter :: control_gravity_x = 12
+  integer, parameter :: control_gravity_y = 13
+  integer, parameter :: control_gravity_z = 14
+  integer, parameter :: control_effect_point_loads = 15
+  integer, parameter :: control_effect_gravity = 16
+  integer, parameter :: control_effect_pressure = 17
+  integer, parameter :: control_effect_rigid_wall = 18
+  integer, parameter :: control_effect_mass_damping = 19
+  integer, parameter :: control_effect_prescribed_velocity = 20
+  integer, parameter :: control_effect_plasticity = 21
+  integer, parameter :: control_effect_hourglass = 22
+  integer, parameter :: control_effect_contact = 23
+  integer, parameter :: control_effect_friction = 24
+  integer, parameter :: n_control_attributes = 24
   logical, parameter :: control_restart_may_change(n_control_attributes) = [.false., .true., .true., .false., &
     .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .false., &
-    .false., .false., .false., .false., .false.]
+    .false., .false., .false., .false., .false., .false., .false., .false.]
   integer, parameter :: max_enum_members = 2
 
   ! effects of a step (schema/effects.toml), in the order of the step
@@ -204,11 +229,13 @@ module paradyn_schema
     control_effect_prescribed_velocity, 0, control_effect_plasticity, control_effect_hourglass, &
     control_effect_contact, control_effect_friction]
 
-  character(len=13), parameter :: size_symbol(n_sizes) = [character(len=13) :: 'n_nodes', 'n_elements', &
-    'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_rigid_walls']
-  character(len=12), parameter :: size_entity(n_sizes) = [character(len=12) :: 'node', 'element', 'part', &
-    'material', 'load', 'tracked node', 'contact pair', 'rigid wall']
-  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0]
+  character(len=14), parameter :: size_symbol(n_sizes) = [character(len=14) :: 'n_nodes', 'n_elements', &
+    'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_rigid_walls', 'n_curves', &
+    'n_curve_points', 'n_pressures', 'n_prescribed']
+  character(len=17), parameter :: size_entity(n_sizes) = [character(len=17) :: 'node', 'element', 'part', &
+    'material', 'load', 'tracked node', 'contact pair', 'rigid wall', 'curve', 'curve point', &
+    'pressure load', 'prescribed motion']
+  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0]
 
   !> Members of an enum: codes and the names a scene or a string attribute uses.
   type :: enum_spec_t
@@ -277,6 +304,9 @@ module paradyn_schema
     condition_spec_t('/loads', 0, 0, ''), &
     condition_spec_t('/contact', 0, 0, ''), &
     condition_spec_t('/rigid_walls', 0, 0, ''), &
+    condition_spec_t('/curves', 0, 0, ''), &
+    condition_spec_t('/pressure', 0, 0, ''), &
+    condition_spec_t('/prescribed', 0, 0, ''), &
     condition_spec_t('', 12, 2, 'for a j2_plasticity material') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
@@ -390,7 +420,41 @@ module paradyn_schema
     dataset_spec_t('/rigid_walls/penalty_scale', class_float, 0, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .false., .true., .true., 0.0_wp, 0.5_wp, enum_none, &
         0, [0, 0], size_none, 'must be in (0, 0.5]', '', &
-        'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)') ]
+        'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)'), &
+    dataset_spec_t('/curves/first_point', class_int, 0, size_n_curves, .true., .false., &
+        condition_curves_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_none, 'must be >= 0', '', &
+        'give the 0-based index of each curve''s first point, 0 first and strictly increasing'), &
+    dataset_spec_t('/curves/time', class_float, 0, size_n_curve_points, .true., .false., &
+        condition_curves_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_none, '', '', &
+        'give finite times in seconds, strictly increasing within each curve'), &
+    dataset_spec_t('/curves/value', class_float, 0, size_n_curve_points, .false., .false., &
+        condition_curves_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_none, '', '', 'give finite curve values (factors on the load''s value)'), &
+    dataset_spec_t('/pressure/part', class_int, 0, size_n_pressures, .true., .false., &
+        condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_n_parts, '', '', 'give the index of the loaded part'), &
+    dataset_spec_t('/pressure/value', class_float, 0, size_n_pressures, .false., .false., &
+        condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_none, '', '', &
+        'give the pressure in Pa (positive pushes along the element normal)'), &
+    dataset_spec_t('/pressure/curve', class_int, 0, size_n_pressures, .false., .false., &
+        condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point'), &
+    dataset_spec_t('/prescribed/node', class_int, 0, size_n_prescribed, .true., .false., &
+        condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_n_nodes, '', '', 'give the index of the node'), &
+    dataset_spec_t('/prescribed/dof', class_int, 0, size_n_prescribed, .false., .false., &
+        condition_prescribed_group, condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, &
+        enum_none, 0, [0, 0], size_none, 'must be between 1 and 6', '', &
+        'use 1..3 for a velocity along x, y, z and 4..6 for an angular velocity about x, y, z'), &
+    dataset_spec_t('/prescribed/value', class_float, 0, size_n_prescribed, .false., .false., &
+        condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_none, '', '', 'give the velocity in m/s (rad/s for a rotation)'), &
+    dataset_spec_t('/prescribed/curve', class_int, 0, size_n_prescribed, .false., .false., &
+        condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point') ]
 
   type(attribute_spec_t), parameter :: control_attributes(n_control_attributes) = [ &
     attribute_spec_t('end_time', class_float, .true., 0.0_wp, 0, 0.0_wp, .true., .false., .false., .true., &
@@ -421,6 +485,12 @@ module paradyn_schema
     attribute_spec_t('contact_gather', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_contact_gather, '', 'must be "near" or "all"', &
         'leave it out for the default'), &
+    attribute_spec_t('gravity_x', class_float, .false., 0.0_wp, 0, 0.0_wp, .false., .true., .false., .true., &
+        0.0_wp, 0.0_wp, enum_none, '', '', 'give the acceleration in m/s^2, or 0 for none'), &
+    attribute_spec_t('gravity_y', class_float, .false., 0.0_wp, 0, 0.0_wp, .false., .true., .false., .true., &
+        0.0_wp, 0.0_wp, enum_none, '', '', 'give the acceleration in m/s^2, or 0 for none'), &
+    attribute_spec_t('gravity_z', class_float, .false., 0.0_wp, 0, 0.0_wp, .false., .true., .false., .true., &
+        0.0_wp, 0.0_wp, enum_none, '', '', 'give the acceleration in m/s^2, or 0 for none'), &
     attribute_spec_t('effect_point_loads', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., &
         .false., .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
         'use "on" or "off" (the scene''s [effects] table takes true or false)'), &

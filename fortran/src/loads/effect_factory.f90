@@ -2,13 +2,18 @@
 !> in the order of schema/effects.toml (the order of the step). A new member adds its block here.
 module effect_factory
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: effect_point_loads, effect_rigid_wall
+  use paradyn_schema, only: effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
+                            effect_prescribed_velocity
   use model_deck, only: deck_t
   use domain_decomposition, only: domain_t, local_node
   use effect_table, only: effect_table_t
   use nodal_effect, only: nodal_effect_holder_t
   use point_load_effect, only: point_load_effect_make
   use rigid_wall_effect, only: rigid_wall_effect_make
+  use load_curves, only: load_curves_t, load_curves_from
+  use gravity_effect, only: gravity_effect_make
+  use pressure_effect, only: pressure_effect_make
+  use prescribed_velocity, only: prescribed_velocity_make
   implicit none
   private
   public :: make_nodal_effects
@@ -23,20 +28,49 @@ contains
     type(effect_table_t), intent(in) :: table
     real(wp), intent(in) :: dt
     type(nodal_effect_holder_t), allocatable, intent(out) :: effects(:)
+    type(load_curves_t) :: curves
     integer :: k
     allocate (effects(0))
+    curves = load_curves_from(deck%curve_first_point(1:deck%n_curves), deck%curve_time(1:deck%n_curve_points), &
+                              deck%curve_value(1:deck%n_curve_points))
     if (table%running(effect_point_loads)) then
       call append(effects)
       allocate (effects(size(effects))%effect, source=point_load_effect_make( &
         [(local_node(dom, deck%load_node(k)), k = 1, deck%n_loads)], deck%load_dof(1:deck%n_loads), &
         deck%load_value(1:deck%n_loads), deck%load_ramp_time(1:deck%n_loads)))
     end if
+    if (table%running(effect_gravity)) then
+      call append(effects)
+      allocate (effects(size(effects))%effect, source=gravity_effect_make(deck%gravity))
+    end if
+    if (table%running(effect_pressure)) then
+      call append(effects)
+      allocate (effects(size(effects))%effect, source=pressure_effect_make(curves, deck%pressure_part, &
+        deck%pressure_value, deck%pressure_curve, deck%element_part(dom%elements)))
+    end if
     if (table%running(effect_rigid_wall)) then
       call append(effects)
       allocate (effects(size(effects))%effect, source=rigid_wall_effect_make(deck%rigid_wall_point, &
         deck%rigid_wall_normal, deck%rigid_wall_velocity, deck%rigid_wall_penalty_scale, dt))
     end if
+    if (table%running(effect_prescribed_velocity)) then
+      call append(effects)
+      allocate (effects(size(effects))%effect, source=prescribed_velocity_make(curves, &
+        [(local_node(dom, deck%prescribed_node(k)), k = 1, deck%n_prescribed)], deck%prescribed_dof, &
+        deck%prescribed_value, deck%prescribed_curve, [(initial_velocity(deck, k), k = 1, deck%n_prescribed)]))
+    end if
   end subroutine make_nodal_effects
+
+  !> The deck's initial velocity of prescribed motion k's dof (the velocity before the first step).
+  pure real(wp) function initial_velocity(deck, k)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: k
+    if (deck%prescribed_dof(k) <= 3) then
+      initial_velocity = deck%velocity(deck%prescribed_dof(k), deck%prescribed_node(k))
+    else
+      initial_velocity = deck%angular_velocity(deck%prescribed_dof(k) - 3, deck%prescribed_node(k))
+    end if
+  end function initial_velocity
 
   !> One more (empty) holder at the end of the list.
   subroutine append(effects)

@@ -7,7 +7,8 @@ module deck_effects
   use paradyn_schema, only: n_effects, material_j2_plasticity, material_elastic, effect_point_loads, &
                             effect_time_integration, effect_mass_damping, effect_fixed_boundaries, &
                             effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, &
-                            effect_friction, effect_rigid_wall
+                            effect_friction, effect_gravity, effect_pressure, effect_rigid_wall, &
+                            effect_prescribed_velocity
   use model_deck, only: deck_t
   use effect_table, only: effect_table_t
   implicit none
@@ -34,6 +35,9 @@ contains
     declared(effect_contact) = deck%n_contacts > 0
     if (deck%n_contacts > 0) declared(effect_friction) = any(deck%contact_static_friction > 0.0_wp) .or. &
                                                           any(deck%contact_dynamic_friction > 0.0_wp)
+    declared(effect_gravity) = any(deck%gravity /= 0.0_wp)
+    declared(effect_pressure) = deck%n_pressures > 0
+    declared(effect_prescribed_velocity) = deck%n_prescribed > 0
   end function declared_effects
 
   !> The effect table of the deck (what it declares, what runs), and the deck with the effects
@@ -61,6 +65,9 @@ contains
         deck%contact_static_friction = 0.0_wp
         deck%contact_dynamic_friction = 0.0_wp
       end if
+      if (off(effect_gravity)) deck%gravity = 0.0_wp
+      if (off(effect_pressure)) deck%n_pressures = 0
+      if (off(effect_prescribed_velocity)) deck%n_prescribed = 0
     end associate
   end subroutine effects_of_deck
 

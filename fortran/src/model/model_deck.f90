@@ -25,7 +25,11 @@ module model_deck
                             control_output_interval, control_history_interval, control_time_step, &
                             control_time_step_safety, control_mass_damping, control_progress_interval, &
                             control_contact_sort_interval, control_checkpoint_interval, n_effects, effect_switch, &
-                            switch_off
+                            switch_off, &
+                            dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
+                            dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
+                            dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
+                            dataset_prescribed_curve, control_gravity_x, control_gravity_y, control_gravity_z
   use deck_rules, only: integer_text, number_text
   use material_factory, only: material_from_name
   use quad_shape, only: quad_shape_fault, shape_sound, shape_concave
@@ -73,6 +77,15 @@ module model_deck
     logical :: effect_on(n_effects) = .true.          !< false: the scene switched the effect off (/control effect_*)
     character(len=16), allocatable :: fingerprint_groups(:)   !< "nodes", ..., "control" (deck_fingerprint)
     real(wp), allocatable :: fingerprints(:)                  !< one 32-bit hash per group, held exactly
+    ! loads: curves, pressure, prescribed velocity, gravity
+    integer :: n_curves = 0, n_curve_points = 0, n_pressures = 0, n_prescribed = 0
+    integer, allocatable :: curve_first_point(:)      !< (n_curves), 1-based index into curve_time
+    real(wp), allocatable :: curve_time(:), curve_value(:)
+    integer, allocatable :: pressure_part(:), pressure_curve(:)   !< 1-based
+    real(wp), allocatable :: pressure_value(:)
+    integer, allocatable :: prescribed_node(:), prescribed_dof(:), prescribed_curve(:)   !< 1-based node, curve
+    real(wp), allocatable :: prescribed_value(:)
+    real(wp) :: gravity(3) = 0.0_wp                   !< body acceleration, m/s^2
   end type deck_t
 
 contains
@@ -184,6 +197,30 @@ contains
       d%rigid_wall_velocity = values
     case (dataset_rigid_walls_penalty_scale)
       d%rigid_wall_penalty_scale = values(1, :)
+    case (dataset_curves_first_point)   ! an index without a reference: made 1-based here
+      d%curve_first_point = indices(1, :) + 1
+      d%n_curves = size(values, 2)
+    case (dataset_curves_time)
+      d%curve_time = values(1, :)
+      d%n_curve_points = size(values, 2)
+    case (dataset_curves_value)
+      d%curve_value = values(1, :)
+    case (dataset_pressure_part)
+      d%pressure_part = indices(1, :)
+      d%n_pressures = size(values, 2)
+    case (dataset_pressure_value)
+      d%pressure_value = values(1, :)
+    case (dataset_pressure_curve)
+      d%pressure_curve = indices(1, :)
+    case (dataset_prescribed_node)
+      d%prescribed_node = indices(1, :)
+      d%n_prescribed = size(values, 2)
+    case (dataset_prescribed_dof)
+      d%prescribed_dof = indices(1, :)
+    case (dataset_prescribed_value)
+      d%prescribed_value = values(1, :)
+    case (dataset_prescribed_curve)
+      d%prescribed_curve = indices(1, :)
     end select
   end subroutine store_deck_field
 
@@ -215,6 +252,12 @@ contains
       d%partition = nint(value)
     case (control_contact_gather)
       d%contact_gather = nint(value)
+    case (control_gravity_x)
+      d%gravity(1) = value
+    case (control_gravity_y)
+      d%gravity(2) = value
+    case (control_gravity_z)
+      d%gravity(3) = value
     case default   ! an effect's switch (schema/effects.toml)
       where (effect_switch == id) d%effect_on = nint(value) /= switch_off
     end select
@@ -222,8 +265,9 @@ contains
 
   !> Relations between fields of a deck whose every field has passed its own rules (schema
   !> relations: distinct_element_nodes, distinct_elements, tangent_below_youngs, contact_parts_differ,
-  !> node_in_element, then the rigid walls'). Returns status_ok, or status_bad_input with a message
-  !> naming the dataset, the 0-based entry and the fix.
+  !> node_in_element, then the rigid walls' and the load curves' (curve_first_points,
+  !> curve_times_increase)). Returns status_ok, or status_bad_input with a message naming the
+  !> dataset, the 0-based entry and the fix.
   subroutine check_deck_relations(d, status, message)
     type(deck_t), intent(in) :: d
     integer, intent(out) :: status
@@ -276,7 +320,10 @@ contains
       return
     end if
     call check_rigid_walls(d, message)
-    if (len_trim(message) == 0) status = status_ok
+    if (len_trim(message) > 0) return
+    call check_curve_relations(d, message)
+    if (len_trim(message) > 0) return
+    status = status_ok
   end subroutine check_deck_relations
 
   !> The schema relations rigid_wall_normal_nonzero and rigid_wall_nodes_in_front: message stays
@@ -388,6 +435,37 @@ contains
       s(j + 1) = t
     end do
   end function sorted_four
+
+  !> The load curves' relations (curve_first_points, curve_times_increase); message '' when they hold.
+  subroutine check_curve_relations(d, message)
+    type(deck_t), intent(in) :: d
+    character(len=*), intent(out) :: message
+    integer :: i, k, last
+    message = ''
+    do i = 1, d%n_curves
+      if (i == 1) then
+        if (d%curve_first_point(1) == 1 .and. d%n_curve_points >= 1) cycle
+      else if (d%curve_first_point(i) > d%curve_first_point(i - 1) .and. d%curve_first_point(i) <= d%n_curve_points) then
+        cycle
+      end if
+      message = '/curves/first_point['//integer_text(i - 1)//'] = '//integer_text(d%curve_first_point(i) - 1)// &
+                ' breaks the order of the curves; the first curve starts at point 0 and each next one later, '// &
+                'below the number of curve points ('//integer_text(d%n_curve_points)//')'
+      return
+    end do
+    do i = 1, d%n_curves
+      last = d%n_curve_points
+      if (i < d%n_curves) last = d%curve_first_point(i + 1) - 1
+      do k = d%curve_first_point(i) + 1, last
+        if (d%curve_time(k) > d%curve_time(k - 1)) cycle
+        message = '/curves/time['//integer_text(k - 1)//'] = '//number_text(d%curve_time(k), class_float)// &
+                  ' does not follow /curves/time['//integer_text(k - 2)//'] = '// &
+                  number_text(d%curve_time(k - 1), class_float)//' of curve '//integer_text(i - 1)// &
+                  '; give the times of each curve strictly increasing'
+        return
+      end do
+    end do
+  end subroutine check_curve_relations
 
   !> `[a, b, ...]` of 1-based indices, shown 0-based as in the file.
   pure function index_list(indices) result(words)
