@@ -186,10 +186,6 @@ def test_loads_are_bitwise_independent_of_the_layout(tmp_path: Path) -> None:
         np.testing.assert_allclose(fields[layout]["work"], reference["work"], rtol=1e-13, atol=0)
 
 
-@pytest.mark.xfail(strict=True, reason="a restore does not yet give corner members the positions they keep "
-                   "between calls: the pressure's work of the first step after a restart is missing "
-                   "(solver_checkpoint's checkpoint_read should call each corner member once at the restored "
-                   "positions and drop that call's work)")
 def test_restart_with_pressure_is_bitwise(tmp_path: Path) -> None:
     """A run with pressure, gravity and a prescribed velocity restarted from its checkpoint on the
     same layout equals the uninterrupted run bit for bit, the external work included."""

@@ -11,7 +11,7 @@ module internal_forces
   use halo_exchange, only: exchange_corners
   use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes
   use phase_timers, only: wall_clock
-  use contact_parallel, only: parallel_contact_step, parallel_contact_apply
+  use contact_parallel, only: parallel_contact_step, parallel_contact_apply, parallel_contact_worked
   use paradyn_schema, only: effect_elastic_shells, effect_plastic_shells, effect_contact, effect_friction
   use effect_table, only: effect_count, effect_time
   use effect_pipeline, only: apply_corner_loads
@@ -51,9 +51,10 @@ contains
       call parallel_contact_step(s%contact, s%nodes%x, s%nodes%v, s%clock%cycles, dt_strain, s%timers)
       call parallel_contact_apply(s%contact, s%nodes%f_int)
       call effect_time(s%effects, effect_contact, wall_clock() - t0)
-      if (s%started) then   ! the forces at the start are not a cycle
-        call effect_count(s%effects, effect_contact, .true.)
-        if (s%effects%running(effect_friction)) call effect_count(s%effects, effect_friction, .true.)
+      if (s%started) then   ! the forces at the start are not a cycle; idle pairs skip their stages
+        call effect_count(s%effects, effect_contact, parallel_contact_worked(s%contact))
+        if (s%effects%running(effect_friction)) &
+          call effect_count(s%effects, effect_friction, parallel_contact_worked(s%contact))
       end if
     end if
   end subroutine forces_at_current_state

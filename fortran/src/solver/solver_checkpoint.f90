@@ -12,6 +12,7 @@ module solver_checkpoint
                             control_restart_may_change
   use solver_state, only: solver_t
   use run_control, only: run_control_t
+  use nodal_effect, only: stage_corners
   use element_state, only: element_row_width, element_rows_pack, element_rows_unpack
   use contact_parallel, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width
   use parallel_hdf5, only: row_runs, phdf5_open, phdf5_close, create_dataset, write_rows, &
@@ -245,6 +246,13 @@ contains
     s%nodes%f_int = nodes(10:15, :)
     s%nodes%f_ext = nodes(16:21, :)
     s%external_forces_zero = all(s%nodes%f_ext == 0.0_wp)   ! the loads stage skips only when they are
+    do j = 1, size(s%nodal_effects)   ! corner members rebuild what they keep from the last positions
+      associate (e => s%nodal_effects(j)%effect)
+        if (.not. e%acts_at(stage_corners)) cycle
+        call e%add_corner_forces(s%dom%connectivity, s%nodes%x, s%clock%time, s%corner)
+        e%work = 0.0_wp
+      end associate
+    end do
     allocate (elements(width, s%dom%n_elements))
     call read_rows(file, transfer, 'elements', [width, ne], row_runs(s%dom%elements), elements, err)
     call element_rows_unpack(s%elements, s%dom, elements)
