@@ -188,6 +188,7 @@ contains
         yielding(i - first + 1) = sqrt(max(x1**2 - x1 * x2 + x2**2 + 3.0_wp * x3**2, 0.0_wp)) &
                                   > yield0 + h_iso * eps_p(i)
       end do
+      if (.not. any(yielding(1:nb))) cycle   ! most batches stay elastic: no gather, no return
       ! gather the yielding points: trial relative stress in the eigenbasis of the projector P
       np = 0
       do i = first, first + nb - 1
