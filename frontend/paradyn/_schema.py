@@ -520,7 +520,8 @@ CONTROL: tuple[AttributeSpec, ...] = (
         'contact_gather', 'string', False, 'near', None, None, None, None, '', 'contact_gather',
         'must be "near" or "all"', '-',
         (
-            'which contact nodes every rank gathers between bucket sorts (docs/theory.md, parallel contact). The '
+            'which contact nodes every rank gathers between bucket sorts (docs/theory.md, parallel contact); '
+            '"all" also turns off the skipping of idle contact pairs (the reference without shortcuts). The '
             'answer is bitwise the same either way'
         ), '[run] contact_gather', 'leave it out for the default',
     ),
