@@ -173,3 +173,12 @@ def test_two_ranks_give_the_same_run_and_table(tmp_path: Path, base: paradyn.Res
     _same(two, base, energies_rtol=1e-12)
     counts = {r.name: (r.state, r.active_cycles, r.skipped_cycles) for r in two.effect_table}
     assert counts == {r.name: (r.state, r.active_cycles, r.skipped_cycles) for r in base.effect_table}
+
+
+def test_the_contact_row_counts_each_pair(base: paradyn.Results) -> None:
+    """The contact row lists its pairs by part name, with the cycles each ran or was idle."""
+    row = _table(base)["contact"]
+    assert [pair["parts"] for pair in row.pairs] == [["lower", "upper"]]
+    pair = row.pairs[0]
+    assert pair["active_cycles"] + pair["skipped_cycles"] == int(base.run["cycles"])
+    assert pair["active_cycles"] == row.active_cycles   # one pair: the row is the pair

@@ -106,3 +106,13 @@ def test_a_row_count_mismatch_names_the_dataset_that_sets_the_count(tmp_path: Pa
     assert words in done.stderr
     with pytest.raises(deck.DeckError, match=words):
         deck.validate_deck(path)
+
+
+def test_a_checkpoint_interval_below_the_step_is_refused(tmp_path: Path) -> None:
+    """Found by tests/test_fuzz.py: checkpoint_interval = 1e-300 paused at the same step for ever,
+    writing the same checkpoint again and again. Now refused before the run; and every call of
+    the time loop takes at least one step, whatever the pause time."""
+    path = deck.write_deck(_strip(checkpoint_interval=1e-300), tmp_path / "deck.h5")
+    done = _engine(path, ranks=1)
+    assert done.returncode == STATUS_BAD_INPUT, done.stdout[-500:]
+    assert "checkpoint_interval" in done.stderr and "is below the time step" in done.stderr

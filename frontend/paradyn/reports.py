@@ -17,6 +17,7 @@ import numpy as np
 from .atomic_write import write_text_atomic
 from .reading import ENERGY_NAMES, Results
 from .results_file import to_python
+from .run_names import EffectRow
 
 PHASE_NAMES = ("elements", "contact", "communication", "output", "other")
 CONTACT_PHASE_NAMES = ("sort", "search", "force")  # the contact phase split
@@ -118,7 +119,7 @@ def write_summary(
         "history_records": results.n_records,
         "parts": list(results.part_names),
         "energy": energy_report(results),
-        "effects": [dataclasses.asdict(row) for row in results.effect_table],
+        "effects": [_effect_row(row) for row in results.effect_table],
     }
     if extra:
         summary.update(extra)
@@ -127,12 +128,24 @@ def write_summary(
     return summary
 
 
+def _effect_row(row: EffectRow) -> dict[str, Any]:
+    """One effect for summary.json; the contact row also lists its pairs."""
+    entry = dataclasses.asdict(row)
+    entry["pairs"] = [dict(p) for p in row.pairs]
+    if not row.pairs:
+        del entry["pairs"]
+    return entry
+
+
 def effect_table_text(results: Results) -> str:
     """The effect table as aligned text, one effect per line (what paradyn-run prints at the end)."""
     lines = [f"  {'effect':20s} {'state':5s} {'active':>10s} {'skipped':>10s} {'wall s':>9s}"]
     for row in results.effect_table:
         wall = f"(in {row.timed_with})" if row.timed_with else f"{row.wall_s:9.3f}"
         lines.append(f"  {row.name:20s} {row.state:5s} {row.active_cycles:10d} {row.skipped_cycles:10d} {wall:>9s}")
+        for pair in row.pairs:
+            label = "  " + " / ".join(pair["parts"])
+            lines.append(f"  {label[:20]:20s} {'':5s} {pair['active_cycles']:10d} {pair['skipped_cycles']:10d}")
     return "\n".join(lines)
 
 

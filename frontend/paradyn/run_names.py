@@ -47,6 +47,7 @@ class EffectRow:
     skipped_cycles: int     # cycles it was idle and not called
     wall_s: float           # rank 0's wall seconds (0 where timed with another effect)
     timed_with: str         # the effect whose seconds include this one's, "" where timed alone
+    pairs: tuple[dict, ...] = ()   # contact: per pair {"parts": [a, b], "active_cycles", "skipped_cycles"}
 
 
 def effect_table(h5: h5py.File) -> list[EffectRow]:
@@ -54,14 +55,30 @@ def effect_table(h5: h5py.File) -> list[EffectRow]:
     run that did not finish writing it."""
     if "effects" not in h5:
         return []
+    names = strings(h5["mesh"].attrs.get("part_names")) if "mesh" in h5 else []
     rows = []
     for name, group in h5["effects"].items():
         a = group.attrs
         rows.append((int(a["order"]), EffectRow(
             name=name, state=(strings(a["state"], one=True) or ["on"])[0].strip(),
             active_cycles=int(a["active_cycles"]), skipped_cycles=int(a["skipped_cycles"]),
-            wall_s=float(a["wall_s"]), timed_with=(strings(a["timed_with"], one=True) or [""])[0])))
+            wall_s=float(a["wall_s"]), timed_with=(strings(a["timed_with"], one=True) or [""])[0],
+            pairs=_contact_pairs(a, names))))
     return [row for _, row in sorted(rows, key=lambda item: item[0])]
+
+
+def _contact_pairs(attrs: h5py.AttributeManager, part_names: list[str]) -> tuple[dict, ...]:
+    """The contact row's pairs: their parts by name and the cycles each ran its stages or was idle."""
+    if "pair_parts" not in attrs:
+        return ()
+    parts = np.asarray(attrs["pair_parts"]).reshape(-1, 2)
+
+    def name(i: int) -> str:
+        return part_names[i] if i < len(part_names) else f"part_{i}"
+
+    return tuple({"parts": [name(int(a)), name(int(b))], "active_cycles": int(active), "skipped_cycles": int(skipped)}
+                 for (a, b), active, skipped in zip(parts, attrs["pair_active_cycles"], attrs["pair_skipped_cycles"],
+                                                    strict=True))
 
 
 def names_in_results(h5: h5py.File) -> RunNames:

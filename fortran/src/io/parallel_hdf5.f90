@@ -11,6 +11,7 @@ module parallel_hdf5
   private
   public :: row_runs_t, row_runs, phdf5_open, phdf5_close
   public :: create_dataset, create_growing, write_rows, read_rows, truncate_growing
+  public :: write_long_array_attribute
   public :: write_int_attribute, write_long_attribute, write_real_attribute, read_int_attribute, read_real_attribute
 
   !> The global rows (node or element ids) a rank reads or writes, as runs of consecutive ids.
@@ -265,6 +266,20 @@ contains
     call h5awrite_f(attr, h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(value), err)
     call h5aclose_f(attr, err)
   end subroutine write_long_attribute
+
+  !> A one-dimensional int64 attribute (h5py reads a numpy array).
+  subroutine write_long_array_attribute(loc, name, values)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer(i8), intent(in), target :: values(:)
+    integer(hid_t) :: attr, space
+    integer :: err
+    call h5screate_simple_f(1, [int(size(values), hsize_t)], space, err)
+    call h5acreate_f(loc, name, H5T_STD_I64LE, space, attr, err)
+    if (size(values) > 0) call h5awrite_f(attr, h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(values), err)
+    call h5aclose_f(attr, err)
+    call h5sclose_f(space, err)
+  end subroutine write_long_array_attribute
 
   subroutine write_real_attribute(loc, name, value)
     integer(hid_t), intent(in) :: loc

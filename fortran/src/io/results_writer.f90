@@ -13,10 +13,10 @@ module results_writer
                             frame_field_names
   use parallel_hdf5, only: row_runs_t, row_runs, phdf5_open, phdf5_close, create_dataset, create_growing, &
                            write_rows, truncate_growing, write_int_attribute, write_real_attribute, &
-                           write_long_attribute
+                           write_long_attribute, write_long_array_attribute
   use run_names, only: write_string_attribute
   use effect_table, only: effect_table_t, effect_list
-  use paradyn_schema, only: n_effects, effect_names, effect_timed_with, effect_also_timed_with
+  use paradyn_schema, only: n_effects, effect_names, effect_timed_with, effect_also_timed_with, effect_contact
   implicit none
   private
   public :: results_file_t, results_create, results_reopen, results_write_frame, results_write_history
@@ -52,6 +52,8 @@ module results_writer
     real(wp) :: peak_memory_mb = 0   !< the largest peak resident memory of any rank (MiB)
     real(wp) :: load_imbalance = 1   !< busiest rank's element + contact time over the mean
     type(effect_table_t) :: effects  !< what ran, with its counters and rank 0's seconds
+    ! per contact pair: its two parts (0-based) and the cycles it ran its stages or was idle
+    integer(i8), allocatable :: pair_parts(:), pair_active_cycles(:), pair_skipped_cycles(:)
   end type run_record_t
 
 contains
@@ -275,7 +277,7 @@ contains
     call write_string_attribute(group, 'effects', effect_list(run%effects, .false.))
     call write_string_attribute(group, 'effects_off', effect_list(run%effects, .true.))
     call h5gclose_f(group, err)
-    call write_effect_table(rf%file, run%effects)
+    call write_effect_table(rf%file, run)
     if (complete) call write_int_attribute(rf%file, 'complete', 1)
     call phdf5_close(rf%file, rf%transfer)
   end subroutine results_finish
@@ -283,21 +285,26 @@ contains
   !> The group /effects: one subgroup per effect the deck declares, in the order of the step, with
   !> its state ("on", or "off" where the scene switched it off), active and skipped cycles, wall
   !> seconds, and the effect whose seconds include it ("" where timed alone).
-  subroutine write_effect_table(file, table)
+  subroutine write_effect_table(file, run)
     integer(hid_t), intent(in) :: file
-    type(effect_table_t), intent(in) :: table
+    type(run_record_t), intent(in) :: run
     integer(hid_t) :: effects, row
     integer :: k, err
     call h5gcreate_f(file, 'effects', effects, err)
     do k = 1, n_effects
-      if (.not. table%declared(k)) cycle
+      if (.not. run%effects%declared(k)) cycle
       call h5gcreate_f(effects, trim(effect_names(k)), row, err)
-      call write_string_attribute(row, 'state', merge('on ', 'off', table%running(k)))
-      call write_long_attribute(row, 'active_cycles', table%active(k))
-      call write_long_attribute(row, 'skipped_cycles', table%skipped(k))
-      call write_real_attribute(row, 'wall_s', table%seconds(k))
-      call write_string_attribute(row, 'timed_with', timed_with(table, k))
+      call write_string_attribute(row, 'state', trim(merge('on ', 'off', run%effects%running(k))))
+      call write_long_attribute(row, 'active_cycles', run%effects%active(k))
+      call write_long_attribute(row, 'skipped_cycles', run%effects%skipped(k))
+      call write_real_attribute(row, 'wall_s', run%effects%seconds(k))
+      call write_string_attribute(row, 'timed_with', timed_with(run%effects, k))
       call write_long_attribute(row, 'order', int(k, i8))
+      if (k == effect_contact .and. allocated(run%pair_parts)) then   ! each pair: its parts and cycles
+        call write_long_array_attribute(row, 'pair_parts', run%pair_parts)
+        call write_long_array_attribute(row, 'pair_active_cycles', run%pair_active_cycles)
+        call write_long_array_attribute(row, 'pair_skipped_cycles', run%pair_skipped_cycles)
+      end if
       call h5gclose_f(row, err)
     end do
     call h5gclose_f(effects, err)

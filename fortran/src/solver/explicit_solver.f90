@@ -116,6 +116,11 @@ contains
       write (message, '(a,es10.3,a,es10.3,a,es9.2,a)') 'end_time / time step = ', steps, ' steps (dt = ', &
         clock%dt, ' s), more than the limit of ', max_steps, &
         '; shorten /control end_time, or check the mesh for a tiny element that sets the step'
+    else if (deck%checkpoint_interval > 0.0_wp .and. deck%checkpoint_interval < clock%dt) then
+      status = status_bad_input
+      write (message, '(a,es10.3,a,es10.3,a)') '/control checkpoint_interval = ', deck%checkpoint_interval, &
+        ' s is below the time step dt = ', clock%dt, ' s: a checkpoint every step or more often; '// &
+        'give an interval of many steps (or 0 for none)'
     else if (deck%mass_damping * clock%dt >= 2.0_wp) then
       status = status_bad_input
       write (message, '(a,es10.3,a,es10.3,a)') '/control mass_damping x dt = ', deck%mass_damping * clock%dt, &
@@ -136,12 +141,14 @@ contains
     character(len=*), intent(out) :: message
     real(wp), intent(in) :: pause_time
     real(wp) :: t0
+    integer :: call_cycle
 
     status = status_ok
     message = ''
     if (.not. s%started) call start_loop(s)
+    call_cycle = s%clock%cycles   ! every call takes at least one step, whatever the pause time
     do
-      if (pause_due(s, pause_time)) exit
+      if (pause_due(s, pause_time, call_cycle)) exit
       if (s%has_loads) call apply_loads(s)
       call output_and_velocities(s, rf, status, message)
       if (status /= status_ok) exit
@@ -171,18 +178,25 @@ contains
     s%wall_start = wall_clock()
     s%last_progress = s%wall_start
     s%clock%first_cycle = s%clock%cycles
-    if (s%clock%cycles == 0) call forces_at_current_state(s, 0.0_wp)
+    if (s%clock%cycles == 0) then
+      call forces_at_current_state(s, 0.0_wp)
+      if (s%has_contact) then   ! the forces at the start are not a cycle of the pairs' counts either
+        s%contact%c%pair_active_cycles = 0
+        s%contact%c%pair_skipped_cycles = 0
+      end if
+    end if
     s%started = .true.
   end subroutine start_loop
 
   !> A pause is due at the first step at or after pause_time, or when any rank got a stop signal
   !> (checked collectively every few cycles); never at the first or the last step of a call.
-  logical function pause_due(s, pause_time) result(due)
+  logical function pause_due(s, pause_time, call_cycle) result(due)
     type(solver_t), intent(inout) :: s
     real(wp), intent(in) :: pause_time
+    integer, intent(in) :: call_cycle   !< the cycle this call of solver_run started at
     logical :: mine
     due = .false.
-    if (s%clock%cycles <= s%clock%first_cycle .or. s%clock%cycles >= s%clock%n_steps) return
+    if (s%clock%cycles <= call_cycle .or. s%clock%cycles >= s%clock%n_steps) return
     due = s%clock%time >= pause_time - 1.0e-6_wp * s%clock%dt
     if (due .or. modulo(s%clock%cycles, signal_poll_cycles) /= 0) return
     mine = stop_signal_received()

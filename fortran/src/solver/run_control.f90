@@ -19,6 +19,7 @@ module run_control
     integer, allocatable :: tracked_local(:) !< local node of each tracked node where this rank owns it, else 0
     character(len=:), allocatable :: partition
     logical :: contact_gather_all = .false.  !< /control contact_gather = "all": every contact node every step
+    integer, allocatable :: contact_pairs(:, :)   !< (2, pairs): the deck's part pairs, for the effect table
     character(len=16), allocatable :: fingerprint_groups(:)   !< the deck's, for the checkpoint
     real(wp), allocatable :: fingerprints(:)
   end type run_control_t
@@ -49,6 +50,7 @@ contains
     end do
     rc%partition = enum_name(enum_partition, deck%partition)
     rc%contact_gather_all = deck%contact_gather == contact_gather_all
+    rc%contact_pairs = deck%contact_pairs(:, 1:deck%n_contacts)
     rc%fingerprint_groups = deck%fingerprint_groups
     rc%fingerprints = deck%fingerprints
   end subroutine run_control_setup

@@ -2,7 +2,7 @@
 !> inverted elements), field frames, progress lines, and the run record of the /run attributes.
 module solver_output
   use mpi_f08
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: status_ok, status_numerical, n_history_scalars, history_kinetic_energy, &
                             history_internal_energy, history_hourglass_energy, history_contact_energy, &
                             history_external_work, history_contact_penetration, effect_time_integration
@@ -153,6 +153,11 @@ contains
     call MPI_Bcast(run%effects%seconds, size(run%effects%seconds), MPI_DOUBLE_PRECISION, 0, s%halo%comm)
     call MPI_Bcast(run%effects%active, size(run%effects%active), MPI_INTEGER8, 0, s%halo%comm)
     call MPI_Bcast(run%effects%skipped, size(run%effects%skipped), MPI_INTEGER8, 0, s%halo%comm)
+    if (s%has_contact) then   ! the contact state, and so its counters, are the same on every rank
+      run%pair_parts = int(reshape(s%control%contact_pairs - 1, [size(s%control%contact_pairs)]), i8)
+      run%pair_active_cycles = s%contact%c%pair_active_cycles
+      run%pair_skipped_cycles = s%contact%c%pair_skipped_cycles
+    end if
     run%wall_s = t(1)
     run%element_cycles_per_s = t(2)
     run%phase_elements_s = t(3)
