@@ -6,13 +6,14 @@ from __future__ import annotations
 
 import os
 import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
 
 import paradyn
-from paradyn import cli, geometry, scene
-from paradyn._schema import STATUS_BAD_INPUT
+from paradyn import cli, deck, geometry, launch, scene
+from paradyn._schema import STATUS_BAD_INPUT, STATUS_FAILURE
 from paradyn.results_file import ResultsError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -86,3 +87,28 @@ def test_a_truncated_results_file_is_called_truncated(tmp_path: Path) -> None:
         f.truncate(cut.stat().st_size // 3)
     with pytest.raises(ResultsError, match=r"is truncated"):
         paradyn.read(cut)
+
+
+@pytest.fixture
+def tiny_disk(tmp_path: Path):
+    """A 300 kB file system (tmpfs; needs root, as CI has), unmounted afterwards."""
+    mount = tmp_path / "tiny"
+    mount.mkdir()
+    made = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=300k", "tmpfs", str(mount)], capture_output=True)
+    if made.returncode != 0:
+        pytest.skip("cannot mount a small tmpfs here (needs root)")
+    yield mount
+    subprocess.run(["umount", str(mount)], check=True)
+
+
+def test_a_full_disk_ends_the_run_with_status_1_and_a_message(tiny_disk: Path) -> None:
+    """The engine used to write on after 'No space left on device', report DONE and segfault in
+    MPI_Finalize; now it stops with status 1 and one message naming the file and the fix."""
+    model = scene.build_model(scene.load_scene(SMALL_PLATE))
+    path = deck.write_deck(model, tiny_disk / "deck.h5")
+    (tiny_disk / "filler").write_bytes(b"\0" * (300 * 1024 - path.stat().st_size - 40 * 1024))
+    done = subprocess.run([str(launch.engine_path()), str(path), str(tiny_disk / "results.h5")],
+                          env=launch.engine_environment(1), capture_output=True, text=True, timeout=60)
+    assert done.returncode == STATUS_FAILURE, done.stderr[-2000:]
+    assert "cannot write" in done.stderr and "the disk is full" in done.stderr
+    assert "PARADYN-DONE" not in done.stdout and "Segmentation fault" not in done.stderr

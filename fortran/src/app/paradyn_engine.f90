@@ -14,7 +14,7 @@ program paradyn_engine
   use model_deck, only: deck_t
   use deck_reader, only: read_deck
   use explicit_solver, only: solver_t, solver_setup, solver_run
-  use results_writer, only: results_file_t, results_create, results_reopen, results_finish, results_flush, &
+  use results_writer, only: results_file_t, results_create, results_reopen, results_finish, results_flush, results_failed, &
                             run_record_t
   use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
   use stop_signals, only: install_stop_handlers
@@ -28,6 +28,11 @@ program paradyn_engine
       import :: c_int
       integer(c_int), value :: status
     end subroutine c_exit
+    !> exit without the atexit handlers (HDF5's would crash on a file it could not close)
+    subroutine c_quick_exit(status) bind(C, name='_exit')
+      import :: c_int
+      integer(c_int), value :: status
+    end subroutine c_quick_exit
   end interface
 
   type(deck_t) :: deck
@@ -148,6 +153,16 @@ program paradyn_engine
     end if
   end do
   run%peak_memory_mb = largest_peak_memory_mb()
+  if (results_failed(results)) then
+    ! HDF5 cannot close a file it cannot flush, and its clean-up at MPI_Finalize then crashes: the
+    ! file holds what was written before (complete = 0), so end here with the failure status
+    if (rank == 0) write (0, '(a)') 'paradyn-engine: error: cannot write '//trim(results_path)// &
+      ': the disk is full or the file system failed; the results file holds at most what was written '// &
+      'before (complete = 0; it may not open); free space and rerun (or --restart from the last checkpoint)'
+    flush (0)
+    flush (6)
+    call c_quick_exit(int(status_failure, c_int))
+  end if
   call results_finish(results, run, status == status_ok)
   if (status /= status_ok) call fail(status, trim(message))
   if (rank == 0) then

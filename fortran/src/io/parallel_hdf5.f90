@@ -132,7 +132,8 @@ contains
   !> or, with frame > 0, into entry `frame` of the growing dataset [fixed, frames], extended
   !> first. frame_is_row: fixed ends with a dummy 1 and the frame itself is the row (scalars).
   !> n_frames: entries frame .. frame + n_frames - 1 at once (values frame after frame).
-  subroutine write_rows(file, transfer, name, fixed, runs, frame, real_values, int_values, frame_is_row, n_frames)
+  subroutine write_rows(file, transfer, name, fixed, runs, frame, real_values, int_values, frame_is_row, n_frames, &
+                        failed)
     integer(hid_t), intent(in) :: file, transfer
     character(len=*), intent(in) :: name
     integer(hsize_t), intent(in) :: fixed(:)
@@ -142,6 +143,7 @@ contains
     integer, intent(in), optional :: int_values(:)
     logical, intent(in), optional :: frame_is_row
     integer, intent(in), optional :: n_frames
+    logical, intent(inout), optional :: failed   !< set when HDF5 reports a failed write (a full disk)
     integer(hid_t) :: dset, filespace, memspace
     integer(hsize_t) :: dims(size(fixed) + 1), n_values(1)
     integer :: err, nd, count
@@ -155,6 +157,7 @@ contains
     if (frame > 0) dims(nd) = int(frame + count - 1, hsize_t)
     call h5dopen_f(file, name, dset, err)
     if (frame > 0) call h5dset_extent_f(dset, dims(1:nd), err)
+    if (err /= 0 .and. present(failed)) failed = .true.
     call h5dget_space_f(dset, filespace, err)
     call select_rows(filespace, dims(1:nd), size(fixed), runs, frame, n_values(1), count)
     memspace = memory_space(dims(1:nd), size(fixed), runs, frame, count, n_values(1))
@@ -163,6 +166,7 @@ contains
     else
       call h5dwrite_f(dset, H5T_NATIVE_INTEGER, int_values, n_values, err, memspace, filespace, transfer)
     end if
+    if (err /= 0 .and. present(failed)) failed = .true.
     call h5sclose_f(memspace, err)
     call h5sclose_f(filespace, err)
     call h5dclose_f(dset, err)

@@ -7,7 +7,7 @@
 !> call here is collective over the communicator.
 module results_writer
   use hdf5
-  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Bcast, MPI_LOGICAL, MPI_Wtime
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Bcast, MPI_Allreduce, MPI_LOGICAL, MPI_LOR, MPI_Wtime
   use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: status_ok, status_failure, n_history_scalars, history_scalar_names, &
                             frame_field_names
@@ -20,7 +20,7 @@ module results_writer
   implicit none
   private
   public :: results_file_t, results_create, results_reopen, results_write_frame, results_write_history
-  public :: results_finish, results_flush, run_record_t
+  public :: results_finish, results_flush, run_record_t, results_failed
 
   integer, parameter :: history_batch = 64   !< history records written in one collective write
   !> Wall seconds between flushes at frames: a flush syncs the file to disk, which cost more than
@@ -39,6 +39,7 @@ module results_writer
     logical :: root = .false.                   !< this rank writes the history
     type(MPI_Comm) :: comm
     real(wp) :: last_flush = 0                  !< MPI_Wtime of the last flush (rank 0's decides)
+    logical :: failed = .false.                 !< a write or flush failed on this rank (a full disk)
     type(row_runs_t) :: nodes, elements, tracked
   end type results_file_t
 
@@ -169,15 +170,15 @@ contains
     rf%frames = rf%frames + 1
     call append_root(rf, '/frames/time', [time], [integer(hsize_t) ::], rf%frames)
     call write_rows(rf%file, rf%transfer, '/frames/displacement', [3_hsize_t, nn], rf%nodes, rf%frames, &
-                    real_values=reshape(displacement, [size(displacement)]))
+                    real_values=reshape(displacement, [size(displacement)]), failed=rf%failed)
     call write_rows(rf%file, rf%transfer, '/frames/velocity', [3_hsize_t, nn], rf%nodes, rf%frames, &
-                    real_values=reshape(velocity, [size(velocity)]))
+                    real_values=reshape(velocity, [size(velocity)]), failed=rf%failed)
     call write_rows(rf%file, rf%transfer, '/frames/element_membrane_stress', [3_hsize_t, ne], rf%elements, &
-                    rf%frames, real_values=reshape(membrane, [size(membrane)]))
+                    rf%frames, real_values=reshape(membrane, [size(membrane)]), failed=rf%failed)
     call write_rows(rf%file, rf%transfer, '/frames/element_von_mises', [ne], rf%elements, rf%frames, &
-                    real_values=von_mises)
+                    real_values=von_mises, failed=rf%failed)
     call write_rows(rf%file, rf%transfer, '/frames/element_plastic_strain', [ne], rf%elements, rf%frames, &
-                    real_values=plastic_strain)
+                    real_values=plastic_strain, failed=rf%failed)
     ! the history waits for a full batch or a flush: a write per frame cost more than the frame
     if (flush_due(rf)) call results_flush(rf)
   end subroutine results_write_frame
@@ -211,8 +212,18 @@ contains
     type(results_file_t), intent(inout) :: rf
     integer :: err
     call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
+    if (err /= 0) rf%failed = .true.
     rf%last_flush = MPI_Wtime()
   end subroutine flush_file
+
+  !> Whether a write failed on any rank since the file was opened (collective): the disk is full or
+  !> the file system failed, and the run must stop with what the file holds so far.
+  logical function results_failed(rf)
+    type(results_file_t), intent(in) :: rf
+    logical :: mine
+    mine = rf%failed
+    call MPI_Allreduce(mine, results_failed, 1, MPI_LOGICAL, MPI_LOR, rf%comm)
+  end function results_failed
 
   !> Rank 0's clock decides, so that every rank makes the same collective call.
   logical function flush_due(rf)
@@ -237,10 +248,10 @@ contains
       end do
       call write_rows(rf%file, rf%transfer, '/history/tracked_displacement', [3_hsize_t, nt], rf%tracked, &
                       first, real_values=reshape(rf%pending_tracked(1:3, :, 1:n), [3 * rf%n_tracked * n]), &
-                      n_frames=n)
+                      n_frames=n, failed=rf%failed)
       call write_rows(rf%file, rf%transfer, '/history/tracked_velocity', [3_hsize_t, nt], rf%tracked, &
                       first, real_values=reshape(rf%pending_tracked(4:6, :, 1:n), [3 * rf%n_tracked * n]), &
-                      n_frames=n)
+                      n_frames=n, failed=rf%failed)
       rf%pending = 0
     end if
   end subroutine write_pending
@@ -254,6 +265,10 @@ contains
     integer(hid_t) :: group
     integer :: err
     call results_flush(rf)
+    if (results_failed(rf)) then   ! a full disk: keep what was written, add nothing, close
+      call phdf5_close(rf%file, rf%transfer)
+      return
+    end if
     call h5gcreate_f(rf%file, 'run', group, err)
     call write_int_attribute(group, 'cycles', run%cycles)
     call write_int_attribute(group, 'ranks', run%ranks)
@@ -348,7 +363,7 @@ contains
 
   !> Appends entry `index` of a growing dataset whose whole entry rank 0 writes.
   subroutine append_root(rf, name, values, fixed, index, count)
-    type(results_file_t), intent(in) :: rf
+    type(results_file_t), intent(inout) :: rf
     character(len=*), intent(in) :: name
     real(wp), intent(in) :: values(:)
     integer(hsize_t), intent(in) :: fixed(:)
@@ -359,7 +374,7 @@ contains
     if (present(count)) n = count
     ! the entry is the single row of a dataset of shape [fixed, 1]
     call write_rows(rf%file, rf%transfer, name, [fixed, 1_hsize_t], row_runs(pack([1], rf%root)), index, &
-                    real_values=values, frame_is_row=.true., n_frames=n)
+                    real_values=values, frame_is_row=.true., n_frames=n, failed=rf%failed)
   end subroutine append_root
 
 end module results_writer

@@ -10,7 +10,7 @@ module explicit_solver
   use mpi_f08
   use omp_lib, only: omp_get_max_threads
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: status_ok, status_bad_input
+  use paradyn_schema, only: status_ok, status_bad_input, status_failure
   use paradyn_schema, only: material_j2_plasticity, effect_plastic_shells, effect_elastic_shells
   use model_deck, only: deck_t, part_properties
   use effect_table, only: effect_table_t
@@ -29,7 +29,7 @@ module explicit_solver
   use solver_state, only: solver_t
   use stop_signals, only: stop_signal_received
   use status_agreement, only: agree_on_status
-  use results_writer, only: results_file_t, run_record_t
+  use results_writer, only: results_file_t, run_record_t, results_failed
   implicit none
   private
   public :: solver_t, solver_setup, solver_run
@@ -231,6 +231,7 @@ contains
     if (frame_due .and. status == status_ok) then
       call write_frame(s, rf)
       s%clock%frame_index = next_output_index(s%clock, s%control%output_interval)
+      if (results_failed(rf)) status = status_failure   ! the engine says what failed and stops
     end if
     s%timers%output = s%timers%output + wall_clock() - t0
   end subroutine output_and_velocities
