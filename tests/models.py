@@ -11,6 +11,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+import h5py
 import numpy as np
 
 import paradyn
@@ -452,3 +453,12 @@ def segment_stiffness(mesh: geometry.Mesh, material: Material, scale: float) -> 
     diagonal = np.maximum(np.linalg.norm(d13, axis=1), np.linalg.norm(d24, axis=1))
     bulk = material.young / (3.0 * (1.0 - 2.0 * material.poisson))
     return scale * bulk * area / diagonal
+
+
+def interrupted_copy(results: Path, target: Path) -> None:
+    """A copy of a finished run's results marked as an interrupted one (complete = 0), as a run that
+    stopped at or after its checkpoint leaves them: what a restart continues (a restart over a
+    finished run is refused)."""
+    target.write_bytes(results.read_bytes())
+    with h5py.File(target, "r+") as f:
+        f.attrs["complete"] = np.int32(0)

@@ -55,11 +55,19 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
             "results": folder / "results.h5", "checkpoint": folder / "results.checkpoint.h5"}
 
 
+def _interrupted_copy(results: Path, target: Path) -> None:
+    """A copy of a finished run's results marked as an interrupted one (complete = 0), as a run that
+    stopped at or after its checkpoint leaves them: what a restart continues."""
+    shutil.copy(results, target)
+    with h5py.File(target, "r+") as f:
+        f.attrs["complete"] = np.int32(0)
+
+
 def _restart_copy(runs: dict[str, Path], name: str, ranks: int = 1, threads: int = 1) -> Path:
     """Restart from the run's checkpoint into a copy of its results (and of the checkpoint)."""
     folder = runs["folder"]
     target = folder / f"{name}.h5"
-    shutil.copy(runs["results"], target)
+    _interrupted_copy(runs["results"], target)
     shutil.copy(runs["checkpoint"], folder / f"{name}.checkpoint.h5")
     launch.run_engine(runs["deck"], target, ranks, threads, restart=True)
     return target
@@ -140,7 +148,7 @@ def test_restart_with_back_stresses_is_bitwise(tmp_path: Path) -> None:
                               _read(tmp_path / "isotropic_results.h5")["frames/displacement"])
     for ranks in (1, 2):
         target = tmp_path / f"restart_{ranks}.h5"
-        shutil.copy(tmp_path / "results.h5", target)
+        _interrupted_copy(tmp_path / "results.h5", target)
         shutil.copy(tmp_path / "results.checkpoint.h5", tmp_path / f"restart_{ranks}.checkpoint.h5")
         launch.run_engine(with_checkpoints, target, ranks, 1, restart=True)
         data = _read(target)
@@ -153,7 +161,7 @@ def test_restart_with_another_deck_is_refused(runs: dict[str, Path], tmp_path: P
     the results file untouched."""
     model = scene.build_model(scene.load_scene(ROOT / "cases" / "small_plate" / "scene.toml"))
     other = deck.write_deck(model, tmp_path / "other.h5")
-    shutil.copy(runs["results"], tmp_path / "results.h5")
+    _interrupted_copy(runs["results"], tmp_path / "results.h5")
     shutil.copy(runs["checkpoint"], tmp_path / "results.checkpoint.h5")
     before = (tmp_path / "results.h5").read_bytes()
     with pytest.raises(launch.EngineError) as error:
@@ -176,7 +184,7 @@ def test_restart_with_the_same_mesh_but_another_model_is_refused(runs: dict[str,
     model = deck.read_deck(runs["deck"])
     edit(model)
     other = deck.write_deck(model, tmp_path / "other.h5")
-    shutil.copy(runs["results"], tmp_path / "results.h5")
+    _interrupted_copy(runs["results"], tmp_path / "results.h5")
     shutil.copy(runs["checkpoint"], tmp_path / "results.checkpoint.h5")
     with pytest.raises(launch.EngineError) as error:
         launch.run_engine(other, tmp_path / "results.h5", restart=True)
@@ -192,7 +200,7 @@ def test_restart_may_change_the_output_intervals(runs: dict[str, Path], tmp_path
     model.control.history_interval = 2 * model.control.history_interval
     model.control.progress_interval = 3.0
     edited = deck.write_deck(model, tmp_path / "deck.h5")
-    shutil.copy(runs["results"], tmp_path / "results.h5")
+    _interrupted_copy(runs["results"], tmp_path / "results.h5")
     shutil.copy(runs["checkpoint"], tmp_path / "results.checkpoint.h5")
     launch.run_engine(edited, tmp_path / "results.h5", restart=True)
     with h5py.File(tmp_path / "results.h5", "r") as f:
@@ -321,3 +329,16 @@ def test_restart_with_an_edited_scene_takes_intervals_and_refuses_the_rest(tmp_p
     assert taken.returncode == 0, taken.stderr
     assert "restart takes the scene's new /control history_interval" in taken.stdout
     assert deck.read_deck(out / "deck.h5").control.history_interval == pytest.approx(4e-4)
+
+
+def test_restart_over_a_finished_run_is_refused(runs: dict[str, Path], tmp_path: Path) -> None:
+    """Issue 17: a checkpoint left from before a run finished used to be continued over the finished
+    results; now the engine refuses (status 2) and the results stay as they were."""
+    shutil.copy(runs["results"], tmp_path / "results.h5")
+    shutil.copy(runs["checkpoint"], tmp_path / "results.checkpoint.h5")
+    before = (tmp_path / "results.h5").read_bytes()
+    with pytest.raises(launch.EngineError) as error:
+        launch.run_engine(runs["deck"], tmp_path / "results.h5", restart=True)
+    assert error.value.exit_code == 2
+    assert "holds a finished run (complete = 1)" in str(error.value)
+    assert (tmp_path / "results.h5").read_bytes() == before

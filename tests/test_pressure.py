@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 import paradyn
+from models import interrupted_copy
 from paradyn import _kernels, deck, launch, scene
 
 E, NU, RHO = 200e9, 0.3, 7850.0
@@ -196,7 +197,7 @@ def test_restart_with_pressure_is_bitwise(tmp_path: Path) -> None:
     with_checkpoints = deck.write_deck(model, tmp_path / "deck.h5")
     launch.run_engine(plain, tmp_path / "reference.h5")
     launch.run_engine(with_checkpoints, tmp_path / "results.h5")
-    shutil.copy(tmp_path / "results.h5", tmp_path / "again.h5")
+    interrupted_copy(tmp_path / "results.h5", tmp_path / "again.h5")
     shutil.copy(tmp_path / "results.checkpoint.h5", tmp_path / "again.checkpoint.h5")
     launch.run_engine(with_checkpoints, tmp_path / "again.h5", 1, 1, restart=True)
     with h5py.File(tmp_path / "reference.h5", "r") as a, h5py.File(tmp_path / "again.h5", "r") as b:

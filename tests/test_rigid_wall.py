@@ -27,6 +27,7 @@ import numpy as np
 import pytest
 
 import paradyn
+from models import interrupted_copy
 from paradyn import deck, geometry, launch, scene
 
 STEEL_DENSITY = 7850.0
@@ -219,7 +220,7 @@ def test_restart_in_the_middle_of_a_bounce_is_bitwise(tmp_path: Path) -> None:
     launch.run_engine(deck_path, tmp_path / "results.h5")
     with h5py.File(tmp_path / "results.checkpoint.h5", "r") as f:
         assert f.attrs["time"] == pytest.approx(2.1e-4, rel=0.05)
-    shutil.copy(tmp_path / "results.h5", tmp_path / "restarted.h5")
+    interrupted_copy(tmp_path / "results.h5", tmp_path / "restarted.h5")
     shutil.copy(tmp_path / "results.checkpoint.h5", tmp_path / "restarted.checkpoint.h5")
     launch.run_engine(deck_path, tmp_path / "restarted.h5", restart=True)
     with h5py.File(tmp_path / "results.h5", "r") as a, h5py.File(tmp_path / "restarted.h5", "r") as b:

@@ -116,7 +116,7 @@ program paradyn_engine
       if (status == status_ok) call copy_run_names(trim(deck_path), results%file)
     end if
   end associate
-  if (status /= status_ok) call fail(status_failure, trim(message))
+  if (status /= status_ok) call fail(status, trim(message))
   ! the solver holds what the run needs from here on (its run control): release the global deck
   deck = deck_t()
   if (rank == 0) then

@@ -9,11 +9,11 @@ module results_writer
   use hdf5
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Bcast, MPI_Allreduce, MPI_LOGICAL, MPI_LOR, MPI_Wtime
   use paradyn_kinds, only: wp, i8
-  use paradyn_schema, only: status_ok, status_failure, n_history_scalars, history_scalar_names, &
+  use paradyn_schema, only: status_ok, status_failure, status_bad_input, n_history_scalars, history_scalar_names, &
                             frame_field_names
   use parallel_hdf5, only: row_runs_t, row_runs, phdf5_open, phdf5_close, create_dataset, create_growing, &
                            write_rows, truncate_growing, write_int_attribute, write_real_attribute, &
-                           write_long_attribute, write_long_array_attribute
+                           write_long_attribute, write_long_array_attribute, read_int_attribute
   use run_names, only: write_string_attribute
   use effect_table, only: effect_table_t, effect_list
   use paradyn_schema, only: n_effects, effect_names, effect_timed_with, effect_also_timed_with, effect_contact
@@ -128,7 +128,7 @@ contains
     type(results_file_t), intent(out) :: rf
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
-    integer :: err, k
+    integer :: err, k, complete
     logical :: exists
     call set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked)
     call phdf5_open(path, comm, 'append', rf%file, rf%transfer, err)
@@ -136,6 +136,15 @@ contains
       status = status_failure
       message = 'cannot open '//trim(path)//' to continue it; a restart appends to the results of the '// &
                 'interrupted run, so give the same results path'
+      return
+    end if
+    call read_int_attribute(rf%file, 'complete', complete, err)
+    if (err == 0 .and. complete == 1) then   ! a checkpoint left from before the run finished
+      call phdf5_close(rf%file, rf%transfer)
+      status = status_bad_input
+      message = trim(path)//' holds a finished run (complete = 1); a restart continues an interrupted one: '// &
+                'its checkpoint is older than the results. Run anew (paradyn-run without --restart, which '// &
+                'replaces the results) to compute it again'
       return
     end if
     call write_int_attribute(rf%file, 'complete', 0)
