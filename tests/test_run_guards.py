@@ -116,3 +116,19 @@ def test_a_checkpoint_interval_below_the_step_is_refused(tmp_path: Path) -> None
     done = _engine(path, ranks=1)
     assert done.returncode == STATUS_BAD_INPUT, done.stdout[-500:]
     assert "checkpoint_interval" in done.stderr and "is below the time step" in done.stderr
+
+
+def test_a_model_beyond_the_node_memory_is_refused_naming_the_estimate(tmp_path: Path) -> None:
+    """Issue 17, size guards: the engine estimates what a model needs per rank (every rank holds
+    the global deck) and refuses it when the ranks of a node need more than the node has
+    (PARADYN_MEMORY_MB, a batch job's share, else MemTotal); the control run below fits."""
+    path = deck.write_deck(_strip(), tmp_path / "deck.h5")
+    engine = [str(engine_path()), str(path), str(tmp_path / "results.h5")]
+    small = subprocess.run(engine, env=dict(os.environ, PARADYN_MEMORY_MB="10"), capture_output=True, text=True,
+                           timeout=60)
+    assert small.returncode == STATUS_BAD_INPUT
+    assert "the model (2 elements) on 1 rank(s) of this node needs about" in small.stderr
+    assert "more than its 10 MiB" in small.stderr
+    roomy = subprocess.run(engine, env=dict(os.environ, PARADYN_MEMORY_MB="4000"), capture_output=True, text=True,
+                           timeout=60)
+    assert roomy.returncode == 0, roomy.stderr

@@ -21,6 +21,7 @@ program paradyn_engine
   use run_names, only: copy_run_names
   use deck_effects, only: effects_of_deck
   use effect_table, only: effect_table_t, effect_list
+  use machine_memory, only: node_memory_mb, deck_memory_mb, proc_kib
   implicit none
 
   interface
@@ -99,6 +100,7 @@ program paradyn_engine
   ! every rank reads and checks the deck; all reach the same verdict
   call read_deck(trim(deck_path), deck, status, message)
   if (status /= status_ok) call fail(status_bad_input, trim(deck_path)//': '//trim(message))
+  call check_memory(deck%n_elements, deck%n_nodes)
   call effects_of_deck(deck, effects)   ! what the deck declares; the scene's switched-off effects go
   call solver_setup(solver, deck, effects, comm, status, message)
   if (status /= status_ok) call fail(status, trim(message))
@@ -174,26 +176,31 @@ program paradyn_engine
 
 contains
 
+  !> Refuses a model whose memory estimate, times the ranks on this node, is beyond the node's
+  !> memory (every rank holds the global deck), naming the estimate.
+  subroutine check_memory(n_elements, n_nodes)
+    integer, intent(in) :: n_elements, n_nodes
+    type(MPI_Comm) :: node
+    integer :: ranks_here
+    real(wp) :: need_mb, have_mb
+    character(len=256) :: text
+    call MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, node)
+    call MPI_Comm_size(node, ranks_here)
+    call MPI_Comm_free(node)
+    need_mb = ranks_here * deck_memory_mb(n_elements, n_nodes)
+    have_mb = node_memory_mb()
+    if (have_mb <= 0.0_wp .or. need_mb <= have_mb) return
+    write (text, '(a,i0,a,i0,a,i0,a,i0,a)') 'the model (', n_elements, ' elements) on ', ranks_here, &
+      ' rank(s) of this node needs about ', nint(need_mb), ' MiB, more than its ', nint(have_mb), &
+      ' MiB (PARADYN_MEMORY_MB, else MemTotal)'
+    call fail(status_bad_input, trim(text)//'; use fewer ranks per node, more nodes, or a coarser mesh')
+  end subroutine check_memory
+
   !> The largest peak resident set (VmHWM of /proc/self/status) over the ranks, in MiB; 0 where
   !> the system does not report it.
   real(wp) function largest_peak_memory_mb() result(largest)
-    character(len=256) :: line
     real(wp) :: mine
-    integer :: unit, io, kib
-    mine = 0
-    open (newunit=unit, file='/proc/self/status', action='read', status='old', iostat=io)
-    if (io == 0) then
-      do
-        read (unit, '(a)', iostat=io) line
-        if (io /= 0) exit
-        if (line(1:6) == 'VmHWM:') then
-          read (line(7:), *, iostat=io) kib
-          if (io == 0) mine = kib / 1024.0_wp
-          exit
-        end if
-      end do
-      close (unit)
-    end if
+    mine = proc_kib('/proc/self/status', 'VmHWM:') / 1024.0_wp
     call MPI_Allreduce(mine, largest, 1, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
   end function largest_peak_memory_mb
 
