@@ -12,7 +12,7 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import deck, geometry
+from paradyn import deck, geometry, scene
 from paradyn._schema import STATUS_BAD_INPUT
 from paradyn.launch import current_machine, engine_path
 from paradyn.runners import MpirunRunner
@@ -132,3 +132,46 @@ def test_a_model_beyond_the_node_memory_is_refused_naming_the_estimate(tmp_path:
     roomy = subprocess.run(engine, env=dict(os.environ, PARADYN_MEMORY_MB="4000"), capture_output=True, text=True,
                            timeout=60)
     assert roomy.returncode == 0, roomy.stderr
+
+
+PIPE_WHIP = Path(__file__).resolve().parents[1] / "cases" / "pipe_whip" / "scene.toml"
+
+
+@pytest.mark.parametrize("lowered, refused", [(0.11, True), (0.0, False)])
+def test_contact_parts_that_cross_at_the_start_are_refused(tmp_path: Path, lowered: float, refused: bool) -> None:
+    """Issue 17: the pipe whip's upper pipe lowered by 0.11 m crosses the lower pipe; contact used
+    to never engage (the nodes are past the surface, beyond the search), a silent wrong answer.
+    Now refused before the run, naming the pair and where; the paper's scene (3.1 mm apart) runs."""
+    model = scene.build_model(scene.load_scene(PIPE_WHIP))
+    upper = np.unique(model.connectivity[model.element_part == 1])
+    model.coordinates[upper, 2] -= lowered
+    model.control.end_time = 2e-6   # a step or two: only the set-up matters here
+    model.control.output_interval = 1e-6
+    path = deck.write_deck(model, tmp_path / "deck.h5")
+    done = _engine(path, ranks=1)
+    if refused:
+        assert done.returncode == STATUS_BAD_INPUT, done.stdout[-500:]
+        assert "the parts of /contact/pairs[0] cross at the start" in done.stderr
+        assert "move the parts apart" in done.stderr
+    else:
+        assert done.returncode == 0, done.stderr
+
+
+def test_a_plate_through_a_plate_is_refused_both_ways(tmp_path: Path) -> None:
+    """A small plate standing through the middle of a large one: its sides pierce the large plate's
+    elements (checked in both directions, so the order of the pair does not matter)."""
+    flat = geometry.plate((0.1, 0.1), (2, 2))
+    upright = geometry.plate((0.02, 0.02), (1, 1), origin=(0.01, 0.03, -0.01), u_axis=(1.0, 0.0, 0.0),
+                             v_axis=(0.0, 0.0, 1.0))
+    for first, second in ((flat, upright), (upright, flat)):
+        coordinates = np.vstack([first.coordinates, second.coordinates])
+        quads = np.vstack([first.quads, second.quads + first.n_nodes])
+        parts = np.r_[np.zeros(first.n_elements, np.int32), np.ones(second.n_elements, np.int32)]
+        model = deck.Model(
+            coordinates=coordinates, connectivity=quads, element_part=parts, thickness=np.array([0.001, 0.001]),
+            part_material=np.array([0, 0]), material_model=np.array([1]), density=np.array([7860.0]),
+            youngs_modulus=np.array([200e9]), poisson_ratio=np.array([0.3]), contact_pairs=np.array([[0, 1]]),
+            control=deck.Control(end_time=2e-6, output_interval=1e-6))
+        path = deck.write_deck(model, tmp_path / "deck.h5")
+        done = _engine(path, ranks=1)
+        assert done.returncode == STATUS_BAD_INPUT and "cross at the start" in done.stderr

@@ -29,6 +29,7 @@ module explicit_solver
   use solver_state, only: solver_t
   use stop_signals, only: stop_signal_received
   use status_agreement, only: agree_on_status
+  use surface_overlap, only: first_crossing
   use results_writer, only: results_file_t, run_record_t, results_failed
   implicit none
   private
@@ -85,6 +86,7 @@ contains
     call MPI_Allreduce(dt_local, dt_min, 1, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
     call clock_setup(s%clock, dt_min, deck%time_step_safety, deck%time_step, deck%end_time, too_large)
     if (status == status_ok) call check_step(s%clock, deck, status, message)
+    if (status == status_ok) call check_contact_overlap(deck, status, message)
     call agree_on_status(comm, status, message)   ! one rank's verdict stops all of them
     if (status /= status_ok) return
     if (too_large .and. s%rank == 0) then
@@ -128,6 +130,31 @@ contains
         'use a smaller mass_damping (dynamic relaxation needs about twice the lowest natural frequency)'
     end if
   end subroutine check_step
+
+  !> Refuses a contact pair whose mid-surfaces cross at the start (surface_overlap): its nodes are
+  !> past the surface they should meet, and contact would never engage (issue 17).
+  subroutine check_contact_overlap(deck, status, message)
+    type(deck_t), intent(in) :: deck
+    integer, intent(inout) :: status
+    character(len=*), intent(inout) :: message
+    integer :: j, k, side, element_a, element_b, part(2)
+    real(wp) :: point(3)
+    do k = 1, deck%n_contacts
+      do side = 1, 2   ! a small element of one part may poke through the middle of a large one of the other
+        part = deck%contact_pairs(:, k)
+        if (side == 2) part = part([2, 1])
+        call first_crossing(deck%coordinates, deck%connectivity(:, pack([(j, j = 1, deck%n_elements)], &
+                            deck%element_part == part(1))), deck%connectivity(:, pack([(j, j = 1, &
+                            deck%n_elements)], deck%element_part == part(2))), element_a, element_b, point)
+        if (element_a == 0) cycle
+        status = status_bad_input
+        write (message, '(a,i0,a,i0,a,3es11.3,a)') 'the parts of /contact/pairs[', k - 1, '] cross at the start (part ', &
+          part(1) - 1, ' passes through the other near', point, '); contact would never engage: move the parts '// &
+          'apart so that their surfaces do not intersect'
+        return
+      end do
+    end do
+  end subroutine check_contact_overlap
 
   !> The time loop, from where the solver stands (the start, a pause, or a restored checkpoint)
   !> to the end time (s%finished), or until a pause: at the first step at or after pause_time, or
