@@ -112,3 +112,14 @@ def test_a_full_disk_ends_the_run_with_status_1_and_a_message(tiny_disk: Path) -
     assert done.returncode == STATUS_FAILURE, done.stderr[-2000:]
     assert "cannot write" in done.stderr and "the disk is full" in done.stderr
     assert "PARADYN-DONE" not in done.stdout and "Segmentation fault" not in done.stderr
+
+
+def test_paradyn_run_on_a_full_disk_exits_1_with_a_message(tiny_disk: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The whole path: paradyn-run writes its deck, the engine fills the disk with the results and
+    stops with status 1; paradyn-run exits 1 with the engine's message, no traceback."""
+    (tiny_disk / "filler").write_bytes(b"\0" * (300 * 1024 - 80 * 1024))
+    status = cli.main([str(SMALL_PLATE), "-o", str(tiny_disk / "run"), "-n", "1", "-t", "1", "-q", "--no-plots",
+                       "--no-vtk"])
+    err = capsys.readouterr().err
+    assert status == STATUS_FAILURE, err
+    assert "cannot write" in err and "Traceback" not in err

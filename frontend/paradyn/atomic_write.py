@@ -38,6 +38,9 @@ def replacing(path: str | Path) -> Iterator[Path]:
         yield temporary
         os.chmod(temporary, FILE_MODE)
         os.replace(temporary, path)
+    except OSError as error:   # a full disk, say: name the file the user asked for, not the temporary
+        temporary.unlink(missing_ok=True)
+        raise OSError(error.errno, f"cannot write {path} ({error.strerror or error})", str(path)) from error
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise

@@ -108,7 +108,8 @@ def main(argv: list[str] | None = None) -> int:
     except (scene.SceneError, deck.DeckError, ValueError) as error:
         return _error(error, STATUS_BAD_INPUT)
     except OSError as error:   # a disk that fills or a file system that fails while writing the outputs
-        return _error(error, STATUS_FAILURE)
+        return _error(OSError(f"{error.strerror or error}; free space (or fix the file system) and rerun"),
+                      STATUS_FAILURE)
     if isinstance(outcome, workflow.BatchJob):
         print(f"paradyn-run: wrote {outcome.script}; submit it with: sbatch {outcome.script}")
         return STATUS_OK

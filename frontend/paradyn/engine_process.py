@@ -9,6 +9,7 @@ and decides success: the exit status plus the final ``PARADYN-DONE`` line (docs/
 
 from __future__ import annotations
 
+import errno
 import os
 import re
 import signal
@@ -93,7 +94,7 @@ def follow_engine(
     run = EngineRun(command=command, exit_code=-1, log_path=log_path)
     errors: list[str] = []
     started = time.perf_counter()
-    with open(log_path or os.devnull, "w") as log, subprocess.Popen(
+    with EngineLog(log_path) as log, subprocess.Popen(
         command, cwd=folder, env=environment, stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT, text=True, bufsize=1, start_new_session=True,
     ) as process:
@@ -108,9 +109,47 @@ def follow_engine(
     if run.exit_code != STATUS_OK or not run.done:
         message = "; ".join(e for e in errors if "error" in e) or (
             f"the engine stopped with status {run.exit_code} without finishing"
-            + (f"; see {log_path}" if log_path else ""))
-        raise EngineError(message, run.exit_code or STATUS_FAILURE)
+            + (f"; see {log_path}" if log_path and not log.error else ""))
+        raise EngineError(message + (f" ({log.error})" if log.error else ""), run.exit_code or STATUS_FAILURE)
+    if log.error:   # the run finished; only its log is short
+        raise OSError(errno.ENOSPC if "space" in log.error else errno.EIO, log.error, str(log_path))
     return run
+
+
+class EngineLog:
+    """engine.log, written line by line; a disk that fills stops the log, not the run (the engine's
+    own status then says what happened to the results), and the failure is kept in ``error``."""
+
+    def __init__(self, path: Path | None) -> None:
+        self.path, self.error = path, ""
+        self.stream: TextIO | None = None
+        try:
+            self.stream = open(path or os.devnull, "w")  # noqa: SIM115 - closed in __exit__
+        except OSError as error:
+            self.error = f"cannot write {path} ({error.strerror})"
+
+    def write(self, line: str) -> None:
+        if self.stream is None:
+            return
+        try:
+            self.stream.write(line)
+        except OSError as error:
+            self.error = f"cannot write {self.path} ({error.strerror})"
+            self.close()
+
+    def close(self) -> None:
+        stream, self.stream = self.stream, None
+        if stream is not None:
+            try:
+                stream.close()
+            except OSError as error:
+                self.error = f"cannot write {self.path} ({error.strerror})"
+
+    def __enter__(self) -> EngineLog:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
 
 def _forward_stop_signals(process: subprocess.Popen) -> dict[int, Any]:
@@ -147,7 +186,7 @@ def _take_line(run: EngineRun, line: str, errors: list[str],
                              float(fields["end_time"]), float(fields["wall_s"])))
 
 
-def _read_until_done(process: subprocess.Popen, run: EngineRun, log: TextIO, errors: list[str],
+def _read_until_done(process: subprocess.Popen, run: EngineRun, log: EngineLog, errors: list[str],
                      on_progress: Callable[[Progress], None] | None) -> None:
     """Log and take every output line of the engine until it exits. On Ctrl-C, ask the engine to
     checkpoint and stop (SIGUSR1), and keep reading until it has; a second Ctrl-C gives up.
