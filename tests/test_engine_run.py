@@ -101,6 +101,9 @@ def test_small_plate_summary_has_every_key(plate_run: Path, plate_summary: dict)
     assert [row["name"] for row in s["effects"]] == ["point_loads", "time_integration", "fixed_boundaries",
                                                      "elastic_shells", "hourglass"]
     assert all(row["active_cycles"] == s["cycles"] and row["skipped_cycles"] == 0 for row in s["effects"])
+    # no contact: no penetration indicator; the step is at most the stable one
+    assert s["accuracy"]["peak_penetration_over_thickness"] is None
+    assert 0 < s["accuracy"]["dt_over_stable_dt"] <= 1.0
 
 
 def test_small_plate_initial_kinetic_energy_is_exact(plate_run: Path, plate_summary: dict) -> None:
@@ -244,6 +247,12 @@ def test_pipe_whip_contact_slows_the_upper_pipe_and_bends_the_lower(pipe_run: Pa
     assert gap.min() > 0.9 * 0.003
     summary = json.loads((pipe_run / "summary.json").read_text())
     assert summary["energy"]["balance_error"] < 0.02
+    accuracy = summary["accuracy"]   # issue 16: the run's own accuracy indicators
+    assert accuracy["energy_balance_error"] == summary["energy"]["balance_error"]
+    assert accuracy["peak_penetration_over_thickness"] == pytest.approx(history["contact_penetration"].max() / 0.003)
+    assert 0 < accuracy["peak_contact_over_internal"] < 1 and 0 < accuracy["peak_hourglass_over_internal"] < 1
+    assert accuracy["dt_over_stable_dt"] == pytest.approx(summary["dt_s"] / summary["dt_stable_s"])
+    assert accuracy["added_mass_fraction"] == 0.0
     assert "contact" in [row["name"] for row in summary["effects"]]
     assert summary["phase_s"]["contact"] > 0 and summary["contact_phase_s"]["search"] > 0
 

@@ -77,6 +77,47 @@ def energy_report(results: Results) -> dict[str, Any]:
     }
 
 
+def accuracy_indicators(results: Results) -> dict[str, Any]:
+    """What a run's own records say about its accuracy (issue 16), each None where the run has no
+    record of it:
+
+    - ``energy_balance_error``: as ``energy.balance_error``;
+    - ``peak_hourglass_over_internal``: the largest hourglass energy over the largest internal
+      energy (LS-DYNA's rule of thumb: below 0.1, and 0.05 is asked of ParaDyn's element);
+    - ``peak_penetration_over_thickness``: the deepest contact penetration over the thinnest shell
+      in a contact pair (the deck's thicknesses; None without contact or without the deck);
+    - ``dt_over_stable_dt``: the step used over the mesh's stable step (safety factor included);
+    - ``added_mass_fraction``: mass added to reach a time step (0: ParaDyn adds none today);
+    - ``peak_contact_over_internal``: the largest contact energy over the largest internal energy.
+    """
+    h, run = results.history, results.run
+    indicators: dict[str, Any] = {"energy_balance_error": energy_report(results)["balance_error"],
+                                  "peak_hourglass_over_internal": None, "peak_penetration_over_thickness": None,
+                                  "dt_over_stable_dt": None, "added_mass_fraction": 0.0,
+                                  "peak_contact_over_internal": None}
+    if run.get("dt_s") and run.get("dt_stable_s"):
+        indicators["dt_over_stable_dt"] = _finite(float(run["dt_s"]) / float(run["dt_stable_s"]))
+    if results.n_records:
+        peak_internal = float(np.max(h["internal_energy"]))
+        if peak_internal > 0:
+            indicators["peak_hourglass_over_internal"] = _finite(float(np.max(h["hourglass_energy"])) / peak_internal)
+            indicators["peak_contact_over_internal"] = _finite(float(np.max(h["contact_energy"])) / peak_internal)
+        indicators["peak_penetration_over_thickness"] = _penetration_over_thickness(results)
+    return indicators
+
+
+def _penetration_over_thickness(results: Results) -> float | None:
+    if results.deck_path is None or not Path(results.deck_path).is_file():
+        return None
+    from . import deck  # the deck reader is needed for the thicknesses only
+
+    model = deck.read_deck(results.deck_path)
+    if not model.n_contacts:
+        return None
+    thinnest = float(np.min(np.asarray(model.thickness)[np.asarray(model.contact_pairs).ravel()]))
+    return _finite(float(np.max(results.history["contact_penetration"])) / thinnest)
+
+
 def _finite(x: float) -> float | None:
     return float(x) if math.isfinite(x) else None
 
@@ -119,6 +160,7 @@ def write_summary(
         "history_records": results.n_records,
         "parts": list(results.part_names),
         "energy": energy_report(results),
+        "accuracy": accuracy_indicators(results),
         "effects": [_effect_row(row) for row in results.effect_table],
     }
     if extra:
