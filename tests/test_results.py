@@ -400,3 +400,21 @@ def test_pngs(synthetic: Synthetic, tmp_path: Path) -> None:
         plots.plot_tracked_histories(r, tmp_path / "x.png", component="dw")
     with pytest.raises(ValueError, match="no field 'stress'"):
         plots.render_deformed(r, tmp_path / "x.png", scalars="stress")
+
+
+def test_accuracy_line_warns_above_its_thresholds(synthetic: Synthetic) -> None:
+    """Issue 15, guards a person sees: the synthetic run loses 5 % of its energy (balance error 0.05,
+    above 0.01) and keeps its hourglass at 5/90 of internal (below 0.1): one warning, for the
+    balance; the line shows every indicator the run has."""
+    from paradyn.reports import WARN_ABOVE, accuracy_indicators, accuracy_text
+
+    results = read(synthetic.results)
+    indicators = accuracy_indicators(results)
+    assert indicators["energy_balance_error"] == pytest.approx(0.05)
+    assert indicators["peak_hourglass_over_internal"] == pytest.approx(5.0 / 90.0)
+    text = accuracy_text(results)
+    lines = text.splitlines()
+    assert lines[0].startswith("  accuracy: energy balance error 0.05, peak hourglass / internal 0.0556")
+    warnings = [line for line in lines if "warning:" in line]
+    assert warnings == ["  warning: energy balance error is 0.05, above 0.01; see docs/outputs.md, accuracy"]
+    assert WARN_ABOVE["peak_hourglass_over_internal"] == 0.10

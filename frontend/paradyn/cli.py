@@ -9,7 +9,7 @@ from pathlib import Path
 from . import deck, launch, reading, scene, workflow
 from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_OK
 from .postprocess import post_process
-from .reports import effect_table_text
+from .reports import accuracy_text, effect_table_text
 
 DESCRIPTION = """\
 Run a ParaDyn scene end to end.
@@ -117,6 +117,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"paradyn-run: {done.get('cycles')} cycles in {float(done.get('wall_s', 'nan')):.2f} s "
           f"({float(done.get('element_cycles_per_s', 'nan')):.3e} element-cycles/s); effects:")
     print(effect_table_text(outcome))
+    print(accuracy_text(outcome))
     _print_outputs(outcome.outputs)
     return STATUS_OK
 

@@ -106,6 +106,27 @@ def accuracy_indicators(results: Results) -> dict[str, Any]:
     return indicators
 
 
+# Thresholds of the accuracy line paradyn-run prints (issue 15, guards a person sees): a crossing
+# gets its own warning line.
+WARN_ABOVE = {"energy_balance_error": 0.01, "peak_hourglass_over_internal": 0.10,
+              "peak_penetration_over_thickness": 0.20}
+_LABELS = {"energy_balance_error": "energy balance error", "peak_hourglass_over_internal": "peak hourglass / internal",
+           "peak_penetration_over_thickness": "deepest penetration / thickness", "dt_over_stable_dt": "dt / stable dt",
+           "added_mass_fraction": "added mass", "peak_contact_over_internal": "peak contact / internal"}
+
+
+def accuracy_text(results: Results) -> str:
+    """One line of the accuracy indicators, then a warning line per threshold crossed (WARN_ABOVE)."""
+    indicators = accuracy_indicators(results)
+    shown = [f"{_LABELS[k]} {v:.3g}" for k, v in indicators.items() if v is not None]
+    lines = ["  accuracy: " + ", ".join(shown)]
+    for key, limit in WARN_ABOVE.items():
+        value = indicators[key]
+        if value is not None and value > limit:
+            lines.append(f"  warning: {_LABELS[key]} is {value:.3g}, above {limit:g}; see docs/outputs.md, accuracy")
+    return "\n".join(lines)
+
+
 def _penetration_over_thickness(results: Results) -> float | None:
     if results.deck_path is None or not Path(results.deck_path).is_file():
         return None
@@ -186,8 +207,8 @@ def effect_table_text(results: Results) -> str:
         wall = f"(in {row.timed_with})" if row.timed_with else f"{row.wall_s:9.3f}"
         lines.append(f"  {row.name:20s} {row.state:5s} {row.active_cycles:10d} {row.skipped_cycles:10d} {wall:>9s}")
         for pair in row.pairs:
-            label = "  " + " / ".join(pair["parts"])
-            lines.append(f"  {label[:20]:20s} {'':5s} {pair['active_cycles']:10d} {pair['skipped_cycles']:10d}")
+            label = "  " + " / ".join(pair["parts"])   # a long pair of names pushes the counts right
+            lines.append(f"  {label:20s} {'':5s} {pair['active_cycles']:10d} {pair['skipped_cycles']:10d}")
     return "\n".join(lines)
 
 
