@@ -175,3 +175,27 @@ def test_a_plate_through_a_plate_is_refused_both_ways(tmp_path: Path) -> None:
         path = deck.write_deck(model, tmp_path / "deck.h5")
         done = _engine(path, ranks=1)
         assert done.returncode == STATUS_BAD_INPUT and "cross at the start" in done.stderr
+
+
+def test_an_energy_error_past_the_limit_stops_the_run(tmp_path: Path) -> None:
+    """Issue 15, guards: /control energy_error_limit stops a run whose energy balance error passes
+    it (status 3, the results so far kept, a diagnosis), as LS-DYNA's energy ratio termination. A
+    small plate keeps its energy to a small error: the run without a limit finishes, and the same
+    run with a limit a thousand times below its own final error stops."""
+    model = scene.build_model(scene.load_scene(PIPE_WHIP.parent.parent / "small_plate" / "scene.toml"))
+    path = deck.write_deck(model, tmp_path / "deck.h5")
+    free = _engine(path, ranks=1)
+    assert free.returncode == 0, free.stderr
+    with h5py.File(path.with_name("results.h5")) as f:
+        h = f["history"]
+        total = h["kinetic_energy"][()] + h["internal_energy"][()] + h["hourglass_energy"][()] - h["external_work"][()]
+        scale = max(h["kinetic_energy"][()].max(), h["internal_energy"][()].max(), np.abs(h["external_work"][()]).max())
+        error = abs(total[-1] - total[0]) / scale
+    assert 0 < error < 1e-2
+    limited = deck.write_deck(replace(model, control=replace(model.control, energy_error_limit=error / 1e3)),
+                              tmp_path / "limited.h5")
+    done = _engine(limited, ranks=1)
+    assert done.returncode == 3, done.stdout[-400:]
+    assert "the energy balance error reached" in done.stderr and "energy_error_limit" in done.stderr
+    with h5py.File(limited.with_name("results.h5")) as f:
+        assert int(f.attrs["complete"]) == 0 and f["history/time"].shape[0] >= 1

@@ -541,6 +541,15 @@ CONTROL: tuple[AttributeSpec, ...] = (
         'give the acceleration in m/s^2, or 0 for none',
     ),
     AttributeSpec(
+        'energy_error_limit', 'float', False, 0.0, None, None, Bound(0.0, True), None, 'must be >= 0', None, '',
+        '-',
+        (
+            'stop the run (status 3, the results so far kept) once the energy balance error |E_total - '
+            'E_total(0)| / max(max KE, max IE, max |W_ext|) over the history records exceeds this fraction, as '
+            "LS-DYNA's energy ratio termination; 0 = never"
+        ), '[run] energy_error_limit', 'give a fraction such as 0.05, or 0 for no limit',
+    ),
+    AttributeSpec(
         'effect_point_loads', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
         '-', '"off" switches off point_loads: nodal forces and moments growing linearly over a ramp time',
         '[effects] point_loads', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
@@ -666,6 +675,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('control', 'gravity_x'): ('class', 'finite'),
     ('control', 'gravity_y'): ('class', 'finite'),
     ('control', 'gravity_z'): ('class', 'finite'),
+    ('control', 'energy_error_limit'): ('class', 'lower', 'finite'),
     ('control', 'effect_point_loads'): ('class', 'enum'),
     ('control', 'effect_gravity'): ('class', 'enum'),
     ('control', 'effect_pressure'): ('class', 'enum'),

@@ -60,6 +60,7 @@ class Control:
     gravity_x: float = _number_default("gravity_x")   # body acceleration m/s^2 (scene [run] gravity)
     gravity_y: float = _number_default("gravity_y")
     gravity_z: float = _number_default("gravity_z")
+    energy_error_limit: float = _number_default("energy_error_limit")   # stop past this balance error, 0 = never
 
     REQUIRED = tuple(a.name for a in CONTROL if a.required)
     OPTIONAL = tuple(a.name for a in CONTROL if not a.required and a.type == "float")

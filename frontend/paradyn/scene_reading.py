@@ -58,7 +58,7 @@ _TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "trac
              "curve", "pressure", "prescribe")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
-             "contact_gather", "gravity")
+             "contact_gather", "gravity", "energy_error_limit")
 _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
                   "tangent_modulus", "hardening_mixing")
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
@@ -144,6 +144,8 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
                                         default=int(RunSettings.contact_sort_interval), minimum=0),
         checkpoint_interval=r.number(t, "checkpoint_interval", label, default=RunSettings.checkpoint_interval,
                                      minimum=0.0),
+        energy_error_limit=r.number(t, "energy_error_limit", label, default=RunSettings.energy_error_limit,
+                                    minimum=0.0),
         partition=(r.string(t, "partition", label, choices=tuple(deck.PARTITIONS)) if "partition" in t
                    else None),
         contact_gather=(r.string(t, "contact_gather", label, choices=tuple(_schema.ENUMS["contact_gather"]))

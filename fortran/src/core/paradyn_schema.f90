@@ -36,8 +36,8 @@ module paradyn_schema
       n_deck_datasets, control_end_time, control_output_interval, control_history_interval, &
       control_time_step, control_time_step_safety, control_mass_damping, control_progress_interval, &
       control_contact_sort_interval, control_checkpoint_interval, control_partition, control_contact_gather, &
-      control_gravity_x, control_gravity_y, control_gravity_z, control_effect_point_loads, &
-      control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
+      control_gravity_x, control_gravity_y, control_gravity_z, control_energy_error_limit, &
+      control_effect_point_loads, control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
       control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
       control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
       control_restart_may_change, max_enum_members, n_effects, effect_point_loads, effect_gravity, &
@@ -186,20 +186,21 @@ module paradyn_schema
   integer, parameter :: control_gravity_x = 12
   integer, parameter :: control_gravity_y = 13
   integer, parameter :: control_gravity_z = 14
-  integer, parameter :: control_effect_point_loads = 15
-  integer, parameter :: control_effect_gravity = 16
-  integer, parameter :: control_effect_pressure = 17
-  integer, parameter :: control_effect_rigid_wall = 18
-  integer, parameter :: control_effect_mass_damping = 19
-  integer, parameter :: control_effect_prescribed_velocity = 20
-  integer, parameter :: control_effect_plasticity = 21
-  integer, parameter :: control_effect_hourglass = 22
-  integer, parameter :: control_effect_contact = 23
-  integer, parameter :: control_effect_friction = 24
-  integer, parameter :: n_control_attributes = 24
+  integer, parameter :: control_energy_error_limit = 15
+  integer, parameter :: control_effect_point_loads = 16
+  integer, parameter :: control_effect_gravity = 17
+  integer, parameter :: control_effect_pressure = 18
+  integer, parameter :: control_effect_rigid_wall = 19
+  integer, parameter :: control_effect_mass_damping = 20
+  integer, parameter :: control_effect_prescribed_velocity = 21
+  integer, parameter :: control_effect_plasticity = 22
+  integer, parameter :: control_effect_hourglass = 23
+  integer, parameter :: control_effect_contact = 24
+  integer, parameter :: control_effect_friction = 25
+  integer, parameter :: n_control_attributes = 25
   logical, parameter :: control_restart_may_change(n_control_attributes) = [.false., .true., .true., .false., &
     .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .false., &
-    .false., .false., .false., .false., .false., .false., .false., .false.]
+    .false., .false., .false., .false., .false., .false., .false., .false., .false.]
   integer, parameter :: max_enum_members = 2
 
   ! effects of a step (schema/effects.toml), in the order of the step
@@ -491,6 +492,9 @@ module paradyn_schema
         0.0_wp, 0.0_wp, enum_none, '', '', 'give the acceleration in m/s^2, or 0 for none'), &
     attribute_spec_t('gravity_z', class_float, .false., 0.0_wp, 0, 0.0_wp, .false., .true., .false., .true., &
         0.0_wp, 0.0_wp, enum_none, '', '', 'give the acceleration in m/s^2, or 0 for none'), &
+    attribute_spec_t('energy_error_limit', class_float, .false., 0.0_wp, 0, 0.0_wp, .true., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_none, 'must be >= 0', '', &
+        'give a fraction such as 0.05, or 0 for no limit'), &
     attribute_spec_t('effect_point_loads', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., &
         .false., .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
         'use "on" or "off" (the scene''s [effects] table takes true or false)'), &

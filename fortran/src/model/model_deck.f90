@@ -24,7 +24,8 @@ module model_deck
                             contact_gather_near, control_contact_gather, control_end_time, &
                             control_output_interval, control_history_interval, control_time_step, &
                             control_time_step_safety, control_mass_damping, control_progress_interval, &
-                            control_contact_sort_interval, control_checkpoint_interval, n_effects, effect_switch, &
+                            control_contact_sort_interval, control_checkpoint_interval, control_energy_error_limit, &
+                            n_effects, effect_switch, &
                             switch_off, &
                             dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
                             dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
@@ -72,6 +73,7 @@ module model_deck
     real(wp) :: progress_interval = 0.5_wp
     integer :: contact_sort_interval = 0              !< cycles between bucket sorts, 0 = automatic
     real(wp) :: checkpoint_interval = 0.0_wp          !< simulated seconds between checkpoints, 0 = none
+    real(wp) :: energy_error_limit = 0.0_wp           !< stop once the energy balance error passes it, 0 = never
     integer :: partition = partition_default          !< partition_blocks or partition_rcb; 0 = unknown name
     integer :: contact_gather = contact_gather_near   !< which contact nodes are gathered between sorts
     logical :: effect_on(n_effects) = .true.          !< false: the scene switched the effect off (/control effect_*)
@@ -248,6 +250,8 @@ contains
       d%contact_sort_interval = nint(value)
     case (control_checkpoint_interval)
       d%checkpoint_interval = value
+    case (control_energy_error_limit)
+      d%energy_error_limit = value
     case (control_partition)
       d%partition = nint(value)
     case (control_contact_gather)

@@ -13,6 +13,7 @@ module run_control
   type :: run_control_t
     real(wp) :: end_time = 0, output_interval = 0, history_interval = 0, progress_interval = 0
     real(wp) :: mass_damping = 0, checkpoint_interval = 0
+    real(wp) :: energy_error_limit = 0       !< stop once the energy balance error passes it (0: never)
     integer :: n_nodes = 0, n_elements = 0   !< of the whole model
     integer :: max_points = 0                !< the most through-thickness points of any part
     integer :: n_tracked = 0
@@ -37,6 +38,7 @@ contains
     rc%progress_interval = deck%progress_interval
     rc%mass_damping = deck%mass_damping
     rc%checkpoint_interval = deck%checkpoint_interval
+    rc%energy_error_limit = deck%energy_error_limit
     rc%n_nodes = deck%n_nodes
     rc%n_elements = deck%n_elements
     rc%max_points = maxval(deck%integration_points)

@@ -59,11 +59,18 @@ contains
     message = ''
     bad = 0
     if (s%rank == 0) then
+      if (energy_error(s, sums) > s%control%energy_error_limit .and. s%control%energy_error_limit > 0.0_wp) bad = 3
       if (sums(inverted_at) > 0.0_wp) bad = 1
       if (sums(nan_at) > 0.0_wp .or. sums(history_kinetic_energy) /= sums(history_kinetic_energy)) bad = 2
     end if
     call MPI_Allreduce(bad, bad_total, 1, MPI_INTEGER, MPI_MAX, s%halo%comm)
-    if (bad_total == 1) then
+    if (bad_total == 3) then
+      status = status_numerical
+      write (message, '(a,es10.3,a,es10.3,a,i0,a,es12.5,a)') 'the energy balance error reached ', &
+        energy_error(s, sums), ' (over /control energy_error_limit = ', s%control%energy_error_limit, &
+        ') by cycle ', s%clock%cycles, ', time ', s%clock%time, ' s; see the energies in the history '// &
+        '(hourglass, contact and external work) for where it went, then reduce the time step or refine the mesh'
+    else if (bad_total == 1) then
       status = status_numerical
       write (message, '(a,i0,a,es12.5,a)') 'an element turned inside out (zero or negative area) by cycle ', &
         s%clock%cycles, ', time ', s%clock%time, ' s; reduce the time step or the loading, or refine the mesh'
@@ -73,6 +80,25 @@ contains
         s%clock%time, ' s; the run is unstable (time step too large or a bad material constant)'
     end if
   end subroutine write_record
+
+  !> Rank 0, one record: the energy balance error |E_total - E_total(first)| / the largest of KE,
+  !> IE and |W_ext| so far (docs/outputs.md, energy report; the first record of this process is
+  !> the reference, so a restart starts a new one).
+  real(wp) function energy_error(s, sums) result(error)
+    type(solver_t), intent(inout) :: s
+    real(wp), intent(in) :: sums(:)
+    real(wp) :: total
+    total = sums(history_kinetic_energy) + sums(history_internal_energy) + sums(history_hourglass_energy) &
+            + sums(history_contact_energy) - sums(history_external_work)
+    if (.not. s%have_energy_first) then
+      s%energy_first = total
+      s%have_energy_first = .true.
+    end if
+    s%energy_scale = max(s%energy_scale, sums(history_kinetic_energy), sums(history_internal_energy), &
+                         abs(sums(history_external_work)))
+    error = 0.0_wp
+    if (s%energy_scale > 0.0_wp) error = abs(total - s%energy_first) / s%energy_scale
+  end function energy_error
 
   !> Every rank writes its owned nodes and its elements into the frame (collective).
   subroutine write_frame(s, rf)

@@ -43,6 +43,10 @@ module solver_state
     real(wp), allocatable :: node_out_a(:, :), node_out_b(:, :), element_out(:, :)
     real(wp), allocatable :: tracked_out(:, :)   !< (6, n_tracked): this rank's share, summed to rank 0
     real(wp) :: external_work = 0, damping_work = 0   !< summed over this rank's owned nodes
+    ! rank 0: the total energy of the first record of this process and the largest energy since,
+    ! for the energy balance error that /control energy_error_limit watches
+    real(wp) :: energy_first = 0, energy_scale = 0
+    logical :: have_energy_first = .false.
     logical :: started = .false., finished = .false., stop_requested = .false.
     real(wp) :: wall_start = 0, last_progress = 0
   end type solver_t
