@@ -76,44 +76,42 @@ contains
   !> The constraints on the half-step velocities of the step that starts now.
   subroutine apply_constraints(s)
     type(solver_t), intent(inout) :: s
-    integer :: k
-    real(wp) :: t0
-    do k = 1, size(s%nodal_effects)
-      associate (e => s%nodal_effects(k)%effect)
-        if (.not. e%acts_at(stage_constraints)) cycle
-        if (e%idle(s%clock%time)) then
-          if (counting(s)) call effect_count(s%effects, e%id, .false.)
-          cycle
-        end if
-        if (counting(s)) call effect_count(s%effects, e%id, .true.)
-        t0 = wall_clock()
-        call e%constrain(s%nodes, s%clock%time, s%clock%dt)
-        call effect_time(s%effects, e%id, wall_clock() - t0)
-        call take_work(s, e%work)
-      end associate
-    end do
+    call run_members(s, stage_constraints, counting(s))
   end subroutine apply_constraints
 
-  !> The loads on element corners at the current positions, before the corners are exchanged.
+  !> The loads on element corners at the current positions, before the corners are exchanged (the
+  !> forces at the start are not a cycle of the count).
   subroutine apply_corner_loads(s)
     type(solver_t), intent(inout) :: s
+    call run_members(s, stage_corners, s%started)
+  end subroutine apply_corner_loads
+
+  !> The members acting at stage (constraints or corners) that are not idle, each timed, its work
+  !> taken into the external work; with count, the cycle counted as active or skipped.
+  subroutine run_members(s, stage, count)
+    type(solver_t), intent(inout) :: s
+    integer, intent(in) :: stage
+    logical, intent(in) :: count
     integer :: k
+    logical :: idle
     real(wp) :: t0
     do k = 1, size(s%nodal_effects)
       associate (e => s%nodal_effects(k)%effect)
-        if (.not. e%acts_at(stage_corners)) cycle
-        if (e%idle(s%clock%time)) then
-          if (s%started) call effect_count(s%effects, e%id, .false.)   ! the forces at the start are not a cycle
-          cycle
-        end if
-        if (s%started) call effect_count(s%effects, e%id, .true.)
+        if (.not. e%acts_at(stage)) cycle
+        idle = e%idle(s%clock%time)
+        if (count) call effect_count(s%effects, e%id, .not. idle)
+        if (idle) cycle
         t0 = wall_clock()
-        call e%add_corner_forces(s%dom%connectivity, s%nodes%x, s%clock%time, s%corner)
+        if (stage == stage_constraints) then
+          call e%constrain(s%nodes, s%clock%time, s%clock%dt)
+        else
+          call e%add_corner_forces(s%dom%connectivity, s%nodes%x, s%clock%time, s%corner)
+        end if
         call effect_time(s%effects, e%id, wall_clock() - t0)
         call take_work(s, e%work)
       end associate
     end do
-  end subroutine apply_corner_loads
+  end subroutine run_members
 
   !> Whether this call is a cycle of the count: the loop's last pass (at the end time, for the
   !> final half-step velocities) and the forces at the start are not.
