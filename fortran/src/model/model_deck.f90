@@ -34,6 +34,7 @@ module model_deck
   use deck_rules, only: integer_text, number_text
   use material_factory, only: material_from_name
   use quad_shape, only: quad_shape_fault, shape_sound, shape_concave
+  use integer_sort, only: sort_ascending
   implicit none
   private
   public :: deck_t, part_properties, partition_default
@@ -374,7 +375,8 @@ contains
     integer :: i, j, k, low
     allocate (sorted(4, d%n_elements), start(d%n_nodes + 1), fill(d%n_nodes), source=0)
     do i = 1, d%n_elements
-      sorted(:, i) = sorted_four(d%connectivity(:, i))
+      sorted(:, i) = d%connectivity(:, i)
+      call sort_ascending(sorted(:, i))
       start(sorted(1, i) + 1) = start(sorted(1, i) + 1) + 1
     end do
     start(1) = 1
@@ -423,22 +425,6 @@ contains
       return
     end do
   end subroutine check_element_shapes
-
-  pure function sorted_four(nodes) result(s)
-    integer, intent(in) :: nodes(4)
-    integer :: s(4), i, j, t
-    s = nodes
-    do i = 2, 4
-      t = s(i)
-      j = i - 1
-      do while (j >= 1)
-        if (s(j) <= t) exit
-        s(j + 1) = s(j)
-        j = j - 1
-      end do
-      s(j + 1) = t
-    end do
-  end function sorted_four
 
   !> The load curves' relations (curve_first_points, curve_times_increase); message '' when they hold.
   subroutine check_curve_relations(d, message)

@@ -10,6 +10,7 @@ module domain_decomposition
   ! the deck's /control partition codes: partition_blocks (the paper's contiguous blocks by element
   ! number) and partition_rcb (recursive coordinate bisection of the element centroids)
   use paradyn_schema, only: partition_blocks, partition_rcb
+  use integer_sort, only: sort_ascending
   implicit none
   private
   public :: domain_t, block_owner, rcb_partition, element_centroids, partition_elements, decompose
@@ -408,21 +409,6 @@ contains
     integer, intent(in) :: a(:), value
     count_equal = count(a == value)
   end function count_equal
-
-  pure subroutine sort_ascending(a)
-    integer, intent(inout) :: a(:)
-    integer :: i, j, key
-    do i = 2, size(a)
-      key = a(i)
-      j = i - 1
-      do while (j >= 1)
-        if (a(j) <= key) exit
-        a(j + 1) = a(j)
-        j = j - 1
-      end do
-      a(j + 1) = key
-    end do
-  end subroutine sort_ascending
 
   !> Local id of a global node, 0 if this rank does not hold it (binary search: dom%nodes ascends).
   pure integer function local_node(dom, global) result(local)
