@@ -93,6 +93,7 @@ def shell_model(
     tracked: Sequence[int] = (),
     hourglass_coefficient: float = 0.1,
     integration_points: int = 5,
+    warping_correction: bool = True,
     title: str = "verification",
 ) -> Model:
     """One part, one elastic material; ``fixed`` maps node -> six 0/1 flags (ux uy uz rx ry rz)."""
@@ -119,6 +120,7 @@ def shell_model(
         fixed_dofs=fixed_dofs,
         integration_points=np.array([integration_points]),
         hourglass_coefficient=np.array([hourglass_coefficient]),
+        warping_correction=np.array([int(warping_correction)], dtype=np.int32),
         tracked_nodes=np.asarray(tracked, dtype=np.int64),
         title=title,
         **load_arrays,

@@ -3,7 +3,8 @@
 !> Four-node quadrilateral, one-point quadrature in the plane, Gauss points through the thickness,
 !> co-rotational local frame per element and step, velocity-strain formulation (membrane, bending,
 !> transverse shear), stresses stored in the co-rotational frame (an objective rate), and
-!> stiffness- or viscous-form hourglass control in the manner of Flanagan & Belytschko (1981).
+!> stiffness- or viscous-form hourglass control in the manner of Flanagan & Belytschko (1981), and
+!> the warping correction of shell_warping where the part asks for it.
 !>
 !> Kernels work on a group of n elements whose arrays put the element index first (structure of
 !> arrays). They are pure: no MPI, no I/O, no module state.
@@ -14,6 +15,7 @@ module shell_blt
   use paradyn_schema, only: max_integration_points, hourglass_viscous, hourglass_stiffness
   use shell_section, only: shell_properties_t, stress_components, hourglass_components, shear_correction, &
                            thickness_rule, back_stress_points
+  use shell_warping, only: warp_velocities, warp_curvature, warp_forces
   implicit none
   private
   public :: blt_internal_forces
@@ -63,7 +65,7 @@ contains
     ! per-pass arrays, element index first
     real(wp) :: xg(group_size, 3, 4), vg(group_size, 3, 4), wg(group_size, 3, 4)
     real(wp) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), normal_mid(group_size, 3)
-    real(wp) :: area_mid(group_size), area(group_size), valid(group_size)
+    real(wp) :: area_mid(group_size), area(group_size), valid(group_size), zw(group_size)
     real(wp) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
     !> rates: membrane dm(1:3), curvature kappa(4:6), transverse shear gs(7:8)
     real(wp) :: rates(group_size, 8), qrate(group_size, hourglass_components)
@@ -97,7 +99,9 @@ contains
       end do
       normal_mid(1:m, :) = e(1:m, :, 3)
       call gradient_arrays(m, xl, yl, area_mid, b1, b2, gamma)
+      if (props%warping_correction) call warp_velocities(m, xg, e, area_mid, wg, vg, zw)
       call strain_rates(m, e, b1, b2, gamma, vg, wg, rates, qrate)
+      if (props%warping_correction) call warp_curvature(m, zw, b1, b2, qrate, rates)
 
       ! --- stress update at each through-thickness point on copies (sp, bp, ep), written back by
       ! merge so that an element inverted at mid-step keeps its state
@@ -173,6 +177,7 @@ contains
       end do
       ! into a local array: stored straight into force, gfortran needs too many alias checks
       call nodal_forces(m, e, area, b1, b2, gamma, res, hg, fl)
+      if (props%warping_correction) call warp_forces(m, n, o, x, e, area, b1, b2, res, fl)
       force(o + 1:o + m, :, :) = fl(1:m, :, :)
     end do
   end subroutine blt_internal_forces

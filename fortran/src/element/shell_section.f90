@@ -27,6 +27,7 @@ module shell_section
     real(wp) :: hourglass_coefficient = 0.1_wp
     integer :: integration_points = 5
     integer :: hourglass_form = hourglass_stiffness
+    logical :: warping_correction = .true.   !< shell_warping (docs/theory.md)
     class(material_t), allocatable :: material   !< the stress update at the points (material family)
   end type shell_properties_t
 
