@@ -15,7 +15,7 @@ module shell_blt
   use paradyn_schema, only: max_integration_points, hourglass_viscous, hourglass_stiffness
   use shell_section, only: shell_properties_t, stress_components, hourglass_components, shear_correction, &
                            thickness_rule, back_stress_points
-  use shell_warping, only: warp_velocities, warp_curvature, warp_forces
+  use shell_warping, only: warp_heights, warp_curvature, warp_twist_moment
   implicit none
   private
   public :: blt_internal_forces
@@ -24,6 +24,7 @@ module shell_blt
   !> of Hughes & Brezzi 1989): small enough to leave membrane and bending response alone, large
   !> enough that the rotation about the normal of kinked facets is tied to the in-plane spin
   real(wp), parameter :: drilling_penalty = 1.0e-4_wp
+  real(wp), parameter :: h(4) = [1.0_wp, -1.0_wp, 1.0_wp, -1.0_wp]   !< the hourglass pattern
 
 contains
 
@@ -65,7 +66,8 @@ contains
     ! per-pass arrays, element index first
     real(wp) :: xg(group_size, 3, 4), vg(group_size, 3, 4), wg(group_size, 3, 4)
     real(wp) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), normal_mid(group_size, 3)
-    real(wp) :: area_mid(group_size), area(group_size), valid(group_size), zw(group_size)
+    real(wp) :: area_mid(group_size), area(group_size), valid(group_size)
+    real(wp) :: zw(group_size), dh(group_size)   !< warp and twist term (shell_warping); 0: flat element
     real(wp) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
     !> rates: membrane dm(1:3), curvature kappa(4:6), transverse shear gs(7:8)
     real(wp) :: rates(group_size, 8), qrate(group_size, hourglass_components)
@@ -99,8 +101,9 @@ contains
       end do
       normal_mid(1:m, :) = e(1:m, :, 3)
       call gradient_arrays(m, xl, yl, area_mid, b1, b2, gamma)
-      if (props%warping_correction) call warp_velocities(m, xg, e, area_mid, wg, vg, zw)
-      call strain_rates(m, e, b1, b2, gamma, vg, wg, rates, qrate)
+      zw = 0.0_wp
+      if (props%warping_correction) call warp_heights(m, group_size, 0, xg, e, area_mid, zw)
+      call strain_rates(m, e, b1, b2, gamma, vg, wg, zw, rates, qrate)
       if (props%warping_correction) call warp_curvature(m, zw, b1, b2, qrate, rates)
 
       ! --- stress update at each through-thickness point on copies (sp, bp, ep), written back by
@@ -176,8 +179,10 @@ contains
         res(1:m, 8) = res(1:m, 8) + wz * stress(o + 1:o + m, 5, k)
       end do
       ! into a local array: stored straight into force, gfortran needs too many alias checks
-      call nodal_forces(m, e, area, b1, b2, gamma, res, hg, fl)
-      if (props%warping_correction) call warp_forces(m, n, o, x, e, area, b1, b2, res, fl)
+      zw = 0.0_wp
+      dh = 0.0_wp
+      if (props%warping_correction) call warp_twist_moment(m, n, o, x, e, area, b1, b2, res, zw, dh)
+      call nodal_forces(m, e, area, b1, b2, gamma, res, hg, zw, dh, fl)
       force(o + 1:o + m, :, :) = fl(1:m, :, :)
     end do
   end subroutine blt_internal_forces
@@ -268,16 +273,17 @@ contains
   !> Strain rates of elements 1..m from the local velocities vl = e^T v, wl = e^T w: membrane
   !> dm and curvature kappa (Voigt, engineering shear), transverse shear gs, and the hourglass
   !> rates (5 modes, then the drilling rate of each node about the normal relative to the
-  !> in-plane spin).
-  pure subroutine strain_rates(m, e, b1, b2, gamma, v, w, rates, qrate)
+  !> in-plane spin). A warped element (zw /= 0) first moves its nodes' velocities to the mean
+  !> plane along rigid links of length z = +-zw (shell_warping): vl - z (wl x e3).
+  pure subroutine strain_rates(m, e, b1, b2, gamma, v, w, zw, rates, qrate)
     integer, intent(in) :: m
     real(wp), intent(in) :: e(group_size, 3, 3), b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
-    real(wp), intent(in) :: v(group_size, 3, 4), w(group_size, 3, 4)
+    real(wp), intent(in) :: v(group_size, 3, 4), w(group_size, 3, 4), zw(group_size)
     real(wp), intent(out) :: rates(group_size, 8), qrate(group_size, hourglass_components)
     ! the dot products over the nodes that enter sums and differences
     real(wp) :: b2v1(group_size), b1v2(group_size), b2w2(group_size), b1w1(group_size)
     real(wp) :: w1sum(group_size), w2sum(group_size)
-    real(wp) :: vl1, vl2, vl3, wl1, wl2, wl3, spin
+    real(wp) :: vl1, vl2, vl3, wl1, wl2, wl3, spin, hk
     integer :: i, k
     rates = 0.0_wp
     qrate = 0.0_wp
@@ -288,6 +294,7 @@ contains
     w1sum = 0.0_wp
     w2sum = 0.0_wp
     do k = 1, 4
+      hk = h(k)
       do i = 1, m
         vl1 = e(i, 1, 1) * v(i, 1, k) + e(i, 2, 1) * v(i, 2, k) + e(i, 3, 1) * v(i, 3, k)
         vl2 = e(i, 1, 2) * v(i, 1, k) + e(i, 2, 2) * v(i, 2, k) + e(i, 3, 2) * v(i, 3, k)
@@ -295,6 +302,8 @@ contains
         wl1 = e(i, 1, 1) * w(i, 1, k) + e(i, 2, 1) * w(i, 2, k) + e(i, 3, 1) * w(i, 3, k)
         wl2 = e(i, 1, 2) * w(i, 1, k) + e(i, 2, 2) * w(i, 2, k) + e(i, 3, 2) * w(i, 3, k)
         wl3 = e(i, 1, 3) * w(i, 1, k) + e(i, 2, 3) * w(i, 2, k) + e(i, 3, 3) * w(i, 3, k)
+        vl1 = merge(vl1 - (hk * zw(i)) * wl2, vl1, zw(i) /= 0.0_wp)
+        vl2 = merge(vl2 + (hk * zw(i)) * wl1, vl2, zw(i) /= 0.0_wp)
         rates(i, 1) = rates(i, 1) + b1(i, k) * vl1
         rates(i, 2) = rates(i, 2) + b2(i, k) * vl2
         b2v1(i) = b2v1(i) + b2(i, k) * vl1
@@ -433,16 +442,20 @@ contains
   end subroutine check_end_frames
 
   !> Nodal forces and moments of elements 1..m in global axes from the resultants res (N, M, Q),
-  !> the hourglass resultants and the drilling moments; zero for an element of area <= 0.
-  pure subroutine nodal_forces(m, e, area, b1, b2, gamma, res, hg, force)
+  !> the hourglass resultants and the drilling moments; zero for an element of area <= 0. A
+  !> warped element (zw /= 0) adds its twist term's forces (dh = D / 2) and the moments
+  !> z (f x e3) of its rigid links (shell_warping).
+  pure subroutine nodal_forces(m, e, area, b1, b2, gamma, res, hg, zw, dh, force)
     integer, intent(in) :: m
     real(wp), intent(in) :: e(group_size, 3, 3), area(group_size)
     real(wp), intent(in) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
     real(wp), intent(in) :: res(group_size, 8), hg(group_size, hourglass_components)
+    real(wp), intent(in) :: zw(group_size), dh(group_size)
     real(wp), intent(out) :: force(group_size, 6, 4)
-    real(wp) :: drill_total, f1, f2, f3, f4, f5, f6
+    real(wp) :: drill_total, f1, f2, f3, f4, f5, f6, g1, g2, hk
     integer :: i, k
     do k = 1, 4
+      hk = h(k)
       do i = 1, m
         drill_total = hg(i, 6) + hg(i, 7) + hg(i, 8) + hg(i, 9)
         f1 = area(i) * (b1(i, k) * res(i, 1) + b2(i, k) * res(i, 3)) + gamma(i, k) * hg(i, 1) &
@@ -455,6 +468,13 @@ contains
         f5 = area(i) * (b1(i, k) * res(i, 4) + b2(i, k) * res(i, 6) + 0.25_wp * res(i, 7)) &
              + gamma(i, k) * hg(i, 4)
         f6 = hg(i, 5 + k)
+        g1 = f1 + dh(i) * b2(i, k)
+        g2 = f2 - dh(i) * b1(i, k)
+        f4 = merge(f4 + (hk * zw(i)) * g2, f4, zw(i) /= 0.0_wp)
+        f5 = merge(f5 - (hk * zw(i)) * g1, f5, zw(i) /= 0.0_wp)
+        f6 = merge(f6 + 0.5_wp * dh(i), f6, zw(i) /= 0.0_wp)
+        f1 = merge(g1, f1, zw(i) /= 0.0_wp)
+        f2 = merge(g2, f2, zw(i) /= 0.0_wp)
         force(i, 1, k) = merge(e(i, 1, 1) * f1 + e(i, 1, 2) * f2 + e(i, 1, 3) * f3, 0.0_wp, area(i) > 0.0_wp)
         force(i, 2, k) = merge(e(i, 2, 1) * f1 + e(i, 2, 2) * f2 + e(i, 2, 3) * f3, 0.0_wp, area(i) > 0.0_wp)
         force(i, 3, k) = merge(e(i, 3, 1) * f1 + e(i, 3, 2) * f2 + e(i, 3, 3) * f3, 0.0_wp, area(i) > 0.0_wp)

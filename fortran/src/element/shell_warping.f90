@@ -19,14 +19,17 @@
 !>
 !> Both vanish for a flat element (zw = 0). An element whose warp is below flat_warp of the
 !> square root of its area counts as flat, and its values are passed through untouched (merge),
-!> so a flat mesh gives bitwise the results of the uncorrected element. Pure kernels over the
-!> elements of a group, element index innermost, as shell_blt.
+!> so a flat mesh gives bitwise the results of the uncorrected element. This module gives the
+!> per-element terms (zw, the twist of the curvature rates, D); the per-node terms ride in
+!> shell_blt's own loops over the local velocities (strain_rates) and local forces
+!> (nodal_forces), where they cost a few operations and no extra memory traffic. Pure kernels
+!> over the elements of a group, element index innermost, as shell_blt.
 module shell_warping
   use paradyn_kinds, only: wp
   use element_groups, only: group_size
   implicit none
   private
-  public :: warp_velocities, warp_curvature, warp_forces
+  public :: warp_heights, warp_curvature, warp_twist_moment
 
   !> warp |zw| / sqrt(area) below which an element counts as flat (rounding of a planar quad)
   real(wp), parameter :: flat_warp = 1.0e-10_wp
@@ -50,29 +53,6 @@ contains
       zw(i) = merge(zw(i), 0.0_wp, area(i) > 0.0_wp .and. abs(zw(i)) > flat_warp * sqrt(a))
     end do
   end subroutine warp_heights
-
-  !> Mid-step: zw of the elements 1..m of xg, and their velocities v moved to the mean plane,
-  !> v_I - z_I (w_I x e3), in place.
-  pure subroutine warp_velocities(m, xg, e, area, w, v, zw)
-    integer, intent(in) :: m
-    real(wp), intent(in) :: xg(group_size, 3, 4), e(group_size, 3, 3), area(group_size)
-    real(wp), intent(in) :: w(group_size, 3, 4)
-    real(wp), intent(inout) :: v(group_size, 3, 4)
-    real(wp), intent(out) :: zw(group_size)
-    real(wp) :: z, h
-    integer :: i, k
-    call warp_heights(m, group_size, 0, xg, e, area, zw)
-    if (.not. any(zw(1:m) /= 0.0_wp)) return
-    do k = 1, 4
-      h = merge(1.0_wp, -1.0_wp, k == 1 .or. k == 3)
-      do i = 1, m
-        z = h * zw(i)
-        v(i, 1, k) = merge(v(i, 1, k) - z * (w(i, 2, k) * e(i, 3, 3) - w(i, 3, k) * e(i, 2, 3)), v(i, 1, k), z /= 0.0_wp)
-        v(i, 2, k) = merge(v(i, 2, k) - z * (w(i, 3, k) * e(i, 1, 3) - w(i, 1, k) * e(i, 3, 3)), v(i, 2, k), z /= 0.0_wp)
-        v(i, 3, k) = merge(v(i, 3, k) - z * (w(i, 1, k) * e(i, 2, 3) - w(i, 2, k) * e(i, 1, 3)), v(i, 3, k), z /= 0.0_wp)
-      end do
-    end do
-  end subroutine warp_velocities
 
   !> Reference curvature (b_xx, b_yy, b_xy) of the twisted mid-surface z = zw xi eta at the centre,
   !> from the shape-function derivatives (xi_x = sum xi_I B1_I, ...).
@@ -108,45 +88,24 @@ contains
     end do
   end subroutine warp_curvature
 
-  !> End of step: the forces of the corrections added to the nodal forces and moments f (global
-  !> axes) of elements o+1..o+m of x: first the conjugate of the twist term (a drilling moment
-  !> D/4 at each node with its in-plane forces D/2 (B2, -B1)), then the moments of the rigid links,
-  !> z_I (f_I x e3).
-  pure subroutine warp_forces(m, ld, o, x, e, area, b1, b2, res, f)
+  !> End of step: zw of elements o+1..o+m of x and half the conjugate of their twist term,
+  !> dh = D / 2 = A (M_xx b_xy - M_yy b_xy + M_xy (b_yy - b_xx)) / 2, for the nodal forces
+  !> (shell_blt's nodal_forces adds the moments of the rigid links and the twist's forces).
+  pure subroutine warp_twist_moment(m, ld, o, x, e, area, b1, b2, res, zw, dh)
     integer, intent(in) :: m, ld, o
     real(wp), intent(in) :: x(ld, 3, 4), e(group_size, 3, 3), area(group_size)
     real(wp), intent(in) :: b1(group_size, 4), b2(group_size, 4), res(group_size, 8)
-    real(wp), intent(inout) :: f(group_size, 6, 4)
-    real(wp) :: zw(group_size), dm(group_size)
-    real(wp) :: bxx, byy, bxy, f1, f2, fx, fy, fz, z, h
-    integer :: i, k
+    real(wp), intent(out) :: zw(group_size), dh(group_size)
+    real(wp) :: bxx, byy, bxy
+    integer :: i
     call warp_heights(m, ld, o, x, e, area, zw)
+    dh = 0.0_wp
     if (.not. any(zw(1:m) /= 0.0_wp)) return
     do i = 1, m
       call twist_curvature(zw(i), b1(i, 1), b1(i, 2), b1(i, 3), b1(i, 4), b2(i, 1), b2(i, 2), b2(i, 3), b2(i, 4), &
                            bxx, byy, bxy)
-      dm(i) = area(i) * ((res(i, 4) - res(i, 5)) * bxy + res(i, 6) * (byy - bxx))
+      dh(i) = 0.5_wp * area(i) * ((res(i, 4) - res(i, 5)) * bxy + res(i, 6) * (byy - bxx))
     end do
-    do k = 1, 4
-      h = merge(1.0_wp, -1.0_wp, k == 1 .or. k == 3)
-      do i = 1, m
-        f1 = 0.5_wp * dm(i) * b2(i, k)
-        f2 = -0.5_wp * dm(i) * b1(i, k)
-        fx = f(i, 1, k) + (e(i, 1, 1) * f1 + e(i, 1, 2) * f2)
-        fy = f(i, 2, k) + (e(i, 2, 1) * f1 + e(i, 2, 2) * f2)
-        fz = f(i, 3, k) + (e(i, 3, 1) * f1 + e(i, 3, 2) * f2)
-        z = h * zw(i)
-        f(i, 4, k) = merge(f(i, 4, k) + 0.25_wp * dm(i) * e(i, 1, 3) + z * (fy * e(i, 3, 3) - fz * e(i, 2, 3)), &
-                           f(i, 4, k), z /= 0.0_wp)
-        f(i, 5, k) = merge(f(i, 5, k) + 0.25_wp * dm(i) * e(i, 2, 3) + z * (fz * e(i, 1, 3) - fx * e(i, 3, 3)), &
-                           f(i, 5, k), z /= 0.0_wp)
-        f(i, 6, k) = merge(f(i, 6, k) + 0.25_wp * dm(i) * e(i, 3, 3) + z * (fx * e(i, 2, 3) - fy * e(i, 1, 3)), &
-                           f(i, 6, k), z /= 0.0_wp)
-        f(i, 1, k) = merge(fx, f(i, 1, k), z /= 0.0_wp)
-        f(i, 2, k) = merge(fy, f(i, 2, k), z /= 0.0_wp)
-        f(i, 3, k) = merge(fz, f(i, 3, k), z /= 0.0_wp)
-      end do
-    end do
-  end subroutine warp_forces
+  end subroutine warp_twist_moment
 
 end module shell_warping
