@@ -40,12 +40,12 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   use paradyn_schema, only: enum_name, enum_material_model
   implicit none
   integer, intent(in) :: n, nip, model
-  integer, intent(in) :: hourglass_form  ! 1 viscous, 2 stiffness
+  integer, intent(in) :: hourglass_form  ! 1 viscous, 2 stiffness, 3 physical
   !f2py integer optional, intent(in) :: hourglass_form = 2
   real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
   real(wp), intent(in) :: thickness, density, young, poisson, yield_stress, tangent, beta
   real(wp), intent(in) :: hourglass_coefficient, dt
-  real(wp), intent(inout) :: stress(n, 5, nip), back(n, 3, nip), eps_p(n, nip), hourglass(n, 9)
+  real(wp), intent(inout) :: stress(n, 5, nip), back(n, 3, nip), eps_p(n, nip), hourglass(n, 10)
   real(wp), intent(out) :: force(n, 6, 4)
   real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
   integer, intent(out) :: inverted
