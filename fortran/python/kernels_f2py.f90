@@ -55,6 +55,7 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
                              hourglass_form=hourglass_form)
   call material_from_name(enum_name(enum_material_model, model), young, poisson, yield_stress, tangent, beta, &
                           props%material)
+  if (props%material%has_history()) props%hourglass_yield = yield_stress
   inverted = 0
   call blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, hourglass, force, &
                            e_internal, e_hourglass, inverted)

@@ -25,6 +25,9 @@ module shell_hourglass
   !> enough that the rotation about the normal of kinked facets is tied to the in-plane spin
   real(wp), parameter :: drilling_penalty = 1.0e-4_wp
 
+  !> |h,x| integrates to sqrt(3) / 2 sqrt(A C_xx) over a rectangle: the fully plastic field's share
+  real(wp), parameter :: plastic_shape = 0.5_wp * sqrt(3.0_wp)
+
   !> natural coordinates of the corners (counter-clockwise from (-1, -1))
   real(wp), parameter :: xi_node(4) = [-1.0_wp, 1.0_wp, 1.0_wp, -1.0_wp]
   real(wp), parameter :: eta_node(4) = [-1.0_wp, -1.0_wp, 1.0_wp, 1.0_wp]
@@ -151,8 +154,11 @@ contains
     real(wp), intent(inout) :: hg(group_size, hourglass_components)
     real(wp), intent(out) :: power(group_size)
     real(wp) :: membrane, bending, shear, nu, a1x, a1y, a2x, a2y, c, cxx, cyy, cxy
-    real(wp) :: d1, d2, d3, d4, h_xi, h_eta, old1, old2, old3, old4, old5, old10
+    real(wp) :: d1, d2, d3, d4, h_xi, h_eta, old1, old2, old3, old4, old5, old10, a, cap, yield
+    logical :: plastic
     integer :: i
+    yield = props%hourglass_yield
+    plastic = yield < huge(1.0_wp)
     membrane = props%young * props%thickness / 16.0_wp
     bending = props%young * props%thickness**3 / 192.0_wp
     shear = shear_correction * props%young / (2.0_wp * (1.0_wp + props%poisson)) * props%thickness
@@ -162,7 +168,8 @@ contains
       a1y = 0.25_wp * (-yl(i, 1) + yl(i, 2) + yl(i, 3) - yl(i, 4))
       a2x = 0.25_wp * (-xl(i, 1) - xl(i, 2) + xl(i, 3) + xl(i, 4))
       a2y = 0.25_wp * (-yl(i, 1) - yl(i, 2) + yl(i, 3) + yl(i, 4))
-      c = 16.0_wp / (3.0_wp * merge(area(i), 1.0_wp, area(i) > 0.0_wp))
+      a = merge(area(i), 1.0_wp, area(i) > 0.0_wp)
+      c = 16.0_wp / (3.0_wp * a)
       cxx = c * (a1y * a1y + a2y * a2y)
       cyy = c * (a1x * a1x + a2x * a2x)
       cxy = -c * (a1x * a1y + a2x * a2y)
@@ -186,6 +193,17 @@ contains
       hg(i, 4) = old4 + bending * (cxx * d4 + nu * cxy * d3)
       hg(i, 5) = old5 + shear * c * (a2x * a2x + a2y * a2y) * (dt * h_xi)
       hg(i, 10) = old10 + shear * c * (a1x * a1x + a1y * a1y) * (dt * h_eta)
+      if (plastic) then   ! the fully plastic hourglass stress fields bound the resultants
+        cap = yield * props%thickness * sqrt(a * cxx) * plastic_shape / 4.0_wp
+        hg(i, 1) = max(-cap, min(cap, hg(i, 1)))
+        hg(i, 4) = max(-cap * props%thickness / 4.0_wp, min(cap * props%thickness / 4.0_wp, hg(i, 4)))
+        cap = yield * props%thickness * sqrt(a * cyy) * plastic_shape / 4.0_wp
+        hg(i, 2) = max(-cap, min(cap, hg(i, 2)))
+        hg(i, 3) = max(-cap * props%thickness / 4.0_wp, min(cap * props%thickness / 4.0_wp, hg(i, 3)))
+        cap = yield / sqrt(3.0_wp) * props%thickness * plastic_shape
+        hg(i, 5) = max(-cap * sqrt(a * c * (a2x * a2x + a2y * a2y)), min(cap * sqrt(a * c * (a2x * a2x + a2y * a2y)), hg(i, 5)))
+        hg(i, 10) = max(-cap * sqrt(a * c * (a1x * a1x + a1y * a1y)), min(cap * sqrt(a * c * (a1x * a1x + a1y * a1y)), hg(i, 10)))
+      end if
       power(i) = 0.5_wp * ((old1 + hg(i, 1)) * qrate(i, 1) + (old2 + hg(i, 2)) * qrate(i, 2) &
                            + (old3 + hg(i, 3)) * qrate(i, 3) + (old4 + hg(i, 4)) * qrate(i, 4) &
                            + (old5 + hg(i, 5)) * h_xi + (old10 + hg(i, 10)) * h_eta)

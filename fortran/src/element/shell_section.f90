@@ -28,6 +28,8 @@ module shell_section
     real(wp) :: hourglass_coefficient = 0.1_wp
     integer :: integration_points = 5
     integer :: hourglass_form = hourglass_physical
+    !> the yield stress that caps the physical form's resultants (huge for an elastic material)
+    real(wp) :: hourglass_yield = huge(1.0_wp)
     class(material_t), allocatable :: material   !< the stress update at the points (material family)
   end type shell_properties_t
 
