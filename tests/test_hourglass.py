@@ -151,3 +151,38 @@ def test_in_plane_cantilever_under_end_couple(tmp_path, form, ratio):
     reference = force * depth * length**2 / (2.0 * 200.0e9 * inertia)
     assert abs(tip_y[-1] - tip_y[int(0.85 * (len(tip_y) - 1))]) < 2e-3 * abs(tip_y[-1])
     assert ratio[0] < tip_y[-1] / reference < ratio[1]
+
+
+def test_yielding_element_keeps_the_tangent_share_of_its_hourglass_stiffness():
+    """In a J2 element flowing plastically the physical form stiffens the hourglass modes by the
+    element's tangent share of its elastic stiffness, not by E (docs/theory.md, Hourglass
+    control): share = sum_k w_k ds_k . de / sum_k w_k de . C . de over the through-thickness
+    points, the work of the step's stress increments against their elastic value, at least 0.05.
+
+    A perfectly plastic element at yield in uniaxial tension is stretched further along x with
+    the lateral strain held (ds is then the constrained flow's, not zero): the membrane hourglass
+    increment is the elastic element's times that share, computed here from the stresses.
+    """
+    x = _rectangle(0.05, 0.1)
+    xi_eta = np.array([1.0, -1.0, 1.0, -1.0])
+    v = np.zeros((4, 3))
+    v[:, 0] = 1.0 * x[:, 0] + 1.0e-3 * xi_eta      # stretch rate 1/s and an in-plane hourglass rate
+    dt = 1.0e-7
+    increments, shares = {}, {}
+    for model in (1, 2):
+        state = _state()
+        state["stress"][0, 0, :] = SY0                # at yield in uniaxial tension
+        x_end = x + dt * v
+        K.blt_forces(F(x_end.T[None]), F(v.T[None]), F(np.zeros((1, 3, 4))), T, RHO, E, NU, SY0, 0.0, 1.0,
+                     0.1, model, dt, state["stress"], state["back"], state["eps_p"], state["hourglass"],
+                     state["e_internal"], state["e_hourglass"], hourglass_form=PHYSICAL)
+        increments[model] = state["hourglass"][0, 0]
+        _, weights = K.thickness_points(NIP)
+        strain = dt * 1.0                              # uniform: no bending, the hourglass misses the centre
+        stress_work = np.sum(weights * (state["stress"][0, 0, :] - SY0) * strain)
+        shares[model] = stress_work / np.sum(weights * E / (1.0 - NU**2) * strain**2)
+        if model == 2:
+            assert np.all(state["eps_p"][0] > 0.0)     # it did flow
+    assert shares[1] == pytest.approx(1.0, rel=1e-6)
+    assert 0.05 < shares[2] < 0.5
+    assert increments[2] / increments[1] == pytest.approx(shares[2], rel=1e-6)

@@ -14,7 +14,7 @@ module shell_blt
   use paradyn_schema, only: max_integration_points, hourglass_physical
   use shell_section, only: shell_properties_t, stress_components, hourglass_components, shear_correction, &
                            thickness_rule, back_stress_points
-  use shell_hourglass, only: hourglass_update, add_shear_hourglass_moments
+  use shell_hourglass, only: hourglass_update, add_shear_hourglass_moments, tangent_work, tangent_share
   implicit none
   private
   public :: blt_internal_forces
@@ -68,6 +68,8 @@ contains
     !> res: membrane resultant N (1:3), moment M (4:6), shear Q (7:8)
     real(wp) :: hg(group_size, hourglass_components), res(group_size, 8), fl(group_size, 6, 4)
     real(wp) :: s_xi(group_size)
+    !> the stress increments' work against its elastic value over the points: the tangent share
+    real(wp) :: actual_work(group_size), elastic_work(group_size), tangent(group_size)
 
     nip = props%integration_points
     history = props%material%has_history()
@@ -99,6 +101,8 @@ contains
       ! --- stress update at each through-thickness point on copies (sp, bp, ep), written back by
       ! merge so that an element inverted at mid-step keeps its state
       work = 0.0_wp
+      actual_work = 0.0_wp
+      elastic_work = 0.0_wp
       do k = 1, nip
         z = zeta(k) * half_t
         do c = 1, 3
@@ -124,6 +128,7 @@ contains
             end do
           end if
           eps_p(o + 1:o + m, k) = merge(ep(1:m), eps_p(o + 1:o + m, k), area_mid(1:m) > 0.0_wp)
+          call tangent_work(m, wgt(k), props, deps, stress(o + 1:o + m, 1:3, k), sp, actual_work, elastic_work)
         end if
         wz = wgt(k) * half_t
         do i = 1, m
@@ -145,7 +150,9 @@ contains
 
       ! --- hourglass resultants and drilling moments
       hg(1:m, :) = hourglass(o + 1:o + m, :)
-      call hourglass_update(m, props, dt, area_mid, b1, b2, xl, yl, qrate, rates, grad_w, hg, work)
+      tangent(1:m) = 1.0_wp
+      if (history) tangent(1:m) = tangent_share(m, actual_work, elastic_work)
+      call hourglass_update(m, props, dt, area_mid, b1, b2, xl, yl, qrate, rates, grad_w, tangent, hg, work)
       do c = 1, hourglass_components
         hourglass(o + 1:o + m, c) = merge(hg(1:m, c), hourglass(o + 1:o + m, c), area_mid(1:m) > 0.0_wp)
       end do

@@ -18,7 +18,7 @@ module shell_hourglass
   use shell_section, only: shell_properties_t, hourglass_components, shear_correction
   implicit none
   private
-  public :: hourglass_update, add_shear_hourglass_moments
+  public :: hourglass_update, add_shear_hourglass_moments, tangent_work, tangent_share
 
   !> drilling stiffness per node, as a fraction of E t A per radian (after the drilling penalty
   !> of Hughes & Brezzi 1989): small enough to leave membrane and bending response alone, large
@@ -27,6 +27,10 @@ module shell_hourglass
 
   !> |h,x| integrates to sqrt(3) / 2 sqrt(A C_xx) over a rectangle: the fully plastic field's share
   real(wp), parameter :: plastic_shape = 0.5_wp * sqrt(3.0_wp)
+
+  !> the least share of the elastic stiffness the physical form keeps in a yielding element,
+  !> so that its hourglass modes stay stable in perfectly plastic flow
+  real(wp), parameter :: tangent_floor = 0.05_wp
 
   !> natural coordinates of the corners (counter-clockwise from (-1, -1))
   real(wp), parameter :: xi_node(4) = [-1.0_wp, 1.0_wp, 1.0_wp, -1.0_wp]
@@ -38,12 +42,13 @@ contains
   !> qrate: the hourglass rates (5 modes, the 4 drilling rates); rates: the centre strain rates
   !> (curvatures in 4:6); grad_w: the centre gradients d(theta_x)/dx and d(theta_y)/dy; xl, yl:
   !> the local node coordinates of the geometry of the rates.
-  pure subroutine hourglass_update(m, props, dt, area, b1, b2, xl, yl, qrate, rates, grad_w, hg, work)
+  pure subroutine hourglass_update(m, props, dt, area, b1, b2, xl, yl, qrate, rates, grad_w, tangent, hg, work)
     integer, intent(in) :: m
     type(shell_properties_t), intent(in) :: props
     real(wp), intent(in) :: dt, area(group_size), b1(group_size, 4), b2(group_size, 4)
     real(wp), intent(in) :: xl(group_size, 4), yl(group_size, 4)
     real(wp), intent(in) :: qrate(group_size, hourglass_components), rates(group_size, 8), grad_w(group_size, 2)
+    real(wp), intent(in) :: tangent(group_size)   !< the element's tangent share of its elastic stiffness
     real(wp), intent(inout) :: hg(group_size, hourglass_components)
     real(wp), intent(out) :: work(group_size)
     real(wp) :: drill(group_size), power(group_size), power_drill(group_size)
@@ -51,7 +56,7 @@ contains
     integer :: i, c
     t = props%thickness
     if (props%hourglass_form == hourglass_physical) then
-      call physical_update(m, props, dt, area, xl, yl, qrate, rates, grad_w, hg, power)
+      call physical_update(m, props, dt, area, xl, yl, qrate, rates, grad_w, tangent, hg, power)
     else
       call coefficient_update(m, props, dt, area, b1, b2, qrate, hg, power)
     end if
@@ -146,11 +151,12 @@ contains
   !> eta as xi H_eta; U = k G t / 2 (C |a2|^2 H_xi^2 + C |a1|^2 H_eta^2), C = 16 / (3 A).
   !> sum eta_I f_I = 4 (a2 . grad f) exactly for a bilinear element, so the centre gradients give
   !> the sums. Resultants are integrated from the rates (an elastic stiffness form).
-  pure subroutine physical_update(m, props, dt, area, xl, yl, qrate, rates, grad_w, hg, power)
+  pure subroutine physical_update(m, props, dt, area, xl, yl, qrate, rates, grad_w, tangent, hg, power)
     integer, intent(in) :: m
     type(shell_properties_t), intent(in) :: props
     real(wp), intent(in) :: dt, area(group_size), xl(group_size, 4), yl(group_size, 4)
     real(wp), intent(in) :: qrate(group_size, hourglass_components), rates(group_size, 8), grad_w(group_size, 2)
+    real(wp), intent(in) :: tangent(group_size)
     real(wp), intent(inout) :: hg(group_size, hourglass_components)
     real(wp), intent(out) :: power(group_size)
     real(wp) :: membrane, bending, shear, nu, a1x, a1y, a2x, a2y, c, cxx, cyy, cxy
@@ -173,10 +179,10 @@ contains
       cxx = c * (a1y * a1y + a2y * a2y)
       cyy = c * (a1x * a1x + a2x * a2x)
       cxy = -c * (a1x * a1y + a2x * a2y)
-      d1 = dt * qrate(i, 1)
-      d2 = dt * qrate(i, 2)
-      d3 = dt * qrate(i, 3)
-      d4 = dt * qrate(i, 4)
+      d1 = tangent(i) * dt * qrate(i, 1)
+      d2 = tangent(i) * dt * qrate(i, 2)
+      d3 = tangent(i) * dt * qrate(i, 3)
+      d4 = tangent(i) * dt * qrate(i, 4)
       h_xi = 0.25_wp * qrate(i, 5) + (a1x * (a2x * rates(i, 4) + a2y * grad_w(i, 2)) &
                                       - a1y * (a2x * grad_w(i, 1) - a2y * rates(i, 5)))
       h_eta = 0.25_wp * qrate(i, 5) + (a2x * (a1x * rates(i, 4) + a1y * grad_w(i, 2)) &
@@ -191,8 +197,8 @@ contains
       hg(i, 2) = old2 + membrane * (cyy * d2 - nu * cxy * d1)
       hg(i, 3) = old3 + bending * (cyy * d3 + nu * cxy * d4)
       hg(i, 4) = old4 + bending * (cxx * d4 + nu * cxy * d3)
-      hg(i, 5) = old5 + shear * c * (a2x * a2x + a2y * a2y) * (dt * h_xi)
-      hg(i, 10) = old10 + shear * c * (a1x * a1x + a1y * a1y) * (dt * h_eta)
+      hg(i, 5) = old5 + shear * c * (a2x * a2x + a2y * a2y) * (tangent(i) * dt * h_xi)
+      hg(i, 10) = old10 + shear * c * (a1x * a1x + a1y * a1y) * (tangent(i) * dt * h_eta)
       if (plastic) then   ! the fully plastic hourglass stress fields bound the resultants
         cap = yield * props%thickness * sqrt(a * cxx) * plastic_shape / 4.0_wp
         hg(i, 1) = max(-cap, min(cap, hg(i, 1)))
@@ -209,6 +215,41 @@ contains
                            + (old5 + hg(i, 5)) * h_xi + (old10 + hg(i, 10)) * h_eta)
     end do
   end subroutine physical_update
+
+  !> Adds one through-thickness point (weight w) to the work of its stress increment sp - old
+  !> against the work the increment deps would do elastically (plane stress): their ratio over
+  !> the points is the element's tangent share of its elastic stiffness in this step.
+  pure subroutine tangent_work(m, w, props, deps, old, sp, actual_work, elastic_work)
+    integer, intent(in) :: m
+    real(wp), intent(in) :: w
+    type(shell_properties_t), intent(in) :: props
+    real(wp), intent(in) :: deps(group_size, 3), old(:, :), sp(group_size, 5)
+    real(wp), intent(inout) :: actual_work(group_size), elastic_work(group_size)
+    real(wp) :: plane_modulus, nu
+    integer :: i
+    nu = props%poisson
+    plane_modulus = props%young / (1.0_wp - nu * nu)
+    do i = 1, m
+      actual_work(i) = actual_work(i) + w * ((sp(i, 1) - old(i, 1)) * deps(i, 1) + (sp(i, 2) - old(i, 2)) * deps(i, 2) &
+                                             + (sp(i, 3) - old(i, 3)) * deps(i, 3))
+      elastic_work(i) = elastic_work(i) + w * plane_modulus * (deps(i, 1) * deps(i, 1) + deps(i, 2) * deps(i, 2) &
+                                                               + 2.0_wp * nu * deps(i, 1) * deps(i, 2) &
+                                                               + 0.5_wp * (1.0_wp - nu) * deps(i, 3) * deps(i, 3))
+    end do
+  end subroutine tangent_work
+
+  !> The tangent share in [tangent_floor, 1]: 1 where the step did no elastic work to compare.
+  pure function tangent_share(m, actual_work, elastic_work) result(share)
+    integer, intent(in) :: m
+    real(wp), intent(in) :: actual_work(group_size), elastic_work(group_size)
+    real(wp) :: share(m)
+    integer :: i
+    do i = 1, m
+      share(i) = merge(max(tangent_floor, min(1.0_wp, actual_work(i) / merge(elastic_work(i), 1.0_wp, &
+                                                                               elastic_work(i) > 0.0_wp))), &
+                       1.0_wp, elastic_work(i) > 0.0_wp)
+    end do
+  end function tangent_share
 
   !> The physical form's transverse shear resultants S_xi = hg(5), S_eta = hg(10) act on the
   !> lateral velocity through (S_xi + S_eta) / 4 gamma_I, which the caller puts in hg(5) for
