@@ -97,6 +97,7 @@ def shell_model(
     hourglass_coefficient: float = 0.1,
     hourglass_form: str | None = None,
     integration_points: int = 5,
+    warping_correction: bool = True,
     title: str = "verification",
 ) -> Model:
     """One part, one elastic material; ``fixed`` maps node -> six 0/1 flags (ux uy uz rx ry rz)."""
@@ -124,6 +125,7 @@ def shell_model(
         integration_points=np.array([integration_points]),
         hourglass_coefficient=np.array([hourglass_coefficient]),
         hourglass_form=None if hourglass_form is None else np.array([HOURGLASS_FORMS[hourglass_form]], dtype=np.int32),
+        warping_correction=np.array([int(warping_correction)], dtype=np.int32),
         tracked_nodes=np.asarray(tracked, dtype=np.int64),
         title=title,
         **load_arrays,

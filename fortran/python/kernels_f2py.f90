@@ -32,7 +32,7 @@ end subroutine thickness_points
 
 subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield_stress, tangent, &
                       beta, hourglass_coefficient, model, dt, stress, back, eps_p, hourglass, force, &
-                      e_internal, e_hourglass, inverted, hourglass_form)
+                      e_internal, e_hourglass, inverted, hourglass_form, warping_correction)
   use paradyn_kinds, only: wp
   use shell_section, only: shell_properties_t
   use shell_blt, only: blt_internal_forces
@@ -42,6 +42,8 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   integer, intent(in) :: n, nip, model
   integer, intent(in) :: hourglass_form  ! 1 viscous, 2 stiffness, 3 physical
   !f2py integer optional, intent(in) :: hourglass_form = 2
+  integer, intent(in) :: warping_correction  ! 1 on, 0 off
+  !f2py integer optional, intent(in) :: warping_correction = 1
   real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
   real(wp), intent(in) :: thickness, density, young, poisson, yield_stress, tangent, beta
   real(wp), intent(in) :: hourglass_coefficient, dt
@@ -52,7 +54,7 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   type(shell_properties_t) :: props
   props = shell_properties_t(thickness=thickness, density=density, young=young, poisson=poisson, &
                              hourglass_coefficient=hourglass_coefficient, integration_points=nip, &
-                             hourglass_form=hourglass_form)
+                             hourglass_form=hourglass_form, warping_correction=warping_correction /= 0)
   call material_from_name(enum_name(enum_material_model, model), young, poisson, yield_stress, tangent, beta, &
                           props%material)
   if (props%material%has_history()) props%hourglass_yield = yield_stress

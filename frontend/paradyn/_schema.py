@@ -264,6 +264,14 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'use 1 (viscous), 2 (stiffness) or 3 (physical)',
     ),
     DatasetSpec(
+        '/parts/warping_correction', 'warping_correction', 'int', ('n_parts',), False, None, None, 1,
+        Bound(0, True), Bound(1, True), 'must be between 0 and 1', None, '', None, False, '-',
+        (
+            "1: the element's warping correction (Belytschko-Wong-Chiang twist term and rigid offsets of warped "
+            'elements, docs/theory.md); 0: the plain flat element'
+        ), '[[part]] warping_correction', 'use 1 (warping correction on) or 0 (off)',
+    ),
+    DatasetSpec(
         '/materials/model', 'material_model', 'int', ('n_materials',), True, None, None, None, None, None, '',
         'material_model', 'must be 1 or 2 (1 = elastic, 2 = j2_plasticity)', None, True, '-', 'material model',
         '[[material]] model', 'use 1 for linear elastic or 2 for J2 plasticity',
@@ -631,6 +639,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/parts/integration_points'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/hourglass_coefficient'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/parts/hourglass_form'): ('class', 'shape', 'rows', 'enum'),
+    ('dataset', '/parts/warping_correction'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/materials/model'): ('missing', 'class', 'shape', 'empty', 'enum'),
     ('dataset', '/materials/density'): ('missing', 'class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/materials/youngs_modulus'): ('missing', 'class', 'shape', 'rows', 'lower', 'finite'),

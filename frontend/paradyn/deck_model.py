@@ -106,6 +106,7 @@ class Model:
     integration_points: np.ndarray | None = None          # /parts/integration_points, default 5
     hourglass_coefficient: np.ndarray | None = None       # /parts/hourglass_coefficient, default 0.1
     hourglass_form: np.ndarray | None = None              # /parts/hourglass_form, 1 viscous, 2 stiffness (default)
+    warping_correction: np.ndarray | None = None          # /parts/warping_correction, 1 on (default), 0 off
     yield_stress: np.ndarray | None = None                # /materials/yield_stress Pa
     tangent_modulus: np.ndarray | None = None             # /materials/tangent_modulus Pa
     hardening_mixing: np.ndarray | None = None            # /materials/hardening_mixing

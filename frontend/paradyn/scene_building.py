@@ -62,6 +62,7 @@ def build_model(scene: Scene) -> deck.Model:
         integration_points=np.array([p.integration_points for p in scene.parts], dtype=np.int32),
         hourglass_coefficient=np.array([p.hourglass_coefficient for p in scene.parts]),
         hourglass_form=np.array([HOURGLASS_FORMS[p.hourglass_form] for p in scene.parts], dtype=np.int32),
+        warping_correction=np.array([int(p.warping_correction) for p in scene.parts], dtype=np.int32),
         material_model=np.array([m.model_code for m in scene.materials], dtype=np.int32),
         density=np.array([m.density for m in scene.materials]),
         youngs_modulus=np.array([m.youngs_modulus for m in scene.materials]),

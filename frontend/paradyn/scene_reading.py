@@ -63,7 +63,7 @@ _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio",
                   "tangent_modulus", "hardening_mixing")
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
 _PART_KEYS = ("name", "material", "thickness", "integration_points", "hourglass_coefficient",
-              "hourglass_form", "initial_velocity", "geometry")
+              "hourglass_form", "warping_correction", "initial_velocity", "geometry")
 _GEOMETRY_KEYS = {
     "cylinder": ("kind", "radius", "length", "axis", "center", "elements_around", "elements_along"),
     "plate": ("kind", "size", "elements", "origin", "u_axis", "v_axis"),
@@ -217,6 +217,7 @@ def _parse_part(r: _Reader, t: dict[str, Any], index: int) -> PartSpec:
                                        minimum=0.0),
         hourglass_form=r.string(t, "hourglass_form", label, default=PartSpec.hourglass_form,
                                 choices=tuple(HOURGLASS_FORMS)),
+        warping_correction=r.flag(t, "warping_correction", label, default=PartSpec.warping_correction),
         initial_velocity=r.vector(t, "initial_velocity", label, default=(0.0, 0.0, 0.0)),
     )
 

@@ -104,6 +104,7 @@ class PartSpec:
     integration_points: int = _DECK_DEFAULT["/parts/integration_points"]
     hourglass_coefficient: float = _DECK_DEFAULT["/parts/hourglass_coefficient"]
     hourglass_form: str = _enum_name("hourglass_form", _DECK_DEFAULT["/parts/hourglass_form"])
+    warping_correction: bool = bool(_DECK_DEFAULT["/parts/warping_correction"])
     initial_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 

@@ -92,6 +92,12 @@ class _Reader:
             raise self.error(f"'{key}' = '{value}' in {label} is not one of: {', '.join(choices)}")
         return value
 
+    def flag(self, table: Mapping[str, Any], key: str, label: str, default: Any = _REQUIRED) -> bool:
+        value = self.raw(table, key, label, default)
+        if not isinstance(value, bool):
+            raise self.error(f"'{key}' in {label} must be true or false, got {value!r}")
+        return value
+
     def vector(self, table: Mapping[str, Any], key: str, label: str, default: Any = _REQUIRED,
                length: int = 3) -> tuple[float, ...]:
         value = self.raw(table, key, label, default)

@@ -23,30 +23,30 @@ module paradyn_schema
       dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
       dataset_elements_connectivity, dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
       dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
-      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
-      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
-      dataset_materials_hardening_mixing, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
-      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
-      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
-      dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
-      dataset_rigid_walls_penalty_scale, dataset_curves_first_point, dataset_curves_time, &
-      dataset_curves_value, dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
-      dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
-      n_deck_datasets, control_end_time, control_output_interval, control_history_interval, &
-      control_time_step, control_time_step_safety, control_mass_damping, control_progress_interval, &
-      control_contact_sort_interval, control_checkpoint_interval, control_partition, control_contact_gather, &
-      control_gravity_x, control_gravity_y, control_gravity_z, control_energy_error_limit, &
-      control_effect_point_loads, control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
-      control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
-      control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
-      control_restart_may_change, max_enum_members, n_effects, effect_point_loads, effect_gravity, &
-      effect_pressure, effect_rigid_wall, effect_time_integration, effect_mass_damping, &
-      effect_fixed_boundaries, effect_prescribed_velocity, effect_elastic_shells, effect_plastic_shells, &
-      effect_hourglass, effect_contact, effect_friction, effect_names, effect_timed_with, &
-      effect_also_timed_with, effect_switch, size_symbol, size_entity, size_min_rows, enum_spec_t, &
-      condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, deck_conditions, deck_datasets, &
-      control_attributes, enum_name, enum_code
+      dataset_parts_warping_correction, dataset_materials_model, dataset_materials_density, &
+      dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
+      dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, dataset_loads_node, &
+      dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, dataset_output_tracked_nodes, &
+      dataset_contact_pairs, dataset_contact_penalty_scale, dataset_contact_static_friction, &
+      dataset_contact_dynamic_friction, dataset_contact_friction_decay, dataset_contact_passes, &
+      dataset_contact_kind, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
+      dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, dataset_curves_first_point, &
+      dataset_curves_time, dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
+      dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
+      dataset_prescribed_curve, n_deck_datasets, control_end_time, control_output_interval, &
+      control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
+      control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
+      control_partition, control_contact_gather, control_gravity_x, control_gravity_y, control_gravity_z, &
+      control_energy_error_limit, control_effect_point_loads, control_effect_gravity, &
+      control_effect_pressure, control_effect_rigid_wall, control_effect_mass_damping, &
+      control_effect_prescribed_velocity, control_effect_plasticity, control_effect_hourglass, &
+      control_effect_contact, control_effect_friction, n_control_attributes, control_restart_may_change, &
+      max_enum_members, n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
+      effect_time_integration, effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, &
+      effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, effect_friction, &
+      effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
+      size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
+      deck_conditions, deck_datasets, control_attributes, enum_name, enum_code
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
 
@@ -139,40 +139,41 @@ module paradyn_schema
   integer, parameter :: dataset_parts_integration_points = 9
   integer, parameter :: dataset_parts_hourglass_coefficient = 10
   integer, parameter :: dataset_parts_hourglass_form = 11
-  integer, parameter :: dataset_materials_model = 12
-  integer, parameter :: dataset_materials_density = 13
-  integer, parameter :: dataset_materials_youngs_modulus = 14
-  integer, parameter :: dataset_materials_poisson_ratio = 15
-  integer, parameter :: dataset_materials_yield_stress = 16
-  integer, parameter :: dataset_materials_tangent_modulus = 17
-  integer, parameter :: dataset_materials_hardening_mixing = 18
-  integer, parameter :: dataset_loads_node = 19
-  integer, parameter :: dataset_loads_dof = 20
-  integer, parameter :: dataset_loads_value = 21
-  integer, parameter :: dataset_loads_ramp_time = 22
-  integer, parameter :: dataset_output_tracked_nodes = 23
-  integer, parameter :: dataset_contact_pairs = 24
-  integer, parameter :: dataset_contact_penalty_scale = 25
-  integer, parameter :: dataset_contact_static_friction = 26
-  integer, parameter :: dataset_contact_dynamic_friction = 27
-  integer, parameter :: dataset_contact_friction_decay = 28
-  integer, parameter :: dataset_contact_passes = 29
-  integer, parameter :: dataset_contact_kind = 30
-  integer, parameter :: dataset_rigid_walls_point = 31
-  integer, parameter :: dataset_rigid_walls_normal = 32
-  integer, parameter :: dataset_rigid_walls_velocity = 33
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 34
-  integer, parameter :: dataset_curves_first_point = 35
-  integer, parameter :: dataset_curves_time = 36
-  integer, parameter :: dataset_curves_value = 37
-  integer, parameter :: dataset_pressure_part = 38
-  integer, parameter :: dataset_pressure_value = 39
-  integer, parameter :: dataset_pressure_curve = 40
-  integer, parameter :: dataset_prescribed_node = 41
-  integer, parameter :: dataset_prescribed_dof = 42
-  integer, parameter :: dataset_prescribed_value = 43
-  integer, parameter :: dataset_prescribed_curve = 44
-  integer, parameter :: n_deck_datasets = 44
+  integer, parameter :: dataset_parts_warping_correction = 12
+  integer, parameter :: dataset_materials_model = 13
+  integer, parameter :: dataset_materials_density = 14
+  integer, parameter :: dataset_materials_youngs_modulus = 15
+  integer, parameter :: dataset_materials_poisson_ratio = 16
+  integer, parameter :: dataset_materials_yield_stress = 17
+  integer, parameter :: dataset_materials_tangent_modulus = 18
+  integer, parameter :: dataset_materials_hardening_mixing = 19
+  integer, parameter :: dataset_loads_node = 20
+  integer, parameter :: dataset_loads_dof = 21
+  integer, parameter :: dataset_loads_value = 22
+  integer, parameter :: dataset_loads_ramp_time = 23
+  integer, parameter :: dataset_output_tracked_nodes = 24
+  integer, parameter :: dataset_contact_pairs = 25
+  integer, parameter :: dataset_contact_penalty_scale = 26
+  integer, parameter :: dataset_contact_static_friction = 27
+  integer, parameter :: dataset_contact_dynamic_friction = 28
+  integer, parameter :: dataset_contact_friction_decay = 29
+  integer, parameter :: dataset_contact_passes = 30
+  integer, parameter :: dataset_contact_kind = 31
+  integer, parameter :: dataset_rigid_walls_point = 32
+  integer, parameter :: dataset_rigid_walls_normal = 33
+  integer, parameter :: dataset_rigid_walls_velocity = 34
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 35
+  integer, parameter :: dataset_curves_first_point = 36
+  integer, parameter :: dataset_curves_time = 37
+  integer, parameter :: dataset_curves_value = 38
+  integer, parameter :: dataset_pressure_part = 39
+  integer, parameter :: dataset_pressure_value = 40
+  integer, parameter :: dataset_pressure_curve = 41
+  integer, parameter :: dataset_prescribed_node = 42
+  integer, parameter :: dataset_prescribed_dof = 43
+  integer, parameter :: dataset_prescribed_value = 44
+  integer, parameter :: dataset_prescribed_curve = 45
+  integer, parameter :: n_deck_datasets = 45
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -309,7 +310,7 @@ module paradyn_schema
     condition_spec_t('/curves', 0, 0, ''), &
     condition_spec_t('/pressure', 0, 0, ''), &
     condition_spec_t('/prescribed', 0, 0, ''), &
-    condition_spec_t('', 12, 2, 'for a j2_plasticity material') ]
+    condition_spec_t('', 13, 2, 'for a j2_plasticity material') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
@@ -348,6 +349,9 @@ module paradyn_schema
         condition_none, 3.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_hourglass_form, 3, &
         [1, 2, 3], size_none, '', 'must be 1 or 2 or 3 (1 = viscous, 2 = stiffness, 3 = physical)', &
         'use 1 (viscous), 2 (stiffness) or 3 (physical)'), &
+    dataset_spec_t('/parts/warping_correction', class_int, 0, size_n_parts, .false., .false., condition_none, &
+        condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, [0, 0, 0], &
+        size_none, 'must be between 0 and 1', '', 'use 1 (warping correction on) or 0 (off)'), &
     dataset_spec_t('/materials/model', class_int, 0, size_n_materials, .true., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 2, &
         [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = elastic, 2 = j2_plasticity)', &

@@ -4,6 +4,7 @@
 !> co-rotational local frame per element and step, velocity-strain formulation (membrane, bending,
 !> transverse shear), stresses stored in the co-rotational frame (an objective rate), and
 !> hourglass control (shell_hourglass: physical, or stiffness and viscous forms with a coefficient).
+!> and the warping correction of shell_warping where the part asks for it.
 !>
 !> Kernels work on a group of n elements whose arrays put the element index first (structure of
 !> arrays). They are pure: no MPI, no I/O, no module state.
@@ -15,6 +16,7 @@ module shell_blt
   use shell_section, only: shell_properties_t, stress_components, hourglass_components, shear_correction, &
                            thickness_rule, back_stress_points
   use shell_hourglass, only: hourglass_update, add_shear_hourglass_moments, tangent_work, tangent_share
+  use shell_warping, only: warp_velocities, warp_curvature, warp_forces
   implicit none
   private
   public :: blt_internal_forces
@@ -59,10 +61,10 @@ contains
     ! per-pass arrays, element index first
     real(wp) :: xg(group_size, 3, 4), vg(group_size, 3, 4), wg(group_size, 3, 4)
     real(wp) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), normal_mid(group_size, 3)
-    real(wp) :: area_mid(group_size), area(group_size), valid(group_size)
+    real(wp) :: area_mid(group_size), area(group_size), valid(group_size), zw(group_size)
     real(wp) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
     !> rates: membrane dm(1:3), curvature kappa(4:6), transverse shear gs(7:8)
-    real(wp) :: rates(group_size, 8), qrate(group_size, hourglass_components), grad_w(group_size, 2)
+    real(wp) :: rates(group_size, 8), qrate(group_size, hourglass_components), grad_w(group_size, 4)
     real(wp) :: sp(group_size, stress_components)
     real(wp) :: bp(group_size, 3), ep(group_size), deps(group_size, 3), work(group_size)
     !> res: membrane resultant N (1:3), moment M (4:6), shear Q (7:8)
@@ -96,7 +98,9 @@ contains
       end do
       normal_mid(1:m, :) = e(1:m, :, 3)
       call gradient_arrays(m, xl, yl, area_mid, b1, b2, gamma)
+      if (props%warping_correction) call warp_velocities(m, xg, e, area_mid, wg, vg, zw)
       call strain_rates(m, e, b1, b2, gamma, vg, wg, rates, qrate, grad_w)
+      if (props%warping_correction) call warp_curvature(m, zw, b1, b2, qrate, rates)
 
       ! --- stress update at each through-thickness point on copies (sp, bp, ep), written back by
       ! merge so that an element inverted at mid-step keeps its state
@@ -152,7 +156,7 @@ contains
       hg(1:m, :) = hourglass(o + 1:o + m, :)
       tangent(1:m) = 1.0_wp
       if (history) tangent(1:m) = tangent_share(m, actual_work, elastic_work)
-      call hourglass_update(m, props, dt, area_mid, b1, b2, xl, yl, qrate, rates, grad_w, tangent, hg, work)
+      call hourglass_update(m, props, dt, area_mid, b1, b2, xl, yl, qrate, grad_w, tangent, hg, work)
       do c = 1, hourglass_components
         hourglass(o + 1:o + m, c) = merge(hg(1:m, c), hourglass(o + 1:o + m, c), area_mid(1:m) > 0.0_wp)
       end do
@@ -183,6 +187,7 @@ contains
       call nodal_forces(m, e, area, b1, b2, gamma, res, hg, fl)
       if (props%hourglass_form == hourglass_physical) &
         call add_shear_hourglass_moments(m, e, area, xl, yl, s_xi, hg(:, 10), fl)
+      if (props%warping_correction) call warp_forces(m, n, o, x, e, area, b1, b2, res, fl)
       force(o + 1:o + m, :, :) = fl(1:m, :, :)
     end do
   end subroutine blt_internal_forces
@@ -279,7 +284,9 @@ contains
     real(wp), intent(in) :: e(group_size, 3, 3), b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
     real(wp), intent(in) :: v(group_size, 3, 4), w(group_size, 3, 4)
     real(wp), intent(out) :: rates(group_size, 8), qrate(group_size, hourglass_components)
-    real(wp), intent(out) :: grad_w(group_size, 2)   !< d(theta_x)/dx, d(theta_y)/dy at the centre
+    !> the centre gradients of the nodal rotation rates: d/dx theta_x, d/dy theta_y, d/dx theta_y,
+    !> d/dy theta_x (before any warping correction of the curvatures)
+    real(wp), intent(out) :: grad_w(group_size, 4)
     ! the dot products over the nodes that enter sums and differences
     real(wp) :: b2v1(group_size), b1v2(group_size), b2w2(group_size), b1w1(group_size)
     real(wp) :: w1sum(group_size), w2sum(group_size)
@@ -327,6 +334,8 @@ contains
       rates(i, 6) = b2w2(i) - b1w1(i)
       grad_w(i, 1) = b1w1(i)
       grad_w(i, 2) = b2w2(i)
+      grad_w(i, 3) = rates(i, 4)
+      grad_w(i, 4) = -rates(i, 5)
       rates(i, 7) = rates(i, 7) + 0.25_wp * w2sum(i)
       rates(i, 8) = rates(i, 8) - 0.25_wp * w1sum(i)
       spin = 0.5_wp * (b1v2(i) - b2v1(i))

@@ -39,15 +39,15 @@ module shell_hourglass
 contains
 
   !> Hourglass resultants hg of elements 1..m, updated in place, and their work in the step.
-  !> qrate: the hourglass rates (5 modes, the 4 drilling rates); rates: the centre strain rates
-  !> (curvatures in 4:6); grad_w: the centre gradients d(theta_x)/dx and d(theta_y)/dy; xl, yl:
-  !> the local node coordinates of the geometry of the rates.
-  pure subroutine hourglass_update(m, props, dt, area, b1, b2, xl, yl, qrate, rates, grad_w, tangent, hg, work)
+  !> qrate: the hourglass rates (5 modes, the 4 drilling rates); grad_w: the centre gradients of
+  !> the rotation rates (d/dx theta_x, d/dy theta_y, d/dx theta_y, d/dy theta_x); xl, yl: the
+  !> local node coordinates of the geometry of the rates.
+  pure subroutine hourglass_update(m, props, dt, area, b1, b2, xl, yl, qrate, grad_w, tangent, hg, work)
     integer, intent(in) :: m
     type(shell_properties_t), intent(in) :: props
     real(wp), intent(in) :: dt, area(group_size), b1(group_size, 4), b2(group_size, 4)
     real(wp), intent(in) :: xl(group_size, 4), yl(group_size, 4)
-    real(wp), intent(in) :: qrate(group_size, hourglass_components), rates(group_size, 8), grad_w(group_size, 2)
+    real(wp), intent(in) :: qrate(group_size, hourglass_components), grad_w(group_size, 4)
     real(wp), intent(in) :: tangent(group_size)   !< the element's tangent share of its elastic stiffness
     real(wp), intent(inout) :: hg(group_size, hourglass_components)
     real(wp), intent(out) :: work(group_size)
@@ -56,7 +56,7 @@ contains
     integer :: i, c
     t = props%thickness
     if (props%hourglass_form == hourglass_physical) then
-      call physical_update(m, props, dt, area, xl, yl, qrate, rates, grad_w, tangent, hg, power)
+      call physical_update(m, props, dt, area, xl, yl, qrate, grad_w, tangent, hg, power)
     else
       call coefficient_update(m, props, dt, area, b1, b2, qrate, hg, power)
     end if
@@ -151,11 +151,11 @@ contains
   !> eta as xi H_eta; U = k G t / 2 (C |a2|^2 H_xi^2 + C |a1|^2 H_eta^2), C = 16 / (3 A).
   !> sum eta_I f_I = 4 (a2 . grad f) exactly for a bilinear element, so the centre gradients give
   !> the sums. Resultants are integrated from the rates (an elastic stiffness form).
-  pure subroutine physical_update(m, props, dt, area, xl, yl, qrate, rates, grad_w, tangent, hg, power)
+  pure subroutine physical_update(m, props, dt, area, xl, yl, qrate, grad_w, tangent, hg, power)
     integer, intent(in) :: m
     type(shell_properties_t), intent(in) :: props
     real(wp), intent(in) :: dt, area(group_size), xl(group_size, 4), yl(group_size, 4)
-    real(wp), intent(in) :: qrate(group_size, hourglass_components), rates(group_size, 8), grad_w(group_size, 2)
+    real(wp), intent(in) :: qrate(group_size, hourglass_components), grad_w(group_size, 4)
     real(wp), intent(in) :: tangent(group_size)
     real(wp), intent(inout) :: hg(group_size, hourglass_components)
     real(wp), intent(out) :: power(group_size)
@@ -183,10 +183,10 @@ contains
       d2 = tangent(i) * dt * qrate(i, 2)
       d3 = tangent(i) * dt * qrate(i, 3)
       d4 = tangent(i) * dt * qrate(i, 4)
-      h_xi = 0.25_wp * qrate(i, 5) + (a1x * (a2x * rates(i, 4) + a2y * grad_w(i, 2)) &
-                                      - a1y * (a2x * grad_w(i, 1) - a2y * rates(i, 5)))
-      h_eta = 0.25_wp * qrate(i, 5) + (a2x * (a1x * rates(i, 4) + a1y * grad_w(i, 2)) &
-                                       - a2y * (a1x * grad_w(i, 1) - a1y * rates(i, 5)))
+      h_xi = 0.25_wp * qrate(i, 5) + (a1x * (a2x * grad_w(i, 3) + a2y * grad_w(i, 2)) &
+                                      - a1y * (a2x * grad_w(i, 1) + a2y * grad_w(i, 4)))
+      h_eta = 0.25_wp * qrate(i, 5) + (a2x * (a1x * grad_w(i, 3) + a1y * grad_w(i, 2)) &
+                                       - a2y * (a1x * grad_w(i, 1) + a1y * grad_w(i, 4)))
       old1 = hg(i, 1)
       old2 = hg(i, 2)
       old3 = hg(i, 3)

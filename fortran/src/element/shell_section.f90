@@ -30,6 +30,7 @@ module shell_section
     integer :: hourglass_form = hourglass_physical
     !> the yield stress that caps the physical form's resultants (huge for an elastic material)
     real(wp) :: hourglass_yield = huge(1.0_wp)
+    logical :: warping_correction = .true.   !< shell_warping (docs/theory.md)
     class(material_t), allocatable :: material   !< the stress update at the points (material family)
   end type shell_properties_t
 

@@ -12,6 +12,7 @@ module model_deck
                             dataset_elements_connectivity, dataset_elements_part, dataset_parts_thickness, &
                             dataset_parts_material, dataset_parts_integration_points, &
                             dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
+                            dataset_parts_warping_correction, &
                             dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
                             dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
                             dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, &
@@ -53,7 +54,7 @@ module model_deck
     integer, allocatable :: connectivity(:, :)        !< (4, n_elements), 1-based nodes
     integer, allocatable :: element_part(:)           !< (n_elements), 1-based
     real(wp), allocatable :: thickness(:), hourglass_coefficient(:)
-    integer, allocatable :: part_material(:), integration_points(:), hourglass_form(:)
+    integer, allocatable :: part_material(:), integration_points(:), hourglass_form(:), warping_correction(:)
     integer, allocatable :: material_model(:)
     real(wp), allocatable :: density(:), young(:), poisson(:)
     real(wp), allocatable :: yield_stress(:), tangent_modulus(:), hardening_mixing(:)
@@ -104,6 +105,7 @@ contains
     props%hourglass_coefficient = deck%hourglass_coefficient(part)
     props%integration_points = deck%integration_points(part)
     props%hourglass_form = deck%hourglass_form(part)
+    props%warping_correction = deck%warping_correction(part) /= 0
     props%density = deck%density(m)
     props%young = deck%young(m)
     props%poisson = deck%poisson(m)
@@ -150,6 +152,8 @@ contains
       d%hourglass_coefficient = values(1, :)
     case (dataset_parts_hourglass_form)
       d%hourglass_form = indices(1, :)
+    case (dataset_parts_warping_correction)
+      d%warping_correction = indices(1, :)
     case (dataset_materials_model)
       d%material_model = indices(1, :)
       d%n_materials = size(values, 2)
