@@ -49,7 +49,7 @@ module results_writer
     integer(i8) :: cycles = 0
     integer :: ranks = 1, threads = 1, elements = 0, nodes = 0
     real(wp) :: dt_s = 0, dt_stable_s = 0, wall_s = 0, element_cycles_per_s = 0
-    real(wp) :: dt_first_s = 0, dt_min_s = 0, dt_max_s = 0   !< the first, smallest and largest step
+    real(wp) :: dt_first_s = 0, dt_stable_min_s = 0, dt_stable_max_s = 0   !< the first step; the stable step's range
     real(wp) :: added_mass_kg = 0, model_mass_kg = 0          !< mass scaling: added in all, the model's before
     real(wp), allocatable :: part_added_mass_kg(:)            !< mass scaling: added per part
     real(wp) :: phase_elements_s = 0, phase_contact_s = 0, phase_communication_s = 0
@@ -292,8 +292,8 @@ contains
     call write_real_attribute(group, 'dt_s', run%dt_s)
     call write_real_attribute(group, 'dt_stable_s', run%dt_stable_s)
     call write_real_attribute(group, 'dt_first_s', run%dt_first_s)
-    call write_real_attribute(group, 'dt_min_s', run%dt_min_s)
-    call write_real_attribute(group, 'dt_max_s', run%dt_max_s)
+    call write_real_attribute(group, 'dt_stable_min_s', run%dt_stable_min_s)
+    call write_real_attribute(group, 'dt_stable_max_s', run%dt_stable_max_s)
     call write_real_attribute(group, 'added_mass_kg', run%added_mass_kg)
     call write_real_attribute(group, 'model_mass_kg', run%model_mass_kg)
     call write_real_attribute(group, 'added_mass_fraction', run%added_mass_kg / max(run%model_mass_kg, tiny(1.0_wp)))

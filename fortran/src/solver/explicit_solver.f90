@@ -205,8 +205,6 @@ contains
       t0 = wall_clock()
       call advance_positions(s%nodes, s%clock%dt, s%threads)
       s%timers%nodes = s%timers%nodes + wall_clock() - t0
-      s%dt_min = min(s%dt_min, s%clock%dt)
-      s%dt_max = max(s%dt_max, s%clock%dt)
       call clock_advance(s%clock)
       call forces_at_current_state(s, s%clock%dt_previous)
       call next_time_step(s)   ! dt(n+1/2) from the element steps the forces left

@@ -169,8 +169,8 @@ contains
     run%dt_s = s%clock%dt
     run%dt_stable_s = s%clock%dt_stable
     run%dt_first_s = s%clock%dt_first
-    run%dt_min_s = merge(s%dt_min, s%clock%dt, s%dt_max > 0.0_wp)
-    run%dt_max_s = merge(s%dt_max, s%clock%dt, s%dt_max > 0.0_wp)
+    run%dt_stable_min_s = merge(s%dt_min, s%clock%dt_stable, s%dt_max > 0.0_wp)
+    run%dt_stable_max_s = merge(s%dt_max, s%clock%dt_stable, s%dt_max > 0.0_wp)
     run%added_mass_kg = s%added_mass
     run%model_mass_kg = s%model_mass
     run%part_added_mass_kg = s%added_mass_part

@@ -5,8 +5,10 @@
 !> times the safety factor as dt(n+1/2). A requested step below it is used as a fixed step: all
 !> steps equal, end_time / n for a whole n, as before the step varied (so such runs keep their
 !> answers bit for bit); once the mesh's stable step falls below it, the step follows the mesh.
-!> The varying step ends exactly at end_time: a step that would pass it is trimmed to land on it,
-!> and one that would leave less than a step is halved. Counters are 64-bit.
+!> The varying step ends exactly at end_time: each step is the time left over the whole number of
+!> stable steps that fit in it (rounded up), so a constant stable step gives equal steps, as the
+!> fixed step, and a change of the stable step is spread over the steps left instead of one sliver
+!> at the end (a sudden change of the step costs energy balance). Counters are 64-bit.
 module step_clock
   use paradyn_kinds, only: wp, i8
   implicit none
@@ -76,19 +78,20 @@ contains
     type(step_clock_t), intent(inout) :: clock
     real(wp), intent(in) :: dt_element_min, cap
     integer(i8), intent(in) :: element
-    real(wp) :: remaining
-    clock%dt_stable = min(clock%safety * dt_element_min, cap)
+    real(wp) :: remaining, steps
+    clock%dt_stable = clock%safety * dt_element_min
     clock%controlling = element
+    if (cap < clock%dt_stable) then   ! a rigid wall's penalty spring, not an element, sets it
+      clock%dt_stable = cap
+      clock%controlling = -1
+    end if
     if (clock%fixed .and. clock%dt <= clock%dt_stable) return
     clock%fixed = .false.
     clock%dt = clock%dt_stable
     remaining = clock%end_time - clock%time
     if (remaining <= 0.0_wp) return
-    if (remaining <= clock%dt) then
-      clock%dt = remaining
-    else if (remaining < 2.0_wp * clock%dt) then
-      clock%dt = 0.5_wp * remaining   ! two even steps, not a sliver at the end
-    end if
+    steps = remaining / clock%dt_stable
+    if (steps < count_limit) clock%dt = remaining / real(max(1_i8, ceiling(steps - 1.0e-9_wp, i8)), wp)
   end subroutine clock_choose_step
 
   !> The step between the two half-step velocities: (dt(n-1/2) + dt(n+1/2)) / 2, half a step at
@@ -104,8 +107,8 @@ contains
     logical :: last
     if (clock%fixed) then
       last = clock%cycles + 1 == clock%n_steps
-    else
-      last = clock%time + clock%dt >= clock%end_time
+    else   ! the last of the steps left lands on end_time (clock_choose_step)
+      last = clock%end_time - clock%time <= clock%dt * (1.0_wp + 1.0e-9_wp)
     end if
     clock%time = merge(clock%end_time, clock%time + clock%dt, last)
     clock%cycles = clock%cycles + 1

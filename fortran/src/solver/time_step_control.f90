@@ -33,6 +33,10 @@ contains
     call MPI_Allreduce(mine, least, 1, MPI_2DOUBLE_PRECISION, MPI_MINLOC, s%halo%comm)
     call clock_choose_step(s%clock, least(1), int(least(2), i8), s%control%dt_cap)
     if (s%clock%cycles == 0) s%clock%dt_first = s%clock%dt
+    if (.not. clock_finished(s%clock)) then   ! the range of the mesh's stable step over the run
+      s%dt_min = min(s%dt_min, s%clock%dt_stable)
+      s%dt_max = max(s%dt_max, s%clock%dt_stable)
+    end if
     if (s%has_contact) s%contact%c%time_step = s%clock%dt
   end subroutine next_time_step
 
