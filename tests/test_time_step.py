@@ -19,12 +19,11 @@ import h5py
 import numpy as np
 import pytest
 
+import models as M
 import paradyn
 from paradyn import deck, geometry, launch, scene
 from paradyn.deck import Control
 from paradyn.launch import EngineError
-
-import models as M
 
 SOFT = M.Material(young=1.0e6, poisson=0.3, density=1000.0)   # c = 33 m/s: steps of 0.1 ms
 SAFETY = 0.9
@@ -98,8 +97,8 @@ def test_a_step_below_the_floor_stops_the_run_naming_the_element(tmp_path: Path)
     """Issue 14, item 3.3: an 8 x 2 strip driven against its fixed left edge (v_x = -50 x m/s,
     0.15 c at the free end: the elements shorten by 1.5 % a step at first, some 10 % in all) brings
     the step below time_step_floor = 0.95 x the first step: the run stops with status 3 naming the
-    element, its part, its size (whose step is below the floor) and the step; the results so far stay readable (complete = 0, the step falling in the
-    history) and a checkpoint holds the state."""
+    element, its part, its size (whose step is below the floor) and the step; the results so far
+    stay readable (complete = 0, the step falling in the history) and a checkpoint holds the state."""
     mesh = M.flat_plate((0.1, 0.025), (8, 2))
     velocity = np.zeros((mesh.n_nodes, 3))
     velocity[:, 0] = -50.0 * mesh.coordinates[:, 0]
