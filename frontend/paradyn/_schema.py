@@ -474,9 +474,11 @@ CONTROL: tuple[AttributeSpec, ...] = (
     AttributeSpec(
         'time_step', 'float', False, 0.0, None, None, Bound(0.0, True), None, 'must be >= 0', None, '', 's',
         (
-            '0 = automatic; a user step above the stable step is reported and the stable step is used. The step '
-            'is then reduced, if needed, to end_time / n for a whole number n of steps, so the run ends exactly '
-            'at end_time'
+            '0 = automatic: the stable step of the current geometry (safety factor included), recomputed every '
+            'cycle, each step the time left over the whole number of stable steps in it so that the run ends '
+            'exactly at end_time. A smaller user step is a fixed step, reduced if needed to end_time / n for a '
+            "whole number n, used while the mesh's stable step allows it; a user step above the stable step is "
+            'reported and the stable step is used'
         ), '[run] time_step', 'give a step in seconds, or 0 for the automatic stable step',
     ),
     AttributeSpec(

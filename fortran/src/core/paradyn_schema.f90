@@ -73,7 +73,7 @@ module paradyn_schema
   integer, parameter :: status_ok = 0   !< the run finished; the results file is complete
   integer, parameter :: status_failure = 1   !< anything else (a file that cannot be written, an MPI error)
   integer, parameter :: status_bad_input = 2   !< bad input: a bad deck or command line, or a checkpoint of another deck; no resul
-  integer, parameter :: status_numerical = 3   !< a numerical failure (NaN, inverted element); the last good state is saved
+  integer, parameter :: status_numerical = 3   !< a numerical failure (NaN, inverted element, the energy error limit, a time step 
   integer, parameter :: status_stopped = 4   !< a stop signal (SIGTERM, SIGINT, SIGUSR1) ended the run after writing its checkpo
 
   ! results datasets (schema/results.toml): frame fields, scalar histories by id
