@@ -58,10 +58,11 @@ def crushed(tmp_path_factory: pytest.TempPathFactory) -> paradyn.Results:
 
 
 def test_the_step_follows_the_current_element_sizes(crushed: paradyn.Results) -> None:
-    """At every frame, the history's dt is the time left over the whole number of stable steps
-    safety x min L / c (of the positions in that frame) that fit in it (to 1e-9: the kernel
-    measures the sides in the element's plane, numpy in space; the plate is flat), and dt_element
-    is an element with that smallest step; the step falls as the plate is crushed."""
+    """At every frame, the history's dt_stable is safety x min L / c of the positions in that frame
+    (to 1e-9: the kernel measures the sides in the element's plane, numpy in space; the plate is
+    flat), dt_element is an element with that smallest step, and dt is at most dt_stable and at
+    least the time left over one more stable step than fit in it; the step falls as the plate is
+    crushed."""
     res = crushed
     quads = np.asarray(res.connectivity)
     h = res.history
@@ -70,11 +71,12 @@ def test_the_step_follows_the_current_element_sizes(crushed: paradyn.Results) ->
         record = int(np.flatnonzero(h["time"] == t)[0])
         steps = _element_steps(res.coordinates + res.displacement[k], quads, SOFT)
         stable.append(SAFETY * steps.min())
-        left = END_TIME - t
-        assert h["dt"][record] == pytest.approx(left / np.ceil(left / stable[-1] - 1e-9), rel=1e-9)
+        assert h["dt_stable"][record] == pytest.approx(stable[-1], rel=1e-9)
         assert steps[int(h["dt_element"][record])] == pytest.approx(steps.min(), rel=1e-9)
+        left = END_TIME - t
+        assert left / (np.ceil(left / stable[-1]) + 1) < h["dt"][record] <= stable[-1] * (1 + 1e-9)
     assert len(stable) >= 6
-    assert stable[-1] < 0.95 * stable[0]
+    assert stable[-1] < 0.95 * stable[0] and h["dt"][len(stable) - 1] < 0.95 * h["dt"][0]
     assert res.run["dt_first_s"] == h["dt"][0]
     assert res.run["dt_stable_min_s"] < 0.95 * res.run["dt_stable_max_s"]
 

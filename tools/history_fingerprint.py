@@ -3,7 +3,7 @@
 Meshes every ``cases/pipe_whip*`` scene (or the ones named), runs the engine on one rank with two
 threads (``paradyn.run`` without post-processing), and prints one SHA-256 per case over every
 ``/history`` dataset of its ``results.h5`` (raw bytes, in name order) but the time step's own
-records (``dt``, ``dt_element``: STEP_NAMES, added with the step that follows the mesh), so that
+records (``dt``, ``dt_stable``, ``dt_element``: STEP_NAMES, added with the step that follows the mesh), so that
 the digests compare with those of files written before them; a second digest covers those. A
 change that must keep the answers (a restructure, a speed-up) keeps every line of this output:
 run it before and after and compare with ``diff``.
@@ -20,7 +20,7 @@ import h5py
 import paradyn
 
 ROOT = Path(__file__).resolve().parents[1]
-STEP_NAMES = ("dt", "dt_element")
+STEP_NAMES = ("dt", "dt_element", "dt_stable")
 
 
 def history_digest(results: Path, step: bool = False) -> str:

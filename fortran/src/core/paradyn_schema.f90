@@ -12,42 +12,42 @@ module paradyn_schema
       switch_on, partition_blocks, partition_rcb, max_integration_points, status_ok, status_failure, &
       status_bad_input, status_numerical, status_stopped, n_frame_fields, n_history_scalars, &
       history_kinetic_energy, history_internal_energy, history_hourglass_energy, history_contact_energy, &
-      history_external_work, history_contact_penetration, history_dt, history_dt_element, frame_field_names, &
-      history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, size_n_elements, &
-      size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, &
-      size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, n_sizes, condition_none, &
-      condition_loads_group, condition_contact_group, condition_rigid_walls_group, condition_curves_group, &
-      condition_pressure_group, condition_prescribed_group, condition_j2_plasticity, n_conditions, enum_none, &
-      enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, &
-      enum_contact_gather, enum_switch, enum_partition, n_enums, dataset_nodes_coordinates, &
-      dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
-      dataset_elements_connectivity, dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
-      dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
-      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
-      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
-      dataset_materials_hardening_mixing, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
-      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
-      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
-      dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
-      dataset_rigid_walls_penalty_scale, dataset_curves_first_point, dataset_curves_time, &
-      dataset_curves_value, dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
-      dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
-      n_deck_datasets, control_end_time, control_output_interval, control_history_interval, &
-      control_time_step, control_time_step_safety, control_mass_damping, control_progress_interval, &
-      control_contact_sort_interval, control_checkpoint_interval, control_partition, control_contact_gather, &
-      control_gravity_x, control_gravity_y, control_gravity_z, control_energy_error_limit, &
-      control_time_step_floor, control_mass_scaling_step, control_mass_scaling_limit, &
-      control_effect_point_loads, control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
-      control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
-      control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
-      control_restart_may_change, max_enum_members, n_effects, effect_point_loads, effect_gravity, &
-      effect_pressure, effect_rigid_wall, effect_time_integration, effect_mass_damping, &
-      effect_fixed_boundaries, effect_prescribed_velocity, effect_elastic_shells, effect_plastic_shells, &
-      effect_hourglass, effect_contact, effect_friction, effect_names, effect_timed_with, &
-      effect_also_timed_with, effect_switch, size_symbol, size_entity, size_min_rows, enum_spec_t, &
-      condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, deck_conditions, deck_datasets, &
-      control_attributes, enum_name, enum_code
+      history_external_work, history_contact_penetration, history_dt, history_dt_stable, history_dt_element, &
+      frame_field_names, history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, &
+      size_n_elements, size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, &
+      size_n_rigid_walls, size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, n_sizes, &
+      condition_none, condition_loads_group, condition_contact_group, condition_rigid_walls_group, &
+      condition_curves_group, condition_pressure_group, condition_prescribed_group, condition_j2_plasticity, &
+      n_conditions, enum_none, enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
+      enum_contact_kind, enum_contact_gather, enum_switch, enum_partition, n_enums, &
+      dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
+      dataset_nodes_fixed_dofs, dataset_elements_connectivity, dataset_elements_part, &
+      dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
+      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_materials_model, &
+      dataset_materials_density, dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, &
+      dataset_materials_yield_stress, dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, &
+      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
+      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
+      dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
+      dataset_contact_passes, dataset_contact_kind, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
+      dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, dataset_curves_first_point, &
+      dataset_curves_time, dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
+      dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
+      dataset_prescribed_curve, n_deck_datasets, control_end_time, control_output_interval, &
+      control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
+      control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
+      control_partition, control_contact_gather, control_gravity_x, control_gravity_y, control_gravity_z, &
+      control_energy_error_limit, control_time_step_floor, control_mass_scaling_step, &
+      control_mass_scaling_limit, control_effect_point_loads, control_effect_gravity, &
+      control_effect_pressure, control_effect_rigid_wall, control_effect_mass_damping, &
+      control_effect_prescribed_velocity, control_effect_plasticity, control_effect_hourglass, &
+      control_effect_contact, control_effect_friction, n_control_attributes, control_restart_may_change, &
+      max_enum_members, n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
+      effect_time_integration, effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, &
+      effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, effect_friction, &
+      effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
+      size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
+      deck_conditions, deck_datasets, control_attributes, enum_name, enum_code
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
 
@@ -78,7 +78,7 @@ module paradyn_schema
 
   ! results datasets (schema/results.toml): frame fields, scalar histories by id
   integer, parameter :: n_frame_fields = 6
-  integer, parameter :: n_history_scalars = 8
+  integer, parameter :: n_history_scalars = 9
   integer, parameter :: history_kinetic_energy = 1
   integer, parameter :: history_internal_energy = 2
   integer, parameter :: history_hourglass_energy = 3
@@ -86,12 +86,13 @@ module paradyn_schema
   integer, parameter :: history_external_work = 5
   integer, parameter :: history_contact_penetration = 6
   integer, parameter :: history_dt = 7
-  integer, parameter :: history_dt_element = 8
+  integer, parameter :: history_dt_stable = 8
+  integer, parameter :: history_dt_element = 9
   character(len=23), parameter :: frame_field_names(n_frame_fields) = [character(len=23) :: 'time', &
     'displacement', 'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain']
   character(len=19), parameter :: history_scalar_names(n_history_scalars) = [character(len=19) :: &
     'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work', &
-    'contact_penetration', 'dt', 'dt_element']
+    'contact_penetration', 'dt', 'dt_stable', 'dt_element']
 
   ! classes, row symbols, conditions, enums, datasets and /control attributes by id
   integer, parameter :: class_int = 1

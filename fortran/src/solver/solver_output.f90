@@ -6,7 +6,7 @@ module solver_output
   use paradyn_schema, only: status_ok, status_numerical, n_history_scalars, history_kinetic_energy, &
                             history_internal_energy, history_hourglass_energy, history_contact_energy, &
                             history_external_work, history_contact_penetration, effect_time_integration, &
-                            history_dt, history_dt_element
+                            history_dt, history_dt_element, history_dt_stable
   use element_groups, only: group_size
   use shell_measures, only: blt_element_results
   use halo_exchange, only: sum_to_root
@@ -43,6 +43,7 @@ contains
       sums(history_contact_penetration) = merge(s%contact%c%max_penetration, 0.0_wp, s%rank == 0)
       ! the step from this record on and the element that sets it: the same on every rank
       sums(history_dt) = merge(s%clock%dt, 0.0_wp, s%rank == 0)
+      sums(history_dt_stable) = merge(s%clock%dt_stable, 0.0_wp, s%rank == 0)
       sums(history_dt_element) = merge(real(s%clock%controlling, wp), 0.0_wp, s%rank == 0)
       sums(inverted_at) = real(s%elements%inverted, wp)
       sums(nan_at) = merge(1.0_wp, 0.0_wp, any(ns%v /= ns%v) .or. any(ns%f_int /= ns%f_int))

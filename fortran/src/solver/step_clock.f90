@@ -5,10 +5,11 @@
 !> times the safety factor as dt(n+1/2). A requested step below it is used as a fixed step: all
 !> steps equal, end_time / n for a whole n, as before the step varied (so such runs keep their
 !> answers bit for bit); once the mesh's stable step falls below it, the step follows the mesh.
-!> The varying step ends exactly at end_time: each step is the time left over the whole number of
-!> stable steps that fit in it (rounded up), so a constant stable step gives equal steps, as the
-!> fixed step, and a change of the stable step is spread over the steps left instead of one sliver
-!> at the end (a sudden change of the step costs energy balance). Counters are 64-bit.
+!> The varying step ends exactly at end_time: the step is the time left over the whole number of
+!> stable steps that fit in it (rounded up), recomputed only when that number changes, so a
+!> constant or slowly changing stable step gives equal steps, as the fixed step, and a change is
+!> spread over the steps left instead of one sliver at the end (every change of the step moves the
+!> energy that central differences conserve). Counters are 64-bit.
 module step_clock
   use paradyn_kinds, only: wp, i8
   implicit none
@@ -73,12 +74,13 @@ contains
   !> The step dt(n+1/2) from the mesh's smallest element step now (dt_element_min, no safety
   !> factor; element its 0-based global id) and cap, the most any other part of the model allows
   !> (rigid walls; huge without). A fixed step stays while the stable step allows it; at the end
-  !> time (the loop's last pass, for the final velocities) the step is not trimmed.
+  !> time (the loop's last pass, for the final velocities) the step stays the last one.
   subroutine clock_choose_step(clock, dt_element_min, element, cap)
     type(step_clock_t), intent(inout) :: clock
     real(wp), intent(in) :: dt_element_min, cap
     integer(i8), intent(in) :: element
     real(wp) :: remaining, steps
+    integer(i8) :: needed, left
     clock%dt_stable = clock%safety * dt_element_min
     clock%controlling = element
     if (cap < clock%dt_stable) then   ! a rigid wall's penalty spring, not an element, sets it
@@ -87,11 +89,22 @@ contains
     end if
     if (clock%fixed .and. clock%dt <= clock%dt_stable) return
     clock%fixed = .false.
-    clock%dt = clock%dt_stable
     remaining = clock%end_time - clock%time
+    ! at the end the loop's last pass only completes the velocities: the step stays the last one
+    ! taken, so the whole-step velocity and kinetic energy at end_time are those of a constant step
     if (remaining <= 0.0_wp) return
+    if (clock%dt <= 0.0_wp) clock%dt = clock%dt_stable
     steps = remaining / clock%dt_stable
-    if (steps < count_limit) clock%dt = remaining / real(max(1_i8, ceiling(steps - 1.0e-9_wp, i8)), wp)
+    if (steps >= count_limit) then
+      clock%dt = clock%dt_stable
+      return
+    end if
+    ! the steps left at the stable step, and at the present step: the step changes only when the
+    ! count does (the stable step fell below it, or grew by more than one step in the time left)
+    needed = max(1_i8, ceiling(steps - 1.0e-9_wp, i8))
+    left = nint(remaining / clock%dt, i8)
+    if (needed /= left .or. abs(remaining - real(left, wp) * clock%dt) > 1.0e-6_wp * clock%dt) &
+      clock%dt = remaining / real(needed, wp)
   end subroutine clock_choose_step
 
   !> The step between the two half-step velocities: (dt(n-1/2) + dt(n+1/2)) / 2, half a step at
