@@ -112,7 +112,8 @@ class Results:
     ``element_part`` (n_elements,), ``time_values`` (n_frames,) s (also ``frame_times``),
     ``history`` (``time`` (n_records,) s, the five energies (J), ``contact_penetration`` m,
     ``dt`` s (the step from each record on), ``dt_stable`` s (the mesh's stable step then) and
-    ``dt_element`` (the 0-based id of the element with the smallest step, as float64), ``tracked_displacement`` and ``tracked_velocity`` (n_records, n_tracked, 3)) and ``run`` (the
+    ``dt_element`` (the 0-based id of the element with the smallest step, as float64),
+    ``tracked_displacement`` and ``tracked_velocity`` (n_records, n_tracked, 3)) and ``run`` (the
     ``/run`` attributes, empty if the run stopped before writing them).
 
     Read on demand from the file at ``path``: ``displacement`` and ``velocity``

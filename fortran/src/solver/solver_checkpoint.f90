@@ -84,6 +84,7 @@ contains
     call write_real_attribute(file, 'dt_max', s%dt_max)
     call write_int_attribute(file, 'fixed_step', merge(1, 0, s%clock%fixed))
     call write_long_attribute(file, 'dt_element', s%clock%controlling)
+    call write_long_attribute(file, 'steps_left', s%clock%steps_left)
     call write_long_attribute(file, 'cycles', s%clock%cycles)
     call write_int_attribute(file, 'nodes', s%control%n_nodes)
     call write_int_attribute(file, 'elements', s%control%n_elements)
@@ -241,6 +242,7 @@ contains
     call read_int_attribute(file, 'fixed_step', fixed, err)
     s%clock%fixed = fixed == 1
     call read_long_attribute(file, 'dt_element', s%clock%controlling, err)
+    call read_long_attribute(file, 'steps_left', s%clock%steps_left, err)
     call read_long_attribute(file, 'cycles', s%clock%cycles, err)
     call read_int_attribute(file, 'ranks', ranks, err)
     call read_int_attribute(file, 'frames', frames, err)

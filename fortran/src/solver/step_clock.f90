@@ -28,6 +28,7 @@ module step_clock
     real(wp) :: time = 0, end_time = 0
     integer(i8) :: cycles = 0
     integer(i8) :: n_steps = 0    !< steps of the fixed step; for the varying step, end_time / first step
+    integer(i8) :: steps_left = 0 !< varying step: the steps to end_time at dt, this one included (0: to be set)
     integer(i8) :: first_cycle = 0  !< the cycle this process started from (a restart starts later)
     integer(i8) :: frame_index = 0, record_index = 0   !< the next frame and history record due
   end type step_clock_t
@@ -80,7 +81,7 @@ contains
     real(wp), intent(in) :: dt_element_min, cap
     integer(i8), intent(in) :: element
     real(wp) :: remaining, steps
-    integer(i8) :: needed, left
+    integer(i8) :: needed
     clock%dt_stable = clock%safety * dt_element_min
     clock%controlling = element
     if (cap < clock%dt_stable) then   ! a rigid wall's penalty spring, not an element, sets it
@@ -97,14 +98,16 @@ contains
     steps = remaining / clock%dt_stable
     if (steps >= count_limit) then
       clock%dt = clock%dt_stable
+      clock%steps_left = 0
       return
     end if
     ! the steps left at the stable step, and at the present step: the step changes only when the
     ! count does (the stable step fell below it, or grew by more than one step in the time left)
     needed = max(1_i8, ceiling(steps - 1.0e-9_wp, i8))
-    left = nint(remaining / clock%dt, i8)
-    if (needed /= left .or. abs(remaining - real(left, wp) * clock%dt) > 1.0e-6_wp * clock%dt) &
+    if (needed /= clock%steps_left) then
       clock%dt = remaining / real(needed, wp)
+      clock%steps_left = needed
+    end if
   end subroutine clock_choose_step
 
   !> The step between the two half-step velocities: (dt(n-1/2) + dt(n+1/2)) / 2, half a step at
@@ -121,7 +124,8 @@ contains
     if (clock%fixed) then
       last = clock%cycles + 1 == clock%n_steps
     else   ! the last of the steps left lands on end_time (clock_choose_step)
-      last = clock%end_time - clock%time <= clock%dt * (1.0_wp + 1.0e-9_wp)
+      last = clock%steps_left == 1
+      clock%steps_left = max(0_i8, clock%steps_left - 1)
     end if
     clock%time = merge(clock%end_time, clock%time + clock%dt, last)
     clock%cycles = clock%cycles + 1
