@@ -95,12 +95,8 @@ def test_the_varying_step_keeps_the_energy_balance_and_ends_on_time(crushed: par
     assert h["time"][-1] == END_TIME and crushed.time_values[-1] == END_TIME
 
 
-def test_a_step_below_the_floor_stops_the_run_naming_the_element(tmp_path: Path) -> None:
-    """Issue 14, item 3.3: an 8 x 2 strip driven against its fixed left edge (v_x = -50 x m/s,
-    0.15 c at the free end: the elements shorten by 1.5 % a step at first, some 10 % in all) brings
-    the step below time_step_floor = 0.95 x the first step: the run stops with status 3 naming the
-    element, its part, its size (whose step is below the floor) and the step; the results so far
-    stay readable (complete = 0, the step falling in the history) and a checkpoint holds the state."""
+def _driven_strip(tmp_path: Path) -> Path:
+    """The deck of the floor tests: an 8 x 2 strip driven against its fixed left edge."""
     mesh = M.flat_plate((0.1, 0.025), (8, 2))
     velocity = np.zeros((mesh.n_nodes, 3))
     velocity[:, 0] = -50.0 * mesh.coordinates[:, 0]
@@ -108,7 +104,31 @@ def test_a_step_below_the_floor_stops_the_run_naming_the_element(tmp_path: Path)
                       checkpoint_interval=1e-3)
     fixed = {int(j): M.ALL_DOFS for j in M.nodes_at(mesh, 0, 0.0)}
     model = M.shell_model(mesh, THICKNESS, SOFT, control, velocity=velocity, fixed=fixed)
-    path = deck.write_deck(model, tmp_path / "deck.h5")
+    return deck.write_deck(model, tmp_path / "deck.h5")
+
+
+@pytest.mark.mpi
+def test_the_floor_stop_on_two_ranks_names_the_same_element(tmp_path: Path) -> None:
+    """The element's rank composes the message and every rank stops with it (no rank waits in a
+    collective): the same words on 1 and 2 ranks."""
+    path = _driven_strip(tmp_path)
+    messages = []
+    for ranks in (1, 2):
+        with pytest.raises(EngineError) as stop:
+            launch.run_engine(path, tmp_path / f"results{ranks}.h5", ranks, 1, runner="mpirun")
+        assert stop.value.exit_code == 3
+        messages.append(str(stop.value))
+    assert messages[0] == messages[1] and "element 8 of part 0" in messages[0]
+
+
+def test_a_step_below_the_floor_stops_the_run_naming_the_element(tmp_path: Path) -> None:
+    """Issue 14, item 3.3: an 8 x 2 strip driven against its fixed left edge (v_x = -50 x m/s,
+    0.15 c at the free end: the elements shorten by 1.5 % a step at first, some 10 % in all) brings
+    the step below time_step_floor = 0.95 x the first step: the run stops with status 3 naming the
+    element, its part, its size (whose step is below the floor) and the step; the results so far
+    stay readable (complete = 0, the step falling in the history) and a checkpoint holds the state."""
+    path = _driven_strip(tmp_path)
+    mesh = M.flat_plate((0.1, 0.025), (8, 2))
     with pytest.raises(EngineError) as stop:
         launch.run_engine(path, tmp_path / "results.h5")
     message = str(stop.value)
