@@ -140,7 +140,8 @@ def test_a_step_below_the_floor_stops_the_run_naming_the_element(tmp_path: Path)
     with h5py.File(tmp_path / "results.h5") as f:
         assert int(f.attrs["complete"]) == 0
         dt = f["history/dt"][()]
-        assert dt.size >= 2 and dt[-1] < dt[0]
+        assert dt.size >= 2 and dt[-1] < 0.95 * dt[0]   # the last record is that of the stop
+        assert int(f["history/dt_element"][-1]) == element
     first = SAFETY * _element_steps(mesh.coordinates, mesh.quads, SOFT).min()
     assert SAFETY * size / SOFT.plate_wave_speed < 0.95 * first   # the size named sets the step
     with h5py.File(tmp_path / "results.checkpoint.h5") as f:

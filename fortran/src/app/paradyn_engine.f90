@@ -13,7 +13,7 @@ program paradyn_engine
   use paradyn_schema, only: status_ok, status_failure, status_bad_input, status_stopped
   use model_deck, only: deck_t
   use deck_reader, only: read_deck
-  use explicit_solver, only: solver_t, solver_setup, solver_run
+  use explicit_solver, only: solver_t, solver_setup, solver_run, record_at_stop
   use results_writer, only: results_file_t, results_create, results_reopen, results_finish, results_flush, results_failed, &
                             run_record_t
   use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
@@ -145,6 +145,7 @@ program paradyn_engine
       if (rank == 0 .and. err == status_ok) write (*, '(a,es13.6,a,i0,a)') 'PARADYN-CHECKPOINT time=', &
         solver%clock%time, ' cycle=', solver%clock%cycles, ' path='//checkpoint
     end if
+    if (solver%floor_stop) call record_at_stop(solver, results)
     if (status /= status_ok .or. solver%finished) exit
     call results_flush(results)   ! the checkpoint counts only what the results file holds
     call checkpoint_write(solver, checkpoint, results%frames, results%records, status, message)

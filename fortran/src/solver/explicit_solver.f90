@@ -36,7 +36,7 @@ module explicit_solver
   use results_writer, only: results_file_t, run_record_t, results_failed
   implicit none
   private
-  public :: solver_t, solver_setup, solver_run
+  public :: solver_t, solver_setup, solver_run, record_at_stop
 
   integer, parameter :: signal_poll_cycles = 16   !< a collective check every few cycles costs nothing
   !> the most steps a run may take: beyond, it cannot finish on any machine (1e9 steps of the
@@ -252,6 +252,21 @@ contains
     call MPI_Allreduce(mine, s%stop_requested, 1, MPI_LOGICAL, MPI_LOR, s%halo%comm)
     due = s%stop_requested
   end function pause_due
+
+  !> After a stop at the time step floor (and its checkpoint, which holds the state before this):
+  !> the velocities of the step that would have come and one more history record, so that the
+  !> history ends with the step that stopped the run and its element. Collective.
+  subroutine record_at_stop(s, rf)
+    type(solver_t), intent(inout) :: s
+    type(results_file_t), intent(inout) :: rf
+    integer :: status
+    character(len=256) :: message
+    if (s%has_loads) call apply_loads(s)
+    call keep_velocities(s%nodes)
+    call advance_velocities(s%nodes, half_step(s%clock), s%control%mass_damping, s%threads, s%damping_work)
+    if (s%has_constraints) call apply_constraints(s)
+    call write_record(s, rf, status, message)   ! the run stops anyway: its own verdict is not needed
+  end subroutine record_at_stop
 
   !> The half-step velocities, and the history record and frame when due (they need the
   !> velocities on both sides of the whole step).
