@@ -104,7 +104,7 @@ contains
         if (idle) cycle
         t0 = wall_clock()
         if (stage == stage_constraints) then
-          call e%constrain(s%nodes, s%clock%time, s%clock%dt)
+          call e%constrain(s%nodes, s%clock%time, s%clock%dt, s%clock%dt_previous)
         else
           call e%add_corner_forces(s%dom%connectivity, s%nodes%x, s%clock%time, s%corner)
         end if
