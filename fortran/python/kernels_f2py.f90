@@ -40,12 +40,12 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   use paradyn_schema, only: enum_name, enum_material_model
   implicit none
   integer, intent(in) :: n, nip, model
-  integer, intent(in) :: hourglass_form  ! 1 viscous, 2 stiffness
+  integer, intent(in) :: hourglass_form  ! 1 viscous, 2 stiffness, 3 physical
   !f2py integer optional, intent(in) :: hourglass_form = 2
   real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
   real(wp), intent(in) :: thickness, density, young, poisson, yield_stress, tangent, beta
   real(wp), intent(in) :: hourglass_coefficient, dt
-  real(wp), intent(inout) :: stress(n, 5, nip), back(n, 3, nip), eps_p(n, nip), hourglass(n, 9)
+  real(wp), intent(inout) :: stress(n, 5, nip), back(n, 3, nip), eps_p(n, nip), hourglass(n, 10)
   real(wp), intent(out) :: force(n, 6, 4)
   real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
   integer, intent(out) :: inverted
@@ -56,6 +56,7 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
                              hourglass_form=hourglass_form)
   call material_from_name(enum_name(enum_material_model, model), young, poisson, yield_stress, tangent, beta, &
                           props%material)
+  if (props%material%has_history()) props%hourglass_yield = yield_stress
   inverted = 0
   call blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, hourglass, force, &
                            e_internal, e_hourglass, inverted, dt_element)

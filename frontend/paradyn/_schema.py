@@ -109,7 +109,7 @@ RESTART_MAY_CHANGE = (
 
 ENUMS: dict[str, dict[str, int]] = {
     'material_model': {'elastic': 1, 'j2_plasticity': 2},
-    'hourglass_form': {'viscous': 1, 'stiffness': 2},
+    'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
     'contact_passes': {'alternate': 1, 'both': 2},
     'contact_kind': {'node_to_segment': 1},
@@ -253,13 +253,17 @@ DATASETS: tuple[DatasetSpec, ...] = (
     ),
     DatasetSpec(
         '/parts/hourglass_coefficient', 'hourglass_coefficient', 'float', ('n_parts',), False, None, None, 0.1,
-        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, '-', 'hourglass control coefficient',
-        '[[part]] hourglass_coefficient', 'use a small non-negative coefficient such as 0.1',
+        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, '-',
+        (
+            'hourglass control coefficient of the viscous and stiffness forms; the physical form has none (0 '
+            'turns any form off)'
+        ), '[[part]] hourglass_coefficient', 'use a small non-negative coefficient such as 0.1',
     ),
     DatasetSpec(
-        '/parts/hourglass_form', 'hourglass_form', 'int', ('n_parts',), False, None, None, 2, None, None, '',
-        'hourglass_form', 'must be 1 or 2 (1 = viscous, 2 = stiffness)', None, False, '-',
-        'hourglass control form (docs/theory.md)', '[[part]] hourglass_form', 'use 1 (viscous) or 2 (stiffness)',
+        '/parts/hourglass_form', 'hourglass_form', 'int', ('n_parts',), False, None, None, 3, None, None, '',
+        'hourglass_form', 'must be 1 or 2 or 3 (1 = viscous, 2 = stiffness, 3 = physical)', None, False, '-',
+        'hourglass control form (docs/theory.md)', '[[part]] hourglass_form',
+        'use 1 (viscous), 2 (stiffness) or 3 (physical)',
     ),
     DatasetSpec(
         '/materials/model', 'material_model', 'int', ('n_materials',), True, None, None, None, None, None, '',

@@ -111,6 +111,7 @@ contains
     props%density = deck%density(m)
     props%young = deck%young(m)
     props%poisson = deck%poisson(m)
+    if (deck%material_model(m) == material_j2_plasticity) props%hourglass_yield = deck%yield_stress(m)
     call material_from_name(enum_name(enum_material_model, deck%material_model(m)), deck%young(m), deck%poisson(m), &
                             deck%yield_stress(m), deck%tangent_modulus(m), deck%hardening_mixing(m), props%material)
   end function part_properties
