@@ -12,16 +12,17 @@ module paradyn_schema
       contact_gather_all, switch_off, switch_on, partition_blocks, partition_rcb, max_integration_points, &
       status_ok, status_failure, status_bad_input, status_numerical, status_stopped, n_frame_fields, &
       n_history_scalars, history_kinetic_energy, history_internal_energy, history_hourglass_energy, &
-      history_contact_energy, history_external_work, history_contact_penetration, frame_field_names, &
-      history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, size_n_elements, &
-      size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, &
-      size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, n_sizes, condition_none, &
-      condition_loads_group, condition_contact_group, condition_rigid_walls_group, condition_curves_group, &
-      condition_pressure_group, condition_prescribed_group, condition_j2_plasticity, n_conditions, enum_none, &
-      enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, &
-      enum_contact_gather, enum_switch, enum_partition, n_enums, dataset_nodes_coordinates, &
-      dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
-      dataset_elements_connectivity, dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
+      history_contact_energy, history_external_work, history_contact_penetration, history_dt, &
+      history_dt_stable, history_dt_element, frame_field_names, history_scalar_names, class_int, class_float, &
+      class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, size_n_loads, &
+      size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
+      size_n_pressures, size_n_prescribed, n_sizes, condition_none, condition_loads_group, &
+      condition_contact_group, condition_rigid_walls_group, condition_curves_group, condition_pressure_group, &
+      condition_prescribed_group, condition_j2_plasticity, n_conditions, enum_none, enum_material_model, &
+      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_contact_gather, &
+      enum_switch, enum_partition, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
+      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_elements_connectivity, &
+      dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
       dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
       dataset_parts_warping_correction, dataset_materials_model, dataset_materials_density, &
       dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
@@ -37,7 +38,8 @@ module paradyn_schema
       control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
       control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
       control_partition, control_contact_gather, control_gravity_x, control_gravity_y, control_gravity_z, &
-      control_energy_error_limit, control_effect_point_loads, control_effect_gravity, &
+      control_energy_error_limit, control_time_step_floor, control_mass_scaling_step, &
+      control_mass_scaling_limit, control_effect_point_loads, control_effect_gravity, &
       control_effect_pressure, control_effect_rigid_wall, control_effect_mass_damping, &
       control_effect_prescribed_velocity, control_effect_plasticity, control_effect_hourglass, &
       control_effect_contact, control_effect_friction, n_control_attributes, control_restart_may_change, &
@@ -73,23 +75,26 @@ module paradyn_schema
   integer, parameter :: status_ok = 0   !< the run finished; the results file is complete
   integer, parameter :: status_failure = 1   !< anything else (a file that cannot be written, an MPI error)
   integer, parameter :: status_bad_input = 2   !< bad input: a bad deck or command line, or a checkpoint of another deck; no resul
-  integer, parameter :: status_numerical = 3   !< a numerical failure (NaN, inverted element); the last good state is saved
+  integer, parameter :: status_numerical = 3   !< a numerical failure (NaN, inverted element, the energy error limit, a time step 
   integer, parameter :: status_stopped = 4   !< a stop signal (SIGTERM, SIGINT, SIGUSR1) ended the run after writing its checkpo
 
   ! results datasets (schema/results.toml): frame fields, scalar histories by id
   integer, parameter :: n_frame_fields = 6
-  integer, parameter :: n_history_scalars = 6
+  integer, parameter :: n_history_scalars = 9
   integer, parameter :: history_kinetic_energy = 1
   integer, parameter :: history_internal_energy = 2
   integer, parameter :: history_hourglass_energy = 3
   integer, parameter :: history_contact_energy = 4
   integer, parameter :: history_external_work = 5
   integer, parameter :: history_contact_penetration = 6
+  integer, parameter :: history_dt = 7
+  integer, parameter :: history_dt_stable = 8
+  integer, parameter :: history_dt_element = 9
   character(len=23), parameter :: frame_field_names(n_frame_fields) = [character(len=23) :: 'time', &
     'displacement', 'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain']
   character(len=19), parameter :: history_scalar_names(n_history_scalars) = [character(len=19) :: &
     'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work', &
-    'contact_penetration']
+    'contact_penetration', 'dt', 'dt_stable', 'dt_element']
 
   ! classes, row symbols, conditions, enums, datasets and /control attributes by id
   integer, parameter :: class_int = 1
@@ -189,20 +194,23 @@ module paradyn_schema
   integer, parameter :: control_gravity_y = 13
   integer, parameter :: control_gravity_z = 14
   integer, parameter :: control_energy_error_limit = 15
-  integer, parameter :: control_effect_point_loads = 16
-  integer, parameter :: control_effect_gravity = 17
-  integer, parameter :: control_effect_pressure = 18
-  integer, parameter :: control_effect_rigid_wall = 19
-  integer, parameter :: control_effect_mass_damping = 20
-  integer, parameter :: control_effect_prescribed_velocity = 21
-  integer, parameter :: control_effect_plasticity = 22
-  integer, parameter :: control_effect_hourglass = 23
-  integer, parameter :: control_effect_contact = 24
-  integer, parameter :: control_effect_friction = 25
-  integer, parameter :: n_control_attributes = 25
+  integer, parameter :: control_time_step_floor = 16
+  integer, parameter :: control_mass_scaling_step = 17
+  integer, parameter :: control_mass_scaling_limit = 18
+  integer, parameter :: control_effect_point_loads = 19
+  integer, parameter :: control_effect_gravity = 20
+  integer, parameter :: control_effect_pressure = 21
+  integer, parameter :: control_effect_rigid_wall = 22
+  integer, parameter :: control_effect_mass_damping = 23
+  integer, parameter :: control_effect_prescribed_velocity = 24
+  integer, parameter :: control_effect_plasticity = 25
+  integer, parameter :: control_effect_hourglass = 26
+  integer, parameter :: control_effect_contact = 27
+  integer, parameter :: control_effect_friction = 28
+  integer, parameter :: n_control_attributes = 28
   logical, parameter :: control_restart_may_change(n_control_attributes) = [.false., .true., .true., .false., &
-    .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .false., &
-    .false., .false., .false., .false., .false., .false., .false., .false., .false.]
+    .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .true., &
+    .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false.]
   integer, parameter :: max_enum_members = 3
 
   ! effects of a step (schema/effects.toml), in the order of the step
@@ -501,6 +509,15 @@ module paradyn_schema
     attribute_spec_t('energy_error_limit', class_float, .false., 0.0_wp, 0, 0.0_wp, .true., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_none, 'must be >= 0', '', &
         'give a fraction such as 0.05, or 0 for no limit'), &
+    attribute_spec_t('time_step_floor', class_float, .false., 0.001_wp, 0, 0.0_wp, .true., .false., .true., &
+        .false., 0.0_wp, 1.0_wp, enum_none, 'must be in (0, 1)', '', &
+        'give a fraction of the first step such as 1e-3 (the default)'), &
+    attribute_spec_t('mass_scaling_step', class_float, .false., 0.0_wp, 0, 0.0_wp, .true., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_none, 'must be >= 0', '', &
+        'give the wanted step in seconds, or 0 for no mass scaling'), &
+    attribute_spec_t('mass_scaling_limit', class_float, .false., 0.05_wp, 0, 0.0_wp, .true., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_none, 'must be >= 0', '', &
+        'give a fraction of the model''s mass such as 0.05 (the default)'), &
     attribute_spec_t('effect_point_loads', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., &
         .false., .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
         'use "on" or "off" (the scene''s [effects] table takes true or false)'), &

@@ -17,6 +17,7 @@ module shell_blt
                            thickness_rule, back_stress_points
   use shell_hourglass, only: hourglass_update, add_shear_hourglass_moments, tangent_work, tangent_share
   use shell_warping, only: warp_velocities, warp_curvature, warp_forces
+  use shell_measures, only: frame_time_steps
   implicit none
   private
   public :: blt_internal_forces
@@ -41,7 +42,7 @@ contains
   !> the group's size: nothing is summed across elements, and this file is compiled without FMA
   !> contraction (fortran/CMakeLists.txt), so the layouts of tests/test_parallel.py agree.
   pure subroutine blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, hourglass, &
-                                      force, e_internal, e_hourglass, inverted)
+                                      force, e_internal, e_hourglass, inverted, dt_element)
     integer, intent(in) :: n
     real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
     type(shell_properties_t), intent(in) :: props
@@ -53,6 +54,7 @@ contains
     real(wp), intent(out) :: force(n, 6, 4)
     real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
     integer, intent(inout) :: inverted
+    real(wp), intent(out) :: dt_element(n)   !< stable step L / c on the end-of-step geometry
 
     integer :: first, m, o, i, k, c, nip
     real(wp) :: zeta(max_integration_points), wgt(max_integration_points)
@@ -165,6 +167,7 @@ contains
 
       ! --- resultants and nodal forces on the end-of-step geometry
       call frames(m, n, o, x, e, xl, yl, area)
+      call frame_time_steps(m, xl, yl, area, props, dt_element(o + 1:o + m))
       call check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
       inverted = inverted + count(.not. (area(1:m) > 0.0_wp))
       call gradient_arrays(m, xl, yl, area, b1, b2, gamma)
