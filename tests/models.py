@@ -16,7 +16,10 @@ import numpy as np
 
 import paradyn
 from paradyn import geometry
+from paradyn._schema import ENUMS
 from paradyn.deck import ELASTIC, Control, Model
+
+HOURGLASS_FORMS = dict(ENUMS["hourglass_form"])
 
 THREADS = 2  # OpenMP threads per engine run (one rank)
 
@@ -92,6 +95,7 @@ def shell_model(
     angular_velocity: np.ndarray | None = None,
     tracked: Sequence[int] = (),
     hourglass_coefficient: float = 0.1,
+    hourglass_form: str | None = None,
     integration_points: int = 5,
     warping_correction: bool = True,
     title: str = "verification",
@@ -120,6 +124,7 @@ def shell_model(
         fixed_dofs=fixed_dofs,
         integration_points=np.array([integration_points]),
         hourglass_coefficient=np.array([hourglass_coefficient]),
+        hourglass_form=None if hourglass_form is None else np.array([HOURGLASS_FORMS[hourglass_form]], dtype=np.int32),
         warping_correction=np.array([int(warping_correction)], dtype=np.int32),
         tracked_nodes=np.asarray(tracked, dtype=np.int64),
         title=title,

@@ -44,7 +44,7 @@ def _state(n: int = 1, nip: int = NIP) -> dict[str, np.ndarray]:
         "stress": F(np.zeros((n, 5, nip))),
         "back": F(np.zeros((n, 3, nip))),
         "eps_p": F(np.zeros((n, nip))),
-        "hourglass": F(np.zeros((n, 9))),
+        "hourglass": F(np.zeros((n, 10))),
         "e_internal": np.zeros(n),
         "e_hourglass": np.zeros(n),
     }

@@ -330,14 +330,15 @@ def test_history_csv(synthetic: Synthetic, tmp_path: Path) -> None:
     with path.open(newline="") as f:
         rows = list(csv.reader(f))
     header = rows[0]
-    assert header[:8] == [
+    assert header[:11] == [
         "time", "kinetic_energy", "internal_energy", "hourglass_energy",
-        "contact_energy", "external_work", "total_energy", "contact_penetration",
+        "contact_energy", "external_work", "total_energy", "contact_penetration", "dt", "dt_stable",
+        "dt_element",
     ]
-    assert header[8:] == [f"{n}_{c}" for n in ("tip_low", "tip_high") for c in
-                          ("dx", "dy", "dz", "vx", "vy", "vz")]
+    assert header[11:] == [f"{n}_{c}" for n in ("tip_low", "tip_high") for c in
+                           ("dx", "dy", "dz", "vx", "vy", "vz")]
     values = np.array(rows[1:], dtype=float)
-    assert values.shape == (N_RECORDS, 8 + 12)
+    assert values.shape == (N_RECORDS, 11 + 12)
     assert_allclose(values[:, 0], synthetic.history_times, rtol=0, atol=0)  # exact round trip
     assert_allclose(values[:, 6], 100.0 - 5.0 * synthetic.history_times / END_TIME)
     x_tip = synthetic.coordinates[TRACKED[1], 0]

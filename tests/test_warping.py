@@ -42,7 +42,7 @@ SETTLED = 1e-3        # relative change over the last 20 % of the run
 
 def _state(n: int = 1, nip: int = 5) -> dict[str, np.ndarray]:
     return {"stress": F(np.zeros((n, 5, nip))), "back": F(np.zeros((n, 3, nip))), "eps_p": F(np.zeros((n, nip))),
-            "hourglass": F(np.zeros((n, 9))), "e_internal": np.zeros(n), "e_hourglass": np.zeros(n)}
+            "hourglass": F(np.zeros((n, 10))), "e_internal": np.zeros(n), "e_hourglass": np.zeros(n)}
 
 
 def _step(x: np.ndarray, v: np.ndarray, w: np.ndarray, dt: float, state: dict[str, np.ndarray],

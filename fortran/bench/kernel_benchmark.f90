@@ -49,7 +49,7 @@ contains
     real(wp), allocatable :: x(:, :, :, :), v(:, :, :, :), w(:, :, :, :), force(:, :, :)
     real(wp), allocatable :: stress(:, :, :, :), back(:, :, :, :), eps_p(:, :, :), hg(:, :, :)
     real(wp), allocatable :: e_int(:, :), e_hg(:, :)
-    real(wp) :: r(3)
+    real(wp) :: r(3), dt_element(group_size)
     integer :: g, i, k, c, inverted
     integer(i8) :: t0, t1, rate
     allocate (x(group_size, 3, 4, n_groups), v(group_size, 3, 4, n_groups), w(group_size, 3, 4, n_groups))
@@ -81,7 +81,7 @@ contains
       do g = 1, n_groups
         call blt_internal_forces(group_size, x(:, :, :, g), v(:, :, :, g), w(:, :, :, g), p, 1.0e-7_wp, &
                                  stress(:, :, :, g), back(:, :, :, g), eps_p(:, :, g), hg(:, :, g), force, &
-                                 e_int(:, g), e_hg(:, g), inverted)
+                                 e_int(:, g), e_hg(:, g), inverted, dt_element)
       end do
     end do
     call system_clock(t1)

@@ -40,26 +40,28 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   use paradyn_schema, only: enum_name, enum_material_model
   implicit none
   integer, intent(in) :: n, nip, model
-  integer, intent(in) :: hourglass_form  ! 1 viscous, 2 stiffness
+  integer, intent(in) :: hourglass_form  ! 1 viscous, 2 stiffness, 3 physical
   !f2py integer optional, intent(in) :: hourglass_form = 2
   integer, intent(in) :: warping_correction  ! 1 on, 0 off
   !f2py integer optional, intent(in) :: warping_correction = 1
   real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
   real(wp), intent(in) :: thickness, density, young, poisson, yield_stress, tangent, beta
   real(wp), intent(in) :: hourglass_coefficient, dt
-  real(wp), intent(inout) :: stress(n, 5, nip), back(n, 3, nip), eps_p(n, nip), hourglass(n, 9)
+  real(wp), intent(inout) :: stress(n, 5, nip), back(n, 3, nip), eps_p(n, nip), hourglass(n, 10)
   real(wp), intent(out) :: force(n, 6, 4)
   real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
   integer, intent(out) :: inverted
   type(shell_properties_t) :: props
+  real(wp) :: dt_element(n)
   props = shell_properties_t(thickness=thickness, density=density, young=young, poisson=poisson, &
                              hourglass_coefficient=hourglass_coefficient, integration_points=nip, &
                              hourglass_form=hourglass_form, warping_correction=warping_correction /= 0)
   call material_from_name(enum_name(enum_material_model, model), young, poisson, yield_stress, tangent, beta, &
                           props%material)
+  if (props%material%has_history()) props%hourglass_yield = yield_stress
   inverted = 0
   call blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, hourglass, force, &
-                           e_internal, e_hourglass, inverted)
+                           e_internal, e_hourglass, inverted, dt_element)
 end subroutine blt_forces
 
 subroutine blt_mass(n, x, thickness, density, node_mass, node_inertia)

@@ -103,11 +103,13 @@ DECK_VERSION = 1
 VERSION_ATTRIBUTE = 'paradyn_deck_version'
 TITLE_ATTRIBUTE = 'title'
 DOF_NAMES = ('ux', 'uy', 'uz', 'rx', 'ry', 'rz')
-RESTART_MAY_CHANGE = ('output_interval', 'history_interval', 'progress_interval', 'checkpoint_interval')
+RESTART_MAY_CHANGE = (
+    'output_interval', 'history_interval', 'progress_interval', 'checkpoint_interval', 'time_step_floor',
+)
 
 ENUMS: dict[str, dict[str, int]] = {
     'material_model': {'elastic': 1, 'j2_plasticity': 2},
-    'hourglass_form': {'viscous': 1, 'stiffness': 2},
+    'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
     'contact_passes': {'alternate': 1, 'both': 2},
     'contact_kind': {'node_to_segment': 1},
@@ -251,13 +253,17 @@ DATASETS: tuple[DatasetSpec, ...] = (
     ),
     DatasetSpec(
         '/parts/hourglass_coefficient', 'hourglass_coefficient', 'float', ('n_parts',), False, None, None, 0.1,
-        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, '-', 'hourglass control coefficient',
-        '[[part]] hourglass_coefficient', 'use a small non-negative coefficient such as 0.1',
+        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, '-',
+        (
+            'hourglass control coefficient of the viscous and stiffness forms; the physical form has none (0 '
+            'turns any form off)'
+        ), '[[part]] hourglass_coefficient', 'use a small non-negative coefficient such as 0.1',
     ),
     DatasetSpec(
-        '/parts/hourglass_form', 'hourglass_form', 'int', ('n_parts',), False, None, None, 2, None, None, '',
-        'hourglass_form', 'must be 1 or 2 (1 = viscous, 2 = stiffness)', None, False, '-',
-        'hourglass control form (docs/theory.md)', '[[part]] hourglass_form', 'use 1 (viscous) or 2 (stiffness)',
+        '/parts/hourglass_form', 'hourglass_form', 'int', ('n_parts',), False, None, None, 3, None, None, '',
+        'hourglass_form', 'must be 1 or 2 or 3 (1 = viscous, 2 = stiffness, 3 = physical)', None, False, '-',
+        'hourglass control form (docs/theory.md)', '[[part]] hourglass_form',
+        'use 1 (viscous), 2 (stiffness) or 3 (physical)',
     ),
     DatasetSpec(
         '/parts/warping_correction', 'warping_correction', 'int', ('n_parts',), False, None, None, 1,
@@ -480,9 +486,11 @@ CONTROL: tuple[AttributeSpec, ...] = (
     AttributeSpec(
         'time_step', 'float', False, 0.0, None, None, Bound(0.0, True), None, 'must be >= 0', None, '', 's',
         (
-            '0 = automatic; a user step above the stable step is reported and the stable step is used. The step '
-            'is then reduced, if needed, to end_time / n for a whole number n of steps, so the run ends exactly '
-            'at end_time'
+            '0 = automatic: the stable step of the current geometry (safety factor included), recomputed every '
+            'cycle, each step the time left over the whole number of stable steps in it so that the run ends '
+            'exactly at end_time. A smaller user step is a fixed step, reduced if needed to end_time / n for a '
+            "whole number n, used while the mesh's stable step allows it; a user step above the stable step is "
+            'reported and the stable step is used'
         ), '[run] time_step', 'give a step in seconds, or 0 for the automatic stable step',
     ),
     AttributeSpec(
@@ -556,6 +564,33 @@ CONTROL: tuple[AttributeSpec, ...] = (
             'E_total(0)| / max(max KE, max IE, max |W_ext|) over the history records exceeds this fraction, as '
             "LS-DYNA's energy ratio termination; 0 = never"
         ), '[run] energy_error_limit', 'give a fraction such as 0.05, or 0 for no limit',
+    ),
+    AttributeSpec(
+        'time_step_floor', 'float', False, 0.001, None, None, Bound(0.0, False), Bound(1.0, False),
+        'must be in (0, 1)', None, '', '-',
+        (
+            'stop the run (status 3, the results so far kept, a checkpoint when the run writes them) once the '
+            "step, which follows the current element sizes every cycle, falls below this fraction of the run's "
+            'first step; the message names the element that sets it, its part, its size and the step'
+        ), '[run] time_step_floor', 'give a fraction of the first step such as 1e-3 (the default)',
+    ),
+    AttributeSpec(
+        'mass_scaling_step', 'float', False, 0.0, None, None, Bound(0.0, True), None, 'must be >= 0', None, '',
+        's',
+        (
+            '0 = off; the least time step wanted: every element whose stable step times time_step_safety is below '
+            "it gets its density raised so that its step equals it (mass added only where needed, as LS-DYNA's "
+            'negative DT2MS), once at set-up. The added mass per part is reported (results.h5 /run, summary.json, '
+            'the PARADYN-MASS_SCALING line)'
+        ), '[run] mass_scaling_step', 'give the wanted step in seconds, or 0 for no mass scaling',
+    ),
+    AttributeSpec(
+        'mass_scaling_limit', 'float', False, 0.05, None, None, Bound(0.0, True), None, 'must be >= 0', None, '',
+        '-',
+        (
+            "the most mass that mass scaling may add, as a fraction of the model's mass; a run that needs more is "
+            'refused before it starts, naming the fraction'
+        ), '[run] mass_scaling_limit', "give a fraction of the model's mass such as 0.05 (the default)",
     ),
     AttributeSpec(
         'effect_point_loads', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
@@ -685,6 +720,9 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('control', 'gravity_y'): ('class', 'finite'),
     ('control', 'gravity_z'): ('class', 'finite'),
     ('control', 'energy_error_limit'): ('class', 'lower', 'finite'),
+    ('control', 'time_step_floor'): ('class', 'lower', 'upper', 'finite'),
+    ('control', 'mass_scaling_step'): ('class', 'lower', 'finite'),
+    ('control', 'mass_scaling_limit'): ('class', 'lower', 'finite'),
     ('control', 'effect_point_loads'): ('class', 'enum'),
     ('control', 'effect_gravity'): ('class', 'enum'),
     ('control', 'effect_pressure'): ('class', 'enum'),
@@ -715,14 +753,15 @@ FRAME_FIELDS = (
 )
 HISTORY_NAMES = (
     'time', 'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work',
-    'contact_penetration', 'tracked_displacement', 'tracked_velocity',
+    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'tracked_displacement', 'tracked_velocity',
 )
 ENERGY_NAMES = ('kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work')
 RUN_ATTRIBUTES = (
-    'cycles', 'dt_s', 'dt_stable_s', 'wall_s', 'ranks', 'threads', 'elements', 'nodes', 'element_cycles_per_s',
-    'peak_memory_per_rank_mb', 'effects', 'load_imbalance', 'phase_elements_s', 'phase_contact_s',
-    'phase_communication_s', 'phase_output_s', 'phase_other_s', 'phase_contact_sort_s', 'phase_contact_search_s',
-    'phase_contact_force_s',
+    'cycles', 'dt_s', 'dt_stable_s', 'dt_first_s', 'dt_stable_min_s', 'dt_stable_max_s', 'added_mass_kg',
+    'added_mass_fraction', 'model_mass_kg', 'part_added_mass_kg', 'wall_s', 'ranks', 'threads', 'elements', 'nodes',
+    'element_cycles_per_s', 'peak_memory_per_rank_mb', 'effects', 'load_imbalance', 'phase_elements_s',
+    'phase_contact_s', 'phase_communication_s', 'phase_output_s', 'phase_other_s', 'phase_contact_sort_s',
+    'phase_contact_search_s', 'phase_contact_force_s',
 )
 PHASES = ('elements', 'contact', 'communication', 'output', 'other')
 CONTACT_PHASES = ('contact_sort', 'contact_search', 'contact_force')
@@ -753,6 +792,7 @@ EFFECT_TIMED_WITH: dict[str, tuple[str, ...]] = {
 
 PROGRESS_KINDS: dict[str, tuple[str, ...]] = {
     'START': ('elements', 'nodes', 'ranks', 'threads', 'dt', 'dt_stable', 'end_time', 'effects', 'partition'),
+    'MASS_SCALING': ('target_dt', 'elements', 'added_kg', 'fraction', 'part_added_kg'),
     'PROGRESS': ('cycle', 'time', 'dt', 'end_time', 'wall_s'),
     'RESTART': ('time', 'cycle'),
     'CHECKPOINT': ('time', 'cycle', 'path'),

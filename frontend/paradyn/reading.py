@@ -111,6 +111,8 @@ class Results:
     Read at open: ``coordinates`` (n_nodes, 3) m, ``connectivity`` (n_elements, 4),
     ``element_part`` (n_elements,), ``time_values`` (n_frames,) s (also ``frame_times``),
     ``history`` (``time`` (n_records,) s, the five energies (J), ``contact_penetration`` m,
+    ``dt`` s (the step from each record on), ``dt_stable`` s (the mesh's stable step then) and
+    ``dt_element`` (the 0-based id of the element with the smallest step, as float64),
     ``tracked_displacement`` and ``tracked_velocity`` (n_records, n_tracked, 3)) and ``run`` (the
     ``/run`` attributes, empty if the run stopped before writing them).
 
@@ -305,6 +307,9 @@ class Results:
             table[name] = h[name]
         table["total_energy"] = self.total_energy()
         table["contact_penetration"] = h["contact_penetration"]
+        table["dt"] = h["dt"]
+        table["dt_stable"] = h["dt_stable"]
+        table["dt_element"] = h["dt_element"].astype(np.int64)
         disp, vel = h["tracked_displacement"], h["tracked_velocity"]
         for i, name in enumerate(self.tracked_columns()):
             for c, axis in enumerate("xyz"):

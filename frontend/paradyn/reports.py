@@ -87,7 +87,8 @@ def accuracy_indicators(results: Results) -> dict[str, Any]:
     - ``peak_penetration_over_thickness``: the deepest contact penetration over the thinnest shell
       in a contact pair (the deck's thicknesses; None without contact or without the deck);
     - ``dt_over_stable_dt``: the step used over the mesh's stable step (safety factor included);
-    - ``added_mass_fraction``: mass added to reach a time step (0: ParaDyn adds none today);
+    - ``added_mass_fraction``: mass added by mass scaling over the model's mass (/run
+      ``added_mass_fraction``; 0 without mass scaling);
     - ``peak_contact_over_internal``: the largest contact energy over the largest internal energy.
     """
     h, run = results.history, results.run
@@ -97,6 +98,8 @@ def accuracy_indicators(results: Results) -> dict[str, Any]:
                                   "peak_contact_over_internal": None}
     if run.get("dt_s") and run.get("dt_stable_s"):
         indicators["dt_over_stable_dt"] = _finite(float(run["dt_s"]) / float(run["dt_stable_s"]))
+    if run.get("added_mass_fraction") is not None:
+        indicators["added_mass_fraction"] = _finite(float(run["added_mass_fraction"]))
     if results.n_records:
         peak_internal = float(np.max(h["internal_energy"]))
         if peak_internal > 0:
@@ -125,6 +128,18 @@ def accuracy_text(results: Results) -> str:
         if value is not None and value > limit:
             lines.append(f"  warning: {_LABELS[key]} is {value:.3g}, above {limit:g}; see docs/outputs.md, accuracy")
     return "\n".join(lines)
+
+
+def mass_scaling_report(results: Results) -> dict[str, Any]:
+    """The mass that mass scaling added (/run attributes): in all (kg), as a fraction of the
+    model's mass, and per part by name (kg); zeros without mass scaling."""
+    run = results.run
+    per_part = run.get("part_added_mass_kg", [])
+    per_part = [per_part] if isinstance(per_part, float | int) else list(per_part)
+    names = list(results.part_names) or [f"part_{k}" for k in range(len(per_part))]
+    return {"added_kg": run.get("added_mass_kg", 0.0), "fraction": run.get("added_mass_fraction", 0.0),
+            "model_mass_kg": run.get("model_mass_kg"),
+            "per_part_kg": {str(name): float(kg) for name, kg in zip(names, per_part, strict=False)}}
 
 
 def _penetration_over_thickness(results: Results) -> float | None:
@@ -168,6 +183,10 @@ def write_summary(
         "cycles": run.get("cycles"),
         "dt_s": run.get("dt_s"),
         "dt_stable_s": run.get("dt_stable_s"),
+        "dt_first_s": run.get("dt_first_s"),
+        "dt_stable_min_s": run.get("dt_stable_min_s"),
+        "dt_stable_max_s": run.get("dt_stable_max_s"),
+        "mass_scaling": mass_scaling_report(results),
         "elements": run.get("elements", results.n_elements),
         "nodes": run.get("nodes", results.n_nodes),
         "ranks": run.get("ranks"),

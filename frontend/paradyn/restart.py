@@ -3,9 +3,9 @@
 ``paradyn-run SCENE -o OUT --restart`` continues the run in ``OUT`` with the deck already there,
 the one its checkpoint belongs to (the engine checks the deck's fingerprint, docs/errors.md). A
 scene edited since the run started is compared with that deck: changes to the /control
-attributes of ``RESTART_MAY_CHANGE`` (output, history, progress and checkpoint intervals) are
-taken into the deck; any other change is refused, naming what differs, since the checkpoint's
-state belongs to the old model.
+attributes of ``RESTART_MAY_CHANGE`` (output, history, progress and checkpoint intervals, the time
+step floor) are taken into the deck; any other change is refused, naming what differs, since the
+checkpoint's state belongs to the old model.
 """
 
 from __future__ import annotations

@@ -193,6 +193,13 @@ def read_history(h5: h5py.File, path: Path, complete: bool) -> dict[str, np.ndar
     out = {name: read_rows(h5, ds, n, (), path) for name, ds in energy.items()}
     # deepest contact penetration (m); zeros for files written before the engine had contact
     out["contact_penetration"] = read_rows(h5, "/history/contact_penetration", n, (), path)
+    # the step from each record on and the element that sets it (docs/theory.md); files written
+    # before the step followed the mesh have neither: dt reads as NaN and the element as -1
+    for name in ("dt", "dt_stable"):
+        out[name] = (read_rows(h5, f"/history/{name}", n, (), path) if f"/history/{name}" in h5
+                     else np.full(n, np.nan))
+    out["dt_element"] = (read_rows(h5, "/history/dt_element", n, (), path) if "/history/dt_element" in h5
+                         else np.full(n, -1.0))
     n_tracked = h5[tracked["tracked_displacement"]].shape[1] if present_tracked else 0
     for name, ds in tracked.items():
         out[name] = read_rows(h5, ds, n, (n_tracked, 3), path)

@@ -58,7 +58,8 @@ _TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "trac
              "curve", "pressure", "prescribe")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
-             "contact_gather", "gravity", "energy_error_limit")
+             "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "mass_scaling_step",
+             "mass_scaling_limit")
 _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
                   "tangent_modulus", "hardening_mixing")
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
@@ -146,6 +147,11 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
                                      minimum=0.0),
         energy_error_limit=r.number(t, "energy_error_limit", label, default=RunSettings.energy_error_limit,
                                     minimum=0.0),
+        time_step_floor=r.number(t, "time_step_floor", label, default=RunSettings.time_step_floor, positive=True),
+        mass_scaling_step=r.number(t, "mass_scaling_step", label, default=RunSettings.mass_scaling_step,
+                                   minimum=0.0),
+        mass_scaling_limit=r.number(t, "mass_scaling_limit", label, default=RunSettings.mass_scaling_limit,
+                                    minimum=0.0),
         partition=(r.string(t, "partition", label, choices=tuple(deck.PARTITIONS)) if "partition" in t
                    else None),
         contact_gather=(r.string(t, "contact_gather", label, choices=tuple(_schema.ENUMS["contact_gather"]))
@@ -153,6 +159,9 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
     )
     if run.time_step_safety > 1.0:
         raise r.error(f"'time_step_safety' in {label} must be in (0, 1], got {run.time_step_safety}")
+    if run.time_step_floor >= 1.0:
+        raise r.error(f"'time_step_floor' in {label} must be in (0, 1), a fraction of the first step, "
+                      f"got {run.time_step_floor}")
     run.gravity_x, run.gravity_y, run.gravity_z = r.vector(t, "gravity", label, default=(0.0, 0.0, 0.0))
     return run
 

@@ -13,7 +13,7 @@ program paradyn_engine
   use paradyn_schema, only: status_ok, status_failure, status_bad_input, status_stopped
   use model_deck, only: deck_t
   use deck_reader, only: read_deck
-  use explicit_solver, only: solver_t, solver_setup, solver_run
+  use explicit_solver, only: solver_t, solver_setup, solver_run, record_at_stop
   use results_writer, only: results_file_t, results_create, results_reopen, results_finish, results_flush, results_failed, &
                             run_record_t
   use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
@@ -126,6 +126,7 @@ program paradyn_engine
       solver%control%n_elements, ' nodes=', solver%control%n_nodes, ' ranks=', n_ranks, ' threads=', solver%threads, &
       ' dt=', solver%clock%dt, ' dt_stable=', solver%clock%dt_stable, ' end_time=', solver%clock%end_time, &
       ' effects='//effect_list(solver%effects, .false.)//' partition='//solver%control%partition
+    if (solver%mass_scaling_step > 0.0_wp) call write_mass_scaling_line()
     if (restart) write (*, '(a,es13.6,a,i0)') 'PARADYN-RESTART time=', solver%clock%time, ' cycle=', &
       solver%clock%cycles
     flush (6)
@@ -137,6 +138,14 @@ program paradyn_engine
       pause_time = (floor(solver%clock%time / solver%control%checkpoint_interval + 1.0e-9_wp) + 1) &
                    * solver%control%checkpoint_interval
     call solver_run(solver, results, run, status, message, pause_time)
+    if (solver%floor_stop .and. solver%control%checkpoint_interval > 0.0_wp) then
+      ! the state is that of the last good step: a run with checkpoints keeps it for a restart
+      call results_flush(results)
+      call checkpoint_write(solver, checkpoint, results%frames, results%records, err, argument)
+      if (rank == 0 .and. err == status_ok) write (*, '(a,es13.6,a,i0,a)') 'PARADYN-CHECKPOINT time=', &
+        solver%clock%time, ' cycle=', solver%clock%cycles, ' path='//checkpoint
+    end if
+    if (solver%floor_stop) call record_at_stop(solver, results)
     if (status /= status_ok .or. solver%finished) exit
     call results_flush(results)   ! the checkpoint counts only what the results file holds
     call checkpoint_write(solver, checkpoint, results%frames, results%records, status, message)
@@ -175,6 +184,22 @@ program paradyn_engine
   call finish(status_ok)
 
 contains
+
+  !> PARADYN-MASS_SCALING: the target step, the elements scaled, the added mass in all, as a
+  !> fraction of the model's, and per part (comma separated, kg).
+  subroutine write_mass_scaling_line()
+    character(len=24) :: value
+    character(len=:), allocatable :: parts
+    integer :: p
+    parts = ''
+    do p = 1, size(solver%added_mass_part)
+      write (value, '(es11.4)') solver%added_mass_part(p)
+      parts = parts//merge(',', ' ', p > 1)//trim(adjustl(value))
+    end do
+    write (*, '(a,es11.4,a,i0,a,es11.4,a,es11.4,a)') 'PARADYN-MASS_SCALING target_dt=', solver%mass_scaling_step, &
+      ' elements=', solver%scaled_elements, ' added_kg=', solver%added_mass, ' fraction=', &
+      solver%added_mass / max(solver%model_mass, tiny(1.0_wp)), ' part_added_kg='//trim(adjustl(parts))
+  end subroutine write_mass_scaling_line
 
   !> Refuses a model whose memory estimate, times the ranks on this node, is beyond the node's
   !> memory (every rank holds the global deck), naming the estimate.

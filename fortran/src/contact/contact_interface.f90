@@ -88,14 +88,15 @@ module contact_interface
     real(wp), allocatable :: record_force(:, :, :)  !< (3, 5, n)
     real(wp), allocatable :: record_penetration(:)  !< (n)
     integer :: rank = 0, n_ranks = 1               !< this rank's share of the slaves
-    integer :: last_sort = -huge(1), sort_interval = 0
+    integer(i8) :: last_sort = -huge(1_i8)
+    integer :: sort_interval = 0
     real(wp) :: energy = 0.0_wp, max_penetration = 0.0_wp
     real(wp) :: time_sort = 0, time_search = 0, time_force = 0
     ! activity (contact_activity): whether idle passes are skipped (not with gather_all, which
     ! takes no shortcut), the cycles of the next check and of the last, and per contact
     ! definition the cycles it ran its stages and the cycles it was skipped as idle
     logical :: check_activity = .true.
-    integer :: next_check = -huge(1), last_check = 0
+    integer(i8) :: next_check = -huge(1_i8), last_check = 0
     integer(i8), allocatable :: pair_active_cycles(:), pair_skipped_cycles(:)
     logical :: last_step_worked = .false.       !< the last step ran the search stages
   end type contact_t
@@ -150,7 +151,7 @@ contains
   !> also chooses the nodes to gather until the next sort (new_gather_set).
   subroutine contact_begin(c, cycle, sort, clock, new_gather_set)
     type(contact_t), intent(inout) :: c
-    integer, intent(in) :: cycle
+    integer(i8), intent(in) :: cycle
     logical, intent(in) :: sort
     procedure(clock_seconds) :: clock
     logical, intent(out) :: new_gather_set
@@ -179,7 +180,7 @@ contains
   !> gather until the next sort: new_gather_set says the caller must take the new set.
   subroutine sort_passes(c, cycle, new_gather_set)
     type(contact_t), intent(inout) :: c
-    integer, intent(in) :: cycle
+    integer(i8), intent(in) :: cycle
     logical, intent(out) :: new_gather_set
     integer :: p
     c%x_at_sort = c%x
@@ -218,7 +219,7 @@ contains
   subroutine contact_activity_update(c, extents, cycle, dt, new_gather_set)
     type(contact_t), intent(inout) :: c
     real(wp), intent(in) :: extents(extent_width, 2 * size(c%passes)), dt
-    integer, intent(in) :: cycle
+    integer(i8), intent(in) :: cycle
     logical, intent(out) :: new_gather_set
     integer :: p, n, next
     logical :: idle, changed
@@ -235,7 +236,7 @@ contains
       if (.not. idle .and. pass%stale .and. c%last_sort >= 0) call sort_pass(c, p)
       end associate
     end do
-    c%next_check = cycle + max(1, min(next, 2 * (cycle - c%last_check)))
+    c%next_check = cycle + max(1_i8, min(int(next, i8), 2 * (cycle - c%last_check)))
     c%last_check = cycle
     new_gather_set = changed .and. c%gather_subset
     if (new_gather_set) then
@@ -279,7 +280,8 @@ contains
                              new_gather_set)
     type(contact_t), intent(inout) :: c
     real(wp), intent(in) :: force(:, :), x_at_sort(:, :), energy, max_penetration
-    integer, intent(in) :: touched_order(:), last_sort
+    integer, intent(in) :: touched_order(:)
+    integer(i8), intent(in) :: last_sort
     logical, intent(out) :: new_gather_set
     integer :: j
     c%x = x_at_sort
@@ -360,7 +362,7 @@ contains
   !> nodes (contact_movement on each rank's own nodes, the largest over the ranks).
   logical function contact_sort_due(c, cycle, moved) result(due)
     type(contact_t), intent(in) :: c
-    integer, intent(in) :: cycle
+    integer(i8), intent(in) :: cycle
     real(wp), intent(in) :: moved
     if (c%last_sort < 0) then
       due = .true.

@@ -47,7 +47,7 @@ module contact_parallel
     integer, allocatable :: at(:)             !< local column of each contact node this rank owns, else 0
     real(wp), allocatable :: extents(:, :)    !< (extent_width, 2 passes): the activity check's slave and master extents
     real(wp), allocatable :: v_before(:, :)   !< velocities of the contact nodes this rank owns, the cycle before a check
-    integer :: v_before_cycle = -huge(1)      !< the cycle they are from
+    integer(i8) :: v_before_cycle = -huge(1_i8)      !< the cycle they are from
   end type parallel_contact_t
 
 contains
@@ -87,7 +87,7 @@ contains
   subroutine parallel_contact_step(pc, x, v, cycle, dt_strain, timers)
     type(parallel_contact_t), intent(inout) :: pc
     real(wp), intent(in) :: x(:, :), v(:, :), dt_strain
-    integer, intent(in) :: cycle
+    integer(i8), intent(in) :: cycle
     type(phase_timers_t), intent(inout) :: timers
     real(wp) :: t_start, comm_before
     t_start = wall_clock()
@@ -126,7 +126,7 @@ contains
   subroutine keep_velocities(pc, v, cycle)
     type(parallel_contact_t), intent(inout) :: pc
     real(wp), intent(in) :: v(:, :)
-    integer, intent(in) :: cycle
+    integer(i8), intent(in) :: cycle
     integer :: i, k
     do i = 1, size(pc%nodes%owned_member)
       k = pc%nodes%owned_member(i)
@@ -142,7 +142,7 @@ contains
   subroutine activity_check(pc, x, v, cycle, timers)
     type(parallel_contact_t), intent(inout) :: pc
     real(wp), intent(in) :: x(:, :), v(:, :)
-    integer, intent(in) :: cycle
+    integer(i8), intent(in) :: cycle
     type(phase_timers_t), intent(inout) :: timers
     integer :: p
     real(wp) :: t0
@@ -174,7 +174,7 @@ contains
   subroutine gather_positions(pc, x, v, cycle, timers)
     type(parallel_contact_t), intent(inout) :: pc
     real(wp), intent(in) :: x(:, :), v(:, :)
-    integer, intent(in) :: cycle
+    integer(i8), intent(in) :: cycle
     type(phase_timers_t), intent(inout) :: timers
     real(wp) :: t0, moved, moved_here
     logical :: sort, new_gather_set, quiet
@@ -282,7 +282,7 @@ contains
   subroutine contact_checkpoint_restore(pc, rows, last_sort, energy, max_penetration)
     type(parallel_contact_t), intent(inout) :: pc
     real(wp), intent(in) :: rows(:, :), energy, max_penetration
-    integer, intent(in) :: last_sort
+    integer(i8), intent(in) :: last_sort
     logical :: new_gather_set
     call contact_restore(pc%c, rows(1:3, :), nint(rows(7, :)), rows(4:6, :), last_sort, energy, &
                          max_penetration, new_gather_set)

@@ -4,7 +4,7 @@
 !> closest point, penalty force), and the sum of the records in candidate order. No MPI here: the
 !> caller (contact_parallel) shares candidates and records between the stages.
 module contact_stages
-  use paradyn_kinds, only: wp, ip
+  use paradyn_kinds, only: wp, ip, i8
   use contact_buckets, only: nearest_master_node
   use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order
   use contact_pass, only: contact_pass_t
@@ -28,9 +28,10 @@ contains
   !> paper's swap.
   pure logical function contact_pass_active(c, p, cycle)
     type(contact_t), intent(in) :: c
-    integer, intent(in) :: p, cycle
+    integer, intent(in) :: p
+    integer(i8), intent(in) :: cycle
     contact_pass_active = .not. c%passes(p)%idle .and. &
-                          (c%passes(p)%every_cycle .or. modulo(cycle + c%passes(p)%swap_index, 2) == 1)
+                          (c%passes(p)%every_cycle .or. modulo(cycle + c%passes(p)%swap_index, 2_i8) == 1)
   end function contact_pass_active
 
   !> Add the records of the step (complete on this rank: the caller has shared them between
@@ -63,7 +64,7 @@ contains
   !> every rank and for any number of threads.
   subroutine contact_end(c, cycle, dt)
     type(contact_t), intent(inout) :: c
-    integer, intent(in) :: cycle
+    integer(i8), intent(in) :: cycle
     real(wp), intent(in) :: dt
     integer :: i, j
     real(wp) :: work
@@ -89,7 +90,7 @@ contains
   !> nearest master, pass) found are own_pairs(:, 1:n_own), by pass and ascending within one.
   subroutine contact_global_search(c, cycle, clock)
     type(contact_t), intent(inout) :: c
-    integer, intent(in) :: cycle
+    integer(i8), intent(in) :: cycle
     procedure(clock_seconds) :: clock
     integer :: i, j, p, found, total, n_mine(size(c%passes)), offset(size(c%passes) + 1)
     real(wp) :: x(3), t0
@@ -146,7 +147,7 @@ contains
   !> ascending, so ordering costs O(n_near) per pass, not O(n_slaves).
   subroutine contact_candidates(c, cycle, clock)
     type(contact_t), intent(inout) :: c
-    integer, intent(in) :: cycle
+    integer(i8), intent(in) :: cycle
     procedure(clock_seconds) :: clock
     real(wp) :: t0
     integer :: k, p, n_pass, n_found, first

@@ -7,14 +7,15 @@ module paradyn_schema
   implicit none
   private
   public :: deck_version, deck_version_attribute, material_elastic, material_j2_plasticity, &
-      hourglass_viscous, hourglass_stiffness, dof_free, dof_fixed, contact_passes_alternate, &
-      contact_passes_both, contact_kind_node_to_segment, contact_gather_near, contact_gather_all, switch_off, &
-      switch_on, partition_blocks, partition_rcb, max_integration_points, status_ok, status_failure, &
-      status_bad_input, status_numerical, status_stopped, n_frame_fields, n_history_scalars, &
-      history_kinetic_energy, history_internal_energy, history_hourglass_energy, history_contact_energy, &
-      history_external_work, history_contact_penetration, frame_field_names, history_scalar_names, class_int, &
-      class_float, class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, &
-      size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
+      hourglass_viscous, hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, &
+      contact_passes_alternate, contact_passes_both, contact_kind_node_to_segment, contact_gather_near, &
+      contact_gather_all, switch_off, switch_on, partition_blocks, partition_rcb, max_integration_points, &
+      status_ok, status_failure, status_bad_input, status_numerical, status_stopped, n_frame_fields, &
+      n_history_scalars, history_kinetic_energy, history_internal_energy, history_hourglass_energy, &
+      history_contact_energy, history_external_work, history_contact_penetration, history_dt, &
+      history_dt_stable, history_dt_element, frame_field_names, history_scalar_names, class_int, class_float, &
+      class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, size_n_loads, &
+      size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
       size_n_pressures, size_n_prescribed, n_sizes, condition_none, condition_loads_group, &
       condition_contact_group, condition_rigid_walls_group, condition_curves_group, condition_pressure_group, &
       condition_prescribed_group, condition_j2_plasticity, n_conditions, enum_none, enum_material_model, &
@@ -37,7 +38,8 @@ module paradyn_schema
       control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
       control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
       control_partition, control_contact_gather, control_gravity_x, control_gravity_y, control_gravity_z, &
-      control_energy_error_limit, control_effect_point_loads, control_effect_gravity, &
+      control_energy_error_limit, control_time_step_floor, control_mass_scaling_step, &
+      control_mass_scaling_limit, control_effect_point_loads, control_effect_gravity, &
       control_effect_pressure, control_effect_rigid_wall, control_effect_mass_damping, &
       control_effect_prescribed_velocity, control_effect_plasticity, control_effect_hourglass, &
       control_effect_contact, control_effect_friction, n_control_attributes, control_restart_may_change, &
@@ -55,6 +57,7 @@ module paradyn_schema
   integer, parameter :: material_j2_plasticity = 2   !< J2 plasticity (plane stress, linear combined hardening)
   integer, parameter :: hourglass_viscous = 1   !< resultants proportional to the hourglass rates
   integer, parameter :: hourglass_stiffness = 2   !< resultants integrated from the rates (elastic)
+  integer, parameter :: hourglass_physical = 3   !< assumed-strain stabilisation from the section's elastic stiffness, no 
   integer, parameter :: dof_free = 0   !< the dof moves freely
   integer, parameter :: dof_fixed = 1   !< the dof is held at zero velocity
   integer, parameter :: contact_passes_alternate = 1   !< slave and master swap every step (the paper)
@@ -72,23 +75,26 @@ module paradyn_schema
   integer, parameter :: status_ok = 0   !< the run finished; the results file is complete
   integer, parameter :: status_failure = 1   !< anything else (a file that cannot be written, an MPI error)
   integer, parameter :: status_bad_input = 2   !< bad input: a bad deck or command line, or a checkpoint of another deck; no resul
-  integer, parameter :: status_numerical = 3   !< a numerical failure (NaN, inverted element); the last good state is saved
+  integer, parameter :: status_numerical = 3   !< a numerical failure (NaN, inverted element, the energy error limit, a time step 
   integer, parameter :: status_stopped = 4   !< a stop signal (SIGTERM, SIGINT, SIGUSR1) ended the run after writing its checkpo
 
   ! results datasets (schema/results.toml): frame fields, scalar histories by id
   integer, parameter :: n_frame_fields = 6
-  integer, parameter :: n_history_scalars = 6
+  integer, parameter :: n_history_scalars = 9
   integer, parameter :: history_kinetic_energy = 1
   integer, parameter :: history_internal_energy = 2
   integer, parameter :: history_hourglass_energy = 3
   integer, parameter :: history_contact_energy = 4
   integer, parameter :: history_external_work = 5
   integer, parameter :: history_contact_penetration = 6
+  integer, parameter :: history_dt = 7
+  integer, parameter :: history_dt_stable = 8
+  integer, parameter :: history_dt_element = 9
   character(len=23), parameter :: frame_field_names(n_frame_fields) = [character(len=23) :: 'time', &
     'displacement', 'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain']
   character(len=19), parameter :: history_scalar_names(n_history_scalars) = [character(len=19) :: &
     'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work', &
-    'contact_penetration']
+    'contact_penetration', 'dt', 'dt_stable', 'dt_element']
 
   ! classes, row symbols, conditions, enums, datasets and /control attributes by id
   integer, parameter :: class_int = 1
@@ -188,21 +194,24 @@ module paradyn_schema
   integer, parameter :: control_gravity_y = 13
   integer, parameter :: control_gravity_z = 14
   integer, parameter :: control_energy_error_limit = 15
-  integer, parameter :: control_effect_point_loads = 16
-  integer, parameter :: control_effect_gravity = 17
-  integer, parameter :: control_effect_pressure = 18
-  integer, parameter :: control_effect_rigid_wall = 19
-  integer, parameter :: control_effect_mass_damping = 20
-  integer, parameter :: control_effect_prescribed_velocity = 21
-  integer, parameter :: control_effect_plasticity = 22
-  integer, parameter :: control_effect_hourglass = 23
-  integer, parameter :: control_effect_contact = 24
-  integer, parameter :: control_effect_friction = 25
-  integer, parameter :: n_control_attributes = 25
+  integer, parameter :: control_time_step_floor = 16
+  integer, parameter :: control_mass_scaling_step = 17
+  integer, parameter :: control_mass_scaling_limit = 18
+  integer, parameter :: control_effect_point_loads = 19
+  integer, parameter :: control_effect_gravity = 20
+  integer, parameter :: control_effect_pressure = 21
+  integer, parameter :: control_effect_rigid_wall = 22
+  integer, parameter :: control_effect_mass_damping = 23
+  integer, parameter :: control_effect_prescribed_velocity = 24
+  integer, parameter :: control_effect_plasticity = 25
+  integer, parameter :: control_effect_hourglass = 26
+  integer, parameter :: control_effect_contact = 27
+  integer, parameter :: control_effect_friction = 28
+  integer, parameter :: n_control_attributes = 28
   logical, parameter :: control_restart_may_change(n_control_attributes) = [.false., .true., .true., .false., &
-    .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .false., &
-    .false., .false., .false., .false., .false., .false., .false., .false., .false.]
-  integer, parameter :: max_enum_members = 2
+    .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .true., &
+    .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false.]
+  integer, parameter :: max_enum_members = 3
 
   ! effects of a step (schema/effects.toml), in the order of the step
   integer, parameter :: n_effects = 13
@@ -272,7 +281,7 @@ module paradyn_schema
     integer :: codes(max_enum_members)
     integer :: reference                !< size id of the entity indexed, size_none
     character(len=23) :: rule
-    character(len=47) :: enum_rule
+    character(len=62) :: enum_rule
     character(len=84) :: fix
   end type dataset_spec_t
 
@@ -288,19 +297,19 @@ module paradyn_schema
     real(wp) :: lower, upper
     integer :: enum
     character(len=23) :: rule
-    character(len=47) :: enum_rule
+    character(len=62) :: enum_rule
     character(len=84) :: fix
   end type attribute_spec_t
 
   type(enum_spec_t), parameter :: deck_enums(n_enums) = [ &
-    enum_spec_t(2, [1, 2], [character(len=15) :: 'elastic', 'j2_plasticity']), &
-    enum_spec_t(2, [1, 2], [character(len=15) :: 'viscous', 'stiffness']), &
-    enum_spec_t(2, [0, 1], [character(len=15) :: 'free', 'fixed']), &
-    enum_spec_t(2, [1, 2], [character(len=15) :: 'alternate', 'both']), &
-    enum_spec_t(1, [1, 0], [character(len=15) :: 'node_to_segment', '']), &
-    enum_spec_t(2, [1, 2], [character(len=15) :: 'near', 'all']), &
-    enum_spec_t(2, [0, 1], [character(len=15) :: 'off', 'on']), &
-    enum_spec_t(2, [1, 2], [character(len=15) :: 'blocks', 'rcb']) ]
+    enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'elastic', 'j2_plasticity', '']), &
+    enum_spec_t(3, [1, 2, 3], [character(len=15) :: 'viscous', 'stiffness', 'physical']), &
+    enum_spec_t(2, [0, 1, 0], [character(len=15) :: 'free', 'fixed', '']), &
+    enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'alternate', 'both', '']), &
+    enum_spec_t(1, [1, 0, 0], [character(len=15) :: 'node_to_segment', '', '']), &
+    enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'near', 'all', '']), &
+    enum_spec_t(2, [0, 1, 0], [character(len=15) :: 'off', 'on', '']), &
+    enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'blocks', 'rcb', '']) ]
 
   type(condition_spec_t), parameter :: deck_conditions(n_conditions) = [ &
     condition_spec_t('/loads', 0, 0, ''), &
@@ -313,153 +322,154 @@ module paradyn_schema
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, '', '', 'give every node a finite position in metres'), &
     dataset_spec_t('/nodes/initial_velocity', class_float, 3, size_n_nodes, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, '', '', 'give finite initial velocities in m/s'), &
     dataset_spec_t('/nodes/initial_angular_velocity', class_float, 3, size_n_nodes, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0], size_none, '', '', 'give finite initial angular velocities in rad/s'), &
+        0, [0, 0, 0], size_none, '', '', 'give finite initial angular velocities in rad/s'), &
     dataset_spec_t('/nodes/fixed_dofs', class_int, 6, size_n_nodes, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_dof_state, 2, [0, 1], &
-        size_none, '', 'must be 0 or 1 (0 = free, 1 = fixed)', 'use 1 to fix a dof and 0 to leave it free'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_dof_state, 2, &
+        [0, 1, 0], size_none, '', 'must be 0 or 1 (0 = free, 1 = fixed)', &
+        'use 1 to fix a dof and 0 to leave it free'), &
     dataset_spec_t('/elements/connectivity', class_int, 4, size_n_elements, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_n_nodes, '', '', 'remesh'), &
     dataset_spec_t('/elements/part', class_int, 0, size_n_elements, .false., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_n_parts, '', '', 'give every element the index of its part'), &
     dataset_spec_t('/parts/thickness', class_float, 0, size_n_parts, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, 'must be > 0', '', 'set a positive shell thickness in metres'), &
     dataset_spec_t('/parts/material', class_int, 0, size_n_parts, .false., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_n_materials, '', '', 'give every part the index of its material'), &
     dataset_spec_t('/parts/integration_points', class_int, 0, size_n_parts, .false., .false., condition_none, &
-        condition_none, 5.0_wp, .true., .true., .true., .true., 1.0_wp, 9.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 5.0_wp, .true., .true., .true., .true., 1.0_wp, 9.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, 'must be between 1 and 9', '', &
         'choose 1 to 9 Gauss points through the thickness (5 is usual)'), &
     dataset_spec_t('/parts/hourglass_coefficient', class_float, 0, size_n_parts, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0], size_none, 'must be >= 0', '', 'use a small non-negative coefficient such as 0.1'), &
+        0, [0, 0, 0], size_none, 'must be >= 0', '', 'use a small non-negative coefficient such as 0.1'), &
     dataset_spec_t('/parts/hourglass_form', class_int, 0, size_n_parts, .false., .false., condition_none, &
-        condition_none, 2.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_hourglass_form, 2, &
-        [1, 2], size_none, '', 'must be 1 or 2 (1 = viscous, 2 = stiffness)', &
-        'use 1 (viscous) or 2 (stiffness)'), &
+        condition_none, 3.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_hourglass_form, 3, &
+        [1, 2, 3], size_none, '', 'must be 1 or 2 or 3 (1 = viscous, 2 = stiffness, 3 = physical)', &
+        'use 1 (viscous), 2 (stiffness) or 3 (physical)'), &
     dataset_spec_t('/parts/warping_correction', class_int, 0, size_n_parts, .false., .false., condition_none, &
-        condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, 'must be between 0 and 1', '', 'use 1 (warping correction on) or 0 (off)'), &
     dataset_spec_t('/materials/model', class_int, 0, size_n_materials, .true., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 2, &
-        [1, 2], size_none, '', 'must be 1 or 2 (1 = elastic, 2 = j2_plasticity)', &
+        [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = elastic, 2 = j2_plasticity)', &
         'use 1 for linear elastic or 2 for J2 plasticity'), &
     dataset_spec_t('/materials/density', class_float, 0, size_n_materials, .false., .true., condition_none, &
-        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, 'must be > 0', '', 'give the density in kg/m^3'), &
     dataset_spec_t('/materials/youngs_modulus', class_float, 0, size_n_materials, .false., .true., &
         condition_none, condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0], size_none, 'must be > 0', '', 'give Young''s modulus in Pa (200e9 for steel)'), &
+        0, [0, 0, 0], size_none, 'must be > 0', '', 'give Young''s modulus in Pa (200e9 for steel)'), &
     dataset_spec_t('/materials/poisson_ratio', class_float, 0, size_n_materials, .false., .true., &
         condition_none, condition_none, 0.0_wp, .true., .false., .true., .false., -1.0_wp, 0.5_wp, enum_none, &
-        0, [0, 0], size_none, 'must be in (-1, 0.5)', '', 'give a Poisson ratio such as 0.3'), &
+        0, [0, 0, 0], size_none, 'must be in (-1, 0.5)', '', 'give a Poisson ratio such as 0.3'), &
     dataset_spec_t('/materials/yield_stress', class_float, 0, size_n_materials, .false., .false., &
         condition_j2_plasticity, condition_j2_plasticity, 0.0_wp, .true., .false., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0], size_none, 'must be > 0', '', 'give the initial yield stress in Pa'), &
+        0.0_wp, enum_none, 0, [0, 0, 0], size_none, 'must be > 0', '', 'give the initial yield stress in Pa'), &
     dataset_spec_t('/materials/tangent_modulus', class_float, 0, size_n_materials, .false., .false., &
         condition_j2_plasticity, condition_j2_plasticity, 0.0_wp, .true., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0], size_none, 'must be >= 0', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0], size_none, 'must be >= 0', '', &
         'give the plastic tangent modulus in Pa below Young''s modulus (0 = perfectly plastic)'), &
     dataset_spec_t('/materials/hardening_mixing', class_float, 0, size_n_materials, .false., .false., &
         condition_j2_plasticity, condition_j2_plasticity, 1.0_wp, .true., .true., .true., .true., 0.0_wp, &
-        1.0_wp, enum_none, 0, [0, 0], size_none, 'must be in [0, 1]', '', &
+        1.0_wp, enum_none, 0, [0, 0, 0], size_none, 'must be in [0, 1]', '', &
         'use 1 for isotropic, 0 for kinematic hardening or a mix in between'), &
     dataset_spec_t('/loads/node', class_int, 0, size_n_loads, .true., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_n_nodes, '', '', 'give the index of the loaded node'), &
     dataset_spec_t('/loads/dof', class_int, 0, size_n_loads, .false., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, 'must be between 1 and 6', '', &
         'use 1..3 for a force along x, y, z and 4..6 for a moment about x, y, z'), &
     dataset_spec_t('/loads/value', class_float, 0, size_n_loads, .false., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, '', '', 'give the final load value in N or N m'), &
     dataset_spec_t('/loads/ramp_time', class_float, 0, size_n_loads, .false., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, 'must be >= 0', '', 'give the ramp time in seconds (0 applies the load at once)'), &
     dataset_spec_t('/output/tracked_nodes', class_int, 0, size_n_tracked, .true., .false., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_n_nodes, '', '', 'give the index of each tracked node'), &
     dataset_spec_t('/contact/pairs', class_int, 2, size_n_contacts, .true., .false., condition_contact_group, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0], &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_n_parts, '', '', 'name two different parts'), &
     dataset_spec_t('/contact/penalty_scale', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0], size_none, 'must be > 0', '', 'use a penalty scale factor such as 0.1 (the default)'), &
+        0, [0, 0, 0], size_none, 'must be > 0', '', 'use a penalty scale factor such as 0.1 (the default)'), &
     dataset_spec_t('/contact/static_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
+        0, [0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
     dataset_spec_t('/contact/dynamic_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
+        0, [0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
     dataset_spec_t('/contact/friction_decay', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0], size_none, 'must be >= 0', '', 'give a decay coefficient >= 0 in s/m'), &
+        0, [0, 0, 0], size_none, 'must be >= 0', '', 'give a decay coefficient >= 0 in s/m'), &
     dataset_spec_t('/contact/passes', class_int, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 2.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_passes, 2, &
-        [1, 2], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
+        [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
         'use 2 (both bodies slave every step) or 1 (slave and master swap every step)'), &
     dataset_spec_t('/contact/kind', class_int, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 1, &
-        [1, 0], size_none, '', 'must be 1 (1 = node_to_segment)', 'use 1 (node_to_segment)'), &
+        [1, 0, 0], size_none, '', 'must be 1 (1 = node_to_segment)', 'use 1 (node_to_segment)'), &
     dataset_spec_t('/rigid_walls/point', class_float, 3, size_n_rigid_walls, .true., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0], size_none, '', '', 'give a point of the wall''s plane in metres'), &
+        0.0_wp, enum_none, 0, [0, 0, 0], size_none, '', '', 'give a point of the wall''s plane in metres'), &
     dataset_spec_t('/rigid_walls/normal', class_float, 3, size_n_rigid_walls, .false., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0], size_none, '', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0], size_none, '', '', &
         'give a nonzero normal pointing from the wall towards the model'), &
     dataset_spec_t('/rigid_walls/velocity', class_float, 3, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0], size_none, '', '', 'give the wall''s velocity in m/s (0 for a stationary wall)'), &
+        0, [0, 0, 0], size_none, '', '', 'give the wall''s velocity in m/s (0 for a stationary wall)'), &
     dataset_spec_t('/rigid_walls/penalty_scale', class_float, 0, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .false., .true., .true., 0.0_wp, 0.5_wp, enum_none, &
-        0, [0, 0], size_none, 'must be in (0, 0.5]', '', &
+        0, [0, 0, 0], size_none, 'must be in (0, 0.5]', '', &
         'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)'), &
     dataset_spec_t('/curves/first_point', class_int, 0, size_n_curves, .true., .false., &
         condition_curves_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0], size_none, 'must be >= 0', '', &
+        enum_none, 0, [0, 0, 0], size_none, 'must be >= 0', '', &
         'give the 0-based index of each curve''s first point, 0 first and strictly increasing'), &
     dataset_spec_t('/curves/time', class_float, 0, size_n_curve_points, .true., .false., &
         condition_curves_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0], size_none, '', '', &
+        enum_none, 0, [0, 0, 0], size_none, '', '', &
         'give finite times in seconds, strictly increasing within each curve'), &
     dataset_spec_t('/curves/value', class_float, 0, size_n_curve_points, .false., .false., &
         condition_curves_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0], size_none, '', '', 'give finite curve values (factors on the load''s value)'), &
+        enum_none, 0, [0, 0, 0], size_none, '', '', 'give finite curve values (factors on the load''s value)'), &
     dataset_spec_t('/pressure/part', class_int, 0, size_n_pressures, .true., .false., &
         condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0], size_n_parts, '', '', 'give the index of the loaded part'), &
+        enum_none, 0, [0, 0, 0], size_n_parts, '', '', 'give the index of the loaded part'), &
     dataset_spec_t('/pressure/value', class_float, 0, size_n_pressures, .false., .false., &
         condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0], size_none, '', '', &
+        enum_none, 0, [0, 0, 0], size_none, '', '', &
         'give the pressure in Pa (positive pushes along the element normal)'), &
     dataset_spec_t('/pressure/curve', class_int, 0, size_n_pressures, .false., .false., &
         condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point'), &
+        enum_none, 0, [0, 0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point'), &
     dataset_spec_t('/prescribed/node', class_int, 0, size_n_prescribed, .true., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0], size_n_nodes, '', '', 'give the index of the node'), &
+        enum_none, 0, [0, 0, 0], size_n_nodes, '', '', 'give the index of the node'), &
     dataset_spec_t('/prescribed/dof', class_int, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, &
-        enum_none, 0, [0, 0], size_none, 'must be between 1 and 6', '', &
+        enum_none, 0, [0, 0, 0], size_none, 'must be between 1 and 6', '', &
         'use 1..3 for a velocity along x, y, z and 4..6 for an angular velocity about x, y, z'), &
     dataset_spec_t('/prescribed/value', class_float, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0], size_none, '', '', 'give the velocity in m/s (rad/s for a rotation)'), &
+        enum_none, 0, [0, 0, 0], size_none, '', '', 'give the velocity in m/s (rad/s for a rotation)'), &
     dataset_spec_t('/prescribed/curve', class_int, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point') ]
+        enum_none, 0, [0, 0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point') ]
 
   type(attribute_spec_t), parameter :: control_attributes(n_control_attributes) = [ &
     attribute_spec_t('end_time', class_float, .true., 0.0_wp, 0, 0.0_wp, .true., .false., .false., .true., &
@@ -499,6 +509,15 @@ module paradyn_schema
     attribute_spec_t('energy_error_limit', class_float, .false., 0.0_wp, 0, 0.0_wp, .true., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_none, 'must be >= 0', '', &
         'give a fraction such as 0.05, or 0 for no limit'), &
+    attribute_spec_t('time_step_floor', class_float, .false., 0.001_wp, 0, 0.0_wp, .true., .false., .true., &
+        .false., 0.0_wp, 1.0_wp, enum_none, 'must be in (0, 1)', '', &
+        'give a fraction of the first step such as 1e-3 (the default)'), &
+    attribute_spec_t('mass_scaling_step', class_float, .false., 0.0_wp, 0, 0.0_wp, .true., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_none, 'must be >= 0', '', &
+        'give the wanted step in seconds, or 0 for no mass scaling'), &
+    attribute_spec_t('mass_scaling_limit', class_float, .false., 0.05_wp, 0, 0.0_wp, .true., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_none, 'must be >= 0', '', &
+        'give a fraction of the model''s mass such as 0.05 (the default)'), &
     attribute_spec_t('effect_point_loads', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., &
         .false., .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
         'use "on" or "off" (the scene''s [effects] table takes true or false)'), &

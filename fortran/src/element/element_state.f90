@@ -21,6 +21,8 @@ module element_state
   type :: element_state_t
     type(group_state_t), allocatable :: groups(:)
     real(wp), allocatable :: e_internal(:), e_hourglass(:)   !< per local element (J)
+    real(wp), allocatable :: dt_element(:)   !< per local element: L / c at the last forces, unscaled density (s)
+    real(wp), allocatable :: step_scale(:)   !< per local element: its step's factor from mass scaling (1: none)
     integer :: inverted = 0   !< elements found inside out so far
   end type element_state_t
 
@@ -40,6 +42,8 @@ contains
       allocate (es%groups(g)%eps_p(n, nip), es%groups(g)%hourglass(n, hourglass_components), source=0.0_wp)
     end do
     allocate (es%e_internal(dom%n_elements), es%e_hourglass(dom%n_elements), source=0.0_wp)
+    allocate (es%dt_element(dom%n_elements), source=huge(1.0_wp))
+    allocate (es%step_scale(dom%n_elements), source=1.0_wp)
   end subroutine element_state_setup
 
   !> Doubles per element row: stress, back stress and plastic strain at the most points any part

@@ -3,8 +3,8 @@
 !> Four-node quadrilateral, one-point quadrature in the plane, Gauss points through the thickness,
 !> co-rotational local frame per element and step, velocity-strain formulation (membrane, bending,
 !> transverse shear), stresses stored in the co-rotational frame (an objective rate), and
-!> stiffness- or viscous-form hourglass control in the manner of Flanagan & Belytschko (1981), and
-!> the warping correction of shell_warping where the part asks for it.
+!> hourglass control (shell_hourglass: physical, or stiffness and viscous forms with a coefficient).
+!> and the warping correction of shell_warping where the part asks for it.
 !>
 !> Kernels work on a group of n elements whose arrays put the element index first (structure of
 !> arrays). They are pure: no MPI, no I/O, no module state.
@@ -12,18 +12,16 @@ module shell_blt
   use paradyn_kinds, only: wp
   use vector_algebra, only: cross
   use element_groups, only: group_size
-  use paradyn_schema, only: max_integration_points, hourglass_viscous, hourglass_stiffness
+  use paradyn_schema, only: max_integration_points, hourglass_physical
   use shell_section, only: shell_properties_t, stress_components, hourglass_components, shear_correction, &
                            thickness_rule, back_stress_points
+  use shell_hourglass, only: hourglass_update, add_shear_hourglass_moments, tangent_work, tangent_share
   use shell_warping, only: warp_heights, warp_curvature, warp_twist_moment
+  use shell_measures, only: frame_time_steps
   implicit none
   private
   public :: blt_internal_forces
 
-  !> drilling stiffness per node, as a fraction of E t A per radian (after the drilling penalty
-  !> of Hughes & Brezzi 1989): small enough to leave membrane and bending response alone, large
-  !> enough that the rotation about the normal of kinked facets is tied to the in-plane spin
-  real(wp), parameter :: drilling_penalty = 1.0e-4_wp
   real(wp), parameter :: h(4) = [1.0_wp, -1.0_wp, 1.0_wp, -1.0_wp]   !< the hourglass pattern
 
 contains
@@ -46,7 +44,7 @@ contains
   !> the group's size: nothing is summed across elements, and this file is compiled without FMA
   !> contraction (fortran/CMakeLists.txt), so the layouts of tests/test_parallel.py agree.
   pure subroutine blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, hourglass, &
-                                      force, e_internal, e_hourglass, inverted)
+                                      force, e_internal, e_hourglass, inverted, dt_element)
     integer, intent(in) :: n
     real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
     type(shell_properties_t), intent(in) :: props
@@ -58,6 +56,7 @@ contains
     real(wp), intent(out) :: force(n, 6, 4)
     real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
     integer, intent(inout) :: inverted
+    real(wp), intent(out) :: dt_element(n)   !< stable step L / c on the end-of-step geometry
 
     integer :: first, m, o, i, k, c, nip
     real(wp) :: zeta(max_integration_points), wgt(max_integration_points)
@@ -70,11 +69,14 @@ contains
     real(wp) :: zw(group_size), dh(group_size)   !< warp and twist term (shell_warping); 0: flat element
     real(wp) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
     !> rates: membrane dm(1:3), curvature kappa(4:6), transverse shear gs(7:8)
-    real(wp) :: rates(group_size, 8), qrate(group_size, hourglass_components)
+    real(wp) :: rates(group_size, 8), qrate(group_size, hourglass_components), grad_w(group_size, 4)
     real(wp) :: sp(group_size, stress_components)
     real(wp) :: bp(group_size, 3), ep(group_size), deps(group_size, 3), work(group_size)
     !> res: membrane resultant N (1:3), moment M (4:6), shear Q (7:8)
     real(wp) :: hg(group_size, hourglass_components), res(group_size, 8), fl(group_size, 6, 4)
+    real(wp) :: s_xi(group_size)
+    !> the stress increments' work against its elastic value over the points: the tangent share
+    real(wp) :: actual_work(group_size), elastic_work(group_size), tangent(group_size)
 
     nip = props%integration_points
     history = props%material%has_history()
@@ -103,12 +105,14 @@ contains
       call gradient_arrays(m, xl, yl, area_mid, b1, b2, gamma)
       zw = 0.0_wp
       if (props%warping_correction) call warp_heights(m, group_size, 0, xg, e, area_mid, zw)
-      call strain_rates(m, e, b1, b2, gamma, vg, wg, zw, rates, qrate)
+      call strain_rates(m, e, b1, b2, gamma, vg, wg, zw, rates, qrate, grad_w)
       if (props%warping_correction) call warp_curvature(m, zw, b1, b2, qrate, rates)
 
       ! --- stress update at each through-thickness point on copies (sp, bp, ep), written back by
       ! merge so that an element inverted at mid-step keeps its state
       work = 0.0_wp
+      actual_work = 0.0_wp
+      elastic_work = 0.0_wp
       do k = 1, nip
         z = zeta(k) * half_t
         do c = 1, 3
@@ -134,6 +138,7 @@ contains
             end do
           end if
           eps_p(o + 1:o + m, k) = merge(ep(1:m), eps_p(o + 1:o + m, k), area_mid(1:m) > 0.0_wp)
+          call tangent_work(m, wgt(k), props, deps, stress(o + 1:o + m, 1:3, k), sp, actual_work, elastic_work)
         end if
         wz = wgt(k) * half_t
         do i = 1, m
@@ -155,7 +160,9 @@ contains
 
       ! --- hourglass resultants and drilling moments
       hg(1:m, :) = hourglass(o + 1:o + m, :)
-      call hourglass_update(m, props, dt, area_mid, b1, b2, qrate, hg, work)
+      tangent(1:m) = 1.0_wp
+      if (history) tangent(1:m) = tangent_share(m, actual_work, elastic_work)
+      call hourglass_update(m, props, dt, area_mid, b1, b2, xl, yl, qrate, grad_w, tangent, hg, work)
       do c = 1, hourglass_components
         hourglass(o + 1:o + m, c) = merge(hg(1:m, c), hourglass(o + 1:o + m, c), area_mid(1:m) > 0.0_wp)
       end do
@@ -164,6 +171,7 @@ contains
 
       ! --- resultants and nodal forces on the end-of-step geometry
       call frames(m, n, o, x, e, xl, yl, area)
+      call frame_time_steps(m, xl, yl, area, props, dt_element(o + 1:o + m))
       call check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
       inverted = inverted + count(.not. (area(1:m) > 0.0_wp))
       call gradient_arrays(m, xl, yl, area, b1, b2, gamma)
@@ -179,10 +187,16 @@ contains
         res(1:m, 8) = res(1:m, 8) + wz * stress(o + 1:o + m, 5, k)
       end do
       ! into a local array: stored straight into force, gfortran needs too many alias checks
+      if (props%hourglass_form == hourglass_physical) then
+        s_xi(1:m) = hg(1:m, 5)
+        hg(1:m, 5) = 0.25_wp * (hg(1:m, 5) + hg(1:m, 10))   ! both shear resultants drive the lateral hourglass
+      end if
       zw = 0.0_wp
       dh = 0.0_wp
       if (props%warping_correction) call warp_twist_moment(m, n, o, x, e, area, b1, b2, res, zw, dh)
       call nodal_forces(m, e, area, b1, b2, gamma, res, hg, zw, dh, fl)
+      if (props%hourglass_form == hourglass_physical) &
+        call add_shear_hourglass_moments(m, e, area, xl, yl, s_xi, hg(:, 10), fl)
       force(o + 1:o + m, :, :) = fl(1:m, :, :)
     end do
   end subroutine blt_internal_forces
@@ -275,11 +289,14 @@ contains
   !> rates (5 modes, then the drilling rate of each node about the normal relative to the
   !> in-plane spin). A warped element (zw /= 0) first moves its nodes' velocities to the mean
   !> plane along rigid links of length z = +-zw (shell_warping): vl - z (wl x e3).
-  pure subroutine strain_rates(m, e, b1, b2, gamma, v, w, zw, rates, qrate)
+  pure subroutine strain_rates(m, e, b1, b2, gamma, v, w, zw, rates, qrate, grad_w)
     integer, intent(in) :: m
     real(wp), intent(in) :: e(group_size, 3, 3), b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
     real(wp), intent(in) :: v(group_size, 3, 4), w(group_size, 3, 4), zw(group_size)
     real(wp), intent(out) :: rates(group_size, 8), qrate(group_size, hourglass_components)
+    !> the centre gradients of the nodal rotation rates: d/dx theta_x, d/dy theta_y, d/dx theta_y,
+    !> d/dy theta_x (before any warping correction of the curvatures)
+    real(wp), intent(out) :: grad_w(group_size, 4)
     ! the dot products over the nodes that enter sums and differences
     real(wp) :: b2v1(group_size), b1v2(group_size), b2w2(group_size), b1w1(group_size)
     real(wp) :: w1sum(group_size), w2sum(group_size)
@@ -328,6 +345,10 @@ contains
       rates(i, 3) = b2v1(i) + b1v2(i)
       rates(i, 5) = -rates(i, 5)
       rates(i, 6) = b2w2(i) - b1w1(i)
+      grad_w(i, 1) = b1w1(i)
+      grad_w(i, 2) = b2w2(i)
+      grad_w(i, 3) = rates(i, 4)
+      grad_w(i, 4) = -rates(i, 5)
       rates(i, 7) = rates(i, 7) + 0.25_wp * w2sum(i)
       rates(i, 8) = rates(i, 8) - 0.25_wp * w1sum(i)
       spin = 0.5_wp * (b1v2(i) - b2v1(i))
@@ -337,82 +358,6 @@ contains
       qrate(i, 9) = qrate(i, 9) - spin
     end do
   end subroutine strain_rates
-
-  !> Hourglass resultants hg of elements 1..m, updated in place, and their work in the step:
-  !> the stiffness form integrates k q, the viscous form is sqrt(k m) q; the drilling moments are
-  !> elastic, resisting node rotation about the normal relative to the spin.
-  pure subroutine hourglass_update(m, props, dt, area, b1, b2, qrate, hg, work)
-    integer, intent(in) :: m
-    type(shell_properties_t), intent(in) :: props
-    real(wp), intent(in) :: dt, area(group_size), b1(group_size, 4), b2(group_size, 4)
-    real(wp), intent(in) :: qrate(group_size, hourglass_components)
-    real(wp), intent(inout) :: hg(group_size, hourglass_components)
-    real(wp), intent(out) :: work(group_size)
-    real(wp) :: factor(group_size, 5), drill(group_size), power(group_size), power_drill(group_size)
-    real(wp) :: t, a, bb, mass, rotary, q_old
-    integer :: i, c
-    t = props%thickness
-    ! one loop per form: a logical tested inside a loop stops gfortran's vectoriser
-    if (props%hourglass_form == hourglass_viscous) then
-      do i = 1, m
-        a = merge(area(i), 1.0_wp, area(i) > 0.0_wp)
-        bb = (b1(i, 1)**2 + b1(i, 2)**2 + b1(i, 3)**2 + b1(i, 4)**2) &
-             + (b2(i, 1)**2 + b2(i, 2)**2 + b2(i, 3)**2 + b2(i, 4)**2)
-        ! element mass for translations, its scaled rotary inertia for rotations (as the lumped mass)
-        mass = props%density * t * a
-        rotary = props%density * t * a * (t**2 + a) / 12.0_wp
-        factor(i, 1) = props%hourglass_coefficient * sqrt(props%young * t * a * bb / 8.0_wp * mass)
-        factor(i, 3) = props%hourglass_coefficient &
-                       * sqrt(props%young * t**3 * a * bb / 192.0_wp * rotary)
-        factor(i, 5) = props%hourglass_coefficient &
-                       * sqrt(props%young * t**3 * a * bb**2 / 192.0_wp * mass)
-      end do
-    else
-      do i = 1, m
-        a = merge(area(i), 1.0_wp, area(i) > 0.0_wp)
-        bb = (b1(i, 1)**2 + b1(i, 2)**2 + b1(i, 3)**2 + b1(i, 4)**2) &
-             + (b2(i, 1)**2 + b2(i, 2)**2 + b2(i, 3)**2 + b2(i, 4)**2)
-        factor(i, 1) = props%hourglass_coefficient * (props%young * t * a * bb / 8.0_wp) * dt
-        factor(i, 3) = props%hourglass_coefficient * (props%young * t**3 * a * bb / 192.0_wp) * dt
-        factor(i, 5) = props%hourglass_coefficient * (props%young * t**3 * a * bb**2 / 192.0_wp) * dt
-      end do
-    end if
-    do i = 1, m
-      factor(i, 2) = factor(i, 1)
-      factor(i, 4) = factor(i, 3)
-      drill(i) = drilling_penalty * props%young * t * merge(area(i), 1.0_wp, area(i) > 0.0_wp) * dt
-    end do
-    power = 0.0_wp
-    power_drill = 0.0_wp
-    if (props%hourglass_form == hourglass_viscous) then
-      do c = 1, 5
-        do i = 1, m
-          hg(i, c) = factor(i, c) * qrate(i, c)
-          power(i) = power(i) + hg(i, c) * qrate(i, c)
-        end do
-      end do
-    else
-      do c = 1, 5
-        do i = 1, m
-          q_old = hg(i, c)
-          hg(i, c) = hg(i, c) + factor(i, c) * qrate(i, c)
-          power(i) = power(i) + 0.5_wp * (q_old + hg(i, c)) * qrate(i, c)
-        end do
-      end do
-    end if
-    do c = 6, 9
-      do i = 1, m
-        q_old = hg(i, c)
-        hg(i, c) = hg(i, c) + drill(i) * qrate(i, c)
-        power_drill(i) = power_drill(i) + 0.5_wp * (q_old + hg(i, c)) * qrate(i, c)
-      end do
-    end do
-    if (props%hourglass_form == hourglass_viscous) then
-      work(1:m) = dt * power(1:m) + dt * power_drill(1:m)
-    else
-      work(1:m) = dt * (power(1:m) + power_drill(1:m))
-    end if
-  end subroutine hourglass_update
 
   !> Keeps area > 0 only for elements valid at mid-step and at the end of the step: positive
   !> area, the normal not flipped, and every corner of the projected quad turning the same way as

@@ -1,5 +1,6 @@
 !> Measures of Belytschko-Lin-Tsay shells outside the force kernel: the lumped nodal masses and
-!> inertias, each element's stable time step, and the per-element results written in frames.
+!> inertias, each element's stable time step (at set-up from the positions, every cycle from the
+!> force kernel's end-of-step frame), and the per-element results written in frames.
 !> Pure, over groups of n elements with the element index first, like shell_blt.
 module shell_measures
   use paradyn_kinds, only: wp
@@ -8,7 +9,7 @@ module shell_measures
   use shell_section, only: shell_properties_t, stress_components, local_frame, thickness_rule
   implicit none
   private
-  public :: blt_lumped_mass, blt_stable_time_step, blt_element_results
+  public :: blt_lumped_mass, blt_stable_time_step, blt_element_results, frame_time_steps, plate_wave_speed
 
 contains
 
@@ -40,7 +41,7 @@ contains
     real(wp), intent(out) :: dt_element(n)
     real(wp) :: e(3, 3), xl(4), yl(4), area, longest, c
     integer :: i, k
-    c = sqrt(props%young / (props%density * (1.0_wp - props%poisson**2)))
+    c = plate_wave_speed(props)
     do i = 1, n
       call local_frame(x(i, :, :), e, xl, yl, area)
       longest = 0.0_wp
@@ -50,6 +51,36 @@ contains
       dt_element(i) = abs(area) / longest / c
     end do
   end subroutine blt_stable_time_step
+
+  !> The plate wave speed c = sqrt(E / (rho (1 - nu^2))) of a part (unscaled density).
+  pure real(wp) function plate_wave_speed(props) result(c)
+    type(shell_properties_t), intent(in) :: props
+    c = sqrt(props%young / (props%density * (1.0_wp - props%poisson**2)))
+  end function plate_wave_speed
+
+  !> The stable step L / c of elements 1..m from their co-rotational frame, as the force kernel
+  !> has it at the end of a step: local node coordinates xl, yl and projected area, with the same
+  !> L = area / longest side as blt_stable_time_step (the sides measured in the element's plane).
+  !> An element whose step is not a number (a NaN in the positions) gets huge: the history's NaN
+  !> check names that failure.
+  pure subroutine frame_time_steps(m, xl, yl, area, props, dt_element)
+    integer, intent(in) :: m
+    real(wp), intent(in) :: xl(:, :), yl(:, :), area(:)
+    type(shell_properties_t), intent(in) :: props
+    real(wp), intent(out) :: dt_element(m)
+    real(wp) :: c, longest
+    integer :: i, k, k1
+    c = plate_wave_speed(props)
+    do i = 1, m
+      longest = 0.0_wp
+      do k = 1, 4
+        k1 = modulo(k, 4) + 1
+        longest = max(longest, (xl(i, k1) - xl(i, k))**2 + (yl(i, k1) - yl(i, k))**2)
+      end do
+      dt_element(i) = abs(area(i)) / sqrt(longest) / c
+      if (.not. (dt_element(i) >= 0.0_wp)) dt_element(i) = huge(1.0_wp)
+    end do
+  end subroutine frame_time_steps
 
   !> Per-element output: mid-surface membrane stress N / t (local frame), the largest von Mises
   !> stress and effective plastic strain over the through-thickness points.

@@ -5,15 +5,16 @@ module shell_section
   use paradyn_kinds, only: wp
   use vector_algebra, only: cross
   use material_model, only: material_t
-  use paradyn_schema, only: hourglass_stiffness
+  use paradyn_schema, only: hourglass_physical
   implicit none
   private
   public :: shell_properties_t, stress_components, hourglass_components, shear_correction
   public :: back_stress_points, thickness_rule, local_frame
 
   integer, parameter :: stress_components = 5     !< sxx, syy, sxy, sxz, syz (local frame)
-  !> membrane x, y; rotation x, y; transverse w; then the drilling moments of the 4 nodes
-  integer, parameter :: hourglass_components = 9
+  !> membrane x, y; rotation x, y; transverse w; the drilling moments of the 4 nodes; then the
+  !> second transverse shear resultant of the physical form (its first is the transverse w slot)
+  integer, parameter :: hourglass_components = 10
   real(wp), parameter :: shear_correction = 5.0_wp / 6.0_wp
 
   !> Section and material of one element group (one part). density, young and poisson are the
@@ -26,7 +27,9 @@ module shell_section
     real(wp) :: poisson = 0.0_wp
     real(wp) :: hourglass_coefficient = 0.1_wp
     integer :: integration_points = 5
-    integer :: hourglass_form = hourglass_stiffness
+    integer :: hourglass_form = hourglass_physical
+    !> the yield stress that caps the physical form's resultants (huge for an elastic material)
+    real(wp) :: hourglass_yield = huge(1.0_wp)
     logical :: warping_correction = .true.   !< shell_warping (docs/theory.md)
     class(material_t), allocatable :: material   !< the stress update at the points (material family)
   end type shell_properties_t

@@ -3,7 +3,7 @@
 !> per run of consecutive global ids. Rows lie along the last Fortran dimension of a dataset
 !> (h5py's first); a growing dataset has one more dimension, the frame. Every call is collective.
 module parallel_hdf5
-  use, intrinsic :: iso_c_binding, only: c_loc
+  use, intrinsic :: iso_c_binding, only: c_loc, c_ptr
   use hdf5
   use mpi_f08, only: MPI_Comm, MPI_INFO_NULL
   use paradyn_kinds, only: wp, i8
@@ -11,7 +11,7 @@ module parallel_hdf5
   private
   public :: row_runs_t, row_runs, phdf5_open, phdf5_close
   public :: create_dataset, create_growing, write_rows, read_rows, truncate_growing
-  public :: write_long_array_attribute
+  public :: write_long_array_attribute, write_real_array_attribute, read_long_attribute
   public :: write_int_attribute, write_long_attribute, write_real_attribute, read_int_attribute, read_real_attribute
 
   !> The global rows (node or element ids) a rank reads or writes, as runs of consecutive ids.
@@ -284,6 +284,37 @@ contains
     call h5aclose_f(attr, err)
     call h5sclose_f(space, err)
   end subroutine write_long_array_attribute
+
+  !> A one-dimensional float64 attribute (h5py reads a numpy array).
+  subroutine write_real_array_attribute(loc, name, values)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: values(:)
+    integer(hid_t) :: attr, space
+    integer :: err
+    call h5screate_simple_f(1, [int(size(values), hsize_t)], space, err)
+    call h5acreate_f(loc, name, H5T_NATIVE_DOUBLE, space, attr, err)
+    if (size(values) > 0) call h5awrite_f(attr, H5T_NATIVE_DOUBLE, values, [int(size(values), hsize_t)], err)
+    call h5aclose_f(attr, err)
+    call h5sclose_f(space, err)
+  end subroutine write_real_array_attribute
+
+  !> An int64 attribute; err /= 0 where it is missing.
+  subroutine read_long_attribute(loc, name, value, err)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer(i8), intent(out), target :: value
+    integer, intent(out) :: err
+    integer(hid_t) :: attr
+    integer :: ignored
+    type(c_ptr) :: buffer
+    value = 0
+    call h5aopen_f(loc, name, attr, err)
+    if (err /= 0) return
+    buffer = c_loc(value)
+    call h5aread_f(attr, h5kind_to_type(i8, H5_INTEGER_KIND), buffer, err)
+    call h5aclose_f(attr, ignored)
+  end subroutine read_long_attribute
 
   subroutine write_real_attribute(loc, name, value)
     integer(hid_t), intent(in) :: loc

@@ -13,7 +13,8 @@ module results_writer
                             frame_field_names
   use parallel_hdf5, only: row_runs_t, row_runs, phdf5_open, phdf5_close, create_dataset, create_growing, &
                            write_rows, truncate_growing, write_int_attribute, write_real_attribute, &
-                           write_long_attribute, write_long_array_attribute, read_int_attribute
+                           write_long_attribute, write_long_array_attribute, read_int_attribute, &
+                           write_real_array_attribute
   use run_names, only: write_string_attribute
   use effect_table, only: effect_table_t, effect_list
   use paradyn_schema, only: n_effects, effect_names, effect_timed_with, effect_also_timed_with, effect_contact
@@ -45,8 +46,12 @@ module results_writer
 
   !> What the engine reports about a run (the /run attributes).
   type :: run_record_t
-    integer :: cycles = 0, ranks = 1, threads = 1, elements = 0, nodes = 0
+    integer(i8) :: cycles = 0
+    integer :: ranks = 1, threads = 1, elements = 0, nodes = 0
     real(wp) :: dt_s = 0, dt_stable_s = 0, wall_s = 0, element_cycles_per_s = 0
+    real(wp) :: dt_first_s = 0, dt_stable_min_s = 0, dt_stable_max_s = 0   !< the first step; the stable step's range
+    real(wp) :: added_mass_kg = 0, model_mass_kg = 0          !< mass scaling: added in all, the model's before
+    real(wp), allocatable :: part_added_mass_kg(:)            !< mass scaling: added per part
     real(wp) :: phase_elements_s = 0, phase_contact_s = 0, phase_communication_s = 0
     real(wp) :: phase_output_s = 0, phase_other_s = 0
     real(wp) :: phase_contact_sort_s = 0, phase_contact_search_s = 0, phase_contact_force_s = 0
@@ -279,13 +284,21 @@ contains
       return
     end if
     call h5gcreate_f(rf%file, 'run', group, err)
-    call write_int_attribute(group, 'cycles', run%cycles)
+    call write_long_attribute(group, 'cycles', run%cycles)
     call write_int_attribute(group, 'ranks', run%ranks)
     call write_int_attribute(group, 'threads', run%threads)
     call write_int_attribute(group, 'elements', run%elements)
     call write_int_attribute(group, 'nodes', run%nodes)
     call write_real_attribute(group, 'dt_s', run%dt_s)
     call write_real_attribute(group, 'dt_stable_s', run%dt_stable_s)
+    call write_real_attribute(group, 'dt_first_s', run%dt_first_s)
+    call write_real_attribute(group, 'dt_stable_min_s', run%dt_stable_min_s)
+    call write_real_attribute(group, 'dt_stable_max_s', run%dt_stable_max_s)
+    call write_real_attribute(group, 'added_mass_kg', run%added_mass_kg)
+    call write_real_attribute(group, 'model_mass_kg', run%model_mass_kg)
+    call write_real_attribute(group, 'added_mass_fraction', run%added_mass_kg / max(run%model_mass_kg, tiny(1.0_wp)))
+    if (allocated(run%part_added_mass_kg)) call write_real_array_attribute(group, 'part_added_mass_kg', &
+                                                                           run%part_added_mass_kg)
     call write_real_attribute(group, 'wall_s', run%wall_s)
     call write_real_attribute(group, 'element_cycles_per_s', run%element_cycles_per_s)
     call write_real_attribute(group, 'phase_elements_s', run%phase_elements_s)

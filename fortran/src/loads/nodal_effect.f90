@@ -52,11 +52,12 @@ contains
   end subroutine no_forces
 
   !> Sets velocities after the update of the step from time to time + dt (ns%v, ns%w are the
-  !> half-step velocities), before the positions move; adds its work to e%work.
-  subroutine no_constraint(e, ns, time, dt)
+  !> half-step velocities), before the positions move; dt_previous is the step that ended at time
+  !> (the step varies: docs/theory.md). Adds its work to e%work.
+  subroutine no_constraint(e, ns, time, dt, dt_previous)
     class(nodal_effect_t), intent(inout) :: e
     type(nodal_state_t), intent(inout) :: ns
-    real(wp), intent(in) :: time, dt
+    real(wp), intent(in) :: time, dt, dt_previous
   end subroutine no_constraint
 
   !> Adds forces on element corners (corner 4 (e - 1) + k of local element e, the internal-force

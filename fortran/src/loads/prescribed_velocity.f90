@@ -69,15 +69,15 @@ contains
   end subroutine impose_velocities
 
   !> The half-step velocity of the step from time to time + dt; the last step's was set here too,
-  !> from the curve at time - dt / 2 (the initial velocity before the first step).
-  subroutine constrain(e, ns, time, dt)
+  !> from the curve at time - dt_previous / 2 (the initial velocity before the first step).
+  subroutine constrain(e, ns, time, dt, dt_previous)
     class(prescribed_velocity_t), intent(inout) :: e
     type(nodal_state_t), intent(inout) :: ns
-    real(wp), intent(in) :: time, dt
+    real(wp), intent(in) :: time, dt, dt_previous
     integer :: i
     do i = 1, size(e%node)
       e%target(i) = e%scale(i) * curve_value(e%curves, e%curve(i), time + 0.5_wp * dt)
-      e%previous(i) = e%scale(i) * curve_value(e%curves, e%curve(i), time - 0.5_wp * dt)
+      e%previous(i) = e%scale(i) * curve_value(e%curves, e%curve(i), time - 0.5_wp * dt_previous)
     end do
     if (time <= 0.0_wp) e%previous = e%initial
     call impose_velocities(e%node, e%dof, e%target, e%previous, ns%mass, ns%inertia, ns%weight, ns%v, ns%w, e%work)

@@ -26,6 +26,7 @@ module model_deck
                             control_output_interval, control_history_interval, control_time_step, &
                             control_time_step_safety, control_mass_damping, control_progress_interval, &
                             control_contact_sort_interval, control_checkpoint_interval, control_energy_error_limit, &
+                            control_time_step_floor, control_mass_scaling_step, control_mass_scaling_limit, &
                             n_effects, effect_switch, &
                             switch_off, &
                             dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
@@ -76,6 +77,9 @@ module model_deck
     integer :: contact_sort_interval = 0              !< cycles between bucket sorts, 0 = automatic
     real(wp) :: checkpoint_interval = 0.0_wp          !< simulated seconds between checkpoints, 0 = none
     real(wp) :: energy_error_limit = 0.0_wp           !< stop once the energy balance error passes it, 0 = never
+    real(wp) :: time_step_floor = 1.0e-3_wp           !< stop once the step falls below this fraction of the first
+    real(wp) :: mass_scaling_step = 0.0_wp            !< the least step wanted (s), 0 = no mass scaling
+    real(wp) :: mass_scaling_limit = 0.05_wp          !< the most added mass, as a fraction of the model's
     integer :: partition = partition_default          !< partition_blocks or partition_rcb; 0 = unknown name
     integer :: contact_gather = contact_gather_near   !< which contact nodes are gathered between sorts
     logical :: effect_on(n_effects) = .true.          !< false: the scene switched the effect off (/control effect_*)
@@ -109,6 +113,7 @@ contains
     props%density = deck%density(m)
     props%young = deck%young(m)
     props%poisson = deck%poisson(m)
+    if (deck%material_model(m) == material_j2_plasticity) props%hourglass_yield = deck%yield_stress(m)
     call material_from_name(enum_name(enum_material_model, deck%material_model(m)), deck%young(m), deck%poisson(m), &
                             deck%yield_stress(m), deck%tangent_modulus(m), deck%hardening_mixing(m), props%material)
   end function part_properties
@@ -257,6 +262,12 @@ contains
       d%checkpoint_interval = value
     case (control_energy_error_limit)
       d%energy_error_limit = value
+    case (control_time_step_floor)
+      d%time_step_floor = value
+    case (control_mass_scaling_step)
+      d%mass_scaling_step = value
+    case (control_mass_scaling_limit)
+      d%mass_scaling_limit = value
     case (control_partition)
       d%partition = nint(value)
     case (control_contact_gather)

@@ -12,6 +12,7 @@ module effect_pipeline
   use nodal_effect, only: stage_loads, stage_constraints, stage_corners
   use point_loads, only: point_load_work
   use solver_state, only: solver_t
+  use step_clock, only: clock_finished
   implicit none
   private
   public :: pipeline_setup, apply_loads, apply_constraints, apply_corner_loads, count_every_cycle_effects
@@ -66,8 +67,8 @@ contains
         call effect_time(s%effects, s%nodal_effects(k)%effect%id, wall_clock() - t0)
       end do
       t0 = wall_clock()
-      if (s%clock%cycles > 0) call point_load_work(ns%n, s%clock%dt, ns%weight, ns%v, ns%w, ns%f_ext_old, ns%f_ext, &
-                                                   s%external_work)
+      if (s%clock%cycles > 0) call point_load_work(ns%n, s%clock%dt_previous, ns%weight, ns%v, ns%w, ns%f_ext_old, &
+                                                   ns%f_ext, s%external_work)
       call effect_time(s%effects, effect_time_integration, wall_clock() - t0)
     end associate
     s%external_forces_zero = .not. any(active)
@@ -103,7 +104,7 @@ contains
         if (idle) cycle
         t0 = wall_clock()
         if (stage == stage_constraints) then
-          call e%constrain(s%nodes, s%clock%time, s%clock%dt)
+          call e%constrain(s%nodes, s%clock%time, s%clock%dt, s%clock%dt_previous)
         else
           call e%add_corner_forces(s%dom%connectivity, s%nodes%x, s%clock%time, s%corner)
         end if
@@ -117,7 +118,7 @@ contains
   !> final half-step velocities) and the forces at the start are not.
   pure logical function counting(s)
     type(solver_t), intent(in) :: s
-    counting = s%clock%cycles < s%clock%n_steps
+    counting = .not. clock_finished(s%clock)
   end function counting
 
   !> A member's work goes into the external work (which the checkpoint keeps).

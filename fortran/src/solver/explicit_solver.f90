@@ -9,7 +9,7 @@
 module explicit_solver
   use mpi_f08
   use omp_lib, only: omp_get_max_threads
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: status_ok, status_bad_input, status_failure
   use paradyn_schema, only: material_j2_plasticity, effect_plastic_shells, effect_elastic_shells
   use model_deck, only: deck_t, part_properties
@@ -20,7 +20,10 @@ module explicit_solver
   use halo_exchange, only: halo_setup
   use nodal_state, only: nodal_state_setup, advance_velocities, advance_positions, keep_velocities
   use element_state, only: element_state_setup
-  use step_clock, only: step_clock_t, clock_setup, clock_advance, output_due, next_output_index, half_step
+  use step_clock, only: step_clock_t, clock_setup, clock_advance, clock_finished, output_due, next_output_index, &
+                        half_step
+  use time_step_control, only: next_time_step, check_time_step_floor
+  use mass_scaling, only: mass_scaling_t, mass_scaling_setup, mass_scaling_message
   use run_control, only: run_control_setup
   use phase_timers, only: wall_clock
   use contact_parallel, only: parallel_contact_setup, contact_log_line
@@ -33,11 +36,12 @@ module explicit_solver
   use results_writer, only: results_file_t, run_record_t, results_failed
   implicit none
   private
-  public :: solver_t, solver_setup, solver_run
+  public :: solver_t, solver_setup, solver_run, record_at_stop
 
   integer, parameter :: signal_poll_cycles = 16   !< a collective check every few cycles costs nothing
   !> the most steps a run may take: beyond, it cannot finish on any machine (1e9 steps of the
-  !> smallest mesh at 1e8 element-cycles/s are hours; the cycle counters are 32-bit)
+  !> smallest mesh at 1e8 element-cycles/s are hours; the cycle counters are 64-bit, so the limit
+  !> is about time, not overflow)
   real(wp), parameter :: max_steps = 1.0e9_wp
 
 contains
@@ -54,7 +58,7 @@ contains
     character(len=*), intent(out) :: message
     integer, allocatable :: owner(:)
     integer :: p
-    real(wp) :: dt_local, dt_min
+    type(mass_scaling_t) :: scaling
     logical :: too_large
 
     status = status_ok
@@ -78,13 +82,26 @@ contains
     allocate (s%corner(6, 4 * s%dom%n_elements + s%dom%n_ghost_slots), source=0.0_wp)
     allocate (s%workspace(workspace_per_group, s%threads), source=0.0_wp)
 
-    call lumped_masses(s, dt_local)
+    call mass_scaling_setup(scaling, deck, s%props)   ! every rank, from the global deck: the same factors
+    s%elements%step_scale = scaling%step_scale(s%dom%elements)
+    s%added_mass_part = scaling%added_part
+    s%added_mass = scaling%added
+    s%model_mass = scaling%model_mass
+    s%mass_scaling_step = scaling%target
+    s%scaled_elements = scaling%scaled
+    call lumped_masses(s)
     if (any(.not. (s%nodes%mass > 0.0_wp))) then
       status = status_bad_input
       message = 'a node has no mass (zero-area element?); check /elements/connectivity and the coordinates'
     end if
-    call MPI_Allreduce(dt_local, dt_min, 1, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
-    call clock_setup(s%clock, dt_min, deck%time_step_safety, deck%time_step, deck%end_time, too_large)
+    if (status == status_ok .and. mass_scaling_message(scaling) /= '') then
+      status = status_bad_input
+      message = mass_scaling_message(scaling)
+    end if
+    call clock_setup(s%clock, scaling%dt_element_min, deck%time_step_safety, deck%time_step, deck%end_time, too_large)
+    ! a wall's spring k = scale m / dt0^2 (made with this first step) is stable below 2 dt0 / sqrt(scale):
+    ! the step stays at half that, so a wall never sets it unless the mesh grows the step 1.4 times or more
+    if (deck%n_rigid_walls > 0) s%control%dt_cap = s%clock%dt / sqrt(maxval(deck%rigid_wall_penalty_scale))
     if (status == status_ok) call check_step(s%clock, deck, status, message)
     if (status == status_ok) call check_contact_overlap(deck, status, message)
     call agree_on_status(comm, status, message)   ! one rank's verdict stops all of them
@@ -168,18 +185,20 @@ contains
     character(len=*), intent(out) :: message
     real(wp), intent(in) :: pause_time
     real(wp) :: t0
-    integer :: call_cycle
+    integer(i8) :: call_cycle
 
     status = status_ok
     message = ''
     if (.not. s%started) call start_loop(s)
     call_cycle = s%clock%cycles   ! every call takes at least one step, whatever the pause time
     do
+      call check_time_step_floor(s, status, message)   ! collective only when the floor is crossed
+      if (status /= status_ok) exit
       if (pause_due(s, pause_time, call_cycle)) exit
       if (s%has_loads) call apply_loads(s)
       call output_and_velocities(s, rf, status, message)
       if (status /= status_ok) exit
-      if (s%clock%cycles >= s%clock%n_steps) then
+      if (clock_finished(s%clock)) then
         s%finished = .true.
         exit
       end if
@@ -187,7 +206,8 @@ contains
       call advance_positions(s%nodes, s%clock%dt, s%threads)
       s%timers%nodes = s%timers%nodes + wall_clock() - t0
       call clock_advance(s%clock)
-      call forces_at_current_state(s, s%clock%dt)
+      call forces_at_current_state(s, s%clock%dt_previous)
+      call next_time_step(s)   ! dt(n+1/2) from the element steps the forces left
       call count_every_cycle_effects(s)
       call write_progress(s)
     end do
@@ -198,7 +218,8 @@ contains
     end if
   end subroutine solver_run
 
-  !> The wall clock starts; a fresh run computes its first forces, a restored one comes with them.
+  !> The wall clock starts; a fresh run computes its first forces and its first step from them, a
+  !> restored one comes with both.
   subroutine start_loop(s)
     type(solver_t), intent(inout) :: s
     call MPI_Barrier(s%halo%comm)
@@ -207,6 +228,7 @@ contains
     s%clock%first_cycle = s%clock%cycles
     if (s%clock%cycles == 0) then
       call forces_at_current_state(s, 0.0_wp)
+      call next_time_step(s)
       if (s%has_contact) then   ! the forces at the start are not a cycle of the pairs' counts either
         s%contact%c%pair_active_cycles = 0
         s%contact%c%pair_skipped_cycles = 0
@@ -220,16 +242,31 @@ contains
   logical function pause_due(s, pause_time, call_cycle) result(due)
     type(solver_t), intent(inout) :: s
     real(wp), intent(in) :: pause_time
-    integer, intent(in) :: call_cycle   !< the cycle this call of solver_run started at
+    integer(i8), intent(in) :: call_cycle   !< the cycle this call of solver_run started at
     logical :: mine
     due = .false.
-    if (s%clock%cycles <= call_cycle .or. s%clock%cycles >= s%clock%n_steps) return
+    if (s%clock%cycles <= call_cycle .or. clock_finished(s%clock)) return
     due = s%clock%time >= pause_time - 1.0e-6_wp * s%clock%dt
-    if (due .or. modulo(s%clock%cycles, signal_poll_cycles) /= 0) return
+    if (due .or. modulo(s%clock%cycles, int(signal_poll_cycles, i8)) /= 0) return
     mine = stop_signal_received()
     call MPI_Allreduce(mine, s%stop_requested, 1, MPI_LOGICAL, MPI_LOR, s%halo%comm)
     due = s%stop_requested
   end function pause_due
+
+  !> After a stop at the time step floor (and its checkpoint, which holds the state before this):
+  !> the velocities of the step that would have come and one more history record, so that the
+  !> history ends with the step that stopped the run and its element. Collective.
+  subroutine record_at_stop(s, rf)
+    type(solver_t), intent(inout) :: s
+    type(results_file_t), intent(inout) :: rf
+    integer :: status
+    character(len=256) :: message
+    if (s%has_loads) call apply_loads(s)
+    call keep_velocities(s%nodes)
+    call advance_velocities(s%nodes, half_step(s%clock), s%control%mass_damping, s%threads, s%damping_work)
+    if (s%has_constraints) call apply_constraints(s)
+    call write_record(s, rf, status, message)   ! the run stops anyway: its own verdict is not needed
+  end subroutine record_at_stop
 
   !> The half-step velocities, and the history record and frame when due (they need the
   !> velocities on both sides of the whole step).

@@ -1,12 +1,12 @@
 !> The forces of one step on the nodes of a rank: element forces by groups on the OpenMP threads,
 !> the corner exchange with neighbour ranks, the fixed-order nodal sum, then the contact. Also the
-!> lumped masses and the elements' stable step, which go through the same corners at set-up.
+!> lumped masses (mass scaling included), which go through the same corners at set-up.
 module internal_forces
   use omp_lib, only: omp_get_thread_num
   use paradyn_kinds, only: wp
   use element_groups, only: group_size
   use shell_blt, only: blt_internal_forces
-  use shell_measures, only: blt_lumped_mass, blt_stable_time_step
+  use shell_measures, only: blt_lumped_mass
   use work_queues, only: queues_start, queues_take
   use halo_exchange, only: exchange_corners
   use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes
@@ -93,7 +93,7 @@ contains
         call blt_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
                                  s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%hourglass, &
                                  s%workspace(of, tid), s%elements%e_internal(first), s%elements%e_hourglass(first), &
-                                 inverted)
+                                 inverted, s%elements%dt_element(first))
       end associate
       call scatter_corners(n, first, s%workspace(of, tid), s%corner)
       family = merge(2, 1, s%part_effect(p) == effect_plastic_shells)
@@ -121,26 +121,24 @@ contains
   end subroutine assemble_forces
 
   !> Lumped masses and inertias of the local nodes through the same corner exchange and fixed-order
-  !> sum as the forces, and the smallest stable step of this rank's elements.
-  subroutine lumped_masses(s, dt_min)
+  !> sum as the forces; an element scaled by mass scaling adds its density's factor, the square of
+  !> its step's (s%elements%step_scale).
+  subroutine lumped_masses(s)
     type(solver_t), intent(inout) :: s
-    real(wp), intent(out) :: dt_min
     integer :: g, n, first, p, j
-    real(wp) :: dt_element(group_size), node_mass(group_size), node_inertia(group_size)
+    real(wp) :: node_mass(group_size), node_inertia(group_size), factor
     real(wp), allocatable :: xg(:, :, :)
     allocate (xg(group_size, 3, 4))
-    dt_min = huge(1.0_wp)
     do g = 1, s%dom%n_groups
       n = s%dom%group_count(g)
       first = s%dom%group_first(g)
       p = s%dom%group_part(g)
       call gather_group(n, first, s%dom%connectivity, s%nodes%x, xg)
       call blt_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, node_mass, node_inertia)
-      call blt_stable_time_step(n, xg, s%props(p), dt_element)
-      dt_min = min(dt_min, minval(dt_element(1:n)))
       do j = 1, n
-        s%corner(1:3, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_mass(j)
-        s%corner(4:6, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_inertia(j)
+        factor = s%elements%step_scale(first + j - 1)**2
+        s%corner(1:3, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_mass(j) * factor
+        s%corner(4:6, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_inertia(j) * factor
       end do
     end do
     call exchange_corners(s%dom, s%halo, s%corner)

@@ -14,6 +14,8 @@ module run_control
     real(wp) :: end_time = 0, output_interval = 0, history_interval = 0, progress_interval = 0
     real(wp) :: mass_damping = 0, checkpoint_interval = 0
     real(wp) :: energy_error_limit = 0       !< stop once the energy balance error passes it (0: never)
+    real(wp) :: time_step_floor = 0          !< stop once the step falls below this fraction of the first
+    real(wp) :: dt_cap = huge(1.0_wp)        !< the largest step the rigid walls' penalty allows (s)
     integer :: n_nodes = 0, n_elements = 0   !< of the whole model
     integer :: max_points = 0                !< the most through-thickness points of any part
     integer :: n_tracked = 0
@@ -39,6 +41,7 @@ contains
     rc%mass_damping = deck%mass_damping
     rc%checkpoint_interval = deck%checkpoint_interval
     rc%energy_error_limit = deck%energy_error_limit
+    rc%time_step_floor = deck%time_step_floor
     rc%n_nodes = deck%n_nodes
     rc%n_elements = deck%n_elements
     rc%max_points = maxval(deck%integration_points)

@@ -7,7 +7,7 @@ module solver_checkpoint
   use hdf5
   use mpi_f08
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: status_ok, status_failure, status_bad_input, n_control_attributes, control_attributes, &
                             control_restart_may_change
   use solver_state, only: solver_t
@@ -17,12 +17,12 @@ module solver_checkpoint
   use contact_parallel, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width
   use parallel_hdf5, only: row_runs, phdf5_open, phdf5_close, create_dataset, write_rows, &
                            read_rows, write_int_attribute, write_real_attribute, read_int_attribute, &
-                           read_real_attribute
+                           read_real_attribute, write_long_attribute, read_long_attribute
   implicit none
   private
   public :: checkpoint_write, checkpoint_read, checkpoint_path
 
-  integer, parameter :: checkpoint_version = 1
+  integer, parameter :: checkpoint_version = 2   !< 2: the varying step (dt_previous, ...) and 64-bit cycles
   integer, parameter :: node_width = 21   !< x, v, w (3 each), internal and external force (6 each)
 
   interface
@@ -74,17 +74,27 @@ contains
       call write_real_attribute(file, 'fingerprint_'//trim(s%control%fingerprint_groups(j)), s%control%fingerprints(j))
     end do
     call write_real_attribute(file, 'time', s%clock%time)
+    ! the clock: the next step, the one before it (the velocity update takes their mean), the first
+    ! (the floor's base), the fixed-step flag, the controlling element and the steps' range
     call write_real_attribute(file, 'dt', s%clock%dt)
-    call write_int_attribute(file, 'cycles', s%clock%cycles)
+    call write_real_attribute(file, 'dt_previous', s%clock%dt_previous)
+    call write_real_attribute(file, 'dt_stable', s%clock%dt_stable)
+    call write_real_attribute(file, 'dt_first', s%clock%dt_first)
+    call write_real_attribute(file, 'dt_min', s%dt_min)
+    call write_real_attribute(file, 'dt_max', s%dt_max)
+    call write_int_attribute(file, 'fixed_step', merge(1, 0, s%clock%fixed))
+    call write_long_attribute(file, 'dt_element', s%clock%controlling)
+    call write_long_attribute(file, 'steps_left', s%clock%steps_left)
+    call write_long_attribute(file, 'cycles', s%clock%cycles)
     call write_int_attribute(file, 'nodes', s%control%n_nodes)
     call write_int_attribute(file, 'elements', s%control%n_elements)
     call write_int_attribute(file, 'element_width', int(width))
     call write_int_attribute(file, 'ranks', s%n_ranks)
     call write_int_attribute(file, 'frames', frames)
     call write_int_attribute(file, 'records', records)
-    call write_int_attribute(file, 'frame_index', s%clock%frame_index)
-    call write_int_attribute(file, 'record_index', s%clock%record_index)
-    call write_int_attribute(file, 'contact_last_sort', s%contact%c%last_sort)
+    call write_long_attribute(file, 'frame_index', s%clock%frame_index)
+    call write_long_attribute(file, 'record_index', s%clock%record_index)
+    call write_long_attribute(file, 'contact_last_sort', s%contact%c%last_sort)
     call write_real_attribute(file, 'contact_energy', s%contact%c%energy)
     call write_real_attribute(file, 'contact_max_penetration', s%contact%c%max_penetration)
 
@@ -177,7 +187,8 @@ contains
     integer(hsize_t) :: nn, ne, nc, nr, width
     real(wp), allocatable :: nodes(:, :), elements(:, :), contact(:, :), work(:, :)
     real(wp) :: dt, energy, penetration
-    integer :: err, bad, version, n_nodes, n_elements, n_width, ranks, last_sort, j
+    integer :: err, bad, version, n_nodes, n_elements, n_width, ranks, j, fixed
+    integer(i8) :: last_sort
     logical :: exists
     status = status_bad_input
     inquire (file=path, exist=exists)
@@ -215,22 +226,30 @@ contains
       return
     end if
     if (n_nodes /= s%control%n_nodes .or. n_elements /= s%control%n_elements .or. &
-        n_width /= element_row_width(s%control%max_points) &
-        .or. dt /= s%clock%dt) then
+        n_width /= element_row_width(s%control%max_points)) then
       call phdf5_close(file, transfer)
-      write (message, '(a,i0,a,i0,a,es12.5,a)') 'the checkpoint '//path//' was written for another deck (', &
-        n_nodes, ' nodes, ', n_elements, ' elements, time step ', dt, &
-        ' s); restart with the deck of the interrupted run'
+      write (message, '(a,i0,a,i0,a)') 'the checkpoint '//path//' was written for another deck (', &
+        n_nodes, ' nodes, ', n_elements, ' elements); restart with the deck of the interrupted run'
       return
     end if
     call read_real_attribute(file, 'time', s%clock%time, err)
-    call read_int_attribute(file, 'cycles', s%clock%cycles, err)
+    s%clock%dt = dt
+    call read_real_attribute(file, 'dt_previous', s%clock%dt_previous, err)
+    call read_real_attribute(file, 'dt_stable', s%clock%dt_stable, err)
+    call read_real_attribute(file, 'dt_first', s%clock%dt_first, err)
+    call read_real_attribute(file, 'dt_min', s%dt_min, err)
+    call read_real_attribute(file, 'dt_max', s%dt_max, err)
+    call read_int_attribute(file, 'fixed_step', fixed, err)
+    s%clock%fixed = fixed == 1
+    call read_long_attribute(file, 'dt_element', s%clock%controlling, err)
+    call read_long_attribute(file, 'steps_left', s%clock%steps_left, err)
+    call read_long_attribute(file, 'cycles', s%clock%cycles, err)
     call read_int_attribute(file, 'ranks', ranks, err)
     call read_int_attribute(file, 'frames', frames, err)
     call read_int_attribute(file, 'records', records, err)
-    call read_int_attribute(file, 'frame_index', s%clock%frame_index, err)
-    call read_int_attribute(file, 'record_index', s%clock%record_index, err)
-    call read_int_attribute(file, 'contact_last_sort', last_sort, err)
+    call read_long_attribute(file, 'frame_index', s%clock%frame_index, err)
+    call read_long_attribute(file, 'record_index', s%clock%record_index, err)
+    call read_long_attribute(file, 'contact_last_sort', last_sort, err)
     call read_real_attribute(file, 'contact_energy', energy, err)
     call read_real_attribute(file, 'contact_max_penetration', penetration, err)
 
@@ -267,6 +286,7 @@ contains
       s%damping_work = merge(sum(work(2, :)), 0.0_wp, s%rank == 0)
     end if
     if (s%has_contact) then
+      s%contact%c%time_step = s%clock%dt   ! the penalty's cap follows the step (time_step_control)
       nc = int(s%contact%c%n_nodes, hsize_t)
       allocate (contact(contact_checkpoint_width, nc))
       call read_rows(file, transfer, 'contact', [int(contact_checkpoint_width, hsize_t), nc], &

@@ -5,7 +5,8 @@ module solver_output
   use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: status_ok, status_numerical, n_history_scalars, history_kinetic_energy, &
                             history_internal_energy, history_hourglass_energy, history_contact_energy, &
-                            history_external_work, history_contact_penetration, effect_time_integration
+                            history_external_work, history_contact_penetration, effect_time_integration, &
+                            history_dt, history_dt_element, history_dt_stable
   use element_groups, only: group_size
   use shell_measures, only: blt_element_results
   use halo_exchange, only: sum_to_root
@@ -40,6 +41,10 @@ contains
       sums(history_contact_energy) = merge(s%contact%c%energy, 0.0_wp, s%rank == 0)
       sums(history_external_work) = s%external_work - s%damping_work
       sums(history_contact_penetration) = merge(s%contact%c%max_penetration, 0.0_wp, s%rank == 0)
+      ! the step from this record on and the element that sets it: the same on every rank
+      sums(history_dt) = merge(s%clock%dt, 0.0_wp, s%rank == 0)
+      sums(history_dt_stable) = merge(s%clock%dt_stable, 0.0_wp, s%rank == 0)
+      sums(history_dt_element) = merge(real(s%clock%controlling, wp), 0.0_wp, s%rank == 0)
       sums(inverted_at) = real(s%elements%inverted, wp)
       sums(nan_at) = merge(1.0_wp, 0.0_wp, any(ns%v /= ns%v) .or. any(ns%f_int /= ns%f_int))
       s%tracked_out = 0.0_wp
@@ -164,6 +169,12 @@ contains
     run%nodes = s%control%n_nodes
     run%dt_s = s%clock%dt
     run%dt_stable_s = s%clock%dt_stable
+    run%dt_first_s = s%clock%dt_first
+    run%dt_stable_min_s = merge(s%dt_min, s%clock%dt_stable, s%dt_max > 0.0_wp)
+    run%dt_stable_max_s = merge(s%dt_max, s%clock%dt_stable, s%dt_max > 0.0_wp)
+    run%added_mass_kg = s%added_mass
+    run%model_mass_kg = s%model_mass
+    run%part_added_mass_kg = s%added_mass_part
     run%wall_s = wall_clock() - s%wall_start
     run%element_cycles_per_s = real(s%control%n_elements, wp) * (s%clock%cycles - s%clock%first_cycle) &
                                / max(run%wall_s, 1.0e-12_wp)

@@ -48,6 +48,12 @@ module solver_state
     real(wp) :: energy_first = 0, energy_scale = 0
     logical :: have_energy_first = .false.
     logical :: started = .false., finished = .false., stop_requested = .false.
+    logical :: floor_stop = .false.   !< the step fell below the floor (the state is that of a good step)
+    real(wp) :: dt_min = huge(1.0_wp), dt_max = 0   !< the smallest and largest stable step (safety included)
+    ! mass scaling at set-up (mass_scaling): the added mass per part and in all, the model's mass
+    real(wp), allocatable :: added_mass_part(:)
+    real(wp) :: added_mass = 0, model_mass = 0, mass_scaling_step = 0
+    integer :: scaled_elements = 0
     real(wp) :: wall_start = 0, last_progress = 0
   end type solver_t
 
