@@ -11,16 +11,16 @@ omega_R = 17.7 and 26.6; hemisphere: 7 for omega_R = 6.2). Each test checks that
 has settled (0.1 % over the last 20 % of the run) and that the stored energy is half the work of
 the final loads (Clapeyron).
 
-Numbers measured with the engine (tests/report_warping.py; tip or load-point displacement over
-the reference), with the correction / without it (the plain BLT element), hourglass coefficient 0.1:
+Numbers measured with the engine (tests/report_warping.py; docs/validation.md has the tables):
+tip or load-point displacement over the reference, with the correction / without it.
 
-- twisted beam, load in the tip's plane (5.424e-3): 2 x 12: 1.002 / 0.588; 4 x 24: 0.999 / 0.989;
-  8 x 48: 0.999 / 1.223. Load normal to the tip's plane (1.754e-3): 2 x 12: 1.029 / 0.714;
-  4 x 24: 1.005 / 1.001; 8 x 48: 1.000 / 1.182. Hourglass over internal energy without the
-  correction: 0.35 to 1.5; with it: 0.000 to 0.054.
-- pinched hemisphere (0.0924), cubed sphere with n x n elements per face: n = 4: 0.806 / 0.098;
-  8: 0.986 / 0.274; 16: 0.996 / 0.563. Hourglass over internal energy without: 0.71 to 1.46;
-  with: 0.011 to 0.18.
+- Default element (physical hourglass form). Twisted beam, load in the tip's plane (5.424e-3):
+  2 x 12: 0.997 / 0.465; 4 x 24: 0.998 / 0.874; 8 x 48: 0.998 / 1.172; load normal to the tip's
+  plane (1.754e-3): 1.001 / 0.608; 0.999 / 0.905; 0.999 / 1.140. Pinched hemisphere (0.0924),
+  n x n elements per face: n = 4: 0.482 / 0.046; 8: 0.900 / 0.140; 16: 0.987 / 0.325.
+- Stiffness form, coefficient 0.1. Twisted beam in-plane: 1.002 / 0.588; 0.999 / 0.989;
+  0.999 / 1.223; normal: 1.029 / 0.714; 1.005 / 1.001; 1.000 / 1.182. Hemisphere: 0.806 / 0.098;
+  0.986 / 0.274; 0.996 / 0.563 (32 x 32: 0.996 / 0.829).
 """
 
 from __future__ import annotations
