@@ -253,6 +253,7 @@ def test_pipe_whip_contact_slows_the_upper_pipe_and_bends_the_lower(pipe_run: Pa
     assert 0 < accuracy["peak_contact_over_internal"] < 1 and 0 < accuracy["peak_hourglass_over_internal"] < 1
     assert accuracy["dt_over_stable_dt"] == pytest.approx(summary["dt_s"] / summary["dt_stable_s"])
     assert accuracy["added_mass_fraction"] == 0.0
+    assert accuracy["dt_min_s"] == pytest.approx(history["dt"].min()) and accuracy["dt_max_s"] >= accuracy["dt_min_s"]
     assert "contact" in [row["name"] for row in summary["effects"]]
     assert summary["phase_s"]["contact"] > 0 and summary["contact_phase_s"]["search"] > 0
 

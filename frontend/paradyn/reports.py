@@ -89,13 +89,15 @@ def accuracy_indicators(results: Results) -> dict[str, Any]:
     - ``dt_over_stable_dt``: the step used over the mesh's stable step (safety factor included);
     - ``added_mass_fraction``: mass added by mass scaling over the model's mass (/run
       ``added_mass_fraction``; 0 without mass scaling);
-    - ``peak_contact_over_internal``: the largest contact energy over the largest internal energy.
+    - ``peak_contact_over_internal``: the largest contact energy over the largest internal energy;
+    - ``dt_min_s``, ``dt_max_s``: the range of the step over the history records (the step follows
+      the mesh, docs/theory.md).
     """
     h, run = results.history, results.run
     indicators: dict[str, Any] = {"energy_balance_error": energy_report(results)["balance_error"],
                                   "peak_hourglass_over_internal": None, "peak_penetration_over_thickness": None,
                                   "dt_over_stable_dt": None, "added_mass_fraction": 0.0,
-                                  "peak_contact_over_internal": None}
+                                  "peak_contact_over_internal": None, "dt_min_s": None, "dt_max_s": None}
     if run.get("dt_s") and run.get("dt_stable_s"):
         indicators["dt_over_stable_dt"] = _finite(float(run["dt_s"]) / float(run["dt_stable_s"]))
     if run.get("added_mass_fraction") is not None:
@@ -106,6 +108,9 @@ def accuracy_indicators(results: Results) -> dict[str, Any]:
             indicators["peak_hourglass_over_internal"] = _finite(float(np.max(h["hourglass_energy"])) / peak_internal)
             indicators["peak_contact_over_internal"] = _finite(float(np.max(h["contact_energy"])) / peak_internal)
         indicators["peak_penetration_over_thickness"] = _penetration_over_thickness(results)
+        if "dt" in h:
+            indicators["dt_min_s"] = _finite(float(np.min(h["dt"])))
+            indicators["dt_max_s"] = _finite(float(np.max(h["dt"])))
     return indicators
 
 
@@ -115,7 +120,8 @@ WARN_ABOVE = {"energy_balance_error": 0.01, "peak_hourglass_over_internal": 0.10
               "peak_penetration_over_thickness": 0.20}
 _LABELS = {"energy_balance_error": "energy balance error", "peak_hourglass_over_internal": "peak hourglass / internal",
            "peak_penetration_over_thickness": "deepest penetration / thickness", "dt_over_stable_dt": "dt / stable dt",
-           "added_mass_fraction": "added mass", "peak_contact_over_internal": "peak contact / internal"}
+           "added_mass_fraction": "added mass", "peak_contact_over_internal": "peak contact / internal",
+           "dt_min_s": "dt from (s)", "dt_max_s": "to (s)"}
 
 
 def accuracy_text(results: Results) -> str:

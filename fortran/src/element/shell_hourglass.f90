@@ -261,17 +261,19 @@ contains
     real(wp), intent(in) :: e(group_size, 3, 3), area(group_size), xl(group_size, 4), yl(group_size, 4)
     real(wp), intent(in) :: s_xi(group_size), s_eta(group_size)
     real(wp), intent(inout) :: force(group_size, 6, 4)
-    real(wp) :: a1x, a1y, a2x, a2y, mx, my
+    real(wp) :: a1x(group_size), a1y(group_size), a2x(group_size), a2y(group_size), mx, my
     integer :: i, k
+    do i = 1, m
+      a1x(i) = 0.25_wp * (-xl(i, 1) + xl(i, 2) + xl(i, 3) - xl(i, 4))
+      a1y(i) = 0.25_wp * (-yl(i, 1) + yl(i, 2) + yl(i, 3) - yl(i, 4))
+      a2x(i) = 0.25_wp * (-xl(i, 1) - xl(i, 2) + xl(i, 3) + xl(i, 4))
+      a2y(i) = 0.25_wp * (-yl(i, 1) - yl(i, 2) + yl(i, 3) + yl(i, 4))
+    end do
     do k = 1, 4
       do i = 1, m
-        a1x = 0.25_wp * (-xl(i, 1) + xl(i, 2) + xl(i, 3) - xl(i, 4))
-        a1y = 0.25_wp * (-yl(i, 1) + yl(i, 2) + yl(i, 3) - yl(i, 4))
-        a2x = 0.25_wp * (-xl(i, 1) - xl(i, 2) + xl(i, 3) + xl(i, 4))
-        a2y = 0.25_wp * (-yl(i, 1) - yl(i, 2) + yl(i, 3) + yl(i, 4))
         ! moment about local y (conjugate to theta_y = phi_x) and about local x (to theta_x = -phi_y)
-        my = 0.25_wp * (s_xi(i) * eta_node(k) * a1x + s_eta(i) * xi_node(k) * a2x)
-        mx = -0.25_wp * (s_xi(i) * eta_node(k) * a1y + s_eta(i) * xi_node(k) * a2y)
+        my = 0.25_wp * (s_xi(i) * eta_node(k) * a1x(i) + s_eta(i) * xi_node(k) * a2x(i))
+        mx = -0.25_wp * (s_xi(i) * eta_node(k) * a1y(i) + s_eta(i) * xi_node(k) * a2y(i))
         force(i, 4, k) = force(i, 4, k) + merge(e(i, 1, 1) * mx + e(i, 1, 2) * my, 0.0_wp, area(i) > 0.0_wp)
         force(i, 5, k) = force(i, 5, k) + merge(e(i, 2, 1) * mx + e(i, 2, 2) * my, 0.0_wp, area(i) > 0.0_wp)
         force(i, 6, k) = force(i, 6, k) + merge(e(i, 3, 1) * mx + e(i, 3, 2) * my, 0.0_wp, area(i) > 0.0_wp)
