@@ -10,6 +10,7 @@ program kernel_benchmark
   use shell_blt, only: blt_internal_forces
   use material_factory, only: material_from_name
   use element_groups, only: group_size
+  use paradyn_schema, only: hourglass_stiffness, hourglass_physical
   implicit none
   integer :: n_elements, n_cycles, n_groups
   character(len=32) :: arg
@@ -39,6 +40,9 @@ program kernel_benchmark
   props%warping_correction = .false.   ! the elements are warped (1e-4 m on 1 cm): the correction's cost
   write (*, '(a,f8.4,a)') 'elastic, no warping correction: ', time_per_element_cycle(props), ' us per element-cycle'
   props%warping_correction = .true.
+  props%hourglass_form = hourglass_stiffness   ! the physical form's cost against the stiffness form's
+  write (*, '(a,f8.4,a)') 'elastic, stiffness hourglass form: ', time_per_element_cycle(props), ' us per element-cycle'
+  props%hourglass_form = hourglass_physical
   call material_from_name('j2_plasticity', props%young, props%poisson, 250.0e6_wp, 0.0_wp, 1.0_wp, props%material)
   write (*, '(a,f8.4,a)') 'plastic: ', time_per_element_cycle(props), ' us per element-cycle'
 
