@@ -118,6 +118,8 @@ def main(argv: list[str] | None = None) -> int:
           f"({float(done.get('element_cycles_per_s', 'nan')):.3e} element-cycles/s); effects:")
     print(effect_table_text(outcome))
     print(accuracy_text(outcome))
+    for line in outcome.engine_run.warnings:   # said at the start too, but a long run scrolls it away
+        print("  " + line.removeprefix("paradyn-engine: "))
     _print_outputs(outcome.outputs)
     return STATUS_OK
 

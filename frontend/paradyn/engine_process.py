@@ -58,7 +58,8 @@ class Progress:
 @dataclass
 class EngineRun:
     """What the launcher learned from one engine run: the command, the exit status, the fields of
-    the engine's START and DONE lines, the log, and the seconds from start to exit."""
+    the engine's START and DONE lines, the log, the seconds from start to exit, and the engine's
+    warnings (a requested step above the stable one, initial contact penetrations)."""
 
     command: list[str]
     exit_code: int
@@ -66,6 +67,7 @@ class EngineRun:
     done: dict[str, str] = field(default_factory=dict)
     log_path: Path | None = None
     elapsed_s: float = 0.0
+    warnings: list[str] = field(default_factory=list)   #: the engine's ``paradyn-engine: warning:`` lines
 
 
 def parse_line(line: str) -> tuple[str, dict[str, str]] | None:
@@ -173,6 +175,8 @@ def _take_line(run: EngineRun, line: str, errors: list[str],
     """Record what one output line of the engine says."""
     if line.startswith("paradyn-engine: "):
         errors.append(line.strip())
+    if line.startswith("paradyn-engine: warning:"):
+        run.warnings.append(line.strip())
     parsed = parse_line(line)
     if parsed is None:
         return

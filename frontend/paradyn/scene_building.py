@@ -163,6 +163,8 @@ def _apply_contacts(scene: Scene, model: deck.Model) -> None:
     model.contact_passes = np.array([passes["both"] if c.symmetric else passes["alternate"] for c in contacts],
                                     dtype=np.int32)
     model.contact_kind = np.array([_schema.ENUMS["contact_kind"][c.kind] for c in contacts], dtype=np.int32)
+    model.contact_initial_penetration = np.array([_schema.ENUMS["initial_penetration"][c.initial_penetration]
+                                                  for c in contacts], dtype=np.int32)
 
 
 def _apply_rigid_walls(scene: Scene, model: deck.Model) -> None:

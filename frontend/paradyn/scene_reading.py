@@ -76,8 +76,8 @@ _TRACK_KEYS = ("name", "part", "point")
 _CURVE_KEYS = ("name", "time", "value")
 _PRESSURE_KEYS = ("part", "value", "curve")
 _PRESCRIBE_KEYS = ("part", "box", "dof", "value", "curve")
-_CONTACT_KEYS = ("parts", "kind", "penalty_scale", "static_friction", "dynamic_friction", "friction_decay",
-                 "symmetric")
+_CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "static_friction", "dynamic_friction",
+                 "friction_decay", "symmetric")
 _RIGID_WALL_KEYS = ("point", "normal", "velocity", "penalty_scale")
 _RIGID_WALL_SCALE_MAX = next(d.upper.value for d in _schema.DATASETS if d.path == "/rigid_walls/penalty_scale")
 
@@ -372,6 +372,8 @@ def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
         symmetric=symmetric,
         kind=(r.string(t, "kind", label, choices=tuple(_schema.ENUMS["contact_kind"])) if "kind" in t
               else ContactSpec.kind),
+        initial_penetration=r.string(t, "initial_penetration", label, default=ContactSpec.initial_penetration,
+                                     choices=tuple(_schema.ENUMS["initial_penetration"])),
     )
 
 

@@ -140,6 +140,7 @@ class ContactSpec:
     friction_decay: float = _DECK_DEFAULT["/contact/friction_decay"]
     symmetric: bool = _DECK_DEFAULT["/contact/passes"] == _schema.ENUMS["contact_passes"]["both"]
     kind: str = _enum_name("contact_kind", _DECK_DEFAULT["/contact/kind"])
+    initial_penetration: str = _enum_name("initial_penetration", _DECK_DEFAULT["/contact/initial_penetration"])
 
 
 @dataclass

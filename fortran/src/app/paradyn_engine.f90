@@ -20,6 +20,8 @@ program paradyn_engine
   use stop_signals, only: install_stop_handlers
   use run_names, only: copy_run_names
   use deck_effects, only: effects_of_deck
+  use initial_penetration, only: resolve_initial_penetrations
+  use, intrinsic :: iso_fortran_env, only: error_unit
   use effect_table, only: effect_table_t, effect_list
   use machine_memory, only: node_memory_mb, deck_memory_mb, proc_kib
   implicit none
@@ -37,6 +39,7 @@ program paradyn_engine
   end interface
 
   type(deck_t) :: deck
+  real(wp), allocatable :: moves(:, :)   !< initial penetrations moved out (3, n_nodes)
   type(solver_t) :: solver
   type(results_file_t) :: results
   type(run_record_t) :: run
@@ -102,8 +105,10 @@ program paradyn_engine
   if (status /= status_ok) call fail(status_bad_input, trim(deck_path)//': '//trim(message))
   call check_memory(deck%n_elements, deck%n_nodes)
   call effects_of_deck(deck, effects)   ! what the deck declares; the scene's switched-off effects go
+  call resolve_initial_penetrations(deck, rank == 0, error_unit, moves)   ! reported; moves where asked
   call solver_setup(solver, deck, effects, comm, status, message)
   if (status /= status_ok) call fail(status, trim(message))
+  solver%nodes%x = solver%nodes%x + moves(:, solver%dom%nodes)   ! initial displacements (a restart restores x)
 
   associate (owned => solver%dom%nodes(solver%halo%owned_local), elements => solver%dom%elements)
     if (restart) then

@@ -6,6 +6,8 @@ module contact_pass
   use model_deck, only: deck_t
   use contact_buckets, only: bucket_grid_t
   use contact_search, only: node_segment_map, shell_penalty_stiffness
+  use initial_penetration, only: slave_penetrations
+  use paradyn_schema, only: initial_penetration_gap
   implicit none
   private
   public :: contact_pass_t, pass_between_parts
@@ -19,6 +21,8 @@ module contact_pass
     integer, allocatable :: segments(:, :)     !< (4, n) master segments, contact-node ids
     integer, allocatable :: segment_start(:), segment_list(:)  !< contact node -> its segments
     real(wp), allocatable :: stiffness(:)      !< penalty stiffness per segment (initial geometry)
+    !> each slave's overlap at the start, taken as its gap (/contact/initial_penetration = gap), else 0
+    real(wp), allocatable :: overlap(:)
     real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted
     integer, allocatable :: near_slaves(:)     !< slaves that can come near the master box before the next sort
     integer :: n_near = 0
@@ -37,8 +41,9 @@ contains
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: pair, slave_part, master_part, contact_id(:), n_contact
     type(contact_pass_t), intent(out) :: pass
-    integer, allocatable :: elements(:)
+    integer, allocatable :: elements(:), slave_nodes(:)
     logical, allocatable :: on_part(:)
+    real(wp), allocatable :: push(:, :)
     integer :: e, s, n_entries
     real(wp) :: xseg(3, 4), young, poisson
     pass%pair = pair
@@ -46,7 +51,8 @@ contains
     do e = 1, deck%n_elements
       if (deck%element_part(e) == slave_part) on_part(deck%connectivity(:, e)) = .true.
     end do
-    pass%slaves = contact_id(pack([(e, e = 1, deck%n_nodes)], on_part))
+    slave_nodes = pack([(e, e = 1, deck%n_nodes)], on_part)
+    pass%slaves = contact_id(slave_nodes)
     on_part = .false.
     elements = pack([(e, e = 1, deck%n_elements)], deck%element_part == master_part)
     do s = 1, size(elements)
@@ -74,6 +80,10 @@ contains
     pass%mu_static = deck%contact_static_friction(pair)
     pass%mu_dynamic = deck%contact_dynamic_friction(pair)
     pass%decay = deck%contact_friction_decay(pair)
+    allocate (pass%overlap(size(slave_nodes)), push(3, size(slave_nodes)), source=0.0_wp)
+    if (deck%contact_initial_penetration(pair) == initial_penetration_gap) &
+      call slave_penetrations(deck%coordinates, slave_nodes, deck%connectivity(:, elements), pass%t_slave, &
+                              pass%t_master, pass%overlap, push)
   end subroutine pass_between_parts
 
 end module contact_pass

@@ -215,7 +215,9 @@ contains
         vseg = c%v(:, pass%segments(:, segment))
         stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 &
                         * min(c%mass(node), minval(c%mass(pass%segments(:, segment)))))
-        call penalty_force(x, pass%t_slave, xseg, pass%t_master, stiffness, f_slave, &
+        ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
+        call penalty_force(x, pass%t_slave - 2.0_wp * pass%overlap(c%candidates(1, k)), xseg, pass%t_master, &
+                           stiffness, f_slave, &
                            f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &
                            mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
                            v_slip=stick_speed, rounded_edges=.true.)

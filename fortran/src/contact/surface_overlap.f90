@@ -9,7 +9,7 @@ module surface_overlap
   use vector_algebra, only: cross
   implicit none
   private
-  public :: first_crossing
+  public :: first_crossing, bin_elements, cell_of, index_of
 
 contains
 

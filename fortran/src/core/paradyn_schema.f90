@@ -8,29 +8,30 @@ module paradyn_schema
   private
   public :: deck_version, deck_version_attribute, material_elastic, material_j2_plasticity, &
       hourglass_viscous, hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, &
-      contact_passes_alternate, contact_passes_both, contact_kind_node_to_segment, contact_gather_near, &
-      contact_gather_all, switch_off, switch_on, partition_blocks, partition_rcb, max_integration_points, &
-      status_ok, status_failure, status_bad_input, status_numerical, status_stopped, n_frame_fields, &
-      n_history_scalars, history_kinetic_energy, history_internal_energy, history_hourglass_energy, &
-      history_contact_energy, history_external_work, history_contact_penetration, history_dt, &
-      history_dt_stable, history_dt_element, frame_field_names, history_scalar_names, class_int, class_float, &
-      class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, size_n_loads, &
-      size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
-      size_n_pressures, size_n_prescribed, n_sizes, condition_none, condition_loads_group, &
-      condition_contact_group, condition_rigid_walls_group, condition_curves_group, condition_pressure_group, &
-      condition_prescribed_group, condition_j2_plasticity, n_conditions, enum_none, enum_material_model, &
-      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_contact_gather, &
-      enum_switch, enum_partition, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
-      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_elements_connectivity, &
-      dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
-      dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
-      dataset_parts_warping_correction, dataset_materials_model, dataset_materials_density, &
-      dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
-      dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, dataset_loads_node, &
-      dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, dataset_output_tracked_nodes, &
-      dataset_contact_pairs, dataset_contact_penalty_scale, dataset_contact_static_friction, &
-      dataset_contact_dynamic_friction, dataset_contact_friction_decay, dataset_contact_passes, &
-      dataset_contact_kind, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
+      contact_passes_alternate, contact_passes_both, contact_kind_node_to_segment, initial_penetration_move, &
+      initial_penetration_gap, contact_gather_near, contact_gather_all, switch_off, switch_on, &
+      partition_blocks, partition_rcb, max_integration_points, status_ok, status_failure, status_bad_input, &
+      status_numerical, status_stopped, n_frame_fields, n_history_scalars, history_kinetic_energy, &
+      history_internal_energy, history_hourglass_energy, history_contact_energy, history_external_work, &
+      history_contact_penetration, history_dt, history_dt_stable, history_dt_element, frame_field_names, &
+      history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, size_n_elements, &
+      size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, &
+      size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, n_sizes, condition_none, &
+      condition_loads_group, condition_contact_group, condition_rigid_walls_group, condition_curves_group, &
+      condition_pressure_group, condition_prescribed_group, condition_j2_plasticity, n_conditions, enum_none, &
+      enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, &
+      enum_initial_penetration, enum_contact_gather, enum_switch, enum_partition, n_enums, &
+      dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
+      dataset_nodes_fixed_dofs, dataset_elements_connectivity, dataset_elements_part, &
+      dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
+      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_warping_correction, &
+      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
+      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
+      dataset_materials_hardening_mixing, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
+      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
+      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
+      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+      dataset_contact_initial_penetration, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
       dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, dataset_curves_first_point, &
       dataset_curves_time, dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
       dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
@@ -63,6 +64,8 @@ module paradyn_schema
   integer, parameter :: contact_passes_alternate = 1   !< slave and master swap every step (the paper)
   integer, parameter :: contact_passes_both = 2   !< both bodies are slave every step
   integer, parameter :: contact_kind_node_to_segment = 1   !< each part of the pair is slave to the other's shell segments
+  integer, parameter :: initial_penetration_move = 1   !< slave nodes inside the contact thickness at the start are moved onto i
+  integer, parameter :: initial_penetration_gap = 2   !< each slave node's overlap at the start is taken as its gap: contact pu
   integer, parameter :: contact_gather_near = 1   !< between sorts, gather only the contact nodes that can come into contac
   integer, parameter :: contact_gather_all = 2   !< gather every contact node every step (a check: the same answer, slower
   integer, parameter :: switch_off = 0   !< the effect is switched off
@@ -129,10 +132,11 @@ module paradyn_schema
   integer, parameter :: enum_dof_state = 3
   integer, parameter :: enum_contact_passes = 4
   integer, parameter :: enum_contact_kind = 5
-  integer, parameter :: enum_contact_gather = 6
-  integer, parameter :: enum_switch = 7
-  integer, parameter :: enum_partition = 8
-  integer, parameter :: n_enums = 8
+  integer, parameter :: enum_initial_penetration = 6
+  integer, parameter :: enum_contact_gather = 7
+  integer, parameter :: enum_switch = 8
+  integer, parameter :: enum_partition = 9
+  integer, parameter :: n_enums = 9
   integer, parameter :: dataset_nodes_coordinates = 1
   integer, parameter :: dataset_nodes_initial_velocity = 2
   integer, parameter :: dataset_nodes_initial_angular_velocity = 3
@@ -164,21 +168,22 @@ module paradyn_schema
   integer, parameter :: dataset_contact_friction_decay = 29
   integer, parameter :: dataset_contact_passes = 30
   integer, parameter :: dataset_contact_kind = 31
-  integer, parameter :: dataset_rigid_walls_point = 32
-  integer, parameter :: dataset_rigid_walls_normal = 33
-  integer, parameter :: dataset_rigid_walls_velocity = 34
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 35
-  integer, parameter :: dataset_curves_first_point = 36
-  integer, parameter :: dataset_curves_time = 37
-  integer, parameter :: dataset_curves_value = 38
-  integer, parameter :: dataset_pressure_part = 39
-  integer, parameter :: dataset_pressure_value = 40
-  integer, parameter :: dataset_pressure_curve = 41
-  integer, parameter :: dataset_prescribed_node = 42
-  integer, parameter :: dataset_prescribed_dof = 43
-  integer, parameter :: dataset_prescribed_value = 44
-  integer, parameter :: dataset_prescribed_curve = 45
-  integer, parameter :: n_deck_datasets = 45
+  integer, parameter :: dataset_contact_initial_penetration = 32
+  integer, parameter :: dataset_rigid_walls_point = 33
+  integer, parameter :: dataset_rigid_walls_normal = 34
+  integer, parameter :: dataset_rigid_walls_velocity = 35
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 36
+  integer, parameter :: dataset_curves_first_point = 37
+  integer, parameter :: dataset_curves_time = 38
+  integer, parameter :: dataset_curves_value = 39
+  integer, parameter :: dataset_pressure_part = 40
+  integer, parameter :: dataset_pressure_value = 41
+  integer, parameter :: dataset_pressure_curve = 42
+  integer, parameter :: dataset_prescribed_node = 43
+  integer, parameter :: dataset_prescribed_dof = 44
+  integer, parameter :: dataset_prescribed_value = 45
+  integer, parameter :: dataset_prescribed_curve = 46
+  integer, parameter :: n_deck_datasets = 46
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -307,6 +312,7 @@ module paradyn_schema
     enum_spec_t(2, [0, 1, 0], [character(len=15) :: 'free', 'fixed', '']), &
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'alternate', 'both', '']), &
     enum_spec_t(1, [1, 0, 0], [character(len=15) :: 'node_to_segment', '', '']), &
+    enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'move', 'gap', '']), &
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'near', 'all', '']), &
     enum_spec_t(2, [0, 1, 0], [character(len=15) :: 'off', 'on', '']), &
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'blocks', 'rcb', '']) ]
@@ -422,6 +428,10 @@ module paradyn_schema
     dataset_spec_t('/contact/kind', class_int, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 1, &
         [1, 0, 0], size_none, '', 'must be 1 (1 = node_to_segment)', 'use 1 (node_to_segment)'), &
+    dataset_spec_t('/contact/initial_penetration', class_int, 0, size_n_contacts, .false., .false., &
+        condition_none, condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_initial_penetration, 2, [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = move, 2 = gap)', &
+        'use 1 (move the nodes onto the surface) or 2 (take the overlap as the gap)'), &
     dataset_spec_t('/rigid_walls/point', class_float, 3, size_n_rigid_walls, .true., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
         0.0_wp, enum_none, 0, [0, 0, 0], size_none, '', '', 'give a point of the wall''s plane in metres'), &

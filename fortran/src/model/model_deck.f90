@@ -20,6 +20,7 @@ module model_deck
                             dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
                             dataset_contact_static_friction, dataset_contact_dynamic_friction, &
                             dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+                            dataset_contact_initial_penetration, &
                             dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
                             dataset_rigid_walls_penalty_scale, &
                             contact_gather_near, control_contact_gather, control_end_time, &
@@ -67,6 +68,7 @@ module model_deck
     real(wp), allocatable :: contact_dynamic_friction(:), contact_friction_decay(:)
     integer, allocatable :: contact_passes(:)         !< 2 both bodies slave every step, 1 alternate
     integer, allocatable :: contact_kind(:)           !< member of the contact family (schema enum contact_kind)
+    integer, allocatable :: contact_initial_penetration(:)   !< schema enum initial_penetration: move or gap
     real(wp), allocatable :: rigid_wall_point(:, :)   !< (3, n_rigid_walls), a point of the plane at time 0
     real(wp), allocatable :: rigid_wall_normal(:, :)  !< (3, n_rigid_walls), towards the model, as given
     real(wp), allocatable :: rigid_wall_velocity(:, :)   !< (3, n_rigid_walls), constant
@@ -200,6 +202,8 @@ contains
       d%contact_passes = indices(1, :)
     case (dataset_contact_kind)
       d%contact_kind = indices(1, :)
+    case (dataset_contact_initial_penetration)
+      d%contact_initial_penetration = indices(1, :)
     case (dataset_rigid_walls_point)
       d%rigid_wall_point = values
       d%n_rigid_walls = size(values, 2)

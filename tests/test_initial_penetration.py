@@ -1,0 +1,139 @@
+"""Initial penetration (issue 15 item 2): slave nodes that start inside the contact thickness are
+found before the run, reported (how many, deepest, where) and handled as the contact asks: moved
+onto the surface (the default) or their overlap kept as their gap (docs/theory.md, Contact).
+
+Two parallel steel plates at rest, 10 mm thick, mid-surfaces 6 mm apart: every node of each is
+4 mm inside the other's contact thickness (reach (t + t)/2 = 10 mm). Nothing moves them, so the
+right answer is that nothing moves: no contact energy, no kinetic energy. Left alone, the penalty
+springs would throw the plates apart.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import models as M
+from paradyn._schema import ENUMS
+from paradyn.deck import Control
+
+T = 0.01
+GAP = 0.006   # mid-surface distance; reach 0.01, so 0.004 inside
+STEEL = M.Material(young=200.0e9, poisson=0.3, density=7850.0)
+
+
+def _plates(tmp_path, mode: str | None):
+    lower = M.flat_plate((0.1, 0.1), (4, 4))
+    upper = M.flat_plate((0.1, 0.1), (4, 4), origin=(0.0, 0.0, GAP))
+    control = Control(end_time=2.0e-4, output_interval=1.0e-4, history_interval=1.0e-5)
+    asm = M.contact_model([M.Body(lower, T), M.Body(upper, T)], STEEL, control)
+    if mode is not None:
+        asm.model.contact_initial_penetration = np.array([ENUMS["initial_penetration"][mode]], dtype=np.int32)
+    run = M.run(asm.model, tmp_path)
+    log = (tmp_path / "engine.log").read_text()
+    return run.results, log
+
+
+def test_moved_onto_the_surface_by_default(tmp_path):
+    """The default moves the first pass's slaves (part 0, the lower plate) 4 mm down, onto the
+    upper plate's contact surface: the log names the 25 nodes, the depth 4.000e-03 m and the
+    action; after the move the other pass finds nothing; the plates then stay at rest (kinetic and
+    contact energy below 1e-12 J) 10 mm apart."""
+    results, log = _plates(tmp_path, None)
+    line = next(x for x in log.splitlines() if "initial penetration in /contact/pairs[0]" in x)
+    assert "25 nodes of part 0" in line and "deepest 4.000E-03 m (0.400 of the reach" in line
+    assert "moved onto the surface" in line
+    assert "still inside" not in log
+    h = results.history
+    assert np.max(np.abs(h["kinetic_energy"])) < 1e-12
+    assert np.max(np.abs(h["contact_energy"])) < 1e-12
+    dz = results.frame_arrays(0).displacement[:, 2]   # the move shows as an initial displacement
+    assert np.allclose(dz[:25], -0.004, rtol=0, atol=1e-15) and np.all(dz[25:] == 0.0)
+
+
+def test_overlap_kept_as_the_gap(tmp_path):
+    """initial_penetration = "gap": nothing moves, the log says so, and the plates stay at rest:
+    each slave's reach is shortened by its overlap, so contact pushes only past it."""
+    results, log = _plates(tmp_path, "gap")
+    lines = [x for x in log.splitlines() if "initial penetration in /contact/pairs[0]" in x]
+    assert len(lines) == 2 and all("kept as the initial gap" in x for x in lines)
+    h = results.history
+    assert np.max(np.abs(h["kinetic_energy"])) < 1e-12
+    assert np.max(np.abs(h["contact_energy"])) < 1e-12
+
+
+def test_kept_gap_still_pushes_past_the_overlap(tmp_path):
+    """The gap mode is not contact switched off: the same plates with the upper one moving down at
+    5 m/s touch as soon as it moves past its kept overlap, and push the lower plate down (its
+    centre node's velocity turns negative; contact energy rises above zero)."""
+    lower = M.flat_plate((0.1, 0.1), (4, 4))
+    upper = M.flat_plate((0.1, 0.1), (4, 4), origin=(0.0, 0.0, GAP))
+    control = Control(end_time=2.0e-4, output_interval=1.0e-4, history_interval=1.0e-5)
+    asm = M.contact_model([M.Body(lower, T), M.Body(upper, T, (0.0, 0.0, -5.0))], STEEL, control,
+                          tracked=[12])   # the lower plate's centre node
+    asm.model.contact_initial_penetration = np.array([ENUMS["initial_penetration"]["gap"]], dtype=np.int32)
+    h = M.run(asm.model, tmp_path).results.history
+    assert np.max(h["contact_energy"]) > 0.0
+    assert h["tracked_velocity"][-1, 0, 2] < -0.5
+
+
+def _scene_text(mode: str, height: float) -> str:
+    return f'''
+title = "t"
+[run]
+end_time = 1e-4
+output_interval = 5e-5
+history_interval = 1e-5
+[[material]]
+name = "steel"
+model = "elastic"
+density = 7850.0
+youngs_modulus = 200e9
+poisson_ratio = 0.3
+[[part]]
+name = "a"
+material = "steel"
+thickness = 0.01
+[part.geometry]
+kind = "plate"
+size = [0.1, 0.1]
+elements = [2, 2]
+[[part]]
+name = "b"
+material = "steel"
+thickness = 0.01
+[part.geometry]
+kind = "plate"
+size = [0.1, 0.1]
+elements = [2, 2]
+origin = [0.0, 0.0, {height}]
+[[contact]]
+parts = ["a", "b"]
+initial_penetration = "{mode}"
+'''
+
+
+@pytest.mark.parametrize("mode", ["move", "gap"])
+def test_scene_key_reaches_the_deck(tmp_path, mode):
+    """[[contact]] initial_penetration in a scene sets /contact/initial_penetration."""
+    from paradyn import scene
+
+    path = tmp_path / "scene.toml"
+    path.write_text(_scene_text(mode, 0.05))
+    model = scene.build_model(scene.load_scene(path))
+    assert model.contact_initial_penetration.tolist() == [ENUMS["initial_penetration"][mode]]
+
+
+def test_paradyn_run_prints_the_penetration_at_the_end(tmp_path, capsys):
+    """Never silent: paradyn-run repeats the engine's warning after the accuracy line, where a
+    person watching the terminal reads it (issue 15)."""
+    from paradyn import cli
+
+    path = tmp_path / "scene.toml"
+    path.write_text(_scene_text("move", 0.006))
+    status = cli.main([str(path), "-o", str(tmp_path / "run"), "-n", "1", "-t", "1", "-q", "--no-plots", "--no-vtk"])
+    assert status == 0
+    out = capsys.readouterr().out.splitlines()
+    accuracy = next(i for i, line in enumerate(out) if line.startswith("  accuracy:"))
+    assert any("warning: initial penetration in /contact/pairs[0]: 9 nodes of part 0" in line
+               for line in out[accuracy + 1:])
