@@ -199,3 +199,12 @@ def test_an_energy_error_past_the_limit_stops_the_run(tmp_path: Path) -> None:
     assert "the energy balance error reached" in done.stderr and "energy_error_limit" in done.stderr
     with h5py.File(limited.with_name("results.h5")) as f:
         assert int(f.attrs["complete"]) == 0 and f["history/time"].shape[0] >= 1
+        stopped_at = float(f["history/time"][-1])
+    # with checkpoints, the stopped state is kept as one (the last good state, issue 15)
+    kept = deck.write_deck(replace(model, control=replace(model.control, energy_error_limit=error / 1e3,
+                                                          checkpoint_interval=model.control.end_time / 2)),
+                           tmp_path / "kept" / "deck.h5")
+    done = _engine(kept, ranks=1)
+    assert done.returncode == 3
+    checkpoint_lines = [line for line in done.stdout.splitlines() if line.startswith("PARADYN-CHECKPOINT")]
+    assert checkpoint_lines and float(checkpoint_lines[-1].split("time=")[1].split()[0]) == pytest.approx(stopped_at)

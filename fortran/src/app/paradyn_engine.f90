@@ -143,8 +143,9 @@ program paradyn_engine
       pause_time = (floor(solver%clock%time / solver%control%checkpoint_interval + 1.0e-9_wp) + 1) &
                    * solver%control%checkpoint_interval
     call solver_run(solver, results, run, status, message, pause_time)
-    if (solver%floor_stop .and. solver%control%checkpoint_interval > 0.0_wp) then
-      ! the state is that of the last good step: a run with checkpoints keeps it for a restart
+    if ((solver%floor_stop .or. solver%energy_stop) .and. solver%control%checkpoint_interval > 0.0_wp) then
+      ! the state is finite (the floor: the last good step; the energy limit: the record that
+      ! passed it): a run with checkpoints keeps it, to look at or to restart with other settings
       call results_flush(results)
       call checkpoint_write(solver, checkpoint, results%frames, results%records, err, argument)
       if (rank == 0 .and. err == status_ok) write (*, '(a,es13.6,a,i0,a)') 'PARADYN-CHECKPOINT time=', &

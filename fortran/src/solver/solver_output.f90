@@ -71,6 +71,7 @@ contains
     call MPI_Allreduce(bad, bad_total, 1, MPI_INTEGER, MPI_MAX, s%halo%comm)
     if (bad_total == 3) then
       status = status_numerical
+      s%energy_stop = .true.
       write (message, '(a,es10.3,a,es10.3,a,i0,a,es12.5,a)') 'the energy balance error reached ', &
         energy_error(s, sums), ' (over /control energy_error_limit = ', s%control%energy_error_limit, &
         ') by cycle ', s%clock%cycles, ', time ', s%clock%time, ' s; see the energies in the history '// &
