@@ -18,8 +18,9 @@ Criteria, each pass or fail (``None``: does not apply to the case):
 
 The angular momentum about the centre of mass, ``sum_i m_i (x_i - x_c) x v_i``, is reported for the
 free cases (its largest change over the frames relative to ``sum_i m_i |x_i - x_c| |v_i|`` at the first
-frame, a scale that is not zero where the angular momentum itself starts at zero) but not judged: the frames hold no rotation rates, so the nodal rotational inertia's part
-is missing from it and it is not a conserved quantity by itself.
+frame, a scale that is not zero where the angular momentum itself starts at zero) but not judged: the
+frames hold no rotation rates, so the nodal rotational inertia's part is missing from it and it is
+not a conserved quantity by itself.
 """
 
 from __future__ import annotations
