@@ -90,10 +90,13 @@ def page(cases: list[Case], outcomes: list[Outcome], command: str, short: bool) 
         "(over the history records whose internal energy exceeds 0.1 % of the initial total energy); deepest "
         f"contact penetration below {LIMITS['penetration']:g} of the thinnest wall of the contact pairs; for free "
         f"bodies the total momentum of every frame within {LIMITS['momentum']:g} of the first (relative), from the "
-        "frames' nodal velocities and the lumped masses rebuilt from the deck. n/a: the criterion does not apply "
+        "frames' nodal velocities and the lumped masses rebuilt from the deck (a quarter of rho t A per element "
+        "and node; their sum is checked against the engine's model mass). n/a: the criterion does not apply "
         "(no contact pair, not a free body, no record with internal energy above the threshold). Every case "
         "uses the physical hourglass form and the warping correction, one rank and two threads, the automatic "
-        "time step. The cases are built in tests/stability/stability_scenes.py.",
+        "time step. The cases are built in tests/stability/stability_scenes.py (a new case, such as a "
+        "self-contact variant of crush_100, is one more `Case` in its list `CASES`); their short variants run "
+        "in `make test` (tests/stability/test_stability_short.py).",
         "",
         head,
         "|" + "---|" * (head.count("|") - 1),
