@@ -8,7 +8,7 @@ SOURCES := pyproject.toml $(shell find fortran frontend -type f -not -name '*.py
 # the deck and results schema: the Python tables, the Fortran module and the docs tables follow from it
 SCHEMA := $(wildcard schema/*.toml) schema/generate.py $(wildcard schema/*_writer.py) schema/schema_model.py
 
-.PHONY: demo test install engine bench clean
+.PHONY: demo test install engine bench clean stability
 
 demo: $(STAMP)
 	$(VENV)/bin/paradyn-run cases/pipe_whip/scene.toml -o runs/pipe_whip
@@ -27,6 +27,11 @@ $(STAMP): $(SOURCES) $(SCHEMA) setup/system-packages.sh
 	$(PY) -m pip install -q "scikit-build-core>=0.10" "numpy>=1.26"
 	$(PY) -m pip install -q --no-build-isolation ".[test]"
 	touch $@
+
+# The stability suite (docs/stability.md, generated): hard cases judged by energy balance, hourglass
+# energy, penetration and momentum; writes docs/stability.md
+stability: $(STAMP)
+	$(PY) tests/stability/stability_suite.py
 
 # Kernel speed: microseconds per element-cycle, elastic and plastic (docs/performance.md)
 bench: $(STAMP)

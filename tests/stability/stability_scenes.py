@@ -1,0 +1,317 @@
+"""The stability suite's cases (issue 15 item 4), built as scene tables in Python.
+
+Every case starts from the scene of ``cases/pipe_whip`` (the paper's case-1 geometry and steel) read
+with ``tomllib``, edits the tables (thickness, velocities, positions, meshes, extra parts, rigid
+walls), writes them as a scene file, and builds the deck with ``paradyn.scene.load_scene`` and
+``build_model``; the model's arrays are then edited where a scene cannot say it (the skewed mesh's
+coordinates) and every part gets the new element defaults: the physical hourglass form and the
+warping correction (``Case.paper_element`` keeps the scene's element instead).
+
+``Case.short`` gives the coarse, short variant that ``make test`` runs (tests/stability/test_stability_short.py).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from paradyn import deck, scene
+from paradyn._schema import ENUMS
+
+ROOT = Path(__file__).resolve().parents[2]
+PIPE_WHIP = ROOT / "cases" / "pipe_whip" / "scene.toml"
+FIG3 = ROOT / "cases" / "pipe_whip_fig3" / "scene.toml"
+RADIUS = 0.08          # mid-surface radius of the paper's pipes (m)
+THICKNESS = 0.003      # the paper's wall (m)
+
+Table = dict[str, Any]
+
+
+@dataclass(frozen=True)
+class Variant:
+    """What the short variant changes: mesh refinement divisor and end time (s)."""
+
+    coarsen: int
+    end_time: float
+
+
+@dataclass(frozen=True)
+class Case:
+    """A stability case: its name, what it is, how its scene tables are built (``build(coarsen)``, 1 = full
+    mesh), the full run's end time, the short variant, and whether it keeps the paper's element."""
+
+    name: str
+    what: str
+    build: Callable[[int], Table]
+    end_time: float
+    short: Variant
+    paper_element: bool = False
+    edit: Callable[[deck.Model], None] | None = None   # edits of the built model's arrays
+
+
+# ---------------------------------------------------------------------------------------------------
+# scene tables -> TOML -> model
+
+
+def _value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, int | float):
+        return repr(float(v)) if isinstance(v, float) else str(v)
+    return "[" + ", ".join(_value(x) for x in v) + "]"
+
+
+def to_toml(table: Table, prefix: str = "") -> str:
+    """The TOML text of a scene table (scalars, lists, sub-tables and arrays of tables)."""
+    lines = [f"{k} = {_value(v)}" for k, v in table.items()
+             if not isinstance(v, dict) and not (isinstance(v, list) and v and isinstance(v[0], dict))]
+    for k, v in table.items():
+        name = f"{prefix}{k}"
+        if isinstance(v, dict):
+            lines += ["", f"[{name}]", to_toml(v, f"{name}.")]
+        elif isinstance(v, list) and v and isinstance(v[0], dict):
+            for item in v:
+                lines += ["", f"[[{name}]]", to_toml(item, f"{name}.")]
+    return "\n".join(lines)
+
+
+def build_model(case: Case, folder: Path, short: bool) -> deck.Model:
+    """The deck model of ``case`` (its short variant when ``short``), its scene written into ``folder``."""
+    tables = case.build(case.short.coarsen if short else 1)
+    tables["run"]["end_time"] = case.short.end_time if short else case.end_time
+    tables["run"].pop("time_step", None)   # the automatic step that follows the mesh (the default)
+    frames = 10 if short else 40
+    tables["run"]["output_interval"] = tables["run"]["end_time"] / frames
+    tables["run"]["history_interval"] = tables["run"]["end_time"] / (10 * frames)
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / "scene.toml"
+    path.write_text(to_toml(tables) + "\n")
+    model = scene.build_model(scene.load_scene(path))
+    if case.edit is not None:
+        case.edit(model)
+    if not case.paper_element:
+        n_parts = len(model.thickness)
+        model.hourglass_form = np.full(n_parts, ENUMS["hourglass_form"]["physical"], dtype=np.int32)
+        model.warping_correction = np.ones(n_parts, dtype=np.int32)
+    return model
+
+
+# ---------------------------------------------------------------------------------------------------
+# the pieces
+
+
+def pipe_whip(source: Path = PIPE_WHIP) -> Table:
+    """The tables of a pipe-whip scene, without its tracked points (cases move the pipes)."""
+    tables = tomllib.loads(source.read_text())
+    tables.pop("track", None)
+    return copy.deepcopy(tables)
+
+
+def _coarsen_pipes(tables: Table, coarsen: int) -> None:
+    for part in tables["part"]:
+        g = part["geometry"]
+        if g["kind"] == "cylinder":
+            g["elements_around"] = max(8, 4 * round(g["elements_around"] / coarsen / 4))
+            g["elements_along"] = max(4, g["elements_along"] // coarsen)
+
+
+def _part(tables: Table, name: str) -> Table:
+    return next(p for p in tables["part"] if p["name"] == name)
+
+
+def _plate_part(name: str, size: tuple[float, float], elements: tuple[int, int], origin: list[float],
+                u: list[float], v: list[float], velocity: list[float] | None = None) -> Table:
+    part: Table = {"name": name, "material": "steel", "thickness": THICKNESS, "integration_points": 5,
+                   "geometry": {"kind": "plate", "size": list(size), "elements": list(elements), "origin": origin,
+                                "u_axis": u, "v_axis": v}}
+    if velocity is not None:
+        part["initial_velocity"] = velocity
+    return part
+
+
+def _pipe_part(name: str, length: float, axis: list[float], center: list[float], around: int, along: int,
+               velocity: list[float] | None = None) -> Table:
+    part: Table = {"name": name, "material": "steel", "thickness": THICKNESS, "integration_points": 5,
+                   "geometry": {"kind": "cylinder", "radius": RADIUS, "length": length, "axis": axis,
+                                "center": center, "elements_around": around, "elements_along": along}}
+    if velocity is not None:
+        part["initial_velocity"] = velocity
+    return part
+
+
+def _contact(a: str, b: str, friction: float = 0.0) -> Table:
+    table: Table = {"parts": [a, b], "penalty_scale": 0.1, "symmetric": True}
+    if friction:
+        table["static_friction"] = friction
+    return table
+
+
+def _edge_clamps(part: str, lo: tuple[float, float], hi: tuple[float, float], z: float) -> list[Table]:
+    """Clamp boxes over the four edges of a plate in the plane z, spanning lo..hi in x and y."""
+    e = 1e-6
+    (x0, y0), (x1, y1) = lo, hi
+    boxes = [((x0 - e, y0 - e), (x0 + e, y1 + e)), ((x1 - e, y0 - e), (x1 + e, y1 + e)),
+             ((x0 - e, y0 - e), (x1 + e, y0 + e)), ((x0 - e, y1 - e), (x1 + e, y1 + e))]
+    return [{"part": part, "box": [[a[0], a[1], z - e], [b[0], b[1], z + e]], "dofs": ["all"]} for a, b in boxes]
+
+
+# ---------------------------------------------------------------------------------------------------
+# the cases
+
+
+def thin_walls(ratio: float) -> Callable[[int], Table]:
+    """Case 1 with walls t = R / ratio and the upper pipe at 20 m/s (x10); the gap kept at 0.1 mm."""
+    def build(coarsen: int) -> Table:
+        tables = pipe_whip()
+        t = RADIUS / ratio
+        for part in tables["part"]:
+            part["thickness"] = t
+        upper = _part(tables, "upper_pipe")
+        upper["initial_velocity"] = [10.0 * x for x in upper["initial_velocity"]]
+        upper["geometry"]["center"] = [0.0, 0.0, 2.0 * RADIUS + t + 1e-4]
+        _coarsen_pipes(tables, coarsen)
+        return tables
+    return build
+
+
+def crush_100(coarsen: int) -> Table:
+    """Case 1 with the upper pipe at 100 m/s (x50), as it is: no self-contact."""
+    tables = pipe_whip()
+    upper = _part(tables, "upper_pipe")
+    upper["initial_velocity"] = [50.0 * x for x in upper["initial_velocity"]]
+    _coarsen_pipes(tables, coarsen)
+    return tables
+
+
+def fig3(coarsen: int) -> Table:
+    """The paper's Figure 3 (free pipes, 20 m/s)."""
+    tables = pipe_whip(FIG3)
+    _coarsen_pipes(tables, coarsen)
+    return tables
+
+
+def sliding(coarsen: int) -> Table:
+    """Two free pipes, the upper one crossing 0.4 m off the lower one's middle and moving obliquely
+    (10 m/s along the lower pipe, 5 m/s along its own axis, 20 m/s down), Coulomb friction 0.3."""
+    tables = pipe_whip(FIG3)
+    upper = _part(tables, "upper_pipe")
+    upper["geometry"]["center"] = [0.4, 0.0, 2.0 * RADIUS + THICKNESS + 1e-4]
+    upper["initial_velocity"] = [10.0, 5.0, -20.0]
+    tables["contact"] = [_contact("lower_pipe", "upper_pipe", friction=0.3)]
+    _coarsen_pipes(tables, coarsen)
+    return tables
+
+
+SPIN_RATE = 500.0                          # rad/s about the pipe's axis (y)
+SPIN_VELOCITY = (3.0, 0.0, -2.0)           # m/s, translation
+
+
+def spinning(coarsen: int) -> Table:
+    """A free pipe (1 m, elastic-plastic steel) alone, no contact: the spin is set on the model."""
+    tables = pipe_whip()
+    tables["part"] = [_pipe_part("pipe", 1.0, [0.0, 1.0, 0.0], [0.0, 0.0, 0.0], 16, 16)]
+    for key in ("fix", "contact"):
+        tables.pop(key, None)
+    _coarsen_pipes(tables, coarsen)
+    return tables
+
+
+def set_spin(model: deck.Model) -> None:
+    """Rigid motion: v = V + w x r (r from the axis), and every node's rotation rate w."""
+    omega = np.array([0.0, SPIN_RATE, 0.0])
+    model.initial_velocity = np.asarray(SPIN_VELOCITY) + np.cross(omega, model.coordinates)
+    model.initial_angular_velocity = np.tile(omega, (len(model.coordinates), 1))
+
+
+PLATE = 0.6            # side of the clamped plates (m)
+SKEW = math.radians(55.0)
+
+
+def _plate_hit_by_pipe(elements: tuple[int, int], coarsen: int) -> Table:
+    """A clamped steel plate 0.6 m x 0.6 m (z = 0, centre at the origin) hit by a free 0.5 m pipe at 20 m/s."""
+    tables = pipe_whip()
+    h = PLATE / 2.0
+    nx, ny = (max(2, n // coarsen) for n in elements)
+    plate = _plate_part("plate", (PLATE, PLATE), (nx, ny), [-h, -h, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0])
+    pipe = _pipe_part("pipe", 0.5, [1.0, 0.0, 0.0], [0.0, 0.0, RADIUS + THICKNESS + 1e-4],
+                      max(8, 16 // coarsen), max(4, 16 // coarsen), velocity=[0.0, 0.0, -20.0])
+    tables["part"] = [plate, pipe]
+    tables["fix"] = _edge_clamps("plate", (-h, -h), (h, h), 0.0)
+    tables["contact"] = [_contact("plate", "pipe")]
+    return tables
+
+
+def skewed_plate(coarsen: int) -> Table:
+    """The plate meshed 24 x 24, to be sheared into 55-degree parallelograms (``skew``)."""
+    return _plate_hit_by_pipe((24, 24), coarsen)
+
+
+def skew(model: deck.Model) -> None:
+    """Shear the plate (part 0, centred on the origin): x += y tan(55 deg); its quads' corners go from
+    90 to 35 and 145 degrees. Its clamps (chosen on the rectangle) go with their nodes."""
+    nodes = np.unique(model.connectivity[model.element_part == 0])
+    model.coordinates[nodes, 0] += model.coordinates[nodes, 1] * math.tan(SKEW)
+
+
+def elongated_plate(coarsen: int) -> Table:
+    """The plate meshed 12 x 120: quads of 50 mm x 5 mm (aspect ratio 10)."""
+    return _plate_hit_by_pipe((12, 120), coarsen)
+
+
+def edge_drop(coarsen: int) -> Table:
+    """A 0.3 m x 0.3 m plate, vertical (the y-z plane), falling edge-first at 20 m/s onto the middle of
+    case 1's clamped lower pipe; the lower edge starts 1 mm above the pipe's outer surface."""
+    tables = pipe_whip()
+    n = max(4, 12 // coarsen)
+    bottom = RADIUS + THICKNESS + 1e-3
+    plate = _plate_part("plate", (0.3, 0.3), (n, n), [0.0, -0.15, bottom], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0],
+                        velocity=[0.0, 0.0, -20.0])
+    tables["part"] = [_part(tables, "lower_pipe"), plate]
+    tables["contact"] = [_contact("lower_pipe", "plate")]
+    _coarsen_pipes(tables, coarsen)
+    return tables
+
+
+def wall_crush(coarsen: int) -> Table:
+    """A free 1 m pipe between a floor under it and a rigid wall above it closing at 20 m/s."""
+    tables = pipe_whip()
+    outer = RADIUS + THICKNESS / 2.0
+    tables["part"] = [_pipe_part("pipe", 1.0, [1.0, 0.0, 0.0], [0.0, 0.0, 0.0], 16, 16)]
+    for key in ("fix", "contact"):
+        tables.pop(key, None)
+    tables["rigid_wall"] = [{"point": [0.0, 0.0, -outer - 1e-4], "normal": [0.0, 0.0, 1.0]},
+                            {"point": [0.0, 0.0, outer + 1e-4], "normal": [0.0, 0.0, -1.0],
+                             "velocity": [0.0, 0.0, -20.0]}]
+    _coarsen_pipes(tables, coarsen)
+    return tables
+
+
+CASES: list[Case] = [
+    Case("thin_270", "case 1, t/R = 1/270, 20 m/s", thin_walls(270.0), 2.5e-3, Variant(2, 0.5e-3)),
+    Case("thin_1000", "case 1, t/R = 1/1000, 20 m/s", thin_walls(1000.0), 2.5e-3, Variant(2, 0.5e-3)),
+    Case("skew_55", "clamped plate, quads skewed 55 deg, pipe at 20 m/s", skewed_plate, 3.0e-3,
+         Variant(2, 0.5e-3), edit=skew),
+    Case("aspect_10", "clamped plate, quads of aspect 10, pipe at 20 m/s", elongated_plate, 3.0e-3,
+         Variant(2, 0.5e-3)),
+    Case("sliding_friction", "free pipes, off-centre oblique impact, friction 0.3", sliding, 5.0e-3,
+         Variant(2, 0.5e-3)),
+    Case("spinning_pipe", "free pipe, 500 rad/s about its axis, translating, no contact", spinning, 20.0e-3,
+         Variant(2, 2.0e-3), edit=set_spin),
+    Case("fig3", "paper Fig. 3: free pipes, 20 m/s, 60 ms", fig3, 60.0e-3, Variant(2, 1.0e-3)),
+    Case("edge_drop", "plate dropped edge-first onto case 1's lower pipe, 20 m/s", edge_drop, 5.0e-3,
+         Variant(2, 0.5e-3)),
+    Case("wall_crush", "pipe crushed between rigid walls closing at 20 m/s", wall_crush, 3.0e-3,
+         Variant(2, 0.5e-3)),
+    # no single-surface (self) contact yet: a self-contact variant goes in as one more Case here
+    Case("crush_100", "case 1 at 100 m/s, 5 ms, no self-contact", crush_100, 5.0e-3, Variant(2, 0.5e-3)),
+]
+BY_NAME = {case.name: case for case in CASES}
