@@ -104,14 +104,19 @@ def test_rigid_rotation_gives_no_hourglass_resultants(axis):
 
 
 def test_coefficient_does_not_change_the_physical_form():
-    """The physical form has no coefficient: 0.1 and 1.0 give bitwise the same step (0 alone
-    switches hourglass control off, docs/scene.md)."""
+    """The physical form has no coefficient: 0.1 and 1.0 give bitwise the same step; 0 alone
+    switches hourglass control off (docs/scene.md, [effects] hourglass = false): no hourglass
+    resultant, only the drilling moments (slots 6 to 9), which every form keeps."""
     x = _rectangle(0.05, 0.1)
     rng = np.random.default_rng(3)
     v, w = rng.normal(size=(4, 3)), rng.normal(size=(4, 3))
     f1, s1 = _step(x, v, w, 1.0e-7, PHYSICAL, coefficient=0.1)
     f2, s2 = _step(x, v, w, 1.0e-7, PHYSICAL, coefficient=1.0)
     assert np.array_equal(f1, f2) and np.array_equal(s1["hourglass"], s2["hourglass"])
+    assert np.all(s1["hourglass"][0, [0, 1, 2, 3, 4, 9]] != 0.0)
+    _, off = _step(x, v, w, 1.0e-7, PHYSICAL, coefficient=0.0)
+    assert np.all(off["hourglass"][0, [0, 1, 2, 3, 4, 9]] == 0.0)
+    assert np.array_equal(off["hourglass"][0, 5:9], s1["hourglass"][0, 5:9])
 
 
 @pytest.mark.parametrize("form, ratio", [("physical", (0.98, 1.02)), ("stiffness", (2.0, 5.0))])

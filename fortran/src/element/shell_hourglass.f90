@@ -56,7 +56,10 @@ contains
     integer :: i, c
     t = props%thickness
     if (props%hourglass_form == hourglass_physical) then
-      call physical_update(m, props, dt, area, xl, yl, qrate, grad_w, tangent, hg, power)
+      ! no coefficient, but 0 still means off ([effects] hourglass = false): no resultants, no work
+      power = 0.0_wp
+      if (props%hourglass_coefficient > 0.0_wp) &
+        call physical_update(m, props, dt, area, xl, yl, qrate, grad_w, tangent, hg, power)
     else
       call coefficient_update(m, props, dt, area, b1, b2, qrate, hg, power)
     end if
