@@ -6,7 +6,7 @@ module contact_pass
   use model_deck, only: deck_t
   use contact_buckets, only: bucket_grid_t
   use contact_search, only: node_segment_map, shell_penalty_stiffness
-  use initial_penetration, only: slave_penetrations
+  use initial_penetration, only: slave_penetrations, part_nodes
   use paradyn_schema, only: initial_penetration_gap
   implicit none
   private
@@ -41,24 +41,15 @@ contains
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: pair, slave_part, master_part, contact_id(:), n_contact
     type(contact_pass_t), intent(out) :: pass
-    integer, allocatable :: elements(:), slave_nodes(:)
-    logical, allocatable :: on_part(:)
+    integer, allocatable :: elements(:), slave_nodes(:), master_nodes(:), slave_elements(:)
     real(wp), allocatable :: push(:, :)
     integer :: e, s, n_entries
     real(wp) :: xseg(3, 4), young, poisson
     pass%pair = pair
-    allocate (on_part(deck%n_nodes), source=.false.)
-    do e = 1, deck%n_elements
-      if (deck%element_part(e) == slave_part) on_part(deck%connectivity(:, e)) = .true.
-    end do
-    slave_nodes = pack([(e, e = 1, deck%n_nodes)], on_part)
+    call part_nodes(deck, slave_part, slave_nodes, slave_elements)
     pass%slaves = contact_id(slave_nodes)
-    on_part = .false.
-    elements = pack([(e, e = 1, deck%n_elements)], deck%element_part == master_part)
-    do s = 1, size(elements)
-      on_part(deck%connectivity(:, elements(s))) = .true.
-    end do
-    pass%masters = contact_id(pack([(e, e = 1, deck%n_nodes)], on_part))
+    call part_nodes(deck, master_part, master_nodes, elements)
+    pass%masters = contact_id(master_nodes)
     allocate (pass%segments(4, size(elements)), pass%stiffness(size(elements)))
     young = deck%young(deck%part_material(master_part))
     poisson = deck%poisson(deck%part_material(master_part))

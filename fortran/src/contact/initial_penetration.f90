@@ -56,19 +56,19 @@ contains
     end do
   end subroutine slave_penetrations
 
-  !> The nodes of a part (global ids, ascending) and its elements' connectivity.
+  !> The nodes of a part and its elements (global ids, ascending).
   subroutine part_nodes(deck, part, nodes, elements)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: part
-    integer, allocatable, intent(out) :: nodes(:), elements(:, :)
+    integer, allocatable, intent(out) :: nodes(:), elements(:)
     logical, allocatable :: on_part(:)
     integer :: e
+    elements = pack([(e, e = 1, deck%n_elements)], deck%element_part == part)
     allocate (on_part(deck%n_nodes), source=.false.)
-    do e = 1, deck%n_elements
-      if (deck%element_part(e) == part) on_part(deck%connectivity(:, e)) = .true.
+    do e = 1, size(elements)
+      on_part(deck%connectivity(:, elements(e))) = .true.
     end do
     nodes = pack([(e, e = 1, deck%n_nodes)], on_part)
-    elements = deck%connectivity(:, pack([(e, e = 1, deck%n_elements)], deck%element_part == part))
   end subroutine part_nodes
 
   !> Checks every contact definition, both ways, at the deck's positions; where a definition asks
@@ -104,7 +104,7 @@ contains
     integer, intent(in) :: k, unit
     logical, intent(in) :: move, speak
     character(len=*), intent(in) :: what
-    integer, allocatable :: slaves(:), elements(:, :), masters(:), master_elements(:, :)
+    integer, allocatable :: slaves(:), elements(:), masters(:), master_elements(:)
     real(wp), allocatable :: depth(:), push(:, :)
     integer :: side, slave_part, master_part, deepest
     real(wp) :: reach
@@ -114,7 +114,7 @@ contains
       call part_nodes(deck, slave_part, slaves, elements)
       call part_nodes(deck, master_part, masters, master_elements)
       allocate (depth(size(slaves)), push(3, size(slaves)))
-      call slave_penetrations(x, slaves, master_elements, deck%thickness(slave_part), &
+      call slave_penetrations(x, slaves, deck%connectivity(:, master_elements), deck%thickness(slave_part), &
                               deck%thickness(master_part), depth, push)
       if (any(depth > 0.0_wp)) then
         deepest = maxloc(depth, 1)
