@@ -124,7 +124,7 @@ class Model:
     contact_dynamic_friction: np.ndarray | None = None  # /contact/dynamic_friction
     contact_friction_decay: np.ndarray | None = None    # /contact/friction_decay s/m
     contact_passes: np.ndarray | None = None  # /contact/passes: 2 both, 1 alternate
-    contact_kind: np.ndarray | None = None    # /contact/kind: 1 node_to_segment
+    contact_kind: np.ndarray | None = None    # /contact/kind: 1 node_to_segment, 2 single_surface
     contact_initial_penetration: np.ndarray | None = None   # /contact/initial_penetration: 1 move, 2 gap
     rigid_wall_point: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))   # /rigid_walls/point m
     rigid_wall_normal: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # /rigid_walls/normal

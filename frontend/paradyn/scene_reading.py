@@ -353,28 +353,43 @@ def _parse_track(r: _Reader, t: dict[str, Any], index: int) -> TrackSpec:
 def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
     label = f"[[contact]] #{index + 1}"
     r.keys(t, label, _CONTACT_KEYS)
-    parts = r.raw(t, "parts", label, _REQUIRED)
-    if (not isinstance(parts, list) or len(parts) != 2 or not all(isinstance(p, str) for p in parts)
-            or parts[0] == parts[1]):
-        raise r.error(f"'parts' in {label} must name two different parts, e.g. parts = [\"a\", \"b\"]; "
-                      f"got {parts!r}")
+    kind = (r.string(t, "kind", label, choices=tuple(_schema.ENUMS["contact_kind"])) if "kind" in t
+            else ContactSpec.kind)
+    parts = _contact_parts(r, t, label, kind)
     symmetric = r.raw(t, "symmetric", label, ContactSpec.symmetric)
     if not isinstance(symmetric, bool):
         raise r.error(f"'symmetric' in {label} must be true (both passes every step) or false "
                       f"(slave and master swap every step, as in the paper); got {symmetric!r}")
     static = r.number(t, "static_friction", label, default=ContactSpec.static_friction, minimum=0.0)
     return ContactSpec(
-        parts=(parts[0], parts[1]),
+        parts=parts,
         penalty_scale=r.number(t, "penalty_scale", label, default=ContactSpec.penalty_scale, positive=True),
         static_friction=static,
         dynamic_friction=r.number(t, "dynamic_friction", label, default=static, minimum=0.0),
         friction_decay=r.number(t, "friction_decay", label, default=ContactSpec.friction_decay, minimum=0.0),
         symmetric=symmetric,
-        kind=(r.string(t, "kind", label, choices=tuple(_schema.ENUMS["contact_kind"])) if "kind" in t
-              else ContactSpec.kind),
+        kind=kind,
         initial_penetration=r.string(t, "initial_penetration", label, default=ContactSpec.initial_penetration,
                                      choices=tuple(_schema.ENUMS["initial_penetration"])),
     )
+
+
+def _contact_parts(r: _Reader, t: dict[str, Any], label: str, kind: str) -> tuple[str, ...]:
+    """Two different parts for a node_to_segment pair; one or more different parts for a
+    single_surface contact, or none (every part of the scene)."""
+    if kind == "single_surface":
+        parts = r.raw(t, "parts", label, [])
+        if (not isinstance(parts, list) or not all(isinstance(p, str) for p in parts)
+                or len(set(parts)) != len(parts)):
+            raise r.error(f"'parts' in {label} must list different parts that form the single surface, e.g. "
+                          f"parts = [\"pipe\"] (leave it out for every part of the scene); got {parts!r}")
+        return tuple(parts)
+    parts = r.raw(t, "parts", label, _REQUIRED)
+    if (not isinstance(parts, list) or len(parts) != 2 or not all(isinstance(p, str) for p in parts)
+            or parts[0] == parts[1]):
+        raise r.error(f"'parts' in {label} must name two different parts, e.g. parts = [\"a\", \"b\"] "
+                      f"(for a part against itself use kind = \"single_surface\"); got {parts!r}")
+    return (parts[0], parts[1])
 
 
 def _parse_rigid_wall(r: _Reader, t: dict[str, Any], index: int) -> RigidWallSpec:

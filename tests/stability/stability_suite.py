@@ -40,13 +40,7 @@ REASONS: dict[tuple[str, str], str] = {
     ("crush_100", "hourglass"): _EARLY_HG + " (above 0.1 to 2 ms)",
 }
 # What a case's run showed that no criterion judges (written from the runs of 2026-11-23); keyed by case.
-NOTES: dict[str, str] = {
-    "crush_100": "no criterion sees it, but the run is not physical past about 2.5 ms: there is no single-surface "
-                 "(self) contact, and in the middle ring of each pipe the node that started on top ends below the "
-                 "node that started at the bottom (upper pipe from about 2.5 ms, lower pipe from about 3 ms: the "
-                 "crushed walls pass through each other). A self-contact variant goes in as one more Case in "
-                 "tests/stability/stability_scenes.py once the engine has it",
-}
+NOTES: dict[str, str] = {}
 
 
 def _fmt(value: float | None, digits: str = ".3g") -> str:
@@ -94,8 +88,8 @@ def page(cases: list[Case], outcomes: list[Outcome], command: str, short: bool) 
         "and node; their sum is checked against the engine's model mass). n/a: the criterion does not apply "
         "(no contact pair, not a free body, no record with internal energy above the threshold). Every case "
         "uses the physical hourglass form and the warping correction, one rank and two threads, the automatic "
-        "time step. The cases are built in tests/stability/stability_scenes.py (a new case, such as a "
-        "self-contact variant of crush_100, is one more `Case` in its list `CASES`); their short variants run "
+        "time step. The cases are built in tests/stability/stability_scenes.py (a new case is one more "
+        "`Case` in its list `CASES`); their short variants run "
         "in `make test` (tests/stability/test_stability_short.py).",
         "",
         head,
@@ -104,6 +98,7 @@ def page(cases: list[Case], outcomes: list[Outcome], command: str, short: bool) 
     lines += [row(case, out) for case, out in zip(cases, outcomes, strict=True)]
     notes = [f"- {out.name}: {out.message.strip()}" for out in outcomes if out.message.strip()]
     notes += [f"- {out.name}: {NOTES[out.name]}" for out in outcomes if out.name in NOTES]
+    notes += [f"- {out.name}: {out.probe}" for out in outcomes if out.probe]
     notes += [f"- {name}, {criterion}: {why}" for (name, criterion), why in REASONS.items()
               if any(o.name == name and o.passed.get(criterion) is False for o in outcomes)]
     if notes:
@@ -123,7 +118,7 @@ def main() -> None:
     outcomes = []
     for case in cases:
         run_folder = folder / case.name
-        outcome = run_case(case.name, build_model(case, run_folder, short=args.short), run_folder)
+        outcome = run_case(case.name, build_model(case, run_folder, short=args.short), run_folder, case.probe)
         outcomes.append(outcome)
         print(row(case, outcome), flush=True)
     command = "python tests/stability/stability_suite.py " + " ".join(sys.argv[1:])

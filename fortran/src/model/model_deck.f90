@@ -4,7 +4,8 @@
 module model_deck
   use paradyn_kinds, only: wp
   use shell_section, only: shell_properties_t
-  use paradyn_schema, only: material_j2_plasticity, size_none, deck_datasets, class_float, class_int, &
+  use paradyn_schema, only: material_j2_plasticity, contact_kind_single_surface, size_none, deck_datasets, &
+                            class_float, class_int, &
                             enum_name, enum_material_model, control_attributes, control_partition, status_ok, &
                             status_bad_input, &
                             dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
@@ -328,9 +329,14 @@ contains
       end if
     end do
     do i = 1, d%n_contacts
-      if (d%contact_pairs(1, i) == d%contact_pairs(2, i)) then
-        message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
-                  ' pairs a part with itself; name two different parts (self-contact is not modelled)'
+      if (d%contact_kind(i) == contact_kind_single_surface .neqv. d%contact_pairs(1, i) == d%contact_pairs(2, i)) then
+        if (d%contact_kind(i) == contact_kind_single_surface) then
+          message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
+                    ' names two parts for a single_surface contact; name its one part twice'
+        else
+          message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
+                    ' pairs a part with itself; name two different parts, or make the contact single_surface'
+        end if
         return
       end if
     end do
