@@ -587,6 +587,16 @@ CONTROL: tuple[AttributeSpec, ...] = (
         ), '[run] time_step_floor', 'give a fraction of the first step such as 1e-3 (the default)',
     ),
     AttributeSpec(
+        'contact_travel_limit', 'float', False, 0.0, None, None, Bound(0.0, True), Bound(1.0, False),
+        'must be in [0, 1)', None, '', '-',
+        (
+            '0 = off; the most a node of an active contact definition may move in one step, as a fraction of the '
+            'thinner contact thickness of the definition: the step is cut to fraction x t / |v| where that is '
+            'below the stable step. A thin wall hit fast is otherwise crossed in one step (the node passes the '
+            'mid-surface before the penalty sees it)'
+        ), '[run] contact_travel_limit', 'give a fraction of the wall thickness such as 0.1, or 0 for no limit',
+    ),
+    AttributeSpec(
         'mass_scaling_step', 'float', False, 0.0, None, None, Bound(0.0, True), None, 'must be >= 0', None, '',
         's',
         (
@@ -734,6 +744,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('control', 'gravity_z'): ('class', 'finite'),
     ('control', 'energy_error_limit'): ('class', 'lower', 'finite'),
     ('control', 'time_step_floor'): ('class', 'lower', 'upper', 'finite'),
+    ('control', 'contact_travel_limit'): ('class', 'lower', 'upper', 'finite'),
     ('control', 'mass_scaling_step'): ('class', 'lower', 'finite'),
     ('control', 'mass_scaling_limit'): ('class', 'lower', 'finite'),
     ('control', 'effect_point_loads'): ('class', 'enum'),

@@ -58,8 +58,8 @@ _TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "trac
              "curve", "pressure", "prescribe")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
-             "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "mass_scaling_step",
-             "mass_scaling_limit")
+             "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "contact_travel_limit",
+             "mass_scaling_step", "mass_scaling_limit")
 _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
                   "tangent_modulus", "hardening_mixing")
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
@@ -148,6 +148,8 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
         energy_error_limit=r.number(t, "energy_error_limit", label, default=RunSettings.energy_error_limit,
                                     minimum=0.0),
         time_step_floor=r.number(t, "time_step_floor", label, default=RunSettings.time_step_floor, positive=True),
+        contact_travel_limit=r.number(t, "contact_travel_limit", label, default=RunSettings.contact_travel_limit,
+                                      minimum=0.0),
         mass_scaling_step=r.number(t, "mass_scaling_step", label, default=RunSettings.mass_scaling_step,
                                    minimum=0.0),
         mass_scaling_limit=r.number(t, "mass_scaling_limit", label, default=RunSettings.mass_scaling_limit,
@@ -159,6 +161,9 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
     )
     if run.time_step_safety > 1.0:
         raise r.error(f"'time_step_safety' in {label} must be in (0, 1], got {run.time_step_safety}")
+    if run.contact_travel_limit >= 1.0:
+        raise r.error(f"'contact_travel_limit' in {label} must be in [0, 1), a fraction of the wall thickness "
+                      f"(0.1 keeps the penetration near a fifth of it; 0 = no limit), got {run.contact_travel_limit}")
     if run.time_step_floor >= 1.0:
         raise r.error(f"'time_step_floor' in {label} must be in (0, 1), a fraction of the first step, "
                       f"got {run.time_step_floor}")

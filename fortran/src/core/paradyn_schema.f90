@@ -40,8 +40,8 @@ module paradyn_schema
       control_mass_damping, control_progress_interval, control_contact_sort_interval, &
       control_checkpoint_interval, control_partition, control_contact_gather, control_gravity_x, &
       control_gravity_y, control_gravity_z, control_energy_error_limit, control_time_step_floor, &
-      control_mass_scaling_step, control_mass_scaling_limit, control_effect_point_loads, &
-      control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
+      control_contact_travel_limit, control_mass_scaling_step, control_mass_scaling_limit, &
+      control_effect_point_loads, control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
       control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
       control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
       control_restart_may_change, max_enum_members, n_effects, effect_point_loads, effect_gravity, &
@@ -202,22 +202,24 @@ module paradyn_schema
   integer, parameter :: control_gravity_z = 14
   integer, parameter :: control_energy_error_limit = 15
   integer, parameter :: control_time_step_floor = 16
-  integer, parameter :: control_mass_scaling_step = 17
-  integer, parameter :: control_mass_scaling_limit = 18
-  integer, parameter :: control_effect_point_loads = 19
-  integer, parameter :: control_effect_gravity = 20
-  integer, parameter :: control_effect_pressure = 21
-  integer, parameter :: control_effect_rigid_wall = 22
-  integer, parameter :: control_effect_mass_damping = 23
-  integer, parameter :: control_effect_prescribed_velocity = 24
-  integer, parameter :: control_effect_plasticity = 25
-  integer, parameter :: control_effect_hourglass = 26
-  integer, parameter :: control_effect_contact = 27
-  integer, parameter :: control_effect_friction = 28
-  integer, parameter :: n_control_attributes = 28
+  integer, parameter :: control_contact_travel_limit = 17
+  integer, parameter :: control_mass_scaling_step = 18
+  integer, parameter :: control_mass_scaling_limit = 19
+  integer, parameter :: control_effect_point_loads = 20
+  integer, parameter :: control_effect_gravity = 21
+  integer, parameter :: control_effect_pressure = 22
+  integer, parameter :: control_effect_rigid_wall = 23
+  integer, parameter :: control_effect_mass_damping = 24
+  integer, parameter :: control_effect_prescribed_velocity = 25
+  integer, parameter :: control_effect_plasticity = 26
+  integer, parameter :: control_effect_hourglass = 27
+  integer, parameter :: control_effect_contact = 28
+  integer, parameter :: control_effect_friction = 29
+  integer, parameter :: n_control_attributes = 29
   logical, parameter :: control_restart_may_change(n_control_attributes) = [.false., .true., .true., .false., &
     .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .true., &
-    .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false.]
+    .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., &
+    .false., .false.]
   integer, parameter :: max_enum_members = 3
 
   ! effects of a step (schema/effects.toml), in the order of the step
@@ -526,6 +528,9 @@ module paradyn_schema
     attribute_spec_t('time_step_floor', class_float, .false., 0.001_wp, 0, 0.0_wp, .true., .false., .true., &
         .false., 0.0_wp, 1.0_wp, enum_none, 'must be in (0, 1)', '', &
         'give a fraction of the first step such as 1e-3 (the default)'), &
+    attribute_spec_t('contact_travel_limit', class_float, .false., 0.0_wp, 0, 0.0_wp, .true., .true., .true., &
+        .false., 0.0_wp, 1.0_wp, enum_none, 'must be in [0, 1)', '', &
+        'give a fraction of the wall thickness such as 0.1, or 0 for no limit'), &
     attribute_spec_t('mass_scaling_step', class_float, .false., 0.0_wp, 0, 0.0_wp, .true., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_none, 'must be >= 0', '', &
         'give the wanted step in seconds, or 0 for no mass scaling'), &
