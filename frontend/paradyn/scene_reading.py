@@ -85,8 +85,13 @@ _RIGID_WALL_SCALE_MAX = next(d.upper.value for d in _schema.DATASETS if d.path =
 def load_scene(path: str | Path) -> Scene:
     """Parse and check a scene file; raise SceneError naming the file, table and key on any problem."""
     path = Path(path)
+    return scene_from_tables(_parse_toml(path), path)
+
+
+def scene_from_tables(data: Mapping[str, Any], path: Path) -> Scene:
+    """Check the tables of a scene (a parsed TOML file, or :class:`paradyn.Scene`'s) and return the
+    :class:`Scene`; messages start with ``path``, and mesh file paths are relative to its folder."""
     reader = _Reader(path)
-    data = _parse_toml(path)
     reader.keys(data, "the top level of the scene", _TOP_KEYS)
     title = data.get("title", path.stem)
     if not isinstance(title, str):
@@ -110,6 +115,16 @@ def load_scene(path: str | Path) -> Scene:
     _check_references(reader, scene)
     _check_load_references(reader, scene)
     return scene
+
+
+def check_entry(kind: str, table: Mapping[str, Any], index: int, path: Path) -> None:
+    """Check one entry alone, as :func:`scene_from_tables` does (keys, types, ranges): ``kind`` is
+    ``"run"``, ``"effects"`` or an array of tables (``"part"``, ...) with the entry's 0-based ``index``."""
+    r, t = _Reader(path), dict(table)
+    if kind in ("run", "effects"):
+        (_parse_run if kind == "run" else _parse_effects)(r, t)
+    else:
+        _ENTRY_PARSERS[kind](r, t, index)
 
 
 def _parse_toml(path: Path) -> dict[str, Any]:
@@ -473,3 +488,8 @@ def _unique(r: _Reader, names: list[str], kind: str) -> None:
         if name in seen:
             raise r.error(f"two [[{kind}]] entries are named '{name}'; names must be unique")
         seen.add(name)
+
+
+_ENTRY_PARSERS = {"material": _parse_material, "part": _parse_part, "fix": _parse_fix, "load": _parse_load,
+                  "track": _parse_track, "contact": _parse_contact, "rigid_wall": _parse_rigid_wall,
+                  "curve": _parse_curve, "pressure": _parse_pressure, "prescribe": _parse_prescribe}
