@@ -1,15 +1,20 @@
-"""Pictures of ParaDyn results that work without a display.
+"""Pictures of ParaDyn results, as matplotlib figures and PNG files, without a display.
 
+``*_figure`` functions return a :class:`NotebookFigure` (a matplotlib ``Figure`` that Jupyter shows
+as the value of a cell); ``plot_*`` and ``render_deformed`` write the PNG files of docs/outputs.md.
 matplotlib is used through its Agg canvas directly (no pyplot, so the caller's backend is left
-alone); pyvista renders off screen (:mod:`paradyn.rendering`). This module reads results through
-:mod:`paradyn.reading` only.
+alone); the deformed shape is drawn off screen by pyvista (:mod:`paradyn.rendering`), with the
+displacements magnified by the factor :func:`displacement_scale` chooses, which the caption states.
 """
 
 from __future__ import annotations
 
+import io
+import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
@@ -32,11 +37,26 @@ _ENERGY_LABELS = {
     "contact_energy": "contact",
     "external_work": "external work",
 }
+# the largest displacement is drawn at least this fraction of the model's bounding box diagonal
+VISIBLE_FRACTION = 0.05
 
 
-def _figure(title: str) -> tuple[Figure, Any]:
-    fig = Figure(figsize=(8, 5), dpi=120)
-    FigureCanvasAgg(fig)
+class NotebookFigure(Figure):
+    """A matplotlib Figure on an Agg canvas that Jupyter shows as a PNG (``_repr_png_``) whatever
+    the notebook's matplotlib backend; ``savefig`` and every other Figure method work as usual."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        FigureCanvasAgg(self)
+
+    def _repr_png_(self) -> bytes:
+        buffer = io.BytesIO()
+        self.savefig(buffer, format="png")
+        return buffer.getvalue()
+
+
+def _figure(title: str) -> tuple[NotebookFigure, Any]:
+    fig = NotebookFigure(figsize=(8, 5), dpi=120)
     ax = fig.add_subplot(1, 1, 1)
     ax.set_title(title)
     ax.grid(True, alpha=0.3)
@@ -51,8 +71,8 @@ def _save(fig: Figure, path: str | Path) -> Path:
     return path
 
 
-def plot_tracked_histories(results: Results, path: str | Path, component: str = "dz") -> Path:
-    """PNG with one line per tracked point: ``component`` (dx..dz in mm, vx..vz in m/s) vs ms."""
+def tracked_figure(results: Results, component: str = "dz") -> NotebookFigure:
+    """One line per tracked point: ``component`` (dx..dz in mm, vx..vz in m/s) against time in ms."""
     if component not in _COMPONENT_LABELS:
         raise ValueError(
             f"component {component!r} is not one of {', '.join(TRACKED_COMPONENTS)}"
@@ -72,11 +92,11 @@ def plot_tracked_histories(results: Results, path: str | Path, component: str = 
         ax.text(0.5, 0.5, "no tracked points in this run", transform=ax.transAxes, ha="center")
     ax.set_xlabel("time (ms)")
     ax.set_ylabel(f"{label} ({unit})")
-    return _save(fig, path)
+    return fig
 
 
-def plot_energies(results: Results, path: str | Path) -> Path:
-    """PNG of kinetic, internal, hourglass, contact energy, external work and total (J) vs ms."""
+def energies_figure(results: Results) -> NotebookFigure:
+    """Kinetic, internal, hourglass, contact energy, external work and total (J) against time (ms)."""
     fig, ax = _figure(f"{results.title or results.path.stem}: energies")
     h = results.history
     t_ms = h["time"] * 1e3
@@ -86,7 +106,55 @@ def plot_energies(results: Results, path: str | Path) -> Path:
     ax.legend(loc="best", fontsize="small")
     ax.set_xlabel("time (ms)")
     ax.set_ylabel("energy (J)")
-    return _save(fig, path)
+    return fig
+
+
+def displacement_scale(coordinates: np.ndarray, displacement: np.ndarray,
+                       fraction: float = VISIBLE_FRACTION) -> float:
+    """The factor that magnifies ``displacement`` until its largest one is at least ``fraction`` of
+    the bounding box diagonal of ``coordinates``: 1 when it already is (or nothing moved), else
+    the smallest of 1, 2, 5 x 10^k that does it, so the caption states a round number."""
+    size = float(np.linalg.norm(np.ptp(coordinates, axis=0))) if len(coordinates) else 0.0
+    peak = float(np.max(np.linalg.norm(displacement, axis=1))) if len(displacement) else 0.0
+    if peak == 0.0 or peak >= fraction * size:
+        return 1.0
+    needed = fraction * size / peak
+    decade = 10.0 ** math.floor(math.log10(needed))
+    return next(m * decade for m in (1.0, 2.0, 5.0, 10.0) if m * decade >= needed)
+
+
+def deformed_picture(results: Results, frame: int = -1, scalars: str = "plastic_strain",
+                     scale: float | None = None) -> rendering.Picture:
+    """All parts at frame ``frame``, displacements times ``scale`` (None: :func:`displacement_scale`),
+    coloured by ``scalars``; the caption gives the title, the time and the factor."""
+    grid = results.frame(frame, deformed=False)
+    displacement = np.asarray(grid.point_data["displacement"])
+    if scale is None:
+        scale = displacement_scale(np.asarray(grid.points), displacement)
+    grid.points = np.asarray(grid.points) + scale * displacement
+    shown = "true scale" if scale == 1.0 else f"displacements x {scale:g}"
+    return rendering.Picture(grid, scalars, f"{results.caption(frame)}   {shown}")
+
+
+def deformed_figure(results: Results, frame: int = -1, scalars: str = "plastic_strain",
+                    scale: float | None = None, show_edges: bool | None = None) -> NotebookFigure:
+    """:func:`deformed_picture` drawn off screen, in a matplotlib figure."""
+    picture = deformed_picture(results, frame, scalars, scale)
+    fig = NotebookFigure(figsize=(8, 6), dpi=150)
+    ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
+    ax.imshow(rendering.image(picture, show_edges=show_edges))
+    ax.set_axis_off()
+    return fig
+
+
+def plot_tracked_histories(results: Results, path: str | Path, component: str = "dz") -> Path:
+    """PNG of :func:`tracked_figure`."""
+    return _save(tracked_figure(results, component), path)
+
+
+def plot_energies(results: Results, path: str | Path) -> Path:
+    """PNG of :func:`energies_figure`."""
+    return _save(energies_figure(results), path)
 
 
 def render_deformed(
@@ -95,11 +163,12 @@ def render_deformed(
     frame: int = -1,
     scalars: str = "plastic_strain",
     window_size: tuple[int, int] = (1200, 900),
-    show_edges: bool = True,
+    show_edges: bool | None = None,
     cmap: str = "viridis",
+    scale: float | None = None,
 ) -> Path:
-    """PNG of all parts at frame ``frame`` (deformed), coloured by ``scalars``, off screen."""
-    picture = rendering.Picture(results.frame(frame), scalars, results.caption(frame))
+    """PNG of :func:`deformed_picture`, off screen (edges as :func:`paradyn.rendering.edges_shown`)."""
+    picture = deformed_picture(results, frame, scalars, scale)
     return rendering.render(picture, path, window_size, show_edges, cmap)
 
 
@@ -108,17 +177,23 @@ def show_deformed(
     frame: int = -1,
     scalars: str = "plastic_strain",
     window_size: tuple[int, int] = (1200, 900),
-    show_edges: bool = True,
+    show_edges: bool | None = None,
     cmap: str = "viridis",
+    scale: float | None = None,
 ) -> None:
     """Interactive window of :func:`render_deformed`'s picture (needs a display)."""
-    picture = rendering.Picture(results.frame(frame), scalars, results.caption(frame))
-    rendering.show(picture, window_size, show_edges, cmap)
+    rendering.show(deformed_picture(results, frame, scalars, scale), window_size, show_edges, cmap)
 
 
 __all__ = [
+    "NotebookFigure",
+    "deformed_figure",
+    "deformed_picture",
+    "displacement_scale",
+    "energies_figure",
     "plot_energies",
     "plot_tracked_histories",
     "render_deformed",
     "show_deformed",
+    "tracked_figure",
 ]

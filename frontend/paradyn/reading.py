@@ -19,6 +19,7 @@ import numpy as np
 from numpy.lib.mixins import NDArrayOperatorsMixin
 
 from . import grids, run_names
+from ._schema import HISTORY_UNITS
 from .engine_process import EngineRun
 from .results_file import (
     ENERGY_NAMES,
@@ -258,25 +259,42 @@ class Results:
         grids.fill_frame(grid, topo, self.coordinates, arrays, deformed)
         return grid
 
-    def plot(
-        self,
-        path: str | Path | None = None,
-        frame: int = -1,
-        scalars: str = "plastic_strain",
-        **kwargs: Any,
-    ) -> Path | None:
-        """Render a frame coloured by ``scalars``.
+    def iter_frames(self) -> Iterator[FrameArrays]:
+        """Every frame's arrays in turn, each read from the file when reached."""
+        for k in range(self.n_frames):
+            yield self.frame_arrays(k)
 
-        With ``path`` the picture is written off screen to that PNG (works without a display)
-        and the path is returned; without it, an interactive window opens.
+    def to_pyvista(
+        self, frame: int = -1, *, by_part: bool = False, deformed: bool = True
+    ) -> pyvista.UnstructuredGrid | pyvista.MultiBlock:
+        """Frame ``frame`` as :meth:`frame`'s grid of all parts, or with ``by_part`` a
+        ``pyvista.MultiBlock`` of one grid per part, named by the part names (parts without
+        elements left out). ``.plot()`` on either opens pyvista's interactive window."""
+        if not by_part:
+            return self.frame(frame, deformed=deformed)
+        import pyvista as pv
+
+        blocks = pv.MultiBlock()
+        for index, name in enumerate(self.part_names):
+            if np.any(self.element_part == index):
+                blocks[name] = self.frame(frame, part=index, deformed=deformed)
+        return blocks
+
+    def plot(self, kind: str = "energies", **options: Any) -> Any:
+        """A matplotlib figure (Jupyter shows it; ``.savefig(path)`` writes it).
+
+        ``kind``: ``"energies"`` (against time), ``"tracked"`` (``component="dz"``: dx..vz of every
+        tracked point) or ``"deformed"`` (``frame=-1``, ``scalars="plastic_strain"``, ``scale=None``:
+        a displacement factor chosen so the largest displacement is visible, named in the caption).
+        See :mod:`paradyn.plots`.
         """
-        from . import rendering
+        from . import plots
 
-        picture = rendering.Picture(self.frame(frame), scalars, self.caption(frame))
-        if path is not None:
-            return rendering.render(picture, path, **kwargs)
-        rendering.show(picture, **kwargs)
-        return None
+        figures = {"energies": plots.energies_figure, "tracked": plots.tracked_figure,
+                   "deformed": plots.deformed_figure}
+        if kind not in figures:
+            raise ValueError(f"no plot kind {kind!r}; choose one of {', '.join(figures)}")
+        return figures[kind](self, **options)
 
     def caption(self, frame: int = -1) -> str:
         """The title and time of a frame, as the pictures print it."""
@@ -298,6 +316,27 @@ class Results:
     def tracked_columns(self) -> list[str]:
         """Column-safe tracked point names (unique, no commas or blanks)."""
         return run_names.unique_safe_names(self.tracked_names, "tracked")
+
+    def history_units(self) -> dict[str, str]:
+        """The unit of every column of :meth:`history_table` (schema/results.toml; ``-``: none)."""
+        units = {name: HISTORY_UNITS[name] for name in ("time", *ENERGY_NAMES)}
+        units["total_energy"] = HISTORY_UNITS["kinetic_energy"]
+        units |= {name: HISTORY_UNITS[name] for name in ("contact_penetration", "dt", "dt_stable", "dt_element")}
+        for name in self.tracked_columns():
+            units |= {f"{name}_d{axis}": HISTORY_UNITS["tracked_displacement"] for axis in "xyz"}
+            units |= {f"{name}_v{axis}": HISTORY_UNITS["tracked_velocity"] for axis in "xyz"}
+        return units
+
+    def to_dataframe(self) -> Any:
+        """The history as a ``pandas.DataFrame`` (the columns of :meth:`history_table`, units in
+        ``.attrs["units"]``); without pandas installed, the ``dict`` of :meth:`history_table`."""
+        try:
+            import pandas
+        except ImportError:
+            return self.history_table()
+        frame = pandas.DataFrame(self.history_table())
+        frame.attrs["units"] = self.history_units()
+        return frame
 
     def history_table(self) -> dict[str, np.ndarray]:
         """The history as columns, in the order of the CSV file (see docs/outputs.md)."""
