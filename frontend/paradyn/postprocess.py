@@ -36,8 +36,9 @@ def post_process(
     extra : dict, optional
         Entries merged last into ``summary.json``.
     vtk, history, summary, plots : bool
-        Write the VTK time series (``results.vtkhdf`` and a ``.pvd`` per part), ``history.csv``, ``summary.json``, and the pictures
-        (``energies.png``, ``tracked.png`` when there are tracked points, ``deformed.png``).
+        Write the VTK time series (``results.vtkhdf`` and a ``.pvd`` per part), ``history.csv``,
+        ``summary.json``, and the pictures (``energies.png``, ``tracked.png`` when there are tracked
+        points, ``deformed.png``).
 
     Returns
     -------
