@@ -16,7 +16,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 import paradyn
-from paradyn import plots, rendering, scene
+from paradyn import figures, rendering, scene
 from paradyn.vtkhdf_export import read_step, write_vtkhdf
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -184,18 +184,18 @@ def test_displacement_scale_makes_the_largest_one_visible(peak: float, factor: f
     of it (0.1 m), with the smallest factor of 1, 2, 5 x 10^k that does it."""
     coordinates = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
     displacement = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, peak]])
-    assert plots.displacement_scale(coordinates, displacement) == factor
+    assert figures.displacement_scale(coordinates, displacement) == factor
     assert peak == 0.0 or factor == 1.0 or peak * factor >= 0.1 > peak * factor / 2.5
 
 
 def test_deformed_picture_states_its_factor(plate: paradyn.Results) -> None:
-    picture = plots.deformed_picture(plate, -1)
-    factor = plots.displacement_scale(plate.coordinates, plate.displacement[-1])
+    picture = figures.deformed_picture(plate, -1)
+    factor = figures.displacement_scale(plate.coordinates, plate.displacement[-1])
     assert factor > 1.0  # the plate's tip moves a fraction of a millimetre
     assert picture.caption.endswith(f"displacements x {factor:g}")
     assert_allclose(picture.grid.points - plate.coordinates[picture.grid.point_data["node_id"]],
                     factor * picture.grid.point_data["displacement"], atol=1e-12)
-    assert plots.deformed_picture(plate, -1, scale=1.0).caption.endswith("true scale")
+    assert figures.deformed_picture(plate, -1, scale=1.0).caption.endswith("true scale")
 
 
 def test_edges_only_on_coarse_meshes() -> None:

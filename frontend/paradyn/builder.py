@@ -24,7 +24,6 @@ from .toml_writing import scene_toml
 
 if TYPE_CHECKING:
     from . import deck
-    from .reading import Results
 
 
 class Geometry:
@@ -202,12 +201,6 @@ class Scene:
     def build(self) -> deck.Model:
         """Mesh the parts and assemble the deck model (:func:`paradyn.scene.build_model`)."""
         return build_model(self.validate())
-
-    def run(self, out: str | Path, **options: Any) -> Results:
-        """``paradyn.run(self, out, **options)``: write the deck, run the engine, read the results."""
-        from .workflow import run
-
-        return run(self, out, **options)  # type: ignore[return-value]
 
     def to_toml(self, path: str | Path) -> Path:
         """Check the scene, then write it as a scene file (docs/scene.md) at ``path``; return the path."""

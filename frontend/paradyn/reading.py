@@ -286,12 +286,12 @@ class Results:
         ``kind``: ``"energies"`` (against time), ``"tracked"`` (``component="dz"``: dx..vz of every
         tracked point) or ``"deformed"`` (``frame=-1``, ``scalars="plastic_strain"``, ``scale=None``:
         a displacement factor chosen so the largest displacement is visible, named in the caption).
-        See :mod:`paradyn.plots`.
+        See :mod:`paradyn.figures`.
         """
-        from . import plots
+        from . import figures as made
 
-        figures = {"energies": plots.energies_figure, "tracked": plots.tracked_figure,
-                   "deformed": plots.deformed_figure}
+        figures = {"energies": made.energies_figure, "tracked": made.tracked_figure,
+                   "deformed": made.deformed_figure}
         if kind not in figures:
             raise ValueError(f"no plot kind {kind!r}; choose one of {', '.join(figures)}")
         return figures[kind](self, **options)
