@@ -107,7 +107,19 @@ def displacement_scale(coordinates: np.ndarray, displacement: np.ndarray,
                        fraction: float = VISIBLE_FRACTION) -> float:
     """The factor that magnifies ``displacement`` until its largest one is at least ``fraction`` of
     the bounding box diagonal of ``coordinates``: 1 when it already is (or nothing moved), else
-    the smallest of 1, 2, 5 x 10^k that does it, so the caption states a round number."""
+    the smallest of 1, 2, 5 x 10^k that does it, so the caption states a round number.
+
+    Examples
+    --------
+    A 2 m pipe with a 3 mm dent: the dent is drawn 50 times larger, 0.15 m, 7.5 % of the 2 m.
+
+    >>> import numpy as np
+    >>> nodes = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
+    >>> displacement_scale(nodes, np.array([[0.0, 0.0, 0.0], [0.0, -0.003, 0.0]]))
+    50.0
+    >>> displacement_scale(nodes, np.array([[0.0, 0.0, 0.0], [0.0, -0.3, 0.0]]))   # visible as it is
+    1.0
+    """
     size = float(np.linalg.norm(np.ptp(coordinates, axis=0))) if len(coordinates) else 0.0
     peak = float(np.max(np.linalg.norm(displacement, axis=1))) if len(displacement) else 0.0
     if peak == 0.0 or peak >= fraction * size:

@@ -125,6 +125,31 @@ class Results:
     Names come from the results file, else from the deck (docs/outputs.md, "Names").
     ``engine_run`` and ``outputs`` are filled by :func:`paradyn.run`: how the engine ran and the
     files post-processing wrote (label -> path).
+
+    Examples
+    --------
+    A free strip moving up at 1 m/s for 0.1 ms, run on one rank:
+
+    >>> import paradyn
+    >>> scene = paradyn.Scene("strip", end_time=1e-4, output_interval=2.5e-5)
+    >>> scene.add_material("steel", model="elastic", density=7800.0, youngs_modulus=2e11, poisson_ratio=0.3)
+    >>> scene.add_part("strip", material="steel", thickness=0.002, initial_velocity=[0.0, 0.0, 1.0],
+    ...                geometry=paradyn.Plate(size=(0.1, 0.02), elements=(5, 1)))
+    >>> scene.add_track("tip", part="strip", point=[0.1, 0.02, 0.0])
+    >>> res = paradyn.run(scene, "runs/strip", ranks=1, threads=1, plots=False)
+    >>> len(res.time_values), round(float(res.time_values[-1]) * 1e6)   # frames; the last one's time in µs
+    (5, 100)
+    >>> res.displacement[-1].shape                          # the last frame, read from results.h5 now
+    (12, 3)
+    >>> grid = res.to_pyvista(-1)                           # a pyvista.UnstructuredGrid, deformed
+    >>> grid.n_cells, sorted(grid.cell_data.keys())
+    (5, ['element_id', 'membrane_stress', 'part', 'plastic_strain', 'von_mises'])
+    >>> history = res.to_dataframe()                        # a pandas.DataFrame when pandas is installed
+    >>> round(float(history["tip_dz"].to_numpy()[-1]) * 1e3, 3)   # mm
+    0.1
+    >>> fig = res.plot("energies")                          # a matplotlib Figure; Jupyter shows it
+    >>> res.outputs["vtkhdf"].name                          # every frame in one file, for ParaView
+    'results.vtkhdf'
     """
 
     path: Path

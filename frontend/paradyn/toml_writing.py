@@ -14,7 +14,24 @@ from typing import Any
 
 
 def scene_toml(tables: Mapping[str, Any]) -> str:
-    """TOML text that ``tomllib.loads`` reads back to ``tables``."""
+    """TOML text that ``tomllib.loads`` reads back to ``tables``.
+
+    Examples
+    --------
+    >>> print(scene_toml({"title": "plate", "run": {"end_time": 1e-4},
+    ...                   "part": [{"name": "p", "geometry": {"kind": "plate", "size": [0.1, 0.1]}}]}))
+    title = "plate"
+    <BLANKLINE>
+    [run]
+    end_time = 0.0001
+    <BLANKLINE>
+    [[part]]
+    name = "p"
+    [part.geometry]
+    kind = "plate"
+    size = [0.1, 0.1]
+    <BLANKLINE>
+    """
     lines = [f"{key} = {toml_value(value)}" for key, value in tables.items() if not _is_table(value)]
     for key, value in tables.items():
         if isinstance(value, Mapping):
