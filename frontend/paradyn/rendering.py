@@ -83,6 +83,7 @@ def _plotter(
     plotter.add_text(picture.caption, font_size=10)
     plotter.view_isometric()
     plotter.reset_camera()
+    plotter.camera.zoom(1.3)  # reset_camera leaves room for a sphere around the model; use more of the picture
     return plotter
 
 
