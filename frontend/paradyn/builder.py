@@ -229,14 +229,11 @@ class Scene:
         self._tables[kind] = table
 
     def _add(self, kind: str, **keys: Any) -> None:
-        entries = self._tables.setdefault(kind, [])
+        """Check the next ``[[kind]]`` entry alone, then keep it (a refused entry is not kept)."""
+        entries = self._tables.get(kind, [])
         table = {k: _plain(v) for k, v in keys.items()}
-        try:
-            check_entry(kind, table, len(entries), self.origin)
-        finally:
-            if not entries:
-                self._tables.pop(kind)
-        self._tables.setdefault(kind, entries).append(table)
+        check_entry(kind, table, len(entries), self.origin)
+        self._tables[kind] = [*entries, table]
 
 
 def _plain(value: Any) -> Any:

@@ -3,8 +3,9 @@
 Opening reads what is small: the mesh, the frame times, the history and the run's figures and
 names. The frame fields (displacement, velocity, stresses, plastic strain: n_frames x n_nodes or
 n_elements each) stay in the file and are read when asked for, one frame at a time:
-``res.frame(k)`` (a pyvista grid), ``res.frame_arrays(k)`` (numpy arrays) or
-``res.displacement[k]``. The file format is docs/formats.md, version 1; what each output means is
+``res.to_pyvista(k)`` (a pyvista grid, or one per part), ``res.frame_arrays(k)`` (numpy arrays) or
+``res.displacement[k]``; ``res.to_dataframe()`` and ``res.plot()`` give the history as a pandas
+table and matplotlib figures (docs/python.md). The file format is docs/formats.md, version 1; what each output means is
 docs/outputs.md.
 """
 
