@@ -53,6 +53,8 @@ def test_to_toml_reads_back_to_the_same_scene(tmp_path: Path) -> None:
     s = small_plate()
     s.add_part("pipe", material="steel", thickness=0.001, geometry=paradyn.Cylinder(0.05, 0.3, elements_around=8))
     s.add_contact("plate", "pipe", static_friction=0.2)
+    s.add_contact("pipe", kind="single_surface")
+    s.add_contact(kind="single_surface")   # every part
     s.add_curve("pulse", time=(0.0, 1e-4), value=[1.0, 0.0])
     s.add_pressure("pipe", value=1e5, curve="pulse")
     s.add_rigid_wall(point=[0.0, 0.0, -1.0], normal=[0.0, 0.0, 1.0])

@@ -17,9 +17,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from . import scene_reading as reading
 from . import scene_specs
 from .scene_building import build_model
-from .scene_reading import _parse_toml, check_entry, scene_from_tables
+from .scene_reading import _parse_toml, scene_from_tables
+from .scene_tables import _Reader
 from .toml_writing import scene_toml
 
 if TYPE_CHECKING:
@@ -167,10 +169,12 @@ class Scene:
         """A ``[[track]]``: the node of ``part`` nearest ``point`` goes into the history as ``name``."""
         self._add("track", name=name, part=part, point=point)
 
-    def add_contact(self, part_a: str, part_b: str, **options: Any) -> None:
-        """A ``[[contact]]`` between two parts; ``options``: ``penalty_scale``, ``static_friction``,
-        ``dynamic_friction``, ``friction_decay``, ``symmetric``, ``kind``, ``initial_penetration``."""
-        self._add("contact", parts=[part_a, part_b], **options)
+    def add_contact(self, *parts: str, **options: Any) -> None:
+        """A ``[[contact]]``: two parts (``kind="node_to_segment"``, the default), or with
+        ``kind="single_surface"`` the parts that form one surface (none: every part). ``options``:
+        ``kind``, ``penalty_scale``, ``static_friction``, ``dynamic_friction``, ``friction_decay``,
+        ``symmetric``, ``initial_penetration`` (docs/scene.md, ``[[contact]]``)."""
+        self._add("contact", **({"parts": list(parts)} if parts else {}), **options)
 
     def add_rigid_wall(self, *, point: Any, normal: Any, **options: Any) -> None:
         """A ``[[rigid_wall]]`` through ``point`` facing ``normal``; ``velocity``, ``penalty_scale``."""
@@ -228,12 +232,30 @@ class Scene:
         check_entry(kind, table, 0, self.origin)
         self._tables[kind] = table
 
-    def _add(self, kind: str, **keys: Any) -> None:
-        """Check the next ``[[kind]]`` entry alone, then keep it (a refused entry is not kept)."""
-        entries = self._tables.get(kind, [])
+    def _add(self, array: str, /, **keys: Any) -> None:
+        """Check the next ``[[array]]`` entry alone, then keep it (a refused entry is not kept)."""
+        entries = self._tables.get(array, [])
         table = {k: _plain(v) for k, v in keys.items()}
-        check_entry(kind, table, len(entries), self.origin)
-        self._tables[kind] = [*entries, table]
+        check_entry(array, table, len(entries), self.origin)
+        self._tables[array] = [*entries, table]
+
+
+# the scene file reader's parser of each table: one entry is checked as load_scene checks it
+_PARSERS = {"run": reading._parse_run, "effects": reading._parse_effects, "material": reading._parse_material,
+            "part": reading._parse_part, "fix": reading._parse_fix, "load": reading._parse_load,
+            "track": reading._parse_track, "contact": reading._parse_contact, "rigid_wall": reading._parse_rigid_wall,
+            "curve": reading._parse_curve, "pressure": reading._parse_pressure, "prescribe": reading._parse_prescribe}
+
+
+def check_entry(kind: str, table: Mapping[str, Any], index: int, path: Path) -> None:
+    """Check one entry alone (keys, types, ranges), as :func:`paradyn.scene.load_scene` does: ``kind``
+    is ``"run"``, ``"effects"`` or an array of tables (``"part"``, ...) with the entry's 0-based ``index``;
+    messages start with ``path``. References to other entries are checked by :meth:`Scene.validate`."""
+    parser, reader = _PARSERS[kind], _Reader(path)
+    if kind in ("run", "effects"):
+        parser(reader, dict(table))
+    else:
+        parser(reader, dict(table), index)
 
 
 def _plain(value: Any) -> Any:

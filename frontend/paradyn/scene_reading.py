@@ -117,16 +117,6 @@ def scene_from_tables(data: Mapping[str, Any], path: Path) -> Scene:
     return scene
 
 
-def check_entry(kind: str, table: Mapping[str, Any], index: int, path: Path) -> None:
-    """Check one entry alone, as :func:`scene_from_tables` does (keys, types, ranges): ``kind`` is
-    ``"run"``, ``"effects"`` or an array of tables (``"part"``, ...) with the entry's 0-based ``index``."""
-    r, t = _Reader(path), dict(table)
-    if kind in ("run", "effects"):
-        (_parse_run if kind == "run" else _parse_effects)(r, t)
-    else:
-        _ENTRY_PARSERS[kind](r, t, index)
-
-
 def _parse_toml(path: Path) -> dict[str, Any]:
     try:
         text = path.read_text(encoding="utf-8")
@@ -508,8 +498,3 @@ def _unique(r: _Reader, names: list[str], kind: str) -> None:
         if name in seen:
             raise r.error(f"two [[{kind}]] entries are named '{name}'; names must be unique")
         seen.add(name)
-
-
-_ENTRY_PARSERS = {"material": _parse_material, "part": _parse_part, "fix": _parse_fix, "load": _parse_load,
-                  "track": _parse_track, "contact": _parse_contact, "rigid_wall": _parse_rigid_wall,
-                  "curve": _parse_curve, "pressure": _parse_pressure, "prescribe": _parse_prescribe}
