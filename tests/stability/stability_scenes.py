@@ -85,9 +85,16 @@ def to_toml(table: Table, prefix: str = "") -> str:
     return "\n".join(lines)
 
 
-def build_model(case: Case, folder: Path, short: bool) -> deck.Model:
-    """The deck model of ``case`` (its short variant when ``short``), its scene written into ``folder``."""
+def build_model(case: Case, folder: Path, short: bool, refine: int = 1) -> deck.Model:
+    """The deck model of ``case`` (its short variant when ``short``), its scene written into ``folder``;
+    ``refine`` multiplies every generated part's element counts (a mesh study of the full case)."""
     tables = case.build(case.short.coarsen if short else 1)
+    for part in tables["part"]:
+        g = part["geometry"]
+        if g["kind"] == "cylinder":
+            g["elements_around"], g["elements_along"] = refine * g["elements_around"], refine * g["elements_along"]
+        elif g["kind"] == "plate":
+            g["elements"] = [refine * n for n in g["elements"]]
     tables["run"]["end_time"] = case.short.end_time if short else case.end_time
     tables["run"].pop("time_step", None)   # the automatic step that follows the mesh (the default)
     frames = 10 if short else 40
