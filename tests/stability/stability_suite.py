@@ -30,12 +30,14 @@ REASONS: dict[tuple[str, str], str] = {
                                  "step at the automatic step, 36 % of the 0.296 mm wall, and the penetration is 0.41",
     ("thin_270", "hourglass"): "hourglass / internal stays above 0.1 from 0.02 ms to the end (0.24 at 2.5 ms, also "
                                "the largest hourglass over the largest internal energy); not yet traced to a cause",
-    ("thin_1000", "penetration"): "the upper pipe passes through the lower one (its kinetic energy is unchanged at the "
-                                  "end), with or without the travel limit: where the crossing pipes flatten, the "
-                                  "edges of their 31 x 63 mm elements cross each other between the nodes, and a "
-                                  "node-to-segment contact sees only nodes, which the 0.08 mm reach does not catch "
-                                  "(thicker walls catch the edges early); it needs an edge-to-edge or segment-based "
-                                  "contact",
+    ("thin_1000", "penetration"): "the upper pipe passes through the lower one, with or without the travel limit. "
+                                  "The contact acts (the probe's line above; the upper pipe's momentum is 12.6 N s, "
+                                  "and the nodes that meet first stay apart), but elsewhere the 0.08 mm walls, which "
+                                  "bend almost freely, slip through each other (the last frame shows the upper pipe "
+                                  "inside the lower one). Our reading, "
+                                  "not yet shown: where the walls fold, the edges of their 31 x 63 mm elements cross "
+                                  "between the nodes, which a node-to-segment contact does not see within a 0.08 mm "
+                                  "reach; an edge-to-edge or segment-based contact would",
     ("thin_1000", "hourglass"): "hourglass / internal above 0.1 while the internal energy is small: the pipes barely "
                                 "interact (above)",
     ("sliding_friction", "hourglass"): _EARLY_HG + "; it falls with the mesh: 0.128 with twice the elements "
