@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from . import offscreen
 from .atomic_write import replacing
 
 SCALAR_TITLES = {
@@ -69,6 +70,8 @@ def render(
 ) -> Path:
     """Write ``picture`` as a PNG at ``path`` (off screen, no display needed); return the path."""
     import pyvista as pv
+
+    offscreen.prepare()   # no display: EGL directly, without VTK's "bad X server connection"
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
