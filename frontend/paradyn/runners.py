@@ -69,10 +69,11 @@ def engine_environment(threads: int, bind_threads: bool) -> dict[str, str]:
     return env
 
 
-def _engine_arguments(deck: Path, results: Path, restart: bool, ranks: int) -> list[str]:
-    """The engine's arguments; ``--expect-ranks`` makes it refuse to run on another number of ranks
-    than the launcher was asked for (an mpirun of another MPI starts N singletons of one rank)."""
-    return [str(deck), str(results), *(["--restart"] if restart else []), f"--expect-ranks={ranks}"]
+def _engine_arguments(deck: Path, results: Path, restart: bool, ranks: int | None = None) -> list[str]:
+    """The engine's arguments; under a launcher, ``--expect-ranks`` makes it refuse to run on another
+    number of ranks than it was asked for (an mpirun of another MPI starts N singletons of one rank)."""
+    expect = [f"--expect-ranks={ranks}"] if ranks is not None else []
+    return [str(deck), str(results), *(["--restart"] if restart else []), *expect]
 
 
 @dataclass
@@ -124,7 +125,7 @@ class DirectRunner(Runner):
         if ranks != 1:
             raise EngineError(f"the direct runner starts one rank, not {ranks}; use runner='mpirun' "
                               f"(or 'srun' inside Slurm) for several ranks", STATUS_BAD_INPUT)
-        return [str(self.machine.engine), *_engine_arguments(deck, results, restart, ranks)]
+        return [str(self.machine.engine), *_engine_arguments(deck, results, restart)]
 
 
 @dataclass
