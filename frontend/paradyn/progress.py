@@ -78,7 +78,7 @@ class RunProgress:
     def __call__(self, p: Progress) -> None:
         text = progress_text(p)
         if not self.live:
-            tenth = int(10 * p.fraction)
+            tenth = int(10 * p.fraction + 1e-9)   # 0.1 x 10 is 0.9999...: still a tenth
             if tenth > self.last_tenth:
                 self.last_tenth = tenth
                 self.stream.write(f"{100 * p.fraction:5.1f}% {text}\n")
