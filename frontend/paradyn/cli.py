@@ -75,7 +75,7 @@ def build_parser() -> argparse.ArgumentParser:
     batch.add_argument("--account", help="#SBATCH --account")
     batch.add_argument("--partition", help="#SBATCH --partition")
     batch.add_argument("--sbatch-line", action="append", default=[], metavar="OPTION",
-                       help="another #SBATCH option, e.g. --mem=8G (repeatable)")
+                       help="another #SBATCH option: --sbatch-line=--mem=8G (repeatable)")
     parser.add_argument("--restart", action="store_true",
                         help="continue an interrupted run in the output folder from its checkpoint "
                              "(results.checkpoint.h5), with the folder's deck.h5")
@@ -103,8 +103,9 @@ def post_only(out_dir: Path, plots: bool, vtk: bool) -> int:
     try:
         res = reading.read(res_path, deck=deck_path, allow_incomplete=True)
         if not res.complete:
-            print(f"paradyn-run: {res_path} is of an unfinished run: post-processing its {len(res.times)} "
-                  f"frame(s) to t = {res.times[-1] if len(res.times) else 0:.4g} s", file=sys.stderr)
+            last = float(res.time_values[-1]) if res.n_frames else 0.0
+            print(f"paradyn-run: {res_path} is of an unfinished run: post-processing its {res.n_frames} "
+                  f"frame(s), to t = {last:.4g} s", file=sys.stderr)
         outputs = post_process(res, out_dir, {"post_processed": True, "complete": res.complete},
                                plots=plots, vtk=vtk)
     except (deck.DeckError, reading.ResultsError) as error:
