@@ -56,7 +56,7 @@ def test_another_scenes_run_is_not_replaced_without_force(tmp_path: Path, capsys
 def test_an_older_run_is_recognised_by_its_summary(tmp_path: Path) -> None:
     (tmp_path / "results.h5").write_bytes(b"")
     (tmp_path / "summary.json").write_text(json.dumps({"scene": "/somewhere/else.toml"}))
-    with pytest.raises(ValueError, match="holds the run of /somewhere/else.toml"):
+    with pytest.raises(ValueError, match=r"holds the run of /somewhere/else\.toml"):
         run_folders.claim_output(tmp_path, SMALL_PLATE)
 
 

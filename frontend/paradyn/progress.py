@@ -44,7 +44,7 @@ def clock(seconds: float | None) -> str:
     """``H:MM:SS`` or ``M:SS``; ``?`` when unknown."""
     if seconds is None or seconds != seconds or seconds < 0:
         return "?"
-    minutes, secs = divmod(int(round(seconds)), 60)
+    minutes, secs = divmod(round(seconds), 60)
     hours, minutes = divmod(minutes, 60)
     return f"{hours}:{minutes:02d}:{secs:02d}" if hours else f"{minutes}:{secs:02d}"
 
@@ -70,7 +70,8 @@ class RunProgress:
         # without a size, where tqdm would draw nothing); one column less, so that it never wraps
         size = shutil.get_terminal_size((80, 24))
         notebook = in_notebook()
-        return tqdm(total=total, file=self.stream, ncols=None if notebook else max(40, min(MAX_COLUMNS, size.columns - 1)),
+        columns = max(40, min(MAX_COLUMNS, size.columns - 1))
+        return tqdm(total=total, file=self.stream, ncols=None if notebook else columns,
                     nrows=None if notebook else size.lines,
                     bar_format="{desc} {percentage:3.0f}%|{bar}|" if total else "{desc}",
                     desc=description, leave=True, mininterval=0.1)
