@@ -240,8 +240,9 @@ def material_warnings(name: str, rho: float, young: float, nu: float) -> list[st
     out = []
     label = f"material {name}"
     if rho < 1e-7:
+        modulus = ", and Young's modulus in Pa, not MPa (x 1e6)" if young < 1e7 else ""
         out.append(f"{label}: density {rho:.4g} looks like tonne/mm^3 (the mm-t-s system: 2.7e-9 for aluminium); "
-                   f"give kg/m^3 (x 1e12: {rho * 1e12:.4g}), and Young's modulus in Pa, not MPa (x 1e6)")
+                   f"give kg/m^3 (x 1e12: {rho * 1e12:.4g}){modulus}")
     elif rho < 1e-3:
         out.append(f"{label}: density {rho:.4g} looks like kg/mm^3 (7.85e-6 for steel); give kg/m^3 "
                    f"(x 1e9: {rho * 1e9:.4g})")

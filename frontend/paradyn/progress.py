@@ -16,6 +16,7 @@ Jupyter). The choices (docs/scene.md, "What paradyn-run shows"):
 
 from __future__ import annotations
 
+import math
 import shutil
 import sys
 import threading
@@ -42,7 +43,7 @@ def in_notebook() -> bool:
 
 def clock(seconds: float | None) -> str:
     """``H:MM:SS`` or ``M:SS``; ``?`` when unknown."""
-    if seconds is None or seconds != seconds or seconds < 0:
+    if seconds is None or not math.isfinite(seconds) or seconds < 0:
         return "?"
     minutes, secs = divmod(round(seconds), 60)
     hours, minutes = divmod(minutes, 60)
