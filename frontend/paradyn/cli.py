@@ -124,7 +124,7 @@ def check_only(source: Path, ranks: int, threads: int, quiet: bool) -> int:
         if display is None:
             model = workflow.model_of(source)
         else:
-            with display.stage("meshing"):
+            with display.stage("reading the deck" if source.suffix in workflow.DECK_SUFFIXES else "meshing"):
                 model = workflow.model_of(source)
         check = preflight.check_model(model, ranks, threads)
         engine = preflight.engine_check(model)
