@@ -9,6 +9,7 @@ import os
 import subprocess
 import sys
 import time
+import types
 from pathlib import Path
 
 import pytest
@@ -77,8 +78,21 @@ def test_a_stage_shows_its_running_seconds(monkeypatch: pytest.MonkeyPatch) -> N
     assert quiet.getvalue() == "post-processing ...\n"
 
 
-def test_outside_jupyter_no_notebook_is_assumed() -> None:
+def test_a_notebook_is_told_by_its_kernel(monkeypatch: pytest.MonkeyPatch) -> None:
+    """In Jupyter (an IPython kernel, whose config has IPKernelApp) the display is live whatever the
+    stream says, and tqdm.auto draws its widget; a terminal IPython or plain Python is not a notebook."""
     assert progress.in_notebook() is False
+
+    class Shell:
+        def __init__(self, config: dict[str, object]) -> None:
+            self.config = config
+
+    for config, expected in (({"IPKernelApp": {}}, True), ({"TerminalInteractiveShell": {}}, False)):
+        fake = types.ModuleType("IPython")
+        fake.get_ipython = lambda config=config: Shell(config)   # type: ignore[attr-defined]
+        monkeypatch.setitem(sys.modules, "IPython", fake)
+        assert progress.in_notebook() is expected
+        assert progress.RunProgress(stream=io.StringIO()).live is expected
 
 
 def test_a_picture_without_a_display_prints_no_vtk_warning(tmp_path: Path) -> None:
