@@ -60,7 +60,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help=f"OpenMP threads per rank (default {threads}, one per core)")
     parser.add_argument("--no-vtk", action="store_true", help="skip the VTK time series")
     parser.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
-    parser.add_argument("-q", "--quiet", action="store_true", help="no check lines, no progress display")
+    parser.add_argument("-q", "--quiet", action="store_true",
+                        help="no check report and no progress display (the check's warnings still)")
     parser.add_argument("--check", action="store_true",
                         help="check SCENE (mass, stable step, cycles, wall time, memory, initial penetrations, "
                              "unit warnings) and stop")
@@ -178,7 +179,8 @@ def main(argv: list[str] | None = None) -> int:
             claim_output(out_dir, args.scene, force=args.force or args.restart)
         outcome = workflow.run(args.scene, out_dir, args.ranks, args.threads,
                                runner=runner, restart=args.restart,
-                               progress=not args.quiet, vtk=not args.no_vtk, plots=not args.no_plots)
+                               progress=RunProgress(quiet=args.quiet), vtk=not args.no_vtk,
+                               plots=not args.no_plots)
     except launch.EngineError as error:
         return _error(error, error.exit_code)
     except reading.ResultsError:

@@ -11,7 +11,9 @@ Jupyter). The choices (docs/scene.md, "What paradyn-run shows"):
   the seconds it has taken, refreshed twice a second;
 - where the stream is neither a terminal nor a notebook (a log file, a batch job), one plain line
   every tenth of the run instead of carriage returns;
-- engine warnings (initial penetrations) are printed above the bar as they come.
+- engine warnings (initial penetrations) are printed above the bar as they come;
+- quiet (``paradyn-run -q``): nothing but the check's ``warning:`` lines (a likely unit mistake
+  is never silent).
 """
 
 from __future__ import annotations
@@ -57,10 +59,12 @@ def progress_text(p: Progress) -> str:
 
 class RunProgress:
     """The display of one ``paradyn-run``: call it with every :class:`Progress`; ``stage`` wraps
-    meshing and post-processing; ``warning`` prints a line above the bar; ``close`` ends it."""
+    meshing and post-processing; ``report`` prints the check's lines, ``warning`` a line above the
+    bar; ``close`` ends it."""
 
-    def __init__(self, stream: TextIO | None = None, live: bool | None = None) -> None:
+    def __init__(self, stream: TextIO | None = None, live: bool | None = None, quiet: bool = False) -> None:
         self.stream = stream if stream is not None else sys.stderr
+        self.quiet = quiet
         isatty = getattr(self.stream, "isatty", lambda: False)
         self.live = (isatty() or in_notebook()) if live is None else live
         self.bar: Any = None
@@ -78,6 +82,8 @@ class RunProgress:
                     desc=description, leave=True, mininterval=0.1)
 
     def __call__(self, p: Progress) -> None:
+        if self.quiet:
+            return
         text = progress_text(p)
         if not self.live:
             tenth = int(10 * p.fraction + 1e-9)   # 0.1 x 10 is 0.9999...: still a tenth
@@ -105,9 +111,19 @@ class RunProgress:
             self.bar.close()
             self.bar = None
 
+    def report(self, lines: list[str]) -> None:
+        """The check's lines (:meth:`paradyn.preflight.Preflight.lines`); only its warnings when quiet."""
+        for line in lines:
+            if not self.quiet or line.startswith("warning:"):
+                self._print("  " + line)
+
     def warning(self, line: str) -> None:
-        """A line above the bar (engine warnings as they come)."""
-        text = "  " + line.removeprefix("paradyn-engine: ")
+        """A line above the bar (engine warnings as they come; not when quiet: paradyn-run repeats
+        them at the end)."""
+        if not self.quiet:
+            self._print("  " + line.removeprefix("paradyn-engine: "))
+
+    def _print(self, text: str) -> None:
         if self.bar is not None:
             self.bar.write(text, file=self.stream)
         else:
@@ -118,6 +134,9 @@ class RunProgress:
     def stage(self, name: str) -> Iterator[None]:
         """Show ``name`` and its running seconds while the body runs (meshing, post-processing)."""
         started = time.monotonic()
+        if self.quiet:
+            yield
+            return
         if not self.live:
             self.stream.write(f"{name} ...\n")
             self.stream.flush()

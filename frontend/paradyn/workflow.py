@@ -52,7 +52,7 @@ def run(
     summary: bool = True,
     plots: bool = True,
     restart: bool = False,
-    progress: bool | Callable[[Progress], None] = False,
+    progress: bool | RunProgress | Callable[[Progress], None] = False,
     extra: dict[str, Any] | None = None,
     results_name: str = "results.h5",
     log_name: str | None = "engine.log",
@@ -83,10 +83,11 @@ def run(
     restart : bool
         Continue the run in ``out`` from its checkpoint, with the deck already there (the
         checkpoint belongs to it; ``source`` is not written again).
-    progress : bool or callable
+    progress : bool, RunProgress or callable
         True shows the run on standard error (:class:`paradyn.progress.RunProgress`: meshing, the
         check's lines of :mod:`paradyn.preflight`, the engine's cycles, its warnings as they come,
-        post-processing); a callable receives every :class:`~paradyn.launch.Progress`.
+        post-processing), as does a RunProgress of your own (``RunProgress(quiet=True)``: only the
+        check's warnings); a callable receives every :class:`~paradyn.launch.Progress`.
     extra : dict, optional
         Entries added to ``summary.json`` (after ``scene`` and ``command``).
     results_name, log_name : str
@@ -123,7 +124,7 @@ def run(
     default_ranks, default_threads = launch.default_layout()
     ranks = default_ranks if ranks is None else ranks
     threads = default_threads if threads is None else threads
-    display = RunProgress() if progress is True else None
+    display = progress if isinstance(progress, RunProgress) else (RunProgress() if progress is True else None)
     if restart:
         deck_path = restart_deck(out, _restart_model(source))
     else:
@@ -131,8 +132,7 @@ def run(
             model = model_of(source)
         deck_path = deck.write_deck(model, out / "deck.h5")
         if display is not None:
-            for line in preflight.check_model(model, ranks, threads).lines():
-                display.warning(line)
+            display.report(preflight.check_model(model, ranks, threads).lines())
     if runner == SbatchRunner.name or isinstance(runner, SbatchRunner):
         post_command = _post_command(out, vtk=vtk, plots=plots) if post else None
         return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
