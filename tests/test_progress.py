@@ -1,23 +1,18 @@
 """What paradyn-run shows while it works (issue 18, item 5): the tqdm display fits the terminal,
 shows cycle, simulated time, dt and ETA, ends at 100 %, covers meshing and post-processing;
-pictures without a display print no VTK warning; ``--version``."""
+``--version``. (No VTK warning without a display: tests/test_python_api.py.)"""
 
 from __future__ import annotations
 
 import io
-import os
-import subprocess
 import sys
 import time
 import types
-from pathlib import Path
 
 import pytest
 
-from paradyn import cli, offscreen, progress
+from paradyn import cli, progress
 from paradyn.engine_process import Progress
-
-SMALL_PLATE = Path(__file__).resolve().parents[1] / "cases" / "small_plate" / "scene.toml"
 
 
 def _frames(text: str) -> list[str]:
@@ -93,19 +88,6 @@ def test_a_notebook_is_told_by_its_kernel(monkeypatch: pytest.MonkeyPatch) -> No
         monkeypatch.setitem(sys.modules, "IPython", fake)
         assert progress.in_notebook() is expected
         assert progress.RunProgress(stream=io.StringIO()).live is expected
-
-
-def test_a_picture_without_a_display_prints_no_vtk_warning(tmp_path: Path) -> None:
-    """VTK tries an X window first and warns 'bad X server connection' on every run without a
-    display; offscreen.prepare avoids the attempt (or lowers VTK's log to errors)."""
-    code = ("import pyvista as pv; from paradyn import rendering\n"
-            "g = pv.Plane().cast_to_unstructured_grid(); g.cell_data['part'] = [0.0] * g.n_cells\n"
-            f"rendering.render(rendering.Picture(g, 'part', 'plane'), {str(tmp_path / 'p.png')!r})\n")
-    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY", offscreen.WINDOW_ENV)}
-    run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
-    assert run.returncode == 0, run.stderr
-    assert (tmp_path / "p.png").stat().st_size > 1000
-    assert "X server" not in run.stderr and "WARN" not in run.stderr, run.stderr
 
 
 def test_version(capsys: pytest.CaptureFixture[str]) -> None:

@@ -4,8 +4,9 @@ The frontend meshes scenes with gmsh, writes HDF5 decks, launches the Fortran en
 results into VTK, CSV, JSON and plots. ``paradyn.run(source, out)`` does all of it in one call;
 ``paradyn.read(path)`` opens a results file.
 """
+from .builder import Cylinder, MeshFile, Plate, Scene
 from .reading import Results, read
 from .workflow import BatchJob, run
 
-__all__ = ["BatchJob", "Results", "read", "run"]
+__all__ = ["BatchJob", "Cylinder", "MeshFile", "Plate", "Results", "Scene", "read", "run"]
 __version__ = "0.1.0"

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from . import deck, launch, preflight, scene
+from .builder import Scene as SceneBuilder
 from .engine_process import Progress
 from .postprocess import post_process
 from .progress import RunProgress
@@ -23,7 +24,7 @@ from .reading import Results, read
 from .restart import restart_deck
 from .runners import Runner, SbatchRunner
 
-Source = str | Path | scene.Scene | deck.Model  # what paradyn.run accepts
+Source = str | Path | scene.Scene | SceneBuilder | deck.Model  # what paradyn.run accepts
 DECK_SUFFIXES = (".h5", ".hdf5")
 
 
@@ -61,9 +62,9 @@ def run(
 
     Parameters
     ----------
-    source : str, Path, paradyn.scene.Scene or paradyn.deck.Model
-        A scene file (``.toml``), a deck file (``.h5``, read and checked), a scene loaded with
-        :func:`paradyn.scene.load_scene`, or a model built in Python.
+    source : str, Path, paradyn.Scene, paradyn.scene.Scene or paradyn.deck.Model
+        A scene file (``.toml``), a deck file (``.h5``, read and checked), a scene built in Python
+        (:class:`paradyn.Scene`) or loaded with :func:`paradyn.scene.load_scene`, or a model.
     out : str or Path
         The output folder (created): ``deck.h5``, ``results.h5``, ``engine.log`` and the
         post-processing outputs go there (docs/outputs.md).
@@ -163,7 +164,7 @@ def _stage(display: RunProgress | None, name: str) -> AbstractContextManager[Non
 
 
 def _is_scene(source: Source) -> bool:
-    return isinstance(source, scene.Scene) or (isinstance(source, (str, Path)) and
+    return isinstance(source, (scene.Scene, SceneBuilder)) or (isinstance(source, (str, Path)) and
                                                 Path(source).suffix not in DECK_SUFFIXES)
 
 
@@ -195,13 +196,13 @@ def _check_source(source: Source) -> None:
         path = Path(source)
         if not path.is_file():
             raise scene.SceneError(f"{path}: no such file; give the path of a scene .toml or a deck .h5")
-    elif not isinstance(source, (scene.Scene, deck.Model)):
+    elif not isinstance(source, (scene.Scene, SceneBuilder, deck.Model)):
         raise TypeError(f"cannot run a {type(source).__name__}; give a scene .toml or deck .h5 path, "
-                        f"a paradyn.scene.Scene or a paradyn.deck.Model")
+                        f"a paradyn.Scene, a paradyn.scene.Scene or a paradyn.deck.Model")
 
 
 def _source_name(source: Source) -> str | None:
-    """The file a run came from, for the summary (None for a model built in Python)."""
+    """The file a run came from, for the summary (None for a scene or model built in Python)."""
     if isinstance(source, (str, Path)):
         return str(Path(source).resolve())
     if isinstance(source, scene.Scene):
@@ -213,6 +214,8 @@ def model_of(source: Source) -> deck.Model:
     """The deck model of a scene file, a deck file, a loaded scene or a model."""
     if isinstance(source, deck.Model):
         return source
+    if isinstance(source, SceneBuilder):
+        return source.build()
     if isinstance(source, scene.Scene):
         return scene.build_model(source)
     path = Path(source)
