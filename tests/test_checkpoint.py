@@ -230,7 +230,7 @@ def _start_and_stop(command: list[str], cwd: Path, stop: signal.Signals) -> tupl
     output = []
     for line in process.stdout:
         output.append(line)
-        if "PROGRESS" in line or "% t =" in line:
+        if "PROGRESS" in line or "% cycle " in line:   # the engine's line, or paradyn-run's (not a terminal)
             process.send_signal(stop)
             break
     output.extend(process.stdout)

@@ -31,7 +31,7 @@ def test_inside_an_allocation_the_engine_runs_under_srun(tmp_path: Path, monkeyp
     monkeypatch.setenv("SLURM_JOB_ID", "42")
     command = launch.engine_command(Path("/d/deck.h5"), Path("/d/results.h5"), 4, 2)
     assert command[:5] == ["srun", "-n", "4", "--cpus-per-task=2", "--export=ALL"]
-    assert command[-2:] == ["/d/deck.h5", "/d/results.h5"]
+    assert command[-3:] == ["/d/deck.h5", "/d/results.h5", "--expect-ranks=4"]
     assert launch.engine_environment(2)["SRUN_CPUS_PER_TASK"] == "2"
 
 

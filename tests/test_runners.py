@@ -60,7 +60,7 @@ def test_mpirun_pins_a_layout_that_fits_and_oversubscribes_one_that_does_not() -
     assert Path(pinned[0]).name in ("mpirun", "mpiexec") and pinned[1:3] == ["-n", "2"]
     assert " ".join(pinned[3:]).startswith("-x OMP_NUM_THREADS --map-by slot:PE=2 --bind-to core "
                                            "-x OMP_PROC_BIND -x OMP_PLACES")
-    assert pinned[-3:] == [str(ENGINE), str(DECK), str(RESULTS)]
+    assert pinned[-4:] == [str(ENGINE), str(DECK), str(RESULTS), "--expect-ranks=2"]
     floating = runners.MpirunRunner(machine(cores=4)).command(DECK, RESULTS, 4, 2)
     assert "--bind-to none --oversubscribe" in " ".join(floating)
     unpinned = runners.MpirunRunner(machine(cores=4, pinning=False)).command(DECK, RESULTS, 2, 1)
@@ -79,7 +79,7 @@ def test_the_environment_places_threads_only_when_the_layout_is_pinned(monkeypat
 def test_srun_passes_the_cpus_per_task() -> None:
     command = runners.SrunRunner(machine()).command(DECK, RESULTS, 4, 3)
     assert command == ["srun", "-n", "4", "--cpus-per-task=3", "--export=ALL", str(ENGINE), str(DECK),
-                       str(RESULTS)]
+                       str(RESULTS), "--expect-ranks=4"]
 
 
 def test_sbatch_writes_a_job_script_and_refuses_to_run(tmp_path: Path) -> None:
@@ -89,7 +89,8 @@ def test_sbatch_writes_a_job_script_and_refuses_to_run(tmp_path: Path) -> None:
     assert script == tmp_path / "job.sbatch"
     lines = script.read_text().splitlines()
     assert lines[0] == "#!/bin/bash" and f"#SBATCH --job-name=paradyn-{tmp_path.name}" in lines
-    srun = f"srun -n 2 --cpus-per-task=3 --export=ALL {ENGINE} {tmp_path / 'deck.h5'} {tmp_path / 'results.h5'}"
+    srun = (f"srun -n 2 --cpus-per-task=3 --export=ALL {ENGINE} {tmp_path / 'deck.h5'} {tmp_path / 'results.h5'} "
+            "--expect-ranks=2 $restart || status=$?")
     assert srun in lines
     assert lines[-1] == " ".join(post)
     with pytest.raises(EngineError, match="writes a job script"):

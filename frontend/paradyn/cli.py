@@ -4,20 +4,31 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 
-from . import deck, launch, reading, scene, workflow
+from . import __version__, deck, launch, preflight, reading, scene, workflow
 from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_OK
 from .postprocess import post_process
+from .progress import RunProgress
 from .reports import accuracy_text, effect_table_text
+from .run_folders import claim_output, default_output
+from .runners import SbatchRunner
 
 DESCRIPTION = """\
 Run a ParaDyn scene end to end.
 
 SCENE is a TOML scene file (see docs/scene.md) or a deck.h5 written earlier (docs/formats.md).
+--check SCENE meshes it and prints the mass per part, the stable step and its element, the
+cycles, wall time and memory to expect, the initial contact penetrations and warnings for likely
+unit mistakes, then stops (every run prints the same lines first, unless -q).
+The output folder defaults to runs/<name> (the folder's name for a scene.toml, the file's name
+otherwise); a folder holding another scene's run is refused unless --force.
 Inside a Slurm allocation the engine runs under srun; --sbatch writes OUTDIR/job.sbatch instead
-of running (submit it with sbatch; it runs the engine, then `paradyn-run --post OUTDIR`).
---post OUTDIR redoes the post-processing of a finished run from its results.h5 and deck.h5.
+of running (submit it with sbatch; it runs the engine, continues in a new job when the time limit
+stopped it with a checkpoint, then runs `paradyn-run --post OUTDIR`).
+--post OUTDIR redoes the post-processing of a run from its results.h5 and deck.h5, also of a run
+that was interrupted (what the results file holds so far).
 Ctrl-C (or SIGTERM to the engine, as Slurm sends at the time limit) makes the engine write
 OUTDIR/results.checkpoint.h5 and stop; `paradyn-run SCENE -o OUTDIR --restart` continues the run
 from it, on any number of ranks and threads. [run] checkpoint_interval also writes one regularly.
@@ -50,9 +61,23 @@ def build_parser() -> argparse.ArgumentParser:
                         help=f"OpenMP threads per rank (default {threads}, one per core)")
     parser.add_argument("--no-vtk", action="store_true", help="skip the VTK time series")
     parser.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
-    parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    parser.add_argument("-q", "--quiet", action="store_true",
+                        help="no check report and no progress display (the check's warnings still)")
+    parser.add_argument("--check", action="store_true",
+                        help="check SCENE (mass, stable step, cycles, wall time, memory, initial penetrations, "
+                             "unit warnings) and stop")
+    parser.add_argument("--force", action="store_true",
+                        help="write into an output folder that holds the run of another scene")
+    parser.add_argument("--version", action="version", version=version_text())
     parser.add_argument("--sbatch", action="store_true",
                         help="write OUTDIR/job.sbatch for Slurm instead of running")
+    batch = parser.add_argument_group("Slurm job script (with --sbatch)")
+    batch.add_argument("--time", help="#SBATCH --time (e.g. 2:00:00); the engine checkpoints "
+                                      f"{SbatchRunner.signal_lead_s} s before it and the job continues in a new one")
+    batch.add_argument("--account", help="#SBATCH --account")
+    batch.add_argument("--partition", help="#SBATCH --partition")
+    batch.add_argument("--sbatch-line", action="append", default=[], metavar="OPTION",
+                       help="another #SBATCH option: --sbatch-line=--mem=8G (repeatable)")
     parser.add_argument("--restart", action="store_true",
                         help="continue an interrupted run in the output folder from its checkpoint "
                              "(results.checkpoint.h5), with the folder's deck.h5")
@@ -61,26 +86,75 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def default_output(scene_path: Path) -> Path:
-    name = scene_path.resolve().parent.name if scene_path.suffix == ".toml" else scene_path.stem
-    return Path.cwd() / "runs" / name
+def version_text() -> str:
+    """``paradyn-run --version``: the package's version and the engine it runs."""
+    try:
+        engine = str(launch.engine_path())
+    except launch.EngineError:
+        engine = "not built (make install)"
+    return f"paradyn-run {__version__} (Python {sys.version.split()[0]}; engine {engine})"
 
 
 def post_only(out_dir: Path, plots: bool, vtk: bool) -> int:
-    """Post-process the results.h5 and deck.h5 of a finished run in out_dir."""
+    """Post-process the results.h5 and deck.h5 of a run in out_dir, finished or interrupted."""
     res_path, deck_path = out_dir / "results.h5", out_dir / "deck.h5"
     if not (res_path.is_file() and deck_path.is_file()):
         print(f"paradyn-run: error: {out_dir} holds no results.h5 and deck.h5; give the output folder of a run",
               file=sys.stderr)
         return STATUS_BAD_INPUT
     try:
-        res = reading.read(res_path, deck=deck_path)
-        outputs = post_process(res, out_dir, {"post_processed": True}, plots=plots, vtk=vtk)
+        res = reading.read(res_path, deck=deck_path, allow_incomplete=True)
+        if not res.complete:
+            last = float(res.time_values[-1]) if res.n_frames else 0.0
+            print(f"paradyn-run: {res_path} is of an unfinished run: post-processing its {res.n_frames} "
+                  f"frame(s), to t = {last:.4g} s", file=sys.stderr)
+        outputs = post_process(res, out_dir, {"post_processed": True, "complete": res.complete},
+                               plots=plots, vtk=vtk)
     except (deck.DeckError, reading.ResultsError) as error:
         print(f"paradyn-run: error: {error}", file=sys.stderr)
         return STATUS_BAD_INPUT
     _print_outputs(outputs)
     return STATUS_OK
+
+
+def check_only(source: Path, ranks: int, threads: int, quiet: bool) -> int:
+    """``paradyn-run --check``: the check's lines, then the engine's own set-up of the deck."""
+    try:
+        if not source.is_file():
+            raise scene.SceneError(f"{source}: no such file; give the path of a scene .toml or a deck .h5")
+        display = None if quiet else RunProgress()
+        if display is None:
+            model = workflow.model_of(source)
+        else:
+            with display.stage("reading the deck" if source.suffix in workflow.DECK_SUFFIXES else "meshing"):
+                model = workflow.model_of(source)
+        check = preflight.check_model(model, ranks, threads)
+        engine = preflight.engine_check(model)
+    except launch.EngineError as error:
+        return _error(error, error.exit_code)
+    except (scene.SceneError, deck.DeckError, ValueError) as error:
+        return _error(error, STATUS_BAD_INPUT)
+    print("\n".join(check.lines()))
+    print(f"engine: first step {engine.dt:.4e} s (stable {engine.dt_stable:.4e} s), {engine.steps} steps; "
+          f"{len(engine.warnings) or 'no'} warning(s) at set-up")
+    for line in engine.warnings:
+        print("  " + line)
+    return STATUS_OK
+
+
+def batch_runner(args: argparse.Namespace) -> SbatchRunner | None:
+    """The sbatch runner with the command line's Slurm options (None without --sbatch)."""
+    slurm = (args.time, args.account, args.partition, *args.sbatch_line)
+    if not args.sbatch:
+        if any(slurm):
+            raise ValueError("--time, --account, --partition and --sbatch-line go with --sbatch")
+        return None
+    runner = launch.make_runner(SbatchRunner.name, args.ranks)
+    assert isinstance(runner, SbatchRunner)
+    runner = replace(runner, time=args.time, account=args.account, partition=args.partition,
+                     extra_lines=tuple(args.sbatch_line))
+    runner.directives(Path("."), args.ranks, args.threads, "check")   # refuses a bad --sbatch-line now
+    return runner
 
 
 def _print_outputs(outputs: dict[str, Path]) -> None:
@@ -97,11 +171,17 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.post:
         return post_only(args.scene.resolve(), plots=not args.no_plots, vtk=not args.no_vtk)
+    if args.check:
+        return check_only(args.scene, args.ranks, args.threads, args.quiet)
     out_dir = (args.output or default_output(args.scene)).resolve()
     try:
+        runner = batch_runner(args)
+        if args.scene.is_file():
+            claim_output(out_dir, args.scene, force=args.force or args.restart)
         outcome = workflow.run(args.scene, out_dir, args.ranks, args.threads,
-                               runner="sbatch" if args.sbatch else None, restart=args.restart,
-                               progress=not args.quiet, vtk=not args.no_vtk, plots=not args.no_plots)
+                               runner=runner, restart=args.restart,
+                               progress=RunProgress(quiet=args.quiet), vtk=not args.no_vtk,
+                               plots=not args.no_plots)
     except launch.EngineError as error:
         return _error(error, error.exit_code)
     except reading.ResultsError:

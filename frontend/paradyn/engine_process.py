@@ -14,7 +14,6 @@ import os
 import re
 import signal
 import subprocess
-import sys
 import threading
 import time
 from collections.abc import Callable
@@ -85,16 +84,25 @@ def follow_engine(
     folder: Path,
     on_progress: Callable[[Progress], None] | None = None,
     log_path: Path | None = None,
+    *,
+    on_warning: Callable[[str], None] | None = None,
+    done_kind: str = "DONE",
 ) -> EngineRun:
     """Run ``command`` in ``folder`` to completion; raise EngineError with the engine's message
     if it fails.
+
+    ``on_progress`` gets every progress line, ``on_warning`` every ``paradyn-engine: warning:``
+    line as it comes (the initial penetrations come before the first cycle). The run succeeded
+    when the status is 0 and the engine printed its ``PARADYN-<done_kind>`` line (``CHECK`` for
+    ``paradyn-engine --check``).
 
     Ctrl-C (KeyboardInterrupt) does not kill the run: the engine is asked to stop with SIGUSR1
     (which mpirun forwards to every rank), writes its checkpoint and exits with status 4; the
     EngineError then says how to continue. The engine runs in its own session so that the
     terminal's SIGINT reaches only this process, not mpirun (which would kill the ranks)."""
     run = EngineRun(command=command, exit_code=-1, log_path=log_path)
-    errors: list[str] = []
+    lines = _LineReader(run, on_progress, on_warning, done_kind)
+    errors = lines.errors
     started = time.perf_counter()
     with EngineLog(log_path) as log, subprocess.Popen(
         command, cwd=folder, env=environment, stdout=subprocess.PIPE,
@@ -102,7 +110,7 @@ def follow_engine(
     ) as process:
         previous = _forward_stop_signals(process)
         try:
-            _read_until_done(process, run, log, errors, on_progress)
+            _read_until_done(process, log, lines)
             run.exit_code = process.wait()
         finally:
             for number, handler in previous.items():
@@ -170,28 +178,38 @@ def _forward_stop_signals(process: subprocess.Popen) -> dict[int, Any]:
     return {number: signal.signal(number, forward) for number in (signal.SIGTERM, signal.SIGUSR1)}
 
 
-def _take_line(run: EngineRun, line: str, errors: list[str],
-               on_progress: Callable[[Progress], None] | None) -> None:
-    """Record what one output line of the engine says."""
-    if line.startswith("paradyn-engine: "):
-        errors.append(line.strip())
-    if line.startswith("paradyn-engine: warning:"):
-        run.warnings.append(line.strip())
-    parsed = parse_line(line)
-    if parsed is None:
-        return
-    kind, fields = parsed
-    if kind == "START":
-        run.start = fields
-    elif kind == "DONE":
-        run.done = fields
-    elif kind == "PROGRESS" and on_progress is not None:
-        on_progress(Progress(int(fields["cycle"]), float(fields["time"]), float(fields["dt"]),
-                             float(fields["end_time"]), float(fields["wall_s"])))
+@dataclass
+class _LineReader:
+    """Takes the engine's output lines one by one into an :class:`EngineRun` and the listeners."""
+
+    run: EngineRun
+    on_progress: Callable[[Progress], None] | None
+    on_warning: Callable[[str], None] | None
+    done_kind: str
+    errors: list[str] = field(default_factory=list)
+
+    def take(self, line: str) -> None:
+        """Record what one output line of the engine says."""
+        if line.startswith("paradyn-engine: "):
+            self.errors.append(line.strip())
+        if line.startswith("paradyn-engine: warning:"):
+            self.run.warnings.append(line.strip())
+            if self.on_warning is not None:
+                self.on_warning(line.strip())
+        parsed = parse_line(line)
+        if parsed is None:
+            return
+        kind, fields = parsed
+        if kind == "START":
+            self.run.start = fields
+        elif kind == self.done_kind:
+            self.run.done = fields
+        elif kind == "PROGRESS" and self.on_progress is not None:
+            self.on_progress(Progress(int(fields["cycle"]), float(fields["time"]), float(fields["dt"]),
+                                      float(fields["end_time"]), float(fields["wall_s"])))
 
 
-def _read_until_done(process: subprocess.Popen, run: EngineRun, log: EngineLog, errors: list[str],
-                     on_progress: Callable[[Progress], None] | None) -> None:
+def _read_until_done(process: subprocess.Popen, log: EngineLog, lines: _LineReader) -> None:
     """Log and take every output line of the engine until it exits. On Ctrl-C, ask the engine to
     checkpoint and stop (SIGUSR1), and keep reading until it has; a second Ctrl-C gives up.
 
@@ -204,38 +222,10 @@ def _read_until_done(process: subprocess.Popen, run: EngineRun, log: EngineLog, 
         try:
             for line in process.stdout:
                 log.write(line)
-                _take_line(run, line, errors, on_progress)
+                lines.take(line)
             return
         except KeyboardInterrupt:
             if stop_sent:
                 raise
             process.send_signal(signal.SIGUSR1)
             stop_sent = True
-
-
-class ProgressBar:
-    """A one-line progress bar on a terminal, or a line every tenth of the run otherwise."""
-
-    def __init__(self, stream: TextIO = sys.stderr, width: int = 30) -> None:
-        self.stream = stream
-        self.width = width
-        self.tty = stream.isatty()
-        self.last_tenth = -1
-        self.started = time.monotonic()
-
-    def __call__(self, p: Progress) -> None:
-        eta = p.eta_s
-        text = (f"t = {p.time:.4e} / {p.end_time:.4e} s  cycle {p.cycle}  dt {p.dt:.3e} s  "
-                f"ETA {eta:.1f} s" if eta is not None else "")
-        if self.tty:
-            filled = int(self.width * p.fraction)
-            self.stream.write(f"\r[{'#' * filled}{'.' * (self.width - filled)}] {100 * p.fraction:5.1f}% {text}")
-            self.stream.flush()
-        elif int(10 * p.fraction) > self.last_tenth:
-            self.last_tenth = int(10 * p.fraction)
-            self.stream.write(f"{100 * p.fraction:5.1f}% {text}\n")
-
-    def close(self) -> None:
-        if self.tty:
-            self.stream.write("\n")
-            self.stream.flush()

@@ -16,7 +16,8 @@ from importlib import resources
 from pathlib import Path
 
 from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE
-from .engine_process import EngineError, EngineRun, Progress, ProgressBar, parse_line
+from .engine_process import EngineError, EngineRun, Progress, parse_line
+from .progress import RunProgress as ProgressBar  # the name before the tqdm display
 from .runners import Machine, Runner, create_runner
 from .runners import engine_environment as _environment_for
 
@@ -118,6 +119,7 @@ def run_engine(
     log_path: Path | None = None,
     restart: bool = False,
     runner: str | Runner | None = None,
+    on_warning: Callable[[str], None] | None = None,
 ) -> EngineRun:
     """Run the engine to completion; raise EngineError with the engine's message if it fails.
 
@@ -128,4 +130,4 @@ def run_engine(
     if ranks < 1 or threads < 1:
         raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
     return make_runner(runner, ranks).run(deck, results, ranks, threads, on_progress=on_progress,
-                                          log_path=log_path, restart=restart)
+                                          log_path=log_path, restart=restart, on_warning=on_warning)

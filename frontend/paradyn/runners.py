@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import ClassVar
 
-from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE
+from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_STOPPED
 from .atomic_write import write_text_atomic
 from .engine_process import EngineError, EngineRun, Progress, follow_engine
 
@@ -69,8 +69,11 @@ def engine_environment(threads: int, bind_threads: bool) -> dict[str, str]:
     return env
 
 
-def _engine_arguments(deck: Path, results: Path, restart: bool) -> list[str]:
-    return [str(deck), str(results), *(["--restart"] if restart else [])]
+def _engine_arguments(deck: Path, results: Path, restart: bool, ranks: int | None = None) -> list[str]:
+    """The engine's arguments; under a launcher, ``--expect-ranks`` makes it refuse to run on another
+    number of ranks than it was asked for (an mpirun of another MPI starts N singletons of one rank)."""
+    expect = [f"--expect-ranks={ranks}"] if ranks is not None else []
+    return [str(deck), str(results), *(["--restart"] if restart else []), *expect]
 
 
 @dataclass
@@ -99,6 +102,7 @@ class Runner(ABC):
         on_progress: Callable[[Progress], None] | None = None,
         log_path: Path | None = None,
         restart: bool = False,
+        on_warning: Callable[[str], None] | None = None,
     ) -> EngineRun:
         """Run the engine to completion in the deck's folder; raise EngineError if it fails."""
         if ranks < 1 or threads < 1:
@@ -106,7 +110,8 @@ class Runner(ABC):
         # the engine runs in the deck's folder, so relative paths would point elsewhere
         deck, results = Path(deck).resolve(), Path(results).resolve()
         command = self.command(deck, results, ranks, threads, restart)
-        return follow_engine(command, self.environment(ranks, threads), deck.parent, on_progress, log_path)
+        return follow_engine(command, self.environment(ranks, threads), deck.parent, on_progress, log_path,
+                             on_warning=on_warning)
 
 
 @dataclass
@@ -145,7 +150,7 @@ class MpirunRunner(Runner):
             command += ["--bind-to", "none"]
         if self.machine.oversubscribed(ranks, threads):
             command.append("--oversubscribe")
-        return [*command, str(self.machine.engine), *_engine_arguments(deck, results, restart)]
+        return [*command, str(self.machine.engine), *_engine_arguments(deck, results, restart, ranks)]
 
 
 @dataclass
@@ -158,31 +163,65 @@ class SrunRunner(Runner):
                 restart: bool = False) -> list[str]:
         # Slurm 22.05 and later: srun does not inherit --cpus-per-task, so it is passed explicitly
         return ["srun", "-n", str(ranks), f"--cpus-per-task={threads}", "--export=ALL",
-                str(self.machine.engine), *_engine_arguments(deck, results, restart)]
+                str(self.machine.engine), *_engine_arguments(deck, results, restart, ranks)]
 
 
 @dataclass
 class SbatchRunner(SrunRunner):
     """Writes a Slurm job script that runs the engine with srun, then ``post_command``; it runs
-    nothing itself (submit the script with ``sbatch``)."""
+    nothing itself (submit the script with ``sbatch``).
+
+    ``time``, ``account`` and ``partition`` become ``#SBATCH`` lines, as does every entry of
+    ``extra_lines`` (``"--mem=8G"`` or ``"#SBATCH --mem=8G"``). Slurm is asked for SIGUSR1
+    ``signal_lead_s`` seconds before the time limit (``--signal``, sent to the engine's ranks): the
+    engine writes its checkpoint and stops with status 4, and the script then submits itself again
+    with ``PARADYN_CONTINUE=1``, which runs the engine with ``--restart`` (docs/scene.md, "Slurm")."""
 
     name: ClassVar[str] = "sbatch"
     post_command: list[str] | None = None
+    time: str | None = None          # --time, Slurm's formats (MM, HH:MM:SS, D-HH:MM)
+    account: str | None = None
+    partition: str | None = None
+    extra_lines: tuple[str, ...] = ()
+    signal_lead_s: int = 300
+
+    def directives(self, folder: Path, ranks: int, threads: int, job_name: str) -> list[str]:
+        """The ``#SBATCH`` lines."""
+        options = [f"--job-name={job_name}", f"--ntasks={ranks}", f"--cpus-per-task={threads}",
+                   f"--output={folder}/slurm-%j.out", f"--signal=USR1@{self.signal_lead_s}"]
+        options += [f"--{key}={value}" for key, value in
+                    (("time", self.time), ("account", self.account), ("partition", self.partition)) if value]
+        lines = [f"#SBATCH {option}" for option in options]
+        for line in self.extra_lines:
+            text = line.strip().removeprefix("#SBATCH").strip()
+            if not text.startswith("-") or "\n" in text:
+                raise ValueError(f"--sbatch-line {line!r} is not an sbatch option; give one like --mem=8G")
+            lines.append(f"#SBATCH {text}")
+        return lines
 
     def script(self, deck: Path, results: Path, ranks: int, threads: int, job_name: str) -> str:
-        """The job script's text."""
+        """The job script's text: the engine under srun (continuing from the checkpoint when the job
+        is a continuation), a new job when the engine stopped at the time limit (status 4), else
+        the post-processing."""
         folder = results.parent
+        script_path = folder / "job.sbatch"
         lines = [
             "#!/bin/bash",
-            f"#SBATCH --job-name={job_name}",
-            f"#SBATCH --ntasks={ranks}",
-            f"#SBATCH --cpus-per-task={threads}",
-            f"#SBATCH --output={folder}/slurm-%j.out",
-            "set -euo pipefail",
+            *self.directives(folder, ranks, threads, job_name),
+            "set -uo pipefail",
             f"export OMP_NUM_THREADS={threads}",
             f"export SRUN_CPUS_PER_TASK={threads}",
             "export OMP_STACKSIZE=${OMP_STACKSIZE:-64M}",
-            shlex.join(self.command(deck, results, ranks, threads)),
+            'restart=""   # a continuation (PARADYN_CONTINUE set) goes on from the checkpoint',
+            'if [ -n "${PARADYN_CONTINUE:-}" ]; then restart=--restart; fi',
+            "status=0",
+            shlex.join(self.command(deck, results, ranks, threads)) + " $restart || status=$?",
+            f"if [ \"$status\" -eq {STATUS_STOPPED} ]; then",
+            '  echo "paradyn: the engine stopped with its checkpoint (time limit); continuing in a new job"',
+            f"  sbatch --export=ALL,PARADYN_CONTINUE=1 {shlex.quote(str(script_path))}",
+            "  exit $?",
+            "fi",
+            'if [ "$status" -ne 0 ]; then exit "$status"; fi',
         ]
         if self.post_command:
             lines.append(shlex.join(self.post_command))
@@ -197,7 +236,7 @@ class SbatchRunner(SrunRunner):
 
     def run(self, deck: Path, results: Path, ranks: int = 1, threads: int = 1,
             on_progress: Callable[[Progress], None] | None = None, log_path: Path | None = None,
-            restart: bool = False) -> EngineRun:
+            restart: bool = False, on_warning: Callable[[str], None] | None = None) -> EngineRun:
         raise EngineError("the sbatch runner writes a job script and runs nothing; call "
                           "write_job(...), or paradyn.run(..., runner='sbatch'), then submit the "
                           "script with sbatch", STATUS_BAD_INPUT)

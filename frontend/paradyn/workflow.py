@@ -10,14 +10,16 @@ from __future__ import annotations
 import os
 import sys
 from collections.abc import Callable
+from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from . import deck, launch, scene
+from . import deck, launch, preflight, scene
 from .builder import Scene as SceneBuilder
-from .engine_process import Progress, ProgressBar
+from .engine_process import Progress
 from .postprocess import post_process
+from .progress import RunProgress
 from .reading import Results, read
 from .restart import restart_deck
 from .runners import Runner, SbatchRunner
@@ -51,7 +53,7 @@ def run(
     summary: bool = True,
     plots: bool = True,
     restart: bool = False,
-    progress: bool | Callable[[Progress], None] = False,
+    progress: bool | RunProgress | Callable[[Progress], None] = False,
     extra: dict[str, Any] | None = None,
     results_name: str = "results.h5",
     log_name: str | None = "engine.log",
@@ -82,9 +84,11 @@ def run(
     restart : bool
         Continue the run in ``out`` from its checkpoint, with the deck already there (the
         checkpoint belongs to it; ``source`` is not written again).
-    progress : bool or callable
-        True draws a progress bar on standard error; a callable receives every
-        :class:`~paradyn.launch.Progress`.
+    progress : bool, RunProgress or callable
+        True shows the run on standard error (:class:`paradyn.progress.RunProgress`: meshing, the
+        check's lines of :mod:`paradyn.preflight`, the engine's cycles, its warnings as they come,
+        post-processing), as does a RunProgress of your own (``RunProgress(quiet=True)``: only the
+        check's warnings); a callable receives every :class:`~paradyn.launch.Progress`.
     extra : dict, optional
         Entries added to ``summary.json`` (after ``scene`` and ``command``).
     results_name, log_name : str
@@ -118,30 +122,50 @@ def run(
     """
     _check_source(source)
     out = output_folder(out)
-    deck_path = restart_deck(out, _restart_model(source)) if restart else prepare_deck(source, out)
     default_ranks, default_threads = launch.default_layout()
     ranks = default_ranks if ranks is None else ranks
     threads = default_threads if threads is None else threads
+    display = progress if isinstance(progress, RunProgress) else (RunProgress() if progress is True else None)
+    if restart:
+        deck_path = restart_deck(out, _restart_model(source))
+    else:
+        with _stage(display, "meshing" if _is_scene(source) else "reading the model"):
+            model = model_of(source)
+        deck_path = deck.write_deck(model, out / "deck.h5")
+        if display is not None:
+            display.report(preflight.check_model(model, ranks, threads).lines())
     if runner == SbatchRunner.name or isinstance(runner, SbatchRunner):
         post_command = _post_command(out, vtk=vtk, plots=plots) if post else None
         return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
-    bar = ProgressBar() if progress is True else None
-    on_progress = bar if bar is not None else (progress if callable(progress) else None)
+    on_progress = display if display is not None else (progress if callable(progress) else None)
     try:
         engine_run = launch.run_engine(deck_path, out / results_name, ranks, threads,
                                        on_progress=on_progress,
                                        log_path=out / log_name if log_name else None,
-                                       restart=restart, runner=runner)
+                                       restart=restart, runner=runner,
+                                       on_warning=display.warning if display is not None else None)
+        if display is not None:
+            display.finish_engine(engine_run.done)
     finally:
-        if bar is not None:
-            bar.close()
+        if display is not None:
+            display.close()
     results = read(out / results_name, deck=deck_path)
     results.engine_run = engine_run
     if post:
         details = {"scene": _source_name(source), "command": engine_run.command, **(extra or {})}
-        results.outputs = post_process(results, out, details, vtk=vtk, history=history,
-                                       summary=summary, plots=plots)
+        with _stage(display, "post-processing"):
+            results.outputs = post_process(results, out, details, vtk=vtk, history=history,
+                                           summary=summary, plots=plots)
     return results
+
+
+def _stage(display: RunProgress | None, name: str) -> AbstractContextManager[None]:
+    return display.stage(name) if display is not None else nullcontext()
+
+
+def _is_scene(source: Source) -> bool:
+    return isinstance(source, (scene.Scene, SceneBuilder)) or (isinstance(source, (str, Path)) and
+                                                Path(source).suffix not in DECK_SUFFIXES)
 
 
 class OutputFolderError(ValueError):

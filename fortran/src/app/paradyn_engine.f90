@@ -1,5 +1,8 @@
-!> paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]]
+!> paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]] [--check] [--expect-ranks=N]
 !>
+!> --check sets the run up (the deck's checks, the initial penetrations, the stable step), prints
+!> PARADYN-CHECK and exits without writing anything; --expect-ranks=N refuses to run on another
+!> number of MPI ranks than the launcher was asked for (docs/errors.md).
 !> Runs one deck under MPI (element partitions across ranks) and OpenMP (groups across threads) and
 !> writes the results file, with a checkpoint beside it every /control checkpoint_interval and
 !> when stopped by SIGTERM, SIGINT or SIGUSR1. --restart continues a run from its checkpoint.
@@ -48,7 +51,8 @@ program paradyn_engine
   character(len=:), allocatable :: checkpoint
   character(len=1024) :: message
   integer :: rank, n_ranks, status, err, n_args, k, n_positional, frames, records
-  logical :: restart
+  logical :: restart, check_only
+  integer :: expect_ranks
   real(wp) :: pause_time
   type(MPI_Comm) :: comm   !< the engine's own duplicate of MPI_COMM_WORLD, passed everywhere
   integer :: thread_level
@@ -68,21 +72,32 @@ program paradyn_engine
   n_args = command_argument_count()
   n_positional = 0
   restart = .false.
+  check_only = .false.
+  expect_ranks = 0
   restart_path = ''
   deck_path = ''
   results_path = ''
   do k = 1, n_args
     call get_command_argument(k, argument)
     if (argument == '-h' .or. argument == '--help') then
-      if (rank == 0) write (*, '(a)') 'usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]]', &
+      if (rank == 0) write (*, '(a)') 'usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]] '// &
+        '[--check] [--expect-ranks=N]', &
         'Runs a ParaDyn deck (docs/formats.md); launch it with mpirun -n RANKS and OMP_NUM_THREADS.', &
-        '--restart continues an interrupted run from its checkpoint (default RESULTS.checkpoint.h5).'
+        '--restart continues an interrupted run from its checkpoint (default RESULTS.checkpoint.h5).', &
+        '--check sets the run up, prints PARADYN-CHECK (the first step, the stable step, the steps) and writes nothing.', &
+        '--expect-ranks=N stops with status 2 unless the launcher started N ranks.'
       call finish(status_ok)
     else if (argument == '--restart') then
       restart = .true.
     else if (argument(1:10) == '--restart=') then
       restart = .true.
       restart_path = argument(11:)
+    else if (argument == '--check') then
+      check_only = .true.
+    else if (argument(1:15) == '--expect-ranks=') then
+      read (argument(16:), *, iostat=err) expect_ranks
+      if (err /= 0 .or. expect_ranks < 1) call fail(status_bad_input, 'bad '//trim(argument)// &
+                                                    '; give --expect-ranks=N with N the number of MPI ranks launched')
     else if (argument(1:1) == '-' .or. n_positional == 2) then
       call fail(status_bad_input, 'unexpected argument '//trim(argument)// &
                 '; usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]]')
@@ -95,6 +110,12 @@ program paradyn_engine
   if (n_positional < 1) then
     call fail(status_bad_input, 'usage: paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]] '// &
               '(results default to results.h5 beside the deck)')
+  end if
+  if (expect_ranks > 0 .and. expect_ranks /= n_ranks) then
+    write (message, '(a,i0,a,i0,a)') 'launched on ', n_ranks, ' MPI rank(s) but --expect-ranks=', expect_ranks, &
+      ' was asked for: the MPI launcher does not belong to the MPI library this engine was built with, or '// &
+      'the job gave it fewer slots; launch with that MPI''s mpirun -n (or srun -n) and the same rank count'
+    call fail(status_bad_input, trim(message))
   end if
   if (n_positional < 2) results_path = beside(deck_path, 'results.h5')
   checkpoint = checkpoint_path(trim(results_path))
@@ -109,6 +130,12 @@ program paradyn_engine
   call solver_setup(solver, deck, effects, comm, status, message)
   if (status /= status_ok) call fail(status, trim(message))
   solver%nodes%x = solver%nodes%x + moves(:, solver%dom%nodes)   ! initial displacements (a restart restores x)
+  if (check_only) then   ! paradyn-run --check: everything is set up and checked; nothing is written
+    if (rank == 0) write (*, '(a,es23.16,a,es23.16,a,i0,a,es11.4)') 'PARADYN-CHECK dt=', solver%clock%dt, &
+      ' dt_stable=', solver%clock%dt_stable, ' steps=', solver%clock%n_steps, ' end_time=', solver%clock%end_time
+    flush (6)
+    call finish(status_ok)
+  end if
 
   associate (owned => solver%dom%nodes(solver%halo%owned_local), elements => solver%dom%elements)
     if (restart) then
