@@ -2,10 +2,12 @@
 
 The frontend meshes scenes with gmsh, writes HDF5 decks, launches the Fortran engine and turns its
 results into VTK, CSV, JSON and plots. ``paradyn.run(source, out)`` does all of it in one call;
-``paradyn.read(path)`` opens a results file.
+``paradyn.read(path)`` opens a results file; ``paradyn.study(scene, out, knobs=...)`` shows what
+accuracy costs in time (docs/accuracy-cost.md).
 """
 from .reading import Results, read
+from .study import study
 from .workflow import BatchJob, run
 
-__all__ = ["BatchJob", "Results", "read", "run"]
+__all__ = ["BatchJob", "Results", "read", "run", "study"]
 __version__ = "0.1.0"

@@ -54,8 +54,9 @@ def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
 # parsing
 
 
+# [study] belongs to paradyn-study (docs/accuracy-cost.md): checked there, a table ignored by a run
 _TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "track", "contact", "rigid_wall",
-             "curve", "pressure", "prescribe")
+             "curve", "pressure", "prescribe", "study")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
              "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "mass_scaling_step",
@@ -93,6 +94,7 @@ def load_scene(path: str | Path) -> Scene:
         raise reader.error(f"'title' must be a string, got {title!r}")
     run = _parse_run(reader, reader.table(data, "run", "the scene"))
     run.effect_switches = _parse_effects(reader, reader.table(data, "effects", "the scene", required=False))
+    reader.table(data, "study", "the scene", required=False)   # a table; its keys are paradyn-study's
     materials = [_parse_material(reader, t, i) for i, t in enumerate(reader.tables(data, "material"))]
     parts = [_parse_part(reader, t, i) for i, t in enumerate(reader.tables(data, "part"))]
     _check_mesh_size(reader, parts)

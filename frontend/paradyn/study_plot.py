@@ -1,0 +1,63 @@
+"""The Pareto plot of a study (issue 16): log error against log cost, one marker per knob, every
+point labelled, the front drawn as a staircase, the target as a dashed line."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+from .study_spec import COSTS
+
+if TYPE_CHECKING:
+    from .study import StudyResult
+
+MARKERS = "osD^v<>phX*P"
+
+
+def plot_pareto(result: StudyResult, path: Path) -> Path:
+    """Draw the runs that have an error and a cost; a run with error 0 (the reference itself) sits
+    on the bottom edge, drawn open. Returns ``path``."""
+    measure = result.spec.cost
+    runs = [r for r in result.runs if r.error is not None and r.cost(measure)]
+    positive = [r.error for r in runs if r.error > 0]
+    floor = min(positive) / 3 if positive else 1e-6
+    fig, ax = plt.subplots(figsize=(8, 5.5), dpi=120)
+    groups: dict[str, list] = {}
+    for run in runs:
+        group = "base" if not run.config else run.config[0][0] if len(run.config) == 1 else "several knobs"
+        groups.setdefault(group, []).append(run)
+    for k, (group, members) in enumerate(groups.items()):
+        xs = [r.cost(measure) for r in members]
+        ys = [max(r.error, floor) for r in members]
+        faces = ["none" if r.error == 0 else f"C{k % 10}" for r in members]
+        ax.scatter(xs, ys, marker=MARKERS[k % len(MARKERS)], s=46, label=group, edgecolors=f"C{k % 10}",
+                   facecolors=faces, zorder=3)
+        for r, x, y in zip(members, xs, ys, strict=True):
+            text = r.label + (" (reference)" if r.error == 0 else "")
+            ax.annotate(text, (x, y), textcoords="offset points", xytext=(4, 3), fontsize=6.5)
+    front = [result.runs[i] for i in result.analysis.front]
+    if len(front) > 1:
+        xs = [r.cost(measure) for r in front]
+        ys = [max(r.error, floor) for r in front]
+        ax.step(xs, ys, where="post", color="0.35", linewidth=1.2, zorder=2, label="Pareto front")
+    if result.spec.target is not None:
+        ax.axhline(result.spec.target, color="C3", linestyle="--", linewidth=1, label="target")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(COSTS[measure])
+    names = ", ".join(result.spec.target_quantities) or "every quantity"
+    ax.set_ylabel(f"relative error (largest over {names})")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    temporary = path.with_name(f".{path.name}.tmp.png")
+    fig.savefig(temporary)
+    plt.close(fig)
+    temporary.replace(path)
+    return path
