@@ -26,8 +26,9 @@ same output folder reuses the runs it already has.
 knobs: {', '.join(KNOBS)}
 not available: {', '.join(f'{k} ({v.split(";")[0]})' for k, v in UNAVAILABLE.items())}
 
-quantities: POINT.COMPONENT@TIME[,TIME...], mean(P1,P2).COMPONENT@TIME, POINT.COMPONENT:STAT or
-ENERGY:STAT, with COMPONENT one of dx dy dz vx vy vz, STAT one of peak max min final.
+quantities: POINT.COMPONENT@TIME[,TIME...], mean(P1,P2).COMPONENT@TIME (the mean of points),
+diff(P1,P2).COMPONENT@TIME (P1 less P2), POINT.COMPONENT:STAT or ENERGY:STAT, with COMPONENT one
+of dx dy dz vx vy vz, STAT one of peak max min final.
 
 Writes OUT/study.csv, study.json, study.md, pareto.png and OUT/runs/<key>/ (one run per deck).
 Exit status: 0 when every run finished, 2 for a bad scene or option, 1 when a run failed.
