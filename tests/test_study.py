@@ -244,7 +244,7 @@ def test_study_files_hold_every_run(plate_study: tuple[Path, paradyn.study]) -> 
     assert errors == pytest.approx([float(r["error"]) for r in rows])
     assert (out / "pareto.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     text = (out / "study.md").read_text()
-    assert "| run | elements |" in text and result.analysis.target_answer in text
+    assert "| # | run | elements |" in text and result.analysis.target_answer in text
 
 
 def test_target_names_the_cheapest_run_under_it(plate_study: tuple[Path, paradyn.study]) -> None:

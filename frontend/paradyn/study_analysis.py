@@ -88,6 +88,10 @@ def analyse(runs: list[StudyRun], quantities: list[Quantity], spec: StudySpec,
     for i in front:
         runs[i].on_front = True
     answer, best = _target_answer(runs, scored, spec, chosen)
+    by_finest = [name for name in chosen if references[name].source == "finest run"]
+    if best is not None and ladder_runs and runs[best] is ladder_runs[-1][1] and by_finest:
+        answer += (f" It is the finest run, the reference of {', '.join(by_finest)}: its error there is 0 by "
+                   "construction, and only a finer mesh would tell how far it is from converged.")
     return Analysis(references, front, knob_steps(runs, spec, base), answer, best)
 
 

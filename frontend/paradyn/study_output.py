@@ -97,16 +97,16 @@ def markdown(result: StudyResult, quantities: list[Quantity], scene: Scene, comm
         ref = analysis.references[q.name]
         lines.append(f"| {q.name} | {_g(ref.value)} | {ref.source} | {_g(ref.order, '.2f')} | {ref.note} |")
     names = [q.name for q in quantities]
-    lines += ["", "| run | elements | cycles | engine s | whole s | core-s | memory MiB | "
+    lines += ["", "| # | run | elements | cycles | engine s | whole s | core-s | memory MiB | "
               + " | ".join(names) + " | error | energy balance | hourglass / internal | front |",
-              "|" + "---|" * (len(names) + 11)]
-    for run in result.runs:
+              "|" + "---|" * (len(names) + 12)]
+    for number, run in enumerate(result.runs, start=1):
         r, acc = run.record, run.record.get("accuracy", {})
-        if not run.ok:
-            lines.append(f"| {run.label} | failed: {r['error']} |" + " |" * (len(names) + 9))
+        if not run.ok:   # the number, the label and the message fill 3 of the columns
+            lines.append(f"| {number} | {run.label} | failed: {r['error']} |" + " |" * (len(names) + 9))
             continue
-        lines.append(f"| {run.label} | {r.get('elements')} | {r.get('cycles')} | {_g(r.get('engine_s'), '.3g')} "
-                     f"| {_g(r.get('whole_s'), '.3g')} | {_g(r.get('core_s'), '.3g')} "
+        lines.append(f"| {number} | {run.label} | {r.get('elements')} | {r.get('cycles')} "
+                     f"| {_g(r.get('engine_s'), '.3g')} | {_g(r.get('whole_s'), '.3g')} | {_g(r.get('core_s'), '.3g')} "
                      f"| {_g(r.get('peak_memory_mb'), '.0f')} | "
                      + " | ".join(_g(run.values.get(n), '.5g') for n in names)
                      + f" | {_pct(run.error)} | {_g(acc.get('energy_balance_error'), '.1e')} "

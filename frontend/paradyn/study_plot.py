@@ -21,25 +21,27 @@ MARKERS = "osD^v<>phX*P"
 
 def plot_pareto(result: StudyResult, path: Path) -> Path:
     """Draw the runs that have an error and a cost; a run with error 0 (the reference itself) sits
-    on the bottom edge, drawn open. Returns ``path``."""
+    on the bottom edge, drawn open. The front's runs carry their labels; the others their number
+    in the study's table (#), listed beside the plot. Returns ``path``."""
     measure = result.spec.cost
-    runs = [r for r in result.runs if r.error is not None and r.cost(measure)]
-    positive = [r.error for r in runs if r.error > 0]
+    numbered = [(k + 1, r) for k, r in enumerate(result.runs) if r.error is not None and r.cost(measure)]
+    positive = [r.error for _, r in numbered if r.error > 0]
     floor = min(positive) / 3 if positive else 1e-6
-    fig, ax = plt.subplots(figsize=(8, 5.5), dpi=120)
+    fig, ax = plt.subplots(figsize=(10, 5.5), dpi=120)
     groups: dict[str, list] = {}
-    for run in runs:
+    for number, run in numbered:
         group = "base" if not run.config else run.config[0][0] if len(run.config) == 1 else "several knobs"
-        groups.setdefault(group, []).append(run)
+        groups.setdefault(group, []).append((number, run))
     for k, (group, members) in enumerate(groups.items()):
-        xs = [r.cost(measure) for r in members]
-        ys = [max(r.error, floor) for r in members]
-        faces = ["none" if r.error == 0 else f"C{k % 10}" for r in members]
+        xs = [r.cost(measure) for _, r in members]
+        ys = [max(r.error, floor) for _, r in members]
+        faces = ["none" if r.error == 0 else f"C{k % 10}" for _, r in members]
         ax.scatter(xs, ys, marker=MARKERS[k % len(MARKERS)], s=46, label=group, edgecolors=f"C{k % 10}",
                    facecolors=faces, zorder=3)
-        for r, x, y in zip(members, xs, ys, strict=True):
-            text = r.label + (" (reference)" if r.error == 0 else "")
-            ax.annotate(text, (x, y), textcoords="offset points", xytext=(4, 3), fontsize=6.5)
+        for (number, r), x, y in zip(members, xs, ys, strict=True):
+            text = f"#{number} {r.label}" if r.on_front else f"#{number}"
+            ax.annotate(text + (" (reference)" if r.error == 0 else ""), (x, y), textcoords="offset points",
+                        xytext=(4, 3), fontsize=7)
     front = [result.runs[i] for i in result.analysis.front]
     if len(front) > 1:
         xs = [r.cost(measure) for r in front]
@@ -47,14 +49,19 @@ def plot_pareto(result: StudyResult, path: Path) -> Path:
         ax.step(xs, ys, where="post", color="0.35", linewidth=1.2, zorder=2, label="Pareto front")
     if result.spec.target is not None:
         ax.axhline(result.spec.target, color="C3", linestyle="--", linewidth=1, label="target")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
+    if not numbered:
+        ax.text(0.5, 0.5, "no run has both an error and a cost", transform=ax.transAxes, ha="center")
+    else:
+        ax.set_xscale("log")
+        ax.set_yscale("log")
     ax.set_xlabel(COSTS[measure])
     names = ", ".join(result.spec.target_quantities) or "every quantity"
     ax.set_ylabel(f"relative error (largest over {names})")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
-    fig.tight_layout()
+    ax.legend(fontsize=7, loc="lower left")
+    listing = "\n".join(f"#{n} {r.label}"[:38] for n, r in numbered)
+    fig.text(0.755, 0.95, listing, fontsize=6.5, va="top", family="monospace")
+    fig.subplots_adjust(left=0.08, right=0.74, bottom=0.1, top=0.96)
     path.parent.mkdir(parents=True, exist_ok=True)
     temporary = path.with_name(f".{path.name}.tmp.png")
     fig.savefig(temporary)
