@@ -27,6 +27,7 @@ def plot_pareto(result: StudyResult, path: Path) -> Path:
     numbered = [(k + 1, r) for k, r in enumerate(result.runs) if r.error is not None and r.cost(measure)]
     positive = [r.error for _, r in numbered if r.error > 0]
     floor = min(positive) / 3 if positive else 1e-6
+    most = max((r.cost(measure) for _, r in numbered), default=1.0)
     fig, ax = plt.subplots(figsize=(10, 5.5), dpi=120)
     groups: dict[str, list] = {}
     for number, run in numbered:
@@ -40,8 +41,9 @@ def plot_pareto(result: StudyResult, path: Path) -> Path:
                    facecolors=faces, zorder=3)
         for (number, r), x, y in zip(members, xs, ys, strict=True):
             text = f"#{number} {r.label}" if r.on_front else f"#{number}"
+            right = x >= most / 2   # near the right edge: the label goes to the left of the point
             ax.annotate(text + (" (reference)" if r.error == 0 else ""), (x, y), textcoords="offset points",
-                        xytext=(4, 3), fontsize=7)
+                        xytext=(-4 if right else 4, 3), ha="right" if right else "left", fontsize=7)
     front = [result.runs[i] for i in result.analysis.front]
     if len(front) > 1:
         xs = [r.cost(measure) for r in front]
@@ -58,7 +60,7 @@ def plot_pareto(result: StudyResult, path: Path) -> Path:
     names = ", ".join(result.spec.target_quantities) or "every quantity"
     ax.set_ylabel(f"relative error (largest over {names})")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="lower left")
+    ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(1.01, 0.0))   # beside the plot, below the list
     listing = "\n".join(f"#{n} {r.label}"[:38] for n, r in numbered)
     fig.text(0.755, 0.95, listing, fontsize=6.5, va="top", family="monospace")
     fig.subplots_adjust(left=0.08, right=0.74, bottom=0.1, top=0.96)
