@@ -32,6 +32,7 @@ from paradyn.study_error import (
     richardson,
 )
 from paradyn.study_spec import StudySpec
+from paradyn.study_sweep import StudyResult
 
 ROOT = Path(__file__).resolve().parents[1]
 PLATE = ROOT / "cases" / "small_plate" / "scene.toml"
@@ -206,14 +207,14 @@ QUANTITIES = {"tip": "tip_corner.dz@1e-4,2e-4", "middle": "middle.dz:peak"}
 
 
 @pytest.fixture(scope="module")
-def plate_study(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, paradyn.study]:
+def plate_study(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, StudyResult]:
     out = tmp_path_factory.mktemp("plate_study")
     result = paradyn.study(PLATE, out, knobs={"mesh": [1, 2, 4], "integration_points": [3]},
                            quantities=QUANTITIES, target="10%", jobs=2, progress=False)
     return out, result
 
 
-def test_study_files_hold_every_run(plate_study: tuple[Path, paradyn.study]) -> None:
+def test_study_files_hold_every_run(plate_study: tuple[Path, StudyResult]) -> None:
     """study.csv and study.json hold each run's knobs, cost, indicators, quantities and errors; the
     quantities are those of the run's own results.h5, the indicators those of its summary.json."""
     out, result = plate_study
@@ -247,7 +248,7 @@ def test_study_files_hold_every_run(plate_study: tuple[Path, paradyn.study]) -> 
     assert "| # | run | elements |" in text and result.analysis.target_answer in text
 
 
-def test_target_names_the_cheapest_run_under_it(plate_study: tuple[Path, paradyn.study]) -> None:
+def test_target_names_the_cheapest_run_under_it(plate_study: tuple[Path, StudyResult]) -> None:
     """The run the target names has an error under 10 % and no run under 10 % costs less."""
     _, result = plate_study
     ok = [r for r in result.runs if r.error is not None and r.error <= 0.10]

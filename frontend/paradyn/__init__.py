@@ -6,7 +6,7 @@ results into VTK, CSV, JSON and plots. ``paradyn.run(source, out)`` does all of 
 accuracy costs in time (docs/accuracy-cost.md).
 """
 from .reading import Results, read
-from .study import study
+from .study_sweep import study
 from .workflow import BatchJob, run
 
 __all__ = ["BatchJob", "Results", "read", "run", "study"]

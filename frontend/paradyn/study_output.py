@@ -22,7 +22,7 @@ from .study_error import Quantity
 from .study_spec import COSTS
 
 if TYPE_CHECKING:   # the study module imports this one
-    from .study import StudyResult
+    from .study_sweep import StudyResult
 
 COST_COLUMNS = ("engine_s", "loop_s", "whole_s", "core_s", "cycles", "peak_memory_mb")
 ACCURACY_COLUMNS = ("energy_balance_error", "peak_hourglass_over_internal", "peak_penetration_over_thickness",

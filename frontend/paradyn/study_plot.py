@@ -14,7 +14,7 @@ import matplotlib.pyplot as plt
 from .study_spec import COSTS
 
 if TYPE_CHECKING:
-    from .study import StudyResult
+    from .study_sweep import StudyResult
 
 MARKERS = "osD^v<>phX*P"
 

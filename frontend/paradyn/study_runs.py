@@ -15,7 +15,7 @@ import json
 import shutil
 import time
 import uuid
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -135,7 +135,3 @@ def adopt(prepared: Prepared, runs_root: Path) -> Path:
     shutil.rmtree(prepared.staging, ignore_errors=True)
     return folder
 
-
-def prepared_dict(prepared: Prepared) -> dict[str, Any]:
-    """A prepared configuration as JSON values (the staging path as text)."""
-    return {k: (str(v) if isinstance(v, Path) else v) for k, v in asdict(prepared).items()}

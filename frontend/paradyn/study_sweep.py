@@ -4,7 +4,8 @@ A study turns knobs of a scene (:mod:`paradyn.study_design`), runs every configu
 (:mod:`paradyn.study_runs`, cached by deck content, spread over the cores by a process pool, one
 progress bar across the runs), measures quantities of interest and their errors
 (:mod:`paradyn.study_error`, :mod:`paradyn.study_analysis`) and writes the tables and the Pareto
-plot (:mod:`paradyn.study_output`).
+plot (:mod:`paradyn.study_output`). The module is not called ``study`` so that ``paradyn.study``
+stays the function whatever is imported.
 """
 
 from __future__ import annotations
