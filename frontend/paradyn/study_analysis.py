@@ -10,6 +10,7 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 from .study_design import Config, Value, label
@@ -141,3 +142,18 @@ def _percent(fraction: float | None) -> str:
     if fraction is None or not math.isfinite(fraction):
         return "-"
     return f"{fraction * 100:.3g} %"
+
+
+@dataclass
+class StudyResult:
+    """What :func:`study` did: the spec, every run (base first), the analysis and the files written."""
+
+    spec: StudySpec
+    runs: list[StudyRun]
+    analysis: Analysis
+    outputs: dict[str, Path] = field(default_factory=dict)
+    ran: int = 0            # runs the engine made in this call (the others came from the cache)
+
+    @property
+    def failed(self) -> list[StudyRun]:
+        return [r for r in self.runs if not r.ok]

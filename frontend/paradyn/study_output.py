@@ -13,16 +13,14 @@ import os
 import time
 from dataclasses import asdict
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from .atomic_write import write_text_atomic
 from .scene_specs import Scene
+from .study_analysis import StudyResult
 from .study_design import KNOBS, UNAVAILABLE
 from .study_error import Quantity
 from .study_spec import COSTS
-
-if TYPE_CHECKING:   # the study module imports this one
-    from .study_sweep import StudyResult
 
 COST_COLUMNS = ("engine_s", "loop_s", "whole_s", "core_s", "cycles", "peak_memory_mb")
 ACCURACY_COLUMNS = ("energy_balance_error", "peak_hourglass_over_internal", "peak_penetration_over_thickness",

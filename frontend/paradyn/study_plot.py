@@ -4,17 +4,14 @@ point labelled, the front drawn as a staircase, the target as a dashed line."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
+from .study_analysis import StudyResult
 from .study_spec import COSTS
-
-if TYPE_CHECKING:
-    from .study_sweep import StudyResult
 
 MARKERS = "osD^v<>phX*P"
 

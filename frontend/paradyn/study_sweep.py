@@ -13,7 +13,6 @@ from __future__ import annotations
 import multiprocessing
 import shutil
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -21,28 +20,13 @@ from tqdm.auto import tqdm
 
 from . import launch, scene
 from .reading import read
-from .study_analysis import Analysis, StudyRun, analyse
+from .study_analysis import StudyResult, StudyRun, analyse
 from .study_design import Design, StudyError, apply, base_values, label
 from .study_output import write_outputs
 from .study_runs import Prepared, adopt, execute, finished, prepare
 from .study_spec import StudySpec, spec_from_table
 
 __all__ = ["Design", "StudyError", "StudyResult", "StudySpec", "study"]
-
-
-@dataclass
-class StudyResult:
-    """What :func:`study` did: the spec, every run (base first), the analysis and the files written."""
-
-    spec: StudySpec
-    runs: list[StudyRun]
-    analysis: Analysis
-    outputs: dict[str, Path] = field(default_factory=dict)
-    ran: int = 0            # runs the engine made in this call (the others came from the cache)
-
-    @property
-    def failed(self) -> list[StudyRun]:
-        return [r for r in self.runs if not r.ok]
 
 
 def study(source: str | Path | scene.Scene, out: str | Path, *, progress: bool = True,
