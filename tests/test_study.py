@@ -336,3 +336,23 @@ def test_command_line_study_with_a_given_reference(tmp_path: Path, capsys: pytes
     assert [float(r["error"]) for r in rows] == pytest.approx([abs(float(r["tip"]) - 1e-4) / 1e-4 for r in rows])
     assert "| tip | 0.0001 | given |" in printed and "Cheapest configuration that meets 0.5" in printed
     assert os.access(out / "study.md", os.R_OK)
+
+
+def test_a_failed_run_is_reported_and_not_cached(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    """A run the engine stops (here [run] energy_error_limit = 1e-15, passed on the first cycle):
+    its row carries the engine's message, the exit status is 1, and it leaves no run.json, so the
+    next study runs it again."""
+    path = tmp_path / "scene.toml"
+    path.write_text(PLATE.read_text().replace("[run]\n", "[run]\nenergy_error_limit = 1e-15\n", 1))
+    out = tmp_path / "study"
+    args = [str(path), "-o", str(out), "-q", "--knob", "mesh=1,2", "--quantity", "tip=tip_corner.dz:final"]
+    assert study_main(args) == 1
+    err = capsys.readouterr().err
+    assert "run 'base' failed: paradyn-engine: error: the energy balance error reached" in err
+    rows = list(csv.DictReader((out / "study.csv").open()))
+    assert all("energy_error_limit" in r["status"] for r in rows) and all(r["error"] == "" for r in rows)
+    assert not list(out.glob("runs/*/run.json"))
+    data = json.loads((out / "study.json").read_text())
+    tip = data["references"]["tip"]
+    assert tip["source"] == "none" and "give a reference value" in tip["note"]
+    assert study_main(args) == 1 and "2 run now, 0 from the cache" in (out / "study.md").read_text()

@@ -170,14 +170,15 @@ def reference(given: float | None, mode: str, ladder: Sequence[tuple[float, floa
     when ``mode`` is "richardson" and the ladder is asymptotic; else the finest run's value."""
     if given is not None:
         return Reference(given, "given")
+    if finest is None:
+        return Reference(None, "none", note="no finished run on the mesh ladder (the base and its mesh "
+                                            "steps) to compare with; give a reference value")
     note = ""
     if mode == "richardson":
         ex = richardson([f for f, _ in ladder], [q for _, q in ladder])
         if ex.value is not None:
             return Reference(ex.value, "richardson", ex.order)
         note = f"Richardson: {ex.message}; errors are against the finest run"
-    if finest is None:
-        return Reference(None, "none", note=note or "no run to compare with")
     return Reference(finest, "finest run", note=note)
 
 

@@ -57,7 +57,8 @@ def plot_pareto(result: StudyResult, path: Path) -> Path:
     names = ", ".join(result.spec.target_quantities) or "every quantity"
     ax.set_ylabel(f"relative error (largest over {names})")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(1.01, 0.0))   # beside the plot, below the list
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(1.01, 0.0))   # beside the plot, below the list
     listing = "\n".join(f"#{n} {r.label}"[:38] for n, r in numbered)
     fig.text(0.755, 0.95, listing, fontsize=6.5, va="top", family="monospace")
     fig.subplots_adjust(left=0.08, right=0.74, bottom=0.1, top=0.96)
