@@ -170,7 +170,9 @@ def test_designs_expand_around_the_base() -> None:
 
 def test_knobs_set_the_scene() -> None:
     sc = scene.load_scene(PIPES)
-    fine = apply(sc, (("mesh", 2.0), ("penalty_scale", 0.2), ("plasticity", False), ("time_step", 0.0)))
+    fine = apply(sc, (("mesh", 2.0), ("penalty_scale", 0.2), ("plasticity", False), ("time_step", 0.0),
+                      ("contact_travel_limit", 0.1)))
+    assert fine.run.contact_travel_limit == 0.1
     assert [(p.geometry.elements_around, p.geometry.elements_along) for p in fine.parts] == [(32, 64)] * 2
     assert fine.contacts[0].penalty_scale == 0.2 and fine.run.effect_switches == {"plasticity": "off"}
     assert fine.run.time_step == 0.0 and sc.parts[0].geometry.elements_around == 16   # the scene is kept

@@ -134,6 +134,9 @@ KNOBS: dict[str, Knob] = {k.name: k for k in [
     Knob("contact_sort_interval", int, "[run] contact_sort_interval: cycles between bucket sorts, 0 = automatic",
          lambda s: int(s.run.contact_sort_interval), _set_run("contact_sort_interval"), _non_negative,
          needs="contact"),
+    Knob("contact_travel_limit", float, "[run] contact_travel_limit: the most a contact may close in a step, "
+         "as a fraction of the thinner wall; 0 = off", lambda s: s.run.contact_travel_limit,
+         _set_run("contact_travel_limit"), lambda v: None if 0 <= v < 1 else "must lie in [0, 1)", needs="contact"),
     *[_effect_knob(switch) for switch in _schema.EFFECT_SWITCHES],
 ]}
 # Knobs the issue asks for that the engine does not offer today: asking for one is an error
