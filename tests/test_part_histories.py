@@ -21,6 +21,7 @@ import pytest
 
 import models as M
 from contact_cases import PLATE, STEEL, T, _control, _momentum, _plate_pair
+from paradyn.deck import Control
 
 
 def _run(tmp_path: Path, pairs: tuple[tuple[int, int], ...] = ((0, 1),)):
@@ -83,3 +84,43 @@ def test_parts_plot_is_written(plates, tmp_path: Path) -> None:
     _, results = plates
     path = plots.plot_parts(results, tmp_path / "parts.png")
     assert path.stat().st_size > 10_000
+
+
+def test_plastic_work_is_the_internal_energy_less_the_elastic_energy(tmp_path: Path) -> None:
+    """A 0.1 x 0.02 m strip, t = 1 mm, stretched homogeneously along x to 1 % (every node's x
+    velocity prescribed, eps_dot x; y free, so the stress is uniaxial): J2 steel, sigma_y0 = 250 MPa,
+    Et = 2 GPa, isotropic hardening. The plastic work is what the stress work leaves after the
+    elastic energy sigma^2 / (2 E) V, sigma the frame's membrane stress; within 1 % (measured
+    4.480 J against 4.469 J, 0.25 %). A formula off by a factor, or without the hardening term
+    (3.5 % of it here), fails."""
+    from paradyn.deck import J2_PLASTICITY
+
+    rate, end = 10.0, 1.0e-3
+    mesh = M.strip(0.1, 0.02, 4, 1)
+    x = mesh.coordinates[:, 0]
+    control = Control(end_time=end, output_interval=end / 4, history_interval=end / 40)
+    fixed = {n: (0, 0, 1, 1, 1, 1) for n in range(mesh.n_nodes)}
+    velocity = np.zeros_like(mesh.coordinates)
+    velocity[:, 0] = rate * x
+    model = M.shell_model(mesh, 1.0e-3, STEEL, control, fixed=fixed, velocity=velocity)
+    model.material_model = np.array([J2_PLASTICITY], dtype=np.int32)
+    model.yield_stress, model.tangent_modulus = np.array([250.0e6]), np.array([2.0e9])
+    model.hardening_mixing = np.array([1.0])
+    nodes = np.arange(mesh.n_nodes)
+    model.curve_first_point = np.array([0], dtype=np.int32)
+    model.curve_time, model.curve_value = np.array([0.0]), np.array([1.0])
+    model.prescribed_node = nodes.astype(np.int32)
+    model.prescribed_dof = np.full(mesh.n_nodes, 1, dtype=np.int32)
+    model.prescribed_value = rate * x
+    model.prescribed_curve = np.zeros(mesh.n_nodes, dtype=np.int32)
+    results = M.run(model, tmp_path).results
+    h = results.history
+    sigma = results.membrane_stress[-1][:, 0]
+    assert np.allclose(sigma, sigma[0], rtol=1e-6) and sigma[0] > 250.0e6   # uniform, hardened
+    final = results.coordinates + results.displacement[-1]
+    c = final[mesh.quads]
+    area = 0.5 * np.linalg.norm(np.cross(c[:, 2] - c[:, 0], c[:, 3] - c[:, 1]), axis=1).sum()
+    elastic = sigma[0] ** 2 / (2.0 * STEEL.young) * area * 1.0e-3
+    plastic = h["part_plastic_work"][-1, 0]
+    assert plastic > 0.5 * h["internal_energy"][-1]
+    assert plastic == pytest.approx(h["internal_energy"][-1] - elastic, rel=0.01)

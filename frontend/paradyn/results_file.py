@@ -206,7 +206,7 @@ def read_history(h5: h5py.File, path: Path, complete: bool) -> dict[str, np.ndar
     # per part (n_records, n_parts) and per contact definition (n_records, n_contacts, 3); files
     # written before the engine had them read as no columns
     for name, tail in (("part_kinetic_energy", ()), ("part_internal_energy", ()), ("part_hourglass_energy", ()),
-                       ("contact_force", (3,))):
+                       ("part_plastic_work", ()), ("contact_force", (3,))):
         width = h5[f"/history/{name}"].shape[1] if f"/history/{name}" in h5 else 0
         out[name] = read_rows(h5, f"/history/{name}", n, (width, *tail), path) if width else np.zeros((n, 0, *tail))
     return out

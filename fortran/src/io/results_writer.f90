@@ -26,8 +26,9 @@ module results_writer
   integer, parameter :: history_batch = 64   !< history records written in one collective write
   !> The histories with a value per part (rank 0 writes them), in the order of the block of values
   !> results_write_history takes; then contact_force, 3 values per contact definition
-  character(len=*), parameter :: part_histories(3) = [character(len=21) :: 'part_kinetic_energy', &
-                                                      'part_internal_energy', 'part_hourglass_energy']
+  character(len=*), parameter :: part_histories(4) = [character(len=21) :: 'part_kinetic_energy', &
+                                                      'part_internal_energy', 'part_hourglass_energy', &
+                                                      'part_plastic_work']
   !> Wall seconds between flushes at frames: a flush syncs the file to disk, which cost more than
   !> writing the frame itself when done at every frame
   real(wp), parameter :: flush_interval_s = 1.0_wp
@@ -41,7 +42,7 @@ module results_writer
     integer :: pending = 0
     real(wp), allocatable :: pending_values(:, :)      !< (1 + history names, history_batch)
     real(wp), allocatable :: pending_tracked(:, :, :)  !< (6, n_tracked, history_batch)
-    real(wp), allocatable :: pending_parts(:, :)       !< (3 n_parts + 3 n_contacts, history_batch)
+    real(wp), allocatable :: pending_parts(:, :)       !< (4 n_parts + 3 n_contacts, history_batch)
     logical :: root = .false.                   !< this rank writes the history
     type(MPI_Comm) :: comm
     real(wp) :: last_flush = 0                  !< MPI_Wtime of the last flush (rank 0's decides)
@@ -221,7 +222,7 @@ contains
     if (.not. allocated(rf%pending_values)) then
       allocate (rf%pending_values(1 + n_history_scalars, history_batch))
       allocate (rf%pending_tracked(6, rf%n_tracked, history_batch))
-      allocate (rf%pending_parts(3 * rf%n_parts + 3 * rf%n_contacts, history_batch))
+      allocate (rf%pending_parts(size(part_histories) * rf%n_parts + 3 * rf%n_contacts, history_batch))
     end if
     rf%records = rf%records + 1
     rf%pending = rf%pending + 1
@@ -301,7 +302,8 @@ contains
                                    [int(np, hsize_t)], first, n)
     end do
     if (rf%n_contacts > 0) call append_root(rf, '/history/contact_force', &
-                                            reshape(rf%pending_parts(3 * np + 1:, 1:n), [3 * rf%n_contacts * n]), &
+                                            reshape(rf%pending_parts(size(part_histories) * np + 1:, 1:n), &
+                                                    [3 * rf%n_contacts * n]), &
                                             [3_hsize_t, int(rf%n_contacts, hsize_t)], first, n)
   end subroutine write_pending_parts
 
