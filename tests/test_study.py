@@ -319,6 +319,8 @@ def test_a_study_table_in_the_scene(tmp_path: Path) -> None:
     (["--knob", "mesh=1,2", "--target", "tiny"], "target 'tiny' is not a number"),
     (["--knob", "mesh=1,2", "--reference", "best"], "unknown reference 'best'"),
     (["--knob", "mesh=1,2", "--target-quantity", "tip"], "'tip' is not a quantity of the study"),
+    (["--knob", "mesh=1,2", "--quantity", "corner.dz@1e-4"], "the scene tracks no point 'corner'"),
+    (["--knob", "mesh=1,2", "--quantity", "tip_corner.dz@3e-4"], "but the runs end at 0.0002 s"),
 ])
 def test_bad_input_exits_2_and_writes_nothing(tmp_path: Path, capsys: pytest.CaptureFixture, args: list[str],
                                               words: str) -> None:

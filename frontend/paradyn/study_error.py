@@ -72,6 +72,20 @@ class Quantity:
         return float(series[np.argmax(np.abs(series))])
 
 
+def check_quantities(quantities: list[Quantity], tracks: list[str], end_time: float) -> None:
+    """A StudyError for a quantity that names a point the scene does not track or a time after the
+    runs' end, before anything runs."""
+    for q in quantities:
+        for column in q.columns:
+            point = column.rsplit("_", 1)[0]
+            if column not in ENERGIES and point not in tracks:
+                raise StudyError(f"quantity '{q.name}': the scene tracks no point '{point}'; its [[track]] names "
+                                 f"are: {', '.join(tracks) or 'none'}")
+        if q.time is not None and q.time > end_time * (1 + 1e-9):
+            raise StudyError(f"quantity '{q.name}' asks for t = {q.time:g} s but the runs end at {end_time:g} s; "
+                             "ask for an earlier time or a longer run (end_time)")
+
+
 def parse_quantities(name: str, text: str) -> list[Quantity]:
     """The quantities written ``text`` (see the module doc), named ``name`` (``name@t`` for several times)."""
     source, at, times = text.strip().partition("@")

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import multiprocessing
 import shutil
+import tomllib
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
@@ -22,6 +23,7 @@ from . import launch, scene
 from .reading import read
 from .study_analysis import StudyResult, StudyRun, analyse
 from .study_design import Design, StudyError, apply, base_values, label
+from .study_error import check_quantities, parse_target
 from .study_output import write_outputs
 from .study_runs import Prepared, adopt, execute, finished, prepare
 from .study_spec import StudySpec, spec_from_table
@@ -77,6 +79,7 @@ def study(source: str | Path | scene.Scene, out: str | Path, *, progress: bool =
     for config in configs:
         apply(sc, config)   # a configuration that cannot be set (a mesh factor) fails here, before any run
     quantities = spec.parsed_quantities(sc)
+    check_quantities(quantities, [t.name for t in sc.tracks], spec.end_time or sc.run.end_time)
     out = Path(out)
     runs_root, staging_root = out / "runs", out / "staging"
     runs_root.mkdir(parents=True, exist_ok=True)
@@ -106,7 +109,6 @@ def _spec(sc: scene.Scene, options: dict[str, Any]) -> StudySpec:
     table = _study_table(sc)
     spec = spec_from_table(table, str(sc.path)) if table else StudySpec()
     if options.get("target") is not None:
-        from .study_error import parse_target
         options["target"] = parse_target(options["target"])
     spec = spec.merged(**options)
     spec.check()
@@ -115,8 +117,6 @@ def _spec(sc: scene.Scene, options: dict[str, Any]) -> StudySpec:
 
 def _study_table(sc: scene.Scene) -> dict[str, Any]:
     """The scene file's ``[study]`` table ({} without one, or for a scene built in Python)."""
-    import tomllib
-
     path = Path(sc.path)
     if not path.is_file():
         return {}
