@@ -360,3 +360,17 @@ def test_a_failed_run_is_reported_and_not_cached(tmp_path: Path, capsys: pytest.
     tip = data["references"]["tip"]
     assert tip["source"] == "none" and "give a reference value" in tip["note"]
     assert study_main(args) == 1 and "2 run now, 0 from the cache" in (out / "study.md").read_text()
+
+
+def test_a_scene_built_in_python(tmp_path: Path) -> None:
+    """paradyn.study takes a paradyn.Scene as it takes a file: the same decks, so the same runs."""
+    built = paradyn.Scene.from_toml(PLATE)
+    options = {"knobs": {"mesh": [1, 2]}, "quantities": {"tip": "tip_corner.dz:final"}, "progress": False,
+               "jobs": 1}
+    from_file = paradyn.study(PLATE, tmp_path, **options)
+    from_python = paradyn.study(built, tmp_path, **options)
+    assert from_python.ran == 0 and [r.key for r in from_python.runs] == [r.key for r in from_file.runs]
+    path = tmp_path / "scene.toml"   # a [study] table comes along with the scene's tables, and is checked
+    path.write_text(PLATE.read_text() + STUDY_TABLE.replace('cost = "engine_s"', 'costs = "engine_s"'))
+    with pytest.raises(StudyError, match="unknown key 'costs' in \\[study\\]"):
+        paradyn.study(paradyn.Scene.from_toml(path), tmp_path / "other", progress=False)

@@ -20,6 +20,7 @@ from typing import Any
 from tqdm.auto import tqdm
 
 from . import launch, scene
+from .builder import Scene as SceneBuilder
 from .reading import read
 from .study_analysis import StudyResult, StudyRun, analyse
 from .study_design import Design, StudyError, apply, base_values, label
@@ -31,14 +32,15 @@ from .study_spec import StudySpec, spec_from_table
 __all__ = ["Design", "StudyError", "StudyResult", "StudySpec", "study"]
 
 
-def study(source: str | Path | scene.Scene, out: str | Path, *, progress: bool = True,
+def study(source: str | Path | scene.Scene | SceneBuilder, out: str | Path, *, progress: bool = True,
           command: str | None = None, **options: Any) -> StudyResult:
     """Run a study of a scene and write its tables and plot into ``out``.
 
     Parameters
     ----------
-    source : str, Path or paradyn.scene.Scene
-        The scene; its ``[study]`` table, when it has one, gives the defaults of every option.
+    source : str, Path, paradyn.Scene or paradyn.scene.Scene
+        The scene; its ``[study]`` table (of the file, or of a :class:`paradyn.Scene`'s tables),
+        when it has one, gives the defaults of every option.
     out : str or Path
         The study folder: ``runs/<key>/`` (one folder per distinct deck, reused by later studies),
         ``study.csv``, ``study.json``, ``study.md`` and ``pareto.png``.
@@ -73,8 +75,12 @@ def study(source: str | Path | scene.Scene, out: str | Path, *, progress: bool =
     ...                        target="1%")                        # doctest: +SKIP
     >>> result.analysis.target_answer                            # doctest: +SKIP
     """
-    sc = source if isinstance(source, scene.Scene) else scene.load_scene(source)
-    spec = _spec(sc, options)
+    if isinstance(source, SceneBuilder):
+        sc, table = source.validate(), source.to_dict().get("study", {})
+    else:
+        sc = source if isinstance(source, scene.Scene) else scene.load_scene(source)
+        table = _study_table(sc)
+    spec = _spec(sc, table, options)
     configs = spec.design.configurations(sc)
     for config in configs:
         apply(sc, config)   # a configuration that cannot be set (a mesh factor) fails here, before any run
@@ -105,8 +111,7 @@ def study(source: str | Path | scene.Scene, out: str | Path, *, progress: bool =
     return result
 
 
-def _spec(sc: scene.Scene, options: dict[str, Any]) -> StudySpec:
-    table = _study_table(sc)
+def _spec(sc: scene.Scene, table: dict[str, Any], options: dict[str, Any]) -> StudySpec:
     spec = spec_from_table(table, str(sc.path)) if table else StudySpec()
     if options.get("target") is not None:
         options["target"] = parse_target(options["target"])
