@@ -53,8 +53,6 @@ def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
 # ----------------------------------------------------------------------------------------------
 # parsing
 
-
-# [study] belongs to paradyn-study (docs/accuracy-cost.md): checked there, a table ignored by a run
 _TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "track", "contact", "rigid_wall",
              "curve", "pressure", "prescribe", "study")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
@@ -99,7 +97,7 @@ def scene_from_tables(data: Mapping[str, Any], path: Path) -> Scene:
         raise reader.error(f"'title' must be a string, got {title!r}")
     run = _parse_run(reader, reader.table(data, "run", "the scene"))
     run.effect_switches = _parse_effects(reader, reader.table(data, "effects", "the scene", required=False))
-    reader.table(data, "study", "the scene", required=False)   # a table; its keys are paradyn-study's
+    reader.table(data, "study", "the scene", required=False)   # paradyn-study's, docs/accuracy-cost.md
     materials = [_parse_material(reader, t, i) for i, t in enumerate(reader.tables(data, "material"))]
     parts = [_parse_part(reader, t, i) for i, t in enumerate(reader.tables(data, "part"))]
     _check_mesh_size(reader, parts)
