@@ -252,6 +252,9 @@ def test_pipe_whip_contact_slows_the_upper_pipe_and_bends_the_lower(pipe_run: Pa
     assert accuracy["energy_balance_error"] == summary["energy"]["balance_error"]
     assert accuracy["peak_penetration_over_thickness"] == pytest.approx(history["contact_penetration"].max() / 0.003)
     assert 0 < accuracy["peak_contact_over_internal"] < 1 and 0 < accuracy["peak_hourglass_over_internal"] < 1
+    peak_internal = history["internal_energy"].max()
+    assert accuracy["peak_contact_over_internal"] == pytest.approx(history["contact_energy"].max() / peak_internal)
+    assert accuracy["peak_hourglass_over_internal"] == pytest.approx(history["hourglass_energy"].max() / peak_internal)
     assert accuracy["dt_over_stable_dt"] == pytest.approx(summary["dt_s"] / summary["dt_stable_s"])
     assert accuracy["added_mass_fraction"] == 0.0
     assert accuracy["dt_min_s"] == pytest.approx(history["dt"].min()) and accuracy["dt_max_s"] >= accuracy["dt_min_s"]

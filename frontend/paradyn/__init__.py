@@ -2,11 +2,13 @@
 
 The frontend meshes scenes with gmsh, writes HDF5 decks, launches the Fortran engine and turns its
 results into VTK, CSV, JSON and plots. ``paradyn.run(source, out)`` does all of it in one call;
-``paradyn.read(path)`` opens a results file.
+``paradyn.read(path)`` opens a results file; ``paradyn.study(scene, out, knobs=...)`` shows what
+accuracy costs in time (docs/accuracy-cost.md).
 """
 from .builder import Cylinder, MeshFile, Plate, Scene
 from .reading import Results, read
+from .study_sweep import study
 from .workflow import BatchJob, run
 
-__all__ = ["BatchJob", "Cylinder", "MeshFile", "Plate", "Results", "Scene", "read", "run"]
+__all__ = ["BatchJob", "Cylinder", "MeshFile", "Plate", "Results", "Scene", "read", "run", "study"]
 __version__ = "0.1.0"

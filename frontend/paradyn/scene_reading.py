@@ -53,9 +53,8 @@ def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
 # ----------------------------------------------------------------------------------------------
 # parsing
 
-
 _TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "track", "contact", "rigid_wall",
-             "curve", "pressure", "prescribe")
+             "curve", "pressure", "prescribe", "study")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
              "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "contact_travel_limit",
@@ -98,6 +97,7 @@ def scene_from_tables(data: Mapping[str, Any], path: Path) -> Scene:
         raise reader.error(f"'title' must be a string, got {title!r}")
     run = _parse_run(reader, reader.table(data, "run", "the scene"))
     run.effect_switches = _parse_effects(reader, reader.table(data, "effects", "the scene", required=False))
+    reader.table(data, "study", "the scene", required=False)   # paradyn-study's, docs/accuracy-cost.md
     materials = [_parse_material(reader, t, i) for i, t in enumerate(reader.tables(data, "material"))]
     parts = [_parse_part(reader, t, i) for i, t in enumerate(reader.tables(data, "part"))]
     _check_mesh_size(reader, parts)
