@@ -2,10 +2,12 @@
 
 The frontend meshes scenes with gmsh, writes HDF5 decks, launches the Fortran engine and turns its
 results into VTK, CSV, JSON and plots. ``paradyn.run(source, out)`` does all of it in one call;
-``paradyn.read(path)`` opens a results file.
+``paradyn.read(path)`` opens a results file; ``paradyn.read_keyword(path)`` reads an LS-DYNA
+keyword deck into a deck model (docs/keyword.md).
 """
+from .keyword_scene import read_keyword
 from .reading import Results, read
 from .workflow import BatchJob, run
 
-__all__ = ["BatchJob", "Results", "read", "run"]
+__all__ = ["BatchJob", "Results", "read", "read_keyword", "run"]
 __version__ = "0.1.0"

@@ -14,7 +14,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from . import deck, launch, scene
+from . import deck, keyword_scene, launch, scene
 from .engine_process import Progress, ProgressBar
 from .postprocess import post_process
 from .reading import Results, read
@@ -60,7 +60,8 @@ def run(
     Parameters
     ----------
     source : str, Path, paradyn.scene.Scene or paradyn.deck.Model
-        A scene file (``.toml``), a deck file (``.h5``, read and checked), a scene loaded with
+        A scene file (``.toml``), a deck file (``.h5``, read and checked), an LS-DYNA keyword
+        deck (``.k``, ``.key``, ``.dyn``: docs/keyword.md), a scene loaded with
         :func:`paradyn.scene.load_scene`, or a model built in Python.
     out : str or Path
         The output folder (created): ``deck.h5``, ``results.h5``, ``engine.log`` and the
@@ -194,6 +195,8 @@ def model_of(source: Source) -> deck.Model:
     path = Path(source)
     if path.suffix in DECK_SUFFIXES:
         return deck.read_deck(path)
+    if path.suffix.lower() in keyword_scene.KEYWORD_SUFFIXES:   # LS-DYNA keyword deck (docs/keyword.md)
+        return keyword_scene.read_keyword(path)
     return scene.build_model(scene.load_scene(path))
 
 
