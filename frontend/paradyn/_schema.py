@@ -225,12 +225,12 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'use 1 to fix a dof and 0 to leave it free',
     ),
     DatasetSpec(
-        '/nodes/id', 'node_ids', 'int', ('n_nodes',), False, None, None, None, Bound(1, True), None,
-        'must be >= 1', None, '', None, False, '-',
+        '/nodes/id', 'node_ids', 'int', ('n_nodes',), False, None, None, None, Bound(0, True), None,
+        'must be >= 0', None, '', None, False, '-',
         (
             "the node's id in the file the mesh came from (LS-DYNA NID), kept for the outputs; the engine ignores "
-            'it (absent: the 1-based row number)'
-        ), '-', 'give every node a positive id, or leave the dataset out',
+            'it (absent, or 0: the outputs use the 1-based row number)'
+        ), '-', 'give every node a positive id (0 for none), or leave the dataset out',
     ),
     DatasetSpec(
         '/elements/connectivity', 'connectivity', 'int', ('n_elements', 4), True, None, None, None, None, None, '',
@@ -245,12 +245,12 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'part', False, '-', 'part index of each element', '[[part]]', 'give every element the index of its part',
     ),
     DatasetSpec(
-        '/elements/id', 'element_ids', 'int', ('n_elements',), False, None, None, None, Bound(1, True), None,
-        'must be >= 1', None, '', None, False, '-',
+        '/elements/id', 'element_ids', 'int', ('n_elements',), False, None, None, None, Bound(0, True), None,
+        'must be >= 0', None, '', None, False, '-',
         (
             "the element's id in the file the mesh came from (LS-DYNA EID), kept for the outputs; the engine "
-            'ignores it (absent: the 1-based row number)'
-        ), '-', 'give every element a positive id, or leave the dataset out',
+            'ignores it (absent, or 0: the outputs use the 1-based row number)'
+        ), '-', 'give every element a positive id (0 for none), or leave the dataset out',
     ),
     DatasetSpec(
         '/parts/thickness', 'thickness', 'float', ('n_parts',), True, None, None, None, Bound(0.0, False), None,
@@ -291,12 +291,12 @@ DATASETS: tuple[DatasetSpec, ...] = (
         ), '[[part]] warping_correction', 'use 1 (warping correction on) or 0 (off)',
     ),
     DatasetSpec(
-        '/parts/id', 'part_ids', 'int', ('n_parts',), False, None, None, None, Bound(1, True), None,
-        'must be >= 1', None, '', None, False, '-',
+        '/parts/id', 'part_ids', 'int', ('n_parts',), False, None, None, None, Bound(0, True), None,
+        'must be >= 0', None, '', None, False, '-',
         (
             "the part's id in the file the mesh came from (LS-DYNA PID), kept for the outputs; the engine ignores "
-            'it (absent: the 1-based row number)'
-        ), '-', 'give every part a positive id, or leave the dataset out',
+            'it (absent, or 0: the outputs use the 1-based row number)'
+        ), '-', 'give every part a positive id (0 for none), or leave the dataset out',
     ),
     DatasetSpec(
         '/materials/model', 'material_model', 'int', ('n_materials',), True, None, None, None, None, None, '',

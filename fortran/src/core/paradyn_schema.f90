@@ -344,8 +344,8 @@ module paradyn_schema
         [0, 1, 0], size_none, '', 'must be 0 or 1 (0 = free, 1 = fixed)', &
         'use 1 to fix a dof and 0 to leave it free'), &
     dataset_spec_t('/nodes/id', class_int, 0, size_n_nodes, .false., .false., condition_none, condition_none, &
-        0.0_wp, .true., .true., .false., .true., 1.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], size_none, &
-        'must be >= 1', '', 'give every node a positive id, or leave the dataset out'), &
+        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], size_none, &
+        'must be >= 0', '', 'give every node a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/elements/connectivity', class_int, 4, size_n_elements, .true., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_n_nodes, '', '', 'remesh'), &
@@ -353,8 +353,9 @@ module paradyn_schema
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_n_parts, '', '', 'give every element the index of its part'), &
     dataset_spec_t('/elements/id', class_int, 0, size_n_elements, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .true., .true., .false., .true., 1.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
-        size_none, 'must be >= 1', '', 'give every element a positive id, or leave the dataset out'), &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
+        size_none, 'must be >= 0', '', &
+        'give every element a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/parts/thickness', class_float, 0, size_n_parts, .true., .true., condition_none, &
         condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, 'must be > 0', '', 'set a positive shell thickness in metres'), &
@@ -376,8 +377,8 @@ module paradyn_schema
         condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, 'must be between 0 and 1', '', 'use 1 (warping correction on) or 0 (off)'), &
     dataset_spec_t('/parts/id', class_int, 0, size_n_parts, .false., .false., condition_none, condition_none, &
-        0.0_wp, .true., .true., .false., .true., 1.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], size_none, &
-        'must be >= 1', '', 'give every part a positive id, or leave the dataset out'), &
+        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], size_none, &
+        'must be >= 0', '', 'give every part a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/materials/model', class_int, 0, size_n_materials, .true., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 2, &
         [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = elastic, 2 = j2_plasticity)', &
