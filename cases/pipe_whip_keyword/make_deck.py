@@ -62,7 +62,8 @@ def deck_text(sc: scene.Scene, model: deck.Model) -> list[str]:
              "*DEFINE_CURVE", _row(1), f"{0.0:>20}{run.time_step:>20}", f"{1.0:>20}{run.time_step:>20}",
              "*DATABASE_BINARY_D3PLOT", _row(run.output_interval),
              "*DATABASE_GLSTAT", _row(run.history_interval),
-             "*MAT_PLASTIC_KINEMATIC_TITLE", steel.name, "$       MID        RO         E        PR      SIGY      ETAN      BETA",
+             "*MAT_PLASTIC_KINEMATIC_TITLE", steel.name,
+             "$       MID        RO         E        PR      SIGY      ETAN      BETA",
              _row(1, steel.density, f"{steel.youngs_modulus:.4g}", steel.poisson_ratio, f"{steel.yield_stress:.4g}",
                   steel.tangent_modulus, steel.hardening_mixing)]
     for index, part in enumerate(sc.parts):
@@ -70,7 +71,8 @@ def deck_text(sc: scene.Scene, model: deck.Model) -> list[str]:
         lines += ["*SECTION_SHELL", "$     SECID    ELFORM      SHRF       NIP",
                   _row(pid, 10 if part.warping_correction else 2, 1.0, part.integration_points),
                   _row(*[part.thickness] * 4),
-                  "*HOURGLASS", _row(pid, {"viscous": 1, "stiffness": 4}[part.hourglass_form], part.hourglass_coefficient),
+                  "*HOURGLASS",
+                  _row(pid, {"viscous": 1, "stiffness": 4}[part.hourglass_form], part.hourglass_coefficient),
                   "*PART", part.name, _row(pid, pid, 1, 0, pid)]
     lines += ["*NODE", "$ free format: every digit of the scene's coordinates"]
     lines += [f"{nid},{x!r},{y!r},{z!r}" for nid, (x, y, z) in zip(node_ids.tolist(), model.coordinates.tolist(),

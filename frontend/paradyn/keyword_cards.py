@@ -125,9 +125,12 @@ class _Reading:
             lines.pop()
         return [line for line in lines if line.text.strip()] if skip_blank else lines
 
-    def groups(self, size: int) -> Iterator[list[Line]]:
-        """The lines in groups of ``size`` cards (a keyword may repeat its group)."""
+    def groups(self, size: int, optional_last: bool = False) -> Iterator[list[Line]]:
+        """The lines in groups of ``size`` cards (a keyword may repeat its group); with
+        ``optional_last`` a missing last card of the last group is a blank one (its defaults)."""
         lines = self.lines(skip_blank=False)
+        if optional_last and lines and len(lines) % size == size - 1:
+            lines.append(Line("", lines[-1].path, lines[-1].number + 1))
         if len(lines) % size:
             raise KeywordError(f"{self.block.where}: *{self.keyword} takes groups of {size} cards, its "
                                f"{len(lines)} lines are not a whole number of groups; complete the last one")
@@ -176,7 +179,8 @@ def _section_shell(r: _Reading) -> None:
         r.data.sections[int(first["SECID"])] = [first, second]
 
 
-def _material(model: str, cards: tuple[tuple[Field, ...], ...], ignored: dict[str, Value]) -> Callable[[_Reading], None]:
+def _material(model: str, cards: tuple[tuple[Field, ...], ...],
+              ignored: dict[str, Value]) -> Callable[[_Reading], None]:
     def read(r: _Reading) -> None:
         titled = "TITLE" in r.keyword.split("_")
         lines = r.head_and_rest(titled)
@@ -218,7 +222,7 @@ def _spc(target: str) -> Callable[[_Reading], None]:
 
 
 def _velocity_generation(r: _Reading) -> None:
-    for group in r.groups(2):
+    for group in r.groups(2, optional_last=True):
         first = r.card(group[0], VELOCITY_GENERATION[0], {"IVATN": 0, "ICID": 0})
         second = r.card(group[1], VELOCITY_GENERATION[1], {"PHASE": 0, "IRIGID": 0})
         r.data.velocity_generation.append([first, second])

@@ -130,7 +130,7 @@ def _read_into(deck: KeywordFile, path: Path, stack: tuple[Path, ...], long: boo
     return long
 
 
-_KEYWORD_NAME = re.compile(r"\*([A-Za-z0-9_]+)([+\-%]?)")
+_KEYWORD_NAME = re.compile(r"\*([A-Za-z0-9_]+)\s*([+\-%]?)")
 
 
 def _blocks_of(path: Path, lines: list[str], long: bool) -> list[Block]:
@@ -148,9 +148,9 @@ def _blocks_of(path: Path, lines: list[str], long: bool) -> list[Block]:
             if suffix == "%":
                 raise KeywordError(f"{path}:{number}: *{name}% (the i10 format) is not read; write the "
                                    f"keyword in standard, long (+) or free (comma) format")
-            is_long = suffix == "+" or (long and suffix != "-")
             if name == "KEYWORD" and re.search(r"LONG\s*=\s*[YS]", text.upper()):
-                is_long = True
+                long = True    # long format from here on, in this file and the files it includes
+            is_long = suffix == "+" or (long and suffix != "-")
             blocks.append(Block(name=name, path=path, number=number, long=is_long))
         elif blocks:
             blocks[-1].lines.append(Line(text=text, path=path, number=number))

@@ -18,7 +18,7 @@ import numpy as np
 
 from paradyn import _schema, deck
 from paradyn.keyword_cards import KeywordData, Record, collect
-from paradyn.keyword_mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of, nodes_of_parts
+from paradyn.keyword_mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of
 from paradyn.keyword_reader import KeywordError, read_keyword_file
 from paradyn.keyword_units import Units, UnitsError
 from paradyn.scene_building import _apply_contacts
@@ -71,13 +71,24 @@ def read_keyword(path: str | Path, units: str | None = None, quiet: bool = False
     return read.model
 
 
-def load_keyword(path: str | Path, units: str | None = None) -> KeywordScene:
-    """Read a keyword file into a :class:`KeywordScene` (see :func:`read_keyword`)."""
-    path = Path(path)
+def keyword_scene(path: str | Path, units: str | None = None) -> Scene:
+    """The scene-level description of a keyword file: run settings, materials, parts (each with
+    its elements of the deck's mesh as geometry) and contacts, in SI. The node-level data (fixed
+    dofs, initial velocities, tracked nodes) has no scene form; :func:`load_keyword` adds it."""
+    return _read(Path(path), units)[0]
+
+
+def _read(path: Path, units: str | None) -> tuple[Scene, KeywordData, Units, KeywordMesh]:
     data = collect(read_keyword_file(path))
     unit = _units(path, data, units)
     mesh = mesh_of(data, unit)
-    scene = _scene(path, data, unit, mesh)
+    return _scene(path, data, unit, mesh), data, unit, mesh
+
+
+def load_keyword(path: str | Path, units: str | None = None) -> KeywordScene:
+    """Read a keyword file into a :class:`KeywordScene` (see :func:`read_keyword`)."""
+    path = Path(path)
+    scene, data, unit, mesh = _read(path, units)
     model = _model(scene, data, unit, mesh)
     try:
         deck.validate_model(model, source=f"{path} (model read from the keyword deck)")
@@ -136,7 +147,8 @@ def _part_name(record: Record, taken: set[str]) -> str:
     return name
 
 
-def _parts_and_materials(data: KeywordData, unit: Units, mesh: KeywordMesh) -> tuple[list[PartSpec], list[MaterialSpec]]:
+def _parts_and_materials(data: KeywordData, unit: Units,
+                         mesh: KeywordMesh) -> tuple[list[PartSpec], list[MaterialSpec]]:
     by_pid = {int(p["PID"]): p for p in data.parts}
     parts: list[PartSpec] = []
     materials: dict[int, MaterialSpec] = {}
@@ -235,9 +247,6 @@ def _contacts(data: KeywordData, kind: str, cards: list[Record], name_of: dict[i
               "dynamic_friction": float(second["FD"]),
               "friction_decay": float(second["DC"]) * unit.time / unit.length}
     if kind == "single_surface":
-        if "single_surface" not in _schema.ENUMS["contact_kind"]:
-            raise KeywordError(f"{first.where}: *CONTACT_AUTOMATIC_SINGLE_SURFACE needs single-surface "
-                               f"contact, which this ParaDyn's engine does not have yet (docs/keyword.md)")
         return [ContactSpec(parts=tuple(name_of[p] for p in slave), kind="single_surface", **common)]
     master = _id_list(data, int(first["MSTYP"]), int(first["MSID"]), first.where, "MSTYP")
     pairs = dict.fromkeys((s, m) for s in slave for m in master if s != m and m in name_of)
@@ -317,6 +326,10 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
         control=deck.Control(**vars(scene.run)), title=scene.title,
         part_names=[p.name for p in parts], material_names=[m.name for m in materials],
     )
+    unknown = [c.kind for c in scene.contacts if c.kind not in _schema.ENUMS["contact_kind"]]
+    if unknown:
+        raise KeywordError(f"{scene.path}: the deck's *CONTACT_AUTOMATIC_SINGLE_SURFACE needs {unknown[0]} contact, "
+                           f"which this ParaDyn's engine does not have yet (docs/keyword.md)")
     _apply_contacts(scene, model)
     _apply_tracks(data, mesh, model)
     mesh.store_ids(model)
@@ -336,4 +349,4 @@ def _apply_tracks(data: KeywordData, mesh: KeywordMesh, model: deck.Model) -> No
     model.tracked_names = names
 
 
-__all__ = ["KEYWORD_SUFFIXES", "KeywordScene", "load_keyword", "nodes_of_parts", "read_keyword"]
+__all__ = ["KEYWORD_SUFFIXES", "KeywordScene", "keyword_scene", "load_keyword", "read_keyword"]
