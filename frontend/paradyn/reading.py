@@ -240,13 +240,13 @@ class Results:
 
     def ids(self) -> grids.FileIds:
         """The ids of the nodes, elements and parts in the mesh file the model came from (a
-        keyword deck's NID, EID, PID); the 1-based row numbers where the deck holds none."""
+        keyword deck's NID, EID, PID, a gmsh file's tags; 0 for parts that came from no file);
+        the 1-based row numbers where the deck holds none."""
         rows = {"node": self.n_nodes, "element": self.n_elements, "part": self.n_parts}
         ids = {}
         for kind, n in rows.items():
             stored = self.file_ids.get(kind)
-            ids[kind] = stored if stored is not None and stored.shape == (n,) and np.all(stored > 0) \
-                else np.arange(1, n + 1)
+            ids[kind] = stored if stored is not None and stored.shape == (n,) else np.arange(1, n + 1)
         return grids.FileIds(**ids)
 
     def frame(
