@@ -14,7 +14,8 @@ from .reports import accuracy_text, effect_table_text
 DESCRIPTION = """\
 Run a ParaDyn scene end to end.
 
-SCENE is a TOML scene file (see docs/scene.md) or a deck.h5 written earlier (docs/formats.md).
+SCENE is a TOML scene file (see docs/scene.md), an LS-DYNA keyword deck (.k, .key, .dyn; the
+subset of docs/keyword.md) or a deck.h5 written earlier (docs/formats.md).
 Inside a Slurm allocation the engine runs under srun; --sbatch writes OUTDIR/job.sbatch instead
 of running (submit it with sbatch; it runs the engine, then `paradyn-run --post OUTDIR`).
 --post OUTDIR redoes the post-processing of a finished run from its results.h5 and deck.h5.
@@ -41,7 +42,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="paradyn-run", description=DESCRIPTION,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     ranks, threads = launch.default_layout()
-    parser.add_argument("scene", type=Path, help="scene file (.toml) or deck (.h5)")
+    parser.add_argument("scene", type=Path, help="scene file (.toml), LS-DYNA keyword deck (.k) or deck (.h5)")
     parser.add_argument("-o", "--output", type=Path, default=None,
                         help="output folder (default: runs/<name of the scene's folder> under the current folder)")
     parser.add_argument("-n", "--ranks", type=int, default=ranks, help=f"MPI ranks (default {ranks})")

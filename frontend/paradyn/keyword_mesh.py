@@ -77,6 +77,10 @@ def mesh_of(data: KeywordData, unit: Units) -> KeywordMesh:
             raise KeywordError(f"{record.where}: *ELEMENT_SHELL {eid} is defined twice (first at {seen[eid]})")
         seen[eid] = record.where
         parts.append(part_order[int(record["PID"])])
+    largest = max(max(node_row), max(seen), max(part_order))
+    if largest > np.iinfo(np.int32).max:
+        raise KeywordError(f"id {largest} is larger than the deck format's ids ({np.iinfo(np.int32).max}); "
+                           f"renumber the deck")
     used, inverse = np.unique(np.array(quads, dtype=np.int64), return_inverse=True)
     unused = len(data.nodes) - used.size
     if unused:

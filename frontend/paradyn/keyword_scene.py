@@ -119,9 +119,10 @@ def _units(path: Path, data: KeywordData, units: str | None) -> Units:
 
 
 def _id_list(data: KeywordData, kind: int, ident: int, where: str, what: str) -> list[int]:
-    """Part ids of a contact side: ``kind`` is LS-DYNA's SSTYP/MSTYP (2 part set, 3 part, 5 all)."""
+    """Part ids of a contact side: ``kind`` is LS-DYNA's SSTYP/MSTYP (2 part set, 3 part, 5 all);
+    an id of 0 takes every part."""
     every = [int(p["PID"]) for p in data.parts]
-    if kind == 5 or (kind in (2, 3) and ident == 0):
+    if kind == 5 or ident == 0:
         return every
     if kind == 3:
         return [ident]
