@@ -301,3 +301,15 @@ def test_time_step_cap_mass_scaling_and_history_nodes(tmp_path: Path) -> None:
     assert (c.time_step, c.time_step_safety, c.output_interval, c.history_interval) == (1e-6, 0.8, 1e-4, 1e-5)
     assert c.mass_scaling_step == pytest.approx(0.8 * 2e-6)
     assert model.tracked_nodes.tolist() == [2, 5, 0] and model.tracked_names == ["node_13", "node_16", "corner"]
+
+
+@pytest.mark.skipif("single_surface" not in _schema.ENUMS["contact_kind"],
+                    reason="to enable once the engine has single-surface contact (issue 18, the lead's branch)")
+def test_single_surface_deck_runs(tmp_path: Path) -> None:
+    """End to end: a deck with *CONTACT_AUTOMATIC_SINGLE_SURFACE over every part builds and runs."""
+    extra = "*CONTACT_AUTOMATIC_SINGLE_SURFACE\n         0         0         5\n"
+    head = HEAD.replace("     0.001", "    1.0e-5")
+    model = load_keyword(_deck(tmp_path, head + TWO_PARTS + extra)).model
+    assert model.n_contacts >= 1
+    res = paradyn.run(model, tmp_path / "run", ranks=1, threads=1, post=False)
+    assert res.history["time"][-1] == pytest.approx(1e-5)

@@ -10,7 +10,7 @@ import meshio
 import numpy as np
 import pytest
 
-from paradyn import geometry, scene
+from paradyn import geometry, mesh_files, scene
 
 SCENE = """
 [run]
@@ -85,11 +85,11 @@ def two_groups(tmp_path: Path) -> Path:
 
 
 def test_gmsh_groups_are_parts_with_the_file_ids(two_groups: Path, tmp_path: Path) -> None:
-    left, right = geometry.load_mesh(two_groups, "left"), geometry.load_mesh(two_groups, "right")
+    left, right = mesh_files.load_mesh(two_groups, "left"), mesh_files.load_mesh(two_groups, "right")
     assert (left.part_id, right.part_id) == (11, 12)
     assert left.node_ids.min() > 1000 and len(set(left.element_ids) & set(right.element_ids)) == 0
     assert left.coordinates[:, 0].max() == pytest.approx(1.0) and right.coordinates[:, 0].min() == pytest.approx(1.0)
-    whole = geometry.load_mesh(two_groups)
+    whole = mesh_files.load_mesh(two_groups)
     assert whole.n_elements == left.n_elements + right.n_elements and whole.part_id is None
     path = tmp_path / "scene.toml"
     path.write_text(SCENE.format(file=two_groups.name))
@@ -102,7 +102,7 @@ def test_gmsh_groups_are_parts_with_the_file_ids(two_groups: Path, tmp_path: Pat
 
 def test_gmsh_group_that_does_not_exist_names_the_groups(two_groups: Path) -> None:
     with pytest.raises(geometry.GeometryError, match=r"no surface physical group named 'middle'.*'left', 'right'"):
-        geometry.load_mesh(two_groups, "middle")
+        mesh_files.load_mesh(two_groups, "middle")
 
 
 def test_meshio_cell_sets_select_parts(tmp_path: Path) -> None:
@@ -112,7 +112,7 @@ def test_meshio_cell_sets_select_parts(tmp_path: Path) -> None:
     path = tmp_path / "two.inp"
     meshio.write(path, meshio.Mesh(points, [("quad", quads)], cell_sets={"lid": [np.array([1])],
                                                                           "base": [np.array([0])]}))
-    lid = geometry.load_mesh(path, "lid")
+    lid = mesh_files.load_mesh(path, "lid")
     assert lid.n_elements == 1 and lid.coordinates[:, 0].min() == 1.0 and lid.node_ids is None
     with pytest.raises(geometry.GeometryError, match=r"no cell set named 'top'; the file has \['base', 'lid'\]"):
-        geometry.load_mesh(path, "top")
+        mesh_files.load_mesh(path, "top")

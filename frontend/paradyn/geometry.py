@@ -1,4 +1,5 @@
-"""Shell meshes for ParaDyn: structured cylinders (gmsh), flat plates (numpy) and mesh files (meshio).
+"""Shell meshes for ParaDyn: structured cylinders (gmsh) and flat plates (numpy); mesh files are read by
+:mod:`paradyn.mesh_files`.
 
 Every mesh is a :class:`Mesh` of 4-node quadrilaterals with 0-based node indices, counter-clockwise
 seen from the side the shell normal points to (the convention of ``docs/formats.md``).
@@ -291,14 +292,6 @@ def plate(
 
 # ----------------------------------------------------------------------------------------------
 # mesh files
-
-
-def load_mesh(path: str | Path, group: str | None = None) -> Mesh:
-    """Read the quadrilaterals of a mesh file (any format meshio reads: .msh, .vtu, .inp, ...), of
-    one physical group or cell set if ``group`` names one; see :func:`paradyn.mesh_files.load_mesh`."""
-    from .mesh_files import load_mesh as load
-
-    return load(path, group)
 
 
 def reject_other_cells(path: Path, counts: dict[str, int]) -> None:
