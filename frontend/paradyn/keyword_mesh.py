@@ -149,6 +149,8 @@ def fixed_dofs(data: KeywordData, mesh: KeywordMesh) -> np.ndarray:
     """The fixed dofs (n_nodes, 6) of *NODE TC/RC and *BOUNDARY_SPC_NODE / _SET."""
     fixed = np.zeros((len(mesh.coordinates), 6), dtype=np.int32)
     for record in data.nodes:
+        if not (record["TC"] or record["RC"]):
+            continue
         row = mesh.node_index.get(int(record["NID"]))
         for column, offset in (("TC", 0), ("RC", 3)):
             code = int(record[column] or 0)

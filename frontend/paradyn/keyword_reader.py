@@ -12,6 +12,7 @@ file, the line and the field. docs/keyword.md lists what is read.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from collections.abc import Sequence
@@ -220,15 +221,23 @@ def fields(line: Line, card: Sequence[Field], *, long: bool, parameters: dict[st
             raise KeywordError(f"{line.where}: *{keyword} takes {len(card)} fields on this card, the line "
                                f"has {len(raw)}; remove the extra entries")
     else:
-        raw, start = [], 0
-        for spec in card:
-            width = max(spec.width, LONG_WIDTH) if long else spec.width
-            raw.append(line.text[start:start + width].strip())
-            start += width
+        text = line.text
+        raw = [text[start:end].strip() for start, end in _columns(tuple(card), long)]
     values: dict[str, Value] = {}
     for spec, text in zip(card, raw + [""] * (len(card) - len(raw)), strict=True):
         values[spec.name] = _value(line, keyword, spec, text, parameters)
     return values
+
+
+@functools.lru_cache(maxsize=256)
+def _columns(card: tuple[Field, ...], long: bool) -> tuple[tuple[int, int], ...]:
+    """The (start, end) columns of the card's fields, standard or long."""
+    spans, start = [], 0
+    for spec in card:
+        width = max(spec.width, LONG_WIDTH) if long else spec.width
+        spans.append((start, start + width))
+        start += width
+    return tuple(spans)
 
 
 def _value(line: Line, keyword: str, spec: Field, text: str, parameters: dict[str, float | int | str]) -> Value:
