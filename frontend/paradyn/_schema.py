@@ -112,7 +112,7 @@ ENUMS: dict[str, dict[str, int]] = {
     'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
     'contact_passes': {'alternate': 1, 'both': 2},
-    'contact_kind': {'node_to_segment': 1},
+    'contact_kind': {'node_to_segment': 1, 'single_surface': 2},
     'initial_penetration': {'move': 1, 'gap': 2},
     'contact_gather': {'near': 1, 'all': 2},
     'switch': {'off': 0, 'on': 1},
@@ -183,7 +183,8 @@ RELATIONS: dict[str, RelationSpec] = {
         'tangent_modulus < youngs_modulus for a j2_plasticity material',
     ),
     'contact_parts_differ': RelationSpec(
-        'contact_parts_differ', '/contact/pairs', 'a contact pair names two different parts',
+        'contact_parts_differ', '/contact/pairs',
+        'a node_to_segment pair names two different parts, a single_surface definition its one part twice',
     ),
     'rigid_wall_normal_nonzero': RelationSpec(
         'rigid_wall_normal_nonzero', '/rigid_walls/normal', 'the normal of a rigid wall is not the zero vector',
@@ -366,8 +367,11 @@ DATASETS: tuple[DatasetSpec, ...] = (
     DatasetSpec(
         '/contact/pairs', 'contact_pairs', 'int', ('n_contacts', 2), False, 'contact_group', None, None, None,
         None, '', None, '', 'part', True, '-',
-        "two different parts that may touch; each is slave to the other's shell segments", '[[contact]] parts',
-        'name two different parts',
+        (
+            'the parts of a contact definition: two different parts that may touch (node_to_segment), or one part '
+            'twice (single_surface)'
+        ), '[[contact]] parts',
+        'name two different parts for node_to_segment, or one part twice for single_surface',
     ),
     DatasetSpec(
         '/contact/penalty_scale', 'contact_penalty_scale', 'float', ('n_contacts',), False, None, None, 0.1,
@@ -399,9 +403,9 @@ DATASETS: tuple[DatasetSpec, ...] = (
     ),
     DatasetSpec(
         '/contact/kind', 'contact_kind', 'int', ('n_contacts',), False, None, None, 1, None, None, '',
-        'contact_kind', 'must be 1 (1 = node_to_segment)', None, False, '-',
+        'contact_kind', 'must be 1 or 2 (1 = node_to_segment, 2 = single_surface)', None, False, '-',
         "the kind of contact (a member of the engine's contact family; docs/architecture.md)", '[[contact]] kind',
-        'use 1 (node_to_segment)',
+        'use 1 (node_to_segment) or 2 (single_surface)',
     ),
     DatasetSpec(
         '/contact/initial_penetration', 'contact_initial_penetration', 'int', ('n_contacts',), False, None, None,
@@ -607,6 +611,16 @@ CONTROL: tuple[AttributeSpec, ...] = (
         ), '[run] time_step_floor', 'give a fraction of the first step such as 1e-3 (the default)',
     ),
     AttributeSpec(
+        'contact_travel_limit', 'float', False, 0.0, None, None, Bound(0.0, True), Bound(1.0, False),
+        'must be in [0, 1)', None, '', '-',
+        (
+            '0 = off; the most a node of an active contact definition may move in one step, as a fraction of the '
+            'thinner contact thickness of the definition: the step is cut to fraction x t / |v| where that is '
+            'below the stable step. A thin wall hit fast is otherwise crossed in one step (the node passes the '
+            'mid-surface before the penalty sees it)'
+        ), '[run] contact_travel_limit', 'give a fraction of the wall thickness such as 0.1, or 0 for no limit',
+    ),
+    AttributeSpec(
         'mass_scaling_step', 'float', False, 0.0, None, None, Bound(0.0, True), None, 'must be >= 0', None, '',
         's',
         (
@@ -757,6 +771,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('control', 'gravity_z'): ('class', 'finite'),
     ('control', 'energy_error_limit'): ('class', 'lower', 'finite'),
     ('control', 'time_step_floor'): ('class', 'lower', 'upper', 'finite'),
+    ('control', 'contact_travel_limit'): ('class', 'lower', 'upper', 'finite'),
     ('control', 'mass_scaling_step'): ('class', 'lower', 'finite'),
     ('control', 'mass_scaling_limit'): ('class', 'lower', 'finite'),
     ('control', 'effect_point_loads'): ('class', 'enum'),

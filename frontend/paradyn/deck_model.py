@@ -62,6 +62,7 @@ class Control:
     gravity_z: float = _number_default("gravity_z")
     energy_error_limit: float = _number_default("energy_error_limit")   # stop past this balance error, 0 = never
     time_step_floor: float = _number_default("time_step_floor")   # stop below this fraction of the first step
+    contact_travel_limit: float = _number_default("contact_travel_limit")   # most travel per step / wall, 0 = off
     mass_scaling_step: float = _number_default("mass_scaling_step")   # least step wanted (s), 0 = no mass scaling
     mass_scaling_limit: float = _number_default("mass_scaling_limit")   # most added mass, fraction of the model's
 
@@ -127,7 +128,7 @@ class Model:
     contact_dynamic_friction: np.ndarray | None = None  # /contact/dynamic_friction
     contact_friction_decay: np.ndarray | None = None    # /contact/friction_decay s/m
     contact_passes: np.ndarray | None = None  # /contact/passes: 2 both, 1 alternate
-    contact_kind: np.ndarray | None = None    # /contact/kind: 1 node_to_segment
+    contact_kind: np.ndarray | None = None    # /contact/kind: 1 node_to_segment, 2 single_surface
     contact_initial_penetration: np.ndarray | None = None   # /contact/initial_penetration: 1 move, 2 gap
     rigid_wall_point: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))   # /rigid_walls/point m
     rigid_wall_normal: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # /rigid_walls/normal

@@ -184,8 +184,12 @@ def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
                        f"the plastic tangent modulus in Pa below Young's modulus")
     pairs = check.array("contact_pairs")
     if sizes["n_contacts"] > 0:
-        check.entries(_BY_ATTRIBUTE["contact_pairs"], pairs[:, 0] == pairs[:, 1], "pairs a part with itself",
-                      "name two different parts (self-contact is not modelled)")
+        single = check.array("contact_kind") == ENUMS["contact_kind"]["single_surface"]
+        same = pairs[:, 0] == pairs[:, 1]
+        check.entries(_BY_ATTRIBUTE["contact_pairs"], same & ~single, "pairs a part with itself",
+                      "name two different parts, or make the contact single_surface")
+        check.entries(_BY_ATTRIBUTE["contact_pairs"], single & ~same, "names two parts for a single_surface contact",
+                      "name its one part twice")
     used = np.zeros(sizes["n_nodes"], dtype=bool)
     used[conn.ravel()] = True
     if not np.all(used):

@@ -122,6 +122,11 @@ _LABELS = {"energy_balance_error": "energy balance error", "peak_hourglass_over_
            "peak_penetration_over_thickness": "deepest penetration / thickness", "dt_over_stable_dt": "dt / stable dt",
            "added_mass_fraction": "added mass", "peak_contact_over_internal": "peak contact / internal",
            "dt_min_s": "dt from (s)", "dt_max_s": "to (s)"}
+# What to try when a threshold is crossed (docs/outputs.md, accuracy)
+_ADVICE = {"energy_balance_error": "a smaller [run] time_step_safety, or [run] energy_error_limit to stop such a run",
+           "peak_hourglass_over_internal": "a finer mesh where it deforms most, or hourglass_form = \"physical\"",
+           "peak_penetration_over_thickness": "[run] contact_travel_limit = 0.1 if a wall is crossed within a step, "
+                                              "or a larger penalty_scale"}
 
 
 def accuracy_text(results: Results) -> str:
@@ -132,7 +137,8 @@ def accuracy_text(results: Results) -> str:
     for key, limit in WARN_ABOVE.items():
         value = indicators[key]
         if value is not None and value > limit:
-            lines.append(f"  warning: {_LABELS[key]} is {value:.3g}, above {limit:g}; see docs/outputs.md, accuracy")
+            lines.append(f"  warning: {_LABELS[key]} is {value:.3g}, above {limit:g}; try {_ADVICE[key]} "
+                         f"(docs/outputs.md, accuracy)")
     return "\n".join(lines)
 
 

@@ -8,12 +8,13 @@ scene order with one constant curve added for the pressures and prescribed veloc
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
 from paradyn import _schema, deck, geometry
-from paradyn.scene_specs import HOURGLASS_FORMS, PartSpec, Scene, SceneError
+from paradyn.scene_specs import HOURGLASS_FORMS, ContactSpec, PartSpec, Scene, SceneError
 from paradyn.scene_tables import _Reader
 
 # ----------------------------------------------------------------------------------------------
@@ -151,11 +152,27 @@ def _apply_tracks(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model
     model.tracked_names = [track.name for track in scene.tracks]
 
 
-def _apply_contacts(scene: Scene, model: deck.Model) -> None:
+def _deck_contacts(scene: Scene) -> list[tuple[int, int, str, ContactSpec]]:
+    """The deck's contact definitions (part, part, kind, spec). A single_surface contact over
+    several parts is one surface: each part against itself, and each two parts a symmetric
+    node_to_segment pair (docs/scene.md)."""
     index = {p.name: i for i, p in enumerate(scene.parts)}
-    contacts = scene.contacts
-    model.contact_pairs = np.array([[index[c.parts[0]], index[c.parts[1]]] for c in contacts],
-                                   dtype=np.int32).reshape(-1, 2)
+    rows: list[tuple[int, int, str, ContactSpec]] = []
+    for c in scene.contacts:
+        if c.kind != "single_surface":
+            rows.append((index[c.parts[0]], index[c.parts[1]], c.kind, c))
+            continue
+        members = [index[name] for name in (c.parts or [p.name for p in scene.parts])]
+        rows += [(a, a, "single_surface", c) for a in members]
+        pair = dataclasses.replace(c, symmetric=True)
+        rows += [(a, b, "node_to_segment", pair) for i, a in enumerate(members) for b in members[i + 1:]]
+    return rows
+
+
+def _apply_contacts(scene: Scene, model: deck.Model) -> None:
+    rows = _deck_contacts(scene)
+    contacts = [c for _, _, _, c in rows]
+    model.contact_pairs = np.array([[a, b] for a, b, _, _ in rows], dtype=np.int32).reshape(-1, 2)
     model.contact_penalty_scale = np.array([c.penalty_scale for c in contacts])
     model.contact_static_friction = np.array([c.static_friction for c in contacts])
     model.contact_dynamic_friction = np.array([c.dynamic_friction for c in contacts])
@@ -163,7 +180,7 @@ def _apply_contacts(scene: Scene, model: deck.Model) -> None:
     passes = _schema.ENUMS["contact_passes"]
     model.contact_passes = np.array([passes["both"] if c.symmetric else passes["alternate"] for c in contacts],
                                     dtype=np.int32)
-    model.contact_kind = np.array([_schema.ENUMS["contact_kind"][c.kind] for c in contacts], dtype=np.int32)
+    model.contact_kind = np.array([_schema.ENUMS["contact_kind"][kind] for _, _, kind, _ in rows], dtype=np.int32)
     model.contact_initial_penetration = np.array([_schema.ENUMS["initial_penetration"][c.initial_penetration]
                                                   for c in contacts], dtype=np.int32)
 

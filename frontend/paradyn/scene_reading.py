@@ -58,8 +58,8 @@ _TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "trac
              "curve", "pressure", "prescribe")
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
-             "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "mass_scaling_step",
-             "mass_scaling_limit")
+             "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "contact_travel_limit",
+             "mass_scaling_step", "mass_scaling_limit")
 _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
                   "tangent_modulus", "hardening_mixing")
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
@@ -148,6 +148,8 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
         energy_error_limit=r.number(t, "energy_error_limit", label, default=RunSettings.energy_error_limit,
                                     minimum=0.0),
         time_step_floor=r.number(t, "time_step_floor", label, default=RunSettings.time_step_floor, positive=True),
+        contact_travel_limit=r.number(t, "contact_travel_limit", label, default=RunSettings.contact_travel_limit,
+                                      minimum=0.0),
         mass_scaling_step=r.number(t, "mass_scaling_step", label, default=RunSettings.mass_scaling_step,
                                    minimum=0.0),
         mass_scaling_limit=r.number(t, "mass_scaling_limit", label, default=RunSettings.mass_scaling_limit,
@@ -159,6 +161,9 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
     )
     if run.time_step_safety > 1.0:
         raise r.error(f"'time_step_safety' in {label} must be in (0, 1], got {run.time_step_safety}")
+    if run.contact_travel_limit >= 1.0:
+        raise r.error(f"'contact_travel_limit' in {label} must be in [0, 1), a fraction of the wall thickness "
+                      f"(0.1 keeps the penetration near a fifth of it; 0 = no limit), got {run.contact_travel_limit}")
     if run.time_step_floor >= 1.0:
         raise r.error(f"'time_step_floor' in {label} must be in (0, 1), a fraction of the first step, "
                       f"got {run.time_step_floor}")
@@ -354,28 +359,43 @@ def _parse_track(r: _Reader, t: dict[str, Any], index: int) -> TrackSpec:
 def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
     label = f"[[contact]] #{index + 1}"
     r.keys(t, label, _CONTACT_KEYS)
-    parts = r.raw(t, "parts", label, _REQUIRED)
-    if (not isinstance(parts, list) or len(parts) != 2 or not all(isinstance(p, str) for p in parts)
-            or parts[0] == parts[1]):
-        raise r.error(f"'parts' in {label} must name two different parts, e.g. parts = [\"a\", \"b\"]; "
-                      f"got {parts!r}")
+    kind = (r.string(t, "kind", label, choices=tuple(_schema.ENUMS["contact_kind"])) if "kind" in t
+            else ContactSpec.kind)
+    parts = _contact_parts(r, t, label, kind)
     symmetric = r.raw(t, "symmetric", label, ContactSpec.symmetric)
     if not isinstance(symmetric, bool):
         raise r.error(f"'symmetric' in {label} must be true (both passes every step) or false "
                       f"(slave and master swap every step, as in the paper); got {symmetric!r}")
     static = r.number(t, "static_friction", label, default=ContactSpec.static_friction, minimum=0.0)
     return ContactSpec(
-        parts=(parts[0], parts[1]),
+        parts=parts,
         penalty_scale=r.number(t, "penalty_scale", label, default=ContactSpec.penalty_scale, positive=True),
         static_friction=static,
         dynamic_friction=r.number(t, "dynamic_friction", label, default=static, minimum=0.0),
         friction_decay=r.number(t, "friction_decay", label, default=ContactSpec.friction_decay, minimum=0.0),
         symmetric=symmetric,
-        kind=(r.string(t, "kind", label, choices=tuple(_schema.ENUMS["contact_kind"])) if "kind" in t
-              else ContactSpec.kind),
+        kind=kind,
         initial_penetration=r.string(t, "initial_penetration", label, default=ContactSpec.initial_penetration,
                                      choices=tuple(_schema.ENUMS["initial_penetration"])),
     )
+
+
+def _contact_parts(r: _Reader, t: dict[str, Any], label: str, kind: str) -> tuple[str, ...]:
+    """Two different parts for a node_to_segment pair; one or more different parts for a
+    single_surface contact, or none (every part of the scene)."""
+    if kind == "single_surface":
+        parts = r.raw(t, "parts", label, [])
+        if (not isinstance(parts, list) or not all(isinstance(p, str) for p in parts)
+                or len(set(parts)) != len(parts)):
+            raise r.error(f"'parts' in {label} must list different parts that form the single surface, e.g. "
+                          f"parts = [\"pipe\"] (leave it out for every part of the scene); got {parts!r}")
+        return tuple(parts)
+    parts = r.raw(t, "parts", label, _REQUIRED)
+    if (not isinstance(parts, list) or len(parts) != 2 or not all(isinstance(p, str) for p in parts)
+            or parts[0] == parts[1]):
+        raise r.error(f"'parts' in {label} must name two different parts, e.g. parts = [\"a\", \"b\"] "
+                      f"(for a part against itself use kind = \"single_surface\"); got {parts!r}")
+    return (parts[0], parts[1])
 
 
 def _parse_rigid_wall(r: _Reader, t: dict[str, Any], index: int) -> RigidWallSpec:

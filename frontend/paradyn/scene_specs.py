@@ -134,7 +134,10 @@ class TrackSpec:
 
 @dataclass
 class ContactSpec:
-    parts: tuple[str, str]
+    """Parts that may touch (docs/scene.md, [[contact]]): two different parts for a node_to_segment
+    pair; for a single_surface contact the parts that form one surface, every part when empty."""
+
+    parts: tuple[str, ...]
     penalty_scale: float = _DECK_DEFAULT["/contact/penalty_scale"]
     static_friction: float = _DECK_DEFAULT["/contact/static_friction"]
     dynamic_friction: float = _DECK_DEFAULT["/contact/dynamic_friction"]

@@ -26,6 +26,7 @@ not a conserved quantity by itself.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -54,6 +55,7 @@ class Outcome:
     wall_s: float = 0.0
     cycles: int = 0
     message: str = ""
+    probe: str = ""          # what the case's own probe measured (Case.probe), for the notes
     passed: dict[str, bool | None] = field(default_factory=dict)
 
     @property
@@ -109,8 +111,10 @@ def momentum_errors(results: paradyn.Results, mass: np.ndarray) -> tuple[float, 
     return momentum, angular
 
 
-def run_case(name: str, model: deck.Model, folder: Path) -> Outcome:
-    """Run ``model`` into ``folder`` (one rank, two threads, no post-processing) and judge it."""
+def run_case(name: str, model: deck.Model, folder: Path,
+             probe: Callable[[paradyn.Results, deck.Model], str] | None = None) -> Outcome:
+    """Run ``model`` into ``folder`` (one rank, two threads, no post-processing) and judge it; a
+    case's ``probe`` measures what the criteria do not (its text goes into ``Outcome.probe``)."""
     out = Outcome(name)
     start = time.perf_counter()
     try:
@@ -128,6 +132,8 @@ def run_case(name: str, model: deck.Model, folder: Path) -> Outcome:
             return out
     out.wall_s = time.perf_counter() - start
     _judge(out, results, model, finished)
+    if probe is not None and results.n_frames > 0:
+        out.probe = probe(results, model)
     return out
 
 

@@ -153,11 +153,14 @@ contains
   !> With max_distance, only nodes within that distance count (0 when there is none), and the
   !> search stops at that radius: the cost of a query far from every master node is then
   !> bounded by (max_distance / bucket edge)^3 buckets instead of growing to the whole grid.
-  pure integer(ip) function nearest_master_node(grid, coords, point, max_distance) result(best)
+  !> With excluded, the master indices listed there never count (a slave's own node and its
+  !> neighbours in a single-surface contact).
+  pure integer(ip) function nearest_master_node(grid, coords, point, max_distance, excluded) result(best)
     type(bucket_grid_t), intent(in) :: grid
     real(wp), intent(in) :: coords(:, :)
     real(wp), intent(in) :: point(3)
     real(wp), intent(in), optional :: max_distance
+    integer, intent(in), optional :: excluded(:)
     integer(ip) :: c(3), lo(3), hi(3), r, ix, iy, iz, a, b, j, node, step_x
     real(wp) :: best_d2, d2, box_d2(3), bound2, slab, rest, limit2
     logical :: any_slab
@@ -192,6 +195,9 @@ contains
               node = grid%bucket_nodes(j)
               d2 = sum((coords(:, node) - point)**2)
               if (best == 0 .or. d2 < best_d2 .or. (d2 == best_d2 .and. node < best)) then
+                if (present(excluded)) then
+                  if (any(excluded == node)) cycle
+                end if
                 best_d2 = d2
                 best = node
               end if

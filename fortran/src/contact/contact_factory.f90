@@ -3,6 +3,7 @@
 module contact_factory
   use contact_kind, only: contact_kind_t
   use node_to_segment_contact, only: node_to_segment_t
+  use single_surface_contact, only: single_surface_t
   implicit none
   private
   public :: contact_kind_from_name
@@ -16,6 +17,8 @@ contains
     select case (name)
     case ('node_to_segment')
       allocate (node_to_segment_t :: kind)
+    case ('single_surface')
+      allocate (single_surface_t :: kind)
     end select
   end subroutine contact_kind_from_name
 

@@ -1,6 +1,6 @@
 !> The contact family: a kind of contact turns one contact definition of the deck into the passes
 !> that the parallel search runs (slave nodes against master segments). Members:
-!> node_to_segment_contact; contact_factory makes one from its schema name.
+!> node_to_segment_contact, single_surface_contact; contact_factory makes one from its schema name.
 module contact_kind
   use model_deck, only: deck_t
   use contact_pass, only: contact_pass_t

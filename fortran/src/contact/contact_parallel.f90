@@ -34,7 +34,7 @@ module contact_parallel
   private
   public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply
   public :: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, contact_log_line
-  public :: parallel_contact_worked, parallel_contact_idle_cycles
+  public :: parallel_contact_worked, parallel_contact_idle_cycles, contact_travel_step
 
   integer, parameter :: contact_checkpoint_width = 7   !< force, position at the last sort, place in the sum
 
@@ -120,6 +120,36 @@ contains
     ! the sharing inside counts as communication, not twice
     timers%contact = timers%contact + wall_clock() - t_start - (timers%communication - comm_before)
   end subroutine parallel_contact_step
+
+  !> The largest step in which a slave and a master of an active pass close by at most `fraction` of
+  !> the pass's thinner contact thickness, their closing speed bounded by twice the speed of the
+  !> pass's fastest node (v: local velocities; this rank's own nodes). huge when none moves. A
+  !> bound from one node's speed makes the least over the ranks independent of the layout.
+  real(wp) function contact_travel_step(pc, v, fraction) result(dt)
+    type(parallel_contact_t), intent(in) :: pc
+    real(wp), intent(in) :: v(:, :), fraction
+    real(wp) :: closing, reach
+    integer :: p
+    dt = huge(1.0_wp)
+    do p = 1, size(pc%c%passes)
+      if (pc%c%passes(p)%idle) cycle
+      associate (pass => pc%c%passes(p))
+      closing = 2.0_wp * sqrt(max(fastest2_of(pass%slaves), fastest2_of(pass%masters)))
+      reach = fraction * min(pass%t_slave, pass%t_master)
+      if (closing > 0.0_wp) dt = min(dt, reach / closing)
+      end associate
+    end do
+  contains
+    real(wp) function fastest2_of(nodes) result(f)
+      integer, intent(in) :: nodes(:)
+      integer :: i, j
+      f = 0.0_wp
+      do i = 1, size(nodes)
+        j = pc%at(nodes(i))
+        if (j > 0) f = max(f, v(1, j)**2 + v(2, j)**2 + v(3, j)**2)
+      end do
+    end function fastest2_of
+  end function contact_travel_step
 
   !> The velocities of this rank's own contact nodes the cycle before a check, for the
   !> accelerations the check bounds the motion with.

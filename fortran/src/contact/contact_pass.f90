@@ -1,12 +1,18 @@
-!> One contact pass: the slave nodes of one part against the shell segments of another, with
-!> the pass's bucket grid, penalty stiffnesses, thicknesses and friction. The members of the
-!> contact family (contact_kind) build their definitions' passes from these.
+!> One contact pass: the slave nodes of one part against the shell segments of another (or of the
+!> same part, a single-surface contact), with the pass's bucket grid, penalty stiffnesses,
+!> thicknesses and friction. The members of the contact family (contact_kind) build their
+!> definitions' passes from these.
+!>
+!> Where a slave node is itself a node of master segments (always in a single-surface pass), it
+!> must not meet its own surface: its nearest-master search skips the nodes of the master segments
+!> that contain it (its own node and its neighbours), and its local search skips those segments.
 module contact_pass
   use paradyn_kinds, only: wp, ip
   use model_deck, only: deck_t
   use contact_buckets, only: bucket_grid_t
   use contact_search, only: node_segment_map, shell_penalty_stiffness
-  use initial_penetration, only: slave_penetrations, part_nodes
+  use initial_penetration, only: slave_penetrations
+  use contact_surfaces, only: part_nodes, contact_thickness
   use paradyn_schema, only: initial_penetration_gap
   implicit none
   private
@@ -21,6 +27,10 @@ module contact_pass
     integer, allocatable :: segments(:, :)     !< (4, n) master segments, contact-node ids
     integer, allocatable :: segment_start(:), segment_list(:)  !< contact node -> its segments
     real(wp), allocatable :: stiffness(:)      !< penalty stiffness per segment (initial geometry)
+    !> slave s is a node of master segments: its search skips their nodes, master indices
+    !> excluded(excluded_start(s) : excluded_start(s + 1) - 1), and the segments
+    logical :: shares_nodes = .false.
+    integer, allocatable :: excluded_start(:), excluded(:)
     !> each slave's overlap at the start, taken as its gap (/contact/initial_penetration = gap), else 0
     real(wp), allocatable :: overlap(:)
     real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted
@@ -66,8 +76,9 @@ contains
     allocate (pass%x_sorted(3, size(pass%masters)), source=0.0_wp)
     pass%near_slaves = [(e, e = 1, size(pass%slaves))]
     pass%n_near = size(pass%slaves)
-    pass%t_slave = deck%thickness(slave_part)
-    pass%t_master = deck%thickness(master_part)
+    pass%t_slave = contact_thickness(deck, pair, slave_part)
+    pass%t_master = contact_thickness(deck, pair, master_part)
+    call exclusions(pass, contact_id, master_nodes, n_contact)
     pass%mu_static = deck%contact_static_friction(pair)
     pass%mu_dynamic = deck%contact_dynamic_friction(pair)
     pass%decay = deck%contact_friction_decay(pair)
@@ -76,5 +87,32 @@ contains
       call slave_penetrations(deck%coordinates, slave_nodes, deck%connectivity(:, elements), pass%t_slave, &
                               pass%t_master, pass%overlap, push)
   end subroutine pass_between_parts
+
+  !> For each slave, the master indices of the nodes of the master segments that contain it (none
+  !> where the slave and master parts share no node).
+  subroutine exclusions(pass, contact_id, master_nodes, n_contact)
+    type(contact_pass_t), intent(inout) :: pass
+    integer, intent(in) :: contact_id(:), master_nodes(:), n_contact
+    integer, allocatable :: master_index(:), list(:)
+    integer :: s, j, node, n, m
+    allocate (master_index(n_contact), source=0)
+    master_index(contact_id(master_nodes)) = [(j, j = 1, size(master_nodes))]
+    allocate (pass%excluded_start(size(pass%slaves) + 1), list(4 * size(pass%segment_list)))
+    n = 0
+    do s = 1, size(pass%slaves)
+      pass%excluded_start(s) = n + 1
+      node = pass%slaves(s)
+      do j = pass%segment_start(node), pass%segment_start(node + 1) - 1
+        do m = 1, 4
+          if (any(list(pass%excluded_start(s):n) == master_index(pass%segments(m, pass%segment_list(j))))) cycle
+          n = n + 1
+          list(n) = master_index(pass%segments(m, pass%segment_list(j)))
+        end do
+      end do
+    end do
+    pass%excluded_start(size(pass%slaves) + 1) = n + 1
+    pass%excluded = list(1:n)
+    pass%shares_nodes = n > 0
+  end subroutine exclusions
 
 end module contact_pass

@@ -242,9 +242,10 @@ contains
   !> Stages 2 and 3 for one slave point p: of the master segments that contain the master node
   !> `node` (from node_segment_map), the one whose closest point is nearest to p (the lower
   !> segment number on ties), with that closest point and the normal there. segment = 0 when
-  !> the node belongs to no segment.
+  !> the node belongs to no segment. With skip_node, segments that contain that node do not count
+  !> (a slave's own segments in a single-surface contact).
   pure subroutine segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, &
-                                     segment_start, segment_list, segment, xi, eta, xc, normal)
+                                     segment_start, segment_list, segment, xi, eta, xc, normal, skip_node)
     real(wp), intent(in) :: p(3)
     integer(ip), intent(in) :: node, n_nodes, n_segments
     real(wp), intent(in) :: coords(3, n_nodes)
@@ -253,6 +254,7 @@ contains
     integer(ip), intent(in) :: segment_list(*)
     integer(ip), intent(out) :: segment
     real(wp), intent(out) :: xi, eta, xc(3), normal(3)
+    integer(ip), intent(in), optional :: skip_node
     real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2
     integer(ip) :: j, s
 
@@ -265,6 +267,9 @@ contains
     best_d2 = huge(1.0_wp)
     do j = segment_start(node), segment_start(node + 1) - 1
       s = segment_list(j)
+      if (present(skip_node)) then
+        if (any(segment_nodes(:, s) == skip_node)) cycle
+      end if
       call closest_point_on_segment(coords(:, segment_nodes(:, s)), p, s_xi, s_eta, s_xc, s_normal)
       d2 = sum((p - s_xc)**2)
       if (segment == 0 .or. d2 < best_d2 .or. (d2 == best_d2 .and. s < segment)) then

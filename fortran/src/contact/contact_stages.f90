@@ -113,8 +113,14 @@ contains
       j = pass%near_slaves(c%rank + 1 + (i - offset(p) - 1) * c%n_ranks)
       x = c%x(:, pass%slaves(j))
       if (near_box(x, pass)) then
-        found = nearest_master_node(pass%grid, pass%x_sorted, x, &
-                                    max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
+        if (pass%shares_nodes) then
+          found = nearest_master_node(pass%grid, pass%x_sorted, x, &
+                                      max_distance=pass%bucket_size + pass%t_slave + pass%t_master, &
+                                      excluded=pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
+        else
+          found = nearest_master_node(pass%grid, pass%x_sorted, x, &
+                                      max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
+        end if
         if (found > 0) c%nearest(i) = found
       end if
       end associate
@@ -207,9 +213,15 @@ contains
       associate (pass => c%passes(c%candidates(3, k)))
       node = pass%slaves(c%candidates(1, k))
       x = c%x(:, node)
-      call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
-                              int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
-                              pass%segment_list, segment, xi, eta, xc, normal)
+      if (pass%shares_nodes) then
+        call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
+                                int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
+                                pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(node, ip))
+      else
+        call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
+                                int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
+                                pass%segment_list, segment, xi, eta, xc, normal)
+      end if
       if (segment > 0) then
         xseg = c%x(:, pass%segments(:, segment))
         vseg = c%v(:, pass%segments(:, segment))

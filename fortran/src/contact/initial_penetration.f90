@@ -10,10 +10,11 @@ module initial_penetration
   use model_deck, only: deck_t
   use contact_search, only: penalty_force
   use surface_overlap, only: bin_elements, cell_of, index_of
-  use paradyn_schema, only: initial_penetration_move
+  use paradyn_schema, only: initial_penetration_move, contact_kind_single_surface
+  use contact_surfaces, only: part_nodes, contact_thickness
   implicit none
   private
-  public :: slave_penetrations, part_nodes, resolve_initial_penetrations
+  public :: slave_penetrations, resolve_initial_penetrations
 
 contains
 
@@ -56,21 +57,6 @@ contains
     end do
   end subroutine slave_penetrations
 
-  !> The nodes of a part and its elements (global ids, ascending).
-  subroutine part_nodes(deck, part, nodes, elements)
-    type(deck_t), intent(in) :: deck
-    integer, intent(in) :: part
-    integer, allocatable, intent(out) :: nodes(:), elements(:)
-    logical, allocatable :: on_part(:)
-    integer :: e
-    elements = pack([(e, e = 1, deck%n_elements)], deck%element_part == part)
-    allocate (on_part(deck%n_nodes), source=.false.)
-    do e = 1, size(elements)
-      on_part(deck%connectivity(:, elements(e))) = .true.
-    end do
-    nodes = pack([(e, e = 1, deck%n_nodes)], on_part)
-  end subroutine part_nodes
-
   !> Checks every contact definition, both ways, at the deck's positions; where a definition asks
   !> for it, the penetrating slave nodes get the moves (3, n_nodes) that put them onto the
   !> surface (then the check runs again on the moved positions: moving one side's nodes may leave
@@ -107,18 +93,21 @@ contains
     integer, allocatable :: slaves(:), elements(:), masters(:), master_elements(:)
     real(wp), allocatable :: depth(:), push(:, :)
     integer :: side, slave_part, master_part, deepest
-    real(wp) :: reach
+    real(wp) :: reach, t_slave, t_master
     do side = 1, 2
       slave_part = deck%contact_pairs(side, k)
       master_part = deck%contact_pairs(3 - side, k)
+      ! a single-surface definition names its part twice: one pass
+      if (side == 2 .and. deck%contact_kind(k) == contact_kind_single_surface) exit
       call part_nodes(deck, slave_part, slaves, elements)
       call part_nodes(deck, master_part, masters, master_elements)
+      t_slave = contact_thickness(deck, k, slave_part)
+      t_master = contact_thickness(deck, k, master_part)
       allocate (depth(size(slaves)), push(3, size(slaves)))
-      call slave_penetrations(x, slaves, deck%connectivity(:, master_elements), deck%thickness(slave_part), &
-                              deck%thickness(master_part), depth, push)
+      call slave_penetrations(x, slaves, deck%connectivity(:, master_elements), t_slave, t_master, depth, push)
       if (any(depth > 0.0_wp)) then
         deepest = maxloc(depth, 1)
-        reach = 0.5_wp * (deck%thickness(slave_part) + deck%thickness(master_part))
+        reach = 0.5_wp * (t_slave + t_master)
         if (speak) write (unit, '(a,i0,a,i0,a,i0,a,i0,a,es10.3,a,f5.3,a,i0,a,3es11.3,a)') &
           'paradyn-engine: warning: initial penetration in /contact/pairs[', k - 1, ']: ', count(depth > 0.0_wp), &
           ' nodes of part ', slave_part - 1, ' inside the contact thickness of part ', master_part - 1, &

@@ -8,22 +8,23 @@ module paradyn_schema
   private
   public :: deck_version, deck_version_attribute, material_elastic, material_j2_plasticity, &
       hourglass_viscous, hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, &
-      contact_passes_alternate, contact_passes_both, contact_kind_node_to_segment, initial_penetration_move, &
-      initial_penetration_gap, contact_gather_near, contact_gather_all, switch_off, switch_on, &
-      partition_blocks, partition_rcb, max_integration_points, status_ok, status_failure, status_bad_input, &
-      status_numerical, status_stopped, n_frame_fields, n_history_scalars, history_kinetic_energy, &
-      history_internal_energy, history_hourglass_energy, history_contact_energy, history_external_work, &
-      history_contact_penetration, history_dt, history_dt_stable, history_dt_element, frame_field_names, &
-      history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, size_n_elements, &
-      size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, &
-      size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, n_sizes, condition_none, &
-      condition_loads_group, condition_contact_group, condition_rigid_walls_group, condition_curves_group, &
-      condition_pressure_group, condition_prescribed_group, condition_j2_plasticity, n_conditions, enum_none, &
-      enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, &
-      enum_initial_penetration, enum_contact_gather, enum_switch, enum_partition, n_enums, &
-      dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
-      dataset_nodes_fixed_dofs, dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, &
-      dataset_elements_id, dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
+      contact_passes_alternate, contact_passes_both, contact_kind_node_to_segment, &
+      contact_kind_single_surface, initial_penetration_move, initial_penetration_gap, contact_gather_near, &
+      contact_gather_all, switch_off, switch_on, partition_blocks, partition_rcb, max_integration_points, &
+      status_ok, status_failure, status_bad_input, status_numerical, status_stopped, n_frame_fields, &
+      n_history_scalars, history_kinetic_energy, history_internal_energy, history_hourglass_energy, &
+      history_contact_energy, history_external_work, history_contact_penetration, history_dt, &
+      history_dt_stable, history_dt_element, frame_field_names, history_scalar_names, class_int, class_float, &
+      class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, size_n_loads, &
+      size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
+      size_n_pressures, size_n_prescribed, n_sizes, condition_none, condition_loads_group, &
+      condition_contact_group, condition_rigid_walls_group, condition_curves_group, condition_pressure_group, &
+      condition_prescribed_group, condition_j2_plasticity, n_conditions, enum_none, enum_material_model, &
+      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_initial_penetration, &
+      enum_contact_gather, enum_switch, enum_partition, n_enums, dataset_nodes_coordinates, &
+      dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
+      dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, dataset_elements_id, &
+      dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
       dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_warping_correction, &
       dataset_parts_id, dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
       dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
@@ -39,17 +40,18 @@ module paradyn_schema
       control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
       control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
       control_partition, control_contact_gather, control_gravity_x, control_gravity_y, control_gravity_z, &
-      control_energy_error_limit, control_time_step_floor, control_mass_scaling_step, &
-      control_mass_scaling_limit, control_effect_point_loads, control_effect_gravity, &
-      control_effect_pressure, control_effect_rigid_wall, control_effect_mass_damping, &
-      control_effect_prescribed_velocity, control_effect_plasticity, control_effect_hourglass, &
-      control_effect_contact, control_effect_friction, n_control_attributes, control_restart_may_change, &
-      max_enum_members, n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
-      effect_time_integration, effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, &
-      effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, effect_friction, &
-      effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
-      size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
-      deck_conditions, deck_datasets, control_attributes, enum_name, enum_code
+      control_energy_error_limit, control_time_step_floor, control_contact_travel_limit, &
+      control_mass_scaling_step, control_mass_scaling_limit, control_effect_point_loads, &
+      control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
+      control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
+      control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
+      control_restart_may_change, max_enum_members, n_effects, effect_point_loads, effect_gravity, &
+      effect_pressure, effect_rigid_wall, effect_time_integration, effect_mass_damping, &
+      effect_fixed_boundaries, effect_prescribed_velocity, effect_elastic_shells, effect_plastic_shells, &
+      effect_hourglass, effect_contact, effect_friction, effect_names, effect_timed_with, &
+      effect_also_timed_with, effect_switch, size_symbol, size_entity, size_min_rows, enum_spec_t, &
+      condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, deck_conditions, deck_datasets, &
+      control_attributes, enum_name, enum_code
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
 
@@ -64,6 +66,7 @@ module paradyn_schema
   integer, parameter :: contact_passes_alternate = 1   !< slave and master swap every step (the paper)
   integer, parameter :: contact_passes_both = 2   !< both bodies are slave every step
   integer, parameter :: contact_kind_node_to_segment = 1   !< each part of the pair is slave to the other's shell segments
+  integer, parameter :: contact_kind_single_surface = 2   !< the part is slave to its own shell segments (self-contact); the pair n
   integer, parameter :: initial_penetration_move = 1   !< slave nodes inside the contact thickness at the start are moved onto i
   integer, parameter :: initial_penetration_gap = 2   !< each slave node's overlap at the start is taken as its gap: contact pu
   integer, parameter :: contact_gather_near = 1   !< between sorts, gather only the contact nodes that can come into contac
@@ -203,22 +206,24 @@ module paradyn_schema
   integer, parameter :: control_gravity_z = 14
   integer, parameter :: control_energy_error_limit = 15
   integer, parameter :: control_time_step_floor = 16
-  integer, parameter :: control_mass_scaling_step = 17
-  integer, parameter :: control_mass_scaling_limit = 18
-  integer, parameter :: control_effect_point_loads = 19
-  integer, parameter :: control_effect_gravity = 20
-  integer, parameter :: control_effect_pressure = 21
-  integer, parameter :: control_effect_rigid_wall = 22
-  integer, parameter :: control_effect_mass_damping = 23
-  integer, parameter :: control_effect_prescribed_velocity = 24
-  integer, parameter :: control_effect_plasticity = 25
-  integer, parameter :: control_effect_hourglass = 26
-  integer, parameter :: control_effect_contact = 27
-  integer, parameter :: control_effect_friction = 28
-  integer, parameter :: n_control_attributes = 28
+  integer, parameter :: control_contact_travel_limit = 17
+  integer, parameter :: control_mass_scaling_step = 18
+  integer, parameter :: control_mass_scaling_limit = 19
+  integer, parameter :: control_effect_point_loads = 20
+  integer, parameter :: control_effect_gravity = 21
+  integer, parameter :: control_effect_pressure = 22
+  integer, parameter :: control_effect_rigid_wall = 23
+  integer, parameter :: control_effect_mass_damping = 24
+  integer, parameter :: control_effect_prescribed_velocity = 25
+  integer, parameter :: control_effect_plasticity = 26
+  integer, parameter :: control_effect_hourglass = 27
+  integer, parameter :: control_effect_contact = 28
+  integer, parameter :: control_effect_friction = 29
+  integer, parameter :: n_control_attributes = 29
   logical, parameter :: control_restart_may_change(n_control_attributes) = [.false., .true., .true., .false., &
     .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .true., &
-    .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false.]
+    .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., &
+    .false., .false.]
   integer, parameter :: max_enum_members = 3
 
   ! effects of a step (schema/effects.toml), in the order of the step
@@ -314,7 +319,7 @@ module paradyn_schema
     enum_spec_t(3, [1, 2, 3], [character(len=15) :: 'viscous', 'stiffness', 'physical']), &
     enum_spec_t(2, [0, 1, 0], [character(len=15) :: 'free', 'fixed', '']), &
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'alternate', 'both', '']), &
-    enum_spec_t(1, [1, 0, 0], [character(len=15) :: 'node_to_segment', '', '']), &
+    enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'node_to_segment', 'single_surface', '']), &
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'move', 'gap', '']), &
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'near', 'all', '']), &
     enum_spec_t(2, [0, 1, 0], [character(len=15) :: 'off', 'on', '']), &
@@ -421,7 +426,8 @@ module paradyn_schema
         size_n_nodes, '', '', 'give the index of each tracked node'), &
     dataset_spec_t('/contact/pairs', class_int, 2, size_n_contacts, .true., .false., condition_contact_group, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
-        size_n_parts, '', '', 'name two different parts'), &
+        size_n_parts, '', '', &
+        'name two different parts for node_to_segment, or one part twice for single_surface'), &
     dataset_spec_t('/contact/penalty_scale', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0], size_none, 'must be > 0', '', 'use a penalty scale factor such as 0.1 (the default)'), &
@@ -439,8 +445,9 @@ module paradyn_schema
         [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
         'use 2 (both bodies slave every step) or 1 (slave and master swap every step)'), &
     dataset_spec_t('/contact/kind', class_int, 0, size_n_contacts, .false., .false., condition_none, &
-        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 1, &
-        [1, 0, 0], size_none, '', 'must be 1 (1 = node_to_segment)', 'use 1 (node_to_segment)'), &
+        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 2, &
+        [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = node_to_segment, 2 = single_surface)', &
+        'use 1 (node_to_segment) or 2 (single_surface)'), &
     dataset_spec_t('/contact/initial_penetration', class_int, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_initial_penetration, 2, [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = move, 2 = gap)', &
@@ -535,6 +542,9 @@ module paradyn_schema
     attribute_spec_t('time_step_floor', class_float, .false., 0.001_wp, 0, 0.0_wp, .true., .false., .true., &
         .false., 0.0_wp, 1.0_wp, enum_none, 'must be in (0, 1)', '', &
         'give a fraction of the first step such as 1e-3 (the default)'), &
+    attribute_spec_t('contact_travel_limit', class_float, .false., 0.0_wp, 0, 0.0_wp, .true., .true., .true., &
+        .false., 0.0_wp, 1.0_wp, enum_none, 'must be in [0, 1)', '', &
+        'give a fraction of the wall thickness such as 0.1, or 0 for no limit'), &
     attribute_spec_t('mass_scaling_step', class_float, .false., 0.0_wp, 0, 0.0_wp, .true., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_none, 'must be >= 0', '', &
         'give the wanted step in seconds, or 0 for no mass scaling'), &

@@ -10,7 +10,7 @@ module deck_rules
   implicit none
   private
   public :: check_field_values, check_attribute_value, selected_rows, within_bounds, &
-            number_text, integer_text
+            number_text, integer_text, index_list
 
 contains
 
@@ -183,5 +183,18 @@ contains
     write (buffer, '(i0)') i
     words = trim(buffer)
   end function integer_text
+
+  !> `[a, b, ...]` of 1-based indices, shown 0-based as in the file.
+  pure function index_list(indices) result(words)
+    integer, intent(in) :: indices(:)
+    character(len=:), allocatable :: words
+    integer :: k
+    words = '['
+    do k = 1, size(indices)
+      if (k > 1) words = words//', '
+      words = words//integer_text(indices(k) - 1)
+    end do
+    words = words//']'
+  end function index_list
 
 end module deck_rules

@@ -4,7 +4,8 @@
 module model_deck
   use paradyn_kinds, only: wp
   use shell_section, only: shell_properties_t
-  use paradyn_schema, only: material_j2_plasticity, size_none, deck_datasets, class_float, class_int, &
+  use paradyn_schema, only: material_j2_plasticity, contact_kind_single_surface, size_none, deck_datasets, &
+                            class_float, class_int, &
                             enum_name, enum_material_model, control_attributes, control_partition, status_ok, &
                             status_bad_input, &
                             dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
@@ -27,14 +28,15 @@ module model_deck
                             control_output_interval, control_history_interval, control_time_step, &
                             control_time_step_safety, control_mass_damping, control_progress_interval, &
                             control_contact_sort_interval, control_checkpoint_interval, control_energy_error_limit, &
-                            control_time_step_floor, control_mass_scaling_step, control_mass_scaling_limit, &
+                            control_time_step_floor, control_contact_travel_limit, &
+                            control_mass_scaling_step, control_mass_scaling_limit, &
                             n_effects, effect_switch, &
                             switch_off, &
                             dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
                             dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
                             dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
                             dataset_prescribed_curve, control_gravity_x, control_gravity_y, control_gravity_z
-  use deck_rules, only: integer_text, number_text
+  use deck_rules, only: integer_text, number_text, index_list
   use material_factory, only: material_from_name
   use quad_shape, only: quad_shape_fault, shape_sound, shape_concave
   use integer_sort, only: sort_ascending
@@ -79,6 +81,7 @@ module model_deck
     integer :: contact_sort_interval = 0              !< cycles between bucket sorts, 0 = automatic
     real(wp) :: checkpoint_interval = 0.0_wp          !< simulated seconds between checkpoints, 0 = none
     real(wp) :: energy_error_limit = 0.0_wp           !< stop once the energy balance error passes it, 0 = never
+    real(wp) :: contact_travel_limit = 0.0_wp         !< most contact-node travel per step / thinner wall, 0 = off
     real(wp) :: time_step_floor = 1.0e-3_wp           !< stop once the step falls below this fraction of the first
     real(wp) :: mass_scaling_step = 0.0_wp            !< the least step wanted (s), 0 = no mass scaling
     real(wp) :: mass_scaling_limit = 0.05_wp          !< the most added mass, as a fraction of the model's
@@ -268,6 +271,8 @@ contains
       d%energy_error_limit = value
     case (control_time_step_floor)
       d%time_step_floor = value
+    case (control_contact_travel_limit)
+      d%contact_travel_limit = value
     case (control_mass_scaling_step)
       d%mass_scaling_step = value
     case (control_mass_scaling_limit)
@@ -328,9 +333,14 @@ contains
       end if
     end do
     do i = 1, d%n_contacts
-      if (d%contact_pairs(1, i) == d%contact_pairs(2, i)) then
-        message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
-                  ' pairs a part with itself; name two different parts (self-contact is not modelled)'
+      if (d%contact_kind(i) == contact_kind_single_surface .neqv. d%contact_pairs(1, i) == d%contact_pairs(2, i)) then
+        if (d%contact_kind(i) == contact_kind_single_surface) then
+          message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
+                    ' names two parts for a single_surface contact; name its one part twice'
+        else
+          message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
+                    ' pairs a part with itself; name two different parts, or make the contact single_surface'
+        end if
         return
       end if
     end do
@@ -475,18 +485,5 @@ contains
       end do
     end do
   end subroutine check_curve_relations
-
-  !> `[a, b, ...]` of 1-based indices, shown 0-based as in the file.
-  pure function index_list(indices) result(words)
-    integer, intent(in) :: indices(:)
-    character(len=:), allocatable :: words
-    integer :: k
-    words = '['
-    do k = 1, size(indices)
-      if (k > 1) words = words//', '
-      words = words//integer_text(indices(k) - 1)
-    end do
-    words = words//']'
-  end function index_list
 
 end module model_deck

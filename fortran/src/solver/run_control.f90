@@ -15,6 +15,7 @@ module run_control
     real(wp) :: mass_damping = 0, checkpoint_interval = 0
     real(wp) :: energy_error_limit = 0       !< stop once the energy balance error passes it (0: never)
     real(wp) :: time_step_floor = 0          !< stop once the step falls below this fraction of the first
+    real(wp) :: contact_travel_limit = 0     !< most contact-node travel per step / thinner wall (0: no limit)
     real(wp) :: dt_cap = huge(1.0_wp)        !< the largest step the rigid walls' penalty allows (s)
     integer :: n_nodes = 0, n_elements = 0   !< of the whole model
     integer :: max_points = 0                !< the most through-thickness points of any part
@@ -42,6 +43,7 @@ contains
     rc%checkpoint_interval = deck%checkpoint_interval
     rc%energy_error_limit = deck%energy_error_limit
     rc%time_step_floor = deck%time_step_floor
+    rc%contact_travel_limit = deck%contact_travel_limit
     rc%n_nodes = deck%n_nodes
     rc%n_elements = deck%n_elements
     rc%max_points = maxval(deck%integration_points)

@@ -12,6 +12,7 @@ module time_step_control
   use step_clock, only: clock_choose_step, clock_finished
   use status_agreement, only: agree_on_status
   use solver_state, only: solver_t
+  use contact_parallel, only: contact_travel_step
   implicit none
   private
   public :: next_time_step, check_time_step_floor
@@ -30,6 +31,11 @@ contains
       d = s%elements%dt_element(e) * s%elements%step_scale(e)
       if (d < mine(1)) mine = [d, real(s%dom%elements(e) - 1, wp)]
     end do
+    ! the contact's travel limit, divided by the safety factor the clock applies; id -2 = contact
+    if (s%has_contact .and. s%control%contact_travel_limit > 0.0_wp) then
+      d = contact_travel_step(s%contact, s%nodes%v, s%control%contact_travel_limit) / s%clock%safety
+      if (d < mine(1)) mine = [d, -2.0_wp]
+    end if
     call MPI_Allreduce(mine, least, 1, MPI_2DOUBLE_PRECISION, MPI_MINLOC, s%halo%comm)
     call clock_choose_step(s%clock, least(1), int(least(2), i8), s%control%dt_cap)
     if (s%clock%cycles == 0) s%clock%dt_first = s%clock%dt
@@ -66,10 +72,15 @@ contains
           'check the mesh, the loads or contact near it, or add mass there ([run] mass_scaling_step)'
       end do
     end do
-    if (s%clock%controlling < 0 .and. s%rank == 0) then
+    if (s%clock%controlling == -1 .and. s%rank == 0) then
       status = status_numerical
       write (message, '(a,es10.3,a)') 'the time step ', s%clock%dt, ' s fell below /control time_step_floor '// &
         'x the first step, limited by a rigid wall''s penalty'
+    else if (s%clock%controlling == -2 .and. s%rank == 0) then
+      status = status_numerical
+      write (message, '(a,es10.3,a)') 'the time step ', s%clock%dt, ' s fell below /control time_step_floor '// &
+        'x the first step, limited by /control contact_travel_limit: a contact node moves too fast for its wall; '// &
+        'check the velocities, or lower or switch off the limit'
     end if
     call agree_on_status(s%halo%comm, status, message)   ! every rank stops with the owner's message
     if (status == status_ok) then
