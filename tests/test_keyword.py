@@ -260,8 +260,7 @@ def test_surface_to_surface_contact_is_a_symmetric_pair(tmp_path: Path) -> None:
 
 def test_single_surface_contact_maps_to_the_single_surface_kind(tmp_path: Path) -> None:
     """*CONTACT_AUTOMATIC_SINGLE_SURFACE on a part set is one contact of kind single_surface over
-    its parts; SSID 0 takes every part. Until the engine has the kind, running it is an error that
-    says so (docs/keyword.md)."""
+    its parts; SSID 0 takes every part (no parts, as in a scene)."""
     extra = "*CONTACT_AUTOMATIC_SINGLE_SURFACE\n         9         0         2\n       0.1\n"
     path = _deck(tmp_path, HEAD + TWO_PARTS + extra)
     contacts = keyword_scene(path).contacts
@@ -269,10 +268,11 @@ def test_single_surface_contact_maps_to_the_single_surface_kind(tmp_path: Path) 
     every = keyword_scene(_deck(tmp_path, HEAD + TWO_PARTS + extra.replace("         9         0         2",
                                                                                "         0         0         5"),
                                 "all.k")).contacts
-    assert every[0].parts == ("plate", "lid")
-    if "single_surface" not in _schema.ENUMS["contact_kind"]:
-        with pytest.raises(KeywordError, match="single_surface contact, which this ParaDyn's engine does not have"):
-            load_keyword(path)
+    assert every[0].parts == ()
+    model = load_keyword(path).model
+    kinds = _schema.ENUMS["contact_kind"]
+    assert model.contact_pairs.tolist() == [[0, 0], [1, 1], [0, 1]]
+    assert model.contact_kind.tolist() == [kinds["single_surface"]] * 2 + [kinds["node_to_segment"]]
 
 
 def test_hourglass_and_element_formulation(tmp_path: Path) -> None:
@@ -303,8 +303,6 @@ def test_time_step_cap_mass_scaling_and_history_nodes(tmp_path: Path) -> None:
     assert model.tracked_nodes.tolist() == [2, 5, 0] and model.tracked_names == ["node_13", "node_16", "corner"]
 
 
-@pytest.mark.skipif("single_surface" not in _schema.ENUMS["contact_kind"],
-                    reason="to enable once the engine has single-surface contact (issue 18, the lead's branch)")
 def test_single_surface_deck_runs(tmp_path: Path) -> None:
     """End to end: a deck with *CONTACT_AUTOMATIC_SINGLE_SURFACE over every part builds and runs."""
     extra = "*CONTACT_AUTOMATIC_SINGLE_SURFACE\n         0         0         5\n"

@@ -247,8 +247,10 @@ def _contacts(data: KeywordData, kind: str, cards: list[Record], name_of: dict[i
     common = {"penalty_scale": penalty * slave_scale, "static_friction": float(second["FS"]),
               "dynamic_friction": float(second["FD"]),
               "friction_decay": float(second["DC"]) * unit.time / unit.length}
-    if kind == "single_surface":
-        return [ContactSpec(parts=tuple(name_of[p] for p in slave), kind="single_surface", **common)]
+    if kind == "single_surface":   # every part: no parts, as in a scene (docs/scene.md)
+        every = int(first["SSTYP"]) == 5 or int(first["SSID"]) == 0
+        return [ContactSpec(parts=() if every else tuple(name_of[p] for p in slave), kind="single_surface",
+                            **common)]
     master = _id_list(data, int(first["MSTYP"]), int(first["MSID"]), first.where, "MSTYP")
     pairs = dict.fromkeys((s, m) for s in slave for m in master if s != m and m in name_of)
     return [ContactSpec(parts=(name_of[s], name_of[m]), symmetric=True, **common) for s, m in pairs]
@@ -327,10 +329,6 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
         control=deck.Control(**vars(scene.run)), title=scene.title,
         part_names=[p.name for p in parts], material_names=[m.name for m in materials],
     )
-    unknown = [c.kind for c in scene.contacts if c.kind not in _schema.ENUMS["contact_kind"]]
-    if unknown:
-        raise KeywordError(f"{scene.path}: the deck's *CONTACT_AUTOMATIC_SINGLE_SURFACE needs {unknown[0]} contact, "
-                           f"which this ParaDyn's engine does not have yet (docs/keyword.md)")
     _apply_contacts(scene, model)
     _apply_tracks(data, mesh, model)
     mesh.store_ids(model)
