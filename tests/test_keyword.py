@@ -255,6 +255,8 @@ def test_surface_to_surface_contact_is_a_symmetric_pair(tmp_path: Path) -> None:
                                                static_friction=0.3, dynamic_friction=0.2, friction_decay=10.0,
                                                symmetric=True)]
     assert read.model.contact_pairs.tolist() == [[0, 1]]
+    every = extra.replace("         1         2         3         3", "         0         0         3         3")
+    assert len(load_keyword(_deck(tmp_path, HEAD + TWO_PARTS + every, "every.k")).scene.contacts) == 1
     assert read.model.node_ids.tolist() == [11, 12, 13, 14, 15, 16]   # node 12 and 15 shared by both parts
 
 

@@ -252,8 +252,10 @@ def _contacts(data: KeywordData, kind: str, cards: list[Record], name_of: dict[i
         return [ContactSpec(parts=() if every else tuple(name_of[p] for p in slave), kind="single_surface",
                             **common)]
     master = _id_list(data, int(first["MSTYP"]), int(first["MSID"]), first.where, "MSTYP")
-    pairs = dict.fromkeys((s, m) for s in slave for m in master if s != m and m in name_of)
-    return [ContactSpec(parts=(name_of[s], name_of[m]), symmetric=True, **common) for s, m in pairs]
+    pairs: dict[frozenset[int], tuple[int, int]] = {}   # symmetric: (a, b) and (b, a) are one contact
+    for s, m in ((s, m) for s in slave for m in master if s != m and m in name_of):
+        pairs.setdefault(frozenset((s, m)), (s, m))
+    return [ContactSpec(parts=(name_of[s], name_of[m]), symmetric=True, **common) for s, m in pairs.values()]
 
 
 def _scale(record: Record, name: str) -> float:
