@@ -224,7 +224,8 @@ def write(schema: Schema, header: str) -> str:
             _names("MESH_DATASETS", [m["path"] for m in results["mesh"]]),
             _names("FRAME_FIELDS", [f["name"] for f in results["frame"]]),
             _names("HISTORY_NAMES", [h["name"] for h in results["history"]]),
-            _names("ENERGY_NAMES", [h["name"] for h in results["history"] if h.get("units") == "J"]),
+            _names("ENERGY_NAMES", [h["name"] for h in results["history"]
+                                    if h.get("units") == "J" and list(h["shape"]) == ["n_records"]]),
             _names("RUN_ATTRIBUTES", [n for r in results["run"] for n in r["names"]]),
             _names("PHASES", results["phases"]["names"]),
             _names("CONTACT_PHASES", results["phases"]["contact_parts"]),

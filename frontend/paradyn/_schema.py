@@ -804,7 +804,8 @@ FRAME_FIELDS = (
 )
 HISTORY_NAMES = (
     'time', 'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work',
-    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'tracked_displacement', 'tracked_velocity',
+    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'part_kinetic_energy', 'part_internal_energy',
+    'part_hourglass_energy', 'part_plastic_work', 'contact_force', 'tracked_displacement', 'tracked_velocity',
 )
 ENERGY_NAMES = ('kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work')
 RUN_ATTRIBUTES = (

@@ -10,6 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
@@ -89,6 +90,33 @@ def plot_energies(results: Results, path: str | Path) -> Path:
     return _save(fig, path)
 
 
+def plot_parts(results: Results, path: str | Path) -> Path:
+    """PNG of each part's kinetic and internal energy (J), and of each contact definition's force
+    magnitude on its first part (N), vs ms (LS-DYNA's MATSUM and RCFORC)."""
+    h = results.history
+    t_ms = h["time"] * 1e3
+    n_contacts = h["contact_force"].shape[1]
+    fig = Figure(figsize=(8, 8 if n_contacts else 5), dpi=120)
+    FigureCanvasAgg(fig)
+    energy = fig.add_subplot(2 if n_contacts else 1, 1, 1)
+    energy.set_title(f"{results.title or results.path.stem}: energies per part")
+    for i, name in enumerate(results.part_names[:h["part_kinetic_energy"].shape[1]]):
+        line = energy.plot(t_ms, h["part_internal_energy"][:, i], label=f"{name} internal")[0]
+        energy.plot(t_ms, h["part_kinetic_energy"][:, i], "--", color=line.get_color(), label=f"{name} kinetic")
+    energy.set_ylabel("energy (J)")
+    energy.legend(loc="best", fontsize="small")
+    energy.grid(True, alpha=0.3)
+    if n_contacts:
+        force = fig.add_subplot(2, 1, 2, sharex=energy)
+        for k in range(n_contacts):
+            force.plot(t_ms, np.linalg.norm(h["contact_force"][:, k], axis=1), label=f"contact {k}")
+        force.set_ylabel("contact force on the first part (N)")
+        force.legend(loc="best", fontsize="small")
+        force.grid(True, alpha=0.3)
+    fig.axes[-1].set_xlabel("time (ms)")
+    return _save(fig, path)
+
+
 def render_deformed(
     results: Results,
     path: str | Path,
@@ -118,6 +146,7 @@ def show_deformed(
 
 __all__ = [
     "plot_energies",
+    "plot_parts",
     "plot_tracked_histories",
     "render_deformed",
     "show_deformed",

@@ -36,7 +36,8 @@ def post_process(
         Entries merged last into ``summary.json``.
     vtk, history, summary, plots : bool
         Write the VTK time series, ``history.csv``, ``summary.json``, and the pictures
-        (``energies.png``, ``tracked.png`` when there are tracked points, ``deformed.png``).
+        (``energies.png``, ``parts.png``, ``tracked.png`` when there are tracked points,
+        ``deformed.png``).
 
     Returns
     -------
@@ -58,6 +59,7 @@ def post_process(
         from . import plots as plotting  # matplotlib and pyvista load only when pictures are asked for
 
         outputs["energies plot"] = plotting.plot_energies(results, out_dir / "energies.png")
+        outputs["parts plot"] = plotting.plot_parts(results, out_dir / "parts.png")
         if results.n_tracked:
             outputs["tracked plot"] = plotting.plot_tracked_histories(results, out_dir / "tracked.png")
         outputs["deformed picture"] = plotting.render_deformed(results, out_dir / "deformed.png")

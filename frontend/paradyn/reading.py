@@ -323,6 +323,13 @@ class Results:
         table["dt"] = h["dt"]
         table["dt_stable"] = h["dt_stable"]
         table["dt_element"] = h["dt_element"].astype(np.int64)
+        parts = run_names.unique_safe_names(self.part_names, "part")
+        for quantity in ("kinetic_energy", "internal_energy", "hourglass_energy", "plastic_work"):
+            for i, part in enumerate(parts[:h[f"part_{quantity}"].shape[1]]):
+                table[f"{part}_{quantity}"] = h[f"part_{quantity}"][:, i]
+        for k in range(h["contact_force"].shape[1]):
+            for c, axis in enumerate("xyz"):
+                table[f"contact{k}_f{axis}"] = h["contact_force"][:, k, c]
         disp, vel = h["tracked_displacement"], h["tracked_velocity"]
         for i, name in enumerate(self.tracked_columns()):
             for c, axis in enumerate("xyz"):

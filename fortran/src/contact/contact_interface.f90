@@ -91,6 +91,7 @@ module contact_interface
     integer(i8) :: last_sort = -huge(1_i8)
     integer :: sort_interval = 0
     real(wp) :: energy = 0.0_wp, max_penetration = 0.0_wp
+    real(wp), allocatable :: definition_force(:, :)   !< (3, definitions): force on each one's first part this step
     real(wp) :: time_sort = 0, time_search = 0, time_force = 0
     ! activity (contact_activity): whether idle passes are skipped (not with gather_all, which
     ! takes no shortcut), the cycles of the next check and of the last, and per contact
@@ -143,6 +144,7 @@ contains
     allocate (c%touched(c%n_nodes), c%touched_old(c%n_nodes), c%mark(c%n_nodes), source=0)
     allocate (c%in_gather(c%n_nodes), source=.true.)
     allocate (c%pair_active_cycles(deck%n_contacts), c%pair_skipped_cycles(deck%n_contacts), source=0_i8)
+    allocate (c%definition_force(3, deck%n_contacts), source=0.0_wp)
   end subroutine contact_setup
 
   !> Start a step: keep the last forces, redo the bucket sorts if sort (contact_sort_due; the
@@ -170,6 +172,7 @@ contains
     c%n_touched = 0
     c%stamp = c%stamp + 1
     c%max_penetration = 0.0_wp
+    c%definition_force = 0.0_wp
     t0 = clock()
     new_gather_set = .false.
     if (sort) call sort_passes(c, cycle, new_gather_set)

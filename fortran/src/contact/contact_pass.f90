@@ -22,6 +22,9 @@ module contact_pass
     integer :: pair = 0                        !< the contact definition (deck entry) it comes from
     logical :: every_cycle = .true.            !< runs every cycle, or (the paper's swap) every other one
     integer :: swap_index = 1                  !< with every_cycle false: runs when cycle + swap_index is odd
+    !> the slave force's share of the definition's force on its first part: 1 (the slave is the first
+    !> part), -1 (the master is: it takes the reactions), 0 (single surface: within one part)
+    real(wp) :: first_part_sign = 0
     integer, allocatable :: slaves(:)          !< contact-node ids of the slave part's nodes
     integer, allocatable :: masters(:)         !< contact-node ids of the master part's nodes
     integer, allocatable :: segments(:, :)     !< (4, n) master segments, contact-node ids
@@ -56,6 +59,7 @@ contains
     integer :: e, s, n_entries
     real(wp) :: xseg(3, 4), young, poisson
     pass%pair = pair
+    if (slave_part /= master_part) pass%first_part_sign = merge(1.0_wp, -1.0_wp, slave_part == deck%contact_pairs(1, pair))
     call part_nodes(deck, slave_part, slave_nodes, slave_elements)
     pass%slaves = contact_id(slave_nodes)
     call part_nodes(deck, master_part, master_nodes, elements)

@@ -45,6 +45,9 @@ contains
     do j = 1, c%n_candidates
       if (c%record_nodes(1, j) == 0) cycle
       c%max_penetration = max(c%max_penetration, c%record_penetration(j))
+      associate (pass => c%passes(c%candidates(3, j)))
+      c%definition_force(:, pass%pair) = c%definition_force(:, pass%pair) + pass%first_part_sign * c%record_force(:, 1, j)
+      end associate
       do k = 1, 5
         node = c%record_nodes(k, j)
         if (c%mark(node) /= c%stamp) then

@@ -13,6 +13,7 @@ module parallel_hdf5
   public :: create_dataset, create_growing, write_rows, read_rows, truncate_growing
   public :: write_long_array_attribute, write_real_array_attribute, read_long_attribute
   public :: write_int_attribute, write_long_attribute, write_real_attribute, read_int_attribute, read_real_attribute
+  public :: read_real_array_attribute
 
   !> The global rows (node or element ids) a rank reads or writes, as runs of consecutive ids.
   type :: row_runs_t
@@ -370,5 +371,20 @@ contains
     call h5aread_f(attr, H5T_NATIVE_DOUBLE, value, [1_hsize_t], err)
     call h5aclose_f(attr, ignored)
   end subroutine read_real_attribute
+
+  !> A float64 attribute of the size of values (zeros and err /= 0 when it is absent).
+  subroutine read_real_array_attribute(loc, name, values, err)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(wp), intent(out) :: values(:)
+    integer, intent(out) :: err
+    integer(hid_t) :: attr
+    integer :: ignored
+    values = 0
+    call h5aopen_f(loc, name, attr, err)
+    if (err /= 0) return
+    if (size(values) > 0) call h5aread_f(attr, H5T_NATIVE_DOUBLE, values, [int(size(values), hsize_t)], err)
+    call h5aclose_f(attr, ignored)
+  end subroutine read_real_array_attribute
 
 end module parallel_hdf5

@@ -24,19 +24,25 @@ module results_writer
   public :: results_finish, results_flush, run_record_t, results_failed
 
   integer, parameter :: history_batch = 64   !< history records written in one collective write
+  !> The histories with a value per part (rank 0 writes them), in the order of the block of values
+  !> results_write_history takes; then contact_force, 3 values per contact definition
+  character(len=*), parameter :: part_histories(4) = [character(len=21) :: 'part_kinetic_energy', &
+                                                      'part_internal_energy', 'part_hourglass_energy', &
+                                                      'part_plastic_work']
   !> Wall seconds between flushes at frames: a flush syncs the file to disk, which cost more than
   !> writing the frame itself when done at every frame
   real(wp), parameter :: flush_interval_s = 1.0_wp
 
   type :: results_file_t
     integer(hid_t) :: file = -1, transfer = -1
-    integer :: n_nodes = 0, n_elements = 0, n_tracked = 0
+    integer :: n_nodes = 0, n_elements = 0, n_tracked = 0, n_parts = 0, n_contacts = 0
     integer :: frames = 0, records = 0   !< written or pending
     ! history records wait here and are written together (many small collective writes cost more
     ! than the run's frames): when the buffer is full and at every flush (checkpoint, finish)
     integer :: pending = 0
     real(wp), allocatable :: pending_values(:, :)      !< (1 + history names, history_batch)
     real(wp), allocatable :: pending_tracked(:, :, :)  !< (6, n_tracked, history_batch)
+    real(wp), allocatable :: pending_parts(:, :)       !< (4 n_parts + 3 n_contacts, history_batch)
     logical :: root = .false.                   !< this rank writes the history
     type(MPI_Comm) :: comm
     real(wp) :: last_flush = 0                  !< MPI_Wtime of the last flush (rank 0's decides)
@@ -68,19 +74,19 @@ contains
   !> (each node written by exactly one rank), ascending; element_ids: this rank's elements,
   !> ascending. coordinates, connectivity (global 1-based ids) and element_part are those rows.
   subroutine results_create(path, comm, n_nodes, n_elements, node_ids, element_ids, coordinates, &
-                            connectivity, element_part, n_tracked, rf, status, message)
+                            connectivity, element_part, n_tracked, n_parts, n_contacts, rf, status, message)
     character(len=*), intent(in) :: path
     type(MPI_Comm), intent(in) :: comm
     integer, intent(in) :: n_nodes, n_elements, node_ids(:), element_ids(:)
     real(wp), intent(in) :: coordinates(:, :)
-    integer, intent(in) :: connectivity(:, :), element_part(:), n_tracked
+    integer, intent(in) :: connectivity(:, :), element_part(:), n_tracked, n_parts, n_contacts
     type(results_file_t), intent(out) :: rf
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
     integer :: err, k
     integer(hid_t) :: group
     integer(hsize_t) :: nn, ne
-    call set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked)
+    call set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, n_parts, n_contacts)
     nn = int(n_nodes, hsize_t)
     ne = int(n_elements, hsize_t)
     call phdf5_open(path, comm, 'create', rf%file, rf%transfer, err)
@@ -116,6 +122,10 @@ contains
     end do
     call create_growing(group, 'tracked_displacement', [3_hsize_t, int(max(n_tracked, 0), hsize_t)])
     call create_growing(group, 'tracked_velocity', [3_hsize_t, int(max(n_tracked, 0), hsize_t)])
+    do k = 1, size(part_histories)
+      call create_growing(group, trim(part_histories(k)), [int(n_parts, hsize_t)])
+    end do
+    call create_growing(group, 'contact_force', [3_hsize_t, int(n_contacts, hsize_t)])
     call h5gclose_f(group, err)
     call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
     status = status_ok
@@ -125,17 +135,18 @@ contains
   !> Reopens the results of a run for a restart: keeps the first `frames` frames and `records`
   !> history records (those written before the checkpoint), drops the rest and the /run and
   !> /effects groups.
-  subroutine results_reopen(path, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, frames, &
-                            records, rf, status, message)
+  subroutine results_reopen(path, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, n_parts, &
+                            n_contacts, frames, records, rf, status, message)
     character(len=*), intent(in) :: path
     type(MPI_Comm), intent(in) :: comm
-    integer, intent(in) :: n_nodes, n_elements, node_ids(:), element_ids(:), n_tracked, frames, records
+    integer, intent(in) :: n_nodes, n_elements, node_ids(:), element_ids(:), n_tracked, n_parts, n_contacts
+    integer, intent(in) :: frames, records
     type(results_file_t), intent(out) :: rf
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
     integer :: err, k, complete
     logical :: exists
-    call set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked)
+    call set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, n_parts, n_contacts)
     call phdf5_open(path, comm, 'append', rf%file, rf%transfer, err)
     if (err /= 0) then
       status = status_failure
@@ -166,6 +177,10 @@ contains
     end do
     call truncate_growing(rf%file, '/history/tracked_displacement', records)
     call truncate_growing(rf%file, '/history/tracked_velocity', records)
+    do k = 1, size(part_histories)
+      call truncate_growing(rf%file, '/history/'//trim(part_histories(k)), records)
+    end do
+    call truncate_growing(rf%file, '/history/contact_force', records)
     rf%frames = frames
     rf%records = records
     status = status_ok
@@ -199,19 +214,22 @@ contains
 
   !> values: kinetic, internal, hourglass and contact energy, external work, deepest contact
   !> penetration. Collective; the values of rank 0 are written.
-  subroutine results_write_history(rf, time, values, tracked_displacement, tracked_velocity)
+  subroutine results_write_history(rf, time, values, tracked_displacement, tracked_velocity, part_values)
     type(results_file_t), intent(inout) :: rf
     real(wp), intent(in) :: time, values(n_history_scalars)
     real(wp), intent(in) :: tracked_displacement(:, :), tracked_velocity(:, :)
+    real(wp), intent(in) :: part_values(:)   !< the part_histories in turn, then contact_force
     if (.not. allocated(rf%pending_values)) then
       allocate (rf%pending_values(1 + n_history_scalars, history_batch))
       allocate (rf%pending_tracked(6, rf%n_tracked, history_batch))
+      allocate (rf%pending_parts(size(part_histories) * rf%n_parts + 3 * rf%n_contacts, history_batch))
     end if
     rf%records = rf%records + 1
     rf%pending = rf%pending + 1
     rf%pending_values(:, rf%pending) = [time, values]
     rf%pending_tracked(1:3, :, rf%pending) = tracked_displacement
     rf%pending_tracked(4:6, :, rf%pending) = tracked_velocity
+    rf%pending_parts(:, rf%pending) = part_values
     if (rf%pending == history_batch) call write_pending(rf)
   end subroutine results_write_history
 
@@ -266,9 +284,28 @@ contains
       call write_rows(rf%file, rf%transfer, '/history/tracked_velocity', [3_hsize_t, nt], rf%tracked, &
                       first, real_values=reshape(rf%pending_tracked(4:6, :, 1:n), [3 * rf%n_tracked * n]), &
                       n_frames=n, failed=rf%failed)
+      call write_pending_parts(rf, first, n)
       rf%pending = 0
     end if
   end subroutine write_pending
+
+  !> The pending per-part histories and contact forces (rank 0's values; none when the model has
+  !> no part or contact definition).
+  subroutine write_pending_parts(rf, first, n)
+    type(results_file_t), intent(inout) :: rf
+    integer, intent(in) :: first, n
+    integer :: k, np
+    np = rf%n_parts
+    do k = 1, size(part_histories)
+      if (np > 0) call append_root(rf, '/history/'//trim(part_histories(k)), &
+                                   reshape(rf%pending_parts((k - 1) * np + 1:k * np, 1:n), [np * n]), &
+                                   [int(np, hsize_t)], first, n)
+    end do
+    if (rf%n_contacts > 0) call append_root(rf, '/history/contact_force', &
+                                            reshape(rf%pending_parts(size(part_histories) * np + 1:, 1:n), &
+                                                    [3 * rf%n_contacts * n]), &
+                                            [3_hsize_t, int(rf%n_contacts, hsize_t)], first, n)
+  end subroutine write_pending_parts
 
   !> Writes the /run attributes (the same record on every rank), marks the file complete when
   !> asked, and closes it.
@@ -366,10 +403,10 @@ contains
   ! ---------------------------------------------------------------- plumbing
 
   !> The rows this rank writes: its owned nodes and its elements; rank 0 the tracked nodes.
-  subroutine set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked)
+  subroutine set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, n_parts, n_contacts)
     type(results_file_t), intent(inout) :: rf
     type(MPI_Comm), intent(in) :: comm
-    integer, intent(in) :: n_nodes, n_elements, node_ids(:), element_ids(:), n_tracked
+    integer, intent(in) :: n_nodes, n_elements, node_ids(:), element_ids(:), n_tracked, n_parts, n_contacts
     integer :: rank, k
     call MPI_Comm_rank(comm, rank)
     rf%root = rank == 0
@@ -378,6 +415,8 @@ contains
     rf%n_nodes = n_nodes
     rf%n_elements = n_elements
     rf%n_tracked = n_tracked
+    rf%n_parts = n_parts
+    rf%n_contacts = n_contacts
     rf%nodes = row_runs(node_ids)
     rf%elements = row_runs(element_ids)
     rf%tracked = row_runs(pack([(k, k = 1, n_tracked)], rf%root))

@@ -12,6 +12,7 @@ module elastic_material
     procedure :: update_points => elastic_update_points
     procedure :: back_stress_points => elastic_back_points
     procedure :: has_history => elastic_has_history
+    procedure :: dissipated_work => elastic_dissipated_work
   end type elastic_material_t
 
 contains
@@ -34,5 +35,12 @@ contains
     class(elastic_material_t), intent(in) :: self
     changes = .false.
   end function elastic_has_history
+
+  pure function elastic_dissipated_work(self, eps_p) result(work)
+    class(elastic_material_t), intent(in) :: self
+    real(wp), intent(in) :: eps_p(:)
+    real(wp) :: work(size(eps_p))
+    work = 0.0_wp
+  end function elastic_dissipated_work
 
 end module elastic_material

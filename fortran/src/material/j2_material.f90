@@ -16,6 +16,7 @@ module j2_material
     procedure :: update_points => j2_update_points
     procedure :: back_stress_points => j2_back_points
     procedure :: has_history => j2_has_history
+    procedure :: dissipated_work => j2_dissipated_work
   end type j2_material_t
 
 contains
@@ -43,5 +44,16 @@ contains
     class(j2_material_t), intent(in) :: self
     changes = .true.
   end function j2_has_history
+
+  !> The work of the stress relative to the back stress, integral of the yield radius
+  !> sigma_y0 + beta H eps_p over eps_p: exact on any path for this law (the back stress's share,
+  !> stored and recoverable, is not dissipated).
+  pure function j2_dissipated_work(self, eps_p) result(work)
+    class(j2_material_t), intent(in) :: self
+    real(wp), intent(in) :: eps_p(:)
+    real(wp) :: work(size(eps_p)), h_iso
+    h_iso = self%hardening_mixing * self%young * self%tangent_modulus / (self%young - self%tangent_modulus)
+    work = self%yield_stress * eps_p + 0.5_wp * h_iso * eps_p**2
+  end function j2_dissipated_work
 
 end module j2_material

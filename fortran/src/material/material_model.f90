@@ -19,6 +19,8 @@ module material_model
     procedure(back_points_interface), deferred :: back_stress_points
     !> Whether the law changes the back stress or the plastic strain (else they are not written)
     procedure(history_interface), deferred :: has_history
+    !> Plastic work dissipated per unit volume at points with equivalent plastic strains eps_p
+    procedure(dissipation_interface), deferred :: dissipated_work
   end type material_t
 
   abstract interface
@@ -40,6 +42,13 @@ module material_model
       import :: material_t
       class(material_t), intent(in) :: self
     end function history_interface
+
+    pure function dissipation_interface(self, eps_p) result(work)
+      import :: material_t, wp
+      class(material_t), intent(in) :: self
+      real(wp), intent(in) :: eps_p(:)
+      real(wp) :: work(size(eps_p))
+    end function dissipation_interface
   end interface
 
 end module material_model

@@ -118,7 +118,27 @@ contains
                                                    s%clock%dt, s%control%contact_gather_all)
     allocate (s%node_out_a(3, size(s%halo%owned_local)), s%node_out_b(3, size(s%halo%owned_local)))
     allocate (s%element_out(5, s%dom%n_elements), s%tracked_out(6, deck%n_tracked))
+    s%n_parts = deck%n_parts
+    s%n_contacts = deck%n_contacts
+    s%node_part = node_parts(deck, s%dom%nodes)
   end subroutine solver_setup
+
+  !> The part of each of the given global nodes: that of its lowest-numbered element (the
+  !> per-part kinetic energy counts a node shared by parts once).
+  function node_parts(deck, nodes) result(part)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: nodes(:)
+    integer :: part(size(nodes))
+    integer, allocatable :: first_part(:)
+    integer :: e, k
+    allocate (first_part(deck%n_nodes), source=0)
+    do e = deck%n_elements, 1, -1
+      do k = 1, 4
+        first_part(deck%connectivity(k, e)) = deck%element_part(e)
+      end do
+    end do
+    part = first_part(nodes)
+  end function node_parts
 
   !> Refuses a run that cannot finish or would go wrong from the first step: more steps than
   !> max_steps (issue 17: the estimate is named), or mass damping so strong that it reverses the

@@ -17,7 +17,8 @@ module solver_checkpoint
   use contact_parallel, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width
   use parallel_hdf5, only: row_runs, phdf5_open, phdf5_close, create_dataset, write_rows, &
                            read_rows, write_int_attribute, write_real_attribute, read_int_attribute, &
-                           read_real_attribute, write_long_attribute, read_long_attribute
+                           read_real_attribute, write_long_attribute, read_long_attribute, &
+                           write_real_array_attribute, read_real_array_attribute
   implicit none
   private
   public :: checkpoint_write, checkpoint_read, checkpoint_path
@@ -97,6 +98,8 @@ contains
     call write_long_attribute(file, 'contact_last_sort', s%contact%c%last_sort)
     call write_real_attribute(file, 'contact_energy', s%contact%c%energy)
     call write_real_attribute(file, 'contact_max_penetration', s%contact%c%max_penetration)
+    if (s%has_contact) call write_real_array_attribute(file, 'contact_definition_force', &
+                                                       reshape(s%contact%c%definition_force, [3 * s%n_contacts]))
 
     allocate (nodes(node_width, size(s%halo%owned_local)))
     do k = 1, size(s%halo%owned_local)
@@ -184,8 +187,8 @@ contains
     integer, intent(out) :: frames, records, status
     character(len=*), intent(out) :: message
     integer(hid_t) :: file, transfer
-    integer(hsize_t) :: nn, ne, nc, nr, width
-    real(wp), allocatable :: nodes(:, :), elements(:, :), contact(:, :), work(:, :)
+    integer(hsize_t) :: nn, ne, nr, width
+    real(wp), allocatable :: nodes(:, :), elements(:, :), work(:, :)
     real(wp) :: dt, energy, penetration
     integer :: err, bad, version, n_nodes, n_elements, n_width, ranks, j, fixed
     integer(i8) :: last_sort
@@ -285,18 +288,29 @@ contains
       s%external_work = merge(sum(work(1, :)), 0.0_wp, s%rank == 0)
       s%damping_work = merge(sum(work(2, :)), 0.0_wp, s%rank == 0)
     end if
-    if (s%has_contact) then
-      s%contact%c%time_step = s%clock%dt   ! the penalty's cap follows the step (time_step_control)
-      nc = int(s%contact%c%n_nodes, hsize_t)
-      allocate (contact(contact_checkpoint_width, nc))
-      call read_rows(file, transfer, 'contact', [int(contact_checkpoint_width, hsize_t), nc], &
-                     row_runs([(j, j = 1, int(nc))]), &
-                     contact, err)
-      call contact_checkpoint_restore(s%contact, contact, last_sort, energy, penetration)
-    end if
+    if (s%has_contact) call read_contact_state(s, file, transfer, last_sort, energy, penetration)
     call phdf5_close(file, transfer)
     status = status_ok
     message = ''
   end subroutine checkpoint_read
+
+  !> The contact's rows and its last step's force per definition.
+  subroutine read_contact_state(s, file, transfer, last_sort, energy, penetration)
+    type(solver_t), intent(inout) :: s
+    integer(hid_t), intent(in) :: file, transfer
+    integer(i8), intent(in) :: last_sort
+    real(wp), intent(in) :: energy, penetration
+    real(wp), allocatable :: contact(:, :), force(:)
+    integer(hsize_t) :: nc
+    integer :: j, err
+    s%contact%c%time_step = s%clock%dt   ! the penalty's cap follows the step (time_step_control)
+    nc = int(s%contact%c%n_nodes, hsize_t)
+    allocate (contact(contact_checkpoint_width, nc), force(3 * s%n_contacts))
+    call read_rows(file, transfer, 'contact', [int(contact_checkpoint_width, hsize_t), nc], &
+                   row_runs([(j, j = 1, int(nc))]), contact, err)
+    call contact_checkpoint_restore(s%contact, contact, last_sort, energy, penetration)
+    call read_real_array_attribute(file, 'contact_definition_force', force, err)
+    s%contact%c%definition_force = reshape(force, [3, s%n_contacts])
+  end subroutine read_contact_state
 
 end module solver_checkpoint

@@ -9,8 +9,11 @@ module solver_output
                             history_dt, history_dt_element, history_dt_stable
   use element_groups, only: group_size
   use shell_measures, only: blt_element_results
+  use shell_section, only: thickness_rule
+  use paradyn_schema, only: max_integration_points
+  use vector_algebra, only: cross
   use halo_exchange, only: sum_to_root
-  use time_integration, only: kinetic_energy
+  use time_integration, only: kinetic_energy, kinetic_energy_by_part
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
   use solver_state, only: solver_t
   use phase_timers, only: wall_clock
@@ -28,10 +31,11 @@ contains
     type(results_file_t), intent(inout) :: rf
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
-    ! the scalar histories by their schema ids, two checks, then the tracked nodes' values
+    ! the scalar histories by their schema ids, two checks, the tracked nodes' values, then the
+    ! per-part energies (kinetic, internal, hourglass, plastic work) and each contact definition's force
     integer, parameter :: inverted_at = n_history_scalars + 1, nan_at = n_history_scalars + 2
-    real(wp) :: sums(nan_at + 6 * s%control%n_tracked)
-    integer :: bad, bad_total, k, j
+    real(wp) :: sums(nan_at + 6 * s%control%n_tracked + 4 * s%n_parts + 3 * s%n_contacts)
+    integer :: bad, bad_total, k, j, parts_at
     associate (ns => s%nodes)
       sums(history_kinetic_energy) = kinetic_energy(ns%n, ns%mass, ns%inertia, ns%v_old, ns%w_old, ns%v, ns%w, &
                                                     ns%weight)
@@ -47,6 +51,13 @@ contains
       sums(history_dt_element) = merge(real(s%clock%controlling, wp), 0.0_wp, s%rank == 0)
       sums(inverted_at) = real(s%elements%inverted, wp)
       sums(nan_at) = merge(1.0_wp, 0.0_wp, any(ns%v /= ns%v) .or. any(ns%f_int /= ns%f_int))
+      parts_at = nan_at + 6 * s%control%n_tracked
+      sums(parts_at + 1:parts_at + s%n_parts) = kinetic_energy_by_part(ns%n, ns%mass, ns%inertia, ns%v_old, &
+                                                  ns%w_old, ns%v, ns%w, ns%weight, s%node_part, s%n_parts)
+      call part_energies(s, sums(parts_at + s%n_parts + 1:parts_at + 4 * s%n_parts))
+      sums(parts_at + 4 * s%n_parts + 1:) = 0.0_wp
+      if (s%has_contact .and. s%rank == 0) &
+        sums(parts_at + 4 * s%n_parts + 1:) = reshape(s%contact%c%definition_force, [3 * s%n_contacts])
       s%tracked_out = 0.0_wp
       do k = 1, s%control%n_tracked
         j = s%control%tracked_local(k)
@@ -55,11 +66,11 @@ contains
         s%tracked_out(4:6, k) = 0.5_wp * (ns%v(:, j) + ns%v_old(:, j))
       end do
     end associate
-    sums(nan_at + 1:) = reshape(s%tracked_out, [6 * s%control%n_tracked])
+    sums(nan_at + 1:parts_at) = reshape(s%tracked_out, [6 * s%control%n_tracked])
     call sum_to_root(s%halo, sums)
-    s%tracked_out = reshape(sums(nan_at + 1:), [6, s%control%n_tracked])
+    s%tracked_out = reshape(sums(nan_at + 1:parts_at), [6, s%control%n_tracked])
     call results_write_history(rf, s%clock%time, sums(1:n_history_scalars), s%tracked_out(1:3, :), &
-                               s%tracked_out(4:6, :))
+                               s%tracked_out(4:6, :), sums(parts_at + 1:))
     status = status_ok
     message = ''
     bad = 0
@@ -86,6 +97,36 @@ contains
         s%clock%time, ' s; the run is unstable (time step too large or a bad material constant)'
     end if
   end subroutine write_record
+
+  !> This rank's internal energy, hourglass energy and plastic work of each part, in turn (n_parts
+  !> each). The plastic work of an element: its current area times thickness times the
+  !> through-thickness mean of the material's dissipated work per unit volume.
+  subroutine part_energies(s, energies)
+    type(solver_t), intent(in) :: s
+    real(wp), intent(out) :: energies(:)
+    real(wp) :: zeta(max_integration_points), wgt(max_integration_points), x(3, 4), area
+    integer :: g, p, first, last, i, nip, np
+    np = s%n_parts
+    energies = 0.0_wp
+    do g = 1, s%dom%n_groups
+      p = s%dom%group_part(g)
+      first = s%dom%group_first(g)
+      last = first + s%dom%group_count(g) - 1
+      energies(p) = energies(p) + sum(s%elements%e_internal(first:last))
+      energies(np + p) = energies(np + p) + sum(s%elements%e_hourglass(first:last))
+      associate (props => s%props(p))
+      if (.not. props%material%has_history()) cycle
+      nip = props%integration_points
+      call thickness_rule(nip, zeta(1:nip), wgt(1:nip))
+      do i = 1, last - first + 1
+        x = s%nodes%x(:, s%dom%connectivity(:, first + i - 1))
+        area = 0.5_wp * norm2(cross(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2)))
+        energies(2 * np + p) = energies(2 * np + p) + area * props%thickness * 0.5_wp * &
+          sum(wgt(1:nip) * props%material%dissipated_work(s%elements%groups(g)%eps_p(i, :)))
+      end do
+      end associate
+    end do
+  end subroutine part_energies
 
   !> Rank 0, one record: the energy balance error |E_total - E_total(first)| / the largest of KE,
   !> IE and |W_ext| so far (docs/outputs.md, energy report; the first record of this process is

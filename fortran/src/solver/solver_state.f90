@@ -42,6 +42,8 @@ module solver_state
     ! output buffers: this rank's owned nodes and its elements
     real(wp), allocatable :: node_out_a(:, :), node_out_b(:, :), element_out(:, :)
     real(wp), allocatable :: tracked_out(:, :)   !< (6, n_tracked): this rank's share, summed to rank 0
+    integer, allocatable :: node_part(:)         !< per local node: the part of its lowest-numbered element
+    integer :: n_parts = 0, n_contacts = 0
     real(wp) :: external_work = 0, damping_work = 0   !< summed over this rank's owned nodes
     ! rank 0: the total energy of the first record of this process and the largest energy since,
     ! for the energy balance error that /control energy_error_limit watches

@@ -4,7 +4,7 @@ module time_integration
   use paradyn_kinds, only: wp
   implicit none
   private
-  public :: update_velocities, update_positions, kinetic_energy
+  public :: update_velocities, update_positions, kinetic_energy, kinetic_energy_by_part
 
 contains
 
@@ -57,5 +57,20 @@ contains
                                               + inertia(j) * dot_product(w_before(:, j), w_after(:, j)))
     end do
   end function kinetic_energy
+
+  !> kinetic_energy binned by the part of each node (node_part: 1..n_parts).
+  pure function kinetic_energy_by_part(n, mass, inertia, v_before, w_before, v_after, w_after, weight, &
+                                       node_part, n_parts) result(energy)
+    integer, intent(in) :: n, n_parts, node_part(n)
+    real(wp), intent(in) :: mass(n), inertia(n), weight(n)
+    real(wp), intent(in) :: v_before(3, n), w_before(3, n), v_after(3, n), w_after(3, n)
+    real(wp) :: energy(n_parts)
+    integer :: j
+    energy = 0.0_wp
+    do j = 1, n
+      energy(node_part(j)) = energy(node_part(j)) + weight(j) * 0.5_wp * &
+        (mass(j) * dot_product(v_before(:, j), v_after(:, j)) + inertia(j) * dot_product(w_before(:, j), w_after(:, j)))
+    end do
+  end function kinetic_energy_by_part
 
 end module time_integration
