@@ -79,6 +79,7 @@ def test_a_pair_far_apart_is_idle_and_changes_nothing(tmp_path: Path) -> None:
     without the pair."""
     with_pair = _run(_plates(tmp_path, "pair.h5", 0.1))
     without = _run(_plates(tmp_path, "none.h5", 0.1, pairs=()))
+    assert not np.any(with_pair.pop("history/contact_force"))   # the pair's force, zero while idle
     _assert_same(with_pair, without)
     assert without["contact"] is None
     assert with_pair["contact"]["idle_cycles"] == with_pair["cycles"] + 1 - 2   # cycles 0 and 1 run

@@ -191,6 +191,28 @@ def test_segment_candidates_pick_the_nearest_segment(seed: int) -> None:
         np.testing.assert_allclose(normal, ref[3], atol=1e-15)
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_a_candidate_the_cheap_test_skips_touches_no_segment(seed: int) -> None:
+    """Reference: penalty_force itself, on every segment around the node, with rounded edges
+    (the engine's test). Points at distances around the reach: wherever segments_may_touch says no,
+    no segment touches; and it says yes for some points (else the test would prove nothing)."""
+    rng = np.random.default_rng(seed)
+    coords, segs = plate_mesh(4, 4, rng, 0.4)
+    start, lst, n_entries = K.contact_node_segments(coords.shape[1], F(segs))
+    lst = lst[:n_entries]
+    said_yes = 0
+    for _ in range(200):
+        p = np.array([rng.uniform(-0.5, 4.5), rng.uniform(-0.5, 4.5), rng.uniform(-1.5, 1.5)])
+        node = int(brute_nearest(coords, p[:, None])[0])
+        t = rng.uniform(0.05, 0.8)
+        may = K.contact_segments_may_touch(F(p), node, F(coords), F(segs), start, lst, t)
+        said_yes += may
+        touches = [K.contact_penalty_force(F(p), t, F(coords[:, segs[:, s - 1] - 1]), t, 1.0, rounded_edges=1)[3]
+                   for s in lst[start[node - 1] - 1:start[node] - 1]]
+        assert may or not any(touches), (p, t)
+    assert 20 < said_yes < 180
+
+
 def test_segment_candidates_node_without_segments() -> None:
     """Reference: the definition (a node in no segment gives segment 0)."""
     coords = np.zeros((3, 5))

@@ -87,7 +87,7 @@ def _same(a: paradyn.Results, b: paradyn.Results, energies_rtol: float = 0.0) ->
     ha, hb = _histories(a), _histories(b)
     assert ha.keys() == hb.keys()
     for name in ha:
-        if energies_rtol and name in ENERGY_NAMES:
+        if energies_rtol and (name in ENERGY_NAMES or name.startswith("part_")):
             scale = energies_rtol * np.abs(hb[name]).max()
             np.testing.assert_allclose(ha[name], hb[name], rtol=energies_rtol, atol=scale)
             continue

@@ -264,6 +264,19 @@ subroutine contact_segment_candidates(p, node, n_nodes, coords, n_segments, segm
                           segment_list, segment, xi, eta, xc, normal)
 end subroutine contact_segment_candidates
 
+subroutine contact_segments_may_touch(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
+                                      n_list, segment_list, reach, may)
+  use paradyn_kinds, only: wp
+  use contact_search, only: segments_may_touch
+  implicit none
+  integer, intent(in) :: node, n_nodes, n_segments, n_list
+  real(wp), intent(in) :: p(3), coords(3, n_nodes), reach
+  integer, intent(in) :: segment_nodes(4, n_segments), segment_start(n_nodes + 1), segment_list(n_list)
+  integer, intent(out) :: may
+  may = merge(1, 0, segments_may_touch(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
+                                       segment_list, reach))
+end subroutine contact_segments_may_touch
+
 subroutine contact_penalty_stiffness(xseg, young, poisson, scale, k)
   use paradyn_kinds, only: wp
   use contact_search, only: shell_penalty_stiffness

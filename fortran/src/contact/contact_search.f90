@@ -25,7 +25,7 @@ module contact_search
   public :: closest_point_on_segment, segment_candidates, node_segment_map
   public :: shell_penalty_stiffness, penalty_force, friction_coefficient, segment_shape_functions
   public :: default_penalty_scale, edge_tolerance
-  public :: candidate_block, candidates_in_slave_order
+  public :: candidate_block, candidates_in_slave_order, segments_may_touch
 
   !> LS-DYNA's default scale factor of the penalty stiffness.
   real(wp), parameter :: default_penalty_scale = 0.1_wp
@@ -255,8 +255,9 @@ contains
     integer(ip), intent(out) :: segment
     real(wp), intent(out) :: xi, eta, xc(3), normal(3)
     integer(ip), intent(in), optional :: skip_node
-    real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2
-    integer(ip) :: j, s
+    integer, parameter :: most = 32   !< segments around one node that are ordered (more: in list order)
+    real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2, bound(most)
+    integer(ip) :: j, s, order(most), n, i
 
     segment = 0
     xi = 0.0_wp
@@ -265,8 +266,21 @@ contains
     normal = 0.0_wp
     if (node < 1 .or. node > n_nodes) return
     best_d2 = huge(1.0_wp)
-    do j = segment_start(node), segment_start(node + 1) - 1
-      s = segment_list(j)
+    ! the segments by a lower bound of their distance, nearest first: once the next bound is
+    ! beyond the best distance found, no later segment can win (the choice, the nearest with the
+    ! lower number on ties, is that of visiting all of them)
+    n = segment_start(node + 1) - segment_start(node)
+    do i = 1, n
+      order(min(i, most)) = segment_list(segment_start(node) + i - 1)
+    end do
+    if (n <= most) call order_by_bound(p, coords, segment_nodes, order(1:n), bound(1:n))
+    do j = 1, n
+      if (n <= most) then
+        s = order(j)
+        if (segment > 0 .and. bound(j) > 0.0_wp .and. bound(j)**2 > best_d2 * (1.0_wp + 1.0e-10_wp)) exit
+      else
+        s = segment_list(segment_start(node) + j - 1)
+      end if
       if (present(skip_node)) then
         if (any(segment_nodes(:, s) == skip_node)) cycle
       end if
@@ -282,6 +296,70 @@ contains
       end if
     end do
   end subroutine segment_candidates
+
+  !> Segments sorted by bound, a lower bound of their distance from p: |p - c| - r, c the node
+  !> average, r the farthest node from c (every point of a bilinear segment lies in that ball).
+  pure subroutine order_by_bound(p, coords, segment_nodes, segments, bound)
+    real(wp), intent(in) :: p(3), coords(:, :)
+    integer(ip), intent(in) :: segment_nodes(:, :)
+    integer(ip), intent(inout) :: segments(:)
+    real(wp), intent(out) :: bound(:)
+    real(wp) :: c(3), r2, b
+    integer(ip) :: i, k, s
+    do i = 1, size(segments)
+      s = segments(i)
+      c = 0.25_wp * (coords(:, segment_nodes(1, s)) + coords(:, segment_nodes(2, s)) &
+                     + coords(:, segment_nodes(3, s)) + coords(:, segment_nodes(4, s)))
+      r2 = 0.0_wp
+      do k = 1, 4
+        r2 = max(r2, sum((coords(:, segment_nodes(k, s)) - c)**2))
+      end do
+      b = norm2(p - c) - sqrt(r2)
+      ! insertion: equal bounds keep the list order
+      k = i - 1
+      do while (k >= 1)
+        if (bound(k) <= b) exit
+        bound(k + 1) = bound(k)
+        segments(k + 1) = segments(k)
+        k = k - 1
+      end do
+      bound(k + 1) = b
+      segments(k + 1) = s
+    end do
+  end subroutine order_by_bound
+
+  !> False when no segment around master node `node` can touch p within `reach` by penalty_force's
+  !> test: each segment's points lie in the ball around its node average c of radius r = the
+  !> farthest node from c, so |p - c| - r bounds the distance to any of its points from below, and
+  !> the face test allows an offset off the normal of edge_tolerance times the longer diagonal.
+  !> A cheap test that spares a candidate far from every segment the closest-point iterations.
+  pure logical function segments_may_touch(p, node, n_nodes, coords, n_segments, segment_nodes, &
+                                           segment_start, segment_list, reach) result(may)
+    real(wp), intent(in) :: p(3), reach
+    integer(ip), intent(in) :: node, n_nodes, n_segments
+    real(wp), intent(in) :: coords(3, n_nodes)
+    integer(ip), intent(in) :: segment_nodes(4, n_segments), segment_start(n_nodes + 1), segment_list(*)
+    real(wp) :: c(3), r2, d, diagonal
+    integer(ip) :: j, s, i
+    may = .false.
+    do j = segment_start(node), segment_start(node + 1) - 1
+      s = segment_list(j)
+      c = 0.25_wp * (coords(:, segment_nodes(1, s)) + coords(:, segment_nodes(2, s)) &
+                     + coords(:, segment_nodes(3, s)) + coords(:, segment_nodes(4, s)))
+      r2 = 0.0_wp
+      do i = 1, 4
+        r2 = max(r2, sum((coords(:, segment_nodes(i, s)) - c)**2))
+      end do
+      d = norm2(p - c)
+      diagonal = sqrt(max(sum((coords(:, segment_nodes(3, s)) - coords(:, segment_nodes(1, s)))**2), &
+                          sum((coords(:, segment_nodes(4, s)) - coords(:, segment_nodes(2, s)))**2)))
+      ! with a relative allowance for the round-off of c, r and d
+      if (d - sqrt(r2) - edge_tolerance * diagonal <= reach + 1.0e-10_wp * (d + sqrt(r2))) then
+        may = .true.
+        return
+      end if
+    end do
+  end function segments_may_touch
 
   !> Penalty stiffness of a shell master segment, LS-DYNA's shell form k = scale K A / d_max:
   !> K = E / (3 (1 - 2 nu)) the bulk modulus, A the segment area (half the cross product of the
@@ -337,13 +415,15 @@ contains
   !> d x f_t that is not applied to the shell rotations (as in usual node-to-segment contact).
   pure subroutine penalty_force(p, t_slave, xseg, t_master, k, f_slave, f_master, penetration, &
                                 in_contact, v_slave, v_master, mu_static, mu_dynamic, decay, &
-                                v_slip, rounded_edges)
+                                v_slip, rounded_edges, closest)
     real(wp), intent(in) :: p(3), t_slave, xseg(3, 4), t_master, k
     real(wp), intent(out) :: f_slave(3), f_master(3, 4), penetration
     logical, intent(out) :: in_contact
     real(wp), intent(in), optional :: v_slave(3), v_master(3, 4)
     real(wp), intent(in), optional :: mu_static, mu_dynamic, decay, v_slip
     logical, intent(in), optional :: rounded_edges
+    !> the closest point of p on the segment already found: xi, eta, xc(3), normal(3)
+    real(wp), intent(in), optional :: closest(8)
     real(wp) :: xi, eta, xc(3), normal(3), dvec(3), d, offset(3), reach, gap, direction(3), dist
     real(wp) :: diagonal, shape(4), v_rel(3), v_t(3), speed, mu, fn, regular
     logical :: rounded, on_edge
@@ -356,7 +436,14 @@ contains
     rounded = .false.
     if (present(rounded_edges)) rounded = rounded_edges
 
-    call closest_point_on_segment(xseg, p, xi, eta, xc, normal)
+    if (present(closest)) then
+      xi = closest(1)
+      eta = closest(2)
+      xc = closest(3:5)
+      normal = closest(6:8)
+    else
+      call closest_point_on_segment(xseg, p, xi, eta, xc, normal)
+    end if
     dvec = p - xc
     d = dot_product(dvec, normal)
     offset = dvec - d * normal

@@ -6,7 +6,8 @@
 module contact_stages
   use paradyn_kinds, only: wp, ip, i8
   use contact_buckets, only: nearest_master_node
-  use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order
+  use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order, &
+                            segments_may_touch
   use contact_pass, only: contact_pass_t
   use contact_interface, only: contact_t, clock_seconds
   implicit none
@@ -203,19 +204,23 @@ contains
     procedure(clock_seconds) :: clock
     integer :: k, node, segment
     real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
-    real(wp) :: penetration, t0, stiffness
+    real(wp) :: penetration, t0, stiffness, reach
     logical :: touching
     t0 = clock()
     c%record_nodes(1, 1:c%first - 1) = 0
     c%record_nodes(1, c%last + 1:c%n_candidates) = 0
     !$omp parallel do schedule(static, 1) default(shared) &
     !$omp private(k, node, segment, x, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
-    !$omp penetration, touching, stiffness)
+    !$omp penetration, touching, stiffness, reach)
     do k = c%first, c%last
       c%record_nodes(:, k) = 0
       associate (pass => c%passes(c%candidates(3, k)))
       node = pass%slaves(c%candidates(1, k))
       x = c%x(:, node)
+      reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(c%candidates(1, k)) + pass%t_master)
+      if (.not. segments_may_touch(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
+                                   int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
+                                   pass%segment_list, reach)) cycle
       if (pass%shares_nodes) then
         call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
@@ -235,7 +240,7 @@ contains
                            stiffness, f_slave, &
                            f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &
                            mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
-                           v_slip=stick_speed, rounded_edges=.true.)
+                           v_slip=stick_speed, rounded_edges=.true., closest=[xi, eta, xc, normal])
         if (touching) then
           c%record_penetration(k) = penetration
           c%record_nodes(1, k) = node

@@ -125,7 +125,8 @@ contains
     do k = 1, size(part_histories)
       call create_growing(group, trim(part_histories(k)), [int(n_parts, hsize_t)])
     end do
-    call create_growing(group, 'contact_force', [3_hsize_t, int(n_contacts, hsize_t)])
+    ! no contact definition, no contact_force (a growing dataset of no columns would keep no count of records)
+    if (n_contacts > 0) call create_growing(group, 'contact_force', [3_hsize_t, int(n_contacts, hsize_t)])
     call h5gclose_f(group, err)
     call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
     status = status_ok
@@ -180,7 +181,7 @@ contains
     do k = 1, size(part_histories)
       call truncate_growing(rf%file, '/history/'//trim(part_histories(k)), records)
     end do
-    call truncate_growing(rf%file, '/history/contact_force', records)
+    if (n_contacts > 0) call truncate_growing(rf%file, '/history/contact_force', records)
     rf%frames = frames
     rf%records = records
     status = status_ok
