@@ -226,6 +226,9 @@ def write(schema: Schema, header: str) -> str:
             _names("HISTORY_NAMES", [h["name"] for h in results["history"]]),
             _names("ENERGY_NAMES", [h["name"] for h in results["history"]
                                     if h.get("units") == "J" and list(h["shape"]) == ["n_records"]]),
+            "HISTORY_UNITS: dict[str, str] = {",
+            *[f"    {h['name']!r}: {h['units']!r}," for h in results["history"]],
+            "}",
             _names("RUN_ATTRIBUTES", [n for r in results["run"] for n in r["names"]]),
             _names("PHASES", results["phases"]["names"]),
             _names("CONTACT_PHASES", results["phases"]["contact_parts"]),

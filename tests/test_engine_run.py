@@ -32,7 +32,8 @@ def _history_csv(path: Path) -> dict[str, np.ndarray]:
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
     header, values = rows[0], np.array(rows[1:], dtype=np.float64)
-    return {name: values[:, j] for j, name in enumerate(header)}
+    assert header[0] == "time [s]" and all(name.endswith("]") for name in header)  # docs/outputs.md: units
+    return {name.split(" [")[0]: values[:, j] for j, name in enumerate(header)}
 
 
 def _last_frame(pvd: Path):

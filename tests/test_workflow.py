@@ -26,7 +26,7 @@ def plate_model() -> deck.Model:
 def test_a_scene_file_runs_end_to_end_with_every_output(tmp_path: Path) -> None:
     res = paradyn.run(SMALL_PLATE, tmp_path, ranks=1, threads=1, plots=False)
     assert isinstance(res, paradyn.Results) and res.complete
-    assert list(res.outputs) == ["results", "vtk plate", "history", "summary"]
+    assert list(res.outputs) == ["results", "vtk plate", "vtkhdf", "history", "summary"]
     assert all(path.is_file() for path in res.outputs.values())
     assert (tmp_path / "deck.h5").is_file() and (tmp_path / "engine.log").is_file()
     summary = json.loads((tmp_path / "summary.json").read_text())

@@ -23,8 +23,11 @@ REFERENCES = {
 
 
 def read_history(path: Path) -> dict[str, np.ndarray]:
-    data = np.genfromtxt(path, delimiter=",", names=True)
-    return {name: data[name] for name in data.dtype.names}
+    """The columns of history.csv by name, the units of its header (``time [s]``) left out."""
+    with path.open() as f:
+        header = f.readline().strip().split(",")
+    values = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    return {column.split(" [")[0]: values[:, j] for j, column in enumerate(header)}
 
 
 def table(history: dict[str, np.ndarray]) -> str:

@@ -5,9 +5,10 @@ results into VTK, CSV, JSON and plots. ``paradyn.run(source, out)`` does all of 
 ``paradyn.read(path)`` opens a results file; ``paradyn.read_keyword(path)`` reads an LS-DYNA
 keyword deck into a deck model (docs/keyword.md).
 """
+from .builder import Cylinder, MeshFile, Plate, Scene
 from .keyword_scene import read_keyword
 from .reading import Results, read
 from .workflow import BatchJob, run
 
-__all__ = ["BatchJob", "Results", "read", "read_keyword", "run"]
+__all__ = ["BatchJob", "Cylinder", "MeshFile", "Plate", "Results", "Scene", "read", "read_keyword", "run"]
 __version__ = "0.1.0"

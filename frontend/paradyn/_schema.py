@@ -808,6 +808,25 @@ HISTORY_NAMES = (
     'part_hourglass_energy', 'part_plastic_work', 'contact_force', 'tracked_displacement', 'tracked_velocity',
 )
 ENERGY_NAMES = ('kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work')
+HISTORY_UNITS: dict[str, str] = {
+    'time': 's',
+    'kinetic_energy': 'J',
+    'internal_energy': 'J',
+    'hourglass_energy': 'J',
+    'contact_energy': 'J',
+    'external_work': 'J',
+    'contact_penetration': 'm',
+    'dt': 's',
+    'dt_stable': 's',
+    'dt_element': '-',
+    'part_kinetic_energy': 'J',
+    'part_internal_energy': 'J',
+    'part_hourglass_energy': 'J',
+    'part_plastic_work': 'J',
+    'contact_force': 'N',
+    'tracked_displacement': 'm',
+    'tracked_velocity': 'm/s',
+}
 RUN_ATTRIBUTES = (
     'cycles', 'dt_s', 'dt_stable_s', 'dt_first_s', 'dt_stable_min_s', 'dt_stable_max_s', 'added_mass_kg',
     'added_mass_fraction', 'model_mass_kg', 'part_added_mass_kg', 'wall_s', 'ranks', 'threads', 'elements', 'nodes',

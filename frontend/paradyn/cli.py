@@ -27,8 +27,9 @@ engine under MPI (-n ranks) and OpenMP (-t threads per rank) with a progress bar
 OUTDIR:
 
   results.h5      everything the engine wrote (docs/formats.md)
+  results.vtkhdf  every frame of every part in one file (VTKHDF), for ParaView or pyvista
   <part>.pvd      a VTK time series per part (vtk/<part>_NNNNN.vtu), for ParaView or pyvista
-  history.csv     time, energies, and dx..vz of every tracked point
+  history.csv     time, energies, and dx..vz of every tracked point (units in the header)
   summary.json    wall time, cycles, time step, size, layout, speed, time per phase, energies, effects
   energies.png, tracked.png, deformed.png   plots (unless --no-plots)
   engine.log      the engine's own output

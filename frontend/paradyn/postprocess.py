@@ -12,6 +12,7 @@ from typing import Any
 from .reading import Results
 from .reports import write_history_csv, write_summary
 from .vtk_export import write_vtk_series
+from .vtkhdf_export import write_vtkhdf
 
 
 def post_process(
@@ -35,9 +36,9 @@ def post_process(
     extra : dict, optional
         Entries merged last into ``summary.json``.
     vtk, history, summary, plots : bool
-        Write the VTK time series, ``history.csv``, ``summary.json``, and the pictures
-        (``energies.png``, ``parts.png``, ``tracked.png`` when there are tracked points,
-        ``deformed.png``).
+        Write the VTK time series (``results.vtkhdf`` and a ``.pvd`` per part), ``history.csv``,
+        ``summary.json``, and the pictures (``energies.png``, ``parts.png``, ``tracked.png`` when
+        there are tracked points, ``deformed.png``).
 
     Returns
     -------
@@ -49,6 +50,7 @@ def post_process(
     if vtk:
         for pvd in write_vtk_series(results, out_dir):
             outputs[f"vtk {pvd.stem}"] = pvd
+        outputs["vtkhdf"] = write_vtkhdf(results, out_dir / "results.vtkhdf")
     if history:
         outputs["history"] = write_history_csv(results, out_dir / "history.csv")
     if summary:

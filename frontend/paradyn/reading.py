@@ -3,8 +3,9 @@
 Opening reads what is small: the mesh, the frame times, the history and the run's figures and
 names. The frame fields (displacement, velocity, stresses, plastic strain: n_frames x n_nodes or
 n_elements each) stay in the file and are read when asked for, one frame at a time:
-``res.frame(k)`` (a pyvista grid), ``res.frame_arrays(k)`` (numpy arrays) or
-``res.displacement[k]``. The file format is docs/formats.md, version 1; what each output means is
+``res.to_pyvista(k)`` (a pyvista grid, or one per part), ``res.frame_arrays(k)`` (numpy arrays) or
+``res.displacement[k]``; ``res.to_dataframe()`` and ``res.plot()`` give the history as a pandas
+table and matplotlib figures (docs/python.md). The file format is docs/formats.md, version 1; what each output means is
 docs/outputs.md.
 """
 
@@ -19,6 +20,7 @@ import numpy as np
 from numpy.lib.mixins import NDArrayOperatorsMixin
 
 from . import grids, run_names
+from ._schema import HISTORY_UNITS
 from .engine_process import EngineRun
 from .results_file import (
     ENERGY_NAMES,
@@ -124,6 +126,31 @@ class Results:
     Names come from the results file, else from the deck (docs/outputs.md, "Names").
     ``engine_run`` and ``outputs`` are filled by :func:`paradyn.run`: how the engine ran and the
     files post-processing wrote (label -> path).
+
+    Examples
+    --------
+    A free strip moving up at 1 m/s for 0.1 ms, run on one rank:
+
+    >>> import paradyn
+    >>> scene = paradyn.Scene("strip", end_time=1e-4, output_interval=2.5e-5)
+    >>> scene.add_material("steel", model="elastic", density=7800.0, youngs_modulus=2e11, poisson_ratio=0.3)
+    >>> scene.add_part("strip", material="steel", thickness=0.002, initial_velocity=[0.0, 0.0, 1.0],
+    ...                geometry=paradyn.Plate(size=(0.1, 0.02), elements=(5, 1)))
+    >>> scene.add_track("tip", part="strip", point=[0.1, 0.02, 0.0])
+    >>> res = paradyn.run(scene, "runs/strip", ranks=1, threads=1, plots=False)
+    >>> len(res.time_values), round(float(res.time_values[-1]) * 1e6)   # frames; the last one's time in µs
+    (5, 100)
+    >>> res.displacement[-1].shape                          # the last frame, read from results.h5 now
+    (12, 3)
+    >>> grid = res.to_pyvista(-1)                           # a pyvista.UnstructuredGrid, deformed
+    >>> grid.n_cells, sorted(grid.cell_data.keys())
+    (5, ['element_id', 'membrane_stress', 'part', 'plastic_strain', 'von_mises'])
+    >>> history = res.to_dataframe()                        # a pandas.DataFrame when pandas is installed
+    >>> round(float(history["tip_dz"].to_numpy()[-1]) * 1e3, 3)   # mm
+    0.1
+    >>> fig = res.plot("energies")                          # a matplotlib Figure; Jupyter shows it
+    >>> res.outputs["vtkhdf"].name                          # every frame in one file, for ParaView
+    'results.vtkhdf'
     """
 
     path: Path
@@ -271,25 +298,42 @@ class Results:
         grids.fill_frame(grid, topo, self.coordinates, arrays, deformed)
         return grid
 
-    def plot(
-        self,
-        path: str | Path | None = None,
-        frame: int = -1,
-        scalars: str = "plastic_strain",
-        **kwargs: Any,
-    ) -> Path | None:
-        """Render a frame coloured by ``scalars``.
+    def iter_frames(self) -> Iterator[FrameArrays]:
+        """Every frame's arrays in turn, each read from the file when reached."""
+        for k in range(self.n_frames):
+            yield self.frame_arrays(k)
 
-        With ``path`` the picture is written off screen to that PNG (works without a display)
-        and the path is returned; without it, an interactive window opens.
+    def to_pyvista(
+        self, frame: int = -1, *, by_part: bool = False, deformed: bool = True
+    ) -> pyvista.UnstructuredGrid | pyvista.MultiBlock:
+        """Frame ``frame`` as :meth:`frame`'s grid of all parts, or with ``by_part`` a
+        ``pyvista.MultiBlock`` of one grid per part, named by the part names (parts without
+        elements left out). ``.plot()`` on either opens pyvista's interactive window."""
+        if not by_part:
+            return self.frame(frame, deformed=deformed)
+        import pyvista as pv
+
+        blocks = pv.MultiBlock()
+        for index, name in enumerate(self.part_names):
+            if np.any(self.element_part == index):
+                blocks[name] = self.frame(frame, part=index, deformed=deformed)
+        return blocks
+
+    def plot(self, kind: str = "energies", **options: Any) -> Any:
+        """A matplotlib figure (Jupyter shows it; ``.savefig(path)`` writes it).
+
+        ``kind``: ``"energies"`` (against time), ``"tracked"`` (``component="dz"``: dx..vz of every
+        tracked point) or ``"deformed"`` (``frame=-1``, ``scalars="plastic_strain"``, ``scale=None``:
+        a displacement factor chosen so the largest displacement is visible, named in the caption).
+        See :mod:`paradyn.figures`.
         """
-        from . import rendering
+        from . import figures as made
 
-        picture = rendering.Picture(self.frame(frame), scalars, self.caption(frame))
-        if path is not None:
-            return rendering.render(picture, path, **kwargs)
-        rendering.show(picture, **kwargs)
-        return None
+        figures = {"energies": made.energies_figure, "tracked": made.tracked_figure,
+                   "deformed": made.deformed_figure}
+        if kind not in figures:
+            raise ValueError(f"no plot kind {kind!r}; choose one of {', '.join(figures)}")
+        return figures[kind](self, **options)
 
     def caption(self, frame: int = -1) -> str:
         """The title and time of a frame, as the pictures print it."""
@@ -312,6 +356,42 @@ class Results:
         """Column-safe tracked point names (unique, no commas or blanks)."""
         return run_names.unique_safe_names(self.tracked_names, "tracked")
 
+    def history_units(self) -> dict[str, str]:
+        """The unit of every column of :meth:`history_table` (schema/results.toml; ``-``: none)."""
+        units = {name: HISTORY_UNITS[name] for name in ("time", *ENERGY_NAMES)}
+        units["total_energy"] = HISTORY_UNITS["kinetic_energy"]
+        units |= {name: HISTORY_UNITS[name] for name in ("contact_penetration", "dt", "dt_stable", "dt_element")}
+        units |= {column: HISTORY_UNITS[name] for column, (name, _) in self._part_columns().items()}
+        for name in self.tracked_columns():
+            units |= {f"{name}_d{axis}": HISTORY_UNITS["tracked_displacement"] for axis in "xyz"}
+            units |= {f"{name}_v{axis}": HISTORY_UNITS["tracked_velocity"] for axis in "xyz"}
+        return units
+
+    def to_dataframe(self) -> Any:
+        """The history as a ``pandas.DataFrame`` (the columns of :meth:`history_table`, units in
+        ``.attrs["units"]``); without pandas installed, the ``dict`` of :meth:`history_table`."""
+        try:
+            import pandas
+        except ImportError:
+            return self.history_table()
+        frame = pandas.DataFrame(self.history_table())
+        frame.attrs["units"] = self.history_units()
+        return frame
+
+    def _part_columns(self) -> dict[str, tuple[str, np.ndarray]]:
+        """The per-part and per-contact columns: column -> (its /history dataset, values)."""
+        h = self.history
+        columns: dict[str, tuple[str, np.ndarray]] = {}
+        parts = run_names.unique_safe_names(self.part_names, "part")
+        for quantity in ("kinetic_energy", "internal_energy", "hourglass_energy", "plastic_work"):
+            name = f"part_{quantity}"
+            for i, part in enumerate(parts[:h[name].shape[1]]):
+                columns[f"{part}_{quantity}"] = (name, h[name][:, i])
+        for k in range(h["contact_force"].shape[1]):
+            for c, axis in enumerate("xyz"):
+                columns[f"contact{k}_f{axis}"] = ("contact_force", h["contact_force"][:, k, c])
+        return columns
+
     def history_table(self) -> dict[str, np.ndarray]:
         """The history as columns, in the order of the CSV file (see docs/outputs.md)."""
         h = self.history
@@ -323,13 +403,8 @@ class Results:
         table["dt"] = h["dt"]
         table["dt_stable"] = h["dt_stable"]
         table["dt_element"] = h["dt_element"].astype(np.int64)
-        parts = run_names.unique_safe_names(self.part_names, "part")
-        for quantity in ("kinetic_energy", "internal_energy", "hourglass_energy", "plastic_work"):
-            for i, part in enumerate(parts[:h[f"part_{quantity}"].shape[1]]):
-                table[f"{part}_{quantity}"] = h[f"part_{quantity}"][:, i]
-        for k in range(h["contact_force"].shape[1]):
-            for c, axis in enumerate("xyz"):
-                table[f"contact{k}_f{axis}"] = h["contact_force"][:, k, c]
+        for column, (_, values) in self._part_columns().items():
+            table[column] = values
         disp, vel = h["tracked_displacement"], h["tracked_velocity"]
         for i, name in enumerate(self.tracked_columns()):
             for c, axis in enumerate("xyz"):

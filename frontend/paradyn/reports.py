@@ -26,13 +26,14 @@ CONTACT_PHASE_NAMES = ("sort", "search", "force")  # the contact phase split
 def write_history_csv(results: Results, path: str | Path) -> Path:
     """Write the history table (see :meth:`Results.history_table`) as CSV; return the path.
 
-    One header line, comma separated, every value written with Python's ``repr`` (shortest
-    text that reads back to the same float64).
+    One header line, comma separated, each column named ``name [unit]`` (``time [s]``; ``[-]``:
+    no unit; :meth:`Results.history_units`), every value written with Python's ``repr``
+    (shortest text that reads back to the same float64).
     """
     path = Path(path)
-    table = results.history_table()
+    table, units = results.history_table(), results.history_units()
     columns = np.column_stack([np.asarray(v, dtype=np.float64) for v in table.values()])
-    lines = [",".join(table.keys())]
+    lines = [",".join(f"{name} [{units[name]}]" for name in table)]
     lines += [",".join(map(repr, row)) for row in columns.tolist()]
     return write_text_atomic(path, "\n".join(lines) + "\n")
 

@@ -85,8 +85,13 @@ _RIGID_WALL_SCALE_MAX = next(d.upper.value for d in _schema.DATASETS if d.path =
 def load_scene(path: str | Path) -> Scene:
     """Parse and check a scene file; raise SceneError naming the file, table and key on any problem."""
     path = Path(path)
+    return scene_from_tables(_parse_toml(path), path)
+
+
+def scene_from_tables(data: Mapping[str, Any], path: Path) -> Scene:
+    """Check the tables of a scene (a parsed TOML file, or :class:`paradyn.Scene`'s) and return the
+    :class:`Scene`; messages start with ``path``, and mesh file paths are relative to its folder."""
     reader = _Reader(path)
-    data = _parse_toml(path)
     reader.keys(data, "the top level of the scene", _TOP_KEYS)
     title = data.get("title", path.stem)
     if not isinstance(title, str):

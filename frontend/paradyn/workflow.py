@@ -15,13 +15,14 @@ from pathlib import Path
 from typing import Any
 
 from . import deck, keyword_scene, launch, scene
+from .builder import Scene as SceneBuilder
 from .engine_process import Progress, ProgressBar
 from .postprocess import post_process
 from .reading import Results, read
 from .restart import restart_deck
 from .runners import Runner, SbatchRunner
 
-Source = str | Path | scene.Scene | deck.Model  # what paradyn.run accepts
+Source = str | Path | scene.Scene | SceneBuilder | deck.Model  # what paradyn.run accepts
 DECK_SUFFIXES = (".h5", ".hdf5")
 
 
@@ -59,10 +60,10 @@ def run(
 
     Parameters
     ----------
-    source : str, Path, paradyn.scene.Scene or paradyn.deck.Model
+    source : str, Path, paradyn.Scene, paradyn.scene.Scene or paradyn.deck.Model
         A scene file (``.toml``), a deck file (``.h5``, read and checked), an LS-DYNA keyword
-        deck (``.k``, ``.key``, ``.dyn``: docs/keyword.md), a scene loaded with
-        :func:`paradyn.scene.load_scene`, or a model built in Python.
+        deck (``.k``, ``.key``, ``.dyn``: docs/keyword.md), a scene built in Python
+        (:class:`paradyn.Scene`) or loaded with :func:`paradyn.scene.load_scene`, or a model.
     out : str or Path
         The output folder (created): ``deck.h5``, ``results.h5``, ``engine.log`` and the
         post-processing outputs go there (docs/outputs.md).
@@ -172,13 +173,13 @@ def _check_source(source: Source) -> None:
         path = Path(source)
         if not path.is_file():
             raise scene.SceneError(f"{path}: no such file; give the path of a scene .toml or a deck .h5")
-    elif not isinstance(source, (scene.Scene, deck.Model)):
+    elif not isinstance(source, (scene.Scene, SceneBuilder, deck.Model)):
         raise TypeError(f"cannot run a {type(source).__name__}; give a scene .toml or deck .h5 path, "
-                        f"a paradyn.scene.Scene or a paradyn.deck.Model")
+                        f"a paradyn.Scene, a paradyn.scene.Scene or a paradyn.deck.Model")
 
 
 def _source_name(source: Source) -> str | None:
-    """The file a run came from, for the summary (None for a model built in Python)."""
+    """The file a run came from, for the summary (None for a scene or model built in Python)."""
     if isinstance(source, (str, Path)):
         return str(Path(source).resolve())
     if isinstance(source, scene.Scene):
@@ -190,6 +191,8 @@ def model_of(source: Source) -> deck.Model:
     """The deck model of a scene file, a deck file, a loaded scene or a model."""
     if isinstance(source, deck.Model):
         return source
+    if isinstance(source, SceneBuilder):
+        return source.build()
     if isinstance(source, scene.Scene):
         return scene.build_model(source)
     path = Path(source)

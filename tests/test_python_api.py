@@ -1,0 +1,218 @@
+"""Issue 18, items 1 and 6: scenes built in Python (``paradyn.Scene``), checked by the scene file's
+reader; ``paradyn.run(scene)``; the Results of a pyvista or pandas user (``to_pyvista``,
+``to_dataframe``, ``plot``); ``results.vtkhdf``; the deformed picture's displacement factor."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import paradyn
+from paradyn import figures, rendering, scene
+from paradyn.vtkhdf_export import read_step, write_vtkhdf
+
+ROOT = Path(__file__).resolve().parents[1]
+SMALL_PLATE = ROOT / "cases" / "small_plate" / "scene.toml"
+
+
+def small_plate() -> paradyn.Scene:
+    """cases/small_plate/scene.toml, written in Python."""
+    s = paradyn.Scene("Small cantilever plate", end_time=2e-4, output_interval=2e-5, history_interval=2e-6,
+                      time_step_safety=0.9)
+    s.add_material("steel", model="elastic", density=7860.0, youngs_modulus=200e9, poisson_ratio=0.3)
+    s.add_part("plate", material="steel", thickness=0.002, initial_velocity=np.array([0.0, 0.0, 1.0]),
+               geometry=paradyn.Plate(size=(0.2, 0.1), elements=(np.int64(8), 4), origin=(0.0, 0.0, 0.0)))
+    s.add_fix("plate", box=[[-1e-6, -1e-6, -1e-6], [1e-6, 0.100001, 1e-6]], dofs=["all"])
+    s.add_load("plate", point=[0.2, 0.1, 0.0], dof="uz", value=-20.0, ramp_time=5e-5)
+    for name, point in (("tip_corner", [0.2, 0.1, 0.0]), ("tip_middle", [0.2, 0.05, 0.0]),
+                        ("middle", [0.1, 0.05, 0.0])):
+        s.add_track(name, part="plate", point=point)
+    return s
+
+
+def _same_scene(a: scene.Scene, b: scene.Scene) -> bool:
+    return dataclasses.replace(a, path=b.path) == b
+
+
+# ---- building and checking ----------------------------------------------------------------------
+
+
+def test_scene_built_in_python_is_the_case_file() -> None:
+    assert _same_scene(small_plate().validate(), scene.load_scene(SMALL_PLATE))
+
+
+def test_to_toml_reads_back_to_the_same_scene(tmp_path: Path) -> None:
+    s = small_plate()
+    s.add_part("pipe", material="steel", thickness=0.001, geometry=paradyn.Cylinder(0.05, 0.3, elements_around=8))
+    s.add_contact("plate", "pipe", static_friction=0.2)
+    s.add_contact("pipe", kind="single_surface")
+    s.add_contact(kind="single_surface")   # every part
+    s.add_curve("pulse", time=(0.0, 1e-4), value=[1.0, 0.0])
+    s.add_pressure("pipe", value=1e5, curve="pulse")
+    s.add_rigid_wall(point=[0.0, 0.0, -1.0], normal=[0.0, 0.0, 1.0])
+    path = s.to_toml(tmp_path / "scene.toml")
+    assert _same_scene(scene.load_scene(path), s.validate())
+    assert tomllib.loads(path.read_text()) == s.to_dict()
+    assert paradyn.Scene.from_toml(path).to_dict() == s.to_dict()
+
+
+@pytest.mark.parametrize(("call", "message"), [
+    (lambda s: s.add_part("p2", material="steel", thickness=0.0, geometry=paradyn.Plate((1, 1), (2, 2))),
+     r"'thickness' in \[\[part\]\] #2 'p2' must be > 0, got 0.0"),
+    (lambda s: s.add_part("p2", material="steel", thickness=0.1, geometry=paradyn.Plate((1, 1), (2, 2)), colour=1),
+     r"unknown key 'colour' in \[\[part\]\] #2 'p2'; allowed keys are: name, material"),
+    (lambda s: s.add_part("p2", material="steel", thickness=0.1, geometry=paradyn.Cylinder(1, 1, elements_around=6)),
+     r"'elements_around' in \[part.geometry\] of part 'p2' must be a multiple of 4, got 6"),
+    (lambda s: s.add_material("m", model="elastic", density=1.0, youngs_modulus=1.0, poisson_ratio=0.5),
+     r"'poisson_ratio' in \[\[material\]\] #2 'm' must satisfy -1 < nu < 0.5"),
+    (lambda s: s.add_load("plate", point=[0, 0, 0], dof="uw", value=1.0),
+     r"'dof' = 'uw' in \[\[load\]\] #2 is not one of: ux"),
+    (lambda s: s.add_track("t", part="plate", point=[0.0, 0.0]),
+     r"'point' in \[\[track\]\] #4 't' must be a list of 3 finite numbers"),
+])
+def test_each_entry_is_checked_when_added_naming_the_key(call, message: str) -> None:
+    s = small_plate()
+    before = s.to_dict()
+    with pytest.raises(scene.SceneError, match=r"^paradyn.Scene 'Small cantilever plate': " + message):
+        call(s)
+    assert s.to_dict() == before  # a refused entry is not kept
+
+
+def test_run_settings_are_checked_and_references_at_validate() -> None:
+    with pytest.raises(scene.SceneError, match=r"'end_time' in \[run\] must be > 0, got -1"):
+        paradyn.Scene(end_time=-1, output_interval=1e-5)
+    with pytest.raises(scene.SceneError, match=r"unknown key 'end' in \[run\]"):
+        paradyn.Scene(end_time=1e-3, output_interval=1e-5, end=2)
+    s = small_plate()
+    s.add_contact("plate", "wall")
+    with pytest.raises(scene.SceneError, match=r"\[\[contact\]\] #1 names part 'wall', which is not defined"):
+        s.validate()
+    with pytest.raises(scene.SceneError, match="which is not defined"):
+        s.to_toml("never_written.toml")
+    assert not Path("never_written.toml").exists()
+
+
+# ---- running and reading --------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def plate(tmp_path_factory: pytest.TempPathFactory) -> paradyn.Results:
+    return paradyn.run(small_plate(), tmp_path_factory.mktemp("plate"), ranks=1, threads=1, plots=False)
+
+
+def test_run_of_a_python_scene_equals_the_run_of_its_file(plate: paradyn.Results, tmp_path: Path) -> None:
+    from_file = paradyn.run(SMALL_PLATE, tmp_path, ranks=1, threads=1, post=False)
+    assert plate.complete and plate.title == "Small cantilever plate"
+    assert_allclose(plate.time_values, from_file.time_values, rtol=0, atol=0)
+    assert np.array_equal(plate.displacement[-1], from_file.displacement[-1])
+
+
+def test_to_pyvista_whole_and_by_part(plate: paradyn.Results) -> None:
+    grid = plate.to_pyvista(3)
+    arrays = plate.frame_arrays(3)
+    assert grid.n_cells == 32 and float(grid.field_data["TimeValue"][0]) == plate.time_values[3]
+    assert_allclose(grid.points, plate.coordinates[grid.point_data["node_id"]]
+                    + arrays.displacement[grid.point_data["node_id"]])
+    blocks = plate.to_pyvista(-1, by_part=True)
+    assert blocks.keys() == ["plate"] and blocks["plate"].n_cells == 32
+    assert [f.index for f in plate.iter_frames()] == list(range(plate.n_frames))
+
+
+def test_history_as_dataframe_with_units(plate: paradyn.Results, monkeypatch: pytest.MonkeyPatch) -> None:
+    pandas = pytest.importorskip("pandas")
+    frame = plate.to_dataframe()
+    assert isinstance(frame, pandas.DataFrame)
+    table = plate.history_table()
+    assert list(frame.columns) == list(table)
+    assert_allclose(frame["tip_corner_dz"].to_numpy(), table["tip_corner_dz"], rtol=0, atol=0)
+    assert frame.attrs["units"]["time"] == "s" and frame.attrs["units"]["tip_corner_vz"] == "m/s"
+    assert frame.attrs["units"]["total_energy"] == "J" and frame.attrs["units"]["dt_element"] == "-"
+    monkeypatch.setitem(sys.modules, "pandas", None)  # as if pandas were not installed
+    assert isinstance(plate.to_dataframe(), dict)
+
+
+def test_plot_returns_figures_a_notebook_shows(plate: paradyn.Results, tmp_path: Path) -> None:
+    energies = plate.plot()
+    assert len(energies.axes[0].lines) == 6   # five energies and the total
+    assert len(plate.plot("tracked", component="vz").axes[0].lines) == 3
+    deformed = plate.plot("deformed", frame=-1, scalars="von_mises")
+    for fig in (energies, deformed):
+        assert fig._repr_png_()[:8] == b"\x89PNG\r\n\x1a\n"   # what Jupyter shows
+    deformed.savefig(tmp_path / "d.png")
+    assert (tmp_path / "d.png").stat().st_size > 1000
+    with pytest.raises(ValueError, match="choose one of energies, tracked, deformed"):
+        plate.plot("stress")
+
+
+# ---- outputs ------------------------------------------------------------------------------------
+
+
+def test_vtkhdf_holds_every_frame_with_its_time(plate: paradyn.Results) -> None:
+    path = plate.outputs["vtkhdf"]
+    assert path.name == "results.vtkhdf"
+    for k in range(plate.n_frames):
+        grid, arrays = read_step(path, k), plate.frame_arrays(k)
+        assert float(grid.field_data["Time"][0]) == plate.time_values[k]
+        assert_allclose(grid.points, plate.coordinates + arrays.displacement, rtol=0, atol=0)
+        assert_allclose(grid.cell_data["von_mises"], arrays.von_mises, rtol=0, atol=0)
+        assert np.array_equal(grid.cell_data["element_id"], np.arange(plate.n_elements))
+        assert np.array_equal(grid.cell_data["part"], plate.element_part)
+    with pytest.raises(IndexError, match=f"holds {plate.n_frames} steps"):
+        read_step(path, plate.n_frames)
+
+
+def test_vtkhdf_keeps_parts_apart(tmp_path: Path) -> None:
+    from test_results import write_synthetic
+
+    synthetic = write_synthetic(tmp_path)
+    results = paradyn.read(synthetic.results)
+    path = write_vtkhdf(results, tmp_path / "two.vtkhdf")
+    last = read_step(path, results.n_frames - 1)
+    assert sorted(set(last.cell_data["part"])) == [0, 1]
+    assert np.array_equal(last.cell_data["part"], results.element_part)
+
+
+@pytest.mark.parametrize(("peak", "factor"), [(1e-3, 100.0), (3e-3, 50.0), (7e-3, 20.0), (0.2, 1.0), (0.0, 1.0)])
+def test_displacement_scale_makes_the_largest_one_visible(peak: float, factor: float) -> None:
+    """The 2 m long model's diagonal is 2 m: the largest displacement must show as at least 5 %
+    of it (0.1 m), with the smallest factor of 1, 2, 5 x 10^k that does it."""
+    coordinates = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
+    displacement = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, peak]])
+    assert figures.displacement_scale(coordinates, displacement) == factor
+    assert peak == 0.0 or factor == 1.0 or peak * factor >= 0.1 > peak * factor / 2.5
+
+
+def test_deformed_picture_states_its_factor(plate: paradyn.Results) -> None:
+    picture = figures.deformed_picture(plate, -1)
+    factor = figures.displacement_scale(plate.coordinates, plate.displacement[-1])
+    assert factor > 1.0  # the plate's tip moves a fraction of a millimetre
+    assert picture.caption.endswith(f"displacements x {factor:g}")
+    assert_allclose(picture.grid.points - plate.coordinates[picture.grid.point_data["node_id"]],
+                    factor * picture.grid.point_data["displacement"], atol=1e-12)
+    assert figures.deformed_picture(plate, -1, scale=1.0).caption.endswith("true scale")
+
+
+def test_edges_only_on_coarse_meshes() -> None:
+    import pyvista as pv
+
+    assert rendering.edges_shown(pv.Plane(i_resolution=10, j_resolution=10), None)
+    assert not rendering.edges_shown(pv.Plane(i_resolution=100, j_resolution=100), None)
+    assert rendering.edges_shown(pv.Plane(i_resolution=100, j_resolution=100), True)
+
+
+def test_rendering_off_screen_prints_no_display_warning(tmp_path: Path) -> None:
+    code = ("import pyvista as pv; from paradyn import rendering; "
+            "rendering.render(rendering.Picture(pv.Plane().cast_to_unstructured_grid(), 'Normals', 'x'), 'p.png')")
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env, capture_output=True, text=True,
+                          check=True)
+    assert (tmp_path / "p.png").stat().st_size > 1000
+    assert "X server" not in done.stderr and "WARN" not in done.stderr
