@@ -4,7 +4,8 @@ VTKHDF (the VTK project's HDF5 layout, version 2, "Temporal Data"): one ``Unstru
 every part's quadrilaterals, whose points (at the deformed position) and fields are appended frame
 after frame, while the topology and the ``part``, ``element_id`` and ``node_id`` arrays (and the
 mesh file's ``file_*_id``) are written once and shared by every step (their offsets stay 0). The
-arrays are those of the ``.vtu`` files (docs/outputs.md, "VTK time series"); the top-level group ``/ParaDyn`` holds the part names.
+arrays are those of the ``.vtu`` files (docs/outputs.md, "VTK time series"); the top-level group
+``/ParaDyn`` holds the part names.
 Written with h5py, frame by frame, through a temporary file renamed at the end.
 """
 
