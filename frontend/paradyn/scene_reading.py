@@ -271,8 +271,7 @@ def _parse_geometry(r: _Reader, t: dict[str, Any], label: str) -> Geometry:
     if not file.is_file():
         raise r.error(f"'path' in {label}: mesh file {file} not found; paths are relative to the "
                       f"scene file's folder")
-    group = r.string(t, "group", label) if "group" in t else None
-    return FileGeometry(path=file, group=group)
+    return FileGeometry(path=file, group=r.string(t, "group", label) if "group" in t else None)
 
 
 # Memory of one element through meshing, the deck and the engine (bytes, measured order of magnitude:
