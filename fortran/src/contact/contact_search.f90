@@ -103,9 +103,8 @@ contains
     integer(ip), intent(out) :: segment
     real(wp), intent(out) :: xi, eta, xc(3), normal(3)
     integer(ip), intent(in), optional :: skip_node
-    integer, parameter :: most = 32   !< segments around one node that are ordered (more: in list order)
-    real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2, bound(most)
-    integer(ip) :: j, s, order(most), n, i
+    real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2
+    integer(ip) :: j, s
 
     segment = 0
     xi = 0.0_wp
@@ -114,21 +113,8 @@ contains
     normal = 0.0_wp
     if (node < 1 .or. node > n_nodes) return
     best_d2 = huge(1.0_wp)
-    ! the segments by a lower bound of their distance, nearest first: once the next bound is
-    ! beyond the best distance found, no later segment can win (the choice, the nearest with the
-    ! lower number on ties, is that of visiting all of them)
-    n = segment_start(node + 1) - segment_start(node)
-    do i = 1, n
-      order(min(i, most)) = segment_list(segment_start(node) + i - 1)
-    end do
-    if (n <= most) call order_by_bound(p, coords, segment_nodes, order(1:n), bound(1:n))
-    do j = 1, n
-      if (n <= most) then
-        s = order(j)
-        if (segment > 0 .and. bound(j) > 0.0_wp .and. bound(j)**2 > best_d2 * (1.0_wp + 1.0e-10_wp)) exit
-      else
-        s = segment_list(segment_start(node) + j - 1)
-      end if
+    do j = segment_start(node), segment_start(node + 1) - 1
+      s = segment_list(j)
       if (present(skip_node)) then
         if (any(segment_nodes(:, s) == skip_node)) cycle
       end if
@@ -144,37 +130,6 @@ contains
       end if
     end do
   end subroutine segment_candidates
-
-  !> Segments sorted by bound, a lower bound of their distance from p: |p - c| - r, c the node
-  !> average, r the farthest node from c (every point of a bilinear segment lies in that ball).
-  pure subroutine order_by_bound(p, coords, segment_nodes, segments, bound)
-    real(wp), intent(in) :: p(3), coords(:, :)
-    integer(ip), intent(in) :: segment_nodes(:, :)
-    integer(ip), intent(inout) :: segments(:)
-    real(wp), intent(out) :: bound(:)
-    real(wp) :: c(3), r2, b
-    integer(ip) :: i, k, s
-    do i = 1, size(segments)
-      s = segments(i)
-      c = 0.25_wp * (coords(:, segment_nodes(1, s)) + coords(:, segment_nodes(2, s)) &
-                     + coords(:, segment_nodes(3, s)) + coords(:, segment_nodes(4, s)))
-      r2 = 0.0_wp
-      do k = 1, 4
-        r2 = max(r2, sum((coords(:, segment_nodes(k, s)) - c)**2))
-      end do
-      b = norm2(p - c) - sqrt(r2)
-      ! insertion: equal bounds keep the list order
-      k = i - 1
-      do while (k >= 1)
-        if (bound(k) <= b) exit
-        bound(k + 1) = bound(k)
-        segments(k + 1) = segments(k)
-        k = k - 1
-      end do
-      bound(k + 1) = b
-      segments(k + 1) = s
-    end do
-  end subroutine order_by_bound
 
   !> False when no segment around master node `node` can touch p within `reach` by penalty_force's
   !> test: each segment's points lie in the ball around its node average c of radius r = the
