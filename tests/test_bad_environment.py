@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import paradyn
-from paradyn import cli, deck, geometry, launch, scene
+from paradyn import cli, deck, geometry, launch, mesh_files, scene
 from paradyn._schema import STATUS_BAD_INPUT, STATUS_FAILURE
 from paradyn.results_file import ResultsError
 
@@ -68,7 +68,7 @@ def test_a_garbage_mesh_file_is_an_error_not_an_exit(tmp_path: Path) -> None:
     path = tmp_path / "part.msh"
     path.write_bytes(b"garbage\x00\x01 not a mesh")
     with pytest.raises(geometry.GeometryError, match=r"meshio cannot read this file"):
-        geometry.load_mesh(path)
+        mesh_files.load_mesh(path)
 
 
 def test_a_mesh_request_beyond_the_machine_is_refused_before_meshing(tmp_path: Path) -> None:

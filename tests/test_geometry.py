@@ -8,7 +8,7 @@ import meshio
 import numpy as np
 import pytest
 
-from paradyn import geometry
+from paradyn import geometry, mesh_files
 
 
 def _radial_dot_normal(mesh: geometry.Mesh, axis: np.ndarray, center: np.ndarray) -> np.ndarray:
@@ -80,7 +80,7 @@ def test_load_mesh_reads_quads_and_drops_unused_nodes(tmp_path: Path) -> None:
     points = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [5, 5, 5]], dtype=float)
     path = tmp_path / "quad.vtu"
     meshio.write(path, meshio.Mesh(points, [("quad", np.array([[0, 1, 2, 3]]))]))
-    mesh = geometry.load_mesh(path)
+    mesh = mesh_files.load_mesh(path)
     assert mesh.n_nodes == 4 and mesh.n_elements == 1
     np.testing.assert_allclose(mesh.normals(), [[0, 0, 1]])
 
@@ -90,7 +90,7 @@ def test_load_mesh_rejects_triangles_with_count(tmp_path: Path) -> None:
     path = tmp_path / "tri.vtu"
     meshio.write(path, meshio.Mesh(points, [("triangle", np.array([[0, 1, 2], [0, 2, 3]]))]))
     with pytest.raises(geometry.GeometryError, match=r"2 triangle cells.*quadrilaterals"):
-        geometry.load_mesh(path)
+        mesh_files.load_mesh(path)
 
 
 def test_load_mesh_without_quads(tmp_path: Path) -> None:
@@ -98,7 +98,7 @@ def test_load_mesh_without_quads(tmp_path: Path) -> None:
     path = tmp_path / "line.vtu"
     meshio.write(path, meshio.Mesh(points, [("line", np.array([[0, 1]]))]))
     with pytest.raises(geometry.GeometryError, match="no quadrilateral cells"):
-        geometry.load_mesh(path)
+        mesh_files.load_mesh(path)
 
 
 def test_node_selection() -> None:

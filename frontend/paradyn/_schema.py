@@ -226,6 +226,14 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'use 1 to fix a dof and 0 to leave it free',
     ),
     DatasetSpec(
+        '/nodes/id', 'node_ids', 'int', ('n_nodes',), False, None, None, None, Bound(0, True), None,
+        'must be >= 0', None, '', None, False, '-',
+        (
+            "the node's id in the file the mesh came from (LS-DYNA NID), kept for the outputs; the engine ignores "
+            'it (absent, or 0: the outputs use the 1-based row number)'
+        ), '-', 'give every node a positive id (0 for none), or leave the dataset out',
+    ),
+    DatasetSpec(
         '/elements/connectivity', 'connectivity', 'int', ('n_elements', 4), True, None, None, None, None, None, '',
         None, '', 'node', True, '-',
         (
@@ -236,6 +244,14 @@ DATASETS: tuple[DatasetSpec, ...] = (
     DatasetSpec(
         '/elements/part', 'element_part', 'int', ('n_elements',), True, None, None, None, None, None, '', None, '',
         'part', False, '-', 'part index of each element', '[[part]]', 'give every element the index of its part',
+    ),
+    DatasetSpec(
+        '/elements/id', 'element_ids', 'int', ('n_elements',), False, None, None, None, Bound(0, True), None,
+        'must be >= 0', None, '', None, False, '-',
+        (
+            "the element's id in the file the mesh came from (LS-DYNA EID), kept for the outputs; the engine "
+            'ignores it (absent, or 0: the outputs use the 1-based row number)'
+        ), '-', 'give every element a positive id (0 for none), or leave the dataset out',
     ),
     DatasetSpec(
         '/parts/thickness', 'thickness', 'float', ('n_parts',), True, None, None, None, Bound(0.0, False), None,
@@ -274,6 +290,14 @@ DATASETS: tuple[DatasetSpec, ...] = (
             "1: the element's warping correction (Belytschko-Wong-Chiang twist term and rigid offsets of warped "
             'elements, docs/theory.md); 0: the plain flat element'
         ), '[[part]] warping_correction', 'use 1 (warping correction on) or 0 (off)',
+    ),
+    DatasetSpec(
+        '/parts/id', 'part_ids', 'int', ('n_parts',), False, None, None, None, Bound(0, True), None,
+        'must be >= 0', None, '', None, False, '-',
+        (
+            "the part's id in the file the mesh came from (LS-DYNA PID), kept for the outputs; the engine ignores "
+            'it (absent, or 0: the outputs use the 1-based row number)'
+        ), '-', 'give every part a positive id (0 for none), or leave the dataset out',
     ),
     DatasetSpec(
         '/materials/model', 'material_model', 'int', ('n_materials',), True, None, None, None, None, None, '',
@@ -685,14 +709,17 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/nodes/initial_velocity'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/nodes/initial_angular_velocity'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/nodes/fixed_dofs'): ('class', 'shape', 'rows', 'enum'),
+    ('dataset', '/nodes/id'): ('class', 'shape', 'rows', 'lower'),
     ('dataset', '/elements/connectivity'): ('missing', 'class', 'shape', 'empty', 'reference'),
     ('dataset', '/elements/part'): ('missing', 'class', 'shape', 'rows', 'reference'),
+    ('dataset', '/elements/id'): ('class', 'shape', 'rows', 'lower'),
     ('dataset', '/parts/thickness'): ('missing', 'class', 'shape', 'empty', 'lower', 'finite'),
     ('dataset', '/parts/material'): ('missing', 'class', 'shape', 'rows', 'reference'),
     ('dataset', '/parts/integration_points'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/hourglass_coefficient'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/parts/hourglass_form'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/parts/warping_correction'): ('class', 'shape', 'rows', 'lower', 'upper'),
+    ('dataset', '/parts/id'): ('class', 'shape', 'rows', 'lower'),
     ('dataset', '/materials/model'): ('missing', 'class', 'shape', 'empty', 'enum'),
     ('dataset', '/materials/density'): ('missing', 'class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/materials/youngs_modulus'): ('missing', 'class', 'shape', 'rows', 'lower', 'finite'),

@@ -67,12 +67,13 @@ class Plate(Geometry):
 
 
 class MeshFile(Geometry):
-    """A quadrilateral mesh file that meshio reads (``.msh``, ``.vtu``, ``.inp``, ...), coordinates in m."""
+    """A quadrilateral mesh file that meshio reads (``.msh``, ``.vtu``, ``.inp``, ...), coordinates in m;
+    ``group`` takes one physical group or cell set of it (docs/scene.md, ``kind = "file"``)."""
 
     kind = "file"
 
-    def __init__(self, path: str | Path) -> None:
-        super().__init__(path=str(Path(path).resolve()))
+    def __init__(self, path: str | Path, group: str | None = None) -> None:
+        super().__init__(path=str(Path(path).resolve()), **({} if group is None else {"group": group}))
 
 
 class Scene:

@@ -18,7 +18,8 @@ from .runners import SbatchRunner
 DESCRIPTION = """\
 Run a ParaDyn scene end to end.
 
-SCENE is a TOML scene file (see docs/scene.md) or a deck.h5 written earlier (docs/formats.md).
+SCENE is a TOML scene file (see docs/scene.md), an LS-DYNA keyword deck (.k, .key, .dyn; the
+subset of docs/keyword.md) or a deck.h5 written earlier (docs/formats.md).
 --check SCENE meshes it and prints the mass per part, the stable step and its element, the
 cycles, wall time and memory to expect, the initial contact penetrations and warnings for likely
 unit mistakes, then stops (every run prints the same lines first, unless -q).
@@ -53,7 +54,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="paradyn-run", description=DESCRIPTION,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     ranks, threads = launch.default_layout()
-    parser.add_argument("scene", type=Path, help="scene file (.toml) or deck (.h5)")
+    parser.add_argument("scene", type=Path, help="scene file (.toml), LS-DYNA keyword deck (.k) or deck (.h5)")
     parser.add_argument("-o", "--output", type=Path, default=None,
                         help="output folder (default: runs/<name of the scene's folder> under the current folder)")
     parser.add_argument("-n", "--ranks", type=int, default=ranks, help=f"MPI ranks (default {ranks})")

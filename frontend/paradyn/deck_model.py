@@ -107,6 +107,9 @@ class Model:
     initial_velocity: np.ndarray | None = None            # /nodes/initial_velocity (n_nodes, 3)
     initial_angular_velocity: np.ndarray | None = None    # /nodes/initial_angular_velocity (n_nodes, 3)
     fixed_dofs: np.ndarray | None = None                  # /nodes/fixed_dofs (n_nodes, 6) 0/1
+    node_ids: np.ndarray | None = None                    # /nodes/id: the mesh file's ids (outputs only)
+    element_ids: np.ndarray | None = None                 # /elements/id
+    part_ids: np.ndarray | None = None                    # /parts/id
     integration_points: np.ndarray | None = None          # /parts/integration_points, default 5
     hourglass_coefficient: np.ndarray | None = None       # /parts/hourglass_coefficient, default 0.1
     hourglass_form: np.ndarray | None = None              # /parts/hourglass_form, 1 viscous, 2 stiffness (default)

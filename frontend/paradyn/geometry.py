@@ -1,4 +1,5 @@
-"""Shell meshes for ParaDyn: structured cylinders (gmsh), flat plates (numpy) and mesh files (meshio).
+"""Shell meshes for ParaDyn: structured cylinders (gmsh) and flat plates (numpy); mesh files are read by
+:mod:`paradyn.mesh_files`.
 
 Every mesh is a :class:`Mesh` of 4-node quadrilaterals with 0-based node indices, counter-clockwise
 seen from the side the shell normal points to (the convention of ``docs/formats.md``).
@@ -35,6 +36,9 @@ class Mesh:
 
     coordinates: np.ndarray
     quads: np.ndarray
+    node_ids: np.ndarray | None = None      # the mesh file's node ids (gmsh tags), when it has them
+    element_ids: np.ndarray | None = None   # the mesh file's element ids
+    part_id: int | None = None              # the physical group's tag the quads came from
 
     def __post_init__(self) -> None:
         self.coordinates = np.ascontiguousarray(self.coordinates, dtype=np.float64)
@@ -290,44 +294,7 @@ def plate(
 # mesh files
 
 
-def load_mesh(path: str | Path) -> Mesh:
-    """Read the quadrilaterals of a mesh file (any format meshio reads: .msh, .vtu, .inp, ...).
-
-    Line and vertex cells are ignored; unused nodes are dropped and the rest renumbered from 0.
-    """
-    import meshio
-
-    path = Path(path)
-    if not path.is_file():
-        raise GeometryError(f"{path}: mesh file not found; check the path (relative paths in a "
-                            f"scene are relative to the scene file)")
-    try:
-        data = meshio.read(path)
-    except (Exception, SystemExit) as exc:  # meshio raises many types, and exits on some unreadable files
-        raise GeometryError(f"{path}: meshio cannot read this file ({exc}); export the mesh as "
-                            f"gmsh .msh or VTK .vtu") from exc
-    counts: dict[str, int] = {}
-    blocks = []
-    for block in data.cells:
-        counts[block.type] = counts.get(block.type, 0) + len(block.data)
-        if block.type == "quad":
-            blocks.append(np.asarray(block.data, dtype=np.int64))
-    _reject_other_cells(path, counts)
-    if not blocks or sum(len(b) for b in blocks) == 0:
-        found = ", ".join(f"{n} {t}" for t, n in counts.items()) or "no cells"
-        raise GeometryError(f"{path}: the file has no quadrilateral cells ({found}); ParaDyn needs "
-                            f"a surface mesh of 4-node quadrilaterals")
-    quads = np.concatenate(blocks)
-    points = np.asarray(data.points, dtype=np.float64)
-    if points.shape[1] == 2:
-        points = np.hstack([points, np.zeros((len(points), 1))])
-    used, inverse = np.unique(quads, return_inverse=True)
-    mesh = Mesh(coordinates=points[used], quads=inverse.reshape(-1, 4))
-    _check_quads(path, mesh)
-    return mesh
-
-
-def _reject_other_cells(path: Path, counts: dict[str, int]) -> None:
+def reject_other_cells(path: Path, counts: dict[str, int]) -> None:
     for cell_type in _SURFACE_CELL_TYPES_REJECTED + _VOLUME_CELL_TYPES:
         n = counts.get(cell_type, 0)
         if n:
@@ -337,7 +304,7 @@ def _reject_other_cells(path: Path, counts: dict[str, int]) -> None:
             )
 
 
-def _check_quads(path: Path, mesh: Mesh) -> None:
+def check_quads(path: Path, mesh: Mesh) -> None:
     if not np.all(np.isfinite(mesh.coordinates)):
         raise GeometryError(f"{path}: the file has non-finite node coordinates")
     q = np.sort(mesh.quads, axis=1)

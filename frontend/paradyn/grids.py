@@ -18,6 +18,15 @@ VTK_QUAD = 9
 MEMBRANE_COMPONENTS = ("sxx", "syy", "sxy")
 
 
+@dataclass(frozen=True)
+class FileIds:
+    """The ids of the mesh file the model came from, one per node, element and part."""
+
+    node: np.ndarray
+    element: np.ndarray
+    part: np.ndarray
+
+
 @dataclass
 class Topology:
     """A grid of some elements with its own compact node numbering."""
@@ -28,10 +37,12 @@ class Topology:
 
 
 def topology(
-    coordinates: np.ndarray, connectivity: np.ndarray, element_part: np.ndarray, elements: np.ndarray
+    coordinates: np.ndarray, connectivity: np.ndarray, element_part: np.ndarray, elements: np.ndarray,
+    ids: FileIds | None = None,
 ) -> Topology:
     """The grid of ``elements`` (global indices) at the initial positions, with ``node_id``,
-    ``element_id`` and ``part``."""
+    ``element_id`` and ``part``, and with ``ids`` the file's ``file_node_id``,
+    ``file_element_id`` and ``file_part_id``."""
     import pyvista as pv
 
     conn = connectivity[elements]
@@ -43,6 +54,10 @@ def topology(
     grid.point_data["node_id"] = nodes.astype(np.int64)
     grid.cell_data["element_id"] = elements.astype(np.int64)
     grid.cell_data["part"] = element_part[elements].astype(np.int32)
+    if ids is not None:
+        grid.point_data["file_node_id"] = ids.node[nodes].astype(np.int64)
+        grid.cell_data["file_element_id"] = ids.element[elements].astype(np.int64)
+        grid.cell_data["file_part_id"] = ids.part[element_part[elements]].astype(np.int64)
     return Topology(grid=grid, nodes=nodes, elements=elements)
 
 

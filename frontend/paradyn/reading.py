@@ -144,7 +144,7 @@ class Results:
     (12, 3)
     >>> grid = res.to_pyvista(-1)                           # a pyvista.UnstructuredGrid, deformed
     >>> grid.n_cells, sorted(grid.cell_data.keys())
-    (5, ['element_id', 'membrane_stress', 'part', 'plastic_strain', 'von_mises'])
+    (5, ['element_id', 'file_element_id', 'file_part_id', 'membrane_stress', 'part', 'plastic_strain', 'von_mises'])
     >>> history = res.to_dataframe()                        # a pandas.DataFrame when pandas is installed
     >>> round(float(history["tip_dz"].to_numpy()[-1]) * 1e3, 3)   # mm
     0.1
@@ -170,6 +170,7 @@ class Results:
     deck_path: Path | None = None
     effects_written: list[str] | None = None
     effect_table: list[run_names.EffectRow] = field(default_factory=list)
+    file_ids: dict[str, np.ndarray] = field(default_factory=dict)   # the mesh file's ids (deck /nodes/id, ...)
     engine_run: EngineRun | None = None
     outputs: dict[str, Path] = field(default_factory=dict)
     displacement: FrameField = field(init=False, compare=False)
@@ -264,14 +265,26 @@ class Results:
         """Global indices of the elements of a part (index or name)."""
         return np.flatnonzero(self.element_part == self.part_index(part))
 
+    def ids(self) -> grids.FileIds:
+        """The ids of the nodes, elements and parts in the mesh file the model came from (a
+        keyword deck's NID, EID, PID, a gmsh file's tags; 0 for parts that came from no file);
+        the 1-based row numbers where the deck holds none."""
+        rows = {"node": self.n_nodes, "element": self.n_elements, "part": self.n_parts}
+        ids = {}
+        for kind, n in rows.items():
+            stored = self.file_ids.get(kind)
+            ids[kind] = stored if stored is not None and stored.shape == (n,) else np.arange(1, n + 1)
+        return grids.FileIds(**ids)
+
     def frame(
         self, k: int = -1, part: int | str | None = None, deformed: bool = True
     ) -> pyvista.UnstructuredGrid:
         """Field frame ``k`` as a pyvista grid of VTK_QUAD cells, read from the file now.
 
         Points are at the deformed position (``deformed=False``: the initial one); point data
-        ``displacement``, ``velocity``, ``node_id``; cell data ``membrane_stress``,
-        ``von_mises``, ``plastic_strain``, ``part``, ``element_id``.  The field data
+        ``displacement``, ``velocity``, ``node_id``, ``file_node_id``; cell data ``membrane_stress``,
+        ``von_mises``, ``plastic_strain``, ``part``, ``element_id``, ``file_element_id``,
+        ``file_part_id`` (docs/outputs.md).  The field data
         ``TimeValue`` holds the frame time.  ``part`` restricts the grid to one part.
         """
         arrays = self.frame_arrays(k)
@@ -279,7 +292,7 @@ class Results:
         if key not in self._grid_cache:
             elements = np.arange(self.n_elements) if part is None else self.part_elements(part)
             self._grid_cache[key] = grids.topology(
-                self.coordinates, self.connectivity, self.element_part, elements)
+                self.coordinates, self.connectivity, self.element_part, elements, self.ids())
         topo = self._grid_cache[key]
         grid = topo.grid.copy(deep=True)
         grids.fill_frame(grid, topo, self.coordinates, arrays, deformed)
@@ -475,4 +488,5 @@ def read(
         deck_path=names.deck_path,
         effects_written=names.effects,
         effect_table=written.effect_table,
+        file_ids=names.file_ids,
     )

@@ -35,6 +35,7 @@ class RunNames:
     end_time: float | None = None
     effects: list[str] | None = None
     effect_table: list[EffectRow] = field(default_factory=list)
+    file_ids: dict[str, np.ndarray] = field(default_factory=dict)   # "node"/"element"/"part" -> the deck's ids
 
 
 @dataclass(frozen=True)
@@ -146,6 +147,9 @@ def _read_deck_names(deck: Path, n_nodes: int) -> RunNames:
             if "tracked_nodes" in h5["output"]:
                 tracked = np.asarray(h5["output/tracked_nodes"][()])
                 names.tracked_nodes = tracked.astype(np.int64).reshape(-1)
+        for kind, group in (("node", "nodes"), ("element", "elements"), ("part", "parts")):
+            if f"{group}/id" in h5:
+                names.file_ids[kind] = np.asarray(h5[f"{group}/id"][()], dtype=np.int64).reshape(-1)
         if "control" in h5 and "end_time" in h5["control"].attrs:
             names.end_time = float(np.asarray(h5["control"].attrs["end_time"]).reshape(-1)[0])
     return names
@@ -162,6 +166,7 @@ def merged(from_results: RunNames, from_deck: RunNames) -> RunNames:
         tracked_nodes=from_deck.tracked_nodes,
         end_time=from_deck.end_time,
         effects=from_results.effects,
+        file_ids=from_deck.file_ids,
     )
 
 

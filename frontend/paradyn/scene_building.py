@@ -83,6 +83,7 @@ def build_model(scene: Scene) -> deck.Model:
     _apply_contacts(scene, model)
     _apply_rigid_walls(scene, model)
     _apply_curve_loads(r, scene, by_name, model)
+    _apply_file_ids(meshes, model)
     try:
         deck.validate_model(model, source=f"{scene.path} (built model)")
     except deck.DeckError as exc:
@@ -182,6 +183,19 @@ def _apply_contacts(scene: Scene, model: deck.Model) -> None:
     model.contact_kind = np.array([_schema.ENUMS["contact_kind"][kind] for _, _, kind, _ in rows], dtype=np.int32)
     model.contact_initial_penetration = np.array([_schema.ENUMS["initial_penetration"][c.initial_penetration]
                                                   for c in contacts], dtype=np.int32)
+
+
+def _apply_file_ids(meshes: list[_PartMesh], model: deck.Model) -> None:
+    """The ids of meshes read from files (gmsh tags, the physical group's tag); 0 where a part has none."""
+    if all(m.mesh.node_ids is None for m in meshes):
+        return
+
+    def ids(values: np.ndarray | None, count: int) -> np.ndarray:
+        return np.zeros(count, dtype=np.int64) if values is None else values
+
+    model.node_ids = np.concatenate([ids(m.mesh.node_ids, m.mesh.n_nodes) for m in meshes])
+    model.element_ids = np.concatenate([ids(m.mesh.element_ids, m.mesh.n_elements) for m in meshes])
+    model.part_ids = np.array([m.mesh.part_id or 0 for m in meshes], dtype=np.int64)
 
 
 def _apply_rigid_walls(scene: Scene, model: deck.Model) -> None:

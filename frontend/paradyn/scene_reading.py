@@ -67,7 +67,7 @@ _PART_KEYS = ("name", "material", "thickness", "integration_points", "hourglass_
 _GEOMETRY_KEYS = {
     "cylinder": ("kind", "radius", "length", "axis", "center", "elements_around", "elements_along"),
     "plate": ("kind", "size", "elements", "origin", "u_axis", "v_axis"),
-    "file": ("kind", "path"),
+    "file": ("kind", "path", "group"),
 }
 _FIX_KEYS = ("part", "box", "dofs")
 _LOAD_KEYS = ("part", "point", "dof", "value", "ramp_time")
@@ -271,7 +271,7 @@ def _parse_geometry(r: _Reader, t: dict[str, Any], label: str) -> Geometry:
     if not file.is_file():
         raise r.error(f"'path' in {label}: mesh file {file} not found; paths are relative to the "
                       f"scene file's folder")
-    return FileGeometry(path=file)
+    return FileGeometry(path=file, group=r.string(t, "group", label) if "group" in t else None)
 
 
 # Memory of one element through meshing, the deck and the engine (bytes, measured order of magnitude:

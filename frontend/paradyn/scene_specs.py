@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from paradyn import _schema, deck, geometry
+from paradyn import _schema, deck, geometry, mesh_files
 
 
 class SceneError(ValueError):
@@ -87,9 +87,10 @@ class PlateGeometry:
 @dataclass
 class FileGeometry:
     path: Path  # absolute (resolved against the scene file's folder)
+    group: str | None = None   # a physical group or cell set of the file; None: every quadrilateral
 
     def mesh(self) -> geometry.Mesh:
-        return geometry.load_mesh(self.path)
+        return mesh_files.load_mesh(self.path, self.group)
 
 
 Geometry = CylinderGeometry | PlateGeometry | FileGeometry

@@ -42,7 +42,7 @@ def write_vtk_series(results: Results, out_dir: str | Path) -> list[Path]:
             continue
         _remove_stale_frames(vtk_dir, stem)
         series[stem] = grids.topology(
-            results.coordinates, results.connectivity, results.element_part, elements)
+            results.coordinates, results.connectivity, results.element_part, elements, results.ids())
     files: dict[str, list[str]] = {stem: [] for stem in series}
     for k in range(results.n_frames):
         frame = results.frame_arrays(k)  # one read of the frame serves every part

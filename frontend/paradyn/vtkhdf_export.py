@@ -2,9 +2,10 @@
 
 VTKHDF (the VTK project's HDF5 layout, version 2, "Temporal Data"): one ``UnstructuredGrid`` of
 every part's quadrilaterals, whose points (at the deformed position) and fields are appended frame
-after frame, while the topology and the ``part``, ``element_id`` and ``node_id`` arrays are written
-once and shared by every step (their offsets stay 0). The arrays are those of the ``.vtu`` files
-(docs/outputs.md, "VTK time series"); the top-level group ``/ParaDyn`` holds the part names.
+after frame, while the topology and the ``part``, ``element_id`` and ``node_id`` arrays (and the
+mesh file's ``file_*_id``) are written once and shared by every step (their offsets stay 0). The
+arrays are those of the ``.vtu`` files (docs/outputs.md, "VTK time series"); the top-level group
+``/ParaDyn`` holds the part names.
 Written with h5py, frame by frame, through a temporary file renamed at the end.
 """
 
@@ -75,10 +76,15 @@ def _write_topology(root: h5py.Group, results: Results) -> None:
     root["NumberOfPoints"] = np.full(steps, n_nodes, dtype=np.int64)
     root["NumberOfCells"] = np.full(steps, n_cells, dtype=np.int64)
     root["NumberOfConnectivityIds"] = np.full(steps, 4 * n_cells, dtype=np.int64)
-    root.create_group("PointData")["node_id"] = np.arange(n_nodes, dtype=np.int64)
+    ids = results.ids()
+    points = root.create_group("PointData")
+    points["node_id"] = np.arange(n_nodes, dtype=np.int64)
+    points["file_node_id"] = ids.node.astype(np.int64)
     cells = root.create_group("CellData")
     cells["part"] = results.element_part.astype(np.int32)
     cells["element_id"] = np.arange(n_cells, dtype=np.int64)
+    cells["file_element_id"] = ids.element.astype(np.int64)
+    cells["file_part_id"] = ids.part[results.element_part].astype(np.int64)
 
 
 def _write_steps(root: h5py.Group, results: Results) -> None:
@@ -105,8 +111,9 @@ def _write_steps(root: h5py.Group, results: Results) -> None:
     step["CellOffsets"] = zeros
     step["ConnectivityIdOffsets"] = zeros
     point_offsets, cell_offsets = step.create_group("PointDataOffsets"), step.create_group("CellDataOffsets")
-    point_offsets["node_id"] = zeros
-    cell_offsets["part"] = zeros
-    cell_offsets["element_id"] = zeros
+    for name in ("node_id", "file_node_id"):
+        point_offsets[name] = zeros
+    for name in ("part", "element_id", "file_element_id", "file_part_id"):
+        cell_offsets[name] = zeros
     for name, on_points, _ in _FRAME_ARRAYS:
         (point_offsets if on_points else cell_offsets)[name] = k * (n_nodes if on_points else n_cells)

@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from . import deck, launch, preflight, scene
+from . import deck, keyword_scene, launch, preflight, scene
 from .builder import Scene as SceneBuilder
 from .engine_process import Progress
 from .postprocess import post_process
@@ -63,7 +63,8 @@ def run(
     Parameters
     ----------
     source : str, Path, paradyn.Scene, paradyn.scene.Scene or paradyn.deck.Model
-        A scene file (``.toml``), a deck file (``.h5``, read and checked), a scene built in Python
+        A scene file (``.toml``), a deck file (``.h5``, read and checked), an LS-DYNA keyword
+        deck (``.k``, ``.key``, ``.dyn``: docs/keyword.md), a scene built in Python
         (:class:`paradyn.Scene`) or loaded with :func:`paradyn.scene.load_scene`, or a model.
     out : str or Path
         The output folder (created): ``deck.h5``, ``results.h5``, ``engine.log`` and the
@@ -221,6 +222,8 @@ def model_of(source: Source) -> deck.Model:
     path = Path(source)
     if path.suffix in DECK_SUFFIXES:
         return deck.read_deck(path)
+    if path.suffix.lower() in keyword_scene.KEYWORD_SUFFIXES:   # LS-DYNA keyword deck (docs/keyword.md)
+        return keyword_scene.read_keyword(path)
     return scene.build_model(scene.load_scene(path))
 
 

@@ -23,25 +23,26 @@ module paradyn_schema
       enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_initial_penetration, &
       enum_contact_gather, enum_switch, enum_partition, n_enums, dataset_nodes_coordinates, &
       dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
-      dataset_elements_connectivity, dataset_elements_part, dataset_parts_thickness, dataset_parts_material, &
-      dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
-      dataset_parts_warping_correction, dataset_materials_model, dataset_materials_density, &
-      dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
-      dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, dataset_loads_node, &
-      dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, dataset_output_tracked_nodes, &
-      dataset_contact_pairs, dataset_contact_penalty_scale, dataset_contact_static_friction, &
-      dataset_contact_dynamic_friction, dataset_contact_friction_decay, dataset_contact_passes, &
-      dataset_contact_kind, dataset_contact_initial_penetration, dataset_rigid_walls_point, &
-      dataset_rigid_walls_normal, dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, &
-      dataset_curves_first_point, dataset_curves_time, dataset_curves_value, dataset_pressure_part, &
-      dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, &
-      dataset_prescribed_value, dataset_prescribed_curve, n_deck_datasets, control_end_time, &
-      control_output_interval, control_history_interval, control_time_step, control_time_step_safety, &
-      control_mass_damping, control_progress_interval, control_contact_sort_interval, &
-      control_checkpoint_interval, control_partition, control_contact_gather, control_gravity_x, &
-      control_gravity_y, control_gravity_z, control_energy_error_limit, control_time_step_floor, &
-      control_contact_travel_limit, control_mass_scaling_step, control_mass_scaling_limit, &
-      control_effect_point_loads, control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
+      dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, dataset_elements_id, &
+      dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
+      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_warping_correction, &
+      dataset_parts_id, dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
+      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
+      dataset_materials_hardening_mixing, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
+      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
+      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
+      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+      dataset_contact_initial_penetration, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
+      dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, dataset_curves_first_point, &
+      dataset_curves_time, dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
+      dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
+      dataset_prescribed_curve, n_deck_datasets, control_end_time, control_output_interval, &
+      control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
+      control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
+      control_partition, control_contact_gather, control_gravity_x, control_gravity_y, control_gravity_z, &
+      control_energy_error_limit, control_time_step_floor, control_contact_travel_limit, &
+      control_mass_scaling_step, control_mass_scaling_limit, control_effect_point_loads, &
+      control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
       control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
       control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
       control_restart_may_change, max_enum_members, n_effects, effect_point_loads, effect_gravity, &
@@ -143,49 +144,52 @@ module paradyn_schema
   integer, parameter :: dataset_nodes_initial_velocity = 2
   integer, parameter :: dataset_nodes_initial_angular_velocity = 3
   integer, parameter :: dataset_nodes_fixed_dofs = 4
-  integer, parameter :: dataset_elements_connectivity = 5
-  integer, parameter :: dataset_elements_part = 6
-  integer, parameter :: dataset_parts_thickness = 7
-  integer, parameter :: dataset_parts_material = 8
-  integer, parameter :: dataset_parts_integration_points = 9
-  integer, parameter :: dataset_parts_hourglass_coefficient = 10
-  integer, parameter :: dataset_parts_hourglass_form = 11
-  integer, parameter :: dataset_parts_warping_correction = 12
-  integer, parameter :: dataset_materials_model = 13
-  integer, parameter :: dataset_materials_density = 14
-  integer, parameter :: dataset_materials_youngs_modulus = 15
-  integer, parameter :: dataset_materials_poisson_ratio = 16
-  integer, parameter :: dataset_materials_yield_stress = 17
-  integer, parameter :: dataset_materials_tangent_modulus = 18
-  integer, parameter :: dataset_materials_hardening_mixing = 19
-  integer, parameter :: dataset_loads_node = 20
-  integer, parameter :: dataset_loads_dof = 21
-  integer, parameter :: dataset_loads_value = 22
-  integer, parameter :: dataset_loads_ramp_time = 23
-  integer, parameter :: dataset_output_tracked_nodes = 24
-  integer, parameter :: dataset_contact_pairs = 25
-  integer, parameter :: dataset_contact_penalty_scale = 26
-  integer, parameter :: dataset_contact_static_friction = 27
-  integer, parameter :: dataset_contact_dynamic_friction = 28
-  integer, parameter :: dataset_contact_friction_decay = 29
-  integer, parameter :: dataset_contact_passes = 30
-  integer, parameter :: dataset_contact_kind = 31
-  integer, parameter :: dataset_contact_initial_penetration = 32
-  integer, parameter :: dataset_rigid_walls_point = 33
-  integer, parameter :: dataset_rigid_walls_normal = 34
-  integer, parameter :: dataset_rigid_walls_velocity = 35
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 36
-  integer, parameter :: dataset_curves_first_point = 37
-  integer, parameter :: dataset_curves_time = 38
-  integer, parameter :: dataset_curves_value = 39
-  integer, parameter :: dataset_pressure_part = 40
-  integer, parameter :: dataset_pressure_value = 41
-  integer, parameter :: dataset_pressure_curve = 42
-  integer, parameter :: dataset_prescribed_node = 43
-  integer, parameter :: dataset_prescribed_dof = 44
-  integer, parameter :: dataset_prescribed_value = 45
-  integer, parameter :: dataset_prescribed_curve = 46
-  integer, parameter :: n_deck_datasets = 46
+  integer, parameter :: dataset_nodes_id = 5
+  integer, parameter :: dataset_elements_connectivity = 6
+  integer, parameter :: dataset_elements_part = 7
+  integer, parameter :: dataset_elements_id = 8
+  integer, parameter :: dataset_parts_thickness = 9
+  integer, parameter :: dataset_parts_material = 10
+  integer, parameter :: dataset_parts_integration_points = 11
+  integer, parameter :: dataset_parts_hourglass_coefficient = 12
+  integer, parameter :: dataset_parts_hourglass_form = 13
+  integer, parameter :: dataset_parts_warping_correction = 14
+  integer, parameter :: dataset_parts_id = 15
+  integer, parameter :: dataset_materials_model = 16
+  integer, parameter :: dataset_materials_density = 17
+  integer, parameter :: dataset_materials_youngs_modulus = 18
+  integer, parameter :: dataset_materials_poisson_ratio = 19
+  integer, parameter :: dataset_materials_yield_stress = 20
+  integer, parameter :: dataset_materials_tangent_modulus = 21
+  integer, parameter :: dataset_materials_hardening_mixing = 22
+  integer, parameter :: dataset_loads_node = 23
+  integer, parameter :: dataset_loads_dof = 24
+  integer, parameter :: dataset_loads_value = 25
+  integer, parameter :: dataset_loads_ramp_time = 26
+  integer, parameter :: dataset_output_tracked_nodes = 27
+  integer, parameter :: dataset_contact_pairs = 28
+  integer, parameter :: dataset_contact_penalty_scale = 29
+  integer, parameter :: dataset_contact_static_friction = 30
+  integer, parameter :: dataset_contact_dynamic_friction = 31
+  integer, parameter :: dataset_contact_friction_decay = 32
+  integer, parameter :: dataset_contact_passes = 33
+  integer, parameter :: dataset_contact_kind = 34
+  integer, parameter :: dataset_contact_initial_penetration = 35
+  integer, parameter :: dataset_rigid_walls_point = 36
+  integer, parameter :: dataset_rigid_walls_normal = 37
+  integer, parameter :: dataset_rigid_walls_velocity = 38
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 39
+  integer, parameter :: dataset_curves_first_point = 40
+  integer, parameter :: dataset_curves_time = 41
+  integer, parameter :: dataset_curves_value = 42
+  integer, parameter :: dataset_pressure_part = 43
+  integer, parameter :: dataset_pressure_value = 44
+  integer, parameter :: dataset_pressure_curve = 45
+  integer, parameter :: dataset_prescribed_node = 46
+  integer, parameter :: dataset_prescribed_dof = 47
+  integer, parameter :: dataset_prescribed_value = 48
+  integer, parameter :: dataset_prescribed_curve = 49
+  integer, parameter :: n_deck_datasets = 49
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -328,7 +332,7 @@ module paradyn_schema
     condition_spec_t('/curves', 0, 0, ''), &
     condition_spec_t('/pressure', 0, 0, ''), &
     condition_spec_t('/prescribed', 0, 0, ''), &
-    condition_spec_t('', 13, 2, 'for a j2_plasticity material') ]
+    condition_spec_t('', 16, 2, 'for a j2_plasticity material') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
@@ -344,12 +348,19 @@ module paradyn_schema
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_dof_state, 2, &
         [0, 1, 0], size_none, '', 'must be 0 or 1 (0 = free, 1 = fixed)', &
         'use 1 to fix a dof and 0 to leave it free'), &
+    dataset_spec_t('/nodes/id', class_int, 0, size_n_nodes, .false., .false., condition_none, condition_none, &
+        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], size_none, &
+        'must be >= 0', '', 'give every node a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/elements/connectivity', class_int, 4, size_n_elements, .true., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_n_nodes, '', '', 'remesh'), &
     dataset_spec_t('/elements/part', class_int, 0, size_n_elements, .false., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_n_parts, '', '', 'give every element the index of its part'), &
+    dataset_spec_t('/elements/id', class_int, 0, size_n_elements, .false., .false., condition_none, &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
+        size_none, 'must be >= 0', '', &
+        'give every element a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/parts/thickness', class_float, 0, size_n_parts, .true., .true., condition_none, &
         condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, 'must be > 0', '', 'set a positive shell thickness in metres'), &
@@ -370,6 +381,9 @@ module paradyn_schema
     dataset_spec_t('/parts/warping_correction', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, 'must be between 0 and 1', '', 'use 1 (warping correction on) or 0 (off)'), &
+    dataset_spec_t('/parts/id', class_int, 0, size_n_parts, .false., .false., condition_none, condition_none, &
+        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], size_none, &
+        'must be >= 0', '', 'give every part a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/materials/model', class_int, 0, size_n_materials, .true., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 2, &
         [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = elastic, 2 = j2_plasticity)', &
