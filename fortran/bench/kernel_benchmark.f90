@@ -17,6 +17,8 @@ program kernel_benchmark
   integer :: n_elements, n_cycles, n_groups
   character(len=32) :: arg
   type(shell_properties_t) :: props
+  integer :: seed_size, s
+  integer, allocatable :: seed(:)
 
   n_elements = 16384
   n_cycles = 200
@@ -29,6 +31,9 @@ program kernel_benchmark
     read (arg, *) n_cycles
   end if
   n_groups = max(1, n_elements / group_size)
+  call random_seed(size=seed_size)   ! the same elements every run: the state bits compare builds
+  seed = [(1234567 + 7919 * s, s = 1, seed_size)]
+  call random_seed(put=seed)
   props%thickness = 0.003_wp
   props%density = 7860.0_wp
   props%young = 200.0e9_wp
@@ -54,13 +59,18 @@ contains
     character(len=*), intent(in) :: label
     type(shell_properties_t), intent(in) :: p
     real(wp) :: us(2)
-    us = time_per_element_cycle(p)
-    write (*, '(a,f8.4,a,f8.4,a)') label, us(1), ' us per element-cycle (', us(2), ' us CPU time)'
+    integer(i8) :: bits
+    us = time_per_element_cycle(p, bits)
+    write (*, '(a,f8.4,a,f8.4,a,z16.16)') label, us(1), ' us per element-cycle (', us(2), &
+      ' us CPU time), state bits ', bits
   end subroutine report
 
-  !> wall and CPU time per element-cycle in microseconds; negative when the run went wrong
-  function time_per_element_cycle(p) result(us)
+  !> wall and CPU time per element-cycle in microseconds; negative when the run went wrong. bits:
+  !> the exclusive or of the bit patterns of the final state and forces, equal for two builds whose
+  !> kernels compute bitwise the same
+  function time_per_element_cycle(p, bits) result(us)
     type(shell_properties_t), intent(in) :: p
+    integer(i8), intent(out) :: bits
     real(wp) :: us(2)
     real(wp), allocatable :: x(:, :, :, :), v(:, :, :, :), w(:, :, :, :), force(:, :, :)
     real(wp), allocatable :: stress(:, :, :, :), back(:, :, :, :), eps_p(:, :, :), hg(:, :, :)
@@ -106,8 +116,30 @@ contains
     call system_clock(t1)
     us(1) = 1.0e6_wp * real(t1 - t0, wp) / real(rate, wp) / (real(n_cycles, wp) * n_groups * group_size)
     us(2) = 1.0e6_wp * (cpu1 - cpu0) / (real(n_cycles, wp) * n_groups * group_size)
+    bits = ieor(ieor(xor_bits(stress), xor_bits(back)), ieor(xor_bits(eps_p), xor_bits(hg)))
+    bits = ieor(ieor(bits, xor_bits(e_int)), ieor(xor_bits(e_hg), xor_bits(force)))
     if (inverted > 0 .or. .not. (sum(e_int) == sum(e_int))) us = -1.0_wp
     if (p%material%has_history() .and. maxval(eps_p) <= 0.0_wp) us = -2.0_wp  ! must have yielded
   end function time_per_element_cycle
+
+  integer(i8) function xor_bits(a) result(bits)
+    real(wp), intent(in) :: a(..)
+    real(wp), allocatable :: flat(:)
+    integer :: i
+    select rank (a)
+    rank (1)
+      flat = a
+    rank (2)
+      flat = reshape(a, [size(a)])
+    rank (3)
+      flat = reshape(a, [size(a)])
+    rank (4)
+      flat = reshape(a, [size(a)])
+    end select
+    bits = 0
+    do i = 1, size(flat)
+      bits = ieor(ishftc(bits, 1), transfer(flat(i), bits))
+    end do
+  end function xor_bits
 
 end program kernel_benchmark
