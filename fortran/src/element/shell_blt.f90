@@ -60,7 +60,7 @@ contains
 
     integer :: first, m, o, i, k, c, nip
     real(wp) :: zeta(max_integration_points), wgt(max_integration_points)
-    real(wp) :: t, half_t, shear_step, z, wz, wzz
+    real(wp) :: t, half_t, shear_step, z, wz, wzz, s1, s2, s3, s4, s5
     logical :: history   !< the material keeps a back stress or plastic strain
     ! per-pass arrays, element index first
     real(wp) :: xg(group_size, 3, 4), vg(group_size, 3, 4), wg(group_size, 3, 4)
@@ -110,6 +110,8 @@ contains
 
       ! --- stress update at each through-thickness point on copies (sp, bp, ep), written back by
       ! merge so that an element inverted at mid-step keeps its state
+      ! (res, the resultants of the stresses at the end of the step, is summed point by point here)
+      res = 0.0_wp
       work = 0.0_wp
       actual_work = 0.0_wp
       elastic_work = 0.0_wp
@@ -141,6 +143,8 @@ contains
           call tangent_work(m, wgt(k), props, deps, stress(o + 1:o + m, 1:3, k), sp, actual_work, elastic_work)
         end if
         wz = wgt(k) * half_t
+        wzz = wgt(k) * half_t * (zeta(k) * half_t)
+        ! one pass: shear, work, the write-back and the point's share of the resultants
         do i = 1, m
           sp(i, 4) = stress(o + i, 4, k) + shear_step * rates(i, 7)
           sp(i, 5) = stress(o + i, 5, k) + shear_step * rates(i, 8)
@@ -150,9 +154,24 @@ contains
                      + 0.5_wp * (stress(o + i, 3, k) + sp(i, 3)) * deps(i, 3)) &
                     + (0.5_wp * (stress(o + i, 4, k) + sp(i, 4)) * (dt * rates(i, 7)) &
                        + 0.5_wp * (stress(o + i, 5, k) + sp(i, 5)) * (dt * rates(i, 8))))
-        end do
-        do c = 1, stress_components
-          stress(o + 1:o + m, c, k) = merge(sp(1:m, c), stress(o + 1:o + m, c, k), area_mid(1:m) > 0.0_wp)
+          s1 = merge(sp(i, 1), stress(o + i, 1, k), area_mid(i) > 0.0_wp)
+          s2 = merge(sp(i, 2), stress(o + i, 2, k), area_mid(i) > 0.0_wp)
+          s3 = merge(sp(i, 3), stress(o + i, 3, k), area_mid(i) > 0.0_wp)
+          s4 = merge(sp(i, 4), stress(o + i, 4, k), area_mid(i) > 0.0_wp)
+          s5 = merge(sp(i, 5), stress(o + i, 5, k), area_mid(i) > 0.0_wp)
+          stress(o + i, 1, k) = s1
+          stress(o + i, 2, k) = s2
+          stress(o + i, 3, k) = s3
+          stress(o + i, 4, k) = s4
+          stress(o + i, 5, k) = s5
+          res(i, 1) = res(i, 1) + wz * s1
+          res(i, 2) = res(i, 2) + wz * s2
+          res(i, 3) = res(i, 3) + wz * s3
+          res(i, 4) = res(i, 4) + wzz * s1
+          res(i, 5) = res(i, 5) + wzz * s2
+          res(i, 6) = res(i, 6) + wzz * s3
+          res(i, 7) = res(i, 7) + wz * s4
+          res(i, 8) = res(i, 8) + wz * s5
         end do
       end do
       e_internal(o + 1:o + m) = merge(e_internal(o + 1:o + m) + area_mid(1:m) * work(1:m), &
@@ -175,17 +194,6 @@ contains
       call check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
       inverted = inverted + count(.not. (area(1:m) > 0.0_wp))
       call gradient_arrays(m, xl, yl, area, b1, b2, gamma)
-      res = 0.0_wp
-      do k = 1, nip
-        wz = wgt(k) * half_t
-        wzz = wgt(k) * half_t * (zeta(k) * half_t)
-        do c = 1, 3
-          res(1:m, c) = res(1:m, c) + wz * stress(o + 1:o + m, c, k)
-          res(1:m, 3 + c) = res(1:m, 3 + c) + wzz * stress(o + 1:o + m, c, k)
-        end do
-        res(1:m, 7) = res(1:m, 7) + wz * stress(o + 1:o + m, 4, k)
-        res(1:m, 8) = res(1:m, 8) + wz * stress(o + 1:o + m, 5, k)
-      end do
       ! into a local array: stored straight into force, gfortran needs too many alias checks
       if (props%hourglass_form == hourglass_physical) then
         s_xi(1:m) = hg(1:m, 5)
