@@ -210,7 +210,8 @@ contains
   end subroutine blt_internal_forces
 
   !> local_frame of elements o+1..o+m of x (mid-surface frame, local node coordinates, projected
-  !> area), with |a| = sqrt(a . a) in place of norm2; results for 1..m
+  !> area), with |a| = sqrt(a . a) in place of norm2 and a unit vector a * (1 / |a|): one division
+  !> per vector, not three; results for 1..m
   pure subroutine frames(m, ld, o, x, e, xl, yl, area)
     integer, intent(in) :: m, ld, o
     real(wp), intent(in) :: x(ld, 3, 4)
@@ -229,10 +230,10 @@ contains
       nx = d31y * d42z - d31z * d42y
       ny = d31z * d42x - d31x * d42z
       nz = d31x * d42y - d31y * d42x
-      r = sqrt(nx * nx + ny * ny + nz * nz)
-      nx = nx / r
-      ny = ny / r
-      nz = nz / r
+      r = 1.0_wp / sqrt(nx * nx + ny * ny + nz * nz)
+      nx = nx * r
+      ny = ny * r
+      nz = nz * r
       gx = x(o + i, 1, 2) + x(o + i, 1, 3) - x(o + i, 1, 1) - x(o + i, 1, 4)
       gy = x(o + i, 2, 2) + x(o + i, 2, 3) - x(o + i, 2, 1) - x(o + i, 2, 4)
       gz = x(o + i, 3, 2) + x(o + i, 3, 3) - x(o + i, 3, 1) - x(o + i, 3, 4)
@@ -240,10 +241,10 @@ contains
       gx = gx - r * nx
       gy = gy - r * ny
       gz = gz - r * nz
-      r = sqrt(gx * gx + gy * gy + gz * gz)
-      e11 = gx / r
-      e21 = gy / r
-      e31 = gz / r
+      r = 1.0_wp / sqrt(gx * gx + gy * gy + gz * gz)
+      e11 = gx * r
+      e21 = gy * r
+      e31 = gz * r
       e12 = ny * e31 - nz * e21
       e22 = nz * e11 - nx * e31
       e32 = nx * e21 - ny * e11
