@@ -111,7 +111,7 @@ contains
       ! --- stress update at each through-thickness point on copies (sp, bp, ep), written back by
       ! merge so that an element inverted at mid-step keeps its state
       ! (res, the resultants of the stresses at the end of the step, is summed point by point here)
-      res = 0.0_wp
+      res(1:m, :) = 0.0_wp
       work = 0.0_wp
       actual_work = 0.0_wp
       elastic_work = 0.0_wp
