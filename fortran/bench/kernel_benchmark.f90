@@ -116,29 +116,22 @@ contains
     call system_clock(t1)
     us(1) = 1.0e6_wp * real(t1 - t0, wp) / real(rate, wp) / (real(n_cycles, wp) * n_groups * group_size)
     us(2) = 1.0e6_wp * (cpu1 - cpu0) / (real(n_cycles, wp) * n_groups * group_size)
-    bits = ieor(ieor(xor_bits(stress), xor_bits(back)), ieor(xor_bits(eps_p), xor_bits(hg)))
-    bits = ieor(ieor(bits, xor_bits(e_int)), ieor(xor_bits(e_hg), xor_bits(force)))
+    bits = ieor(ieor(xor_bits(stress, size(stress)), xor_bits(back, size(back))), &
+                ieor(xor_bits(eps_p, size(eps_p)), xor_bits(hg, size(hg))))
+    bits = ieor(ieor(bits, xor_bits(e_int, size(e_int))), &
+                ieor(xor_bits(e_hg, size(e_hg)), xor_bits(force, size(force))))
     if (inverted > 0 .or. .not. (sum(e_int) == sum(e_int))) us = -1.0_wp
     if (p%material%has_history() .and. maxval(eps_p) <= 0.0_wp) us = -2.0_wp  ! must have yielded
   end function time_per_element_cycle
 
-  integer(i8) function xor_bits(a) result(bits)
-    real(wp), intent(in) :: a(..)
-    real(wp), allocatable :: flat(:)
+  !> the exclusive or of the bit patterns of a(1:n), each rotated by its position
+  integer(i8) function xor_bits(a, n) result(bits)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: a(n)   !< a whole contiguous array of any rank (sequence association)
     integer :: i
-    select rank (a)
-    rank (1)
-      flat = a
-    rank (2)
-      flat = reshape(a, [size(a)])
-    rank (3)
-      flat = reshape(a, [size(a)])
-    rank (4)
-      flat = reshape(a, [size(a)])
-    end select
     bits = 0
-    do i = 1, size(flat)
-      bits = ieor(ishftc(bits, 1), transfer(flat(i), bits))
+    do i = 1, n
+      bits = ieor(ishftc(bits, 1), transfer(a(i), bits))
     end do
   end function xor_bits
 
