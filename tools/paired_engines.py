@@ -3,8 +3,9 @@
 OLD and NEW are paradyn-engine binaries (for example one built from an earlier commit with
 ``cmake -S fortran -B /tmp/old``); LAYOUT is RANKSxTHREADS. Each round runs every layout with both
 engines, old first in odd rounds and new first in even ones, so drifts of a shared machine fall on
-both; each run's engine wall time is ``/run wall_s`` of its results file. Prints, per layout, the
-medians and the median of the per-round ratios old/new (above 1: NEW is faster).
+both; each run's engine wall time is ``/run wall_s`` of its results file, its element phase
+``/run phase_elements_s``. Prints, per layout and for both times, the medians and the median of
+the per-round ratios old/new (above 1: NEW is faster).
 """
 
 from __future__ import annotations
@@ -21,21 +22,23 @@ import h5py
 from paradyn.launch import current_machine
 from paradyn.runners import MpirunRunner
 
+TIMES = ("wall_s", "phase_elements_s")
 
-def run_once(engine: str, deck: Path, out: Path, ranks: int, threads: int) -> float:
-    """One run of `engine` under mpirun, pinned as paradyn-run pins; its engine wall time."""
+
+def run_once(engine: str, deck: Path, out: Path, ranks: int, threads: int) -> tuple[float, ...]:
+    """One run of `engine` under mpirun, pinned as paradyn-run pins; its TIMES."""
     runner = MpirunRunner(replace(current_machine(), engine=Path(engine).resolve()))
     command = runner.command(deck.resolve(), out.resolve(), ranks, threads, False)
     env = dict(os.environ, **runner.environment(ranks, threads))
     subprocess.run(command, env=env, check=True, capture_output=True)
     with h5py.File(out, "r") as f:
-        return float(f["run"].attrs["wall_s"])
+        return tuple(float(f["run"].attrs[name]) for name in TIMES)
 
 
 def main(argv: list[str]) -> int:
     old, new, deck, rounds, *layouts = argv
     builds = {"old": old, "new": new}
-    times: dict[tuple[str, str], list[float]] = {}
+    times: dict[tuple[str, str], list[tuple[float, ...]]] = {}
     for k in range(int(rounds)):
         for layout in layouts:
             ranks, threads = (int(x) for x in layout.split("x"))
@@ -43,10 +46,12 @@ def main(argv: list[str]) -> int:
                 out = Path(deck).parent / f"paired_{name}_{layout}.h5"
                 times.setdefault((name, layout), []).append(run_once(builds[name], Path(deck), out, ranks, threads))
     for layout in layouts:
-        o, n = times[("old", layout)], times[("new", layout)]
-        ratio = statistics.median(a / b for a, b in zip(o, n, strict=True))
-        print(f"{layout}: old median {statistics.median(o):.3f} s, new median {statistics.median(n):.3f} s, "
-              f"per-round old/new median {ratio:.3f}")
+        for j, name in enumerate(TIMES):
+            o = [t[j] for t in times[("old", layout)]]
+            n = [t[j] for t in times[("new", layout)]]
+            ratio = statistics.median(a / b for a, b in zip(o, n, strict=True))
+            print(f"{layout} {name}: old median {statistics.median(o):.3f} s, new median {statistics.median(n):.3f} s, "
+                  f"per-round old/new median {ratio:.3f}")
     return 0
 
 

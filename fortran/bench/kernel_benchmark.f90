@@ -2,8 +2,10 @@
 !>
 !> Times the BLT element kernel alone, single thread, on groups of the engine's size: an elastic
 !> section (with and without the warping correction) and a J2-plastic section that yields, all with
-!> 5 through-thickness points. Prints microseconds per element-cycle. Gathers and the nodal sum are not included (the engine's
-!> element-cycles per second include them).
+!> 5 through-thickness points. Prints microseconds per element-cycle, of wall time and of the
+!> process's CPU time (the second is steadier on a shared machine, where another process can take
+!> the core away). Gathers and the nodal sum are not included (the engine's element-cycles per
+!> second include them).
 program kernel_benchmark
   use paradyn_kinds, only: wp, i8
   use shell_section, only: shell_properties_t, stress_components, hourglass_components
@@ -15,6 +17,8 @@ program kernel_benchmark
   integer :: n_elements, n_cycles, n_groups
   character(len=32) :: arg
   type(shell_properties_t) :: props
+  integer :: seed_size, s
+  integer, allocatable :: seed(:)
 
   n_elements = 16384
   n_cycles = 200
@@ -27,6 +31,9 @@ program kernel_benchmark
     read (arg, *) n_cycles
   end if
   n_groups = max(1, n_elements / group_size)
+  call random_seed(size=seed_size)   ! the same elements every run: the state bits compare builds
+  seed = [(1234567 + 7919 * s, s = 1, seed_size)]
+  call random_seed(put=seed)
   props%thickness = 0.003_wp
   props%density = 7860.0_wp
   props%young = 200.0e9_wp
@@ -36,26 +43,42 @@ program kernel_benchmark
   call material_from_name('elastic', props%young, props%poisson, 250.0e6_wp, 0.0_wp, 1.0_wp, props%material)
   write (*, '(a,i0,a,i0,a,i0,a)') 'BLT kernel, ', n_groups * group_size, ' elements in groups of ', &
     group_size, ', ', n_cycles, ' cycles, 1 thread, 5 points'
-  write (*, '(a,f8.4,a)') 'elastic: ', time_per_element_cycle(props), ' us per element-cycle'
+  call report('elastic: ', props)
   props%warping_correction = .false.   ! the elements are warped (1e-4 m on 1 cm): the correction's cost
-  write (*, '(a,f8.4,a)') 'elastic, no warping correction: ', time_per_element_cycle(props), ' us per element-cycle'
+  call report('elastic, no warping correction: ', props)
   props%warping_correction = .true.
   props%hourglass_form = hourglass_stiffness   ! the physical form's cost against the stiffness form's
-  write (*, '(a,f8.4,a)') 'elastic, stiffness hourglass form: ', time_per_element_cycle(props), ' us per element-cycle'
+  call report('elastic, stiffness hourglass form: ', props)
   props%hourglass_form = hourglass_physical
   call material_from_name('j2_plasticity', props%young, props%poisson, 250.0e6_wp, 0.0_wp, 1.0_wp, props%material)
-  write (*, '(a,f8.4,a)') 'plastic: ', time_per_element_cycle(props), ' us per element-cycle'
+  call report('plastic: ', props)
 
 contains
 
-  real(wp) function time_per_element_cycle(p) result(us)
+  subroutine report(label, p)
+    character(len=*), intent(in) :: label
     type(shell_properties_t), intent(in) :: p
+    real(wp) :: us(2)
+    integer(i8) :: bits
+    us = time_per_element_cycle(p, bits)
+    write (*, '(a,f8.4,a,f8.4,a,z16.16)') label, us(1), ' us per element-cycle (', us(2), &
+      ' us CPU time), state bits ', bits
+  end subroutine report
+
+  !> wall and CPU time per element-cycle in microseconds; negative when the run went wrong. bits:
+  !> the exclusive or of the bit patterns of the final state and forces, equal for two builds whose
+  !> kernels compute bitwise the same
+  function time_per_element_cycle(p, bits) result(us)
+    type(shell_properties_t), intent(in) :: p
+    integer(i8), intent(out) :: bits
+    real(wp) :: us(2)
     real(wp), allocatable :: x(:, :, :, :), v(:, :, :, :), w(:, :, :, :), force(:, :, :)
     real(wp), allocatable :: stress(:, :, :, :), back(:, :, :, :), eps_p(:, :, :), hg(:, :, :)
     real(wp), allocatable :: e_int(:, :), e_hg(:, :)
     real(wp) :: r(3), dt_element(group_size)
     integer :: g, i, k, c, inverted
     integer(i8) :: t0, t1, rate
+    real(wp) :: cpu0, cpu1
     allocate (x(group_size, 3, 4, n_groups), v(group_size, 3, 4, n_groups), w(group_size, 3, 4, n_groups))
     allocate (stress(group_size, stress_components, 5, n_groups), back(group_size, 3, 5, n_groups))
     allocate (eps_p(group_size, 5, n_groups), hg(group_size, hourglass_components, n_groups))
@@ -81,6 +104,7 @@ contains
     end do
     inverted = 0
     call system_clock(t0, rate)
+    call cpu_time(cpu0)
     do c = 1, n_cycles
       do g = 1, n_groups
         call blt_internal_forces(group_size, x(:, :, :, g), v(:, :, :, g), w(:, :, :, g), p, 1.0e-7_wp, &
@@ -88,10 +112,27 @@ contains
                                  e_int(:, g), e_hg(:, g), inverted, dt_element)
       end do
     end do
+    call cpu_time(cpu1)
     call system_clock(t1)
-    us = 1.0e6_wp * real(t1 - t0, wp) / real(rate, wp) / (real(n_cycles, wp) * n_groups * group_size)
+    us(1) = 1.0e6_wp * real(t1 - t0, wp) / real(rate, wp) / (real(n_cycles, wp) * n_groups * group_size)
+    us(2) = 1.0e6_wp * (cpu1 - cpu0) / (real(n_cycles, wp) * n_groups * group_size)
+    bits = ieor(ieor(xor_bits(stress, size(stress)), xor_bits(back, size(back))), &
+                ieor(xor_bits(eps_p, size(eps_p)), xor_bits(hg, size(hg))))
+    bits = ieor(ieor(bits, xor_bits(e_int, size(e_int))), &
+                ieor(xor_bits(e_hg, size(e_hg)), xor_bits(force, size(force))))
     if (inverted > 0 .or. .not. (sum(e_int) == sum(e_int))) us = -1.0_wp
     if (p%material%has_history() .and. maxval(eps_p) <= 0.0_wp) us = -2.0_wp  ! must have yielded
   end function time_per_element_cycle
+
+  !> the exclusive or of the bit patterns of a(1:n), each rotated by its position
+  integer(i8) function xor_bits(a, n) result(bits)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: a(n)   !< a whole contiguous array of any rank (sequence association)
+    integer :: i
+    bits = 0
+    do i = 1, n
+      bits = ieor(ishftc(bits, 1), transfer(a(i), bits))
+    end do
+  end function xor_bits
 
 end program kernel_benchmark

@@ -60,7 +60,7 @@ contains
 
     integer :: first, m, o, i, k, c, nip
     real(wp) :: zeta(max_integration_points), wgt(max_integration_points)
-    real(wp) :: t, half_t, shear_step, z, wz, wzz
+    real(wp) :: t, half_t, shear_step, z, wz, wzz, s1, s2, s3, s4, s5
     logical :: history   !< the material keeps a back stress or plastic strain
     ! per-pass arrays, element index first
     real(wp) :: xg(group_size, 3, 4), vg(group_size, 3, 4), wg(group_size, 3, 4)
@@ -110,6 +110,8 @@ contains
 
       ! --- stress update at each through-thickness point on copies (sp, bp, ep), written back by
       ! merge so that an element inverted at mid-step keeps its state
+      ! (res, the resultants of the stresses at the end of the step, is summed point by point here)
+      res(1:m, :) = 0.0_wp
       work = 0.0_wp
       actual_work = 0.0_wp
       elastic_work = 0.0_wp
@@ -141,6 +143,8 @@ contains
           call tangent_work(m, wgt(k), props, deps, stress(o + 1:o + m, 1:3, k), sp, actual_work, elastic_work)
         end if
         wz = wgt(k) * half_t
+        wzz = wgt(k) * half_t * (zeta(k) * half_t)
+        ! one pass: shear, work, the write-back and the point's share of the resultants
         do i = 1, m
           sp(i, 4) = stress(o + i, 4, k) + shear_step * rates(i, 7)
           sp(i, 5) = stress(o + i, 5, k) + shear_step * rates(i, 8)
@@ -150,9 +154,24 @@ contains
                      + 0.5_wp * (stress(o + i, 3, k) + sp(i, 3)) * deps(i, 3)) &
                     + (0.5_wp * (stress(o + i, 4, k) + sp(i, 4)) * (dt * rates(i, 7)) &
                        + 0.5_wp * (stress(o + i, 5, k) + sp(i, 5)) * (dt * rates(i, 8))))
-        end do
-        do c = 1, stress_components
-          stress(o + 1:o + m, c, k) = merge(sp(1:m, c), stress(o + 1:o + m, c, k), area_mid(1:m) > 0.0_wp)
+          s1 = merge(sp(i, 1), stress(o + i, 1, k), area_mid(i) > 0.0_wp)
+          s2 = merge(sp(i, 2), stress(o + i, 2, k), area_mid(i) > 0.0_wp)
+          s3 = merge(sp(i, 3), stress(o + i, 3, k), area_mid(i) > 0.0_wp)
+          s4 = merge(sp(i, 4), stress(o + i, 4, k), area_mid(i) > 0.0_wp)
+          s5 = merge(sp(i, 5), stress(o + i, 5, k), area_mid(i) > 0.0_wp)
+          stress(o + i, 1, k) = s1
+          stress(o + i, 2, k) = s2
+          stress(o + i, 3, k) = s3
+          stress(o + i, 4, k) = s4
+          stress(o + i, 5, k) = s5
+          res(i, 1) = res(i, 1) + wz * s1
+          res(i, 2) = res(i, 2) + wz * s2
+          res(i, 3) = res(i, 3) + wz * s3
+          res(i, 4) = res(i, 4) + wzz * s1
+          res(i, 5) = res(i, 5) + wzz * s2
+          res(i, 6) = res(i, 6) + wzz * s3
+          res(i, 7) = res(i, 7) + wz * s4
+          res(i, 8) = res(i, 8) + wz * s5
         end do
       end do
       e_internal(o + 1:o + m) = merge(e_internal(o + 1:o + m) + area_mid(1:m) * work(1:m), &
@@ -175,17 +194,6 @@ contains
       call check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
       inverted = inverted + count(.not. (area(1:m) > 0.0_wp))
       call gradient_arrays(m, xl, yl, area, b1, b2, gamma)
-      res = 0.0_wp
-      do k = 1, nip
-        wz = wgt(k) * half_t
-        wzz = wgt(k) * half_t * (zeta(k) * half_t)
-        do c = 1, 3
-          res(1:m, c) = res(1:m, c) + wz * stress(o + 1:o + m, c, k)
-          res(1:m, 3 + c) = res(1:m, 3 + c) + wzz * stress(o + 1:o + m, c, k)
-        end do
-        res(1:m, 7) = res(1:m, 7) + wz * stress(o + 1:o + m, 4, k)
-        res(1:m, 8) = res(1:m, 8) + wz * stress(o + 1:o + m, 5, k)
-      end do
       ! into a local array: stored straight into force, gfortran needs too many alias checks
       if (props%hourglass_form == hourglass_physical) then
         s_xi(1:m) = hg(1:m, 5)
@@ -202,13 +210,16 @@ contains
   end subroutine blt_internal_forces
 
   !> local_frame of elements o+1..o+m of x (mid-surface frame, local node coordinates, projected
-  !> area), with |a| = sqrt(a . a) in place of norm2; results for 1..m
+  !> area), with |a| = sqrt(a . a) in place of norm2 and a unit vector a * (1 / |a|): one division
+  !> per vector, not three; results for 1..m
   pure subroutine frames(m, ld, o, x, e, xl, yl, area)
     integer, intent(in) :: m, ld, o
     real(wp), intent(in) :: x(ld, 3, 4)
     real(wp), intent(out) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), area(group_size)
     real(wp) :: d31x, d31y, d31z, d42x, d42y, d42z, nx, ny, nz, gx, gy, gz, r, cx, cy, cz
+    real(wp) :: mx, my, mz, e11, e21, e31, e12, e22, e32
     integer :: i, k
+    ! one pass: the frame, then each node's local coordinates from the centre computed once
     do i = 1, m
       d31x = x(o + i, 1, 3) - x(o + i, 1, 1)
       d31y = x(o + i, 2, 3) - x(o + i, 2, 1)
@@ -219,10 +230,10 @@ contains
       nx = d31y * d42z - d31z * d42y
       ny = d31z * d42x - d31x * d42z
       nz = d31x * d42y - d31y * d42x
-      r = sqrt(nx * nx + ny * ny + nz * nz)
-      nx = nx / r
-      ny = ny / r
-      nz = nz / r
+      r = 1.0_wp / sqrt(nx * nx + ny * ny + nz * nz)
+      nx = nx * r
+      ny = ny * r
+      nz = nz * r
       gx = x(o + i, 1, 2) + x(o + i, 1, 3) - x(o + i, 1, 1) - x(o + i, 1, 4)
       gy = x(o + i, 2, 2) + x(o + i, 2, 3) - x(o + i, 2, 1) - x(o + i, 2, 4)
       gz = x(o + i, 3, 2) + x(o + i, 3, 3) - x(o + i, 3, 1) - x(o + i, 3, 4)
@@ -230,27 +241,32 @@ contains
       gx = gx - r * nx
       gy = gy - r * ny
       gz = gz - r * nz
-      r = sqrt(gx * gx + gy * gy + gz * gz)
-      e(i, 1, 1) = gx / r
-      e(i, 2, 1) = gy / r
-      e(i, 3, 1) = gz / r
+      r = 1.0_wp / sqrt(gx * gx + gy * gy + gz * gz)
+      e11 = gx * r
+      e21 = gy * r
+      e31 = gz * r
+      e12 = ny * e31 - nz * e21
+      e22 = nz * e11 - nx * e31
+      e32 = nx * e21 - ny * e11
+      e(i, 1, 1) = e11
+      e(i, 2, 1) = e21
+      e(i, 3, 1) = e31
+      e(i, 1, 2) = e12
+      e(i, 2, 2) = e22
+      e(i, 3, 2) = e32
       e(i, 1, 3) = nx
       e(i, 2, 3) = ny
       e(i, 3, 3) = nz
-      e(i, 1, 2) = ny * e(i, 3, 1) - nz * e(i, 2, 1)
-      e(i, 2, 2) = nz * e(i, 1, 1) - nx * e(i, 3, 1)
-      e(i, 3, 2) = nx * e(i, 2, 1) - ny * e(i, 1, 1)
-    end do
-    do k = 1, 4
-      do i = 1, m
-        cx = x(o + i, 1, k) - 0.25_wp * (x(o + i, 1, 1) + x(o + i, 1, 2) + x(o + i, 1, 3) + x(o + i, 1, 4))
-        cy = x(o + i, 2, k) - 0.25_wp * (x(o + i, 2, 1) + x(o + i, 2, 2) + x(o + i, 2, 3) + x(o + i, 2, 4))
-        cz = x(o + i, 3, k) - 0.25_wp * (x(o + i, 3, 1) + x(o + i, 3, 2) + x(o + i, 3, 3) + x(o + i, 3, 4))
-        xl(i, k) = cx * e(i, 1, 1) + cy * e(i, 2, 1) + cz * e(i, 3, 1)
-        yl(i, k) = cx * e(i, 1, 2) + cy * e(i, 2, 2) + cz * e(i, 3, 2)
+      mx = 0.25_wp * (x(o + i, 1, 1) + x(o + i, 1, 2) + x(o + i, 1, 3) + x(o + i, 1, 4))
+      my = 0.25_wp * (x(o + i, 2, 1) + x(o + i, 2, 2) + x(o + i, 2, 3) + x(o + i, 2, 4))
+      mz = 0.25_wp * (x(o + i, 3, 1) + x(o + i, 3, 2) + x(o + i, 3, 3) + x(o + i, 3, 4))
+      do k = 1, 4   ! unrolled by the compiler: the loop over i vectorises
+        cx = x(o + i, 1, k) - mx
+        cy = x(o + i, 2, k) - my
+        cz = x(o + i, 3, k) - mz
+        xl(i, k) = cx * e11 + cy * e21 + cz * e31
+        yl(i, k) = cx * e12 + cy * e22 + cz * e32
       end do
-    end do
-    do i = 1, m
       area(i) = 0.5_wp * ((xl(i, 3) - xl(i, 1)) * (yl(i, 4) - yl(i, 2)) &
                           - (xl(i, 4) - xl(i, 2)) * (yl(i, 3) - yl(i, 1)))
     end do
@@ -297,22 +313,31 @@ contains
     !> the centre gradients of the nodal rotation rates: d/dx theta_x, d/dy theta_y, d/dx theta_y,
     !> d/dy theta_x (before any warping correction of the curvatures)
     real(wp), intent(out) :: grad_w(group_size, 4)
-    ! the dot products over the nodes that enter sums and differences
-    real(wp) :: b2v1(group_size), b1v2(group_size), b2w2(group_size), b1w1(group_size)
-    real(wp) :: w1sum(group_size), w2sum(group_size)
+    ! sums over the nodes, in scalars: one pass over the elements (the loop over k unrolls)
+    real(wp) :: r1, r2, r4, r5, r7, r8, b2v1, b1v2, b2w2, b1w1, w1sum, w2sum, q1, q2, q3, q4, q5
     real(wp) :: vl1, vl2, vl3, wl1, wl2, wl3, spin, hk
     integer :: i, k
-    rates = 0.0_wp
-    qrate = 0.0_wp
-    b2v1 = 0.0_wp
-    b1v2 = 0.0_wp
-    b2w2 = 0.0_wp
-    b1w1 = 0.0_wp
-    w1sum = 0.0_wp
-    w2sum = 0.0_wp
-    do k = 1, 4
-      hk = h(k)
-      do i = 1, m
+    do i = 1, m
+      r1 = 0.0_wp
+      r2 = 0.0_wp
+      r4 = 0.0_wp
+      r5 = 0.0_wp
+      r7 = 0.0_wp
+      r8 = 0.0_wp
+      b2v1 = 0.0_wp
+      b1v2 = 0.0_wp
+      b2w2 = 0.0_wp
+      b1w1 = 0.0_wp
+      w1sum = 0.0_wp
+      w2sum = 0.0_wp
+      q1 = 0.0_wp
+      q2 = 0.0_wp
+      q3 = 0.0_wp
+      q4 = 0.0_wp
+      q5 = 0.0_wp
+      !GCC$ unroll 4
+      do k = 1, 4
+        hk = h(k)
         vl1 = e(i, 1, 1) * v(i, 1, k) + e(i, 2, 1) * v(i, 2, k) + e(i, 3, 1) * v(i, 3, k)
         vl2 = e(i, 1, 2) * v(i, 1, k) + e(i, 2, 2) * v(i, 2, k) + e(i, 3, 2) * v(i, 3, k)
         vl3 = e(i, 1, 3) * v(i, 1, k) + e(i, 2, 3) * v(i, 2, k) + e(i, 3, 3) * v(i, 3, k)
@@ -321,37 +346,44 @@ contains
         wl3 = e(i, 1, 3) * w(i, 1, k) + e(i, 2, 3) * w(i, 2, k) + e(i, 3, 3) * w(i, 3, k)
         vl1 = merge(vl1 - (hk * zw(i)) * wl2, vl1, zw(i) /= 0.0_wp)
         vl2 = merge(vl2 + (hk * zw(i)) * wl1, vl2, zw(i) /= 0.0_wp)
-        rates(i, 1) = rates(i, 1) + b1(i, k) * vl1
-        rates(i, 2) = rates(i, 2) + b2(i, k) * vl2
-        b2v1(i) = b2v1(i) + b2(i, k) * vl1
-        b1v2(i) = b1v2(i) + b1(i, k) * vl2
-        rates(i, 4) = rates(i, 4) + b1(i, k) * wl2
-        rates(i, 5) = rates(i, 5) + b2(i, k) * wl1
-        b2w2(i) = b2w2(i) + b2(i, k) * wl2
-        b1w1(i) = b1w1(i) + b1(i, k) * wl1
-        rates(i, 7) = rates(i, 7) + b1(i, k) * vl3
-        rates(i, 8) = rates(i, 8) + b2(i, k) * vl3
-        w1sum(i) = w1sum(i) + wl1
-        w2sum(i) = w2sum(i) + wl2
-        qrate(i, 1) = qrate(i, 1) + gamma(i, k) * vl1
-        qrate(i, 2) = qrate(i, 2) + gamma(i, k) * vl2
-        qrate(i, 3) = qrate(i, 3) + gamma(i, k) * wl1
-        qrate(i, 4) = qrate(i, 4) + gamma(i, k) * wl2
-        qrate(i, 5) = qrate(i, 5) + gamma(i, k) * vl3
+        r1 = r1 + b1(i, k) * vl1
+        r2 = r2 + b2(i, k) * vl2
+        b2v1 = b2v1 + b2(i, k) * vl1
+        b1v2 = b1v2 + b1(i, k) * vl2
+        r4 = r4 + b1(i, k) * wl2
+        r5 = r5 + b2(i, k) * wl1
+        b2w2 = b2w2 + b2(i, k) * wl2
+        b1w1 = b1w1 + b1(i, k) * wl1
+        r7 = r7 + b1(i, k) * vl3
+        r8 = r8 + b2(i, k) * vl3
+        w1sum = w1sum + wl1
+        w2sum = w2sum + wl2
+        q1 = q1 + gamma(i, k) * vl1
+        q2 = q2 + gamma(i, k) * vl2
+        q3 = q3 + gamma(i, k) * wl1
+        q4 = q4 + gamma(i, k) * wl2
+        q5 = q5 + gamma(i, k) * vl3
         qrate(i, 5 + k) = wl3
       end do
-    end do
-    do i = 1, m
-      rates(i, 3) = b2v1(i) + b1v2(i)
-      rates(i, 5) = -rates(i, 5)
-      rates(i, 6) = b2w2(i) - b1w1(i)
-      grad_w(i, 1) = b1w1(i)
-      grad_w(i, 2) = b2w2(i)
-      grad_w(i, 3) = rates(i, 4)
-      grad_w(i, 4) = -rates(i, 5)
-      rates(i, 7) = rates(i, 7) + 0.25_wp * w2sum(i)
-      rates(i, 8) = rates(i, 8) - 0.25_wp * w1sum(i)
-      spin = 0.5_wp * (b1v2(i) - b2v1(i))
+      rates(i, 1) = r1
+      rates(i, 2) = r2
+      rates(i, 3) = b2v1 + b1v2
+      rates(i, 4) = r4
+      rates(i, 5) = -r5
+      rates(i, 6) = b2w2 - b1w1
+      grad_w(i, 1) = b1w1
+      grad_w(i, 2) = b2w2
+      grad_w(i, 3) = r4
+      grad_w(i, 4) = r5
+      rates(i, 7) = r7 + 0.25_wp * w2sum
+      rates(i, 8) = r8 - 0.25_wp * w1sum
+      qrate(i, 1) = q1
+      qrate(i, 2) = q2
+      qrate(i, 3) = q3
+      qrate(i, 4) = q4
+      qrate(i, 5) = q5
+      qrate(i, 10) = 0.0_wp
+      spin = 0.5_wp * (b1v2 - b2v1)
       qrate(i, 6) = qrate(i, 6) - spin
       qrate(i, 7) = qrate(i, 7) - spin
       qrate(i, 8) = qrate(i, 8) - spin

@@ -119,17 +119,22 @@ contains
     pure subroutine evaluate(dg, fv, dfv)
       real(wp), intent(in) :: dg
       real(wp), intent(out) :: fv, dfv
-      real(wp) :: t1, t2, p, dp, root, de, dde, sy_new
-      t1 = 1.0_wp / (1.0_wp + dg * c1)
-      t2 = 1.0_wp / (1.0_wp + dg * c2)
-      p = (a1t * t1)**2 / 3.0_wp + (a2t**2 + 2.0_wp * a3t**2) * t2**2
-      dp = -2.0_wp * ((a1t * t1)**2 / 3.0_wp * c1 * t1 + (a2t**2 + 2.0_wp * a3t**2) * t2**2 * c2 * t2)
-      root = sqrt(max(2.0_wp * p / 3.0_wp, 0.0_wp))
+      real(wp), parameter :: third = 1.0_wp / 3.0_wp
+      real(wp) :: t1, t2, u1, u2, r12, p, dp, root, de, dde, sy_new
+      ! one division for both factors 1 / (1 + dg c), thirds as products (yield_functions)
+      u1 = 1.0_wp + dg * c1
+      u2 = 1.0_wp + dg * c2
+      r12 = 1.0_wp / (u1 * u2)
+      t1 = r12 * u2
+      t2 = r12 * u1
+      p = (a1t * t1)**2 * third + (a2t**2 + 2.0_wp * a3t**2) * t2**2
+      dp = -2.0_wp * ((a1t * t1)**2 * third * c1 * t1 + (a2t**2 + 2.0_wp * a3t**2) * t2**2 * c2 * t2)
+      root = sqrt(max(2.0_wp * p * third, 0.0_wp))
       de = dg * root
-      dde = root + merge(dg * dp / (3.0_wp * root), 0.0_wp, root > 0.0_wp)
+      dde = root + merge(dg * dp * third / root, 0.0_wp, root > 0.0_wp)
       sy_new = yield0 + h_iso * (eps_p + de)
-      fv = 0.5_wp * p - sy_new**2 / 3.0_wp
-      dfv = 0.5_wp * dp - 2.0_wp / 3.0_wp * sy_new * h_iso * dde
+      fv = 0.5_wp * p - sy_new**2 * third
+      dfv = 0.5_wp * dp - 2.0_wp * third * sy_new * h_iso * dde
     end subroutine evaluate
 
   end subroutine j2_plane_stress_update
@@ -281,25 +286,30 @@ contains
   end subroutine return_points
 
   !> f(dgamma) = psi / 2 - sy^2 / 3 and its derivative at np points (the evaluate of
-  !> j2_plane_stress_update); one loop, so that both iterations above share it vectorised
+  !> j2_plane_stress_update, the same operations); one loop, so that both iterations above share
+  !> it vectorised. The iteration is bound by division throughput: both factors 1 / (1 + dg c)
+  !> come from one division of their product, and the thirds are products with 1/3.
   pure subroutine yield_functions(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dg, fv, dfv)
     integer, intent(in) :: np
     real(wp), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0, h_iso, dg(np)
     real(wp), intent(out) :: fv(np), dfv(np)
-    real(wp) :: t1, t2, p, dp, root, de, dde, sy_new
+    real(wp), parameter :: third = 1.0_wp / 3.0_wp
+    real(wp) :: t1, t2, u1, u2, r12, p, dp, root, de, dde, sy_new
     integer :: j
     do j = 1, np
-      t1 = 1.0_wp / (1.0_wp + dg(j) * c1)
-      t2 = 1.0_wp / (1.0_wp + dg(j) * c2)
-      p = (a1t(j) * t1)**2 / 3.0_wp + (a2t(j)**2 + 2.0_wp * a3t(j)**2) * t2**2
-      dp = -2.0_wp * ((a1t(j) * t1)**2 / 3.0_wp * c1 * t1 + (a2t(j)**2 + 2.0_wp * a3t(j)**2) * t2**2 * c2 * t2)
-      root = sqrt(max(2.0_wp * p / 3.0_wp, 0.0_wp))
+      u1 = 1.0_wp + dg(j) * c1
+      u2 = 1.0_wp + dg(j) * c2
+      r12 = 1.0_wp / (u1 * u2)
+      t1 = r12 * u2
+      t2 = r12 * u1
+      p = (a1t(j) * t1)**2 * third + (a2t(j)**2 + 2.0_wp * a3t(j)**2) * t2**2
+      dp = -2.0_wp * ((a1t(j) * t1)**2 * third * c1 * t1 + (a2t(j)**2 + 2.0_wp * a3t(j)**2) * t2**2 * c2 * t2)
+      root = sqrt(max(2.0_wp * p * third, 0.0_wp))
       de = dg(j) * root
-      ! dg dp / (3 root) for root > 0, else 0, with merge only on operands (see return_points)
-      dde = root + merge(dg(j), 0.0_wp, root > 0.0_wp) * dp / (3.0_wp * merge(root, 1.0_wp, root > 0.0_wp))
+      dde = root + merge(dg(j), 0.0_wp, root > 0.0_wp) * dp * third / merge(root, 1.0_wp, root > 0.0_wp)
       sy_new = yield0 + h_iso * (eps_p(j) + de)
-      fv(j) = 0.5_wp * p - sy_new**2 / 3.0_wp
-      dfv(j) = 0.5_wp * dp - 2.0_wp / 3.0_wp * sy_new * h_iso * dde
+      fv(j) = 0.5_wp * p - sy_new**2 * third
+      dfv(j) = 0.5_wp * dp - 2.0_wp * third * sy_new * h_iso * dde
     end do
   end subroutine yield_functions
 
