@@ -40,7 +40,7 @@ def history_digest(results: Path, step: bool = False) -> str:
 
 def main(argv: list[str]) -> int:
     out = Path(argv[0]) if argv else Path("runs/fingerprint")
-    names = argv[1:] or sorted(p.name for p in (ROOT / "cases").glob("pipe_whip*"))
+    names = argv[1:] or sorted(p.parent.name for p in (ROOT / "cases").glob("pipe_whip*/scene.toml"))
     for name in names:
         folder = out / name
         paradyn.run(ROOT / "cases" / name / "scene.toml", folder, ranks=1, threads=2, post=False)
