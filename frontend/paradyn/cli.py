@@ -122,7 +122,8 @@ def check_only(source: Path, ranks: int, threads: int, quiet: bool) -> int:
     """``paradyn-run --check``: the check's lines, then the engine's own set-up of the deck."""
     try:
         if not source.is_file():
-            raise scene.SceneError(f"{source}: no such file; give the path of a scene .toml, a keyword deck .k or a deck .h5")
+            raise scene.SceneError(f"{source}: no such file; give the path of a scene .toml, a keyword deck .k "
+                                   "or a deck .h5")
         display = None if quiet else RunProgress()
         if display is None:
             model = workflow.model_of(source)

@@ -196,7 +196,8 @@ def _check_source(source: Source) -> None:
     if isinstance(source, (str, Path)):
         path = Path(source)
         if not path.is_file():
-            raise scene.SceneError(f"{path}: no such file; give the path of a scene .toml, a keyword deck .k or a deck .h5")
+            raise scene.SceneError(f"{path}: no such file; give the path of a scene .toml, a keyword deck .k "
+                                   "or a deck .h5")
     elif not isinstance(source, (scene.Scene, SceneBuilder, deck.Model)):
         raise TypeError(f"cannot run a {type(source).__name__}; give a scene .toml or deck .h5 path, "
                         f"a paradyn.Scene, a paradyn.scene.Scene or a paradyn.deck.Model")
