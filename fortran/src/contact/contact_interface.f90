@@ -90,11 +90,6 @@ module contact_interface
     integer :: rank = 0, n_ranks = 1               !< this rank's share of the slaves
     integer(i8) :: last_sort = -huge(1_i8)
     integer :: sort_interval = 0
-    !> between automatic sorts no contact node moves more than a tenth of the smallest bucket from
-    !> its sorted position, so a slave moves at most twice that between two searches: the margin
-    !> that lets a slave found far from every master node skip the search until the next sort
-    !> (contact_global_search); 0 = no skipping (a fixed sort interval, or gather_all)
-    real(wp) :: far_margin = 0.0_wp
     real(wp) :: energy = 0.0_wp, max_penetration = 0.0_wp
     real(wp), allocatable :: definition_force(:, :)   !< (3, definitions): force on each one's first part this step
     real(wp) :: time_sort = 0, time_search = 0, time_force = 0
@@ -199,8 +194,6 @@ contains
     end do
     c%last_sort = cycle
     c%n_sorts = c%n_sorts + 1
-    c%far_margin = 0.0_wp
-    if (c%sort_interval == 0 .and. .not. c%gather_all) c%far_margin = 0.2_wp * smallest_bucket(c) * (1.0_wp + 1.0e-9_wp)
     new_gather_set = c%sort_interval == 0 .and. .not. c%gather_all
     if (new_gather_set) then
       call choose_gather_set(c)

@@ -7,7 +7,7 @@
 !> must not meet its own surface: its nearest-master search skips the nodes of the master segments
 !> that contain it (its own node and its neighbours), and its local search skips those segments.
 module contact_pass
-  use paradyn_kinds, only: wp, ip, i8
+  use paradyn_kinds, only: wp, ip
   use model_deck, only: deck_t
   use contact_buckets, only: bucket_grid_t
   use contact_search, only: node_segment_map, shell_penalty_stiffness
@@ -38,10 +38,6 @@ module contact_pass
     real(wp), allocatable :: overlap(:)
     real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted
     integer, allocatable :: near_slaves(:)     !< slaves that can come near the master box before the next sort
-    !> far(j): slave j had no master node within the search radius plus the contact's far margin
-    !> when checked after sort far_sort(j); until the next sort it cannot have one within the radius
-    logical, allocatable :: far(:)
-    integer(i8), allocatable :: far_sort(:)
     integer :: n_near = 0
     ! idle: cannot touch before the next activity check, so the pass runs no stage; stale: a
     ! sort fell while it was idle, so its grid is rebuilt from the positions of that sort on waking
@@ -83,8 +79,6 @@ contains
                           pass%segment_list, n_entries)
     allocate (pass%x_sorted(3, size(pass%masters)), source=0.0_wp)
     pass%near_slaves = [(e, e = 1, size(pass%slaves))]
-    allocate (pass%far(size(pass%slaves)), source=.false.)
-    allocate (pass%far_sort(size(pass%slaves)), source=-1_i8)
     pass%n_near = size(pass%slaves)
     pass%t_slave = contact_thickness(deck, pair, slave_part)
     pass%t_master = contact_thickness(deck, pair, master_part)

@@ -97,7 +97,7 @@ contains
     integer(i8), intent(in) :: cycle
     procedure(clock_seconds) :: clock
     integer :: i, j, p, found, total, n_mine(size(c%passes)), offset(size(c%passes) + 1)
-    real(wp) :: x(3), t0, radius
+    real(wp) :: x(3), t0
     t0 = clock()
     offset(1) = 0
     do p = 1, size(c%passes)
@@ -110,28 +110,20 @@ contains
     ! cleared first, so the threads write only the few slaves near the box (writes to
     ! neighbouring slaves from different threads would fight over their cache line)
     c%nearest(1:total) = 0
-    !$omp parallel do schedule(static, 1) default(shared) private(i, j, p, x, found, radius)
+    !$omp parallel do schedule(static, 1) default(shared) private(i, j, p, x, found)
     do i = 1, total
       p = pass_of(offset, i)
       associate (pass => c%passes(p))
       j = pass%near_slaves(c%rank + 1 + (i - offset(p) - 1) * c%n_ranks)
       x = c%x(:, pass%slaves(j))
       if (near_box(x, pass)) then
-        radius = pass%bucket_size + pass%t_slave + pass%t_master
-        if (c%far_margin > 0.0_wp .and. pass%far_sort(j) == c%n_sorts) then
-          if (pass%far(j)) cycle   ! still no master within the radius (far_margin)
-          found = nearest_master(pass, j, x, radius)
-        else if (c%far_margin > 0.0_wp) then
-          ! the first search since the sort looks out to the margin too: the same nearest node
-          ! within the radius, and whether the slave can skip its searches until the next sort
-          found = nearest_master(pass, j, x, radius + c%far_margin)
-          pass%far(j) = found == 0
-          pass%far_sort(j) = c%n_sorts
-          if (found > 0) then
-            if (sum((pass%x_sorted(:, found) - x)**2) > radius**2) found = 0
-          end if
+        if (pass%shares_nodes) then
+          found = nearest_master_node(pass%grid, pass%x_sorted, x, &
+                                      max_distance=pass%bucket_size + pass%t_slave + pass%t_master, &
+                                      excluded=pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
         else
-          found = nearest_master(pass, j, x, radius)
+          found = nearest_master_node(pass%grid, pass%x_sorted, x, &
+                                      max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
         end if
         if (found > 0) c%nearest(i) = found
       end if
@@ -148,20 +140,6 @@ contains
     end do
     c%time_search = c%time_search + clock() - t0
   end subroutine contact_global_search
-
-  !> The nearest master node of slave j at x within max_distance (0 if none), its own node and
-  !> neighbours left out where the pass's slaves and masters share nodes.
-  integer function nearest_master(pass, j, x, max_distance) result(found)
-    type(contact_pass_t), intent(in) :: pass
-    integer, intent(in) :: j
-    real(wp), intent(in) :: x(3), max_distance
-    if (pass%shares_nodes) then
-      found = nearest_master_node(pass%grid, pass%x_sorted, x, max_distance=max_distance, &
-                                  excluded=pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
-    else
-      found = nearest_master_node(pass%grid, pass%x_sorted, x, max_distance=max_distance)
-    end if
-  end function nearest_master
 
   !> The pass whose share of the global search holds entry i (offset: where each pass starts).
   pure integer function pass_of(offset, i) result(p)
