@@ -830,9 +830,10 @@ HISTORY_UNITS: dict[str, str] = {
 RUN_ATTRIBUTES = (
     'cycles', 'dt_s', 'dt_stable_s', 'dt_first_s', 'dt_stable_min_s', 'dt_stable_max_s', 'added_mass_kg',
     'added_mass_fraction', 'model_mass_kg', 'part_added_mass_kg', 'wall_s', 'ranks', 'threads', 'elements', 'nodes',
-    'element_cycles_per_s', 'peak_memory_per_rank_mb', 'effects', 'load_imbalance', 'phase_elements_s',
-    'phase_contact_s', 'phase_communication_s', 'phase_output_s', 'phase_other_s', 'phase_contact_sort_s',
-    'phase_contact_search_s', 'phase_contact_force_s',
+    'element_cycles_per_s', 'peak_memory_per_rank_mb', 'effects', 'setup_s', 'messages_per_step',
+    'bytes_sent_per_step', 'bytes_received_per_step', 'load_imbalance', 'phase_elements_s', 'phase_contact_s',
+    'phase_communication_s', 'phase_output_s', 'phase_other_s', 'phase_contact_sort_s', 'phase_contact_search_s',
+    'phase_contact_force_s',
 )
 PHASES = ('elements', 'contact', 'communication', 'output', 'other')
 CONTACT_PHASES = ('contact_sort', 'contact_search', 'contact_force')

@@ -27,6 +27,7 @@ program paradyn_engine
   use, intrinsic :: iso_fortran_env, only: error_unit
   use effect_table, only: effect_table_t, effect_list
   use machine_memory, only: node_memory_mb, deck_memory_mb, proc_kib
+  use phase_timers, only: wall_clock
   implicit none
 
   interface
@@ -54,11 +55,13 @@ program paradyn_engine
   logical :: restart, check_only
   integer :: expect_ranks
   real(wp) :: pause_time
+  real(wp) :: engine_start = 0, setup_s = -1   !< the wall clock after MPI start-up; set-up seconds
   type(MPI_Comm) :: comm   !< the engine's own duplicate of MPI_COMM_WORLD, passed everywhere
   integer :: thread_level
 
   ! MPI is called from one thread at a time, outside the OpenMP regions: FUNNELED is enough
   call MPI_Init_thread(MPI_THREAD_FUNNELED, thread_level)
+  engine_start = wall_clock()
   call MPI_Comm_dup(MPI_COMM_WORLD, comm)
   call MPI_Comm_rank(comm, rank)
   call MPI_Comm_size(comm, n_ranks)
@@ -170,6 +173,7 @@ program paradyn_engine
       pause_time = (floor(solver%clock%time / solver%control%checkpoint_interval + 1.0e-9_wp) + 1) &
                    * solver%control%checkpoint_interval
     call solver_run(solver, results, run, status, message, pause_time)
+    if (setup_s < 0) setup_s = solver%wall_start - engine_start   ! the first call's start of the loop
     if ((solver%floor_stop .or. solver%energy_stop) .and. solver%control%checkpoint_interval > 0.0_wp) then
       ! the state is finite (the floor: the last good step; the energy limit: the record that
       ! passed it): a run with checkpoints keeps it, to look at or to restart with other settings
@@ -197,6 +201,8 @@ program paradyn_engine
     end if
   end do
   run%peak_memory_mb = largest_peak_memory_mb()
+  call MPI_Bcast(setup_s, 1, MPI_DOUBLE_PRECISION, 0, comm)   ! rank 0's: attributes must agree
+  run%setup_s = setup_s
   if (results_failed(results)) then
     ! HDF5 cannot close a file it cannot flush, and its clean-up at MPI_Finalize then crashes: the
     ! file holds what was written before (complete = 0), so end here with the failure status

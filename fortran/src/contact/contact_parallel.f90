@@ -21,6 +21,7 @@ module contact_parallel
   use model_deck, only: deck_t
   use domain_decomposition, only: domain_t
   use phase_timers, only: phase_timers_t, wall_clock
+  use traffic_counter, only: traffic_t, count_allgather, count_allreduce
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
                                contact_restore, contact_activity_update, contact_all_idle, contact_count_activity
   use contact_activity, only: extent_width, extent_empty, side_extent
@@ -48,6 +49,7 @@ module contact_parallel
     real(wp), allocatable :: extents(:, :)    !< (extent_width, 2 passes): the activity check's slave and master extents
     real(wp), allocatable :: v_before(:, :)   !< velocities of the contact nodes this rank owns, the cycle before a check
     integer(i8) :: v_before_cycle = -huge(1_i8)      !< the cycle they are from
+    type(traffic_t) :: traffic                !< messages and bytes of the contact's sharing (traffic_counter)
   end type parallel_contact_t
 
 contains
@@ -191,6 +193,7 @@ contains
     if (pc%c%n_ranks > 1) then
       t0 = wall_clock()
       call MPI_Allreduce(MPI_IN_PLACE, pc%extents, size(pc%extents), MPI_DOUBLE_PRECISION, MPI_MAX, pc%comm)
+      call count_allreduce(pc%traffic, int(8 * size(pc%extents), i8), pc%c%n_ranks)
       timers%communication = timers%communication + wall_clock() - t0
     end if
     ! every step has the solver's step (step_clock), also the first, whose strain step is 0
@@ -217,18 +220,21 @@ contains
         t0 = wall_clock()
         call allgather_node_set(pc%comm, pc%nodes, x, v, pc%c%x, pc%c%v)
         timers%communication = timers%communication + wall_clock() - t0
+        call count_gather(pc, pc%nodes%counts, 8)
       end if
     else if (pc%c%gather_subset) then
       call contact_movement(pc%c, moved_here, wall_clock, pc%nodes%owned_member, pc%nodes%local, x)
       t0 = wall_clock()
       call allgather_node_subset(pc%comm, pc%nodes, x, v, pc%c%x, pc%c%v, moved_here, moved)
       timers%communication = timers%communication + wall_clock() - t0
+      call count_gather(pc, pc%nodes%sub_counts, 8)
       sort = contact_sort_due(pc%c, cycle, moved)
     end if
     if (.not. quiet .and. (.not. pc%c%gather_subset .or. sort)) then
       t0 = wall_clock()
       call allgather_node_set(pc%comm, pc%nodes, x, v, pc%c%x, pc%c%v)
       timers%communication = timers%communication + wall_clock() - t0
+      call count_gather(pc, pc%nodes%counts, 8)
     end if
     if (.not. quiet .and. .not. pc%c%gather_subset) then
       call contact_movement(pc%c, moved, wall_clock)
@@ -242,20 +248,34 @@ contains
     type(parallel_contact_t), intent(inout) :: pc
     type(phase_timers_t), intent(inout) :: timers
     real(wp) :: t0
+    integer :: k
     t0 = wall_clock()
     call share_contact_candidates(pc%comm, pc%candidates, pc%c%n_own, pc%c%own_pairs, pc%c%n_all, pc%c%all_pairs)
     timers%communication = timers%communication + wall_clock() - t0
+    call count_gather(pc, [(1, k = 1, pc%c%n_ranks)], 4)   ! the counts
+    call count_gather(pc, pc%candidates%counts, 4)
   end subroutine timed_share_candidates
 
   subroutine timed_share_records(pc, timers)
     type(parallel_contact_t), intent(inout) :: pc
     type(phase_timers_t), intent(inout) :: timers
     real(wp) :: t0
+    integer :: k
     t0 = wall_clock()
     call share_contact_records(pc%comm, pc%records, pc%c%n_candidates, pc%c%record_nodes, pc%c%record_force, &
                                pc%c%record_penetration)
     timers%communication = timers%communication + wall_clock() - t0
+    call count_gather(pc, [(1, k = 1, pc%c%n_ranks)], 4)   ! the counts
+    call count_gather(pc, pc%records%counts, 8)
   end subroutine timed_share_records
+
+  !> Counts an allgather(v) whose per-rank counts are `counts` items of `item_bytes` each.
+  subroutine count_gather(pc, counts, item_bytes)
+    type(parallel_contact_t), intent(inout) :: pc
+    integer, intent(in) :: counts(:), item_bytes
+    call count_allgather(pc%traffic, int(item_bytes, i8) * counts(pc%c%rank + 1), &
+                         int(item_bytes, i8) * sum(int(counts, i8)), pc%c%n_ranks)
+  end subroutine count_gather
 
   !> Contact forces act on the nodes like external forces: subtract them from the internal ones
   !> (local nodes). Only the nodes touched this step have a force.

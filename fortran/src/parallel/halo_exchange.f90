@@ -4,8 +4,9 @@
 !> once, at set-up. Fields are not gathered: each rank writes its own rows of results.h5.
 module halo_exchange
   use mpi_f08
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
   use domain_decomposition, only: domain_t
+  use traffic_counter, only: traffic_t, count_messages
   implicit none
   private
   public :: halo_t, halo_setup, exchange_corners, sum_to_root
@@ -16,6 +17,7 @@ module halo_exchange
     real(wp), allocatable :: send_buffer(:, :), recv_buffer(:, :)
     type(MPI_Request), allocatable :: requests(:)
     integer, allocatable :: owned_local(:)          !< local ids of the nodes this rank owns (and writes)
+    type(traffic_t) :: traffic                      !< messages and bytes of the step's exchanges and reductions
   end type halo_t
 
 contains
@@ -57,6 +59,8 @@ contains
                      halo%comm, halo%requests(dom%n_neighbours + k))
     end do
     call MPI_Waitall(2 * dom%n_neighbours, halo%requests, MPI_STATUSES_IGNORE)
+    call count_messages(halo%traffic, dom%n_neighbours, int(8 * w * size(dom%send_slot), i8), &
+                        int(8 * w * size(dom%recv_slot), i8))
     corner(:, dom%recv_slot) = halo%recv_buffer(1:w, 1:size(dom%recv_slot))
   end subroutine exchange_corners
 

@@ -18,6 +18,7 @@ module explicit_solver
   use effect_pipeline, only: pipeline_setup, apply_loads, apply_constraints, count_every_cycle_effects
   use domain_decomposition, only: decompose, partition_elements
   use halo_exchange, only: halo_setup
+  use traffic_counter, only: traffic_t, count_allreduce
   use nodal_state, only: nodal_state_setup, advance_velocities, advance_positions, keep_velocities
   use element_state, only: element_state_setup
   use step_clock, only: step_clock_t, clock_setup, clock_advance, clock_finished, output_due, next_output_index, &
@@ -245,6 +246,8 @@ contains
     call MPI_Barrier(s%halo%comm)
     s%wall_start = wall_clock()
     s%last_progress = s%wall_start
+    s%halo%traffic = traffic_t()   ! the counts of /run are per cycle of this call, as wall_s
+    if (s%has_contact) s%contact%traffic = traffic_t()
     s%clock%first_cycle = s%clock%cycles
     if (s%clock%cycles == 0) then
       call forces_at_current_state(s, 0.0_wp)
@@ -270,6 +273,7 @@ contains
     if (due .or. modulo(s%clock%cycles, int(signal_poll_cycles, i8)) /= 0) return
     mine = stop_signal_received()
     call MPI_Allreduce(mine, s%stop_requested, 1, MPI_LOGICAL, MPI_LOR, s%halo%comm)
+    call count_allreduce(s%halo%traffic, 4_i8, s%n_ranks)
     due = s%stop_requested
   end function pause_due
 

@@ -221,6 +221,7 @@ contains
     run%element_cycles_per_s = real(s%control%n_elements, wp) * (s%clock%cycles - s%clock%first_cycle) &
                                / max(run%wall_s, 1.0e-12_wp)
     run%load_imbalance = load_imbalance(s%halo%comm, s%timers%elements + s%timers%contact, s%n_ranks)
+    call traffic_per_step(s, run)
     t = [run%wall_s, run%element_cycles_per_s, s%timers%elements, s%timers%contact, s%timers%communication, &
          s%timers%output, max(run%wall_s - (s%timers%elements + s%timers%contact + s%timers%communication &
                                             + s%timers%output), 0.0_wp), &
@@ -250,6 +251,22 @@ contains
   end function run_record
 
   !> The busiest rank's element and contact time over the mean of all ranks (1 = balanced).
+  !> The messages and bytes of the corner exchange, the contact's sharing and the step's reductions
+  !> (traffic_counter) per cycle of this call, the largest of any rank.
+  subroutine traffic_per_step(s, run)
+    type(solver_t), intent(in) :: s
+    type(run_record_t), intent(inout) :: run
+    real(wp) :: mine(3), most(3)
+    mine = real([s%halo%traffic%messages, s%halo%traffic%bytes_sent, s%halo%traffic%bytes_received], wp)
+    if (s%has_contact) mine = mine + real([s%contact%traffic%messages, s%contact%traffic%bytes_sent, &
+                                           s%contact%traffic%bytes_received], wp)
+    mine = mine / real(max(s%clock%cycles - s%clock%first_cycle, 1_i8), wp)
+    call MPI_Allreduce(mine, most, 3, MPI_DOUBLE_PRECISION, MPI_MAX, s%halo%comm)
+    run%messages_per_step = most(1)
+    run%bytes_sent_per_step = most(2)
+    run%bytes_received_per_step = most(3)
+  end subroutine traffic_per_step
+
   real(wp) function load_imbalance(comm, busy, n_ranks)
     type(MPI_Comm), intent(in) :: comm
     real(wp), intent(in) :: busy

@@ -13,6 +13,7 @@ module time_step_control
   use status_agreement, only: agree_on_status
   use solver_state, only: solver_t
   use contact_parallel, only: contact_travel_step
+  use traffic_counter, only: count_allreduce
   implicit none
   private
   public :: next_time_step, check_time_step_floor
@@ -37,6 +38,7 @@ contains
       if (d < mine(1)) mine = [d, -2.0_wp]
     end if
     call MPI_Allreduce(mine, least, 1, MPI_2DOUBLE_PRECISION, MPI_MINLOC, s%halo%comm)
+    call count_allreduce(s%halo%traffic, 16_i8, s%n_ranks)
     call clock_choose_step(s%clock, least(1), int(least(2), i8), s%control%dt_cap)
     if (s%clock%cycles == 0) s%clock%dt_first = s%clock%dt
     if (.not. clock_finished(s%clock)) then   ! the range of the mesh's stable step over the run
