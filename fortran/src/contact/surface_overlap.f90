@@ -53,7 +53,7 @@ contains
   end subroutine first_crossing
 
   !> Each element of b in every cell its bounding box overlaps (cells of size the largest element
-  !> extent), as lists start(c) .. start(c + 1) - 1 of members.
+  !> extent, or 1/256 of the model's largest extent if that is larger), as lists start(c) .. start(c + 1) - 1 of members.
   subroutine bin_elements(x, elements, lower, cell, dims, start, members)
     real(wp), intent(in) :: x(:, :)
     integer, intent(in) :: elements(:, :)
@@ -70,6 +70,9 @@ contains
     lower = minval(box_lo, dim=2)
     upper = maxval(box_hi, dim=2)
     cell = max(maxval(box_hi - box_lo), 1.0e-12_wp * max(maxval(upper - lower), 1.0_wp))
+    ! at most 256 cells a side: a longer model gets larger cells (clamping the indices instead would
+    ! pile every element past the 256th cell into the last one, and the search would turn quadratic)
+    cell = max(cell, maxval(upper - lower) / 256.0_wp)
     dims = max(1, min(256, ceiling((upper - lower) / cell)))
     allocate (start(product(dims) + 1), fill(product(dims)), source=0)
     do pass = 1, 2   ! count, then place

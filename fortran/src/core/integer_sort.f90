@@ -1,9 +1,10 @@
-!> Sorting a few integers in place (the ranks that share a node, the four nodes of an element):
-!> insertion sort, the fastest for such short lists.
+!> Sorting integers in place: a few of them (the ranks that share a node, the four nodes of an
+!> element) by insertion sort, the fastest for such short lists; many of them (a rank's node ids)
+!> by a bottom-up merge sort, O(n log n).
 module integer_sort
   implicit none
   private
-  public :: sort_ascending
+  public :: sort_ascending, merge_sort_ascending
 
 contains
 
@@ -21,5 +22,46 @@ contains
       a(j + 1) = key
     end do
   end subroutine sort_ascending
+
+  pure subroutine merge_sort_ascending(a)
+    integer, intent(inout) :: a(:)
+    integer, allocatable :: work(:)
+    integer :: n, width, lo, mid, hi, i, j, k
+    logical :: in_a
+    n = size(a)
+    allocate (work(n))
+    width = 1
+    in_a = .true.
+    do while (width < n)
+      do lo = 1, n, 2 * width
+        mid = min(lo + width - 1, n)
+        hi = min(lo + 2 * width - 1, n)
+        i = lo
+        j = mid + 1
+        do k = lo, hi
+          if (in_a) then
+            if (j > hi .or. (i <= mid .and. a(min(i, n)) <= a(min(j, n)))) then
+              work(k) = a(i)
+              i = i + 1
+            else
+              work(k) = a(j)
+              j = j + 1
+            end if
+          else
+            if (j > hi .or. (i <= mid .and. work(min(i, n)) <= work(min(j, n)))) then
+              a(k) = work(i)
+              i = i + 1
+            else
+              a(k) = work(j)
+              j = j + 1
+            end if
+          end if
+        end do
+      end do
+      in_a = .not. in_a
+      width = 2 * width
+    end do
+    if (.not. in_a) a = work
+  end subroutine merge_sort_ascending
 
 end module integer_sort

@@ -14,7 +14,7 @@ module domain_decomposition
   implicit none
   private
   public :: domain_t, block_owner, rcb_partition, element_centroids, partition_elements, decompose
-  public :: local_node
+  public :: local_node, local_element, build_groups
   public :: partition_blocks, partition_rcb
 
 
@@ -199,7 +199,7 @@ contains
     call local_elements_and_nodes(n_nodes, n_elements, connectivity, owner, inc, dom, global_to_local)
     call neighbour_lists(n_elements, connectivity, owner, inc, dom, ghost_of)
     call assembly_lists(owner, inc, ghost_of, dom)
-    call build_groups(dom, element_part)
+    call build_groups(dom, element_part(dom%elements))
   end subroutine decompose
 
   !> The incident corners of every node, ascending by element (corner id = 4 (e - 1) + c), and
@@ -382,19 +382,20 @@ contains
     local_element = lo
   end function local_element
 
-  !> Groups of at most group_size consecutive local elements of one part.
-  pure subroutine build_groups(dom, element_part)
+  !> Groups of at most group_size consecutive local elements of one part (local_part: the part of
+  !> each local element).
+  pure subroutine build_groups(dom, local_part)
     type(domain_t), intent(inout) :: dom
-    integer, intent(in) :: element_part(:)
+    integer, intent(in) :: local_part(:)
     integer :: le, first, part, n
     allocate (dom%group_first(0), dom%group_count(0), dom%group_part(0))
     le = 1
     do while (le <= dom%n_elements)
       first = le
-      part = element_part(dom%elements(le))
+      part = local_part(le)
       n = 0
       do while (le <= dom%n_elements .and. n < group_size)
-        if (element_part(dom%elements(le)) /= part) exit
+        if (local_part(le) /= part) exit
         n = n + 1
         le = le + 1
       end do

@@ -16,7 +16,8 @@ module explicit_solver
   use effect_table, only: effect_table_t
   use effect_factory, only: make_nodal_effects
   use effect_pipeline, only: pipeline_setup, apply_loads, apply_constraints, count_every_cycle_effects
-  use domain_decomposition, only: decompose, partition_elements
+  use domain_decomposition, only: partition_elements, partition_rcb
+  use distributed_decomposition, only: decompose_distributed
   use halo_exchange, only: halo_setup
   use traffic_counter, only: traffic_t, count_allreduce
   use nodal_state, only: nodal_state_setup, advance_velocities, advance_positions, keep_velocities
@@ -57,7 +58,7 @@ contains
     type(MPI_Comm), intent(in) :: comm
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
-    integer, allocatable :: owner(:)
+    integer, allocatable :: mine(:)
     integer :: p
     type(mass_scaling_t) :: scaling
     logical :: too_large
@@ -67,11 +68,8 @@ contains
     call MPI_Comm_rank(comm, s%rank)
     call MPI_Comm_size(comm, s%n_ranks)
     s%threads = max(omp_get_max_threads(), 1)
-    ! every rank computes the same owner array from the global deck
-    allocate (owner(deck%n_elements))
-    call partition_elements(deck%partition, deck%coordinates, deck%connectivity, s%n_ranks, owner)
-    call decompose(deck%n_nodes, deck%n_elements, deck%connectivity, deck%element_part, owner, &
-                   s%n_ranks, s%rank, s%dom)
+    mine = my_elements(deck, s%n_ranks, s%rank)
+    call decompose_distributed(comm, deck%n_nodes, mine, deck%connectivity(:, mine), deck%element_part(mine), s%dom)
     call halo_setup(s%dom, comm, s%halo)
     s%props = [(part_properties(deck, p), p = 1, deck%n_parts)]
     call nodal_state_setup(s%nodes, deck, s%dom)
@@ -123,6 +121,25 @@ contains
     s%n_contacts = deck%n_contacts
     s%node_part = node_parts(deck, s%dom%nodes)
   end subroutine solver_setup
+
+  !> This rank's elements, ascending: its contiguous block (the paper's partition, computed without
+  !> the mesh), or with recursive coordinate bisection the elements of the owner array that every
+  !> rank computes from the global centroids (the one global step left in the decomposition).
+  function my_elements(deck, n_ranks, rank) result(mine)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: n_ranks, rank
+    integer, allocatable :: mine(:), owner(:)
+    integer :: e, first, last
+    if (deck%partition == partition_rcb) then
+      allocate (owner(deck%n_elements))
+      call partition_elements(deck%partition, deck%coordinates, deck%connectivity, n_ranks, owner)
+      mine = pack([(e, e = 1, deck%n_elements)], owner == rank)
+    else
+      first = int((int(rank, i8) * deck%n_elements) / n_ranks) + 1
+      last = int((int(rank + 1, i8) * deck%n_elements) / n_ranks)
+      mine = [(e, e = first, last)]
+    end if
+  end function my_elements
 
   !> The part of each of the given global nodes: that of its lowest-numbered element (the
   !> per-part kinetic energy counts a node shared by parts once).
