@@ -67,8 +67,9 @@ def strip(n_ranks: int, n: int) -> tuple[np.ndarray, np.ndarray]:
     return coordinates, quads
 
 
-def weak_model(n_ranks: int, sizes: Sizes, steps: int) -> Model:
-    """The weak-scaling deck for n_ranks ranks, running about `steps` steps."""
+def weak_model(n_ranks: int, sizes: Sizes, steps: int, contact: bool = True) -> Model:
+    """The weak-scaling deck for n_ranks ranks, running about `steps` steps (without the contact
+    pair when not `contact`: the plates then fall freely)."""
     xs, qs = strip(n_ranks, sizes.segment)
     coords, quads, parts = [xs], [], []
     offset = len(xs)
@@ -89,6 +90,7 @@ def weak_model(n_ranks: int, sizes: Sizes, steps: int) -> Model:
     wave = np.sqrt(YOUNG / (DENSITY * (1.0 - POISSON**2)))
     dt = 0.9 * (0.8 * SEGMENT / sizes.plate) / wave
     end_time = steps * dt
+    n_pairs = 1 if contact else 0
     return Model(
         coordinates=coordinates, connectivity=np.concatenate(quads), element_part=np.concatenate(parts),
         thickness=np.full(2, THICKNESS), part_material=np.zeros(2, dtype=np.int32),
@@ -96,17 +98,19 @@ def weak_model(n_ranks: int, sizes: Sizes, steps: int) -> Model:
         poisson_ratio=np.array([POISSON]),
         control=Control(end_time=end_time, output_interval=end_time, partition="blocks"),
         initial_velocity=velocity, fixed_dofs=fixed,
-        contact_pairs=np.array([[0, 1]], dtype=np.int32), contact_penalty_scale=np.array([0.1]),
-        contact_static_friction=np.zeros(1), contact_dynamic_friction=np.zeros(1),
-        contact_friction_decay=np.zeros(1), contact_passes=np.array([2], dtype=np.int32),
+        contact_pairs=np.array([[0, 1]] * n_pairs, dtype=np.int32).reshape(n_pairs, 2),
+        contact_penalty_scale=np.full(n_pairs, 0.1), contact_static_friction=np.zeros(n_pairs),
+        contact_dynamic_friction=np.zeros(n_pairs), contact_friction_decay=np.zeros(n_pairs),
+        contact_passes=np.full(n_pairs, 2, dtype=np.int32),
         title=f"weak scaling, {n_ranks} ranks",
     )
 
 
-def run_layout(engine: Path, directory: Path, n_ranks: int, sizes: Sizes, steps: int) -> dict[str, float]:
+def run_layout(engine: Path, directory: Path, n_ranks: int, sizes: Sizes, steps: int,
+               contact: bool = True) -> dict[str, float]:
     """Write the deck for n_ranks, run it under mpirun and return the table row from /run."""
     directory.mkdir(parents=True, exist_ok=True)
-    deck = write_deck(weak_model(n_ranks, sizes, steps), directory / "deck.h5")
+    deck = write_deck(weak_model(n_ranks, sizes, steps, contact), directory / "deck.h5")
     results = directory / "results.h5"
     mpirun = shutil.which("mpirun")
     if mpirun is None:
@@ -142,13 +146,14 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--steps", type=int, default=200, help="time steps of each run (about)")
     parser.add_argument("--segment", type=int, default=Sizes.segment, help="elements along a strip segment")
     parser.add_argument("--plate", type=int, default=Sizes.plate, help="elements along a falling plate")
+    parser.add_argument("--no-contact", action="store_true", help="leave the contact pair out (the plates fall freely)")
     parser.add_argument("--engine", type=Path, default=None, help="paradyn-engine (default: the installed one)")
     args = parser.parse_args(argv)
     engine = (args.engine or engine_path()).resolve()
     sizes = Sizes(args.segment, args.plate)
     rows = []
     for n_ranks in args.ranks:
-        rows.append(run_layout(engine, args.out / f"ranks_{n_ranks}", n_ranks, sizes, args.steps))
+        rows.append(run_layout(engine, args.out / f"ranks_{n_ranks}", n_ranks, sizes, args.steps, not args.no_contact))
         print(" ".join(f"{c}={rows[-1][c]:.6g}" for c in COLUMNS), flush=True)
     print(markdown(rows))
     return 0
