@@ -177,12 +177,13 @@ def test_a_plate_through_a_plate_is_refused_both_ways(tmp_path: Path) -> None:
         assert done.returncode == STATUS_BAD_INPUT and "cross at the start" in done.stderr
 
 
+@pytest.mark.mpi
 @pytest.mark.parametrize("height", [-0.01, 0.005])
 def test_a_crossing_beyond_256_grid_cells_is_found(tmp_path: Path, height: float) -> None:
     """The crossing check bins elements in at most 256 cells a side: a strip 2000 elements long
     gets cells larger than its elements (surface_overlap.bin_elements), and a plate standing
-    through its far end, past the 256th element, is still found; the same plate lifted clear of
-    the strip runs."""
+    through its far end, past the 256th element, is still found, at the same point on 1 and 3
+    ranks (each rank tests its block of the sides); the same plate lifted clear of the strip runs."""
     flat = geometry.plate((2.0, 0.001), (2000, 1))
     upright = geometry.plate((0.0005, 0.02), (1, 1), origin=(1.9502, 0.0, height), u_axis=(0.0, 1.0, 0.0),
                              v_axis=(0.0, 0.0, 1.0))
@@ -196,11 +197,15 @@ def test_a_crossing_beyond_256_grid_cells_is_found(tmp_path: Path, height: float
         youngs_modulus=np.array([200e9]), poisson_ratio=np.array([0.3]), contact_pairs=np.array([[0, 1]]),
         control=deck.Control(end_time=2e-7, output_interval=1e-7))
     path = deck.write_deck(model, tmp_path / "deck.h5")
-    done = _engine(path, ranks=1)
-    if height < 0:
-        assert done.returncode == STATUS_BAD_INPUT and "cross at the start" in done.stderr, done.stderr[-500:]
-    else:
-        assert done.returncode == 0, done.stderr[-500:]
+    answers = []
+    for ranks in (1, 3):   # each rank tests its block of the sides: the same first crossing as one rank
+        done = _engine(path, ranks=ranks)
+        if height < 0:
+            assert done.returncode == STATUS_BAD_INPUT and "cross at the start" in done.stderr, done.stderr[-500:]
+            answers.append([line for line in done.stderr.splitlines() if "cross at the start" in line])
+        else:
+            assert done.returncode == 0, done.stderr[-500:]
+    assert answers == [] or answers[0] == answers[1]
 
 
 def test_an_energy_error_past_the_limit_stops_the_run(tmp_path: Path) -> None:

@@ -133,6 +133,7 @@ program paradyn_engine
   call solver_setup(solver, deck, effects, comm, status, message)
   if (status /= status_ok) call fail(status, trim(message))
   solver%nodes%x = solver%nodes%x + moves(:, solver%dom%nodes)   ! initial displacements (a restart restores x)
+  deallocate (moves)   ! global: (3, n_nodes)
   if (check_only) then   ! paradyn-run --check: everything is set up and checked; nothing is written
     if (rank == 0) write (*, '(a,es23.16,a,es23.16,a,i0,a,es11.4)') 'PARADYN-CHECK dt=', solver%clock%dt, &
       ' dt_stable=', solver%clock%dt_stable, ' steps=', solver%clock%n_steps, ' end_time=', solver%clock%end_time
