@@ -21,6 +21,7 @@ program paradyn_engine
                             run_record_t
   use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
   use stop_signals, only: install_stop_handlers
+  use singleton_start, only: prefer_light_singleton
   use run_names, only: copy_run_names
   use deck_effects, only: effects_of_deck
   use initial_penetration, only: resolve_initial_penetrations
@@ -58,6 +59,7 @@ program paradyn_engine
   integer :: thread_level
 
   ! MPI is called from one thread at a time, outside the OpenMP regions: FUNNELED is enough
+  call prefer_light_singleton()
   call MPI_Init_thread(MPI_THREAD_FUNNELED, thread_level)
   call MPI_Comm_dup(MPI_COMM_WORLD, comm)
   call MPI_Comm_rank(comm, rank)
