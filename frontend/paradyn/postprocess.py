@@ -11,7 +11,6 @@ from typing import Any
 
 from .reading import Results
 from .reports import write_history_csv, write_summary
-from .vtk_export import write_vtk_series
 from .vtkhdf_export import write_vtkhdf
 
 
@@ -55,6 +54,8 @@ def post_process(
     out_dir = Path(out_dir)
     outputs: dict[str, Path] = {"results": results.path}
     if vtk and vtk_series:
+        from .vtk_export import write_vtk_series
+
         for pvd in write_vtk_series(results, out_dir):
             outputs[f"vtk {pvd.stem}"] = pvd
     if vtk:
