@@ -71,7 +71,7 @@ class RunProgress:
     def _new_bar(self, total: float | None, description: str) -> Any:
         # the size from shutil, which falls back to 80 x 24 where the terminal reports 0 (a pty
         # without a size, where tqdm would draw nothing); one column less, so that it never wraps
-        from tqdm.auto import tqdm   # 40 ms of imports a quiet or piped run never needs
+        from tqdm.auto import tqdm  # 40 ms of imports a quiet or piped run never needs
 
         size = shutil.get_terminal_size((80, 24))
         notebook = in_notebook()
