@@ -12,6 +12,7 @@ Rounds alternate the three, so a slow spell of a shared machine falls on all of 
 gives medians. Usage (docs/performance.md, "Fixed costs")::
 
     .venv/bin/python tools/fixed_costs.py cases/pipe_whip/scene.toml --repeat 7 [--threads 1] [--plots]
+        [--compare OLD_PARADYN_RUN]
 """
 
 from __future__ import annotations
@@ -55,20 +56,30 @@ def _wall(command: list[str]) -> float:
     return time.perf_counter() - start
 
 
-def one_round(scene: Path, threads: int, plots: bool) -> dict[str, float]:
+def whole_run(command: str, scene: Path, threads: int, flags: list[str]) -> tuple[float, float]:
+    """Wall seconds of ``command SCENE -o TMP -q`` and its engine's loop seconds."""
+    with tempfile.TemporaryDirectory() as out:
+        elapsed = _wall([command, str(scene), "-o", out, "-q", "-t", str(threads), *flags])
+        return elapsed, float(json.loads((Path(out) / "summary.json").read_text())["wall_s"])
+
+
+def one_round(scene: Path, threads: int, plots: bool, compare: str | None) -> dict[str, float]:
     """The seconds of every stage, of the whole command and of its loop in one round."""
     python = sys.executable
-    run_command = str(Path(python).with_name("paradyn-run"))
-    with tempfile.TemporaryDirectory() as whole, tempfile.TemporaryDirectory() as staged:
-        flags = ["--plots"] if plots else []
-        elapsed = _wall([run_command, str(scene), "-o", whole, "-q", "-t", str(threads), *flags])
-        loop = float(json.loads((Path(whole) / "summary.json").read_text())["wall_s"])
+    flags = ["--plots"] if plots else []
+    other = {}
+    if compare:
+        other_elapsed, other_loop = whole_run(compare, scene, threads, [])
+        other = {"compared: whole": other_elapsed, "compared: time loop": other_loop,
+                 "compared: fixed cost": other_elapsed - other_loop}
+    elapsed, loop = whole_run(str(Path(python).with_name("paradyn-run")), scene, threads, flags)
+    with tempfile.TemporaryDirectory() as staged:
         stages = json.loads(subprocess.run([python, "-c", STAGES, str(scene), staged, str(threads),
                                             "1" if plots else "0"], check=True, capture_output=True,
                                            text=True).stdout)
     interpreter = _wall([python, "-c", "pass"])
     return {"whole paradyn-run": elapsed, "time loop": loop, "fixed cost (whole - loop)": elapsed - loop,
-            "interpreter": interpreter, **stages}
+            "interpreter": interpreter, **stages, **other}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -77,8 +88,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--threads", type=int, default=1, help="OpenMP threads of the engine (default 1)")
     parser.add_argument("--plots", action="store_true", help="ask for the pictures too")
+    parser.add_argument("--compare", help="another paradyn-run command (an older checkout's), timed whole in "
+                                          "the same rounds with its own default outputs")
     args = parser.parse_args(argv)
-    rounds = [one_round(args.scene.resolve(), args.threads, args.plots) for _ in range(args.repeat)]
+    rounds = [one_round(args.scene.resolve(), args.threads, args.plots, args.compare) for _ in range(args.repeat)]
     print(f"| {args.scene} ({args.repeat} rounds, {args.threads} thread(s)) | median s | min s | max s |")
     print("|---|---|---|---|")
     for name in rounds[0]:
