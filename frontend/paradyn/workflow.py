@@ -80,12 +80,9 @@ def run(
         ``paradyn-run --post``) and returns a :class:`BatchJob` instead of running.
     post : bool
         False skips all post-processing (the flags below then do nothing).
-    vtk, history, summary : bool
-        ``results.vtkhdf`` (every frame of every part), ``history.csv`` and ``summary.json``; on
-        by default, as ``paradyn-run`` writes them.
-    plots, vtk_series : bool
-        Also the PNG pictures, and a ``.pvd`` series per part; off by default, as in
-        ``paradyn-run`` (``--plots``, ``--vtk-series``).
+    vtk, history, summary, plots, vtk_series : bool
+        ``results.vtkhdf``, ``history.csv`` and ``summary.json`` (on by default); the PNG pictures
+        and a ``.pvd`` series per part (off by default; ``--plots``, ``--vtk-series``).
     restart : bool
         Continue the run in ``out`` from its checkpoint, with the deck already there (the
         checkpoint belongs to it; ``source`` is not written again).
