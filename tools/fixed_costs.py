@@ -30,6 +30,8 @@ from pathlib import Path
 STAGES = r"""
 import json, sys, time
 t0 = time.perf_counter()
+from paradyn import commands
+commands._settle_environment()   # as the command does, before numpy loads
 from paradyn import cli, deck, launch, preflight, reading, scene
 from paradyn.postprocess import post_process
 t1 = time.perf_counter()
