@@ -21,6 +21,7 @@ program paradyn_engine
                             run_record_t
   use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
   use stop_signals, only: install_stop_handlers
+  use singleton_start, only: prefer_light_singleton, remove_session_base
   use run_names, only: copy_run_names
   use deck_effects, only: effects_of_deck
   use initial_penetration, only: resolve_initial_penetrations
@@ -58,8 +59,10 @@ program paradyn_engine
   real(wp) :: engine_start = 0, setup_s = -1   !< the wall clock after MPI start-up; set-up seconds
   type(MPI_Comm) :: comm   !< the engine's own duplicate of MPI_COMM_WORLD, passed everywhere
   integer :: thread_level
+  character(len=:), allocatable :: session_base   !< a one-rank run's own MPI session directory
 
   ! MPI is called from one thread at a time, outside the OpenMP regions: FUNNELED is enough
+  call prefer_light_singleton(session_base)
   call MPI_Init_thread(MPI_THREAD_FUNNELED, thread_level)
   engine_start = wall_clock()
   call MPI_Comm_dup(MPI_COMM_WORLD, comm)
@@ -289,6 +292,7 @@ contains
     call h5close_f(err)
     if (comm /= MPI_COMM_NULL) call MPI_Comm_free(comm)
     call MPI_Finalize()
+    call remove_session_base(session_base)
     call c_exit(int(code, c_int))   ! the status alone, without the banner that STOP prints
   end subroutine finish
 
