@@ -58,7 +58,7 @@ _TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "trac
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
              "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "contact_travel_limit",
-             "mass_scaling_step", "mass_scaling_limit")
+             "mass_scaling_step", "mass_scaling_limit", "precision")
 _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
                   "tangent_modulus", "hardening_mixing")
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
@@ -163,6 +163,8 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
                    else None),
         contact_gather=(r.string(t, "contact_gather", label, choices=tuple(_schema.ENUMS["contact_gather"]))
                         if "contact_gather" in t else None),
+        precision=(r.string(t, "precision", label, choices=tuple(_schema.ENUMS["precision"]))
+                   if "precision" in t else None),
     )
     if run.time_step_safety > 1.0:
         raise r.error(f"'time_step_safety' in {label} must be in (0, 1], got {run.time_step_safety}")

@@ -63,6 +63,7 @@ module results_writer
     real(wp) :: phase_contact_sort_s = 0, phase_contact_search_s = 0, phase_contact_force_s = 0
     real(wp) :: peak_memory_mb = 0   !< the largest peak resident memory of any rank (MiB)
     real(wp) :: load_imbalance = 1   !< busiest rank's element + contact time over the mean
+    character(len=:), allocatable :: precision   !< the engine's: "double" or "mixed"
     type(effect_table_t) :: effects  !< what ran, with its counters and rank 0's seconds
     ! per contact pair: its two parts (0-based) and the cycles it ran its stages or was idle
     integer(i8), allocatable :: pair_parts(:), pair_active_cycles(:), pair_skipped_cycles(:)
@@ -349,6 +350,7 @@ contains
     call write_real_attribute(group, 'phase_contact_force_s', run%phase_contact_force_s)
     call write_real_attribute(group, 'peak_memory_per_rank_mb', run%peak_memory_mb)
     call write_real_attribute(group, 'load_imbalance', run%load_imbalance)
+    if (allocated(run%precision)) call write_string_attribute(group, 'precision', run%precision)
     call write_string_attribute(group, 'effects', effect_list(run%effects, .false.))
     call write_string_attribute(group, 'effects_off', effect_list(run%effects, .true.))
     call h5gclose_f(group, err)
