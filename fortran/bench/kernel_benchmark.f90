@@ -41,7 +41,7 @@ program kernel_benchmark
   props%hourglass_coefficient = 0.1_wp
   props%integration_points = 5
   call material_from_name('elastic', props%young, props%poisson, 250.0e6_wp, 0.0_wp, 1.0_wp, props%material)
-  write (*, '(a,i0,a,i0,a,i0,a)') 'BLT kernel, ', n_groups * group_size, ' elements in groups of ', &
+  write (*, '(a,i0,a,i0,a,i0,3a)') 'BLT kernel, ', n_groups * group_size, ' elements in groups of ', &
     group_size, ', ', n_cycles, ' cycles, 1 thread, 5 points, element kernel in ', &
     trim(merge('double', 'single', ek == wp)), ' precision'
   call report('elastic: ', props)

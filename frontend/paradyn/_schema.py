@@ -873,7 +873,8 @@ EFFECT_TIMED_WITH: dict[str, tuple[str, ...]] = {
 }
 
 PROGRESS_KINDS: dict[str, tuple[str, ...]] = {
-    'START': ('elements', 'nodes', 'ranks', 'threads', 'dt', 'dt_stable', 'end_time', 'effects', 'partition', 'precision'),
+    'START':
+        ('elements', 'nodes', 'ranks', 'threads', 'dt', 'dt_stable', 'end_time', 'effects', 'partition', 'precision'),
     'MASS_SCALING': ('target_dt', 'elements', 'added_kg', 'fraction', 'part_added_kg'),
     'PROGRESS': ('cycle', 'time', 'dt', 'end_time', 'wall_s'),
     'RESTART': ('time', 'cycle'),

@@ -32,7 +32,8 @@ ENGINES = {"double": ("paradyn-engine", ENGINE_ENV), "mixed": ("paradyn-engine-m
 BIND_ENV = "PARADYN_BIND"   # "none": let the ranks and threads float over the cores
 
 __all__ = [
-    "BIND_ENV", "ENGINES", "ENGINE_ENV", "MIXED_ENGINE_ENV", "EngineError", "EngineRun", "Progress", "ProgressBar", "available_cores",
+    "BIND_ENV", "ENGINES", "ENGINE_ENV", "MIXED_ENGINE_ENV", "EngineError", "EngineRun", "Progress", "ProgressBar",
+    "available_cores",
     "binds_to_cores", "current_machine", "deck_precision", "default_layout", "engine_command", "engine_environment",
     "engine_path", "inside_slurm", "make_runner", "parse_line", "run_engine",
 ]

@@ -159,13 +159,10 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
                                    minimum=0.0),
         mass_scaling_limit=r.number(t, "mass_scaling_limit", label, default=RunSettings.mass_scaling_limit,
                                     minimum=0.0),
-        partition=(r.string(t, "partition", label, choices=tuple(deck.PARTITIONS)) if "partition" in t
-                   else None),
-        contact_gather=(r.string(t, "contact_gather", label, choices=tuple(_schema.ENUMS["contact_gather"]))
-                        if "contact_gather" in t else None),
-        precision=(r.string(t, "precision", label, choices=tuple(_schema.ENUMS["precision"]))
-                   if "precision" in t else None),
     )
+    for key in ("partition", "contact_gather", "precision"):   # /control strings: members of their enums
+        if key in t:
+            setattr(run, key, r.string(t, key, label, choices=tuple(_schema.ENUMS[key])))
     if run.time_step_safety > 1.0:
         raise r.error(f"'time_step_safety' in {label} must be in (0, 1], got {run.time_step_safety}")
     if run.contact_travel_limit >= 1.0:

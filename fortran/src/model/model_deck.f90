@@ -25,14 +25,13 @@ module model_deck
                             dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
                             dataset_rigid_walls_penalty_scale, &
                             contact_gather_near, control_contact_gather, control_end_time, &
-                            control_precision, precision_double, precision_mixed, enum_precision, &
                             control_output_interval, control_history_interval, control_time_step, &
                             control_time_step_safety, control_mass_damping, control_progress_interval, &
                             control_contact_sort_interval, control_checkpoint_interval, control_energy_error_limit, &
                             control_time_step_floor, control_contact_travel_limit, &
                             control_mass_scaling_step, control_mass_scaling_limit, &
                             n_effects, effect_switch, &
-                            switch_off, &
+                            switch_off, control_precision, precision_double, precision_mixed, enum_precision, &
                             dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
                             dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
                             dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
@@ -314,9 +313,8 @@ contains
     message = ''
     if (d%precision /= engine_precision) then
       message = '/control precision = "'//enum_name(enum_precision, d%precision)//'" but this engine computes in '// &
-                enum_name(enum_precision, engine_precision)//' precision; run paradyn-engine'// &
-                trim(merge('-mixed', '      ', d%precision == precision_mixed))// &
-                ' (paradyn-run picks it from the deck), or change [run] precision'
+                enum_name(enum_precision, engine_precision)//' precision; run paradyn-engine'//trim(merge('-mixed', &
+                '      ', d%precision == precision_mixed))//' (paradyn-run picks it from the deck), or change [run] precision'
       return
     end if
     do i = 1, d%n_elements
