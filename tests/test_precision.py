@@ -149,3 +149,11 @@ def test_the_mixed_kernel_benchmark_runs_in_single(tmp_path: Path) -> None:
     assert "element kernel in single precision" in done.stdout
     rates = [float(line.split(":")[1].split()[0]) for line in done.stdout.splitlines() if "us per" in line]
     assert len(rates) == 4 and min(rates) > 0   # -1: a NaN or an inverted element; -2: never yielded
+
+
+def test_the_mixed_engine_is_bitwise_independent_of_the_threads(pipe_whips: dict[str, Path], tmp_path: Path) -> None:
+    """Single precision keeps the engine's rule: an element's arithmetic does not depend on the
+    group or thread that computes it (no FMA contraction in the kernel), so 1 and 2 threads agree."""
+    paradyn.run(_mixed_scene(tmp_path / "mixed.toml"), tmp_path / "one", ranks=1, threads=1, post=False)
+    for name in ("tracked_displacement", "internal_energy", "contact_force"):
+        assert np.array_equal(_history(tmp_path / "one" / "results.h5", name), _history(pipe_whips["mixed"], name))
