@@ -73,11 +73,16 @@ def test_each_engine_records_its_precision(pipe_whips: dict[str, Path]) -> None:
 
 
 def test_mixed_pipe_whip_agrees_with_double_within_the_tolerance(pipe_whips: dict[str, Path]) -> None:
+    """At the end, and at every record on the way: after n steps within U G sqrt(n)."""
     double = _history(pipe_whips["double"], "tracked_displacement")
     mixed = _history(pipe_whips["mixed"], "tracked_displacement")
     assert double.shape == mixed.shape and np.isfinite(mixed).all()
-    difference = np.abs(mixed - double).max() / np.abs(double).max()
+    scale = np.abs(double).max()
+    difference = np.abs(mixed - double).max() / scale
     assert 0 < difference <= TOLERANCE   # not bitwise the double engine, and within the tolerance
+    steps = np.maximum(np.rint(_history(pipe_whips["double"], "time") / 1e-6), 1.0)
+    per_record = np.abs(mixed - double).reshape(len(steps), -1).max(axis=1) / scale
+    assert (per_record <= U * GROWTH * np.sqrt(steps)).all()
     for name in ("internal_energy", "kinetic_energy"):
         a, b = _history(pipe_whips["double"], name), _history(pipe_whips["mixed"], name)
         assert np.abs(b - a).max() <= TOLERANCE * np.abs(a).max()

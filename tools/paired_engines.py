@@ -54,8 +54,9 @@ def main(argv: list[str]) -> int:
             o = [t[j] for t in times[("old", layout)]]
             n = [t[j] for t in times[("new", layout)]]
             ratio = statistics.median(a / b for a, b in zip(o, n, strict=True))
+            low, high = min(a / b for a, b in zip(o, n, strict=True)), max(a / b for a, b in zip(o, n, strict=True))
             print(f"{layout} {name}: old median {statistics.median(o):.3f} s, new median {statistics.median(n):.3f} s, "
-                  f"per-round old/new median {ratio:.3f}")
+                  f"per-round old/new median {ratio:.3f} ({low:.3f} to {high:.3f})")
     return 0
 
 
