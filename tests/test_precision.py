@@ -117,7 +117,7 @@ def test_positions_in_single_precision_would_fail_the_tolerance(pipe_whips: dict
             x64 = x64 + 1e-6 * v
             x32 = (x32 + np.float32(1e-6) * v.astype(np.float32)).astype(np.float32)
     drift = np.abs(x32.astype(np.float64) - x64).max() / np.abs(displacement).max()
-    assert drift > 10 * TOLERANCE
+    assert drift > 5 * TOLERANCE   # 3.4e-4 measured: 11 times the tolerance
 
 
 def test_study_knob_precision_sets_the_scene() -> None:
