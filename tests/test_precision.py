@@ -67,9 +67,10 @@ def test_each_engine_records_its_precision(pipe_whips: dict[str, Path]) -> None:
     for precision, path in pipe_whips.items():
         with h5py.File(path, "r") as f:
             assert f["run"].attrs["precision"] == precision
-        log = (path.parent / "engine.log").read_text() if (path.parent / "engine.log").is_file() else ""
-        if log:
-            assert f"precision={precision}" in log
+        start = [line for line in (path.parent / "engine.log").read_text().splitlines() if "PARADYN-START" in line]
+        assert start and start[0].endswith(f" precision={precision}")
+        summary = reports.write_summary(paradyn.read(path, deck=path.parent / "deck.h5"), path.parent / "summary.json")
+        assert summary["precision"] == precision
 
 
 def test_mixed_pipe_whip_agrees_with_double_within_the_tolerance(pipe_whips: dict[str, Path]) -> None:
