@@ -11,7 +11,7 @@ SCHEMA := $(wildcard schema/*.toml) schema/generate.py $(wildcard schema/*_write
 .PHONY: demo test install engine bench clean stability
 
 demo: $(STAMP)
-	$(VENV)/bin/paradyn-run cases/pipe_whip/scene.toml -o runs/pipe_whip
+	$(VENV)/bin/paradyn-run cases/pipe_whip/scene.toml -o runs/pipe_whip --plots
 	$(PY) cases/pipe_whip/compare.py runs/pipe_whip
 
 test: $(STAMP)

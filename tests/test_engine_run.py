@@ -52,7 +52,7 @@ def _last_frame(pvd: Path):
 
 @pytest.fixture(scope="module")
 def plate_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return _run(SMALL_PLATE, tmp_path_factory.mktemp("small_plate"), "-n", "1", "-t", "1", "--no-plots")
+    return _run(SMALL_PLATE, tmp_path_factory.mktemp("small_plate"), "-n", "1", "-t", "1", "--vtk-series")
 
 
 @pytest.fixture(scope="module")
@@ -61,11 +61,13 @@ def plate_summary(plate_run: Path) -> dict:
 
 
 def test_small_plate_writes_every_output(plate_run: Path) -> None:
-    """docs/outputs.md and the paradyn-run help: deck, results, log, VTK series, history, summary;
-    no pictures with --no-plots."""
-    for name in ("deck.h5", "results.h5", "engine.log", "plate.pvd", "history.csv", "summary.json"):
+    """docs/outputs.md and the paradyn-run help: deck, results, log, VTKHDF, history, summary, the
+    per-part series with --vtk-series; no pictures unless asked for."""
+    for name in ("deck.h5", "results.h5", "engine.log", "results.vtkhdf", "plate.pvd", "history.csv",
+                 "summary.json"):
         path = plate_run / name
         assert path.is_file() and path.stat().st_size > 0, name
+    assert not list(plate_run.glob("*.png"))
     with h5py.File(plate_run / "results.h5", "r") as f:
         n_frames = f["/frames/time"].shape[0]
         assert int(f.attrs["complete"]) == 1
@@ -166,13 +168,14 @@ def test_small_plate_energy_balance(plate_run: Path, plate_summary: dict) -> Non
 
 
 def test_small_plate_with_plots(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """paradyn-run help: energies.png, tracked.png and deformed.png unless --no-plots."""
+    """paradyn-run help: energies.png, parts.png, tracked.png and deformed.png with --plots; no
+    VTK output with --no-vtk, even with --vtk-series."""
     monkeypatch.setenv("PYVISTA_OFF_SCREEN", "true")
-    out = _run(SMALL_PLATE, tmp_path / "plots", "-n", "1", "-t", "1", "--no-vtk")
-    for name in ("energies.png", "tracked.png", "deformed.png"):
+    out = _run(SMALL_PLATE, tmp_path / "plots", "-n", "1", "-t", "1", "--plots", "--no-vtk", "--vtk-series")
+    for name in ("energies.png", "parts.png", "tracked.png", "deformed.png"):
         data = (out / name).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 1000, name
-    assert not (out / "plate.pvd").exists()
+    assert not (out / "plate.pvd").exists() and not (out / "results.vtkhdf").exists()
 
 
 def test_frame_membrane_stress_of_a_uniform_stretch(tmp_path: Path) -> None:
@@ -207,7 +210,7 @@ def test_frame_membrane_stress_of_a_uniform_stretch(tmp_path: Path) -> None:
 
 @pytest.fixture(scope="module")
 def pipe_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return _run(PIPE_WHIP, tmp_path_factory.mktemp("pipe_whip"), "-n", "1", "-t", "2", "--no-plots")
+    return _run(PIPE_WHIP, tmp_path_factory.mktemp("pipe_whip"), "-n", "1", "-t", "2", "--vtk-series")
 
 
 def test_pipe_whip_upper_pipe_flies_freely_until_contact(pipe_run: Path) -> None:

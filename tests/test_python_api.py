@@ -169,6 +169,21 @@ def test_vtkhdf_holds_every_frame_with_its_time(plate: paradyn.Results) -> None:
         read_step(path, plate.n_frames)
 
 
+def test_vtkhdf_written_a_frame_at_a_time_is_the_same_file(plate: paradyn.Results, tmp_path: Path,
+                                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    """The export copies blocks of frames; blocks of one frame must give the same datasets."""
+    import h5py
+
+    from paradyn import vtkhdf_export
+
+    monkeypatch.setattr(vtkhdf_export, "_BLOCK_BYTES", 1)
+    path = write_vtkhdf(plate, tmp_path / "one_by_one.vtkhdf")
+    with h5py.File(path, "r") as mine, h5py.File(plate.outputs["vtkhdf"], "r") as whole:
+        for name in ("Points", "PointData/displacement", "PointData/velocity", "CellData/von_mises",
+                     "CellData/membrane_stress", "CellData/plastic_strain"):
+            assert np.array_equal(mine["VTKHDF/" + name][()], whole["VTKHDF/" + name][()]), name
+
+
 def test_vtkhdf_keeps_parts_apart(tmp_path: Path) -> None:
     from test_results import write_synthetic
 

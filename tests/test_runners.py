@@ -76,6 +76,22 @@ def test_the_environment_places_threads_only_when_the_layout_is_pinned(monkeypat
     assert "OMP_PROC_BIND" not in runners.MpirunRunner(machine(cores=2)).environment(2, 2)
 
 
+def test_mpirun_on_one_machine_asks_for_shared_memory_messaging(monkeypatch: pytest.MonkeyPatch) -> None:
+    """docs/performance.md, "Fixed costs": mpirun's ranks use Open MPI's ob1 layer (no network
+    probing at start-up) unless the user chose one, or a batch system's host list may put the
+    ranks on other machines; srun and the engine alone are left as they are."""
+    for name in ("OMPI_MCA_pml", *runners.HOST_LIST_VARIABLES):
+        monkeypatch.delenv(name, raising=False)
+    assert runners.MpirunRunner(machine()).environment(2, 1)["OMPI_MCA_pml"] == "ob1"
+    assert "OMPI_MCA_pml" not in runners.SrunRunner(machine()).environment(2, 1)
+    assert "OMPI_MCA_pml" not in runners.DirectRunner(machine()).environment(1, 1)
+    monkeypatch.setenv("OMPI_MCA_pml", "ucx")
+    assert runners.MpirunRunner(machine()).environment(2, 1)["OMPI_MCA_pml"] == "ucx"
+    monkeypatch.delenv("OMPI_MCA_pml")
+    monkeypatch.setenv("PBS_NODEFILE", "/var/spool/pbs/aux/1.server")
+    assert "OMPI_MCA_pml" not in runners.MpirunRunner(machine()).environment(2, 1)
+
+
 def test_srun_passes_the_cpus_per_task() -> None:
     command = runners.SrunRunner(machine()).command(DECK, RESULTS, 4, 3)
     assert command == ["srun", "-n", "4", "--cpus-per-task=3", "--export=ALL", str(ENGINE), str(DECK),

@@ -24,7 +24,7 @@ def plate_model() -> deck.Model:
 
 
 def test_a_scene_file_runs_end_to_end_with_every_output(tmp_path: Path) -> None:
-    res = paradyn.run(SMALL_PLATE, tmp_path, ranks=1, threads=1, plots=False)
+    res = paradyn.run(SMALL_PLATE, tmp_path, ranks=1, threads=1, vtk_series=True)
     assert isinstance(res, paradyn.Results) and res.complete
     assert list(res.outputs) == ["results", "vtk plate", "vtkhdf", "history", "summary"]
     assert all(path.is_file() for path in res.outputs.values())
@@ -61,10 +61,10 @@ def test_flags_choose_the_outputs_and_names_choose_the_files(tmp_path: Path, pla
 
 
 def test_the_sbatch_runner_writes_a_job_and_runs_nothing(tmp_path: Path, plate_model: deck.Model) -> None:
-    job = paradyn.run(plate_model, tmp_path, ranks=2, threads=3, runner="sbatch", plots=False)
+    job = paradyn.run(plate_model, tmp_path, ranks=2, threads=3, runner="sbatch", plots=True)
     assert isinstance(job, paradyn.BatchJob) and job.submit_command == ["sbatch", str(job.script)]
     text = job.script.read_text()
-    assert "#SBATCH --ntasks=2" in text and f"--post {tmp_path.resolve()} --no-plots" in text
+    assert "#SBATCH --ntasks=2" in text and f"--post {tmp_path.resolve()} --plots" in text
     assert not (tmp_path / "results.h5").exists()
 
 

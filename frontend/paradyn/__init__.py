@@ -5,13 +5,46 @@ results into VTK, CSV, JSON and plots. ``paradyn.run(source, out)`` does all of 
 ``paradyn.read(path)`` opens a results file; ``paradyn.read_keyword(path)`` reads an LS-DYNA
 keyword deck into a deck model (docs/keyword.md); ``paradyn.study(scene, out, knobs=...)`` shows
 what accuracy costs in time (docs/accuracy-cost.md).
-"""
-from .builder import Cylinder, MeshFile, Plate, Scene
-from .keyword_scene import read_keyword
-from .reading import Results, read
-from .study_sweep import study
-from .workflow import BatchJob, run
 
-__all__ = ["BatchJob", "Cylinder", "MeshFile", "Plate", "Results", "Scene", "read", "read_keyword", "run",
-           "study"]
+The names below are imported when first used, so that ``import paradyn.cli`` loads only what a
+command needs and the commands can settle their environment before numpy loads
+(:mod:`paradyn.commands`).
+"""
+from __future__ import annotations
+
+from importlib import import_module
+from importlib.util import find_spec
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .builder import Cylinder as Cylinder
+    from .builder import MeshFile as MeshFile
+    from .builder import Plate as Plate
+    from .builder import Scene as Scene
+    from .keyword_scene import read_keyword as read_keyword
+    from .reading import Results as Results
+    from .reading import read as read
+    from .study_sweep import study as study
+    from .workflow import BatchJob as BatchJob
+    from .workflow import run as run
+
+# name -> the module that defines it
+_EXPORTS = {"BatchJob": "workflow", "Cylinder": "builder", "MeshFile": "builder", "Plate": "builder",
+            "Results": "reading", "Scene": "builder", "read": "reading", "read_keyword": "keyword_scene",
+            "run": "workflow", "study": "study_sweep"}
+__all__ = sorted(_EXPORTS)
 __version__ = "0.1.0"
+
+
+def __getattr__(name: str) -> Any:
+    if name in _EXPORTS:
+        value = getattr(import_module(f".{_EXPORTS[name]}", __name__), name)
+        globals()[name] = value   # found once
+        return value
+    if not name.startswith("_") and find_spec(f"{__name__}.{name}") is not None:
+        return import_module(f".{name}", __name__)   # paradyn.scene, paradyn.deck ... as before
+    raise AttributeError(f"module 'paradyn' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_EXPORTS])

@@ -39,11 +39,12 @@ OUTDIR:
 
   results.h5      everything the engine wrote (docs/formats.md)
   results.vtkhdf  every frame of every part in one file (VTKHDF), for ParaView or pyvista
-  <part>.pvd      a VTK time series per part (vtk/<part>_NNNNN.vtu), for ParaView or pyvista
   history.csv     time, energies, and dx..vz of every tracked point (units in the header)
   summary.json    wall time, cycles, time step, size, layout, speed, time per phase, energies, effects
-  energies.png, tracked.png, deformed.png   plots (unless --no-plots)
   engine.log      the engine's own output
+and on request (they cost seconds where the run may take less than one):
+  <part>.pvd      with --vtk-series: a VTK time series per part (vtk/<part>_NNNNN.vtu)
+  energies.png, parts.png, tracked.png, deformed.png   with --plots: pictures
 
 Exit status: 0 on success, 2 for a bad scene or deck, 3 when the run went unstable, 4 when it was
 stopped (Ctrl-C, SIGTERM) after writing its checkpoint, 1 otherwise.
@@ -60,8 +61,12 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("-n", "--ranks", type=int, default=ranks, help=f"MPI ranks (default {ranks})")
     parser.add_argument("-t", "--threads", type=int, default=threads,
                         help=f"OpenMP threads per rank (default {threads}, one per core)")
-    parser.add_argument("--no-vtk", action="store_true", help="skip the VTK time series")
-    parser.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    parser.add_argument("--plots", action="store_true",
+                        help="also draw energies.png, parts.png, tracked.png and deformed.png")
+    parser.add_argument("--vtk-series", action="store_true",
+                        help="also write a .pvd series per part (for ParaView before 5.12)")
+    parser.add_argument("--no-vtk", action="store_true", help="skip results.vtkhdf (and the .pvd series)")
+    parser.add_argument("--no-plots", action="store_true", help="no pictures (the default; undoes --plots)")
     parser.add_argument("-q", "--quiet", action="store_true",
                         help="no check report and no progress display (the check's warnings still)")
     parser.add_argument("--check", action="store_true",
@@ -96,7 +101,7 @@ def version_text() -> str:
     return f"paradyn-run {__version__} (Python {sys.version.split()[0]}; engine {engine})"
 
 
-def post_only(out_dir: Path, plots: bool, vtk: bool) -> int:
+def post_only(out_dir: Path, plots: bool, vtk: bool, vtk_series: bool = False) -> int:
     """Post-process the results.h5 and deck.h5 of a run in out_dir, finished or interrupted."""
     res_path, deck_path = out_dir / "results.h5", out_dir / "deck.h5"
     if not (res_path.is_file() and deck_path.is_file()):
@@ -110,7 +115,7 @@ def post_only(out_dir: Path, plots: bool, vtk: bool) -> int:
             print(f"paradyn-run: {res_path} is of an unfinished run: post-processing its {res.n_frames} "
                   f"frame(s), to t = {last:.4g} s", file=sys.stderr)
         outputs = post_process(res, out_dir, {"post_processed": True, "complete": res.complete},
-                               plots=plots, vtk=vtk)
+                               plots=plots, vtk=vtk, vtk_series=vtk_series)
     except (deck.DeckError, reading.ResultsError) as error:
         print(f"paradyn-run: error: {error}", file=sys.stderr)
         return STATUS_BAD_INPUT
@@ -159,6 +164,10 @@ def batch_runner(args: argparse.Namespace) -> SbatchRunner | None:
     return runner
 
 
+def _plots(args: argparse.Namespace) -> bool:
+    return args.plots and not args.no_plots
+
+
 def _print_outputs(outputs: dict[str, Path]) -> None:
     for label, path in outputs.items():
         print(f"  {label:18s} {path}")
@@ -172,7 +181,7 @@ def _error(error: Exception, status: int) -> int:
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.post:
-        return post_only(args.scene.resolve(), plots=not args.no_plots, vtk=not args.no_vtk)
+        return post_only(args.scene.resolve(), plots=_plots(args), vtk=not args.no_vtk, vtk_series=args.vtk_series)
     if args.check:
         return check_only(args.scene, args.ranks, args.threads, args.quiet)
     out_dir = (args.output or default_output(args.scene)).resolve()
@@ -183,7 +192,7 @@ def main(argv: list[str] | None = None) -> int:
         outcome = workflow.run(args.scene, out_dir, args.ranks, args.threads,
                                runner=runner, restart=args.restart,
                                progress=RunProgress(quiet=args.quiet), vtk=not args.no_vtk,
-                               plots=not args.no_plots)
+                               plots=_plots(args), vtk_series=args.vtk_series)
     except launch.EngineError as error:
         return _error(error, error.exit_code)
     except reading.ResultsError:

@@ -141,6 +141,15 @@ def read_deck(path: str | Path) -> Model:
     return model
 
 
+def read_deck_arrays(path: str | Path, names: tuple[str, ...]) -> dict[str, np.ndarray | None]:
+    """Some datasets of a deck a run already used (so already checked), by their Python names
+    (``thickness``, ``contact_pairs``...; None where absent): the post-processing's few numbers
+    from the deck without reading and validating all of it again."""
+    paths = {spec.python: spec.path for spec in DATASETS}
+    with h5py.File(path, "r") as f:
+        return {name: (f[paths[name]][()] if paths[name] in f else None) for name in names}
+
+
 def validate_deck(path: str | Path) -> None:
     """Check a deck file against docs/formats.md; raise DeckError naming the dataset on any problem."""
     read_deck(path)

@@ -11,7 +11,6 @@ from typing import Any
 
 from .reading import Results
 from .reports import write_history_csv, write_summary
-from .vtk_export import write_vtk_series
 from .vtkhdf_export import write_vtkhdf
 
 
@@ -23,7 +22,8 @@ def post_process(
     vtk: bool = True,
     history: bool = True,
     summary: bool = True,
-    plots: bool = True,
+    plots: bool = False,
+    vtk_series: bool = False,
 ) -> dict[str, Path]:
     """Write the outputs of a run into ``out_dir``; return them as label -> path.
 
@@ -35,10 +35,16 @@ def post_process(
         Where the outputs go (usually the folder of ``results.h5``).
     extra : dict, optional
         Entries merged last into ``summary.json``.
-    vtk, history, summary, plots : bool
-        Write the VTK time series (``results.vtkhdf`` and a ``.pvd`` per part), ``history.csv``,
-        ``summary.json``, and the pictures (``energies.png``, ``parts.png``, ``tracked.png`` when
-        there are tracked points, ``deformed.png``).
+    vtk, history, summary : bool
+        Write every frame of every part in ``results.vtkhdf``, ``history.csv`` and
+        ``summary.json`` (all three by default).
+    plots : bool
+        Also draw the pictures (``energies.png``, ``parts.png``, ``tracked.png`` when there are
+        tracked points, ``deformed.png``); off by default: they cost about 2 s on the pipe whip,
+        seven times its time loop (docs/outputs.md, "What a run writes by default").
+    vtk_series : bool
+        Also write a ``.pvd`` series per part (``vtk/<part>_NNNNN.vtu``), for ParaView before 5.12
+        and other readers without VTKHDF; off by default (``vtk=False`` skips it too).
 
     Returns
     -------
@@ -47,9 +53,12 @@ def post_process(
     """
     out_dir = Path(out_dir)
     outputs: dict[str, Path] = {"results": results.path}
-    if vtk:
+    if vtk and vtk_series:
+        from .vtk_export import write_vtk_series
+
         for pvd in write_vtk_series(results, out_dir):
             outputs[f"vtk {pvd.stem}"] = pvd
+    if vtk:
         outputs["vtkhdf"] = write_vtkhdf(results, out_dir / "results.vtkhdf")
     if history:
         outputs["history"] = write_history_csv(results, out_dir / "history.csv")

@@ -139,7 +139,7 @@ def _parts(model: deck.Model, area: np.ndarray, added: np.ndarray) -> list[PartM
     parts = []
     for p, name in enumerate(_part_names(model)):
         mine = element_part == p
-        nodes = np.unique(conn[mine])
+        nodes = np.flatnonzero(np.bincount(conn[mine].ravel(), minlength=len(coords)))  # np.unique: +20 ms
         extent = np.ptp(coords[nodes], axis=0) if nodes.size else np.zeros(3)
         nonzero = extent[extent > 0]
         parts.append(PartMass(name=name, elements=int(mine.sum()),

@@ -27,8 +27,6 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any, TextIO
 
-from tqdm.auto import tqdm
-
 from .engine_process import Progress
 
 MAX_COLUMNS = 120   # wider terminals get a line this long; the bar takes what the numbers leave
@@ -73,6 +71,8 @@ class RunProgress:
     def _new_bar(self, total: float | None, description: str) -> Any:
         # the size from shutil, which falls back to 80 x 24 where the terminal reports 0 (a pty
         # without a size, where tqdm would draw nothing); one column less, so that it never wraps
+        from tqdm.auto import tqdm  # 40 ms of imports a quiet or piped run never needs
+
         size = shutil.get_terminal_size((80, 24))
         notebook = in_notebook()
         columns = max(40, min(MAX_COLUMNS, size.columns - 1))

@@ -160,10 +160,11 @@ def _penetration_over_thickness(results: Results) -> float | None:
         return None
     from . import deck  # the deck reader is needed for the thicknesses only
 
-    model = deck.read_deck(results.deck_path)
-    if not model.n_contacts:
+    arrays = deck.read_deck_arrays(results.deck_path, ("thickness", "contact_pairs"))
+    pairs = arrays["contact_pairs"]
+    if pairs is None or pairs.size == 0:
         return None
-    thinnest = float(np.min(np.asarray(model.thickness)[np.asarray(model.contact_pairs).ravel()]))
+    thinnest = float(np.min(np.asarray(arrays["thickness"])[np.asarray(pairs).ravel()]))
     return _finite(float(np.max(results.history["contact_penetration"])) / thinnest)
 
 

@@ -269,7 +269,12 @@ def strings(value: Any, one: bool = False) -> list[str]:
 
 def read_frame_row(h5: h5py.File, name: str, k: int, tail: tuple[int, ...]) -> np.ndarray:
     """Row ``k`` of frame field ``name`` as float64 (zeros when the dataset is absent)."""
+    return read_frame_rows(h5, name, k, k + 1, tail)[0]
+
+
+def read_frame_rows(h5: h5py.File, name: str, first: int, last: int, tail: tuple[int, ...]) -> np.ndarray:
+    """Rows ``first:last`` of frame field ``name`` as float64 (zeros when the dataset is absent)."""
     ds = FRAME_DATASETS[name]
     if ds not in h5:
-        return np.zeros(tail, dtype=np.float64)
-    return np.asarray(h5[ds][k], dtype=np.float64)
+        return np.zeros((last - first, *tail), dtype=np.float64)
+    return np.asarray(h5[ds][first:last], dtype=np.float64)

@@ -69,6 +69,20 @@ def engine_environment(threads: int, bind_threads: bool) -> dict[str, str]:
     return env
 
 
+# A batch system's host list: mpirun may then start ranks on other machines, where the network's
+# own transport (UCX on InfiniBand) should be left to choose.
+HOST_LIST_VARIABLES = ("PBS_NODEFILE", "LSB_HOSTS", "LSB_MCPU_HOSTS", "PE_HOSTFILE", "OAR_NODEFILE",
+                       "OMPI_MCA_orte_default_hostfile")
+
+
+def one_machine_mpi(env: dict[str, str]) -> dict[str, str]:
+    """Open MPI's ob1 messaging layer (shared memory between the ranks of one machine) instead of
+    probing the network libraries, which costs mpirun 0.16 s at start-up (docs/performance.md,
+    "Fixed costs"); the user's own setting wins. (The engine alone, on one rank, settles its own
+    start-up: fortran/src/app/singleton_start.f90.)"""
+    return {**env, "OMPI_MCA_pml": env.get("OMPI_MCA_pml", "ob1")}
+
+
 def _engine_arguments(deck: Path, results: Path, restart: bool, ranks: int | None = None) -> list[str]:
     """The engine's arguments; under a launcher, ``--expect-ranks`` makes it refuse to run on another
     number of ranks than it was asked for (an mpirun of another MPI starts N singletons of one rank)."""
@@ -151,6 +165,12 @@ class MpirunRunner(Runner):
         if self.machine.oversubscribed(ranks, threads):
             command.append("--oversubscribe")
         return [*command, str(self.machine.engine), *_engine_arguments(deck, results, restart, ranks)]
+
+    def environment(self, ranks: int, threads: int) -> dict[str, str]:
+        env = super().environment(ranks, threads)
+        if any(name in env for name in HOST_LIST_VARIABLES):
+            return env
+        return one_machine_mpi(env)
 
 
 @dataclass

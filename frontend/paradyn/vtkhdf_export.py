@@ -6,7 +6,7 @@ after frame, while the topology and the ``part``, ``element_id`` and ``node_id``
 mesh file's ``file_*_id``) are written once and shared by every step (their offsets stay 0). The
 arrays are those of the ``.vtu`` files (docs/outputs.md, "VTK time series"); the top-level group
 ``/ParaDyn`` holds the part names.
-Written with h5py, frame by frame, through a temporary file renamed at the end.
+Written with h5py, a block of frames at a time, through a temporary file renamed at the end.
 """
 
 from __future__ import annotations
@@ -20,11 +20,13 @@ import numpy as np
 from . import grids
 from .atomic_write import replacing
 from .reading import Results, ResultsError
+from .results_file import frame_tails, open_results, read_frame_rows
 
 if TYPE_CHECKING:
     import pyvista
 
 VTKHDF_VERSION = (2, 1)
+_BLOCK_BYTES = 64 * 2**20   # frames copied per read: bounded memory on long runs
 # (name, on points?, components) of the fields written every frame
 _FRAME_ARRAYS = (("displacement", True, 3), ("velocity", True, 3), ("membrane_stress", False, 3),
                  ("von_mises", False, 1), ("plastic_strain", False, 1))
@@ -96,11 +98,20 @@ def _write_steps(root: h5py.Group, results: Results) -> None:
         rows = steps * (n_nodes if on_points else n_cells)
         shape = (rows, components) if components > 1 else (rows,)
         data[name] = root["PointData" if on_points else "CellData"].create_dataset(name, shape, dtype=np.float64)
-    for k, frame in enumerate(results.iter_frames()):
-        nodes, cells = slice(k * n_nodes, (k + 1) * n_nodes), slice(k * n_cells, (k + 1) * n_cells)
-        points[nodes] = results.coordinates + frame.displacement
-        for name, on_points, _ in _FRAME_ARRAYS:
-            data[name][nodes if on_points else cells] = getattr(frame, name)
+    # whole blocks of frames per read and write: one h5py call per block, not per frame and field
+    per_frame = 8 * 7 * (n_nodes + n_cells)
+    block = max(1, _BLOCK_BYTES // max(per_frame, 1))
+    tails = frame_tails(n_nodes, n_elements=n_cells)
+    with open_results(results.path) as h5:
+        for first in range(0, steps, block):
+            last = min(first + block, steps)
+            for name, on_points, components in _FRAME_ARRAYS:
+                size = n_nodes if on_points else n_cells
+                rows = slice(first * size, last * size)
+                values = read_frame_rows(h5, name, first, last, tails[name])
+                data[name][rows] = values.reshape((-1, components) if components > 1 else (-1,))
+                if name == "displacement":
+                    points[rows] = (values + results.coordinates).reshape(-1, 3)
     step = root.create_group("Steps")
     step.attrs["NSteps"] = steps
     step["Values"] = results.time_values.astype(np.float64)

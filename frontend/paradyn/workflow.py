@@ -51,7 +51,8 @@ def run(
     vtk: bool = True,
     history: bool = True,
     summary: bool = True,
-    plots: bool = True,
+    plots: bool = False,
+    vtk_series: bool = False,
     restart: bool = False,
     progress: bool | RunProgress | Callable[[Progress], None] = False,
     extra: dict[str, Any] | None = None,
@@ -79,9 +80,9 @@ def run(
         ``paradyn-run --post``) and returns a :class:`BatchJob` instead of running.
     post : bool
         False skips all post-processing (the flags below then do nothing).
-    vtk, history, summary, plots : bool
-        The VTK time series, ``history.csv``, ``summary.json`` and the PNG pictures; all on by
-        default, as ``paradyn-run`` writes them.
+    vtk, history, summary, plots, vtk_series : bool
+        ``results.vtkhdf``, ``history.csv`` and ``summary.json`` (on by default); the PNG pictures
+        and a ``.pvd`` series per part (off by default; ``--plots``, ``--vtk-series``).
     restart : bool
         Continue the run in ``out`` from its checkpoint, with the deck already there (the
         checkpoint belongs to it; ``source`` is not written again).
@@ -136,7 +137,7 @@ def run(
         if display is not None:
             display.report(preflight.check_model(model, ranks, threads).lines())
     if runner == SbatchRunner.name or isinstance(runner, SbatchRunner):
-        post_command = _post_command(out, vtk=vtk, plots=plots) if post else None
+        post_command = _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None
         return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
     on_progress = display if display is not None else (progress if callable(progress) else None)
     try:
@@ -156,7 +157,7 @@ def run(
         details = {"scene": _source_name(source), "command": engine_run.command, **(extra or {})}
         with _stage(display, "post-processing"):
             results.outputs = post_process(results, out, details, vtk=vtk, history=history,
-                                           summary=summary, plots=plots)
+                                           summary=summary, plots=plots, vtk_series=vtk_series)
     return results
 
 
@@ -241,10 +242,10 @@ def _restart_model(source: Source) -> deck.Model | None:
     return model_of(source)
 
 
-def _post_command(out_dir: Path, vtk: bool, plots: bool) -> list[str]:
+def _post_command(out_dir: Path, vtk: bool, plots: bool, vtk_series: bool = False) -> list[str]:
     """``paradyn-run --post OUT`` as a batch job runs it, with this Python."""
     command = [sys.executable, "-m", "paradyn.cli", "--post", str(out_dir.resolve())]
-    return command + ["--no-plots"] * (not plots) + ["--no-vtk"] * (not vtk)
+    return command + ["--plots"] * plots + ["--vtk-series"] * (vtk and vtk_series) + ["--no-vtk"] * (not vtk)
 
 
 def _write_batch_job(runner: str | Runner, deck_path: Path, results: Path, ranks: int, threads: int,

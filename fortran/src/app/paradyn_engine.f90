@@ -21,6 +21,7 @@ program paradyn_engine
                             run_record_t
   use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
   use stop_signals, only: install_stop_handlers
+  use singleton_start, only: prefer_light_singleton, remove_session_base
   use run_names, only: copy_run_names
   use deck_effects, only: effects_of_deck
   use initial_penetration, only: resolve_initial_penetrations
@@ -56,8 +57,10 @@ program paradyn_engine
   real(wp) :: pause_time
   type(MPI_Comm) :: comm   !< the engine's own duplicate of MPI_COMM_WORLD, passed everywhere
   integer :: thread_level
+  character(len=:), allocatable :: session_base   !< a one-rank run's own MPI session directory
 
   ! MPI is called from one thread at a time, outside the OpenMP regions: FUNNELED is enough
+  call prefer_light_singleton(session_base)
   call MPI_Init_thread(MPI_THREAD_FUNNELED, thread_level)
   call MPI_Comm_dup(MPI_COMM_WORLD, comm)
   call MPI_Comm_rank(comm, rank)
@@ -283,6 +286,7 @@ contains
     call h5close_f(err)
     if (comm /= MPI_COMM_NULL) call MPI_Comm_free(comm)
     call MPI_Finalize()
+    call remove_session_base(session_base)
     call c_exit(int(code, c_int))   ! the status alone, without the banner that STOP prints
   end subroutine finish
 

@@ -1,0 +1,46 @@
+"""The command-line entry points (paradyn.commands) and the lazy package: docs/performance.md,
+"Fixed costs". Not timed: these check the conditions the measured savings rest on."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from paradyn import commands
+
+
+def test_importing_paradyn_loads_no_numpy_until_a_name_is_used() -> None:
+    """A command settles its environment before numpy loads, so the package's import must not
+    load it; the public names and the submodules still resolve when used."""
+    code = ("import sys, paradyn; assert 'numpy' not in sys.modules; "
+            "assert paradyn.Scene.__name__ == 'Scene' and callable(paradyn.run) and callable(paradyn.study); "
+            "assert paradyn.scene.load_scene and paradyn.deck.write_deck; print('numpy' in sys.modules)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == "True"
+    with pytest.raises(AttributeError, match="no attribute 'nothing_here'"):
+        _ = __import__("paradyn").nothing_here
+
+
+def test_the_commands_ask_for_one_openblas_thread_unless_the_user_chose(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv("OPENBLAS_NUM_THREADS", raising=False)
+    commands._settle_environment()
+    import os
+
+    assert os.environ["OPENBLAS_NUM_THREADS"] == "1"
+    monkeypatch.setenv("OPENBLAS_NUM_THREADS", "4")
+    commands._settle_environment()
+    assert os.environ["OPENBLAS_NUM_THREADS"] == "4"
+
+
+def test_each_command_runs_its_tool(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(sys, "argv", ["paradyn-run", "--version"])
+    with pytest.raises(SystemExit) as stop:
+        commands.paradyn_run()
+    assert stop.value.code == 0
+    for entry in (commands.paradyn_study, commands.paradyn_scaling):
+        monkeypatch.setattr(sys, "argv", ["x", "--help"])
+        with pytest.raises(SystemExit) as stop:
+            entry()
+        assert stop.value.code == 0
