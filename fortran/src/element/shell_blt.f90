@@ -43,12 +43,8 @@ contains
   !> An element's arithmetic is bitwise the same in a vector body or a scalar remainder, whatever
   !> the group's size: nothing is summed across elements, and this file is compiled without FMA
   !> contraction (fortran/CMakeLists.txt), so the layouts of tests/test_parallel.py agree.
-  !>
-  !> Precision (core/kinds.f90): the nodal values x, v, w, the time step, the forces and the
-  !> energies are double (wp); the arithmetic and the element state are of kind ek, single in the
-  !> mixed engine. There each element's geometry enters relative to its first node, the
-  !> difference taken in double, so that single precision resolves the element's size and not
-  !> the model's (docs/theory.md, "Precision"); in the double engine the positions enter as they are.
+  !> Precision: x, v, w, the step, forces and energies are double (wp); the arithmetic and the
+  !> element state are of kind ek, single in the mixed engine (element_geometry; docs/theory.md).
   pure subroutine blt_internal_forces(n, x, v, w, props, dt_step, stress, back, eps_p, hourglass, &
                                       force, e_internal, e_hourglass, inverted, dt_element)
     integer, intent(in) :: n
@@ -101,7 +97,7 @@ contains
 
       ! --- strain rates on the mid-step geometry; an element inverted there (area_mid <= 0) gets
       ! zero velocities, hence zero rates, and keeps its state
-      call element_geometry(m, x(o + 1:o + m, :, :) - (0.5_wp * dt_step) * v(o + 1:o + m, :, :), xg)
+      call element_geometry(m, n, o, x, v, 0.5_wp * dt_step, xg)
       call frames(m, group_size, 0, xg, e, xl, yl, area_mid)
       ! a product, not merge(v, 0, ...): a masked load of v would stop the vectoriser
       valid(1:m) = merge(1.0_ek, 0.0_ek, area_mid(1:m) > 0.0_ek)
@@ -199,7 +195,7 @@ contains
                                        area_mid(1:m) > 0.0_ek)
 
       ! --- resultants and nodal forces on the end-of-step geometry
-      call element_geometry(m, x(o + 1:o + m, :, :), xg)
+      call element_geometry(m, n, o, x, v, 0.0_wp, xg)
       call frames(m, group_size, 0, xg, e, xl, yl, area)
       call frame_time_steps(m, xl, yl, area, props, dt_element(o + 1:o + m))
       call check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
@@ -220,20 +216,28 @@ contains
     end do
   end subroutine blt_internal_forces
 
-  !> The positions of m elements (nodal, double) as the kernel takes them, in xg: as they are in
-  !> the double engine; relative to each element's first node in the mixed one, the difference in
-  !> double, then rounded to single (every measure of the kernel is a difference of positions).
-  pure subroutine element_geometry(m, x, xg)
-    integer, intent(in) :: m
-    real(wp), intent(in) :: x(m, 3, 4)
+  !> The positions x - half_dt v of elements o+1..o+m (nodal, double; half_dt = 0: x itself) as
+  !> the kernel takes them, in xg(1:m): as they are in the double engine; in the mixed one relative
+  !> to each element's first node, the difference in double, then rounded to single (every measure
+  !> of the kernel is a difference of positions). Offsets, not sections: no temporary per group.
+  pure subroutine element_geometry(m, ld, o, x, v, half_dt, xg)
+    integer, intent(in) :: m, ld, o
+    real(wp), intent(in) :: x(ld, 3, 4), v(ld, 3, 4), half_dt
     real(ek), intent(out) :: xg(group_size, 3, 4)
-    integer :: c, k
+    integer :: i, c, k
     if (ek == wp) then
-      xg(1:m, :, :) = real(x, ek)
+      if (half_dt == 0.0_wp) then
+        xg(1:m, :, :) = real(x(o + 1:o + m, :, :), ek)
+      else
+        xg(1:m, :, :) = real(x(o + 1:o + m, :, :) - half_dt * v(o + 1:o + m, :, :), ek)
+      end if
     else
       do k = 1, 4
         do c = 1, 3
-          xg(1:m, c, k) = real(x(:, c, k) - x(:, c, 1), ek)
+          do i = 1, m
+            xg(i, c, k) = real((x(o + i, c, k) - half_dt * v(o + i, c, k)) &
+                               - (x(o + i, c, 1) - half_dt * v(o + i, c, 1)), ek)
+          end do
         end do
       end do
     end if
