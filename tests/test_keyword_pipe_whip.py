@@ -85,7 +85,7 @@ def test_paradyn_run_reads_a_keyword_deck_and_writes_its_ids(tmp_path: Path,
     text = KEYWORD_DECK.read_text().replace("*CONTROL_TERMINATION\n    0.0025", "*CONTROL_TERMINATION\n    0.0001")
     text = text.replace("*DATABASE_BINARY_D3PLOT\n     5e-05", "*DATABASE_BINARY_D3PLOT\n     1e-04")
     short.write_text(text)
-    status = cli.main([str(short), "-o", str(tmp_path / "out"), "-n", "1", "-t", "2", "-q", "--no-plots"])
+    status = cli.main([str(short), "-o", str(tmp_path / "out"), "-n", "1", "-t", "2", "-q", "--vtk-series"])
     err = capsys.readouterr().err
     assert status == 0, err
     warnings = [line for line in err.splitlines() if line.startswith("paradyn: warning:")]
