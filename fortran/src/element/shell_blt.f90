@@ -44,7 +44,7 @@ contains
   !> the group's size: nothing is summed across elements, and this file is compiled without FMA
   !> contraction (fortran/CMakeLists.txt), so the layouts of tests/test_parallel.py agree.
   !> Precision: x, v, w, the step, forces and energies are double (wp); the arithmetic and the
-  !> element state are of kind ek, single in the mixed engine (element_geometry; docs/theory.md).
+  !> element state are of kind ek, single in the mixed engine (frames; docs/theory.md).
   pure subroutine blt_internal_forces(n, x, v, w, props, dt_step, stress, back, eps_p, hourglass, &
                                       force, e_internal, e_hourglass, inverted, dt_element)
     integer, intent(in) :: n
@@ -66,7 +66,8 @@ contains
     real(ek) :: dt, t, half_t, shear_step, z, wz, wzz, s1, s2, s3, s4, s5
     logical :: history   !< the material keeps a back stress or plastic strain
     ! per-pass arrays, element index first
-    real(ek) :: xg(group_size, 3, 4), vg(group_size, 3, 4), wg(group_size, 3, 4)
+    real(wp) :: xg(group_size, 3, 4)   !< the mid-step positions (double, as the nodes')
+    real(ek) :: vg(group_size, 3, 4), wg(group_size, 3, 4)
     real(ek) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), normal_mid(group_size, 3)
     real(ek) :: area_mid(group_size), area(group_size), valid(group_size)
     real(ek) :: zw(group_size), dh(group_size)   !< warp and twist term (shell_warping); 0: flat element
@@ -97,7 +98,7 @@ contains
 
       ! --- strain rates on the mid-step geometry; an element inverted there (area_mid <= 0) gets
       ! zero velocities, hence zero rates, and keeps its state
-      call element_geometry(m, n, o, x, v, 0.5_wp * dt_step, xg)
+      xg(1:m, :, :) = x(o + 1:o + m, :, :) - 0.5_wp * dt_step * v(o + 1:o + m, :, :)
       call frames(m, group_size, 0, xg, e, xl, yl, area_mid)
       ! a product, not merge(v, 0, ...): a masked load of v would stop the vectoriser
       valid(1:m) = merge(1.0_ek, 0.0_ek, area_mid(1:m) > 0.0_ek)
@@ -195,8 +196,7 @@ contains
                                        area_mid(1:m) > 0.0_ek)
 
       ! --- resultants and nodal forces on the end-of-step geometry
-      call element_geometry(m, n, o, x, v, 0.0_wp, xg)
-      call frames(m, group_size, 0, xg, e, xl, yl, area)
+      call frames(m, n, o, x, e, xl, yl, area)
       call frame_time_steps(m, xl, yl, area, props, dt_element(o + 1:o + m))
       call check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
       inverted = inverted + count(.not. (area(1:m) > 0.0_ek))
@@ -208,7 +208,7 @@ contains
       end if
       zw = 0.0_ek
       dh = 0.0_ek
-      if (props%warping_correction) call warp_twist_moment(m, group_size, 0, xg, e, area, b1, b2, res, zw, dh)
+      if (props%warping_correction) call warp_twist_moment(m, n, o, x, e, area, b1, b2, res, zw, dh)
       call nodal_forces(m, e, area, b1, b2, gamma, res, hg, zw, dh, fl)
       if (props%hourglass_form == hourglass_physical) &
         call add_shear_hourglass_moments(m, e, area, xl, yl, s_xi, hg(:, 10), fl)
@@ -216,51 +216,27 @@ contains
     end do
   end subroutine blt_internal_forces
 
-  !> The positions x - half_dt v of elements o+1..o+m (nodal, double; half_dt = 0: x itself) as
-  !> the kernel takes them, in xg(1:m): as they are in the double engine; in the mixed one relative
-  !> to each element's first node, the difference in double, then rounded to single (every measure
-  !> of the kernel is a difference of positions). Offsets, not sections: no temporary per group.
-  pure subroutine element_geometry(m, ld, o, x, v, half_dt, xg)
-    integer, intent(in) :: m, ld, o
-    real(wp), intent(in) :: x(ld, 3, 4), v(ld, 3, 4), half_dt
-    real(ek), intent(out) :: xg(group_size, 3, 4)
-    integer :: i, c, k
-    if (ek == wp) then
-      if (half_dt == 0.0_wp) then
-        xg(1:m, :, :) = real(x(o + 1:o + m, :, :), ek)
-      else
-        xg(1:m, :, :) = real(x(o + 1:o + m, :, :) - half_dt * v(o + 1:o + m, :, :), ek)
-      end if
-    else
-      do k = 1, 4
-        do c = 1, 3
-          do i = 1, m
-            xg(i, c, k) = real((x(o + i, c, k) - half_dt * v(o + i, c, k)) &
-                               - (x(o + i, c, 1) - half_dt * v(o + i, c, 1)), ek)
-          end do
-        end do
-      end do
-    end if
-  end subroutine element_geometry
-
   !> local_frame of elements o+1..o+m of x (mid-surface frame, local node coordinates, projected
   !> area), with |a| = sqrt(a . a) in place of norm2 and a unit vector a * (1 / |a|): one division
-  !> per vector, not three; results for 1..m
+  !> per vector, not three; results for 1..m. The positions are double (wp); every measure is a
+  !> difference of them, taken in double and then rounded to the kernel's kind: in the mixed
+  !> engine single precision resolves the element's size, not its distance from the origin.
   pure subroutine frames(m, ld, o, x, e, xl, yl, area)
     integer, intent(in) :: m, ld, o
-    real(ek), intent(in) :: x(ld, 3, 4)
+    real(wp), intent(in) :: x(ld, 3, 4)
     real(ek), intent(out) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), area(group_size)
     real(ek) :: d31x, d31y, d31z, d42x, d42y, d42z, nx, ny, nz, gx, gy, gz, r, cx, cy, cz
-    real(ek) :: mx, my, mz, e11, e21, e31, e12, e22, e32
+    real(ek) :: e11, e21, e31, e12, e22, e32
+    real(wp) :: mx, my, mz
     integer :: i, k
     ! one pass: the frame, then each node's local coordinates from the centre computed once
     do i = 1, m
-      d31x = x(o + i, 1, 3) - x(o + i, 1, 1)
-      d31y = x(o + i, 2, 3) - x(o + i, 2, 1)
-      d31z = x(o + i, 3, 3) - x(o + i, 3, 1)
-      d42x = x(o + i, 1, 4) - x(o + i, 1, 2)
-      d42y = x(o + i, 2, 4) - x(o + i, 2, 2)
-      d42z = x(o + i, 3, 4) - x(o + i, 3, 2)
+      d31x = real(x(o + i, 1, 3) - x(o + i, 1, 1), ek)
+      d31y = real(x(o + i, 2, 3) - x(o + i, 2, 1), ek)
+      d31z = real(x(o + i, 3, 3) - x(o + i, 3, 1), ek)
+      d42x = real(x(o + i, 1, 4) - x(o + i, 1, 2), ek)
+      d42y = real(x(o + i, 2, 4) - x(o + i, 2, 2), ek)
+      d42z = real(x(o + i, 3, 4) - x(o + i, 3, 2), ek)
       nx = d31y * d42z - d31z * d42y
       ny = d31z * d42x - d31x * d42z
       nz = d31x * d42y - d31y * d42x
@@ -268,9 +244,9 @@ contains
       nx = nx * r
       ny = ny * r
       nz = nz * r
-      gx = x(o + i, 1, 2) + x(o + i, 1, 3) - x(o + i, 1, 1) - x(o + i, 1, 4)
-      gy = x(o + i, 2, 2) + x(o + i, 2, 3) - x(o + i, 2, 1) - x(o + i, 2, 4)
-      gz = x(o + i, 3, 2) + x(o + i, 3, 3) - x(o + i, 3, 1) - x(o + i, 3, 4)
+      gx = real(x(o + i, 1, 2) + x(o + i, 1, 3) - x(o + i, 1, 1) - x(o + i, 1, 4), ek)
+      gy = real(x(o + i, 2, 2) + x(o + i, 2, 3) - x(o + i, 2, 1) - x(o + i, 2, 4), ek)
+      gz = real(x(o + i, 3, 2) + x(o + i, 3, 3) - x(o + i, 3, 1) - x(o + i, 3, 4), ek)
       r = gx * nx + gy * ny + gz * nz
       gx = gx - r * nx
       gy = gy - r * ny
@@ -291,13 +267,13 @@ contains
       e(i, 1, 3) = nx
       e(i, 2, 3) = ny
       e(i, 3, 3) = nz
-      mx = 0.25_ek * (x(o + i, 1, 1) + x(o + i, 1, 2) + x(o + i, 1, 3) + x(o + i, 1, 4))
-      my = 0.25_ek * (x(o + i, 2, 1) + x(o + i, 2, 2) + x(o + i, 2, 3) + x(o + i, 2, 4))
-      mz = 0.25_ek * (x(o + i, 3, 1) + x(o + i, 3, 2) + x(o + i, 3, 3) + x(o + i, 3, 4))
+      mx = 0.25_wp * (x(o + i, 1, 1) + x(o + i, 1, 2) + x(o + i, 1, 3) + x(o + i, 1, 4))
+      my = 0.25_wp * (x(o + i, 2, 1) + x(o + i, 2, 2) + x(o + i, 2, 3) + x(o + i, 2, 4))
+      mz = 0.25_wp * (x(o + i, 3, 1) + x(o + i, 3, 2) + x(o + i, 3, 3) + x(o + i, 3, 4))
       do k = 1, 4   ! unrolled by the compiler: the loop over i vectorises
-        cx = x(o + i, 1, k) - mx
-        cy = x(o + i, 2, k) - my
-        cz = x(o + i, 3, k) - mz
+        cx = real(x(o + i, 1, k) - mx, ek)
+        cy = real(x(o + i, 2, k) - my, ek)
+        cz = real(x(o + i, 3, k) - mz, ek)
         xl(i, k) = cx * e11 + cy * e21 + cz * e31
         yl(i, k) = cx * e12 + cy * e22 + cz * e32
       end do

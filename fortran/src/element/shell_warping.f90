@@ -25,7 +25,7 @@
 !> (nodal_forces), where they cost a few operations and no extra memory traffic. Pure kernels
 !> over the elements of a group, element index innermost, as shell_blt.
 module shell_warping
-  use paradyn_kinds, only: ek
+  use paradyn_kinds, only: wp, ek
   use element_groups, only: group_size
   implicit none
   private
@@ -39,17 +39,19 @@ module shell_warping
 contains
 
   !> zw of elements o+1..o+m of x (node heights z_I = zw h_I above the mean plane of normal e3
-  !> through the centroid); zero for a flat element or one of area <= 0.
+  !> through the centroid); zero for a flat element or one of area <= 0. The positions are double
+  !> (wp), their differences rounded to the kernel's kind.
   pure subroutine warp_heights(m, ld, o, x, e, area, zw)
     integer, intent(in) :: m, ld, o
-    real(ek), intent(in) :: x(ld, 3, 4), e(group_size, 3, 3), area(group_size)
+    real(wp), intent(in) :: x(ld, 3, 4)
+    real(ek), intent(in) :: e(group_size, 3, 3), area(group_size)
     real(ek), intent(out) :: zw(group_size)
     real(ek) :: hx, hy, hz, a
     integer :: i
     do i = 1, m
-      hx = (x(o + i, 1, 1) - x(o + i, 1, 2)) + (x(o + i, 1, 3) - x(o + i, 1, 4))
-      hy = (x(o + i, 2, 1) - x(o + i, 2, 2)) + (x(o + i, 2, 3) - x(o + i, 2, 4))
-      hz = (x(o + i, 3, 1) - x(o + i, 3, 2)) + (x(o + i, 3, 3) - x(o + i, 3, 4))
+      hx = real((x(o + i, 1, 1) - x(o + i, 1, 2)) + (x(o + i, 1, 3) - x(o + i, 1, 4)), ek)
+      hy = real((x(o + i, 2, 1) - x(o + i, 2, 2)) + (x(o + i, 2, 3) - x(o + i, 2, 4)), ek)
+      hz = real((x(o + i, 3, 1) - x(o + i, 3, 2)) + (x(o + i, 3, 3) - x(o + i, 3, 4)), ek)
       a = merge(area(i), 1.0_ek, area(i) > 0.0_ek)
       zw(i) = 0.25_ek * (hx * e(i, 1, 3) + hy * e(i, 2, 3) + hz * e(i, 3, 3))
       zw(i) = merge(zw(i), 0.0_ek, area(i) > 0.0_ek .and. abs(zw(i)) > flat_warp * sqrt(a))
@@ -95,7 +97,8 @@ contains
   !> (shell_blt's nodal_forces adds the moments of the rigid links and the twist's forces).
   pure subroutine warp_twist_moment(m, ld, o, x, e, area, b1, b2, res, zw, dh)
     integer, intent(in) :: m, ld, o
-    real(ek), intent(in) :: x(ld, 3, 4), e(group_size, 3, 3), area(group_size)
+    real(wp), intent(in) :: x(ld, 3, 4)
+    real(ek), intent(in) :: e(group_size, 3, 3), area(group_size)
     real(ek), intent(in) :: b1(group_size, 4), b2(group_size, 4), res(group_size, 8)
     real(ek), intent(out) :: zw(group_size), dh(group_size)
     real(ek) :: bxx, byy, bxy
