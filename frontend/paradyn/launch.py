@@ -16,8 +16,6 @@ from dataclasses import replace
 from importlib import resources
 from pathlib import Path
 
-import h5py
-
 from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE
 from .engine_process import EngineError, EngineRun, Progress, parse_line
 from .progress import RunProgress as ProgressBar  # the name before the tqdm display
@@ -33,9 +31,8 @@ BIND_ENV = "PARADYN_BIND"   # "none": let the ranks and threads float over the c
 
 __all__ = [
     "BIND_ENV", "ENGINES", "ENGINE_ENV", "MIXED_ENGINE_ENV", "EngineError", "EngineRun", "Progress", "ProgressBar",
-    "available_cores",
-    "binds_to_cores", "current_machine", "deck_precision", "default_layout", "engine_command", "engine_environment",
-    "engine_path", "inside_slurm", "make_runner", "parse_line", "run_engine",
+    "available_cores", "binds_to_cores", "current_machine", "deck_precision", "default_layout", "engine_command",
+    "engine_environment", "engine_path", "inside_slurm", "make_runner", "parse_line", "run_engine",
 ]
 
 
@@ -64,6 +61,8 @@ def engine_path(precision: str | None = None) -> Path:
 def deck_precision(deck: Path) -> str:
     """The precision a deck asks for: its /control attribute ``precision``, "double" without it
     (or when the file cannot be read: the engine then says what is wrong with it)."""
+    import h5py  # here, not at the top: paradyn-run's start-up loads only what it uses
+
     try:
         with h5py.File(deck, "r") as f:
             raw = f["control"].attrs.get("precision") if "control" in f else None
