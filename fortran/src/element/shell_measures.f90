@@ -98,7 +98,7 @@ contains
       von_mises(i) = 0.0_wp
       do k = 1, nip
         membrane(i, :) = membrane(i, :) + 0.5_wp * wgt(k) * stress(i, 1:3, k)
-        von_mises(i) = max(von_mises(i), von_mises_plane_stress(stress(i, 1:3, k)))
+        von_mises(i) = max(von_mises(i), real(von_mises_plane_stress(stress(i, 1:3, k)), wp))
       end do
       plastic_strain(i) = maxval(eps_p(i, :))
     end do
