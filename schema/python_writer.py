@@ -241,7 +241,9 @@ def write(schema: Schema, header: str) -> str:
             *[f"    {e['name']!r}: {tuple(e['timed_with'])!r}," for e in schema.effects if e["timed_with"]],
             "}", "",
             "PROGRESS_KINDS: dict[str, tuple[str, ...]] = {"]
-    out += [f"    {p['kind']!r}: {tuple(p['keys'])!r}," for p in results["progress"]]
+    for p in results["progress"]:   # one line per kind, the keys on a second where the line would pass 120
+        line = f"    {p['kind']!r}: {tuple(p['keys'])!r},"
+        out += [line] if len(line) <= 120 else [f"    {p['kind']!r}:", f"        {tuple(p['keys'])!r},"]
     out += ["}", ""]
     out += [f"STATUS_{s['name'].upper()} = {s['code']}" for s in results["exit_status"]]
     out += ["EXIT_STATUSES: dict[int, str] = {"]

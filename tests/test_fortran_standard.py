@@ -2,7 +2,8 @@
 
 Every later standard's feature or GNU extension would be a compile error here (the build keeps the
 project's own flags, lines at most 132 characters). The build goes to a temporary folder with
-CMake, as a cluster user would build the engine alone (README).
+CMake, as a cluster user would build the engine alone (README), in both precisions (the mixed
+engine compiles every source again with the element kernel's kind single: docs/theory.md).
 """
 
 from __future__ import annotations
@@ -21,9 +22,9 @@ def test_engine_builds_as_standard_fortran_2008(tmp_path: Path) -> None:
     build = tmp_path / "f2008"
     configure = subprocess.run(
         ["cmake", "-S", str(ROOT / "fortran"), "-B", str(build), "-DCMAKE_BUILD_TYPE=Release",
-         "-DCMAKE_Fortran_FLAGS=-std=f2008 -pedantic-errors"],
+         "-DCMAKE_Fortran_FLAGS=-std=f2008 -pedantic-errors", "-DPARADYN_PRECISION=double;mixed"],
         capture_output=True, text=True)
     assert configure.returncode == 0, configure.stdout + configure.stderr
     compiled = subprocess.run(["cmake", "--build", str(build), "-j", "2"], capture_output=True, text=True)
     assert compiled.returncode == 0, compiled.stdout[-4000:] + compiled.stderr[-4000:]
-    assert (build / "paradyn-engine").is_file()
+    assert (build / "paradyn-engine").is_file() and (build / "paradyn-engine-mixed").is_file()

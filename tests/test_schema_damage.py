@@ -95,7 +95,7 @@ def _base_model() -> deck.Model:
         control=deck.Control(end_time=2e-6, output_interval=1e-6, history_interval=5e-7, time_step=0.0,
                              time_step_safety=0.9, mass_damping=0.0, progress_interval=0.5,
                              contact_sort_interval=0, checkpoint_interval=0.0, partition="blocks",
-                             contact_gather="near", gravity_x=0.0, gravity_y=0.0, gravity_z=-9.81,
+                             contact_gather="near", precision="double", gravity_x=0.0, gravity_y=0.0, gravity_z=-9.81,
                              effect_switches={switch: "on" for switch in _schema.EFFECT_SWITCHES}),
         title="damage base", part_names=["steel strip", "aluminium strip"], material_names=["steel", "aluminium"],
         tracked_names=["lower tip", "upper tip"],

@@ -5,7 +5,9 @@ OLD and NEW are paradyn-engine binaries (for example one built from an earlier c
 engines, old first in odd rounds and new first in even ones, so drifts of a shared machine fall on
 both; each run's engine wall time is ``/run wall_s`` of its results file, its element phase
 ``/run phase_elements_s``. Prints, per layout and for both times, the medians and the median of
-the per-round ratios old/new (above 1: NEW is faster).
+the per-round ratios old/new (above 1: NEW is faster). DECK may be two decks, OLD_DECK,NEW_DECK,
+one per engine: the double and the mixed engine each take only a deck of their precision
+(/control precision), the same model otherwise.
 """
 
 from __future__ import annotations
@@ -38,20 +40,23 @@ def run_once(engine: str, deck: Path, out: Path, ranks: int, threads: int) -> tu
 def main(argv: list[str]) -> int:
     old, new, deck, rounds, *layouts = argv
     builds = {"old": old, "new": new}
+    old_deck, _, new_deck = deck.partition(",")
+    decks = {"old": Path(old_deck), "new": Path(new_deck or old_deck)}
     times: dict[tuple[str, str], list[tuple[float, ...]]] = {}
     for k in range(int(rounds)):
         for layout in layouts:
             ranks, threads = (int(x) for x in layout.split("x"))
             for name in ("old", "new") if k % 2 == 0 else ("new", "old"):
-                out = Path(deck).parent / f"paired_{name}_{layout}.h5"
-                times.setdefault((name, layout), []).append(run_once(builds[name], Path(deck), out, ranks, threads))
+                out = decks[name].parent / f"paired_{name}_{layout}.h5"
+                times.setdefault((name, layout), []).append(run_once(builds[name], decks[name], out, ranks, threads))
     for layout in layouts:
         for j, name in enumerate(TIMES):
             o = [t[j] for t in times[("old", layout)]]
             n = [t[j] for t in times[("new", layout)]]
             ratio = statistics.median(a / b for a, b in zip(o, n, strict=True))
+            low, high = min(a / b for a, b in zip(o, n, strict=True)), max(a / b for a, b in zip(o, n, strict=True))
             print(f"{layout} {name}: old median {statistics.median(o):.3f} s, new median {statistics.median(n):.3f} s, "
-                  f"per-round old/new median {ratio:.3f}")
+                  f"per-round old/new median {ratio:.3f} ({low:.3f} to {high:.3f})")
     return 0
 
 

@@ -7,7 +7,7 @@
 !> the core away). Gathers and the nodal sum are not included (the engine's element-cycles per
 !> second include them).
 program kernel_benchmark
-  use paradyn_kinds, only: wp, i8
+  use paradyn_kinds, only: wp, ek, i8
   use shell_section, only: shell_properties_t, stress_components, hourglass_components
   use shell_blt, only: blt_internal_forces
   use material_factory, only: material_from_name
@@ -41,8 +41,9 @@ program kernel_benchmark
   props%hourglass_coefficient = 0.1_wp
   props%integration_points = 5
   call material_from_name('elastic', props%young, props%poisson, 250.0e6_wp, 0.0_wp, 1.0_wp, props%material)
-  write (*, '(a,i0,a,i0,a,i0,a)') 'BLT kernel, ', n_groups * group_size, ' elements in groups of ', &
-    group_size, ', ', n_cycles, ' cycles, 1 thread, 5 points'
+  write (*, '(a,i0,a,i0,a,i0,3a)') 'BLT kernel, ', n_groups * group_size, ' elements in groups of ', &
+    group_size, ', ', n_cycles, ' cycles, 1 thread, 5 points, element kernel in ', &
+    trim(merge('double', 'single', ek == wp)), ' precision'
   call report('elastic: ', props)
   props%warping_correction = .false.   ! the elements are warped (1e-4 m on 1 cm): the correction's cost
   call report('elastic, no warping correction: ', props)
@@ -73,7 +74,7 @@ contains
     integer(i8), intent(out) :: bits
     real(wp) :: us(2)
     real(wp), allocatable :: x(:, :, :, :), v(:, :, :, :), w(:, :, :, :), force(:, :, :)
-    real(wp), allocatable :: stress(:, :, :, :), back(:, :, :, :), eps_p(:, :, :), hg(:, :, :)
+    real(ek), allocatable :: stress(:, :, :, :), back(:, :, :, :), eps_p(:, :, :), hg(:, :, :)   ! element state: kind ek
     real(wp), allocatable :: e_int(:, :), e_hg(:, :)
     real(wp) :: r(3), dt_element(group_size)
     integer :: g, i, k, c, inverted
@@ -116,8 +117,8 @@ contains
     call system_clock(t1)
     us(1) = 1.0e6_wp * real(t1 - t0, wp) / real(rate, wp) / (real(n_cycles, wp) * n_groups * group_size)
     us(2) = 1.0e6_wp * (cpu1 - cpu0) / (real(n_cycles, wp) * n_groups * group_size)
-    bits = ieor(ieor(xor_bits(stress, size(stress)), xor_bits(back, size(back))), &
-                ieor(xor_bits(eps_p, size(eps_p)), xor_bits(hg, size(hg))))
+    bits = ieor(ieor(xor_state_bits(stress, size(stress)), xor_state_bits(back, size(back))), &
+                ieor(xor_state_bits(eps_p, size(eps_p)), xor_state_bits(hg, size(hg))))
     bits = ieor(ieor(bits, xor_bits(e_int, size(e_int))), &
                 ieor(xor_bits(e_hg, size(e_hg)), xor_bits(force, size(force))))
     if (inverted > 0 .or. .not. (sum(e_int) == sum(e_int))) us = -1.0_wp
@@ -134,5 +135,16 @@ contains
       bits = ieor(ishftc(bits, 1), transfer(a(i), bits))
     end do
   end function xor_bits
+
+  !> xor_bits of element state (the kernel's kind ek), each value widened to double
+  integer(i8) function xor_state_bits(a, n) result(bits)
+    integer, intent(in) :: n
+    real(ek), intent(in) :: a(n)
+    integer :: i
+    bits = 0
+    do i = 1, n
+      bits = ieor(ishftc(bits, 1), transfer(real(a(i), wp), bits))
+    end do
+  end function xor_state_bits
 
 end program kernel_benchmark

@@ -117,6 +117,7 @@ ENUMS: dict[str, dict[str, int]] = {
     'contact_gather': {'near': 1, 'all': 2},
     'switch': {'off': 0, 'on': 1},
     'partition': {'blocks': 1, 'rcb': 2},
+    'precision': {'double': 1, 'mixed': 2},
 }
 
 SIZES: dict[str, SizeSpec] = {
@@ -578,6 +579,15 @@ CONTROL: tuple[AttributeSpec, ...] = (
         ), '[run] contact_gather', 'leave it out for the default',
     ),
     AttributeSpec(
+        'precision', 'string', False, 'double', None, None, None, None, '', 'precision',
+        'must be "double" or "mixed"', '-',
+        (
+            'the precision of the element kernel (docs/theory.md, "Precision"); each is its own engine, built at '
+            'install (fortran/CMakeLists.txt, PARADYN_PRECISION): paradyn-run starts the one the deck asks for, '
+            'and an engine of the other precision refuses the deck'
+        ), '[run] precision', 'give "double" or "mixed", or leave it out for double',
+    ),
+    AttributeSpec(
         'gravity_x', 'float', False, 0.0, None, None, None, None, '', None, '', 'm/s^2',
         'x component of the body acceleration on every node (force m g on the translations)', '[run] gravity',
         'give the acceleration in m/s^2, or 0 for none',
@@ -766,6 +776,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('control', 'checkpoint_interval'): ('class', 'lower', 'finite'),
     ('control', 'partition'): ('class', 'enum'),
     ('control', 'contact_gather'): ('class', 'enum'),
+    ('control', 'precision'): ('class', 'enum'),
     ('control', 'gravity_x'): ('class', 'finite'),
     ('control', 'gravity_y'): ('class', 'finite'),
     ('control', 'gravity_z'): ('class', 'finite'),
@@ -830,7 +841,7 @@ HISTORY_UNITS: dict[str, str] = {
 RUN_ATTRIBUTES = (
     'cycles', 'dt_s', 'dt_stable_s', 'dt_first_s', 'dt_stable_min_s', 'dt_stable_max_s', 'added_mass_kg',
     'added_mass_fraction', 'model_mass_kg', 'part_added_mass_kg', 'wall_s', 'ranks', 'threads', 'elements', 'nodes',
-    'element_cycles_per_s', 'peak_memory_per_rank_mb', 'effects', 'setup_s', 'messages_per_step',
+    'element_cycles_per_s', 'peak_memory_per_rank_mb', 'precision', 'effects', 'setup_s', 'messages_per_step',
     'bytes_sent_per_step', 'bytes_received_per_step', 'load_imbalance', 'phase_elements_s', 'phase_contact_s',
     'phase_communication_s', 'phase_output_s', 'phase_other_s', 'phase_contact_sort_s', 'phase_contact_search_s',
     'phase_contact_force_s',
@@ -863,7 +874,8 @@ EFFECT_TIMED_WITH: dict[str, tuple[str, ...]] = {
 }
 
 PROGRESS_KINDS: dict[str, tuple[str, ...]] = {
-    'START': ('elements', 'nodes', 'ranks', 'threads', 'dt', 'dt_stable', 'end_time', 'effects', 'partition'),
+    'START':
+        ('elements', 'nodes', 'ranks', 'threads', 'dt', 'dt_stable', 'end_time', 'effects', 'partition', 'precision'),
     'MASS_SCALING': ('target_dt', 'elements', 'added_kg', 'fraction', 'part_added_kg'),
     'PROGRESS': ('cycle', 'time', 'dt', 'end_time', 'wall_s'),
     'RESTART': ('time', 'cycle'),

@@ -55,6 +55,7 @@ class Control:
     checkpoint_interval: float = _number_default("checkpoint_interval")
     partition: str | None = None   # "blocks" or "rcb"; None leaves it to the engine (DEFAULT_PARTITION)
     contact_gather: str | None = None   # "near" or "all"; None leaves it to the engine ("near")
+    precision: str | None = None   # "double" or "mixed" (the engine that runs it); None: double, attribute left out
     # [effects] switches, switch name -> "on" or "off" (/control effect_<switch>); absent = "on"
     effect_switches: dict[str, str] = field(default_factory=dict)
     gravity_x: float = _number_default("gravity_x")   # body acceleration m/s^2 (scene [run] gravity)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 import shutil
 from collections.abc import Callable
+from dataclasses import replace
 from importlib import resources
 from pathlib import Path
 
@@ -22,29 +23,54 @@ from .runners import Machine, Runner, create_runner
 from .runners import engine_environment as _environment_for
 
 ENGINE_ENV = "PARADYN_ENGINE"
+MIXED_ENGINE_ENV = "PARADYN_ENGINE_MIXED"   # the mixed-precision engine ([run] precision = "mixed")
+# the engine of each precision (/control precision; docs/theory.md, "Precision"): its executable's
+# name inside the package and the variable that points at another build of it
+ENGINES = {"double": ("paradyn-engine", ENGINE_ENV), "mixed": ("paradyn-engine-mixed", MIXED_ENGINE_ENV)}
 BIND_ENV = "PARADYN_BIND"   # "none": let the ranks and threads float over the cores
 
 __all__ = [
-    "BIND_ENV", "ENGINE_ENV", "EngineError", "EngineRun", "Progress", "ProgressBar", "available_cores",
-    "binds_to_cores", "current_machine", "default_layout", "engine_command", "engine_environment",
-    "engine_path", "inside_slurm", "make_runner", "parse_line", "run_engine",
+    "BIND_ENV", "ENGINES", "ENGINE_ENV", "MIXED_ENGINE_ENV", "EngineError", "EngineRun", "Progress", "ProgressBar",
+    "available_cores", "binds_to_cores", "current_machine", "deck_precision", "default_layout", "engine_command",
+    "engine_environment", "engine_path", "inside_slurm", "make_runner", "parse_line", "run_engine",
 ]
 
 
-def engine_path() -> Path:
-    """The engine executable: $PARADYN_ENGINE if set, else the one installed inside the package."""
-    override = os.environ.get(ENGINE_ENV)
+def engine_path(precision: str | None = None) -> Path:
+    """The engine executable of ``precision`` ("double", the default, or "mixed"): $PARADYN_ENGINE
+    (double) or $PARADYN_ENGINE_MIXED (mixed) if set, else the one installed inside the package."""
+    precision = precision or "double"
+    if precision not in ENGINES:
+        raise EngineError(f"unknown precision {precision!r}; give one of {', '.join(ENGINES)}", STATUS_BAD_INPUT)
+    name, variable = ENGINES[precision]
+    override = os.environ.get(variable)
     if override:
         path = Path(override)
     else:
-        path = Path(str(resources.files("paradyn") / "bin" / "paradyn-engine"))
+        path = Path(str(resources.files("paradyn") / "bin" / name))
     if not path.is_file():
         raise EngineError(
             f"the engine executable {path} does not exist; reinstall ParaDyn with `make install` "
-            f"(or `pip install .`), or point ${ENGINE_ENV} at a paradyn-engine you built with CMake",
+            f"(or `pip install .`), or point ${variable} at a {name} you built with CMake "
+            f"(-DPARADYN_PRECISION={precision})",
             exit_code=STATUS_FAILURE,
         )
     return path
+
+
+def deck_precision(deck: Path) -> str:
+    """The precision a deck asks for: its /control attribute ``precision``, "double" without it
+    (or when the file cannot be read: the engine then says what is wrong with it)."""
+    import h5py  # here, not at the top: paradyn-run's start-up loads only what it uses
+
+    try:
+        with h5py.File(deck, "r") as f:
+            raw = f["control"].attrs.get("precision") if "control" in f else None
+    except OSError:
+        return "double"
+    if isinstance(raw, bytes):
+        raw = raw.decode("utf-8", "replace")
+    return raw if isinstance(raw, str) and raw in ENGINES else "double"
 
 
 def available_cores() -> int:
@@ -82,12 +108,13 @@ def inside_slurm() -> bool:
     return "SLURM_JOB_ID" in os.environ and shutil.which("srun") is not None
 
 
-def current_machine() -> Machine:
-    """This machine, as runners see it: the engine, the cores this process may use, $PARADYN_BIND."""
-    return Machine(engine=engine_path(), cores=available_cores(), pinning=pinning_allowed())
+def current_machine(precision: str | None = None) -> Machine:
+    """This machine, as runners see it: the engine of ``precision`` (double by default), the cores
+    this process may use, $PARADYN_BIND."""
+    return Machine(engine=engine_path(precision), cores=available_cores(), pinning=pinning_allowed())
 
 
-def make_runner(runner: str | Runner | None = None, ranks: int = 1) -> Runner:
+def make_runner(runner: str | Runner | None = None, ranks: int = 1, precision: str | None = None) -> Runner:
     """A runner for this machine: ``runner`` itself if it is one, else the one of that name
     (``"direct"``, ``"mpirun"``, ``"srun"``, ``"sbatch"``); ``None`` or ``"auto"``: srun inside
     a Slurm allocation, the engine alone for one rank, mpirun otherwise.
@@ -99,15 +126,19 @@ def make_runner(runner: str | Runner | None = None, ranks: int = 1) -> Runner:
     ['/usr/bin/mpirun', '-n', '2', '-x', 'OMP_NUM_THREADS', '--map-by', 'slot:PE=1', ...]
     """
     if isinstance(runner, Runner):
+        # a runner made before the deck (paradyn-run --sbatch) has the double engine; a mixed deck
+        # takes the mixed one (the double engine would refuse it)
+        if precision == "mixed" and runner.machine.engine != engine_path("mixed"):
+            return replace(runner, machine=replace(runner.machine, engine=engine_path("mixed")))
         return runner
-    return create_runner(runner, current_machine(), ranks, inside_slurm())
+    return create_runner(runner, current_machine(precision), ranks, inside_slurm())
 
 
 def engine_command(deck: Path, results: Path, ranks: int, threads: int, restart: bool = False) -> list[str]:
     """The argument list the automatic runner uses to run the engine on `ranks` MPI ranks: srun
     inside a Slurm allocation, the engine itself for one rank, mpirun otherwise. restart: continue
     from the checkpoint beside the results (docs/outputs.md, "Checkpoints and restarts")."""
-    return make_runner(None, ranks).command(deck, results, ranks, threads, restart)
+    return make_runner(None, ranks, deck_precision(deck)).command(deck, results, ranks, threads, restart)
 
 
 def run_engine(
@@ -123,11 +154,13 @@ def run_engine(
 ) -> EngineRun:
     """Run the engine to completion; raise EngineError with the engine's message if it fails.
 
-    ``runner`` picks how (see :func:`make_runner`; by default as :func:`engine_command`).
+    ``runner`` picks how (see :func:`make_runner`; by default as :func:`engine_command`); the
+    engine is that of the deck's precision (:func:`deck_precision`).
     Ctrl-C (KeyboardInterrupt) does not kill the run: the engine is asked to stop with SIGUSR1
     (which mpirun forwards to every rank), writes its checkpoint and exits with status 4; the
     EngineError then says how to continue."""
     if ranks < 1 or threads < 1:
         raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
-    return make_runner(runner, ranks).run(deck, results, ranks, threads, on_progress=on_progress,
-                                          log_path=log_path, restart=restart, on_warning=on_warning)
+    return make_runner(runner, ranks, deck_precision(deck)).run(deck, results, ranks, threads, on_progress=on_progress,
+                                                                 log_path=log_path, restart=restart,
+                                                                 on_warning=on_warning)

@@ -314,7 +314,7 @@ def engine_check(model: deck.Model, threads: int = 1) -> EngineCheck:
         The engine refuses the deck (its message, status 2): the same refusal a run would get."""
     with tempfile.TemporaryDirectory(prefix="paradyn-check-") as folder:
         deck_path = deck.write_deck(model, Path(folder) / "deck.h5")
-        command = [str(launch.engine_path()), str(deck_path), "--check"]
+        command = [str(launch.engine_path(model.control.precision)), str(deck_path), "--check"]
         run = follow_engine(command, launch.engine_environment(threads), Path(folder), done_kind="CHECK")
     fields = run.done
     try:

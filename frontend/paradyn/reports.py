@@ -205,6 +205,7 @@ def write_summary(
         "nodes": run.get("nodes", results.n_nodes),
         "ranks": run.get("ranks"),
         "threads": run.get("threads"),
+        "precision": run.get("precision", "double"),   # engines before issue 19 computed in double only
         "element_cycles_per_s": run.get("element_cycles_per_s"),
         "peak_memory_per_rank_mb": run.get("peak_memory_per_rank_mb"),
         "load_imbalance": run.get("load_imbalance"),

@@ -58,7 +58,7 @@ _TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "trac
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
              "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "contact_travel_limit",
-             "mass_scaling_step", "mass_scaling_limit")
+             "mass_scaling_step", "mass_scaling_limit", "precision")
 _MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
                   "tangent_modulus", "hardening_mixing")
 _J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
@@ -159,11 +159,10 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
                                    minimum=0.0),
         mass_scaling_limit=r.number(t, "mass_scaling_limit", label, default=RunSettings.mass_scaling_limit,
                                     minimum=0.0),
-        partition=(r.string(t, "partition", label, choices=tuple(deck.PARTITIONS)) if "partition" in t
-                   else None),
-        contact_gather=(r.string(t, "contact_gather", label, choices=tuple(_schema.ENUMS["contact_gather"]))
-                        if "contact_gather" in t else None),
     )
+    for key in ("partition", "contact_gather", "precision"):   # /control strings: members of their enums
+        if key in t:
+            setattr(run, key, r.string(t, key, label, choices=tuple(_schema.ENUMS[key])))
     if run.time_step_safety > 1.0:
         raise r.error(f"'time_step_safety' in {label} must be in (0, 1], got {run.time_step_safety}")
     if run.contact_travel_limit >= 1.0:

@@ -24,8 +24,7 @@ every option below (docs/accuracy-cost.md). Every distinct deck runs once: a lat
 same output folder reuses the runs it already has.
 
 knobs: {', '.join(KNOBS)}
-not available: {', '.join(f'{k} ({v.split(";")[0]})' for k, v in UNAVAILABLE.items())}
-
+{''.join(f'not available: {k} ({v.split(";")[0]})' + chr(10) for k, v in UNAVAILABLE.items())}
 quantities: POINT.COMPONENT@TIME[,TIME...], mean(P1,P2).COMPONENT@TIME (the mean of points),
 diff(P1,P2).COMPONENT@TIME (P1 less P2), POINT.COMPONENT:STAT or ENERGY:STAT, with COMPONENT one
 of dx dy dz vx vy vz, STAT one of peak max min final.

@@ -85,13 +85,14 @@ def prepare(scene: Scene, config: Config, staging_root: Path, end_time: float | 
     deck.write_deck(model, staging / "deck.h5")
     offsets = [float(np.linalg.norm(model.coordinates[node] - np.asarray(track.point)))
                for track, node in zip(variant.tracks, model.tracked_nodes, strict=True)]
-    key = f"{deck_digest(staging / 'deck.h5')[:20]}-{engine_digest()}-{ranks}x{threads}"
+    key = f"{deck_digest(staging / 'deck.h5')[:20]}-{engine_digest(model.control.precision)}-{ranks}x{threads}"
     return Prepared(config, key, staging, time.perf_counter() - start, max(offsets, default=0.0))
 
 
-def engine_digest() -> str:
-    """A short hash of the engine's path, size and modification time: a rebuilt engine runs anew."""
-    engine = launch.engine_path()
+def engine_digest(precision: str | None = None) -> str:
+    """A short hash of the path, size and modification time of the engine of ``precision``: a
+    rebuilt engine runs anew."""
+    engine = launch.engine_path(precision)
     stat = engine.stat()
     return hashlib.sha256(f"{engine}:{stat.st_size}:{stat.st_mtime_ns}".encode()).hexdigest()[:8]
 

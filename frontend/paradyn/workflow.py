@@ -250,7 +250,7 @@ def _post_command(out_dir: Path, vtk: bool, plots: bool, vtk_series: bool = Fals
 
 def _write_batch_job(runner: str | Runner, deck_path: Path, results: Path, ranks: int, threads: int,
                      post_command: list[str] | None) -> BatchJob:
-    batch = launch.make_runner(runner, ranks)
+    batch = launch.make_runner(runner, ranks, launch.deck_precision(deck_path))
     assert isinstance(batch, SbatchRunner)
     if batch.post_command is None:
         batch = replace(batch, post_command=post_command)

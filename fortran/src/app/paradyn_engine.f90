@@ -164,7 +164,8 @@ program paradyn_engine
     write (*, '(a,i0,a,i0,a,i0,a,i0,a,es11.4,a,es11.4,a,es11.4,a)') 'PARADYN-START elements=', &
       solver%control%n_elements, ' nodes=', solver%control%n_nodes, ' ranks=', n_ranks, ' threads=', solver%threads, &
       ' dt=', solver%clock%dt, ' dt_stable=', solver%clock%dt_stable, ' end_time=', solver%clock%end_time, &
-      ' effects='//effect_list(solver%effects, .false.)//' partition='//solver%control%partition
+      ' effects='//effect_list(solver%effects, .false.)//' partition='//solver%control%partition// &
+      ' precision='//solver%control%precision
     if (solver%mass_scaling_step > 0.0_wp) call write_mass_scaling_line()
     if (restart) write (*, '(a,es13.6,a,i0)') 'PARADYN-RESTART time=', solver%clock%time, ' cycle=', &
       solver%clock%cycles

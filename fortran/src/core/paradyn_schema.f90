@@ -10,18 +10,18 @@ module paradyn_schema
       hourglass_viscous, hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, &
       contact_passes_alternate, contact_passes_both, contact_kind_node_to_segment, &
       contact_kind_single_surface, initial_penetration_move, initial_penetration_gap, contact_gather_near, &
-      contact_gather_all, switch_off, switch_on, partition_blocks, partition_rcb, max_integration_points, &
-      status_ok, status_failure, status_bad_input, status_numerical, status_stopped, n_frame_fields, &
-      n_history_scalars, history_kinetic_energy, history_internal_energy, history_hourglass_energy, &
-      history_contact_energy, history_external_work, history_contact_penetration, history_dt, &
-      history_dt_stable, history_dt_element, frame_field_names, history_scalar_names, class_int, class_float, &
-      class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, size_n_loads, &
-      size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
+      contact_gather_all, switch_off, switch_on, partition_blocks, partition_rcb, precision_double, &
+      precision_mixed, max_integration_points, status_ok, status_failure, status_bad_input, status_numerical, &
+      status_stopped, n_frame_fields, n_history_scalars, history_kinetic_energy, history_internal_energy, &
+      history_hourglass_energy, history_contact_energy, history_external_work, history_contact_penetration, &
+      history_dt, history_dt_stable, history_dt_element, frame_field_names, history_scalar_names, class_int, &
+      class_float, class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, &
+      size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
       size_n_pressures, size_n_prescribed, n_sizes, condition_none, condition_loads_group, &
       condition_contact_group, condition_rigid_walls_group, condition_curves_group, condition_pressure_group, &
       condition_prescribed_group, condition_j2_plasticity, n_conditions, enum_none, enum_material_model, &
       enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_initial_penetration, &
-      enum_contact_gather, enum_switch, enum_partition, n_enums, dataset_nodes_coordinates, &
+      enum_contact_gather, enum_switch, enum_partition, enum_precision, n_enums, dataset_nodes_coordinates, &
       dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
       dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, dataset_elements_id, &
       dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
@@ -39,8 +39,8 @@ module paradyn_schema
       dataset_prescribed_curve, n_deck_datasets, control_end_time, control_output_interval, &
       control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
       control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
-      control_partition, control_contact_gather, control_gravity_x, control_gravity_y, control_gravity_z, &
-      control_energy_error_limit, control_time_step_floor, control_contact_travel_limit, &
+      control_partition, control_contact_gather, control_precision, control_gravity_x, control_gravity_y, &
+      control_gravity_z, control_energy_error_limit, control_time_step_floor, control_contact_travel_limit, &
       control_mass_scaling_step, control_mass_scaling_limit, control_effect_point_loads, &
       control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
       control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
@@ -75,6 +75,8 @@ module paradyn_schema
   integer, parameter :: switch_on = 1   !< the effect runs where the deck declares it
   integer, parameter :: partition_blocks = 1   !< contiguous blocks by element number (the paper)
   integer, parameter :: partition_rcb = 2   !< recursive coordinate bisection of the element centroids
+  integer, parameter :: precision_double = 1   !< every real in double precision (paradyn-engine, the reference)
+  integer, parameter :: precision_mixed = 2   !< the element kernel, the material return and the element state in singl
   integer, parameter :: max_integration_points = 9   !< upper bound of /parts/integration_points
 
   ! exit statuses of paradyn-engine (schema/results.toml)
@@ -139,7 +141,8 @@ module paradyn_schema
   integer, parameter :: enum_contact_gather = 7
   integer, parameter :: enum_switch = 8
   integer, parameter :: enum_partition = 9
-  integer, parameter :: n_enums = 9
+  integer, parameter :: enum_precision = 10
+  integer, parameter :: n_enums = 10
   integer, parameter :: dataset_nodes_coordinates = 1
   integer, parameter :: dataset_nodes_initial_velocity = 2
   integer, parameter :: dataset_nodes_initial_angular_velocity = 3
@@ -201,29 +204,30 @@ module paradyn_schema
   integer, parameter :: control_checkpoint_interval = 9
   integer, parameter :: control_partition = 10
   integer, parameter :: control_contact_gather = 11
-  integer, parameter :: control_gravity_x = 12
-  integer, parameter :: control_gravity_y = 13
-  integer, parameter :: control_gravity_z = 14
-  integer, parameter :: control_energy_error_limit = 15
-  integer, parameter :: control_time_step_floor = 16
-  integer, parameter :: control_contact_travel_limit = 17
-  integer, parameter :: control_mass_scaling_step = 18
-  integer, parameter :: control_mass_scaling_limit = 19
-  integer, parameter :: control_effect_point_loads = 20
-  integer, parameter :: control_effect_gravity = 21
-  integer, parameter :: control_effect_pressure = 22
-  integer, parameter :: control_effect_rigid_wall = 23
-  integer, parameter :: control_effect_mass_damping = 24
-  integer, parameter :: control_effect_prescribed_velocity = 25
-  integer, parameter :: control_effect_plasticity = 26
-  integer, parameter :: control_effect_hourglass = 27
-  integer, parameter :: control_effect_contact = 28
-  integer, parameter :: control_effect_friction = 29
-  integer, parameter :: n_control_attributes = 29
+  integer, parameter :: control_precision = 12
+  integer, parameter :: control_gravity_x = 13
+  integer, parameter :: control_gravity_y = 14
+  integer, parameter :: control_gravity_z = 15
+  integer, parameter :: control_energy_error_limit = 16
+  integer, parameter :: control_time_step_floor = 17
+  integer, parameter :: control_contact_travel_limit = 18
+  integer, parameter :: control_mass_scaling_step = 19
+  integer, parameter :: control_mass_scaling_limit = 20
+  integer, parameter :: control_effect_point_loads = 21
+  integer, parameter :: control_effect_gravity = 22
+  integer, parameter :: control_effect_pressure = 23
+  integer, parameter :: control_effect_rigid_wall = 24
+  integer, parameter :: control_effect_mass_damping = 25
+  integer, parameter :: control_effect_prescribed_velocity = 26
+  integer, parameter :: control_effect_plasticity = 27
+  integer, parameter :: control_effect_hourglass = 28
+  integer, parameter :: control_effect_contact = 29
+  integer, parameter :: control_effect_friction = 30
+  integer, parameter :: n_control_attributes = 30
   logical, parameter :: control_restart_may_change(n_control_attributes) = [.false., .true., .true., .false., &
-    .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .true., &
-    .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., &
-    .false., .false.]
+    .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .false., &
+    .true., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., &
+    .false., .false., .false.]
   integer, parameter :: max_enum_members = 3
 
   ! effects of a step (schema/effects.toml), in the order of the step
@@ -323,7 +327,8 @@ module paradyn_schema
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'move', 'gap', '']), &
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'near', 'all', '']), &
     enum_spec_t(2, [0, 1, 0], [character(len=15) :: 'off', 'on', '']), &
-    enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'blocks', 'rcb', '']) ]
+    enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'blocks', 'rcb', '']), &
+    enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'double', 'mixed', '']) ]
 
   type(condition_spec_t), parameter :: deck_conditions(n_conditions) = [ &
     condition_spec_t('/loads', 0, 0, ''), &
@@ -530,6 +535,9 @@ module paradyn_schema
     attribute_spec_t('contact_gather', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_contact_gather, '', 'must be "near" or "all"', &
         'leave it out for the default'), &
+    attribute_spec_t('precision', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., .true., &
+        0.0_wp, 0.0_wp, enum_precision, '', 'must be "double" or "mixed"', &
+        'give "double" or "mixed", or leave it out for double'), &
     attribute_spec_t('gravity_x', class_float, .false., 0.0_wp, 0, 0.0_wp, .false., .true., .false., .true., &
         0.0_wp, 0.0_wp, enum_none, '', '', 'give the acceleration in m/s^2, or 0 for none'), &
     attribute_spec_t('gravity_y', class_float, .false., 0.0_wp, 0, 0.0_wp, .false., .true., .false., .true., &

@@ -3,7 +3,7 @@
 !> kernel gets whole arrays instead of offsets into pools. Also the element energies, and the rows
 !> by which a checkpoint stores the state element by element.
 module element_state
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, ek
   use domain_decomposition, only: domain_t
   use shell_section, only: shell_properties_t, stress_components, hourglass_components, back_stress_points
   implicit none
@@ -11,11 +11,13 @@ module element_state
   public :: group_state_t, element_state_t, element_state_setup, element_row_width, element_rows_pack, &
             element_rows_unpack
 
+  !> The state the element kernel updates, in its kind ek (core/kinds.f90): single in the mixed
+  !> engine, where the kernel adds each step's increment in single anyway (docs/theory.md, "Precision").
   type :: group_state_t
-    real(wp), allocatable :: stress(:, :, :)   !< (elements, stress_components, points), local frame
-    real(wp), allocatable :: back(:, :, :)     !< (elements, 3, points), or no points without kinematic hardening
-    real(wp), allocatable :: eps_p(:, :)       !< (elements, points) effective plastic strain
-    real(wp), allocatable :: hourglass(:, :)   !< (elements, hourglass_components) resultants
+    real(ek), allocatable :: stress(:, :, :)   !< (elements, stress_components, points), local frame
+    real(ek), allocatable :: back(:, :, :)     !< (elements, 3, points), or no points without kinematic hardening
+    real(ek), allocatable :: eps_p(:, :)       !< (elements, points) effective plastic strain
+    real(ek), allocatable :: hourglass(:, :)   !< (elements, hourglass_components) resultants
   end type group_state_t
 
   type :: element_state_t
@@ -37,9 +39,9 @@ contains
     do g = 1, dom%n_groups
       n = dom%group_count(g)
       nip = props(dom%group_part(g))%integration_points
-      allocate (es%groups(g)%stress(n, stress_components, nip), source=0.0_wp)
-      allocate (es%groups(g)%back(n, 3, back_stress_points(props(dom%group_part(g)))), source=0.0_wp)
-      allocate (es%groups(g)%eps_p(n, nip), es%groups(g)%hourglass(n, hourglass_components), source=0.0_wp)
+      allocate (es%groups(g)%stress(n, stress_components, nip), source=0.0_ek)
+      allocate (es%groups(g)%back(n, 3, back_stress_points(props(dom%group_part(g)))), source=0.0_ek)
+      allocate (es%groups(g)%eps_p(n, nip), es%groups(g)%hourglass(n, hourglass_components), source=0.0_ek)
     end do
     allocate (es%e_internal(dom%n_elements), es%e_hourglass(dom%n_elements), source=0.0_wp)
     allocate (es%dt_element(dom%n_elements), source=huge(1.0_wp))
@@ -89,12 +91,12 @@ contains
       associate (gs => es%groups(g))
         do i = 1, dom%group_count(g)
           e = dom%group_first(g) + i - 1
-          gs%stress(i, :, :) = reshape(rows(o(1) + 1:o(1) + size(gs%stress(i, :, :)), e), &
+          gs%stress(i, :, :) = reshape(real(rows(o(1) + 1:o(1) + size(gs%stress(i, :, :)), e), ek), &
                                        [size(gs%stress, 2), size(gs%stress, 3)])
-          gs%back(i, :, :) = reshape(rows(o(2) + 1:o(2) + size(gs%back(i, :, :)), e), &
+          gs%back(i, :, :) = reshape(real(rows(o(2) + 1:o(2) + size(gs%back(i, :, :)), e), ek), &
                                      [size(gs%back, 2), size(gs%back, 3)])
-          gs%eps_p(i, :) = rows(o(3) + 1:o(3) + size(gs%eps_p, 2), e)
-          gs%hourglass(i, :) = rows(o(4) + 1:o(4) + hourglass_components, e)
+          gs%eps_p(i, :) = real(rows(o(3) + 1:o(3) + size(gs%eps_p, 2), e), ek)
+          gs%hourglass(i, :) = real(rows(o(4) + 1:o(4) + hourglass_components, e), ek)
         end do
       end associate
     end do

@@ -9,7 +9,7 @@
 !> Kernels work on a group of n elements whose arrays put the element index first (structure of
 !> arrays). They are pure: no MPI, no I/O, no module state.
 module shell_blt
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, ek
   use vector_algebra, only: cross
   use element_groups, only: group_size
   use paradyn_schema, only: max_integration_points, hourglass_physical
@@ -22,7 +22,7 @@ module shell_blt
   private
   public :: blt_internal_forces
 
-  real(wp), parameter :: h(4) = [1.0_wp, -1.0_wp, 1.0_wp, -1.0_wp]   !< the hourglass pattern
+  real(ek), parameter :: h(4) = [1.0_ek, -1.0_ek, 1.0_ek, -1.0_ek]   !< the hourglass pattern
 
 contains
 
@@ -43,47 +43,54 @@ contains
   !> An element's arithmetic is bitwise the same in a vector body or a scalar remainder, whatever
   !> the group's size: nothing is summed across elements, and this file is compiled without FMA
   !> contraction (fortran/CMakeLists.txt), so the layouts of tests/test_parallel.py agree.
-  pure subroutine blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, hourglass, &
+  !> Precision: x, v, w, the step, forces and energies are double (wp); the arithmetic and the
+  !> element state are of kind ek, single in the mixed engine (frames; docs/theory.md).
+  pure subroutine blt_internal_forces(n, x, v, w, props, dt_step, stress, back, eps_p, hourglass, &
                                       force, e_internal, e_hourglass, inverted, dt_element)
     integer, intent(in) :: n
     real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
     type(shell_properties_t), intent(in) :: props
-    real(wp), intent(in) :: dt
-    real(wp), intent(inout) :: stress(n, stress_components, props%integration_points)
-    real(wp), intent(inout) :: back(n, 3, back_stress_points(props))
-    real(wp), intent(inout) :: eps_p(n, props%integration_points)
-    real(wp), intent(inout) :: hourglass(n, hourglass_components)
+    real(wp), intent(in) :: dt_step
+    real(ek), intent(inout) :: stress(n, stress_components, props%integration_points)
+    real(ek), intent(inout) :: back(n, 3, back_stress_points(props))
+    real(ek), intent(inout) :: eps_p(n, props%integration_points)
+    real(ek), intent(inout) :: hourglass(n, hourglass_components)
     real(wp), intent(out) :: force(n, 6, 4)
     real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
     integer, intent(inout) :: inverted
     real(wp), intent(out) :: dt_element(n)   !< stable step L / c on the end-of-step geometry
 
     integer :: first, m, o, i, k, c, nip
-    real(wp) :: zeta(max_integration_points), wgt(max_integration_points)
-    real(wp) :: t, half_t, shear_step, z, wz, wzz, s1, s2, s3, s4, s5
+    real(wp) :: zeta_wp(max_integration_points), wgt_wp(max_integration_points)
+    real(ek) :: zeta(max_integration_points), wgt(max_integration_points)
+    real(ek) :: dt, t, half_t, shear_step, z, wz, wzz, s1, s2, s3, s4, s5
     logical :: history   !< the material keeps a back stress or plastic strain
     ! per-pass arrays, element index first
-    real(wp) :: xg(group_size, 3, 4), vg(group_size, 3, 4), wg(group_size, 3, 4)
-    real(wp) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), normal_mid(group_size, 3)
-    real(wp) :: area_mid(group_size), area(group_size), valid(group_size)
-    real(wp) :: zw(group_size), dh(group_size)   !< warp and twist term (shell_warping); 0: flat element
-    real(wp) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
+    real(wp) :: xg(group_size, 3, 4)   !< the mid-step positions (double, as the nodes')
+    real(ek) :: vg(group_size, 3, 4), wg(group_size, 3, 4)
+    real(ek) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), normal_mid(group_size, 3)
+    real(ek) :: area_mid(group_size), area(group_size), valid(group_size)
+    real(ek) :: zw(group_size), dh(group_size)   !< warp and twist term (shell_warping); 0: flat element
+    real(ek) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
     !> rates: membrane dm(1:3), curvature kappa(4:6), transverse shear gs(7:8)
-    real(wp) :: rates(group_size, 8), qrate(group_size, hourglass_components), grad_w(group_size, 4)
-    real(wp) :: sp(group_size, stress_components)
-    real(wp) :: bp(group_size, 3), ep(group_size), deps(group_size, 3), work(group_size)
+    real(ek) :: rates(group_size, 8), qrate(group_size, hourglass_components), grad_w(group_size, 4)
+    real(ek) :: sp(group_size, stress_components)
+    real(ek) :: bp(group_size, 3), ep(group_size), deps(group_size, 3), work(group_size)
     !> res: membrane resultant N (1:3), moment M (4:6), shear Q (7:8)
-    real(wp) :: hg(group_size, hourglass_components), res(group_size, 8), fl(group_size, 6, 4)
-    real(wp) :: s_xi(group_size)
+    real(ek) :: hg(group_size, hourglass_components), res(group_size, 8), fl(group_size, 6, 4)
+    real(ek) :: s_xi(group_size)
     !> the stress increments' work against its elastic value over the points: the tangent share
-    real(wp) :: actual_work(group_size), elastic_work(group_size), tangent(group_size)
+    real(ek) :: actual_work(group_size), elastic_work(group_size), tangent(group_size)
 
     nip = props%integration_points
     history = props%material%has_history()
-    call thickness_rule(nip, zeta(1:nip), wgt(1:nip))
-    t = props%thickness
-    half_t = 0.5_wp * t
-    shear_step = shear_correction * (props%young / (2.0_wp * (1.0_wp + props%poisson))) * dt
+    call thickness_rule(nip, zeta_wp(1:nip), wgt_wp(1:nip))
+    zeta(1:nip) = real(zeta_wp(1:nip), ek)
+    wgt(1:nip) = real(wgt_wp(1:nip), ek)
+    dt = real(dt_step, ek)
+    t = real(props%thickness, ek)
+    half_t = 0.5_ek * t
+    shear_step = real(shear_correction * (props%young / (2.0_wp * (1.0_wp + props%poisson))), ek) * dt
 
     do first = 1, n, group_size
       m = min(group_size, n - first + 1)
@@ -91,19 +98,19 @@ contains
 
       ! --- strain rates on the mid-step geometry; an element inverted there (area_mid <= 0) gets
       ! zero velocities, hence zero rates, and keeps its state
-      xg(1:m, :, :) = x(o + 1:o + m, :, :) - 0.5_wp * dt * v(o + 1:o + m, :, :)
+      xg(1:m, :, :) = x(o + 1:o + m, :, :) - 0.5_wp * dt_step * v(o + 1:o + m, :, :)
       call frames(m, group_size, 0, xg, e, xl, yl, area_mid)
       ! a product, not merge(v, 0, ...): a masked load of v would stop the vectoriser
-      valid(1:m) = merge(1.0_wp, 0.0_wp, area_mid(1:m) > 0.0_wp)
+      valid(1:m) = merge(1.0_ek, 0.0_ek, area_mid(1:m) > 0.0_ek)
       do k = 1, 4
         do c = 1, 3
-          vg(1:m, c, k) = valid(1:m) * v(o + 1:o + m, c, k)
-          wg(1:m, c, k) = valid(1:m) * w(o + 1:o + m, c, k)
+          vg(1:m, c, k) = valid(1:m) * real(v(o + 1:o + m, c, k), ek)
+          wg(1:m, c, k) = valid(1:m) * real(w(o + 1:o + m, c, k), ek)
         end do
       end do
       normal_mid(1:m, :) = e(1:m, :, 3)
       call gradient_arrays(m, xl, yl, area_mid, b1, b2, gamma)
-      zw = 0.0_wp
+      zw = 0.0_ek
       if (props%warping_correction) call warp_heights(m, group_size, 0, xg, e, area_mid, zw)
       call strain_rates(m, e, b1, b2, gamma, vg, wg, zw, rates, qrate, grad_w)
       if (props%warping_correction) call warp_curvature(m, zw, b1, b2, qrate, rates)
@@ -111,10 +118,10 @@ contains
       ! --- stress update at each through-thickness point on copies (sp, bp, ep), written back by
       ! merge so that an element inverted at mid-step keeps its state
       ! (res, the resultants of the stresses at the end of the step, is summed point by point here)
-      res(1:m, :) = 0.0_wp
-      work = 0.0_wp
-      actual_work = 0.0_wp
-      elastic_work = 0.0_wp
+      res(1:m, :) = 0.0_ek
+      work = 0.0_ek
+      actual_work = 0.0_ek
+      elastic_work = 0.0_ek
       do k = 1, nip
         z = zeta(k) * half_t
         do c = 1, 3
@@ -127,7 +134,7 @@ contains
           if (size(back, 3) > 0) then
             bp(1:m, :) = back(o + 1:o + m, :, k)
           else
-            bp(1:m, :) = 0.0_wp   ! no kinematic hardening: the back stress stays zero, unstored
+            bp(1:m, :) = 0.0_ek   ! no kinematic hardening: the back stress stays zero, unstored
           end if
           ep(1:m) = eps_p(o + 1:o + m, k)
         end if
@@ -136,10 +143,10 @@ contains
         if (history) then
           if (size(back, 3) > 0) then
             do c = 1, 3
-              back(o + 1:o + m, c, k) = merge(bp(1:m, c), back(o + 1:o + m, c, k), area_mid(1:m) > 0.0_wp)
+              back(o + 1:o + m, c, k) = merge(bp(1:m, c), back(o + 1:o + m, c, k), area_mid(1:m) > 0.0_ek)
             end do
           end if
-          eps_p(o + 1:o + m, k) = merge(ep(1:m), eps_p(o + 1:o + m, k), area_mid(1:m) > 0.0_wp)
+          eps_p(o + 1:o + m, k) = merge(ep(1:m), eps_p(o + 1:o + m, k), area_mid(1:m) > 0.0_ek)
           call tangent_work(m, wgt(k), props, deps, stress(o + 1:o + m, 1:3, k), sp, actual_work, elastic_work)
         end if
         wz = wgt(k) * half_t
@@ -149,16 +156,16 @@ contains
           sp(i, 4) = stress(o + i, 4, k) + shear_step * rates(i, 7)
           sp(i, 5) = stress(o + i, 5, k) + shear_step * rates(i, 8)
           work(i) = work(i) + wz * ( &
-                    (0.5_wp * (stress(o + i, 1, k) + sp(i, 1)) * deps(i, 1) &
-                     + 0.5_wp * (stress(o + i, 2, k) + sp(i, 2)) * deps(i, 2) &
-                     + 0.5_wp * (stress(o + i, 3, k) + sp(i, 3)) * deps(i, 3)) &
-                    + (0.5_wp * (stress(o + i, 4, k) + sp(i, 4)) * (dt * rates(i, 7)) &
-                       + 0.5_wp * (stress(o + i, 5, k) + sp(i, 5)) * (dt * rates(i, 8))))
-          s1 = merge(sp(i, 1), stress(o + i, 1, k), area_mid(i) > 0.0_wp)
-          s2 = merge(sp(i, 2), stress(o + i, 2, k), area_mid(i) > 0.0_wp)
-          s3 = merge(sp(i, 3), stress(o + i, 3, k), area_mid(i) > 0.0_wp)
-          s4 = merge(sp(i, 4), stress(o + i, 4, k), area_mid(i) > 0.0_wp)
-          s5 = merge(sp(i, 5), stress(o + i, 5, k), area_mid(i) > 0.0_wp)
+                    (0.5_ek * (stress(o + i, 1, k) + sp(i, 1)) * deps(i, 1) &
+                     + 0.5_ek * (stress(o + i, 2, k) + sp(i, 2)) * deps(i, 2) &
+                     + 0.5_ek * (stress(o + i, 3, k) + sp(i, 3)) * deps(i, 3)) &
+                    + (0.5_ek * (stress(o + i, 4, k) + sp(i, 4)) * (dt * rates(i, 7)) &
+                       + 0.5_ek * (stress(o + i, 5, k) + sp(i, 5)) * (dt * rates(i, 8))))
+          s1 = merge(sp(i, 1), stress(o + i, 1, k), area_mid(i) > 0.0_ek)
+          s2 = merge(sp(i, 2), stress(o + i, 2, k), area_mid(i) > 0.0_ek)
+          s3 = merge(sp(i, 3), stress(o + i, 3, k), area_mid(i) > 0.0_ek)
+          s4 = merge(sp(i, 4), stress(o + i, 4, k), area_mid(i) > 0.0_ek)
+          s5 = merge(sp(i, 5), stress(o + i, 5, k), area_mid(i) > 0.0_ek)
           stress(o + i, 1, k) = s1
           stress(o + i, 2, k) = s2
           stress(o + i, 3, k) = s3
@@ -175,32 +182,32 @@ contains
         end do
       end do
       e_internal(o + 1:o + m) = merge(e_internal(o + 1:o + m) + area_mid(1:m) * work(1:m), &
-                                      e_internal(o + 1:o + m), area_mid(1:m) > 0.0_wp)
+                                      e_internal(o + 1:o + m), area_mid(1:m) > 0.0_ek)
 
       ! --- hourglass resultants and drilling moments
       hg(1:m, :) = hourglass(o + 1:o + m, :)
-      tangent(1:m) = 1.0_wp
+      tangent(1:m) = 1.0_ek
       if (history) tangent(1:m) = tangent_share(m, actual_work, elastic_work)
       call hourglass_update(m, props, dt, area_mid, b1, b2, xl, yl, qrate, grad_w, tangent, hg, work)
       do c = 1, hourglass_components
-        hourglass(o + 1:o + m, c) = merge(hg(1:m, c), hourglass(o + 1:o + m, c), area_mid(1:m) > 0.0_wp)
+        hourglass(o + 1:o + m, c) = merge(hg(1:m, c), hourglass(o + 1:o + m, c), area_mid(1:m) > 0.0_ek)
       end do
       e_hourglass(o + 1:o + m) = merge(e_hourglass(o + 1:o + m) + work(1:m), e_hourglass(o + 1:o + m), &
-                                       area_mid(1:m) > 0.0_wp)
+                                       area_mid(1:m) > 0.0_ek)
 
       ! --- resultants and nodal forces on the end-of-step geometry
       call frames(m, n, o, x, e, xl, yl, area)
       call frame_time_steps(m, xl, yl, area, props, dt_element(o + 1:o + m))
       call check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
-      inverted = inverted + count(.not. (area(1:m) > 0.0_wp))
+      inverted = inverted + count(.not. (area(1:m) > 0.0_ek))
       call gradient_arrays(m, xl, yl, area, b1, b2, gamma)
       ! into a local array: stored straight into force, gfortran needs too many alias checks
       if (props%hourglass_form == hourglass_physical) then
         s_xi(1:m) = hg(1:m, 5)
-        hg(1:m, 5) = 0.25_wp * (hg(1:m, 5) + hg(1:m, 10))   ! both shear resultants drive the lateral hourglass
+        hg(1:m, 5) = 0.25_ek * (hg(1:m, 5) + hg(1:m, 10))   ! both shear resultants drive the lateral hourglass
       end if
-      zw = 0.0_wp
-      dh = 0.0_wp
+      zw = 0.0_ek
+      dh = 0.0_ek
       if (props%warping_correction) call warp_twist_moment(m, n, o, x, e, area, b1, b2, res, zw, dh)
       call nodal_forces(m, e, area, b1, b2, gamma, res, hg, zw, dh, fl)
       if (props%hourglass_form == hourglass_physical) &
@@ -211,37 +218,40 @@ contains
 
   !> local_frame of elements o+1..o+m of x (mid-surface frame, local node coordinates, projected
   !> area), with |a| = sqrt(a . a) in place of norm2 and a unit vector a * (1 / |a|): one division
-  !> per vector, not three; results for 1..m
+  !> per vector, not three; results for 1..m. The positions are double (wp); every measure is a
+  !> difference of them, taken in double and then rounded to the kernel's kind: in the mixed
+  !> engine single precision resolves the element's size, not its distance from the origin.
   pure subroutine frames(m, ld, o, x, e, xl, yl, area)
     integer, intent(in) :: m, ld, o
     real(wp), intent(in) :: x(ld, 3, 4)
-    real(wp), intent(out) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), area(group_size)
-    real(wp) :: d31x, d31y, d31z, d42x, d42y, d42z, nx, ny, nz, gx, gy, gz, r, cx, cy, cz
-    real(wp) :: mx, my, mz, e11, e21, e31, e12, e22, e32
+    real(ek), intent(out) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), area(group_size)
+    real(ek) :: d31x, d31y, d31z, d42x, d42y, d42z, nx, ny, nz, gx, gy, gz, r, cx, cy, cz
+    real(ek) :: e11, e21, e31, e12, e22, e32
+    real(wp) :: mx, my, mz
     integer :: i, k
     ! one pass: the frame, then each node's local coordinates from the centre computed once
     do i = 1, m
-      d31x = x(o + i, 1, 3) - x(o + i, 1, 1)
-      d31y = x(o + i, 2, 3) - x(o + i, 2, 1)
-      d31z = x(o + i, 3, 3) - x(o + i, 3, 1)
-      d42x = x(o + i, 1, 4) - x(o + i, 1, 2)
-      d42y = x(o + i, 2, 4) - x(o + i, 2, 2)
-      d42z = x(o + i, 3, 4) - x(o + i, 3, 2)
+      d31x = real(x(o + i, 1, 3) - x(o + i, 1, 1), ek)
+      d31y = real(x(o + i, 2, 3) - x(o + i, 2, 1), ek)
+      d31z = real(x(o + i, 3, 3) - x(o + i, 3, 1), ek)
+      d42x = real(x(o + i, 1, 4) - x(o + i, 1, 2), ek)
+      d42y = real(x(o + i, 2, 4) - x(o + i, 2, 2), ek)
+      d42z = real(x(o + i, 3, 4) - x(o + i, 3, 2), ek)
       nx = d31y * d42z - d31z * d42y
       ny = d31z * d42x - d31x * d42z
       nz = d31x * d42y - d31y * d42x
-      r = 1.0_wp / sqrt(nx * nx + ny * ny + nz * nz)
+      r = 1.0_ek / sqrt(nx * nx + ny * ny + nz * nz)
       nx = nx * r
       ny = ny * r
       nz = nz * r
-      gx = x(o + i, 1, 2) + x(o + i, 1, 3) - x(o + i, 1, 1) - x(o + i, 1, 4)
-      gy = x(o + i, 2, 2) + x(o + i, 2, 3) - x(o + i, 2, 1) - x(o + i, 2, 4)
-      gz = x(o + i, 3, 2) + x(o + i, 3, 3) - x(o + i, 3, 1) - x(o + i, 3, 4)
+      gx = real(x(o + i, 1, 2) + x(o + i, 1, 3) - x(o + i, 1, 1) - x(o + i, 1, 4), ek)
+      gy = real(x(o + i, 2, 2) + x(o + i, 2, 3) - x(o + i, 2, 1) - x(o + i, 2, 4), ek)
+      gz = real(x(o + i, 3, 2) + x(o + i, 3, 3) - x(o + i, 3, 1) - x(o + i, 3, 4), ek)
       r = gx * nx + gy * ny + gz * nz
       gx = gx - r * nx
       gy = gy - r * ny
       gz = gz - r * nz
-      r = 1.0_wp / sqrt(gx * gx + gy * gy + gz * gz)
+      r = 1.0_ek / sqrt(gx * gx + gy * gy + gz * gz)
       e11 = gx * r
       e21 = gy * r
       e31 = gz * r
@@ -261,13 +271,13 @@ contains
       my = 0.25_wp * (x(o + i, 2, 1) + x(o + i, 2, 2) + x(o + i, 2, 3) + x(o + i, 2, 4))
       mz = 0.25_wp * (x(o + i, 3, 1) + x(o + i, 3, 2) + x(o + i, 3, 3) + x(o + i, 3, 4))
       do k = 1, 4   ! unrolled by the compiler: the loop over i vectorises
-        cx = x(o + i, 1, k) - mx
-        cy = x(o + i, 2, k) - my
-        cz = x(o + i, 3, k) - mz
+        cx = real(x(o + i, 1, k) - mx, ek)
+        cy = real(x(o + i, 2, k) - my, ek)
+        cz = real(x(o + i, 3, k) - mz, ek)
         xl(i, k) = cx * e11 + cy * e21 + cz * e31
         yl(i, k) = cx * e12 + cy * e22 + cz * e32
       end do
-      area(i) = 0.5_wp * ((xl(i, 3) - xl(i, 1)) * (yl(i, 4) - yl(i, 2)) &
+      area(i) = 0.5_ek * ((xl(i, 3) - xl(i, 1)) * (yl(i, 4) - yl(i, 2)) &
                           - (xl(i, 4) - xl(i, 2)) * (yl(i, 3) - yl(i, 1)))
     end do
   end subroutine frames
@@ -277,12 +287,12 @@ contains
   !> fields, for elements 1..m; an element of area <= 0 gets those of area 1 (finite, not kept).
   pure subroutine gradient_arrays(m, xl, yl, area, b1, b2, gamma)
     integer, intent(in) :: m
-    real(wp), intent(in) :: xl(group_size, 4), yl(group_size, 4), area(group_size)
-    real(wp), intent(out) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
-    real(wp) :: r, hx, hy
+    real(ek), intent(in) :: xl(group_size, 4), yl(group_size, 4), area(group_size)
+    real(ek), intent(out) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
+    real(ek) :: r, hx, hy
     integer :: i
     do i = 1, m
-      r = 0.5_wp / merge(area(i), 1.0_wp, area(i) > 0.0_wp)
+      r = 0.5_ek / merge(area(i), 1.0_ek, area(i) > 0.0_ek)
       b1(i, 1) = r * (yl(i, 2) - yl(i, 4))
       b1(i, 2) = r * (yl(i, 3) - yl(i, 1))
       b1(i, 3) = r * (yl(i, 4) - yl(i, 2))
@@ -293,10 +303,10 @@ contains
       b2(i, 4) = r * (xl(i, 3) - xl(i, 1))
       hx = xl(i, 1) - xl(i, 2) + xl(i, 3) - xl(i, 4)
       hy = yl(i, 1) - yl(i, 2) + yl(i, 3) - yl(i, 4)
-      gamma(i, 1) = 1.0_wp - hx * b1(i, 1) - hy * b2(i, 1)
-      gamma(i, 2) = -1.0_wp - hx * b1(i, 2) - hy * b2(i, 2)
-      gamma(i, 3) = 1.0_wp - hx * b1(i, 3) - hy * b2(i, 3)
-      gamma(i, 4) = -1.0_wp - hx * b1(i, 4) - hy * b2(i, 4)
+      gamma(i, 1) = 1.0_ek - hx * b1(i, 1) - hy * b2(i, 1)
+      gamma(i, 2) = -1.0_ek - hx * b1(i, 2) - hy * b2(i, 2)
+      gamma(i, 3) = 1.0_ek - hx * b1(i, 3) - hy * b2(i, 3)
+      gamma(i, 4) = -1.0_ek - hx * b1(i, 4) - hy * b2(i, 4)
     end do
   end subroutine gradient_arrays
 
@@ -307,34 +317,34 @@ contains
   !> plane along rigid links of length z = +-zw (shell_warping): vl - z (wl x e3).
   pure subroutine strain_rates(m, e, b1, b2, gamma, v, w, zw, rates, qrate, grad_w)
     integer, intent(in) :: m
-    real(wp), intent(in) :: e(group_size, 3, 3), b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
-    real(wp), intent(in) :: v(group_size, 3, 4), w(group_size, 3, 4), zw(group_size)
-    real(wp), intent(out) :: rates(group_size, 8), qrate(group_size, hourglass_components)
+    real(ek), intent(in) :: e(group_size, 3, 3), b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
+    real(ek), intent(in) :: v(group_size, 3, 4), w(group_size, 3, 4), zw(group_size)
+    real(ek), intent(out) :: rates(group_size, 8), qrate(group_size, hourglass_components)
     !> the centre gradients of the nodal rotation rates: d/dx theta_x, d/dy theta_y, d/dx theta_y,
     !> d/dy theta_x (before any warping correction of the curvatures)
-    real(wp), intent(out) :: grad_w(group_size, 4)
+    real(ek), intent(out) :: grad_w(group_size, 4)
     ! sums over the nodes, in scalars: one pass over the elements (the loop over k unrolls)
-    real(wp) :: r1, r2, r4, r5, r7, r8, b2v1, b1v2, b2w2, b1w1, w1sum, w2sum, q1, q2, q3, q4, q5
-    real(wp) :: vl1, vl2, vl3, wl1, wl2, wl3, spin, hk
+    real(ek) :: r1, r2, r4, r5, r7, r8, b2v1, b1v2, b2w2, b1w1, w1sum, w2sum, q1, q2, q3, q4, q5
+    real(ek) :: vl1, vl2, vl3, wl1, wl2, wl3, spin, hk
     integer :: i, k
     do i = 1, m
-      r1 = 0.0_wp
-      r2 = 0.0_wp
-      r4 = 0.0_wp
-      r5 = 0.0_wp
-      r7 = 0.0_wp
-      r8 = 0.0_wp
-      b2v1 = 0.0_wp
-      b1v2 = 0.0_wp
-      b2w2 = 0.0_wp
-      b1w1 = 0.0_wp
-      w1sum = 0.0_wp
-      w2sum = 0.0_wp
-      q1 = 0.0_wp
-      q2 = 0.0_wp
-      q3 = 0.0_wp
-      q4 = 0.0_wp
-      q5 = 0.0_wp
+      r1 = 0.0_ek
+      r2 = 0.0_ek
+      r4 = 0.0_ek
+      r5 = 0.0_ek
+      r7 = 0.0_ek
+      r8 = 0.0_ek
+      b2v1 = 0.0_ek
+      b1v2 = 0.0_ek
+      b2w2 = 0.0_ek
+      b1w1 = 0.0_ek
+      w1sum = 0.0_ek
+      w2sum = 0.0_ek
+      q1 = 0.0_ek
+      q2 = 0.0_ek
+      q3 = 0.0_ek
+      q4 = 0.0_ek
+      q5 = 0.0_ek
       !GCC$ unroll 4
       do k = 1, 4
         hk = h(k)
@@ -344,8 +354,8 @@ contains
         wl1 = e(i, 1, 1) * w(i, 1, k) + e(i, 2, 1) * w(i, 2, k) + e(i, 3, 1) * w(i, 3, k)
         wl2 = e(i, 1, 2) * w(i, 1, k) + e(i, 2, 2) * w(i, 2, k) + e(i, 3, 2) * w(i, 3, k)
         wl3 = e(i, 1, 3) * w(i, 1, k) + e(i, 2, 3) * w(i, 2, k) + e(i, 3, 3) * w(i, 3, k)
-        vl1 = merge(vl1 - (hk * zw(i)) * wl2, vl1, zw(i) /= 0.0_wp)
-        vl2 = merge(vl2 + (hk * zw(i)) * wl1, vl2, zw(i) /= 0.0_wp)
+        vl1 = merge(vl1 - (hk * zw(i)) * wl2, vl1, zw(i) /= 0.0_ek)
+        vl2 = merge(vl2 + (hk * zw(i)) * wl1, vl2, zw(i) /= 0.0_ek)
         r1 = r1 + b1(i, k) * vl1
         r2 = r2 + b2(i, k) * vl2
         b2v1 = b2v1 + b2(i, k) * vl1
@@ -375,15 +385,15 @@ contains
       grad_w(i, 2) = b2w2
       grad_w(i, 3) = r4
       grad_w(i, 4) = r5
-      rates(i, 7) = r7 + 0.25_wp * w2sum
-      rates(i, 8) = r8 - 0.25_wp * w1sum
+      rates(i, 7) = r7 + 0.25_ek * w2sum
+      rates(i, 8) = r8 - 0.25_ek * w1sum
       qrate(i, 1) = q1
       qrate(i, 2) = q2
       qrate(i, 3) = q3
       qrate(i, 4) = q4
       qrate(i, 5) = q5
-      qrate(i, 10) = 0.0_wp
-      spin = 0.5_wp * (b1v2 - b2v1)
+      qrate(i, 10) = 0.0_ek
+      spin = 0.5_ek * (b1v2 - b2v1)
       qrate(i, 6) = qrate(i, 6) - spin
       qrate(i, 7) = qrate(i, 7) - spin
       qrate(i, 8) = qrate(i, 8) - spin
@@ -397,12 +407,12 @@ contains
   !> this, or flips its normal.
   pure subroutine check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
     integer, intent(in) :: m
-    real(wp), intent(in) :: area_mid(group_size), normal_mid(group_size, 3), e(group_size, 3, 3)
-    real(wp), intent(in) :: xl(group_size, 4), yl(group_size, 4)
-    real(wp), intent(inout) :: area(group_size)
-    real(wp) :: turn(group_size)
+    real(ek), intent(in) :: area_mid(group_size), normal_mid(group_size, 3), e(group_size, 3, 3)
+    real(ek), intent(in) :: xl(group_size, 4), yl(group_size, 4)
+    real(ek), intent(inout) :: area(group_size)
+    real(ek) :: turn(group_size)
     integer :: i, k, next, prev
-    turn = huge(1.0_wp)
+    turn = huge(1.0_ek)
     do k = 1, 4
       next = modulo(k, 4) + 1
       prev = modulo(k + 2, 4) + 1
@@ -412,9 +422,9 @@ contains
       end do
     end do
     do i = 1, m
-      area(i) = merge(area(i), 0.0_wp, area_mid(i) > 0.0_wp .and. area(i) > 0.0_wp .and. turn(i) > 0.0_wp &
+      area(i) = merge(area(i), 0.0_ek, area_mid(i) > 0.0_ek .and. area(i) > 0.0_ek .and. turn(i) > 0.0_ek &
                       .and. normal_mid(i, 1) * e(i, 1, 3) + normal_mid(i, 2) * e(i, 2, 3) &
-                            + normal_mid(i, 3) * e(i, 3, 3) > 0.0_wp)
+                            + normal_mid(i, 3) * e(i, 3, 3) > 0.0_ek)
     end do
   end subroutine check_end_frames
 
@@ -424,40 +434,40 @@ contains
   !> z (f x e3) of its rigid links (shell_warping).
   pure subroutine nodal_forces(m, e, area, b1, b2, gamma, res, hg, zw, dh, force)
     integer, intent(in) :: m
-    real(wp), intent(in) :: e(group_size, 3, 3), area(group_size)
-    real(wp), intent(in) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
-    real(wp), intent(in) :: res(group_size, 8), hg(group_size, hourglass_components)
-    real(wp), intent(in) :: zw(group_size), dh(group_size)
-    real(wp), intent(out) :: force(group_size, 6, 4)
-    real(wp) :: drill_total, f1, f2, f3, f4, f5, f6, g1, g2, hk
+    real(ek), intent(in) :: e(group_size, 3, 3), area(group_size)
+    real(ek), intent(in) :: b1(group_size, 4), b2(group_size, 4), gamma(group_size, 4)
+    real(ek), intent(in) :: res(group_size, 8), hg(group_size, hourglass_components)
+    real(ek), intent(in) :: zw(group_size), dh(group_size)
+    real(ek), intent(out) :: force(group_size, 6, 4)
+    real(ek) :: drill_total, f1, f2, f3, f4, f5, f6, g1, g2, hk
     integer :: i, k
     do k = 1, 4
       hk = h(k)
       do i = 1, m
         drill_total = hg(i, 6) + hg(i, 7) + hg(i, 8) + hg(i, 9)
         f1 = area(i) * (b1(i, k) * res(i, 1) + b2(i, k) * res(i, 3)) + gamma(i, k) * hg(i, 1) &
-             + 0.5_wp * drill_total * b2(i, k)
+             + 0.5_ek * drill_total * b2(i, k)
         f2 = area(i) * (b2(i, k) * res(i, 2) + b1(i, k) * res(i, 3)) + gamma(i, k) * hg(i, 2) &
-             - 0.5_wp * drill_total * b1(i, k)
+             - 0.5_ek * drill_total * b1(i, k)
         f3 = area(i) * (b1(i, k) * res(i, 7) + b2(i, k) * res(i, 8)) + gamma(i, k) * hg(i, 5)
-        f4 = -area(i) * (b2(i, k) * res(i, 5) + b1(i, k) * res(i, 6) + 0.25_wp * res(i, 8)) &
+        f4 = -area(i) * (b2(i, k) * res(i, 5) + b1(i, k) * res(i, 6) + 0.25_ek * res(i, 8)) &
              + gamma(i, k) * hg(i, 3)
-        f5 = area(i) * (b1(i, k) * res(i, 4) + b2(i, k) * res(i, 6) + 0.25_wp * res(i, 7)) &
+        f5 = area(i) * (b1(i, k) * res(i, 4) + b2(i, k) * res(i, 6) + 0.25_ek * res(i, 7)) &
              + gamma(i, k) * hg(i, 4)
         f6 = hg(i, 5 + k)
         g1 = f1 + dh(i) * b2(i, k)
         g2 = f2 - dh(i) * b1(i, k)
-        f4 = merge(f4 + (hk * zw(i)) * g2, f4, zw(i) /= 0.0_wp)
-        f5 = merge(f5 - (hk * zw(i)) * g1, f5, zw(i) /= 0.0_wp)
-        f6 = merge(f6 + 0.5_wp * dh(i), f6, zw(i) /= 0.0_wp)
-        f1 = merge(g1, f1, zw(i) /= 0.0_wp)
-        f2 = merge(g2, f2, zw(i) /= 0.0_wp)
-        force(i, 1, k) = merge(e(i, 1, 1) * f1 + e(i, 1, 2) * f2 + e(i, 1, 3) * f3, 0.0_wp, area(i) > 0.0_wp)
-        force(i, 2, k) = merge(e(i, 2, 1) * f1 + e(i, 2, 2) * f2 + e(i, 2, 3) * f3, 0.0_wp, area(i) > 0.0_wp)
-        force(i, 3, k) = merge(e(i, 3, 1) * f1 + e(i, 3, 2) * f2 + e(i, 3, 3) * f3, 0.0_wp, area(i) > 0.0_wp)
-        force(i, 4, k) = merge(e(i, 1, 1) * f4 + e(i, 1, 2) * f5 + e(i, 1, 3) * f6, 0.0_wp, area(i) > 0.0_wp)
-        force(i, 5, k) = merge(e(i, 2, 1) * f4 + e(i, 2, 2) * f5 + e(i, 2, 3) * f6, 0.0_wp, area(i) > 0.0_wp)
-        force(i, 6, k) = merge(e(i, 3, 1) * f4 + e(i, 3, 2) * f5 + e(i, 3, 3) * f6, 0.0_wp, area(i) > 0.0_wp)
+        f4 = merge(f4 + (hk * zw(i)) * g2, f4, zw(i) /= 0.0_ek)
+        f5 = merge(f5 - (hk * zw(i)) * g1, f5, zw(i) /= 0.0_ek)
+        f6 = merge(f6 + 0.5_ek * dh(i), f6, zw(i) /= 0.0_ek)
+        f1 = merge(g1, f1, zw(i) /= 0.0_ek)
+        f2 = merge(g2, f2, zw(i) /= 0.0_ek)
+        force(i, 1, k) = merge(e(i, 1, 1) * f1 + e(i, 1, 2) * f2 + e(i, 1, 3) * f3, 0.0_ek, area(i) > 0.0_ek)
+        force(i, 2, k) = merge(e(i, 2, 1) * f1 + e(i, 2, 2) * f2 + e(i, 2, 3) * f3, 0.0_ek, area(i) > 0.0_ek)
+        force(i, 3, k) = merge(e(i, 3, 1) * f1 + e(i, 3, 2) * f2 + e(i, 3, 3) * f3, 0.0_ek, area(i) > 0.0_ek)
+        force(i, 4, k) = merge(e(i, 1, 1) * f4 + e(i, 1, 2) * f5 + e(i, 1, 3) * f6, 0.0_ek, area(i) > 0.0_ek)
+        force(i, 5, k) = merge(e(i, 2, 1) * f4 + e(i, 2, 2) * f5 + e(i, 2, 3) * f6, 0.0_ek, area(i) > 0.0_ek)
+        force(i, 6, k) = merge(e(i, 3, 1) * f4 + e(i, 3, 2) * f5 + e(i, 3, 3) * f6, 0.0_ek, area(i) > 0.0_ek)
       end do
     end do
   end subroutine nodal_forces

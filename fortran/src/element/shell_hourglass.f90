@@ -12,7 +12,7 @@
 !>
 !> Pure kernels over groups of m elements, element index first, like shell_blt.
 module shell_hourglass
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, ek
   use element_groups, only: group_size
   use paradyn_schema, only: hourglass_viscous, hourglass_physical
   use shell_section, only: shell_properties_t, hourglass_components, shear_correction
@@ -23,18 +23,18 @@ module shell_hourglass
   !> drilling stiffness per node, as a fraction of E t A per radian (after the drilling penalty
   !> of Hughes & Brezzi 1989): small enough to leave membrane and bending response alone, large
   !> enough that the rotation about the normal of kinked facets is tied to the in-plane spin
-  real(wp), parameter :: drilling_penalty = 1.0e-4_wp
+  real(ek), parameter :: drilling_penalty = 1.0e-4_ek
 
   !> |h,x| integrates to sqrt(3) / 2 sqrt(A C_xx) over a rectangle: the fully plastic field's share
-  real(wp), parameter :: plastic_shape = 0.5_wp * sqrt(3.0_wp)
+  real(ek), parameter :: plastic_shape = 0.5_ek * sqrt(3.0_ek)
 
   !> the least share of the elastic stiffness the physical form keeps in a yielding element,
   !> so that its hourglass modes stay stable in perfectly plastic flow
-  real(wp), parameter :: tangent_floor = 0.05_wp
+  real(ek), parameter :: tangent_floor = 0.05_ek
 
   !> natural coordinates of the corners (counter-clockwise from (-1, -1))
-  real(wp), parameter :: xi_node(4) = [-1.0_wp, 1.0_wp, 1.0_wp, -1.0_wp]
-  real(wp), parameter :: eta_node(4) = [-1.0_wp, -1.0_wp, 1.0_wp, 1.0_wp]
+  real(ek), parameter :: xi_node(4) = [-1.0_ek, 1.0_ek, 1.0_ek, -1.0_ek]
+  real(ek), parameter :: eta_node(4) = [-1.0_ek, -1.0_ek, 1.0_ek, 1.0_ek]
 
 contains
 
@@ -45,33 +45,34 @@ contains
   pure subroutine hourglass_update(m, props, dt, area, b1, b2, xl, yl, qrate, grad_w, tangent, hg, work)
     integer, intent(in) :: m
     type(shell_properties_t), intent(in) :: props
-    real(wp), intent(in) :: dt, area(group_size), b1(group_size, 4), b2(group_size, 4)
-    real(wp), intent(in) :: xl(group_size, 4), yl(group_size, 4)
-    real(wp), intent(in) :: qrate(group_size, hourglass_components), grad_w(group_size, 4)
-    real(wp), intent(in) :: tangent(group_size)   !< the element's tangent share of its elastic stiffness
-    real(wp), intent(inout) :: hg(group_size, hourglass_components)
-    real(wp), intent(out) :: work(group_size)
-    real(wp) :: drill(group_size), power(group_size), power_drill(group_size)
-    real(wp) :: t, q_old
+    real(ek), intent(in) :: dt, area(group_size), b1(group_size, 4), b2(group_size, 4)
+    real(ek), intent(in) :: xl(group_size, 4), yl(group_size, 4)
+    real(ek), intent(in) :: qrate(group_size, hourglass_components), grad_w(group_size, 4)
+    real(ek), intent(in) :: tangent(group_size)   !< the element's tangent share of its elastic stiffness
+    real(ek), intent(inout) :: hg(group_size, hourglass_components)
+    real(ek), intent(out) :: work(group_size)
+    real(ek) :: drill(group_size), power(group_size), power_drill(group_size)
+    real(ek) :: t, young, q_old
     integer :: i, c
-    t = props%thickness
+    t = real(props%thickness, ek)
+    young = real(props%young, ek)
     if (props%hourglass_form == hourglass_physical) then
       ! no coefficient, but 0 still means off ([effects] hourglass = false): no resultants, no work
-      power = 0.0_wp
-      if (props%hourglass_coefficient > 0.0_wp) &
+      power = 0.0_ek
+      if (props%hourglass_coefficient > 0.0_ek) &
         call physical_update(m, props, dt, area, xl, yl, qrate, grad_w, tangent, hg, power)
     else
       call coefficient_update(m, props, dt, area, b1, b2, qrate, hg, power)
     end if
     do i = 1, m
-      drill(i) = drilling_penalty * props%young * t * merge(area(i), 1.0_wp, area(i) > 0.0_wp) * dt
+      drill(i) = drilling_penalty * young * t * merge(area(i), 1.0_ek, area(i) > 0.0_ek) * dt
     end do
-    power_drill = 0.0_wp
+    power_drill = 0.0_ek
     do c = 6, 9
       do i = 1, m
         q_old = hg(i, c)
         hg(i, c) = hg(i, c) + drill(i) * qrate(i, c)
-        power_drill(i) = power_drill(i) + 0.5_wp * (q_old + hg(i, c)) * qrate(i, c)
+        power_drill(i) = power_drill(i) + 0.5_ek * (q_old + hg(i, c)) * qrate(i, c)
       end do
     end do
     if (props%hourglass_form == hourglass_viscous) then
@@ -86,44 +87,47 @@ contains
   pure subroutine coefficient_update(m, props, dt, area, b1, b2, qrate, hg, power)
     integer, intent(in) :: m
     type(shell_properties_t), intent(in) :: props
-    real(wp), intent(in) :: dt, area(group_size), b1(group_size, 4), b2(group_size, 4)
-    real(wp), intent(in) :: qrate(group_size, hourglass_components)
-    real(wp), intent(inout) :: hg(group_size, hourglass_components)
-    real(wp), intent(out) :: power(group_size)
-    real(wp) :: factor(group_size, 5)
-    real(wp) :: t, a, bb, mass, rotary, q_old
+    real(ek), intent(in) :: dt, area(group_size), b1(group_size, 4), b2(group_size, 4)
+    real(ek), intent(in) :: qrate(group_size, hourglass_components)
+    real(ek), intent(inout) :: hg(group_size, hourglass_components)
+    real(ek), intent(out) :: power(group_size)
+    real(ek) :: factor(group_size, 5)
+    real(ek) :: t, a, bb, mass, rotary, q_old, density, young, coefficient
     integer :: i, c
-    t = props%thickness
+    t = real(props%thickness, ek)
+    density = real(props%density, ek)
+    young = real(props%young, ek)
+    coefficient = real(props%hourglass_coefficient, ek)
     ! one loop per form: a logical tested inside a loop stops gfortran's vectoriser
     if (props%hourglass_form == hourglass_viscous) then
       do i = 1, m
-        a = merge(area(i), 1.0_wp, area(i) > 0.0_wp)
+        a = merge(area(i), 1.0_ek, area(i) > 0.0_ek)
         bb = (b1(i, 1)**2 + b1(i, 2)**2 + b1(i, 3)**2 + b1(i, 4)**2) &
              + (b2(i, 1)**2 + b2(i, 2)**2 + b2(i, 3)**2 + b2(i, 4)**2)
         ! element mass for translations, its scaled rotary inertia for rotations (as the lumped mass)
-        mass = props%density * t * a
-        rotary = props%density * t * a * (t**2 + a) / 12.0_wp
-        factor(i, 1) = props%hourglass_coefficient * sqrt(props%young * t * a * bb / 8.0_wp * mass)
-        factor(i, 3) = props%hourglass_coefficient &
-                       * sqrt(props%young * t**3 * a * bb / 192.0_wp * rotary)
-        factor(i, 5) = props%hourglass_coefficient &
-                       * sqrt(props%young * t**3 * a * bb**2 / 192.0_wp * mass)
+        mass = density * t * a
+        rotary = density * t * a * (t**2 + a) / 12.0_ek
+        factor(i, 1) = coefficient * sqrt(young * t * a * bb / 8.0_ek * mass)
+        factor(i, 3) = coefficient &
+                       * sqrt(young * t**3 * a * bb / 192.0_ek * rotary)
+        factor(i, 5) = coefficient &
+                       * sqrt(young * t**3 * a * bb**2 / 192.0_ek * mass)
       end do
     else
       do i = 1, m
-        a = merge(area(i), 1.0_wp, area(i) > 0.0_wp)
+        a = merge(area(i), 1.0_ek, area(i) > 0.0_ek)
         bb = (b1(i, 1)**2 + b1(i, 2)**2 + b1(i, 3)**2 + b1(i, 4)**2) &
              + (b2(i, 1)**2 + b2(i, 2)**2 + b2(i, 3)**2 + b2(i, 4)**2)
-        factor(i, 1) = props%hourglass_coefficient * (props%young * t * a * bb / 8.0_wp) * dt
-        factor(i, 3) = props%hourglass_coefficient * (props%young * t**3 * a * bb / 192.0_wp) * dt
-        factor(i, 5) = props%hourglass_coefficient * (props%young * t**3 * a * bb**2 / 192.0_wp) * dt
+        factor(i, 1) = coefficient * (young * t * a * bb / 8.0_ek) * dt
+        factor(i, 3) = coefficient * (young * t**3 * a * bb / 192.0_ek) * dt
+        factor(i, 5) = coefficient * (young * t**3 * a * bb**2 / 192.0_ek) * dt
       end do
     end if
     do i = 1, m
       factor(i, 2) = factor(i, 1)
       factor(i, 4) = factor(i, 3)
     end do
-    power = 0.0_wp
+    power = 0.0_ek
     if (props%hourglass_form == hourglass_viscous) then
       do c = 1, 5
         do i = 1, m
@@ -136,7 +140,7 @@ contains
         do i = 1, m
           q_old = hg(i, c)
           hg(i, c) = hg(i, c) + factor(i, c) * qrate(i, c)
-          power(i) = power(i) + 0.5_wp * (q_old + hg(i, c)) * qrate(i, c)
+          power(i) = power(i) + 0.5_ek * (q_old + hg(i, c)) * qrate(i, c)
         end do
       end do
     end if
@@ -157,28 +161,30 @@ contains
   pure subroutine physical_update(m, props, dt, area, xl, yl, qrate, grad_w, tangent, hg, power)
     integer, intent(in) :: m
     type(shell_properties_t), intent(in) :: props
-    real(wp), intent(in) :: dt, area(group_size), xl(group_size, 4), yl(group_size, 4)
-    real(wp), intent(in) :: qrate(group_size, hourglass_components), grad_w(group_size, 4)
-    real(wp), intent(in) :: tangent(group_size)
-    real(wp), intent(inout) :: hg(group_size, hourglass_components)
-    real(wp), intent(out) :: power(group_size)
-    real(wp) :: membrane, bending, shear, nu, a1x, a1y, a2x, a2y, c, cxx, cyy, cxy
-    real(wp) :: d1, d2, d3, d4, h_xi, h_eta, old1, old2, old3, old4, old5, old10, a, cap, yield
+    real(ek), intent(in) :: dt, area(group_size), xl(group_size, 4), yl(group_size, 4)
+    real(ek), intent(in) :: qrate(group_size, hourglass_components), grad_w(group_size, 4)
+    real(ek), intent(in) :: tangent(group_size)
+    real(ek), intent(inout) :: hg(group_size, hourglass_components)
+    real(ek), intent(out) :: power(group_size)
+    real(ek) :: membrane, bending, shear, nu, a1x, a1y, a2x, a2y, c, cxx, cyy, cxy
+    real(ek) :: d1, d2, d3, d4, h_xi, h_eta, old1, old2, old3, old4, old5, old10, a, cap, yield, thick
     logical :: plastic
     integer :: i
-    yield = props%hourglass_yield
-    plastic = yield < huge(1.0_wp)
-    membrane = props%young * props%thickness / 16.0_wp
-    bending = props%young * props%thickness**3 / 192.0_wp
-    shear = shear_correction * props%young / (2.0_wp * (1.0_wp + props%poisson)) * props%thickness
-    nu = props%poisson
+    ! the part's constants in the kernel's kind, once (huge, an elastic part's yield, stays finite)
+    plastic = props%hourglass_yield < huge(1.0_wp)
+    yield = real(min(props%hourglass_yield, real(huge(1.0_ek), wp)), ek)
+    thick = real(props%thickness, ek)
+    membrane = real(props%young * props%thickness / 16.0_wp, ek)
+    bending = real(props%young * props%thickness**3 / 192.0_wp, ek)
+    shear = real(shear_correction * props%young / (2.0_wp * (1.0_wp + props%poisson)) * props%thickness, ek)
+    nu = real(props%poisson, ek)
     do i = 1, m
-      a1x = 0.25_wp * (-xl(i, 1) + xl(i, 2) + xl(i, 3) - xl(i, 4))
-      a1y = 0.25_wp * (-yl(i, 1) + yl(i, 2) + yl(i, 3) - yl(i, 4))
-      a2x = 0.25_wp * (-xl(i, 1) - xl(i, 2) + xl(i, 3) + xl(i, 4))
-      a2y = 0.25_wp * (-yl(i, 1) - yl(i, 2) + yl(i, 3) + yl(i, 4))
-      a = merge(area(i), 1.0_wp, area(i) > 0.0_wp)
-      c = 16.0_wp / (3.0_wp * a)
+      a1x = 0.25_ek * (-xl(i, 1) + xl(i, 2) + xl(i, 3) - xl(i, 4))
+      a1y = 0.25_ek * (-yl(i, 1) + yl(i, 2) + yl(i, 3) - yl(i, 4))
+      a2x = 0.25_ek * (-xl(i, 1) - xl(i, 2) + xl(i, 3) + xl(i, 4))
+      a2y = 0.25_ek * (-yl(i, 1) - yl(i, 2) + yl(i, 3) + yl(i, 4))
+      a = merge(area(i), 1.0_ek, area(i) > 0.0_ek)
+      c = 16.0_ek / (3.0_ek * a)
       cxx = c * (a1y * a1y + a2y * a2y)
       cyy = c * (a1x * a1x + a2x * a2x)
       cxy = -c * (a1x * a1y + a2x * a2y)
@@ -186,9 +192,9 @@ contains
       d2 = tangent(i) * dt * qrate(i, 2)
       d3 = tangent(i) * dt * qrate(i, 3)
       d4 = tangent(i) * dt * qrate(i, 4)
-      h_xi = 0.25_wp * qrate(i, 5) + (a1x * (a2x * grad_w(i, 3) + a2y * grad_w(i, 2)) &
+      h_xi = 0.25_ek * qrate(i, 5) + (a1x * (a2x * grad_w(i, 3) + a2y * grad_w(i, 2)) &
                                       - a1y * (a2x * grad_w(i, 1) + a2y * grad_w(i, 4)))
-      h_eta = 0.25_wp * qrate(i, 5) + (a2x * (a1x * grad_w(i, 3) + a1y * grad_w(i, 2)) &
+      h_eta = 0.25_ek * qrate(i, 5) + (a2x * (a1x * grad_w(i, 3) + a1y * grad_w(i, 2)) &
                                        - a2y * (a1x * grad_w(i, 1) + a1y * grad_w(i, 4)))
       old1 = hg(i, 1)
       old2 = hg(i, 2)
@@ -203,17 +209,17 @@ contains
       hg(i, 5) = old5 + shear * c * (a2x * a2x + a2y * a2y) * (tangent(i) * dt * h_xi)
       hg(i, 10) = old10 + shear * c * (a1x * a1x + a1y * a1y) * (tangent(i) * dt * h_eta)
       if (plastic) then   ! the fully plastic hourglass stress fields bound the resultants
-        cap = yield * props%thickness * sqrt(a * cxx) * plastic_shape / 4.0_wp
+        cap = yield * thick * sqrt(a * cxx) * plastic_shape / 4.0_ek
         hg(i, 1) = max(-cap, min(cap, hg(i, 1)))
-        hg(i, 4) = max(-cap * props%thickness / 4.0_wp, min(cap * props%thickness / 4.0_wp, hg(i, 4)))
-        cap = yield * props%thickness * sqrt(a * cyy) * plastic_shape / 4.0_wp
+        hg(i, 4) = max(-cap * thick / 4.0_ek, min(cap * thick / 4.0_ek, hg(i, 4)))
+        cap = yield * thick * sqrt(a * cyy) * plastic_shape / 4.0_ek
         hg(i, 2) = max(-cap, min(cap, hg(i, 2)))
-        hg(i, 3) = max(-cap * props%thickness / 4.0_wp, min(cap * props%thickness / 4.0_wp, hg(i, 3)))
-        cap = yield / sqrt(3.0_wp) * props%thickness * plastic_shape
+        hg(i, 3) = max(-cap * thick / 4.0_ek, min(cap * thick / 4.0_ek, hg(i, 3)))
+        cap = yield / sqrt(3.0_ek) * thick * plastic_shape
         hg(i, 5) = max(-cap * sqrt(a * c * (a2x * a2x + a2y * a2y)), min(cap * sqrt(a * c * (a2x * a2x + a2y * a2y)), hg(i, 5)))
         hg(i, 10) = max(-cap * sqrt(a * c * (a1x * a1x + a1y * a1y)), min(cap * sqrt(a * c * (a1x * a1x + a1y * a1y)), hg(i, 10)))
       end if
-      power(i) = 0.5_wp * ((old1 + hg(i, 1)) * qrate(i, 1) + (old2 + hg(i, 2)) * qrate(i, 2) &
+      power(i) = 0.5_ek * ((old1 + hg(i, 1)) * qrate(i, 1) + (old2 + hg(i, 2)) * qrate(i, 2) &
                            + (old3 + hg(i, 3)) * qrate(i, 3) + (old4 + hg(i, 4)) * qrate(i, 4) &
                            + (old5 + hg(i, 5)) * h_xi + (old10 + hg(i, 10)) * h_eta)
     end do
@@ -224,33 +230,33 @@ contains
   !> the points is the element's tangent share of its elastic stiffness in this step.
   pure subroutine tangent_work(m, w, props, deps, old, sp, actual_work, elastic_work)
     integer, intent(in) :: m
-    real(wp), intent(in) :: w
+    real(ek), intent(in) :: w
     type(shell_properties_t), intent(in) :: props
-    real(wp), intent(in) :: deps(group_size, 3), old(:, :), sp(group_size, 5)
-    real(wp), intent(inout) :: actual_work(group_size), elastic_work(group_size)
-    real(wp) :: plane_modulus, nu
+    real(ek), intent(in) :: deps(group_size, 3), old(:, :), sp(group_size, 5)
+    real(ek), intent(inout) :: actual_work(group_size), elastic_work(group_size)
+    real(ek) :: plane_modulus, nu
     integer :: i
-    nu = props%poisson
-    plane_modulus = props%young / (1.0_wp - nu * nu)
+    nu = real(props%poisson, ek)
+    plane_modulus = real(props%young, ek) / (1.0_ek - nu * nu)
     do i = 1, m
       actual_work(i) = actual_work(i) + w * ((sp(i, 1) - old(i, 1)) * deps(i, 1) + (sp(i, 2) - old(i, 2)) * deps(i, 2) &
                                              + (sp(i, 3) - old(i, 3)) * deps(i, 3))
       elastic_work(i) = elastic_work(i) + w * plane_modulus * (deps(i, 1) * deps(i, 1) + deps(i, 2) * deps(i, 2) &
-                                                               + 2.0_wp * nu * deps(i, 1) * deps(i, 2) &
-                                                               + 0.5_wp * (1.0_wp - nu) * deps(i, 3) * deps(i, 3))
+                                                               + 2.0_ek * nu * deps(i, 1) * deps(i, 2) &
+                                                               + 0.5_ek * (1.0_ek - nu) * deps(i, 3) * deps(i, 3))
     end do
   end subroutine tangent_work
 
   !> The tangent share in [tangent_floor, 1]: 1 where the step did no elastic work to compare.
   pure function tangent_share(m, actual_work, elastic_work) result(share)
     integer, intent(in) :: m
-    real(wp), intent(in) :: actual_work(group_size), elastic_work(group_size)
-    real(wp) :: share(m)
+    real(ek), intent(in) :: actual_work(group_size), elastic_work(group_size)
+    real(ek) :: share(m)
     integer :: i
     do i = 1, m
-      share(i) = merge(max(tangent_floor, min(1.0_wp, actual_work(i) / merge(elastic_work(i), 1.0_wp, &
-                                                                               elastic_work(i) > 0.0_wp))), &
-                       1.0_wp, elastic_work(i) > 0.0_wp)
+      share(i) = merge(max(tangent_floor, min(1.0_ek, actual_work(i) / merge(elastic_work(i), 1.0_ek, &
+                                                                               elastic_work(i) > 0.0_ek))), &
+                       1.0_ek, elastic_work(i) > 0.0_ek)
     end do
   end function tangent_share
 
@@ -261,25 +267,25 @@ contains
   !> frame e and coordinates xl, yl; nothing for an element of area <= 0).
   pure subroutine add_shear_hourglass_moments(m, e, area, xl, yl, s_xi, s_eta, force)
     integer, intent(in) :: m
-    real(wp), intent(in) :: e(group_size, 3, 3), area(group_size), xl(group_size, 4), yl(group_size, 4)
-    real(wp), intent(in) :: s_xi(group_size), s_eta(group_size)
-    real(wp), intent(inout) :: force(group_size, 6, 4)
-    real(wp) :: a1x(group_size), a1y(group_size), a2x(group_size), a2y(group_size), mx, my
+    real(ek), intent(in) :: e(group_size, 3, 3), area(group_size), xl(group_size, 4), yl(group_size, 4)
+    real(ek), intent(in) :: s_xi(group_size), s_eta(group_size)
+    real(ek), intent(inout) :: force(group_size, 6, 4)
+    real(ek) :: a1x(group_size), a1y(group_size), a2x(group_size), a2y(group_size), mx, my
     integer :: i, k
     do i = 1, m
-      a1x(i) = 0.25_wp * (-xl(i, 1) + xl(i, 2) + xl(i, 3) - xl(i, 4))
-      a1y(i) = 0.25_wp * (-yl(i, 1) + yl(i, 2) + yl(i, 3) - yl(i, 4))
-      a2x(i) = 0.25_wp * (-xl(i, 1) - xl(i, 2) + xl(i, 3) + xl(i, 4))
-      a2y(i) = 0.25_wp * (-yl(i, 1) - yl(i, 2) + yl(i, 3) + yl(i, 4))
+      a1x(i) = 0.25_ek * (-xl(i, 1) + xl(i, 2) + xl(i, 3) - xl(i, 4))
+      a1y(i) = 0.25_ek * (-yl(i, 1) + yl(i, 2) + yl(i, 3) - yl(i, 4))
+      a2x(i) = 0.25_ek * (-xl(i, 1) - xl(i, 2) + xl(i, 3) + xl(i, 4))
+      a2y(i) = 0.25_ek * (-yl(i, 1) - yl(i, 2) + yl(i, 3) + yl(i, 4))
     end do
     do k = 1, 4
       do i = 1, m
         ! moment about local y (conjugate to theta_y = phi_x) and about local x (to theta_x = -phi_y)
-        my = 0.25_wp * (s_xi(i) * eta_node(k) * a1x(i) + s_eta(i) * xi_node(k) * a2x(i))
-        mx = -0.25_wp * (s_xi(i) * eta_node(k) * a1y(i) + s_eta(i) * xi_node(k) * a2y(i))
-        force(i, 4, k) = force(i, 4, k) + merge(e(i, 1, 1) * mx + e(i, 1, 2) * my, 0.0_wp, area(i) > 0.0_wp)
-        force(i, 5, k) = force(i, 5, k) + merge(e(i, 2, 1) * mx + e(i, 2, 2) * my, 0.0_wp, area(i) > 0.0_wp)
-        force(i, 6, k) = force(i, 6, k) + merge(e(i, 3, 1) * mx + e(i, 3, 2) * my, 0.0_wp, area(i) > 0.0_wp)
+        my = 0.25_ek * (s_xi(i) * eta_node(k) * a1x(i) + s_eta(i) * xi_node(k) * a2x(i))
+        mx = -0.25_ek * (s_xi(i) * eta_node(k) * a1y(i) + s_eta(i) * xi_node(k) * a2y(i))
+        force(i, 4, k) = force(i, 4, k) + merge(e(i, 1, 1) * mx + e(i, 1, 2) * my, 0.0_ek, area(i) > 0.0_ek)
+        force(i, 5, k) = force(i, 5, k) + merge(e(i, 2, 1) * mx + e(i, 2, 2) * my, 0.0_ek, area(i) > 0.0_ek)
+        force(i, 6, k) = force(i, 6, k) + merge(e(i, 3, 1) * mx + e(i, 3, 2) * my, 0.0_ek, area(i) > 0.0_ek)
       end do
     end do
   end subroutine add_shear_hourglass_moments

@@ -3,7 +3,7 @@
 !> force kernel's end-of-step frame), and the per-element results written in frames.
 !> Pure, over groups of n elements with the element index first, like shell_blt.
 module shell_measures
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, ek
   use paradyn_schema, only: max_integration_points
   use material_j2, only: von_mises_plane_stress
   use shell_section, only: shell_properties_t, stress_components, local_frame, thickness_rule
@@ -62,17 +62,18 @@ contains
   !> has it at the end of a step: local node coordinates xl, yl and projected area, with the same
   !> L = area / longest side as blt_stable_time_step (the sides measured in the element's plane).
   !> An element whose step is not a number (a NaN in the positions) gets huge: the history's NaN
-  !> check names that failure.
+  !> check names that failure. The frame is in the kernel's kind ek; the step, double.
   pure subroutine frame_time_steps(m, xl, yl, area, props, dt_element)
     integer, intent(in) :: m
-    real(wp), intent(in) :: xl(:, :), yl(:, :), area(:)
+    real(ek), intent(in) :: xl(:, :), yl(:, :), area(:)
     type(shell_properties_t), intent(in) :: props
     real(wp), intent(out) :: dt_element(m)
-    real(wp) :: c, longest
+    real(wp) :: c
+    real(ek) :: longest
     integer :: i, k, k1
     c = plate_wave_speed(props)
     do i = 1, m
-      longest = 0.0_wp
+      longest = 0.0_ek
       do k = 1, 4
         k1 = modulo(k, 4) + 1
         longest = max(longest, (xl(i, k1) - xl(i, k))**2 + (yl(i, k1) - yl(i, k))**2)
@@ -83,10 +84,11 @@ contains
   end subroutine frame_time_steps
 
   !> Per-element output: mid-surface membrane stress N / t (local frame), the largest von Mises
-  !> stress and effective plastic strain over the through-thickness points.
+  !> stress and effective plastic strain over the through-thickness points (from the element
+  !> state, of the kernel's kind ek).
   pure subroutine blt_element_results(n, nip, stress, eps_p, membrane, von_mises, plastic_strain)
     integer, intent(in) :: n, nip
-    real(wp), intent(in) :: stress(n, stress_components, nip), eps_p(n, nip)
+    real(ek), intent(in) :: stress(n, stress_components, nip), eps_p(n, nip)
     real(wp), intent(out) :: membrane(n, 3), von_mises(n), plastic_strain(n)
     real(wp) :: zeta(max_integration_points), wgt(max_integration_points)
     integer :: i, k
@@ -96,7 +98,7 @@ contains
       von_mises(i) = 0.0_wp
       do k = 1, nip
         membrane(i, :) = membrane(i, :) + 0.5_wp * wgt(k) * stress(i, 1:3, k)
-        von_mises(i) = max(von_mises(i), von_mises_plane_stress(stress(i, 1:3, k)))
+        von_mises(i) = max(von_mises(i), real(von_mises_plane_stress(stress(i, 1:3, k)), wp))
       end do
       plastic_strain(i) = maxval(eps_p(i, :))
     end do

@@ -25,47 +25,51 @@
 !> (nodal_forces), where they cost a few operations and no extra memory traffic. Pure kernels
 !> over the elements of a group, element index innermost, as shell_blt.
 module shell_warping
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, ek
   use element_groups, only: group_size
   implicit none
   private
   public :: warp_heights, warp_curvature, warp_twist_moment
 
-  !> warp |zw| / sqrt(area) below which an element counts as flat (rounding of a planar quad)
-  real(wp), parameter :: flat_warp = 1.0e-10_wp
+  !> warp |zw| / sqrt(area) below which an element counts as flat (rounding of a planar quad):
+  !> 1e-10 in double; in single (the mixed engine) the rounding of the positions alone is near
+  !> 1e-7, so there it is a hundred times the kind's epsilon (1.2e-5)
+  real(ek), parameter :: flat_warp = max(1.0e-10_ek, 100 * epsilon(1.0_ek))
 
 contains
 
   !> zw of elements o+1..o+m of x (node heights z_I = zw h_I above the mean plane of normal e3
-  !> through the centroid); zero for a flat element or one of area <= 0.
+  !> through the centroid); zero for a flat element or one of area <= 0. The positions are double
+  !> (wp), their differences rounded to the kernel's kind.
   pure subroutine warp_heights(m, ld, o, x, e, area, zw)
     integer, intent(in) :: m, ld, o
-    real(wp), intent(in) :: x(ld, 3, 4), e(group_size, 3, 3), area(group_size)
-    real(wp), intent(out) :: zw(group_size)
-    real(wp) :: hx, hy, hz, a
+    real(wp), intent(in) :: x(ld, 3, 4)
+    real(ek), intent(in) :: e(group_size, 3, 3), area(group_size)
+    real(ek), intent(out) :: zw(group_size)
+    real(ek) :: hx, hy, hz, a
     integer :: i
     do i = 1, m
-      hx = (x(o + i, 1, 1) - x(o + i, 1, 2)) + (x(o + i, 1, 3) - x(o + i, 1, 4))
-      hy = (x(o + i, 2, 1) - x(o + i, 2, 2)) + (x(o + i, 2, 3) - x(o + i, 2, 4))
-      hz = (x(o + i, 3, 1) - x(o + i, 3, 2)) + (x(o + i, 3, 3) - x(o + i, 3, 4))
-      a = merge(area(i), 1.0_wp, area(i) > 0.0_wp)
-      zw(i) = 0.25_wp * (hx * e(i, 1, 3) + hy * e(i, 2, 3) + hz * e(i, 3, 3))
-      zw(i) = merge(zw(i), 0.0_wp, area(i) > 0.0_wp .and. abs(zw(i)) > flat_warp * sqrt(a))
+      hx = real((x(o + i, 1, 1) - x(o + i, 1, 2)) + (x(o + i, 1, 3) - x(o + i, 1, 4)), ek)
+      hy = real((x(o + i, 2, 1) - x(o + i, 2, 2)) + (x(o + i, 2, 3) - x(o + i, 2, 4)), ek)
+      hz = real((x(o + i, 3, 1) - x(o + i, 3, 2)) + (x(o + i, 3, 3) - x(o + i, 3, 4)), ek)
+      a = merge(area(i), 1.0_ek, area(i) > 0.0_ek)
+      zw(i) = 0.25_ek * (hx * e(i, 1, 3) + hy * e(i, 2, 3) + hz * e(i, 3, 3))
+      zw(i) = merge(zw(i), 0.0_ek, area(i) > 0.0_ek .and. abs(zw(i)) > flat_warp * sqrt(a))
     end do
   end subroutine warp_heights
 
   !> Reference curvature (b_xx, b_yy, b_xy) of the twisted mid-surface z = zw xi eta at the centre,
   !> from the shape-function derivatives (xi_x = sum xi_I B1_I, ...).
   elemental subroutine twist_curvature(zw, b11, b12, b13, b14, b21, b22, b23, b24, bxx, byy, bxy)
-    real(wp), intent(in) :: zw, b11, b12, b13, b14, b21, b22, b23, b24
-    real(wp), intent(out) :: bxx, byy, bxy
-    real(wp) :: xi_x, xi_y, eta_x, eta_y
+    real(ek), intent(in) :: zw, b11, b12, b13, b14, b21, b22, b23, b24
+    real(ek), intent(out) :: bxx, byy, bxy
+    real(ek) :: xi_x, xi_y, eta_x, eta_y
     xi_x = (b12 - b11) + (b13 - b14)
     xi_y = (b22 - b21) + (b23 - b24)
     eta_x = (b13 - b11) + (b14 - b12)
     eta_y = (b23 - b21) + (b24 - b22)
-    bxx = 2.0_wp * zw * (xi_x * eta_x)
-    byy = 2.0_wp * zw * (xi_y * eta_y)
+    bxx = 2.0_ek * zw * (xi_x * eta_x)
+    byy = 2.0_ek * zw * (xi_y * eta_y)
     bxy = zw * (xi_x * eta_y + xi_y * eta_x)
   end subroutine twist_curvature
 
@@ -73,18 +77,18 @@ contains
   !> 1..m; wz - spin is the mean of the drilling rates qrate(6:9).
   pure subroutine warp_curvature(m, zw, b1, b2, qrate, rates)
     integer, intent(in) :: m
-    real(wp), intent(in) :: zw(group_size), b1(group_size, 4), b2(group_size, 4), qrate(group_size, 9)
-    real(wp), intent(inout) :: rates(group_size, 8)
-    real(wp) :: bxx, byy, bxy, d
+    real(ek), intent(in) :: zw(group_size), b1(group_size, 4), b2(group_size, 4), qrate(group_size, 9)
+    real(ek), intent(inout) :: rates(group_size, 8)
+    real(ek) :: bxx, byy, bxy, d
     integer :: i
-    if (.not. any(zw(1:m) /= 0.0_wp)) return
+    if (.not. any(zw(1:m) /= 0.0_ek)) return
     do i = 1, m
       call twist_curvature(zw(i), b1(i, 1), b1(i, 2), b1(i, 3), b1(i, 4), b2(i, 1), b2(i, 2), b2(i, 3), b2(i, 4), &
                            bxx, byy, bxy)
-      d = 0.25_wp * ((qrate(i, 6) + qrate(i, 7)) + (qrate(i, 8) + qrate(i, 9)))
-      rates(i, 4) = merge(rates(i, 4) + bxy * d, rates(i, 4), zw(i) /= 0.0_wp)
-      rates(i, 5) = merge(rates(i, 5) - bxy * d, rates(i, 5), zw(i) /= 0.0_wp)
-      rates(i, 6) = merge(rates(i, 6) + (byy - bxx) * d, rates(i, 6), zw(i) /= 0.0_wp)
+      d = 0.25_ek * ((qrate(i, 6) + qrate(i, 7)) + (qrate(i, 8) + qrate(i, 9)))
+      rates(i, 4) = merge(rates(i, 4) + bxy * d, rates(i, 4), zw(i) /= 0.0_ek)
+      rates(i, 5) = merge(rates(i, 5) - bxy * d, rates(i, 5), zw(i) /= 0.0_ek)
+      rates(i, 6) = merge(rates(i, 6) + (byy - bxx) * d, rates(i, 6), zw(i) /= 0.0_ek)
     end do
   end subroutine warp_curvature
 
@@ -93,18 +97,19 @@ contains
   !> (shell_blt's nodal_forces adds the moments of the rigid links and the twist's forces).
   pure subroutine warp_twist_moment(m, ld, o, x, e, area, b1, b2, res, zw, dh)
     integer, intent(in) :: m, ld, o
-    real(wp), intent(in) :: x(ld, 3, 4), e(group_size, 3, 3), area(group_size)
-    real(wp), intent(in) :: b1(group_size, 4), b2(group_size, 4), res(group_size, 8)
-    real(wp), intent(out) :: zw(group_size), dh(group_size)
-    real(wp) :: bxx, byy, bxy
+    real(wp), intent(in) :: x(ld, 3, 4)
+    real(ek), intent(in) :: e(group_size, 3, 3), area(group_size)
+    real(ek), intent(in) :: b1(group_size, 4), b2(group_size, 4), res(group_size, 8)
+    real(ek), intent(out) :: zw(group_size), dh(group_size)
+    real(ek) :: bxx, byy, bxy
     integer :: i
     call warp_heights(m, ld, o, x, e, area, zw)
-    dh = 0.0_wp
-    if (.not. any(zw(1:m) /= 0.0_wp)) return
+    dh = 0.0_ek
+    if (.not. any(zw(1:m) /= 0.0_ek)) return
     do i = 1, m
       call twist_curvature(zw(i), b1(i, 1), b1(i, 2), b1(i, 3), b1(i, 4), b2(i, 1), b2(i, 2), b2(i, 3), b2(i, 4), &
                            bxx, byy, bxy)
-      dh(i) = 0.5_wp * area(i) * ((res(i, 4) - res(i, 5)) * bxy + res(i, 6) * (byy - bxx))
+      dh(i) = 0.5_ek * area(i) * ((res(i, 4) - res(i, 5)) * bxy + res(i, 6) * (byy - bxx))
     end do
   end subroutine warp_twist_moment
 

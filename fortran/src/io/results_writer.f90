@@ -65,6 +65,7 @@ module results_writer
     real(wp) :: load_imbalance = 1   !< busiest rank's element + contact time over the mean
     real(wp) :: setup_s = 0          !< rank 0's wall seconds from MPI start-up to the time loop
     real(wp) :: messages_per_step = 0, bytes_sent_per_step = 0, bytes_received_per_step = 0   !< largest of any rank
+    character(len=:), allocatable :: precision   !< the engine's: "double" or "mixed"
     type(effect_table_t) :: effects  !< what ran, with its counters and rank 0's seconds
     ! per contact pair: its two parts (0-based) and the cycles it ran its stages or was idle
     integer(i8), allocatable :: pair_parts(:), pair_active_cycles(:), pair_skipped_cycles(:)
@@ -355,6 +356,7 @@ contains
     call write_real_attribute(group, 'messages_per_step', run%messages_per_step)
     call write_real_attribute(group, 'bytes_sent_per_step', run%bytes_sent_per_step)
     call write_real_attribute(group, 'bytes_received_per_step', run%bytes_received_per_step)
+    if (allocated(run%precision)) call write_string_attribute(group, 'precision', run%precision)
     call write_string_attribute(group, 'effects', effect_list(run%effects, .false.))
     call write_string_attribute(group, 'effects_off', effect_list(run%effects, .true.))
     call h5gclose_f(group, err)

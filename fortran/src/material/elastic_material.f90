@@ -1,6 +1,6 @@
 !> The linear elastic member of the material family (schema name "elastic").
 module elastic_material
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, ek
   use material_model, only: material_t
   use material_j2, only: elastic_plane_stress_update_points
   implicit none
@@ -20,9 +20,9 @@ contains
   pure subroutine elastic_update_points(self, m, stress, back, eps_p, dstrain)
     class(elastic_material_t), intent(in) :: self
     integer, intent(in) :: m
-    real(wp), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
-    real(wp), intent(in), contiguous :: dstrain(:, :)
-    call elastic_plane_stress_update_points(m, stress, dstrain, self%young, self%poisson)
+    real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
+    real(ek), intent(in), contiguous :: dstrain(:, :)
+    call elastic_plane_stress_update_points(m, stress, dstrain, real(self%young, ek), real(self%poisson, ek))
   end subroutine elastic_update_points
 
   pure integer function elastic_back_points(self, nip) result(points)

@@ -1,7 +1,7 @@
 !> The J2 plasticity member of the material family (schema name "j2_plasticity"): plane stress,
 !> linear combined isotropic/kinematic hardening, radial return (material_j2).
 module j2_material
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, ek
   use material_model, only: material_t
   use material_j2, only: j2_plane_stress_update_points, j2_kinematic_modulus
   implicit none
@@ -24,10 +24,11 @@ contains
   pure subroutine j2_update_points(self, m, stress, back, eps_p, dstrain)
     class(j2_material_t), intent(in) :: self
     integer, intent(in) :: m
-    real(wp), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
-    real(wp), intent(in), contiguous :: dstrain(:, :)
-    call j2_plane_stress_update_points(m, stress, back, eps_p, dstrain, self%young, self%poisson, &
-                                       self%yield_stress, self%tangent_modulus, self%hardening_mixing)
+    real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
+    real(ek), intent(in), contiguous :: dstrain(:, :)
+    call j2_plane_stress_update_points(m, stress, back, eps_p, dstrain, real(self%young, ek), &
+                                       real(self%poisson, ek), real(self%yield_stress, ek), &
+                                       real(self%tangent_modulus, ek), real(self%hardening_mixing, ek))
   end subroutine j2_update_points
 
   !> Every point with kinematic hardening; none for perfect plasticity or purely isotropic

@@ -4,8 +4,9 @@
 !> J2 plasticity with linear combined isotropic/kinematic hardening and a radial return that
 !> satisfies the plane-stress condition exactly (Simo & Taylor 1986; Simo & Hughes,
 !> Computational Inelasticity, 1998, sec. 3.4). Stress vectors are (sxx, syy, sxy).
+!> The laws compute in the element kernel's kind ek (core/kinds.f90): single in the mixed engine.
 module material_j2
-  use paradyn_kinds, only: wp, i8
+  use paradyn_kinds, only: wp, ek, i8
   implicit none
   private
   public :: elastic_plane_stress_update, j2_plane_stress_update, von_mises_plane_stress
@@ -15,23 +16,28 @@ module material_j2
   !> points per pass of j2_plane_stress_update_points (one element group's worth): fixed-size
   !> local arrays, no allocation
   integer, parameter :: batch = 64
+  !> the return's stopping tests: |f| below f_tolerance yield0^2, or a bracket closed to
+  !> bracket_tolerance of its upper end. 1e-13 and 1e-15 in double; single precision (the mixed
+  !> engine) cannot reach those, so there they are a few times the kind's epsilon (1.2e-7)
+  real(ek), parameter :: f_tolerance = max(1.0e-13_ek, 100 * epsilon(1.0_ek))
+  real(ek), parameter :: bracket_tolerance = max(1.0e-15_ek, 4 * epsilon(1.0_ek))
 
 contains
 
   !> Linear elastic plane-stress increment: stress += C * dstrain (dstrain has engineering shear).
   pure subroutine elastic_plane_stress_update(stress, dstrain, young, poisson)
-    real(wp), intent(inout) :: stress(3)
-    real(wp), intent(in) :: dstrain(3), young, poisson
-    real(wp) :: c
-    c = young / (1.0_wp - poisson**2)
+    real(ek), intent(inout) :: stress(3)
+    real(ek), intent(in) :: dstrain(3), young, poisson
+    real(ek) :: c
+    c = young / (1.0_ek - poisson**2)
     stress(1) = stress(1) + c * (dstrain(1) + poisson * dstrain(2))
     stress(2) = stress(2) + c * (dstrain(2) + poisson * dstrain(1))
-    stress(3) = stress(3) + c * 0.5_wp * (1.0_wp - poisson) * dstrain(3)
+    stress(3) = stress(3) + c * 0.5_ek * (1.0_ek - poisson) * dstrain(3)
   end subroutine elastic_plane_stress_update
 
-  pure real(wp) function von_mises_plane_stress(s) result(vm)
-    real(wp), intent(in) :: s(3)
-    vm = sqrt(max(s(1)**2 - s(1) * s(2) + s(2)**2 + 3.0_wp * s(3)**2, 0.0_wp))
+  pure real(ek) function von_mises_plane_stress(s) result(vm)
+    real(ek), intent(in) :: s(3)
+    vm = sqrt(max(s(1)**2 - s(1) * s(2) + s(2)**2 + 3.0_ek * s(3)**2, 0.0_ek))
   end function von_mises_plane_stress
 
   !> Kinematic hardening modulus (1 - beta) H, H = E Et / (E - Et): zero for perfect plasticity
@@ -49,92 +55,92 @@ contains
   !> diagonal, for the consistency parameter dgamma by safeguarded Newton iteration.
   pure subroutine j2_plane_stress_update(stress, back, eps_p, dstrain, young, poisson, &
                                          yield0, tangent, beta)
-    real(wp), intent(inout) :: stress(3), back(3), eps_p
-    real(wp), intent(in) :: dstrain(3), young, poisson, yield0, tangent, beta
-    real(wp) :: h, h_iso, h_kin, shear, c1, c2, a1t, a2t, a3t, psi_trial, sy
-    real(wp) :: dgamma, lo, hi, f, df, psi, s1, s2, a1, a2, a3
-    real(wp) :: xi(3)
+    real(ek), intent(inout) :: stress(3), back(3), eps_p
+    real(ek), intent(in) :: dstrain(3), young, poisson, yield0, tangent, beta
+    real(ek) :: h, h_iso, h_kin, shear, c1, c2, a1t, a2t, a3t, psi_trial, sy
+    real(ek) :: dgamma, lo, hi, f, df, psi, s1, s2, a1, a2, a3
+    real(ek) :: xi(3)
     integer :: iter
 
     call elastic_plane_stress_update(stress, dstrain, young, poisson)
     xi = stress - back
     h = young * tangent / (young - tangent)
     h_iso = beta * h
-    h_kin = (1.0_wp - beta) * h
+    h_kin = (1.0_ek - beta) * h
     sy = yield0 + h_iso * eps_p
     if (von_mises_plane_stress(xi) <= sy) return
 
-    shear = young / (2.0_wp * (1.0_wp + poisson))
-    c1 = young / (3.0_wp * (1.0_wp - poisson)) + 2.0_wp * h_kin / 3.0_wp
-    c2 = 2.0_wp * shear + 2.0_wp * h_kin / 3.0_wp
-    a1t = (xi(1) + xi(2)) / sqrt(2.0_wp)
-    a2t = (xi(2) - xi(1)) / sqrt(2.0_wp)
+    shear = young / (2.0_ek * (1.0_ek + poisson))
+    c1 = young / (3.0_ek * (1.0_ek - poisson)) + 2.0_ek * h_kin / 3.0_ek
+    c2 = 2.0_ek * shear + 2.0_ek * h_kin / 3.0_ek
+    a1t = (xi(1) + xi(2)) / sqrt(2.0_ek)
+    a2t = (xi(2) - xi(1)) / sqrt(2.0_ek)
     a3t = xi(3)
-    psi_trial = a1t**2 / 3.0_wp + a2t**2 + 2.0_wp * a3t**2
+    psi_trial = a1t**2 / 3.0_ek + a2t**2 + 2.0_ek * a3t**2
 
     ! f(dgamma) = psi/2 - sy^2/3 decreases monotonically from f(0) > 0.
-    lo = 0.0_wp
-    hi = 1.0_wp / c2
+    lo = 0.0_ek
+    hi = 1.0_ek / c2
     do iter = 1, 200
-      if (yield_function(hi) < 0.0_wp) exit
-      hi = 2.0_wp * hi
+      if (yield_function(hi) < 0.0_ek) exit
+      hi = 2.0_ek * hi
     end do
-    dgamma = 0.0_wp
+    dgamma = 0.0_ek
     do iter = 1, 100
       call evaluate(dgamma, f, df)
-      if (f > 0.0_wp) then
+      if (f > 0.0_ek) then
         lo = dgamma
       else
         hi = dgamma
       end if
-      if (abs(f) <= 1.0e-13_wp * yield0**2) exit
+      if (abs(f) <= f_tolerance * yield0**2) exit
       dgamma = dgamma - f / df
-      if (dgamma <= lo .or. dgamma >= hi .or. df >= 0.0_wp) dgamma = 0.5_wp * (lo + hi)
-      if (hi - lo <= 1.0e-15_wp * hi) exit
+      if (dgamma <= lo .or. dgamma >= hi .or. df >= 0.0_ek) dgamma = 0.5_ek * (lo + hi)
+      if (hi - lo <= bracket_tolerance * hi) exit
     end do
 
-    s1 = 1.0_wp / (1.0_wp + dgamma * c1)
-    s2 = 1.0_wp / (1.0_wp + dgamma * c2)
+    s1 = 1.0_ek / (1.0_ek + dgamma * c1)
+    s2 = 1.0_ek / (1.0_ek + dgamma * c2)
     a1 = a1t * s1
     a2 = a2t * s2
     a3 = a3t * s2
-    psi = a1**2 / 3.0_wp + a2**2 + 2.0_wp * a3**2
-    xi(1) = (a1 - a2) / sqrt(2.0_wp)
-    xi(2) = (a1 + a2) / sqrt(2.0_wp)
+    psi = a1**2 / 3.0_ek + a2**2 + 2.0_ek * a3**2
+    xi(1) = (a1 - a2) / sqrt(2.0_ek)
+    xi(2) = (a1 + a2) / sqrt(2.0_ek)
     xi(3) = a3
     ! back stress moves along the relative stress, (2/3) h_kin dgamma xi (Simo & Hughes, Box 3.3):
     ! under uniaxial stress it stays uniaxial and the plastic modulus is h_kin
-    back = back + 2.0_wp / 3.0_wp * h_kin * dgamma * xi
-    eps_p = eps_p + dgamma * sqrt(2.0_wp * psi / 3.0_wp)
+    back = back + 2.0_ek / 3.0_ek * h_kin * dgamma * xi
+    eps_p = eps_p + dgamma * sqrt(2.0_ek * psi / 3.0_ek)
     stress = xi + back
 
   contains
 
-    pure real(wp) function yield_function(dg) result(fv)
-      real(wp), intent(in) :: dg
-      real(wp) :: d
+    pure real(ek) function yield_function(dg) result(fv)
+      real(ek), intent(in) :: dg
+      real(ek) :: d
       call evaluate(dg, fv, d)
     end function yield_function
 
     pure subroutine evaluate(dg, fv, dfv)
-      real(wp), intent(in) :: dg
-      real(wp), intent(out) :: fv, dfv
-      real(wp), parameter :: third = 1.0_wp / 3.0_wp
-      real(wp) :: t1, t2, u1, u2, r12, p, dp, root, de, dde, sy_new
+      real(ek), intent(in) :: dg
+      real(ek), intent(out) :: fv, dfv
+      real(ek), parameter :: third = 1.0_ek / 3.0_ek
+      real(ek) :: t1, t2, u1, u2, r12, p, dp, root, de, dde, sy_new
       ! one division for both factors 1 / (1 + dg c), thirds as products (yield_functions)
-      u1 = 1.0_wp + dg * c1
-      u2 = 1.0_wp + dg * c2
-      r12 = 1.0_wp / (u1 * u2)
+      u1 = 1.0_ek + dg * c1
+      u2 = 1.0_ek + dg * c2
+      r12 = 1.0_ek / (u1 * u2)
       t1 = r12 * u2
       t2 = r12 * u1
-      p = (a1t * t1)**2 * third + (a2t**2 + 2.0_wp * a3t**2) * t2**2
-      dp = -2.0_wp * ((a1t * t1)**2 * third * c1 * t1 + (a2t**2 + 2.0_wp * a3t**2) * t2**2 * c2 * t2)
-      root = sqrt(max(2.0_wp * p * third, 0.0_wp))
+      p = (a1t * t1)**2 * third + (a2t**2 + 2.0_ek * a3t**2) * t2**2
+      dp = -2.0_ek * ((a1t * t1)**2 * third * c1 * t1 + (a2t**2 + 2.0_ek * a3t**2) * t2**2 * c2 * t2)
+      root = sqrt(max(2.0_ek * p * third, 0.0_ek))
       de = dg * root
-      dde = root + merge(dg * dp * third / root, 0.0_wp, root > 0.0_wp)
+      dde = root + merge(dg * dp * third / root, 0.0_ek, root > 0.0_ek)
       sy_new = yield0 + h_iso * (eps_p + de)
-      fv = 0.5_wp * p - sy_new**2 * third
-      dfv = 0.5_wp * dp - 2.0_wp * third * sy_new * h_iso * dde
+      fv = 0.5_ek * p - sy_new**2 * third
+      dfv = 0.5_ek * dp - 2.0_ek * third * sy_new * h_iso * dde
     end subroutine evaluate
 
   end subroutine j2_plane_stress_update
@@ -142,16 +148,16 @@ contains
   !> elastic_plane_stress_update for points 1..m of arrays laid out point first (stress(:, 1:3))
   pure subroutine elastic_plane_stress_update_points(m, stress, dstrain, young, poisson)
     integer, intent(in) :: m
-    real(wp), intent(inout), contiguous :: stress(:, :)
-    real(wp), intent(in), contiguous :: dstrain(:, :)
-    real(wp), intent(in) :: young, poisson
-    real(wp) :: c
+    real(ek), intent(inout), contiguous :: stress(:, :)
+    real(ek), intent(in), contiguous :: dstrain(:, :)
+    real(ek), intent(in) :: young, poisson
+    real(ek) :: c
     integer :: i
-    c = young / (1.0_wp - poisson**2)
+    c = young / (1.0_ek - poisson**2)
     do i = 1, m
       stress(i, 1) = stress(i, 1) + c * (dstrain(i, 1) + poisson * dstrain(i, 2))
       stress(i, 2) = stress(i, 2) + c * (dstrain(i, 2) + poisson * dstrain(i, 1))
-      stress(i, 3) = stress(i, 3) + c * 0.5_wp * (1.0_wp - poisson) * dstrain(i, 3)
+      stress(i, 3) = stress(i, 3) + c * 0.5_ek * (1.0_ek - poisson) * dstrain(i, 3)
     end do
   end subroutine elastic_plane_stress_update_points
 
@@ -162,22 +168,22 @@ contains
   pure subroutine j2_plane_stress_update_points(m, stress, back, eps_p, dstrain, young, poisson, &
                                                 yield0, tangent, beta)
     integer, intent(in) :: m
-    real(wp), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
-    real(wp), intent(in), contiguous :: dstrain(:, :)
-    real(wp), intent(in) :: young, poisson, yield0, tangent, beta
-    real(wp), parameter :: root2 = sqrt(2.0_wp)
-    real(wp) :: c, h, h_iso, h_kin, shear, c1, c2, s1, s2, a1, a2, a3, psi, x1, x2, x3
-    real(wp) :: a1t(batch), a2t(batch), a3t(batch), ep(batch), dgamma(batch)
+    real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
+    real(ek), intent(in), contiguous :: dstrain(:, :)
+    real(ek), intent(in) :: young, poisson, yield0, tangent, beta
+    real(ek), parameter :: root2 = sqrt(2.0_ek)
+    real(ek) :: c, h, h_iso, h_kin, shear, c1, c2, s1, s2, a1, a2, a3, psi, x1, x2, x3
+    real(ek) :: a1t(batch), a2t(batch), a3t(batch), ep(batch), dgamma(batch)
     logical :: yielding(batch)
     integer :: idx(batch), first, nb, i, j, np
 
-    c = young / (1.0_wp - poisson**2)
+    c = young / (1.0_ek - poisson**2)
     h = young * tangent / (young - tangent)
     h_iso = beta * h
-    h_kin = (1.0_wp - beta) * h
-    shear = young / (2.0_wp * (1.0_wp + poisson))
-    c1 = young / (3.0_wp * (1.0_wp - poisson)) + 2.0_wp * h_kin / 3.0_wp
-    c2 = 2.0_wp * shear + 2.0_wp * h_kin / 3.0_wp
+    h_kin = (1.0_ek - beta) * h
+    shear = young / (2.0_ek * (1.0_ek + poisson))
+    c1 = young / (3.0_ek * (1.0_ek - poisson)) + 2.0_ek * h_kin / 3.0_ek
+    c2 = 2.0_ek * shear + 2.0_ek * h_kin / 3.0_ek
     ! loop bodies use scalars only: a small array such as xi(3) inside stops the vectoriser
     do first = 1, m, batch
       nb = min(batch, m - first + 1)
@@ -185,12 +191,12 @@ contains
       do i = first, first + nb - 1
         stress(i, 1) = stress(i, 1) + c * (dstrain(i, 1) + poisson * dstrain(i, 2))
         stress(i, 2) = stress(i, 2) + c * (dstrain(i, 2) + poisson * dstrain(i, 1))
-        stress(i, 3) = stress(i, 3) + c * 0.5_wp * (1.0_wp - poisson) * dstrain(i, 3)
+        stress(i, 3) = stress(i, 3) + c * 0.5_ek * (1.0_ek - poisson) * dstrain(i, 3)
         x1 = stress(i, 1) - back(i, 1)
         x2 = stress(i, 2) - back(i, 2)
         x3 = stress(i, 3) - back(i, 3)
         ! (a NaN does not yield here, where the scalar version would iterate on it)
-        yielding(i - first + 1) = sqrt(max(x1**2 - x1 * x2 + x2**2 + 3.0_wp * x3**2, 0.0_wp)) &
+        yielding(i - first + 1) = sqrt(max(x1**2 - x1 * x2 + x2**2 + 3.0_ek * x3**2, 0.0_ek)) &
                                   > yield0 + h_iso * eps_p(i)
       end do
       if (.not. any(yielding(1:nb))) cycle   ! most batches stay elastic: no gather, no return
@@ -214,18 +220,18 @@ contains
       call return_points(np, a1t, a2t, a3t, ep, c1, c2, yield0, h_iso, dgamma)
       ! the returned state, in the compact arrays, then scattered back
       do j = 1, np
-        s1 = 1.0_wp / (1.0_wp + dgamma(j) * c1)
-        s2 = 1.0_wp / (1.0_wp + dgamma(j) * c2)
+        s1 = 1.0_ek / (1.0_ek + dgamma(j) * c1)
+        s2 = 1.0_ek / (1.0_ek + dgamma(j) * c2)
         a1 = a1t(j) * s1
         a2 = a2t(j) * s2
         a3 = a3t(j) * s2
-        psi = a1**2 / 3.0_wp + a2**2 + 2.0_wp * a3**2
-        ep(j) = ep(j) + dgamma(j) * sqrt(2.0_wp * psi / 3.0_wp)
+        psi = a1**2 / 3.0_ek + a2**2 + 2.0_ek * a3**2
+        ep(j) = ep(j) + dgamma(j) * sqrt(2.0_ek * psi / 3.0_ek)
         ! xi, kept in a1t, a2t, a3t
         a1t(j) = (a1 - a2) / root2
         a2t(j) = (a1 + a2) / root2
         a3t(j) = a3
-        dgamma(j) = 2.0_wp / 3.0_wp * h_kin * dgamma(j)
+        dgamma(j) = 2.0_ek / 3.0_ek * h_kin * dgamma(j)
       end do
       do j = 1, np
         i = idx(j)
@@ -247,39 +253,39 @@ contains
   !> needs is moved into that branch, which the vectoriser then cannot if-convert (it may trap).
   pure subroutine return_points(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dgamma)
     integer, intent(in) :: np
-    real(wp), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0, h_iso
-    real(wp), intent(out) :: dgamma(np)
-    real(wp) :: lo(batch), hi(batch), f(batch), df(batch), newton, bisection
+    real(ek), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0, h_iso
+    real(ek), intent(out) :: dgamma(np)
+    real(ek) :: lo(batch), hi(batch), f(batch), df(batch), newton, bisection
     logical :: grow(batch), converged
     ! 1 while a point iterates: 64-bit flags, as GCC 12 cannot select doubles by a logical array
     integer(i8) :: active(batch)
     integer :: iter, j
 
     ! bracket: a point stops doubling at f(hi) < 0, and f(hi) then stays < 0
-    hi(1:np) = 1.0_wp / c2
+    hi(1:np) = 1.0_ek / c2
     do iter = 1, 200
       call yield_functions(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, hi, f, df)
       do j = 1, np
-        grow(j) = .not. (f(j) < 0.0_wp)
-        hi(j) = hi(j) * merge(2.0_wp, 1.0_wp, grow(j))
+        grow(j) = .not. (f(j) < 0.0_ek)
+        hi(j) = hi(j) * merge(2.0_ek, 1.0_ek, grow(j))
       end do
       if (.not. any(grow(1:np))) exit
     end do
-    lo(1:np) = 0.0_wp
-    dgamma = 0.0_wp
+    lo(1:np) = 0.0_ek
+    dgamma = 0.0_ek
     active(1:np) = 1
     do iter = 1, 100
       call yield_functions(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dgamma, f, df)
       do j = 1, np
-        lo(j) = merge(dgamma(j), lo(j), active(j) == 1 .and. f(j) > 0.0_wp)
-        hi(j) = merge(dgamma(j), hi(j), active(j) == 1 .and. .not. (f(j) > 0.0_wp))
+        lo(j) = merge(dgamma(j), lo(j), active(j) == 1 .and. f(j) > 0.0_ek)
+        hi(j) = merge(dgamma(j), hi(j), active(j) == 1 .and. .not. (f(j) > 0.0_ek))
         ! stop on a small |f| keeping dgamma, or on a closed bracket after the step
-        converged = abs(f(j)) <= 1.0e-13_wp * yield0**2
+        converged = abs(f(j)) <= f_tolerance * yield0**2
         newton = dgamma(j) - f(j) / df(j)
-        bisection = 0.5_wp * (lo(j) + hi(j))
-        newton = merge(bisection, newton, newton <= lo(j) .or. newton >= hi(j) .or. df(j) >= 0.0_wp)
+        bisection = 0.5_ek * (lo(j) + hi(j))
+        newton = merge(bisection, newton, newton <= lo(j) .or. newton >= hi(j) .or. df(j) >= 0.0_ek)
         dgamma(j) = merge(newton, dgamma(j), active(j) == 1 .and. .not. converged)
-        active(j) = merge(active(j), 0_i8, .not. converged .and. .not. (hi(j) - lo(j) <= 1.0e-15_wp * hi(j)))
+        active(j) = merge(active(j), 0_i8, .not. converged .and. .not. (hi(j) - lo(j) <= bracket_tolerance * hi(j)))
       end do
       if (all(active(1:np) == 0)) exit
     end do
@@ -291,25 +297,25 @@ contains
   !> come from one division of their product, and the thirds are products with 1/3.
   pure subroutine yield_functions(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dg, fv, dfv)
     integer, intent(in) :: np
-    real(wp), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0, h_iso, dg(np)
-    real(wp), intent(out) :: fv(np), dfv(np)
-    real(wp), parameter :: third = 1.0_wp / 3.0_wp
-    real(wp) :: t1, t2, u1, u2, r12, p, dp, root, de, dde, sy_new
+    real(ek), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0, h_iso, dg(np)
+    real(ek), intent(out) :: fv(np), dfv(np)
+    real(ek), parameter :: third = 1.0_ek / 3.0_ek
+    real(ek) :: t1, t2, u1, u2, r12, p, dp, root, de, dde, sy_new
     integer :: j
     do j = 1, np
-      u1 = 1.0_wp + dg(j) * c1
-      u2 = 1.0_wp + dg(j) * c2
-      r12 = 1.0_wp / (u1 * u2)
+      u1 = 1.0_ek + dg(j) * c1
+      u2 = 1.0_ek + dg(j) * c2
+      r12 = 1.0_ek / (u1 * u2)
       t1 = r12 * u2
       t2 = r12 * u1
-      p = (a1t(j) * t1)**2 * third + (a2t(j)**2 + 2.0_wp * a3t(j)**2) * t2**2
-      dp = -2.0_wp * ((a1t(j) * t1)**2 * third * c1 * t1 + (a2t(j)**2 + 2.0_wp * a3t(j)**2) * t2**2 * c2 * t2)
-      root = sqrt(max(2.0_wp * p * third, 0.0_wp))
+      p = (a1t(j) * t1)**2 * third + (a2t(j)**2 + 2.0_ek * a3t(j)**2) * t2**2
+      dp = -2.0_ek * ((a1t(j) * t1)**2 * third * c1 * t1 + (a2t(j)**2 + 2.0_ek * a3t(j)**2) * t2**2 * c2 * t2)
+      root = sqrt(max(2.0_ek * p * third, 0.0_ek))
       de = dg(j) * root
-      dde = root + merge(dg(j), 0.0_wp, root > 0.0_wp) * dp * third / merge(root, 1.0_wp, root > 0.0_wp)
+      dde = root + merge(dg(j), 0.0_ek, root > 0.0_ek) * dp * third / merge(root, 1.0_ek, root > 0.0_ek)
       sy_new = yield0 + h_iso * (eps_p(j) + de)
-      fv(j) = 0.5_wp * p - sy_new**2 * third
-      dfv(j) = 0.5_wp * dp - 2.0_wp * third * sy_new * h_iso * dde
+      fv(j) = 0.5_ek * p - sy_new**2 * third
+      dfv(j) = 0.5_ek * dp - 2.0_ek * third * sy_new * h_iso * dde
     end do
   end subroutine yield_functions
 

@@ -3,7 +3,7 @@
 !> says how much state per point it keeps. Members: elastic_material (elastic), j2_material
 !> (J2 plasticity with combined hardening); material_factory makes one from its schema name.
 module material_model
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, ek
   implicit none
   private
   public :: material_t
@@ -13,7 +13,8 @@ module material_model
     real(wp) :: poisson = 0.0_wp   !< Poisson's ratio
   contains
     !> stress(1:m, 1:3) += the law's response to dstrain(1:m, 1:3) (engineering shear), updating
-    !> the back stress and plastic strain of points that store them
+    !> the back stress and plastic strain of points that store them; in the element kernel's kind
+    !> ek (single in the mixed engine), the law's constants rounded to it
     procedure(update_points_interface), deferred :: update_points
     !> Through-thickness points that store a back stress, of nip (0 where it stays zero)
     procedure(back_points_interface), deferred :: back_stress_points
@@ -25,11 +26,11 @@ module material_model
 
   abstract interface
     pure subroutine update_points_interface(self, m, stress, back, eps_p, dstrain)
-      import :: material_t, wp
+      import :: material_t, ek
       class(material_t), intent(in) :: self
       integer, intent(in) :: m
-      real(wp), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
-      real(wp), intent(in), contiguous :: dstrain(:, :)
+      real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
+      real(ek), intent(in), contiguous :: dstrain(:, :)
     end subroutine update_points_interface
 
     pure integer function back_points_interface(self, nip) result(points)

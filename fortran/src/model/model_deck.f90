@@ -2,7 +2,7 @@
 !> dataset and /control attribute of the schema (paradyn_schema) goes in deck_t, and the checks
 !> of relations between fields that the schema's per-field rules (deck_rules) cannot express.
 module model_deck
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, ek
   use shell_section, only: shell_properties_t
   use paradyn_schema, only: material_j2_plasticity, contact_kind_single_surface, size_none, deck_datasets, &
                             class_float, class_int, &
@@ -31,7 +31,7 @@ module model_deck
                             control_time_step_floor, control_contact_travel_limit, &
                             control_mass_scaling_step, control_mass_scaling_limit, &
                             n_effects, effect_switch, &
-                            switch_off, &
+                            switch_off, control_precision, precision_double, precision_mixed, enum_precision, &
                             dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
                             dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
                             dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
@@ -42,11 +42,13 @@ module model_deck
   use integer_sort, only: sort_ascending
   implicit none
   private
-  public :: deck_t, part_properties, partition_default
+  public :: deck_t, part_properties, partition_default, engine_precision
   public :: store_deck_field, store_control_value, check_deck_relations
 
   !> The method when /control has no partition attribute (schema default; docs/performance.md).
   integer, parameter :: partition_default = nint(control_attributes(control_partition)%default)
+  !> This engine's precision (precision_double or precision_mixed): the kind of its element kernel
+  integer, parameter :: engine_precision = merge(precision_mixed, precision_double, ek /= wp)
 
   type :: deck_t
     integer :: n_nodes = 0, n_elements = 0, n_parts = 0, n_materials = 0
@@ -87,6 +89,7 @@ module model_deck
     real(wp) :: mass_scaling_limit = 0.05_wp          !< the most added mass, as a fraction of the model's
     integer :: partition = partition_default          !< partition_blocks or partition_rcb; 0 = unknown name
     integer :: contact_gather = contact_gather_near   !< which contact nodes are gathered between sorts
+    integer :: precision = precision_double           !< the precision the deck asks for (/control precision)
     logical :: effect_on(n_effects) = .true.          !< false: the scene switched the effect off (/control effect_*)
     character(len=16), allocatable :: fingerprint_groups(:)   !< "nodes", ..., "control" (deck_fingerprint)
     real(wp), allocatable :: fingerprints(:)                  !< one 32-bit hash per group, held exactly
@@ -281,6 +284,8 @@ contains
       d%partition = nint(value)
     case (control_contact_gather)
       d%contact_gather = nint(value)
+    case (control_precision)
+      d%precision = nint(value)
     case (control_gravity_x)
       d%gravity(1) = value
     case (control_gravity_y)
@@ -306,6 +311,12 @@ contains
 
     status = status_bad_input
     message = ''
+    if (d%precision /= engine_precision) then
+      message = '/control precision = "'//enum_name(enum_precision, d%precision)//'" but this engine computes in '// &
+                enum_name(enum_precision, engine_precision)//' precision; run paradyn-engine'//trim(merge('-mixed', &
+                '      ', d%precision == precision_mixed))//' (paradyn-run picks it from the deck), or change [run] precision'
+      return
+    end if
     do i = 1, d%n_elements
       do k = 1, 4
         do j = k + 1, 4

@@ -3,9 +3,9 @@
 !> the run record and checkpoints. (The loads are members of the effect pipeline.)
 module run_control
   use paradyn_kinds, only: wp
-  use model_deck, only: deck_t
+  use model_deck, only: deck_t, engine_precision
   use domain_decomposition, only: domain_t, local_node
-  use paradyn_schema, only: contact_gather_all, enum_name, enum_partition
+  use paradyn_schema, only: contact_gather_all, enum_name, enum_partition, enum_precision
   implicit none
   private
   public :: run_control_t, run_control_setup
@@ -22,6 +22,7 @@ module run_control
     integer :: n_tracked = 0
     integer, allocatable :: tracked_local(:) !< local node of each tracked node where this rank owns it, else 0
     character(len=:), allocatable :: partition
+    character(len=:), allocatable :: precision   !< this engine's: "double" or "mixed" (the deck asked for it)
     logical :: contact_gather_all = .false.  !< /control contact_gather = "all": every contact node every step
     integer, allocatable :: contact_pairs(:, :)   !< (2, pairs): the deck's part pairs, for the effect table
     character(len=16), allocatable :: fingerprint_groups(:)   !< the deck's, for the checkpoint
@@ -56,6 +57,7 @@ contains
       rc%tracked_local(k) = j
     end do
     rc%partition = enum_name(enum_partition, deck%partition)
+    rc%precision = enum_name(enum_precision, engine_precision)
     rc%contact_gather_all = deck%contact_gather == contact_gather_all
     rc%contact_pairs = deck%contact_pairs(:, 1:deck%n_contacts)
     rc%fingerprint_groups = deck%fingerprint_groups

@@ -122,7 +122,7 @@ contains
         x = s%nodes%x(:, s%dom%connectivity(:, first + i - 1))
         area = 0.5_wp * norm2(cross(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2)))
         energies(2 * np + p) = energies(2 * np + p) + area * props%thickness * 0.5_wp * &
-          sum(wgt(1:nip) * props%material%dissipated_work(s%elements%groups(g)%eps_p(i, :)))
+          sum(wgt(1:nip) * props%material%dissipated_work(real(s%elements%groups(g)%eps_p(i, :), wp)))
       end do
       end associate
     end do
@@ -227,6 +227,7 @@ contains
                                             + s%timers%output), 0.0_wp), &
          s%contact%c%time_sort, s%contact%c%time_search, s%contact%c%time_force]
     call MPI_Bcast(t, size(t), MPI_DOUBLE_PRECISION, 0, s%halo%comm)
+    run%precision = s%control%precision
     run%effects = s%effects
     run%effects%seconds(effect_time_integration) = run%effects%seconds(effect_time_integration) + s%timers%nodes
     ! rank 0's counts too: a member that holds nothing on a rank may skip there (attributes must agree)
