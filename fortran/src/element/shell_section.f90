@@ -6,6 +6,7 @@ module shell_section
   use vector_algebra, only: cross
   use material_model, only: material_t
   use paradyn_schema, only: hourglass_physical
+  use gauss_legendre, only: gauss_zeta, gauss_weight
   implicit none
   private
   public :: shell_properties_t, stress_components, hourglass_components, shear_correction
@@ -46,27 +47,8 @@ contains
   pure subroutine thickness_rule(n, zeta, weight)
     integer, intent(in) :: n
     real(wp), intent(out) :: zeta(n), weight(n)
-    real(wp), parameter :: pi = acos(-1.0_wp)
-    real(wp) :: x, p0, p1, p2, dp
-    integer :: i, k, iter
-    do i = 1, n
-      x = -cos(pi * (real(i, wp) - 0.25_wp) / (real(n, wp) + 0.5_wp))
-      do iter = 1, 100
-        p0 = 1.0_wp
-        p1 = x
-        do k = 2, n
-          p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k
-          p0 = p1
-          p1 = p2
-        end do
-        if (n == 1) p0 = 1.0_wp
-        dp = n * (x * p1 - p0) / (x * x - 1.0_wp)
-        if (abs(p1 / dp) < 1.0e-16_wp) exit
-        x = x - p1 / dp
-      end do
-      zeta(i) = x
-      weight(i) = 2.0_wp / ((1.0_wp - x * x) * dp * dp)
-    end do
+    zeta = gauss_zeta(1:n, n)
+    weight = gauss_weight(1:n, n)
   end subroutine thickness_rule
 
   !> Co-rotational frame of a quadrilateral: e3 normal to both diagonals, e1 along the mean of the
