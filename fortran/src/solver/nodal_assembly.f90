@@ -12,15 +12,18 @@ module nodal_assembly
 contains
 
   !> Copy the nodal values of elements first..first+n-1 into group arrays a(i, component, corner).
+  !> Element index innermost: the compiler gathers several elements' values per instruction.
   pure subroutine gather_group(n, first, connectivity, nodal, grouped)
     integer, intent(in) :: n, first
     integer, intent(in) :: connectivity(:, :)
     real(wp), intent(in) :: nodal(:, :)
     real(wp), intent(out) :: grouped(n, size(nodal, 1), 4)
-    integer :: i, k
+    integer :: i, k, c
     do k = 1, 4
-      do i = 1, n
-        grouped(i, :, k) = nodal(:, connectivity(k, first + i - 1))
+      do c = 1, size(nodal, 1)
+        do i = 1, n
+          grouped(i, c, k) = nodal(c, connectivity(k, first + i - 1))
+        end do
       end do
     end do
   end subroutine gather_group
