@@ -10,6 +10,7 @@ module contact_pass
   use paradyn_kinds, only: wp, ip
   use model_deck, only: deck_t
   use contact_buckets, only: bucket_grid_t
+  use nearest_cache, only: near_lists_t, near_lists_setup
   use contact_search, only: node_segment_map, shell_penalty_stiffness
   use initial_penetration, only: slave_penetrations
   use contact_surfaces, only: part_nodes, contact_thickness
@@ -43,6 +44,7 @@ module contact_pass
     ! sort fell while it was idle, so its grid is rebuilt from the positions of that sort on waking
     logical :: idle = .false., stale = .false.
     type(bucket_grid_t) :: grid
+    type(near_lists_t) :: near                 !< each slave's nearby master nodes (nearest_cache)
     real(wp) :: bucket_size = 0, t_slave = 0, t_master = 0, mu_static = 0, mu_dynamic = 0, decay = 0
   end type contact_pass_t
 
@@ -80,6 +82,7 @@ contains
     allocate (pass%x_sorted(3, size(pass%masters)), source=0.0_wp)
     pass%near_slaves = [(e, e = 1, size(pass%slaves))]
     pass%n_near = size(pass%slaves)
+    call near_lists_setup(size(pass%slaves), pass%near)
     pass%t_slave = contact_thickness(deck, pair, slave_part)
     pass%t_master = contact_thickness(deck, pair, master_part)
     call exclusions(pass, contact_id, master_nodes, n_contact)

@@ -5,9 +5,8 @@
 !> caller (contact_parallel) shares candidates and records between the stages.
 module contact_stages
   use paradyn_kinds, only: wp, ip, i8
-  use contact_buckets, only: nearest_master_node
-  use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order, &
-                            segments_may_touch
+  use nearest_cache, only: nearest_master_listed
+  use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order
   use contact_pass, only: contact_pass_t
   use contact_interface, only: contact_t, clock_seconds
   implicit none
@@ -22,6 +21,10 @@ module contact_stages
   !> contact cannot make the central-difference step unstable however stiff the penalty or light
   !> the node (docs/theory.md; LS-DYNA's soft-constraint stiffness has the same m / dt^2 form).
   real(wp), parameter :: stable_spring_fraction = 0.25_wp
+  !> A slave keeps its list of nearby master nodes (nearest_cache) while it stays within this
+  !> fraction of the bucket size of where the list was made. An automatic sort falls before any
+  !> node has moved a tenth of the smallest bucket, so a list then lasts until the next sort.
+  real(wp), parameter :: list_margin = 0.125_wp
 
 contains
 
@@ -118,12 +121,12 @@ contains
       x = c%x(:, pass%slaves(j))
       if (near_box(x, pass)) then
         if (pass%shares_nodes) then
-          found = nearest_master_node(pass%grid, pass%x_sorted, x, &
-                                      max_distance=pass%bucket_size + pass%t_slave + pass%t_master, &
-                                      excluded=pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
+          call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
+                                     pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, &
+                                     found, excluded=pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
         else
-          found = nearest_master_node(pass%grid, pass%x_sorted, x, &
-                                      max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
+          call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
+                                     pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, found)
         end if
         if (found > 0) c%nearest(i) = found
       end if
@@ -217,25 +220,22 @@ contains
       associate (pass => c%passes(c%candidates(3, k)))
       node = pass%slaves(c%candidates(1, k))
       x = c%x(:, node)
+      ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
       reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(c%candidates(1, k)) + pass%t_master)
-      if (.not. segments_may_touch(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
-                                   int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
-                                   pass%segment_list, reach)) cycle
       if (pass%shares_nodes) then
         call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
-                                pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(node, ip))
+                                pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(node, ip), reach=reach)
       else
         call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
-                                pass%segment_list, segment, xi, eta, xc, normal)
+                                pass%segment_list, segment, xi, eta, xc, normal, reach=reach)
       end if
       if (segment > 0) then
         xseg = c%x(:, pass%segments(:, segment))
         vseg = c%v(:, pass%segments(:, segment))
         stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 &
                         * min(c%mass(node), minval(c%mass(pass%segments(:, segment)))))
-        ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
         call penalty_force(x, pass%t_slave - 2.0_wp * pass%overlap(c%candidates(1, k)), xseg, pass%t_master, &
                            stiffness, f_slave, &
                            f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &
