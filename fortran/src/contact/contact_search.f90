@@ -113,8 +113,8 @@ contains
     integer(ip), intent(in), optional :: skip_node
     real(wp), intent(in), optional :: reach
     integer, parameter :: most = 16              ! segments around a node that are ordered
-    real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2, xseg(3, 4), bound(most), b, diagonal
-    integer(ip) :: order(most), j, s, k, n
+    real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2, xseg(3, 4), bound(most), b, diagonal, touch
+    integer(ip) :: order(most), j, s, k, n, i
     logical :: near, ordered
 
     segment = 0
@@ -134,11 +134,16 @@ contains
         if (present(skip_node)) then
           if (any(segment_nodes(:, s) == skip_node)) cycle
         end if
-        xseg = coords(:, segment_nodes(:, s))
-        b = segment_distance_bound(xseg, p)
-        if (.not. near) then
+        do i = 1, 4
+          xseg(:, i) = coords(:, segment_nodes(i, s))
+        end do
+        if (near) then
+          b = segment_distance_bound(xseg, p)
+        else
           diagonal = sqrt(max(sum((xseg(:, 3) - xseg(:, 1))**2), sum((xseg(:, 4) - xseg(:, 2))**2)))
-          near = b <= reach + edge_tolerance * diagonal + 1.0e-10_wp * (reach + diagonal)
+          touch = reach + edge_tolerance * diagonal + 1.0e-10_wp * (reach + diagonal)
+          b = segment_distance_bound(xseg, p, enough=touch)
+          near = b <= touch
         end if
         ! insert into the segments in ascending order of their bounds
         n = n + 1

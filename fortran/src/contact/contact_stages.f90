@@ -205,16 +205,16 @@ contains
   subroutine contact_local_search(c, clock)
     type(contact_t), intent(inout) :: c
     procedure(clock_seconds) :: clock
-    integer :: k, node, segment
+    integer :: k, node, segment, m
     real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
-    real(wp) :: penetration, t0, stiffness, reach
+    real(wp) :: penetration, t0, stiffness, reach, lightest
     logical :: touching
     t0 = clock()
     c%record_nodes(1, 1:c%first - 1) = 0
     c%record_nodes(1, c%last + 1:c%n_candidates) = 0
     !$omp parallel do schedule(static, 1) default(shared) &
     !$omp private(k, node, segment, x, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
-    !$omp penetration, touching, stiffness, reach)
+    !$omp penetration, touching, stiffness, reach, lightest, m)
     do k = c%first, c%last
       c%record_nodes(:, k) = 0
       associate (pass => c%passes(c%candidates(3, k)))
@@ -232,10 +232,13 @@ contains
                                 pass%segment_list, segment, xi, eta, xc, normal, reach=reach)
       end if
       if (segment > 0) then
-        xseg = c%x(:, pass%segments(:, segment))
-        vseg = c%v(:, pass%segments(:, segment))
-        stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 &
-                        * min(c%mass(node), minval(c%mass(pass%segments(:, segment)))))
+        lightest = c%mass(node)
+        do m = 1, 4                                ! explicit: array sections here cost a heap temporary
+          xseg(:, m) = c%x(:, pass%segments(m, segment))
+          vseg(:, m) = c%v(:, pass%segments(m, segment))
+          lightest = min(lightest, c%mass(pass%segments(m, segment)))
+        end do
+        stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 * lightest)
         call penalty_force(x, pass%t_slave - 2.0_wp * pass%overlap(c%candidates(1, k)), xseg, pass%t_master, &
                            stiffness, f_slave, &
                            f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &

@@ -176,39 +176,57 @@ contains
   !> planes' normals are orthogonal to n, so the distance a beyond the slab and the largest
   !> distance b beyond an edge plane combine to sqrt(a^2 + b^2). Less a round-off allowance of
   !> 1e-10 of the coordinates, so that the true distance is never below it; 0 for a segment
-  !> without a normal. Squared distances throughout and one square root.
-  pure real(wp) function segment_distance_bound(xseg, p) result(bound)
+  !> without a normal. Squared distances throughout and one square root. With enough, a slab bound
+  !> beyond it is returned as it is (still a lower bound, and all a caller who asks whether the
+  !> segment is within `enough` needs).
+  pure real(wp) function segment_distance_bound(xseg, p, enough) result(bound)
     real(wp), intent(in) :: xseg(3, 4), p(3)
-    real(wp) :: y(3, 4), n(3), m(3), e(3), h(4), nn, mm, a2, b2, out
-    integer :: k, k1, k2, k3
+    !> a bound beyond this is enough: the edge planes are then left out (the slab's bound is returned)
+    real(wp), intent(in), optional :: enough
+    real(wp) :: y(3, 4), d13(3), d24(3), n(3), h(4), nn, a2, b2, scale
+    integer :: k
     do k = 1, 4
-      y(1, k) = xseg(1, k) - p(1)
-      y(2, k) = xseg(2, k) - p(2)
-      y(3, k) = xseg(3, k) - p(3)
+      y(:, k) = xseg(:, k) - p
     end do
     bound = 0.0_wp
-    n = cross(y(:, 3) - y(:, 1), y(:, 4) - y(:, 2))
+    d13 = y(:, 3) - y(:, 1)
+    d24 = y(:, 4) - y(:, 2)
+    n(1) = d13(2) * d24(3) - d13(3) * d24(2)
+    n(2) = d13(3) * d24(1) - d13(1) * d24(3)
+    n(3) = d13(1) * d24(2) - d13(2) * d24(1)
     nn = n(1) * n(1) + n(2) * n(2) + n(3) * n(3)
     if (.not. (nn > 0.0_wp)) return
     do k = 1, 4
       h(k) = n(1) * y(1, k) + n(2) * y(2, k) + n(3) * y(3, k)
     end do
     a2 = max(0.0_wp, min(h(1), h(2), h(3), h(4)), -max(h(1), h(2), h(3), h(4)))**2 / nn
-    b2 = 0.0_wp
-    do k = 1, 4
-      k1 = 1 + modulo(k, 4)
-      k2 = 1 + modulo(k + 1, 4)
-      k3 = 1 + modulo(k + 2, 4)
-      e = y(:, k1) - y(:, k)
-      m = cross(e, n)                      ! outward in the plane for nodes counter-clockwise about n
-      ! how far out of the edge the farthest node lies (the edge's two nodes lie on its plane)
-      out = max(m(1) * y(1, k) + m(2) * y(2, k) + m(3) * y(3, k), &
-                m(1) * y(1, k2) + m(2) * y(2, k2) + m(3) * y(3, k2), &
-                m(1) * y(1, k3) + m(2) * y(2, k3) + m(3) * y(3, k3))
-      mm = m(1) * m(1) + m(2) * m(2) + m(3) * m(3)
-      if (out < 0.0_wp .and. mm > 0.0_wp) b2 = max(b2, out * out / mm)
-    end do
-    bound = max(0.0_wp, sqrt(a2 + b2) - 1.0e-10_wp * (maxval(abs(xseg)) + maxval(abs(p))))
+    scale = max(abs(p(1)), abs(p(2)), abs(p(3))) + max(maxval(abs(y(:, 1))), maxval(abs(y(:, 2))), &
+                                                       maxval(abs(y(:, 3))), maxval(abs(y(:, 4))))
+    if (present(enough)) then
+      bound = max(0.0_wp, sqrt(a2) - 2.0e-10_wp * scale)
+      if (bound > enough) return
+    end if
+    b2 = max(edge_excess2(y(:, 1), y(:, 2), y(:, 3), y(:, 4), n), edge_excess2(y(:, 2), y(:, 3), y(:, 4), y(:, 1), n), &
+             edge_excess2(y(:, 3), y(:, 4), y(:, 1), y(:, 2), n), edge_excess2(y(:, 4), y(:, 1), y(:, 2), y(:, 3), n))
+    bound = max(0.0_wp, sqrt(a2 + b2) - 2.0e-10_wp * scale)
   end function segment_distance_bound
+
+  !> The squared distance of the origin beyond the plane through the edge ya-yb that contains n,
+  !> pushed out to the farthest of the nodes (ya, yb on it; yc, yd the others); 0 inside it or
+  !> for a collapsed edge. The plane's normal m = (yb - ya) x n points out of the segment for
+  !> nodes counter-clockwise about n; the farthest node makes the bound hold for either order.
+  pure real(wp) function edge_excess2(ya, yb, yc, yd, n) result(b2)
+    real(wp), intent(in) :: ya(3), yb(3), yc(3), yd(3), n(3)
+    real(wp) :: e(3), m(3), out, mm
+    e = yb - ya
+    m(1) = e(2) * n(3) - e(3) * n(2)
+    m(2) = e(3) * n(1) - e(1) * n(3)
+    m(3) = e(1) * n(2) - e(2) * n(1)
+    out = max(m(1) * ya(1) + m(2) * ya(2) + m(3) * ya(3), m(1) * yc(1) + m(2) * yc(2) + m(3) * yc(3), &
+              m(1) * yd(1) + m(2) * yd(2) + m(3) * yd(3))
+    mm = m(1) * m(1) + m(2) * m(2) + m(3) * m(3)
+    b2 = 0.0_wp
+    if (out < 0.0_wp .and. mm > 0.0_wp) b2 = out * out / mm
+  end function edge_excess2
 
 end module segment_projection
