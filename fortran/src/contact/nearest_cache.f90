@@ -6,7 +6,9 @@
 !> is nearest_master_node's answer: the same arithmetic, the same tie rule (the lower index). A
 !> slave that has moved farther, a grid built since, or a list longer than its room sends the
 !> slave back to the grid. Each slave's list is its own, so threads that search different slaves
-!> share nothing. Memory: room + 5 numbers per slave, O(contact nodes).
+!> share nothing. The list is kept in ascending order of distance from where it was made, so a search
+!> stops at the first node that cannot be nearer than the nearest so far (triangle inequality).
+!> Memory: 2 room + 5 numbers per slave, O(contact nodes).
 module nearest_cache
   use paradyn_kinds, only: wp, ip
   use contact_buckets, only: bucket_grid_t, nearest_master_node, masters_within, nearest_in_list
@@ -18,7 +20,8 @@ module nearest_cache
 
   !> Each slave's list of nearby master nodes (index into the pass's masters).
   type :: near_lists_t
-    integer, allocatable :: masters(:, :)      !< (near_list_room, n_slaves)
+    integer, allocatable :: masters(:, :)      !< (near_list_room, n_slaves), nearest to the centre first
+    real(wp), allocatable :: distance(:, :)    !< (near_list_room, n_slaves) their distances from the centre
     integer, allocatable :: count(:)           !< masters on the list; near_list_room + 1: did not fit
     integer, allocatable :: built(:)           !< the grid's build count when the list was made, 0 never
     real(wp), allocatable :: centre(:, :)      !< (3, n_slaves) where the slave stood then
@@ -32,7 +35,7 @@ contains
     type(near_lists_t), intent(out) :: lists
     allocate (lists%masters(near_list_room, n_slaves), lists%count(n_slaves), lists%built(n_slaves), &
               source=0)
-    allocate (lists%centre(3, n_slaves), source=0.0_wp)
+    allocate (lists%centre(3, n_slaves), lists%distance(near_list_room, n_slaves), source=0.0_wp)
   end subroutine near_lists_setup
 
   !> nearest_master_node(grid, coords, point, max_distance, excluded) for slave j: from the slave's
@@ -45,7 +48,7 @@ contains
     real(wp), intent(in) :: coords(:, :), point(3), max_distance, margin
     integer(ip), intent(out) :: found
     integer, intent(in), optional :: excluded(:)
-    real(wp) :: radius
+    real(wp) :: radius, slack
     integer :: count
     if (.not. all(abs(point) <= huge(1.0_wp))) then      ! NaN or infinite: no list
       found = nearest_master_node(grid, coords, point, max_distance, excluded)
@@ -59,12 +62,39 @@ contains
       lists%count(j) = min(count, near_list_room + 1)
       lists%built(j) = grid%builds
       lists%centre(:, j) = point
+      if (count <= near_list_room) call by_distance(lists%masters(1:count, j), lists%distance(1:count, j))
     end if
     if (lists%count(j) > near_list_room) then
       found = nearest_master_node(grid, coords, point, max_distance, excluded)
     else
-      found = nearest_in_list(coords, point, lists%masters(1:lists%count(j), j), max_distance)
+      ! the slave is `shift` from the centre, so a master is at least its distance less that from it
+      slack = 1.0e-12_wp * (max_distance + margin) + 2.0_wp * grid%tolerance
+      found = nearest_in_list(coords, point, lists%masters(1:lists%count(j), j), max_distance, &
+                              lists%distance(1:lists%count(j), j), sqrt(sum((point - lists%centre(:, j))**2)), slack)
     end if
+
+  contains
+
+    !> The list in ascending order of distance from point (insertion: at most near_list_room).
+    pure subroutine by_distance(masters, distance)
+      integer, intent(inout) :: masters(:)
+      real(wp), intent(out) :: distance(:)
+      integer :: i, k, m
+      real(wp) :: d
+      do i = 1, size(masters)
+        m = masters(i)
+        d = sqrt(sum((coords(:, m) - point)**2))
+        k = i
+        do while (k > 1)
+          if (.not. (distance(k - 1) > d)) exit
+          distance(k) = distance(k - 1)
+          masters(k) = masters(k - 1)
+          k = k - 1
+        end do
+        distance(k) = d
+        masters(k) = m
+      end do
+    end subroutine by_distance
   end subroutine nearest_master_listed
 
 end module nearest_cache

@@ -200,8 +200,9 @@ contains
       h(k) = n(1) * y(1, k) + n(2) * y(2, k) + n(3) * y(3, k)
     end do
     a2 = max(0.0_wp, min(h(1), h(2), h(3), h(4)), -max(h(1), h(2), h(3), h(4)))**2 / nn
-    scale = max(abs(p(1)), abs(p(2)), abs(p(3))) + max(maxval(abs(y(:, 1))), maxval(abs(y(:, 2))), &
-                                                       maxval(abs(y(:, 3))), maxval(abs(y(:, 4))))
+    scale = max(abs(p(1)), abs(p(2)), abs(p(3))) &
+            + max(abs(y(1, 1)), abs(y(2, 1)), abs(y(3, 1)), abs(y(1, 2)), abs(y(2, 2)), abs(y(3, 2)), &
+                  abs(y(1, 3)), abs(y(2, 3)), abs(y(3, 3)), abs(y(1, 4)), abs(y(2, 4)), abs(y(3, 4)))
     if (present(enough)) then
       bound = max(0.0_wp, sqrt(a2) - 2.0e-10_wp * scale)
       if (bound > enough) return
