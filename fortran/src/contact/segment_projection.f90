@@ -50,15 +50,14 @@ contains
   !> that does not increase the distance by more than its round-off noise. Near the solution f
   !> is dominated by the normal distance and the tangential progress of a Newton step is below
   !> the resolution of f, so those steps must not be refused. ok is false when none passes.
-  !> a(:, 0) is taken relative to p (p = 0 here).
-  pure subroutine projected_search(a, xi, eta, d, f, xi_new, eta_new, f_new, ok)
-    real(wp), intent(in) :: a(3, 0:3), xi, eta, d(2), f
+  !> a(:, 0) is taken relative to p (p = 0 here); sizes is the sum of the norms of a(:, 0:3).
+  pure subroutine projected_search(a, sizes, xi, eta, d, f, xi_new, eta_new, f_new, ok)
+    real(wp), intent(in) :: a(3, 0:3), sizes, xi, eta, d(2), f
     real(wp), intent(out) :: xi_new, eta_new, f_new
     logical, intent(out) :: ok
     real(wp) :: alpha, noise
     integer :: k
-    noise = 8.0_wp * epsilon(1.0_wp) * sqrt(2.0_wp * f) * &
-            (norm2(a(:, 0)) + norm2(a(:, 1)) + norm2(a(:, 2)) + norm2(a(:, 3)))
+    noise = 8.0_wp * epsilon(1.0_wp) * sqrt(2.0_wp * f) * sizes
     alpha = 1.0_wp
     ok = .false.
     do k = 1, max_halvings
@@ -88,13 +87,15 @@ contains
     real(wp), intent(in) :: xseg(3, 4), p(3)
     real(wp), intent(out) :: xi, eta, xc(3), normal(3)
     real(wp) :: a(3, 0:3), r(3), xa(3), xb(3), g(2), h11, h12, h22, det, d(2), f, f_new
-    real(wp) :: xi_new, eta_new, size2, trial, nn
+    real(wp) :: xi_new, eta_new, size2, trial, nn, sizes, shape(4)
     logical :: free(2), ok
     integer :: i, j, iter
 
     call bilinear_coefficients(xseg, a)
     a(:, 0) = a(:, 0) - p               ! work relative to p: less cancellation in x - p
     size2 = sum(a(:, 1:3)**2)
+    ! the same for every step of the search (its round-off noise), so summed once
+    sizes = norm2(a(:, 0)) + norm2(a(:, 1)) + norm2(a(:, 2)) + norm2(a(:, 3))
 
     xi = 0.0_wp
     eta = 0.0_wp
@@ -141,14 +142,14 @@ contains
       end if
       if (all(d == 0.0_wp)) exit
 
-      call projected_search(a, xi, eta, d, f, xi_new, eta_new, f_new, ok)
+      call projected_search(a, sizes, xi, eta, d, f, xi_new, eta_new, f_new, ok)
       if (.not. ok) then
         ! the projected Newton path can climb where a bound cuts it: fall back to the
         ! diagonally scaled gradient of the free coordinates, a descent path for small steps
         d = 0.0_wp
         if (free(1)) d(1) = -g(1) / h11
         if (free(2)) d(2) = -g(2) / h22
-        call projected_search(a, xi, eta, d, f, xi_new, eta_new, f_new, ok)
+        call projected_search(a, sizes, xi, eta, d, f, xi_new, eta_new, f_new, ok)
         if (.not. ok) exit
       end if
       trial = max(abs(xi_new - xi), abs(eta_new - eta))
@@ -157,7 +158,8 @@ contains
       if (trial <= 1.0e-15_wp) exit
     end do
 
-    xc = matmul(xseg, segment_shape_functions(xi, eta))
+    shape = segment_shape_functions(xi, eta)    ! (a temporary of its own would be on the heap)
+    xc = matmul(xseg, shape)
     normal = cross(a(:, 1) + a(:, 3) * eta, a(:, 2) + a(:, 3) * xi)
     nn = norm2(normal)
     if (.not. (nn > 1.0e-12_wp * size2)) then
