@@ -67,6 +67,12 @@ module contact_interface
     integer, allocatable :: touched(:), touched_old(:), mark(:)
     integer :: n_touched = 0, n_touched_old = 0, stamp = 0
     real(wp), allocatable :: x_at_sort(:, :)   !< positions at the last bucket sort
+    ! contact_movement's members: their local columns, and their positions at the last sort in
+    ! their order (so the per-step check reads one index and contiguous positions), as of sort
+    ! number member_sort
+    integer, allocatable :: member_at(:)
+    real(wp), allocatable :: member_at_sort(:, :)
+    integer(i8) :: member_sort = -1
     ! the nodes whose positions the contact can read before the next sort (all of them with a
     ! fixed sort interval); the caller gathers only these between sorts once gather_subset is set
     logical, allocatable :: in_gather(:)
@@ -391,12 +397,16 @@ contains
     t0 = clock()
     moved = 0.0_wp
     if (present(members) .and. present(local) .and. present(x)) then
-      !$omp parallel do schedule(static) private(j, k) reduction(max:moved)
+      if (c%member_sort /= c%n_sorts .or. .not. allocated(c%member_at)) then   ! a sort since
+        c%member_at = local(members)
+        c%member_at_sort = c%x_at_sort(:, members)
+        c%member_sort = c%n_sorts
+      end if
+      !$omp parallel do schedule(static) private(j) reduction(max:moved)
       do i = 1, size(members)
-        k = members(i)
-        j = local(k)
-        moved = max(moved, (x(1, j) - c%x_at_sort(1, k))**2 + (x(2, j) - c%x_at_sort(2, k))**2 &
-                           + (x(3, j) - c%x_at_sort(3, k))**2)
+        j = c%member_at(i)
+        moved = max(moved, (x(1, j) - c%member_at_sort(1, i))**2 + (x(2, j) - c%member_at_sort(2, i))**2 &
+                           + (x(3, j) - c%member_at_sort(3, i))**2)
       end do
       !$omp end parallel do
     else if (c%sort_interval == 0 .and. c%last_sort >= 0) then   ! else contact_sort_due does not ask
