@@ -219,6 +219,50 @@ def test_a_candidate_skipped_for_its_reach_touches_no_segment(seed: int) -> None
     assert 20 < skipped < 180
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_a_clear_slave_stays_clear_while_it_moves_less_than_half_its_clearance(seed: int) -> None:
+    """Reference: penalty_force itself on every segment around the node. Where segment_candidates
+    reports a clearance c > 0 (no segment can touch), the slave moved anywhere within c / 2.1 (the
+    engine's skip allows 2 (1 + 0.05) times the movement) touches no segment either; and where a
+    segment touches, the clearance is 0. Some points are clear (else the test proves nothing)."""
+    rng = np.random.default_rng(seed)
+    coords, segs = plate_mesh(4, 4, rng, 0.4)
+    start, lst, n_entries = K.contact_node_segments(coords.shape[1], F(segs))
+    lst = lst[:n_entries]
+    clear = 0
+    for _ in range(150):
+        p = np.array([rng.uniform(-0.5, 4.5), rng.uniform(-0.5, 4.5), rng.uniform(-1.5, 1.5)])
+        node = int(brute_nearest(coords, p[:, None])[0])
+        t = rng.uniform(0.05, 0.8)
+        c = K.contact_segment_clearance(F(p), node, F(coords), F(segs), start, lst, t)
+        around = lst[start[node - 1] - 1:start[node] - 1]
+        if c <= 0:
+            continue
+        clear += 1
+        for _ in range(5):
+            step = rng.standard_normal(3)
+            q = p + rng.uniform(0, 1) * c / 2.1 * step / np.linalg.norm(step)
+            touches = [K.contact_penalty_force(F(q), t, F(coords[:, segs[:, s - 1] - 1]), t, 1.0, rounded_edges=1)[3]
+                       for s in around]
+            assert not any(touches), (p, q, t, c)
+    assert 20 < clear < 150
+
+
+def test_clearance_above_a_flat_plate_is_the_height_less_the_reach() -> None:
+    """Reference: construction. Above the middle of a flat plate at height h, every segment around
+    the node is h away, so the clearance is h - (reach + 0.05 times the longest diagonal), to 1e-8."""
+    coords, segs = plate_mesh(4, 4, np.random.default_rng(0), 0.0)
+    start, lst, n_entries = K.contact_node_segments(coords.shape[1], F(segs))
+    node = int(brute_nearest(coords, np.array([[2.0], [2.0], [0.0]]))[0])
+    x = coords[:, node - 1]
+    around = segs[:, lst[start[node - 1] - 1:start[node] - 1] - 1] - 1
+    diagonal = max(max(np.linalg.norm(coords[:, s[2]] - coords[:, s[0]]), np.linalg.norm(coords[:, s[3]] - coords[:, s[1]]))
+                   for s in around.T)
+    for h, t in ((0.9, 0.2), (0.5, 0.1)):
+        c = K.contact_segment_clearance(F(x + [0.1, 0.1, h]), node, F(coords), F(segs), start, lst[:n_entries], t)
+        assert abs(c - (h - t - 0.05 * diagonal)) < 1e-8
+
+
 def _random_segments(rng: np.random.Generator) -> list[np.ndarray]:
     segments = [flat_quad(rng)[0] for _ in range(4)] + [warped_quad(rng, w) for w in (0.1, 0.25, 0.4)]
     triangle = flat_quad(rng)[0].copy()

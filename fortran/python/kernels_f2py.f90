@@ -305,6 +305,23 @@ subroutine contact_segment_candidates(p, node, n_nodes, coords, n_segments, segm
   end if
 end subroutine contact_segment_candidates
 
+! segment_candidates' clearance with the given reach: how much farther than it could touch the
+! nearest segment around node lies at least (0 where a segment may touch).
+subroutine contact_segment_clearance(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
+                                     n_list, segment_list, reach, clearance)
+  use paradyn_kinds, only: wp
+  use contact_search, only: segment_candidates
+  implicit none
+  integer, intent(in) :: node, n_nodes, n_segments, n_list
+  real(wp), intent(in) :: p(3), coords(3, n_nodes), reach
+  integer, intent(in) :: segment_nodes(4, n_segments), segment_start(n_nodes + 1), segment_list(n_list)
+  real(wp), intent(out) :: clearance
+  integer :: segment
+  real(wp) :: xi, eta, xc(3), normal(3)
+  call segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
+                          segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance)
+end subroutine contact_segment_clearance
+
 subroutine contact_segment_distance_bound(xseg, p, bound)
   use paradyn_kinds, only: wp
   use contact_search, only: segment_distance_bound

@@ -73,6 +73,9 @@ module contact_interface
     integer, allocatable :: member_at(:)
     real(wp), allocatable :: member_at_sort(:, :)
     integer(i8) :: member_sort = -1
+    !> this step: the largest distance a contact node has moved since the last sort (0 at a sort,
+    !> huge where not measured), for contact_stages' clearances
+    real(wp) :: moved = huge(1.0_wp)
     ! the nodes whose positions the contact can read before the next sort (all of them with a
     ! fixed sort interval); the caller gathers only these between sorts once gather_subset is set
     logical, allocatable :: in_gather(:)

@@ -101,7 +101,8 @@ contains
   !> exceeds the reach plus the offset the face test allows (edge_tolerance times the longer
   !> diagonal): the projections are then skipped.
   pure subroutine segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, &
-                                     segment_start, segment_list, segment, xi, eta, xc, normal, skip_node, reach)
+                                     segment_start, segment_list, segment, xi, eta, xc, normal, skip_node, reach, &
+                                     clearance)
     real(wp), intent(in) :: p(3)
     integer(ip), intent(in) :: node, n_nodes, n_segments
     real(wp), intent(in) :: coords(3, n_nodes)
@@ -112,8 +113,11 @@ contains
     real(wp), intent(out) :: xi, eta, xc(3), normal(3)
     integer(ip), intent(in), optional :: skip_node
     real(wp), intent(in), optional :: reach
+    !> with reach, where no segment can touch: how much farther than it could touch the nearest
+    !> segment lies at least (the least of bound - (reach + offset)); else 0
+    real(wp), intent(out), optional :: clearance
     integer, parameter :: most = 16              ! segments around a node that are ordered
-    real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2, xseg(3, 4), bound(most), b, diagonal, touch
+    real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2, xseg(3, 4), bound(most), b, diagonal, touch, gap
     integer(ip) :: order(most), j, s, k, n, i
     logical :: near, ordered
 
@@ -122,8 +126,10 @@ contains
     eta = 0.0_wp
     xc = 0.0_wp
     normal = 0.0_wp
+    if (present(clearance)) clearance = 0.0_wp
     if (node < 1 .or. node > n_nodes) return
     best_d2 = huge(1.0_wp)
+    gap = huge(1.0_wp)
     n = segment_start(node + 1) - segment_start(node)
     ordered = n <= most                          ! else (not expected of a shell mesh) all, in list order
     near = .not. (present(reach) .and. ordered)
@@ -144,6 +150,7 @@ contains
           touch = reach + edge_tolerance * diagonal + 1.0e-10_wp * (reach + diagonal)
           b = segment_distance_bound(xseg, p, enough=touch)
           near = b <= touch
+          gap = min(gap, b - touch)
         end if
         ! insert into the segments in ascending order of their bounds
         n = n + 1
@@ -158,7 +165,10 @@ contains
         order(k) = s
       end do
     end if
-    if (.not. near) return
+    if (.not. near) then
+      if (present(clearance) .and. gap < huge(1.0_wp)) clearance = gap
+      return
+    end if
     do k = 1, n
       if (ordered) then
         if (bound(k)**2 > best_d2) exit          ! this one and the rest cannot be nearer

@@ -6,7 +6,8 @@
 module contact_stages
   use paradyn_kinds, only: wp, ip, i8
   use nearest_cache, only: nearest_master_listed
-  use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order
+  use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order, &
+                            edge_tolerance
   use contact_pass, only: contact_pass_t
   use contact_interface, only: contact_t, clock_seconds
   implicit none
@@ -207,29 +208,37 @@ contains
     procedure(clock_seconds) :: clock
     integer :: k, node, segment, m
     real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
-    real(wp) :: penetration, t0, stiffness, reach, lightest
+    real(wp) :: penetration, t0, stiffness, reach, lightest, clearance
     logical :: touching
     t0 = clock()
     c%record_nodes(1, 1:c%first - 1) = 0
     c%record_nodes(1, c%last + 1:c%n_candidates) = 0
     !$omp parallel do schedule(static, 1) default(shared) &
     !$omp private(k, node, segment, x, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
-    !$omp penetration, touching, stiffness, reach, lightest, m)
+    !$omp penetration, touching, stiffness, reach, lightest, m, clearance)
     do k = c%first, c%last
       c%record_nodes(:, k) = 0
       associate (pass => c%passes(c%candidates(3, k)))
       node = pass%slaves(c%candidates(1, k))
       x = c%x(:, node)
+      if (still_clear(pass, c%candidates(1, k), c%candidates(2, k), c%n_sorts, c%moved)) cycle
       ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
       reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(c%candidates(1, k)) + pass%t_master)
       if (pass%shares_nodes) then
         call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
-                                pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(node, ip), reach=reach)
+                                pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(node, ip), reach=reach, &
+                                clearance=clearance)
       else
         call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
-                                pass%segment_list, segment, xi, eta, xc, normal, reach=reach)
+                                pass%segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance)
+      end if
+      if (clearance > 0.0_wp .and. c%moved < huge(1.0_wp)) then   ! this slave's only: no other thread writes it
+        pass%clear_master(c%candidates(1, k)) = c%candidates(2, k)
+        pass%clear_sort(c%candidates(1, k)) = c%n_sorts
+        pass%clear_gap(c%candidates(1, k)) = clearance
+        pass%clear_moved(c%candidates(1, k)) = c%moved
       end if
       if (segment > 0) then
         lightest = c%mass(node)
@@ -257,6 +266,25 @@ contains
     !$omp end parallel do
     c%time_force = c%time_force + clock() - t0
   end subroutine contact_local_search
+
+  !> Slave j of the pass, whose nearest master is master, still cannot touch: at an earlier step of
+  !> the same sort (sort number n_sorts) the segments around the same master were all at least
+  !> clear_gap farther from it than they could touch, and since then no node has moved more than
+  !> clear_moved + moved (each at most that far from its place at the sort, then and now). A point
+  !> of a segment moves as its nodes do, so the slave's distance to a segment has shrunk by at most
+  !> twice that, and the offset the face test allows (edge_tolerance times the diagonal) has grown
+  !> by at most edge_tolerance times twice that. The answer is the one the local search would give
+  !> (no record), without its work.
+  pure logical function still_clear(pass, j, master, n_sorts, moved)
+    type(contact_pass_t), intent(in) :: pass
+    integer, intent(in) :: j, master
+    integer(i8), intent(in) :: n_sorts
+    real(wp), intent(in) :: moved
+    still_clear = .false.
+    if (pass%clear_sort(j) /= n_sorts .or. pass%clear_master(j) /= master) return
+    still_clear = pass%clear_gap(j) > 2.0_wp * (1.0_wp + edge_tolerance) * (pass%clear_moved(j) + moved) &
+                                      * (1.0_wp + 1.0e-9_wp)
+  end function still_clear
 
   !> Cheap rejection: a slave farther than a bucket from the master nodes' sorted bounding box
   !> cannot touch (an idle pair costs one box test per slave).
