@@ -157,7 +157,7 @@ def test_slave_lists_give_the_grid_answer_along_a_walk(seed: int, margin: float)
     radius = 0.08
     nearest_, listed = K.contact_nearest_listed(F(master), 0.05, F(points), radius, margin, 0, np.zeros(3))
     np.testing.assert_array_equal(nearest_, within(master, points, radius))
-    assert 0 < np.count_nonzero(nearest_)
+    assert np.count_nonzero(nearest_) > 0
     assert 0.5 * points.shape[1] < np.count_nonzero(listed) < points.shape[1]
 
 

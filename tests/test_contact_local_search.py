@@ -256,10 +256,11 @@ def test_clearance_above_a_flat_plate_is_the_height_less_the_reach() -> None:
     node = int(brute_nearest(coords, np.array([[2.0], [2.0], [0.0]]))[0])
     x = coords[:, node - 1]
     around = segs[:, lst[start[node - 1] - 1:start[node] - 1] - 1] - 1
-    diagonal = max(max(np.linalg.norm(coords[:, s[2]] - coords[:, s[0]]), np.linalg.norm(coords[:, s[3]] - coords[:, s[1]]))
-                   for s in around.T)
+    diagonal = max(max(np.linalg.norm(coords[:, s[2]] - coords[:, s[0]]),
+                       np.linalg.norm(coords[:, s[3]] - coords[:, s[1]])) for s in around.T)
     for h, t in ((0.9, 0.2), (0.5, 0.1)):
-        c = K.contact_segment_clearance(F(x + [0.1, 0.1, h]), node, F(coords), F(segs), start, lst[:n_entries], t)
+        p = F(x + np.array([0.1, 0.1, h]))
+        c = K.contact_segment_clearance(p, node, F(coords), F(segs), start, lst[:n_entries], t)
         assert abs(c - (h - t - 0.05 * diagonal)) < 1e-8
 
 

@@ -53,7 +53,8 @@ def main(argv: list[str]) -> int:
             n = [t[j] for t in times[("new", layout)]]
             ratio = statistics.median(a / b for a, b in zip(o, n, strict=True))
             print(f"{layout} {name}: old median {statistics.median(o):.4f} s ({min(o):.4f}-{max(o):.4f}), "
-                  f"new median {statistics.median(n):.4f} s ({min(n):.4f}-{max(n):.4f}), per-round old/new median {ratio:.3f}")
+                  f"new median {statistics.median(n):.4f} s ({min(n):.4f}-{max(n):.4f}), "
+                  f"per-round old/new median {ratio:.3f}")
     return 0
 
 
