@@ -283,22 +283,22 @@ contains
     end do
   end subroutine masters_within
 
-  !> nearest_master_node over the master nodes in list only: the nearest to point, the lower index
+  !> nearest_master_node over the n master nodes in list only: the nearest to point, the lower index
   !> on ties, 0 when the list is empty or the nearest lies farther than max_distance. The same
   !> answer as nearest_master_node whenever list holds every master node within max_distance of
   !> point that the search may count (the same arithmetic). With distance, the list is in
   !> ascending order of distance(i), each node's distance from a place `shift` away from point:
   !> a node is then at least distance(i) - shift from point, and the scan stops once that exceeds
   !> the nearest so far or max_distance (by more than slack, the round-off allowance).
-  pure integer(ip) function nearest_in_list(coords, point, list, max_distance, distance, shift, slack) result(best)
+  pure integer(ip) function nearest_in_list(coords, point, n, list, max_distance, distance, shift, slack) result(best)
     real(wp), intent(in) :: coords(:, :), point(3), max_distance
-    integer, intent(in) :: list(:)
-    real(wp), intent(in), optional :: distance(:), shift, slack
+    integer, intent(in) :: n, list(n)
+    real(wp), intent(in), optional :: distance(n), shift, slack
     integer(ip) :: i, node
     real(wp) :: d2, best_d2, apart
     best = 0
     best_d2 = huge(1.0_wp)
-    do i = 1, size(list)
+    do i = 1, n
       if (present(distance)) then
         apart = distance(i) - shift - slack
         if (apart > max_distance) exit

@@ -48,20 +48,22 @@ contains
     real(wp), intent(in) :: coords(:, :), point(3), max_distance, margin
     integer(ip), intent(out) :: found
     integer, intent(in), optional :: excluded(:)
-    real(wp) :: radius, slack
+    real(wp) :: radius, slack, moved2
     integer :: count
     if (.not. all(abs(point) <= huge(1.0_wp))) then      ! NaN or infinite: no list
       found = nearest_master_node(grid, coords, point, max_distance, excluded)
       return
     end if
-    if (lists%built(j) /= grid%builds .or. &
-        .not. (sum((point - lists%centre(:, j))**2) <= margin**2)) then
+    moved2 = (point(1) - lists%centre(1, j))**2 + (point(2) - lists%centre(2, j))**2 &
+             + (point(3) - lists%centre(3, j))**2
+    if (lists%built(j) /= grid%builds .or. .not. (moved2 <= margin**2)) then
       ! with allowances for the round-off of the distances against both places
       radius = (max_distance + margin) * (1.0_wp + 1.0e-12_wp) + 2.0_wp * grid%tolerance
       call masters_within(grid, coords, point, radius, lists%masters(:, j), count, excluded)
       lists%count(j) = min(count, near_list_room + 1)
       lists%built(j) = grid%builds
       lists%centre(:, j) = point
+      moved2 = 0.0_wp
       if (count <= near_list_room) call by_distance(lists%masters(1:count, j), lists%distance(1:count, j))
     end if
     if (lists%count(j) > near_list_room) then
@@ -69,8 +71,8 @@ contains
     else
       ! the slave is `shift` from the centre, so a master is at least its distance less that from it
       slack = 1.0e-12_wp * (max_distance + margin) + 2.0_wp * grid%tolerance
-      found = nearest_in_list(coords, point, lists%masters(1:lists%count(j), j), max_distance, &
-                              lists%distance(1:lists%count(j), j), sqrt(sum((point - lists%centre(:, j))**2)), slack)
+      found = nearest_in_list(coords, point, lists%count(j), lists%masters(:, j), max_distance, &
+                              lists%distance(:, j), sqrt(moved2), slack)
     end if
 
   contains
