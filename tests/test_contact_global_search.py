@@ -137,6 +137,56 @@ def test_bucket_search_radius(radius: float) -> None:
     assert 0 < np.count_nonzero(ref) < ref.size
 
 
+def within(master: np.ndarray, points: np.ndarray, radius: float) -> np.ndarray:
+    """Brute force restricted to a radius: the nearest master node (1-based) or 0 beyond it."""
+    ref = brute_nearest(master, points)
+    ref[np.linalg.norm(points - master[:, ref - 1], axis=0) > radius] = 0
+    return ref
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("margin", [0.005, 0.02, 0.04])
+def test_slave_lists_give_the_grid_answer_along_a_walk(seed: int, margin: float) -> None:
+    """Reference: brute force within the search radius at every point of a slave's random walk
+    (steps of a fifth of the margin, so lists are kept for several steps and then made again);
+    most answers come from a kept list, some from a new one."""
+    rng = np.random.default_rng(seed)
+    master = np.vstack([rng.uniform(0, 1, size=(2, 300)), 0.02 * rng.uniform(size=(1, 300))])
+    steps = rng.standard_normal((3, 300)) * (0.2 * margin / np.sqrt(3))
+    points = np.array([0.5, 0.5, 0.05])[:, None] + np.cumsum(steps, axis=1)
+    radius = 0.08
+    nearest_, listed = K.contact_nearest_listed(F(master), 0.05, F(points), radius, margin, 0, np.zeros(3))
+    np.testing.assert_array_equal(nearest_, within(master, points, radius))
+    assert np.count_nonzero(nearest_) > 0
+    assert 0.5 * points.shape[1] < np.count_nonzero(listed) < points.shape[1]
+
+
+def test_a_list_is_not_kept_across_a_new_grid() -> None:
+    """Reference: brute force on the moved masters. The slave stands still while the masters move
+    by more than the search radius and the grid is built again: the answers after that follow the
+    new positions (a list from before the new grid would keep the old nearest node)."""
+    rng = np.random.default_rng(3)
+    master = rng.uniform(0, 1, size=(3, 300))
+    points = np.repeat(np.array([[0.5], [0.5], [0.5]]), 6, axis=1)
+    shift = np.array([0.2, -0.1, 0.15])
+    nearest_, listed = K.contact_nearest_listed(F(master), 0.1, F(points), 0.15, 0.05, 4, shift)
+    np.testing.assert_array_equal(nearest_[:3], within(master, points[:, :3], 0.15))
+    np.testing.assert_array_equal(nearest_[3:], within(master + shift[:, None], points[:, 3:], 0.15))
+    assert nearest_[2] != nearest_[3]
+    np.testing.assert_array_equal(listed, [0, 1, 1, 0, 1, 1])
+
+
+def test_a_list_too_long_falls_back_to_the_grid() -> None:
+    """Reference: brute force. A dense cluster puts more master nodes within the radius than a
+    list holds: the answers are still right, and none is taken from a list."""
+    rng = np.random.default_rng(4)
+    master = 0.5 + 0.01 * rng.standard_normal((3, 200))
+    points = 0.5 + 0.003 * np.cumsum(rng.standard_normal((3, 20)), axis=1)
+    nearest_, listed = K.contact_nearest_listed(F(master), 0.0, F(points), 0.1, 0.05, 0, np.zeros(3))
+    np.testing.assert_array_equal(nearest_, within(master, points, 0.1))
+    assert not listed.any()
+
+
 def test_bucket_count_is_capped_by_node_count() -> None:
     """Reference: the design rule of O(n) memory, number of buckets <= number of nodes, even for
     a bucket size far below the node spacing; and equal to the requested grid when it fits."""

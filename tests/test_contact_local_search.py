@@ -192,25 +192,120 @@ def test_segment_candidates_pick_the_nearest_segment(seed: int) -> None:
 
 
 @pytest.mark.parametrize("seed", range(3))
-def test_a_candidate_the_cheap_test_skips_touches_no_segment(seed: int) -> None:
+def test_a_candidate_skipped_for_its_reach_touches_no_segment(seed: int) -> None:
     """Reference: penalty_force itself, on every segment around the node, with rounded edges
-    (the engine's test). Points at distances around the reach: wherever segments_may_touch says no,
-    no segment touches; and it says yes for some points (else the test would prove nothing)."""
+    (the engine's test). Points at distances around the reach: wherever segment_candidates with
+    the reach gives no segment, no segment touches; where it gives one, it is the same answer,
+    bit for bit, as without the reach; and it skips some points (else the test proves nothing)."""
     rng = np.random.default_rng(seed)
     coords, segs = plate_mesh(4, 4, rng, 0.4)
     start, lst, n_entries = K.contact_node_segments(coords.shape[1], F(segs))
     lst = lst[:n_entries]
-    said_yes = 0
+    skipped = 0
     for _ in range(200):
         p = np.array([rng.uniform(-0.5, 4.5), rng.uniform(-0.5, 4.5), rng.uniform(-1.5, 1.5)])
         node = int(brute_nearest(coords, p[:, None])[0])
         t = rng.uniform(0.05, 0.8)
-        may = K.contact_segments_may_touch(F(p), node, F(coords), F(segs), start, lst, t)
-        said_yes += may
+        found = K.contact_segment_candidates(F(p), node, F(coords), F(segs), start, lst, reach=t)
         touches = [K.contact_penalty_force(F(p), t, F(coords[:, segs[:, s - 1] - 1]), t, 1.0, rounded_edges=1)[3]
                    for s in lst[start[node - 1] - 1:start[node] - 1]]
-        assert may or not any(touches), (p, t)
-    assert 20 < said_yes < 180
+        if found[0] == 0:
+            skipped += 1
+            assert not any(touches), (p, t)
+        else:
+            every = K.contact_segment_candidates(F(p), node, F(coords), F(segs), start, lst)
+            for a, b in zip(found, every, strict=True):
+                np.testing.assert_array_equal(a, b)
+    assert 20 < skipped < 180
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_clear_slave_stays_clear_while_it_moves_less_than_half_its_clearance(seed: int) -> None:
+    """Reference: penalty_force itself on every segment around the node. Where segment_candidates
+    reports a clearance c > 0 (no segment can touch), the slave moved anywhere within c / 2.1 (the
+    engine's skip allows 2 (1 + 0.05) times the movement) touches no segment either; and where a
+    segment touches, the clearance is 0. Some points are clear (else the test proves nothing)."""
+    rng = np.random.default_rng(seed)
+    coords, segs = plate_mesh(4, 4, rng, 0.4)
+    start, lst, n_entries = K.contact_node_segments(coords.shape[1], F(segs))
+    lst = lst[:n_entries]
+    clear = 0
+    for _ in range(150):
+        p = np.array([rng.uniform(-0.5, 4.5), rng.uniform(-0.5, 4.5), rng.uniform(-1.5, 1.5)])
+        node = int(brute_nearest(coords, p[:, None])[0])
+        t = rng.uniform(0.05, 0.8)
+        c = K.contact_segment_clearance(F(p), node, F(coords), F(segs), start, lst, t)
+        around = lst[start[node - 1] - 1:start[node] - 1]
+        if c <= 0:
+            continue
+        clear += 1
+        for _ in range(5):
+            step = rng.standard_normal(3)
+            q = p + rng.uniform(0, 1) * c / 2.1 * step / np.linalg.norm(step)
+            touches = [K.contact_penalty_force(F(q), t, F(coords[:, segs[:, s - 1] - 1]), t, 1.0, rounded_edges=1)[3]
+                       for s in around]
+            assert not any(touches), (p, q, t, c)
+    assert 20 < clear < 150
+
+
+def test_clearance_above_a_flat_plate_is_the_height_less_the_reach() -> None:
+    """Reference: construction. Above the middle of a flat plate at height h, every segment around
+    the node is h away, so the clearance is h - (reach + 0.05 times the longest diagonal), to 1e-8."""
+    coords, segs = plate_mesh(4, 4, np.random.default_rng(0), 0.0)
+    start, lst, n_entries = K.contact_node_segments(coords.shape[1], F(segs))
+    node = int(brute_nearest(coords, np.array([[2.0], [2.0], [0.0]]))[0])
+    x = coords[:, node - 1]
+    around = segs[:, lst[start[node - 1] - 1:start[node] - 1] - 1] - 1
+    diagonal = max(max(np.linalg.norm(coords[:, s[2]] - coords[:, s[0]]),
+                       np.linalg.norm(coords[:, s[3]] - coords[:, s[1]])) for s in around.T)
+    for h, t in ((0.9, 0.2), (0.5, 0.1)):
+        p = F(x + np.array([0.1, 0.1, h]))
+        c = K.contact_segment_clearance(p, node, F(coords), F(segs), start, lst[:n_entries], t)
+        assert abs(c - (h - t - 0.05 * diagonal)) < 1e-8
+
+
+def _random_segments(rng: np.random.Generator) -> list[np.ndarray]:
+    segments = [flat_quad(rng)[0] for _ in range(4)] + [warped_quad(rng, w) for w in (0.1, 0.25, 0.4)]
+    triangle = flat_quad(rng)[0].copy()
+    triangle[:, 3] = triangle[:, 2]
+    return [*segments, F(triangle)]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_distance_bound_is_below_the_true_distance(seed: int) -> None:
+    """Reference: the dense numpy grid search of the distance from p to the segment (its square
+    root, less the grid's resolution). On flat, warped and triangular segments, for points near
+    and far, above the face and beyond edges and corners, the bound never exceeds it."""
+    rng = np.random.default_rng(seed)
+    for xseg in _random_segments(rng):
+        centre = xseg.mean(axis=1)
+        for scale in (0.3, 1.5, 5.0):
+            for _ in range(6):
+                p = centre + scale * rng.standard_normal(3)
+                bound = K.contact_segment_distance_bound(xseg, F(p))
+                d2, _, _ = grid_minimum(xseg, p, 201)
+                assert 0.0 <= bound <= np.sqrt(d2) * (1 + 1e-9)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_distance_bound_is_tight_above_a_flat_face_and_beyond_an_edge(seed: int) -> None:
+    """Reference: construction. Above the interior of a flat quadrilateral the distance is the
+    height h, and the bound is h (to 1e-8, its round-off allowance): the slab alone. Beyond edge 2-3 in the plane, at a
+    distance s out, the bound is s (to 1e-8): the edge plane alone (so both parts do work)."""
+    rng = np.random.default_rng(seed)
+    xseg, n = flat_quad(rng)
+    for _ in range(10):
+        xi0, eta0 = rng.uniform(-0.9, 0.9, 2)
+        h = rng.uniform(-1.0, 1.0)
+        x0, _, _ = surface(xseg, xi0, eta0)
+        assert abs(K.contact_segment_distance_bound(xseg, F(x0 + h * n)) - abs(h)) < 1e-8
+    x2, x3 = xseg[:, 1], xseg[:, 2]
+    outward = np.cross(x3 - x2, n)
+    outward /= np.linalg.norm(outward)
+    far = max(np.dot(outward, xseg[:, k] - x2) for k in range(4))
+    for out in (0.1, 0.5, 2.0):
+        p = 0.5 * (x2 + x3) + (far + out) * outward
+        assert abs(K.contact_segment_distance_bound(xseg, F(p)) - out) < 1e-8
 
 
 def test_segment_candidates_node_without_segments() -> None:

@@ -4,10 +4,11 @@ OLD and NEW are paradyn-engine binaries (for example one built from an earlier c
 ``cmake -S fortran -B /tmp/old``); LAYOUT is RANKSxTHREADS. Each round runs every layout with both
 engines, old first in odd rounds and new first in even ones, so drifts of a shared machine fall on
 both; each run's engine wall time is ``/run wall_s`` of its results file, its element phase
-``/run phase_elements_s``. Prints, per layout and for both times, the medians and the median of
-the per-round ratios old/new (above 1: NEW is faster). DECK may be two decks, OLD_DECK,NEW_DECK,
-one per engine: the double and the mixed engine each take only a deck of their precision
-(/control precision), the same model otherwise.
+``/run phase_elements_s``, its contact phase ``/run phase_contact_s`` and that phase's stages
+(sort, search, force). Prints, per layout and for each time, the medians, the spread (lowest and
+highest) and the median of the per-round ratios old/new (above 1: NEW is faster), with their
+range. DECK may be two decks, OLD_DECK,NEW_DECK, one per engine: the double and the mixed engine
+each take only a deck of their precision (/control precision), the same model otherwise.
 """
 
 from __future__ import annotations
@@ -24,7 +25,8 @@ import h5py
 from paradyn.launch import current_machine
 from paradyn.runners import MpirunRunner
 
-TIMES = ("wall_s", "phase_elements_s")
+TIMES = ("wall_s", "phase_elements_s", "phase_contact_s", "phase_contact_sort_s", "phase_contact_search_s",
+         "phase_contact_force_s")
 
 
 def run_once(engine: str, deck: Path, out: Path, ranks: int, threads: int) -> tuple[float, ...]:
@@ -55,7 +57,8 @@ def main(argv: list[str]) -> int:
             n = [t[j] for t in times[("new", layout)]]
             ratio = statistics.median(a / b for a, b in zip(o, n, strict=True))
             low, high = min(a / b for a, b in zip(o, n, strict=True)), max(a / b for a, b in zip(o, n, strict=True))
-            print(f"{layout} {name}: old median {statistics.median(o):.3f} s, new median {statistics.median(n):.3f} s, "
+            print(f"{layout} {name}: old median {statistics.median(o):.4f} s ({min(o):.4f}-{max(o):.4f}), "
+                  f"new median {statistics.median(n):.4f} s ({min(n):.4f}-{max(n):.4f}), "
                   f"per-round old/new median {ratio:.3f} ({low:.3f} to {high:.3f})")
     return 0
 

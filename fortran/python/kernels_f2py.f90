@@ -232,6 +232,39 @@ subroutine contact_nearest_nodes(n_master, master, bucket_size, n_points, points
   n_buckets = grid%n_buckets
 end subroutine contact_nearest_nodes
 
+! One slave walking through points(:, 1:n_points): its nearest master node within max_distance at
+! each point (0 = none) through its list of nearby masters (nearest_cache, list kept while the slave
+! stays within margin), and listed(k) = 1 where the answer came from a list made at an earlier point.
+! Before point rebuild_at (0: never) the masters move by shift and the grid is built again.
+subroutine contact_nearest_listed(n_master, master, bucket_size, n_points, points, max_distance, margin, &
+                                  rebuild_at, shift, nearest, listed)
+  use paradyn_kinds, only: wp
+  use contact_buckets, only: bucket_grid_t, bucket_grid_build
+  use nearest_cache, only: near_lists_t, near_lists_setup, nearest_master_listed, near_list_room
+  implicit none
+  integer, intent(in) :: n_master, n_points, rebuild_at
+  real(wp), intent(in) :: master(3, n_master), bucket_size, points(3, n_points), max_distance, margin, shift(3)
+  integer, intent(out) :: nearest(n_points), listed(n_points)
+  type(bucket_grid_t) :: grid
+  type(near_lists_t) :: lists
+  real(wp) :: coords(3, n_master)
+  integer :: k, built
+  coords = master
+  call bucket_grid_build(n_master, coords, bucket_size, grid)
+  call near_lists_setup(1, lists)
+  do k = 1, n_points
+    if (k == rebuild_at) then
+      coords = master + spread(shift, 2, n_master)
+      call bucket_grid_build(n_master, coords, bucket_size, grid)
+    end if
+    built = lists%built(1)
+    listed(k) = 0
+    if (built == grid%builds .and. lists%count(1) <= near_list_room .and. &
+        sum((points(:, k) - lists%centre(:, 1))**2) <= margin**2) listed(k) = 1
+    call nearest_master_listed(lists, 1, grid, coords, points(:, k), max_distance, margin, nearest(k))
+  end do
+end subroutine contact_nearest_listed
+
 subroutine contact_closest_point(xseg, p, xi, eta, xc, normal)
   use paradyn_kinds, only: wp
   use contact_search, only: closest_point_on_segment
@@ -251,7 +284,8 @@ subroutine contact_node_segments(n_nodes, n_segments, segment_nodes, segment_sta
 end subroutine contact_node_segments
 
 subroutine contact_segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
-                                      n_list, segment_list, segment, xi, eta, xc, normal)
+                                      n_list, segment_list, segment, xi, eta, xc, normal, reach)
+  ! reach < 0 (the default): segment_candidates without reach (every segment around the node counts)
   use paradyn_kinds, only: wp
   use contact_search, only: segment_candidates
   implicit none
@@ -260,22 +294,42 @@ subroutine contact_segment_candidates(p, node, n_nodes, coords, n_segments, segm
   integer, intent(in) :: segment_nodes(4, n_segments), segment_start(n_nodes + 1), segment_list(n_list)
   integer, intent(out) :: segment
   real(wp), intent(out) :: xi, eta, xc(3), normal(3)
-  call segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
-                          segment_list, segment, xi, eta, xc, normal)
+  real(wp), intent(in) :: reach
+  !f2py real(wp) optional, intent(in) :: reach = -1.0
+  if (reach >= 0.0_wp) then
+    call segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
+                            segment_list, segment, xi, eta, xc, normal, reach=reach)
+  else
+    call segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
+                            segment_list, segment, xi, eta, xc, normal)
+  end if
 end subroutine contact_segment_candidates
 
-subroutine contact_segments_may_touch(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
-                                      n_list, segment_list, reach, may)
+! segment_candidates' clearance with the given reach: how much farther than it could touch the
+! nearest segment around node lies at least (0 where a segment may touch).
+subroutine contact_segment_clearance(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
+                                     n_list, segment_list, reach, clearance)
   use paradyn_kinds, only: wp
-  use contact_search, only: segments_may_touch
+  use contact_search, only: segment_candidates
   implicit none
   integer, intent(in) :: node, n_nodes, n_segments, n_list
   real(wp), intent(in) :: p(3), coords(3, n_nodes), reach
   integer, intent(in) :: segment_nodes(4, n_segments), segment_start(n_nodes + 1), segment_list(n_list)
-  integer, intent(out) :: may
-  may = merge(1, 0, segments_may_touch(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
-                                       segment_list, reach))
-end subroutine contact_segments_may_touch
+  real(wp), intent(out) :: clearance
+  integer :: segment
+  real(wp) :: xi, eta, xc(3), normal(3)
+  call segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, segment_start, &
+                          segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance)
+end subroutine contact_segment_clearance
+
+subroutine contact_segment_distance_bound(xseg, p, bound)
+  use paradyn_kinds, only: wp
+  use contact_search, only: segment_distance_bound
+  implicit none
+  real(wp), intent(in) :: xseg(3, 4), p(3)
+  real(wp), intent(out) :: bound
+  bound = segment_distance_bound(xseg, p)
+end subroutine contact_segment_distance_bound
 
 subroutine contact_penalty_stiffness(xseg, young, poisson, scale, k)
   use paradyn_kinds, only: wp

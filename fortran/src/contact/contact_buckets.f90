@@ -19,7 +19,7 @@ module contact_buckets
   implicit none
   private
   public :: bucket_grid_t, bucket_grid_build, nearest_master_node, nearest_master_nodes
-  public :: bucket_of_point
+  public :: bucket_of_point, masters_within, nearest_in_list
 
   !> Buckets over the bounding box of the master nodes, in compressed-row form.
   type :: bucket_grid_t
@@ -30,6 +30,7 @@ module contact_buckets
     real(wp) :: width(3) = 0.0_wp               !< bucket edge along each axis (0 on a flat axis)
     real(wp) :: inverse_width(3) = 0.0_wp       !< 1 / width (0 on a flat axis)
     real(wp) :: tolerance = 0.0_wp              !< round-off allowance of the search bound
+    integer :: builds = 0                       !< times built: a list of its nodes is stale once it grows
     integer(ip), allocatable :: bucket_start(:) !< (product(n_buckets) + 1)
     integer(ip), allocatable :: bucket_nodes(:) !< (n_nodes), master indices grouped by bucket
     integer(ip), allocatable :: node_bucket(:)  !< (n_nodes), bucket of each master node
@@ -50,6 +51,7 @@ contains
     integer(ip) :: a, i, b, n_total, iter
 
     grid%n_nodes = n
+    grid%builds = grid%builds + 1
     if (n > 0) then
       grid%lower = minval(coords, dim=2)
       grid%upper = maxval(coords, dim=2)
@@ -244,5 +246,74 @@ contains
       nearest(i) = nearest_master_node(grid, coords, points(:, i), max_distance)
     end do
   end subroutine nearest_master_nodes
+
+  !> The master nodes whose squared distance from point is at most radius**2, not listed in
+  !> excluded: the first size(list) of them (by bucket) in list, their number in count (which may
+  !> exceed size(list)). Only the buckets that overlap the box point +- radius are read.
+  pure subroutine masters_within(grid, coords, point, radius, list, count, excluded)
+    type(bucket_grid_t), intent(in) :: grid
+    real(wp), intent(in) :: coords(:, :), point(3), radius
+    integer, intent(out) :: list(:), count
+    integer, intent(in), optional :: excluded(:)
+    integer(ip) :: lo(3), hi(3), ix, iy, iz, a, b, j, node
+    real(wp) :: d2, r2
+    count = 0
+    if (grid%n_nodes <= 0) return
+    do a = 1, 3
+      lo(a) = axis_index(grid, a, point(a) - radius)
+      hi(a) = axis_index(grid, a, point(a) + radius)
+    end do
+    r2 = radius**2
+    do iz = lo(3), hi(3)
+      do iy = lo(2), hi(2)
+        do ix = lo(1), hi(1)
+          b = ix + grid%n_buckets(1) * (iy - 1 + grid%n_buckets(2) * (iz - 1))
+          do j = grid%bucket_start(b), grid%bucket_start(b + 1) - 1
+            node = grid%bucket_nodes(j)
+            d2 = (coords(1, node) - point(1))**2 + (coords(2, node) - point(2))**2 + (coords(3, node) - point(3))**2
+            if (.not. (d2 <= r2)) cycle
+            if (present(excluded)) then
+              if (any(excluded == node)) cycle
+            end if
+            count = count + 1
+            if (count <= size(list)) list(count) = node
+          end do
+        end do
+      end do
+    end do
+  end subroutine masters_within
+
+  !> nearest_master_node over the n master nodes in list only: the nearest to point, the lower index
+  !> on ties, 0 when the list is empty or the nearest lies farther than max_distance. The same
+  !> answer as nearest_master_node whenever list holds every master node within max_distance of
+  !> point that the search may count (the same arithmetic). With distance, the list is in
+  !> ascending order of distance(i), each node's distance from a place `shift` away from point:
+  !> a node is then at least distance(i) - shift from point, and the scan stops once that exceeds
+  !> the nearest so far or max_distance (by more than slack, the round-off allowance).
+  pure integer(ip) function nearest_in_list(coords, point, n, list, max_distance, distance, shift, slack) result(best)
+    real(wp), intent(in) :: coords(:, :), point(3), max_distance
+    integer, intent(in) :: n, list(n)
+    real(wp), intent(in), optional :: distance(n), shift, slack
+    integer(ip) :: i, node
+    real(wp) :: d2, best_d2, apart
+    best = 0
+    best_d2 = huge(1.0_wp)
+    do i = 1, n
+      if (present(distance)) then
+        apart = distance(i) - shift - slack
+        if (apart > max_distance) exit
+        if (best > 0 .and. apart > 0.0_wp) then
+          if (apart**2 > best_d2) exit
+        end if
+      end if
+      node = list(i)
+      d2 = sum((coords(:, node) - point)**2)
+      if (best == 0 .or. d2 < best_d2 .or. (d2 == best_d2 .and. node < best)) then
+        best_d2 = d2
+        best = node
+      end if
+    end do
+    if (best > 0 .and. best_d2 > max_distance**2) best = 0
+  end function nearest_in_list
 
 end module contact_buckets

@@ -67,6 +67,16 @@ module contact_interface
     integer, allocatable :: touched(:), touched_old(:), mark(:)
     integer :: n_touched = 0, n_touched_old = 0, stamp = 0
     real(wp), allocatable :: x_at_sort(:, :)   !< positions at the last bucket sort
+    ! contact_movement's members: their local columns, and their positions at the last sort in
+    ! their order (so the per-step check reads one index and contiguous positions), as of sort
+    ! number member_sort
+    integer, allocatable :: member_at(:)
+    real(wp), allocatable :: member_at_sort(:, :)
+    integer(i8) :: member_sort = -1
+    logical :: member_run = .false.            !< member_at is one ascending run of columns
+    !> this step: the largest distance a contact node has moved since the last sort (0 at a sort,
+    !> huge where not measured), for contact_stages' clearances
+    real(wp) :: moved = huge(1.0_wp)
     ! the nodes whose positions the contact can read before the next sort (all of them with a
     ! fixed sort interval); the caller gathers only these between sorts once gather_subset is set
     logical, allocatable :: in_gather(:)
@@ -387,16 +397,36 @@ contains
     integer, intent(in), optional :: members(:), local(:)
     real(wp), intent(in), optional :: x(:, :)
     real(wp) :: t0
-    integer :: i, j, k
+    integer :: i, j, k, n
     t0 = clock()
     moved = 0.0_wp
     if (present(members) .and. present(local) .and. present(x)) then
-      !$omp parallel do schedule(static) private(j, k) reduction(max:moved)
-      do i = 1, size(members)
-        k = members(i)
-        j = local(k)
-        moved = max(moved, (x(1, j) - c%x_at_sort(1, k))**2 + (x(2, j) - c%x_at_sort(2, k))**2 &
-                           + (x(3, j) - c%x_at_sort(3, k))**2)
+      n = size(members)
+      if (c%member_sort /= c%n_sorts .or. .not. allocated(c%member_at)) then   ! a sort since
+        c%member_at = local(members)
+        c%member_at_sort = c%x_at_sort(:, members)
+        c%member_sort = c%n_sorts
+        c%member_run = .false.
+        if (n > 0) c%member_run = all(c%member_at == [(c%member_at(1) + i - 1, i = 1, n)])
+      end if
+      if (c%member_run) then
+        ! the members' columns are one run (all the nodes are contact nodes): contiguous reads
+        k = c%member_at(1) - 1
+        !$omp parallel do schedule(static) reduction(max:moved)
+        do i = 1, n
+          moved = max(moved, (x(1, k + i) - c%member_at_sort(1, i))**2 + (x(2, k + i) - c%member_at_sort(2, i))**2 &
+                             + (x(3, k + i) - c%member_at_sort(3, i))**2)
+        end do
+        !$omp end parallel do
+        moved = sqrt(moved)
+        c%time_sort = c%time_sort + clock() - t0
+        return
+      end if
+      !$omp parallel do schedule(static) private(j) reduction(max:moved)
+      do i = 1, n
+        j = c%member_at(i)
+        moved = max(moved, (x(1, j) - c%member_at_sort(1, i))**2 + (x(2, j) - c%member_at_sort(2, i))**2 &
+                           + (x(3, j) - c%member_at_sort(3, i))**2)
       end do
       !$omp end parallel do
     else if (c%sort_interval == 0 .and. c%last_sort >= 0) then   ! else contact_sort_due does not ask

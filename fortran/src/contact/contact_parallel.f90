@@ -212,6 +212,7 @@ contains
     real(wp) :: t0, moved, moved_here
     logical :: sort, new_gather_set, quiet
     sort = .false.
+    moved = huge(1.0_wp)                  ! unknown (a fixed sort interval measures nothing)
     quiet = .not. pc%c%gather_subset .and. contact_all_idle(pc%c) .and. pc%c%n_touched == 0 &
             .and. (pc%c%sort_interval > 0 .or. pc%c%last_sort < 0)
     if (quiet) then
@@ -242,6 +243,13 @@ contains
     end if
     call contact_begin(pc%c, cycle, sort, wall_clock, new_gather_set)
     if (new_gather_set) call node_subset_setup(pc%nodes, pc%c%in_gather)
+    ! how far any contact node has moved from the positions of the sort the step's grids are from
+    pc%c%moved = huge(1.0_wp)
+    if (sort) then
+      pc%c%moved = 0.0_wp
+    else if (pc%c%sort_interval == 0 .and. pc%c%last_sort >= 0 .and. .not. quiet) then
+      pc%c%moved = moved
+    end if
   end subroutine gather_positions
 
   subroutine timed_share_candidates(pc, timers)

@@ -7,9 +7,10 @@
 !> must not meet its own surface: its nearest-master search skips the nodes of the master segments
 !> that contain it (its own node and its neighbours), and its local search skips those segments.
 module contact_pass
-  use paradyn_kinds, only: wp, ip
+  use paradyn_kinds, only: wp, ip, i8
   use model_deck, only: deck_t
   use contact_buckets, only: bucket_grid_t
+  use nearest_cache, only: near_lists_t, near_lists_setup
   use contact_search, only: node_segment_map, shell_penalty_stiffness
   use initial_penetration, only: slave_penetrations
   use contact_surfaces, only: part_nodes, contact_thickness
@@ -43,6 +44,13 @@ module contact_pass
     ! sort fell while it was idle, so its grid is rebuilt from the positions of that sort on waking
     logical :: idle = .false., stale = .false.
     type(bucket_grid_t) :: grid
+    type(near_lists_t) :: near                 !< each slave's nearby master nodes (nearest_cache)
+    !> each slave's clearance (contact_stages): at sort number clear_sort, when the contact moved
+    !> clear_moved since that sort, every segment around master clear_master was at least clear_gap
+    !> farther from the slave than it could touch
+    integer, allocatable :: clear_master(:)
+    integer(i8), allocatable :: clear_sort(:)
+    real(wp), allocatable :: clear_gap(:), clear_moved(:)
     real(wp) :: bucket_size = 0, t_slave = 0, t_master = 0, mu_static = 0, mu_dynamic = 0, decay = 0
   end type contact_pass_t
 
@@ -80,6 +88,10 @@ contains
     allocate (pass%x_sorted(3, size(pass%masters)), source=0.0_wp)
     pass%near_slaves = [(e, e = 1, size(pass%slaves))]
     pass%n_near = size(pass%slaves)
+    call near_lists_setup(size(pass%slaves), pass%near)
+    allocate (pass%clear_master(size(pass%slaves)), source=0)
+    allocate (pass%clear_sort(size(pass%slaves)), source=-1_i8)
+    allocate (pass%clear_gap(size(pass%slaves)), pass%clear_moved(size(pass%slaves)), source=0.0_wp)
     pass%t_slave = contact_thickness(deck, pair, slave_part)
     pass%t_master = contact_thickness(deck, pair, master_part)
     call exclusions(pass, contact_id, master_nodes, n_contact)

@@ -20,13 +20,13 @@
 module contact_search
   use paradyn_kinds, only: wp, ip, i8
   use vector_algebra, only: cross
-  use segment_projection, only: closest_point_on_segment, segment_shape_functions
+  use segment_projection, only: closest_point_on_segment, segment_shape_functions, segment_distance_bound
   implicit none
   private
   public :: closest_point_on_segment, segment_candidates, node_segment_map
   public :: shell_penalty_stiffness, penalty_force, friction_coefficient, segment_shape_functions
   public :: default_penalty_scale, edge_tolerance
-  public :: candidate_block, candidates_in_slave_order, segments_may_touch
+  public :: candidate_block, candidates_in_slave_order, segment_distance_bound
 
   !> LS-DYNA's default scale factor of the penalty stiffness.
   real(wp), parameter :: default_penalty_scale = 0.1_wp
@@ -92,8 +92,17 @@ contains
   !> segment number on ties), with that closest point and the normal there. segment = 0 when
   !> the node belongs to no segment. With skip_node, segments that contain that node do not count
   !> (a slave's own segments in a single-surface contact).
+  !>
+  !> The segments are projected in the order of their segment_distance_bound, and one whose bound
+  !> already exceeds the nearest closest point found cannot be nearer: it is not projected. The
+  !> answer is the same as projecting them all (only the order of the projections changes, and the
+  !> choice does not depend on it). With reach: segment = 0 also when no segment can touch p by
+  !> penalty_force's test with that reach (half the two thicknesses), that is when every bound
+  !> exceeds the reach plus the offset the face test allows (edge_tolerance times the longer
+  !> diagonal): the projections are then skipped.
   pure subroutine segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, &
-                                     segment_start, segment_list, segment, xi, eta, xc, normal, skip_node)
+                                     segment_start, segment_list, segment, xi, eta, xc, normal, skip_node, reach, &
+                                     clearance)
     real(wp), intent(in) :: p(3)
     integer(ip), intent(in) :: node, n_nodes, n_segments
     real(wp), intent(in) :: coords(3, n_nodes)
@@ -103,20 +112,72 @@ contains
     integer(ip), intent(out) :: segment
     real(wp), intent(out) :: xi, eta, xc(3), normal(3)
     integer(ip), intent(in), optional :: skip_node
-    real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2
-    integer(ip) :: j, s
+    real(wp), intent(in), optional :: reach
+    !> with reach, where no segment can touch: how much farther than it could touch the nearest
+    !> segment lies at least (the least of bound - (reach + offset)); else 0
+    real(wp), intent(out), optional :: clearance
+    integer, parameter :: most = 16              ! segments around a node that are ordered
+    real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2, xseg(3, 4), bound(most), b, diagonal, touch, gap
+    integer(ip) :: order(most), j, s, k, n, i
+    logical :: near, ordered
 
     segment = 0
     xi = 0.0_wp
     eta = 0.0_wp
     xc = 0.0_wp
     normal = 0.0_wp
+    if (present(clearance)) clearance = 0.0_wp
     if (node < 1 .or. node > n_nodes) return
     best_d2 = huge(1.0_wp)
-    do j = segment_start(node), segment_start(node + 1) - 1
-      s = segment_list(j)
-      if (present(skip_node)) then
-        if (any(segment_nodes(:, s) == skip_node)) cycle
+    gap = huge(1.0_wp)
+    n = segment_start(node + 1) - segment_start(node)
+    ordered = n <= most                          ! else (not expected of a shell mesh) all, in list order
+    near = .not. (present(reach) .and. ordered)
+    if (ordered) then
+      n = 0
+      do j = segment_start(node), segment_start(node + 1) - 1
+        s = segment_list(j)
+        if (present(skip_node)) then
+          if (any(segment_nodes(:, s) == skip_node)) cycle
+        end if
+        do i = 1, 4
+          xseg(:, i) = coords(:, segment_nodes(i, s))
+        end do
+        if (near) then
+          b = segment_distance_bound(xseg, p)
+        else
+          diagonal = sqrt(max(sum((xseg(:, 3) - xseg(:, 1))**2), sum((xseg(:, 4) - xseg(:, 2))**2)))
+          touch = reach + edge_tolerance * diagonal + 1.0e-10_wp * (reach + diagonal)
+          b = segment_distance_bound(xseg, p, enough=touch)
+          near = b <= touch
+          gap = min(gap, b - touch)
+        end if
+        ! insert into the segments in ascending order of their bounds
+        n = n + 1
+        k = n
+        do while (k > 1)
+          if (.not. (bound(k - 1) > b)) exit
+          bound(k) = bound(k - 1)
+          order(k) = order(k - 1)
+          k = k - 1
+        end do
+        bound(k) = b
+        order(k) = s
+      end do
+    end if
+    if (.not. near) then
+      if (present(clearance) .and. gap < huge(1.0_wp)) clearance = gap
+      return
+    end if
+    do k = 1, n
+      if (ordered) then
+        if (bound(k)**2 > best_d2) exit          ! this one and the rest cannot be nearer
+        s = order(k)
+      else
+        s = segment_list(segment_start(node) + k - 1)
+        if (present(skip_node)) then
+          if (any(segment_nodes(:, s) == skip_node)) cycle
+        end if
       end if
       call closest_point_on_segment(coords(:, segment_nodes(:, s)), p, s_xi, s_eta, s_xc, s_normal)
       d2 = sum((p - s_xc)**2)
@@ -130,39 +191,6 @@ contains
       end if
     end do
   end subroutine segment_candidates
-
-  !> False when no segment around master node `node` can touch p within `reach` by penalty_force's
-  !> test: each segment's points lie in the ball around its node average c of radius r = the
-  !> farthest node from c, so |p - c| - r bounds the distance to any of its points from below, and
-  !> the face test allows an offset off the normal of edge_tolerance times the longer diagonal.
-  !> A cheap test that spares a candidate far from every segment the closest-point iterations.
-  pure logical function segments_may_touch(p, node, n_nodes, coords, n_segments, segment_nodes, &
-                                           segment_start, segment_list, reach) result(may)
-    real(wp), intent(in) :: p(3), reach
-    integer(ip), intent(in) :: node, n_nodes, n_segments
-    real(wp), intent(in) :: coords(3, n_nodes)
-    integer(ip), intent(in) :: segment_nodes(4, n_segments), segment_start(n_nodes + 1), segment_list(*)
-    real(wp) :: c(3), r2, d, diagonal
-    integer(ip) :: j, s, i
-    may = .false.
-    do j = segment_start(node), segment_start(node + 1) - 1
-      s = segment_list(j)
-      c = 0.25_wp * (coords(:, segment_nodes(1, s)) + coords(:, segment_nodes(2, s)) &
-                     + coords(:, segment_nodes(3, s)) + coords(:, segment_nodes(4, s)))
-      r2 = 0.0_wp
-      do i = 1, 4
-        r2 = max(r2, sum((coords(:, segment_nodes(i, s)) - c)**2))
-      end do
-      d = norm2(p - c)
-      diagonal = sqrt(max(sum((coords(:, segment_nodes(3, s)) - coords(:, segment_nodes(1, s)))**2), &
-                          sum((coords(:, segment_nodes(4, s)) - coords(:, segment_nodes(2, s)))**2)))
-      ! with a relative allowance for the round-off of c, r and d
-      if (d - sqrt(r2) - edge_tolerance * diagonal <= reach + 1.0e-10_wp * (d + sqrt(r2))) then
-        may = .true.
-        return
-      end if
-    end do
-  end function segments_may_touch
 
   !> Penalty stiffness of a shell master segment, LS-DYNA's shell form k = scale K A / d_max:
   !> K = E / (3 (1 - 2 nu)) the bulk modulus, A the segment area (half the cross product of the

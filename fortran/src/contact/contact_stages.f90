@@ -5,9 +5,9 @@
 !> caller (contact_parallel) shares candidates and records between the stages.
 module contact_stages
   use paradyn_kinds, only: wp, ip, i8
-  use contact_buckets, only: nearest_master_node
+  use nearest_cache, only: nearest_master_listed
   use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order, &
-                            segments_may_touch
+                            edge_tolerance
   use contact_pass, only: contact_pass_t
   use contact_interface, only: contact_t, clock_seconds
   implicit none
@@ -22,6 +22,10 @@ module contact_stages
   !> contact cannot make the central-difference step unstable however stiff the penalty or light
   !> the node (docs/theory.md; LS-DYNA's soft-constraint stiffness has the same m / dt^2 form).
   real(wp), parameter :: stable_spring_fraction = 0.25_wp
+  !> A slave keeps its list of nearby master nodes (nearest_cache) while it stays within this
+  !> fraction of the bucket size of where the list was made. An automatic sort falls before any
+  !> node has moved a tenth of the smallest bucket, so a list then lasts until the next sort.
+  real(wp), parameter :: list_margin = 0.125_wp
 
 contains
 
@@ -118,12 +122,12 @@ contains
       x = c%x(:, pass%slaves(j))
       if (near_box(x, pass)) then
         if (pass%shares_nodes) then
-          found = nearest_master_node(pass%grid, pass%x_sorted, x, &
-                                      max_distance=pass%bucket_size + pass%t_slave + pass%t_master, &
-                                      excluded=pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
+          call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
+                                     pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, &
+                                     found, excluded=pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
         else
-          found = nearest_master_node(pass%grid, pass%x_sorted, x, &
-                                      max_distance=pass%bucket_size + pass%t_slave + pass%t_master)
+          call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
+                                     pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, found)
         end if
         if (found > 0) c%nearest(i) = found
       end if
@@ -202,40 +206,48 @@ contains
   subroutine contact_local_search(c, clock)
     type(contact_t), intent(inout) :: c
     procedure(clock_seconds) :: clock
-    integer :: k, node, segment
+    integer :: k, node, segment, m
     real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
-    real(wp) :: penetration, t0, stiffness, reach
+    real(wp) :: penetration, t0, stiffness, reach, lightest, clearance
     logical :: touching
     t0 = clock()
     c%record_nodes(1, 1:c%first - 1) = 0
     c%record_nodes(1, c%last + 1:c%n_candidates) = 0
     !$omp parallel do schedule(static, 1) default(shared) &
     !$omp private(k, node, segment, x, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
-    !$omp penetration, touching, stiffness, reach)
+    !$omp penetration, touching, stiffness, reach, lightest, m, clearance)
     do k = c%first, c%last
       c%record_nodes(:, k) = 0
       associate (pass => c%passes(c%candidates(3, k)))
       node = pass%slaves(c%candidates(1, k))
       x = c%x(:, node)
+      if (still_clear(pass, c%candidates(1, k), c%candidates(2, k), c%n_sorts, c%moved)) cycle
+      ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
       reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(c%candidates(1, k)) + pass%t_master)
-      if (.not. segments_may_touch(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
-                                   int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
-                                   pass%segment_list, reach)) cycle
       if (pass%shares_nodes) then
         call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
-                                pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(node, ip))
+                                pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(node, ip), reach=reach, &
+                                clearance=clearance)
       else
         call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
-                                pass%segment_list, segment, xi, eta, xc, normal)
+                                pass%segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance)
+      end if
+      if (clearance > 0.0_wp .and. c%moved < huge(1.0_wp)) then   ! this slave's only: no other thread writes it
+        pass%clear_master(c%candidates(1, k)) = c%candidates(2, k)
+        pass%clear_sort(c%candidates(1, k)) = c%n_sorts
+        pass%clear_gap(c%candidates(1, k)) = clearance
+        pass%clear_moved(c%candidates(1, k)) = c%moved
       end if
       if (segment > 0) then
-        xseg = c%x(:, pass%segments(:, segment))
-        vseg = c%v(:, pass%segments(:, segment))
-        stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 &
-                        * min(c%mass(node), minval(c%mass(pass%segments(:, segment)))))
-        ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
+        lightest = c%mass(node)
+        do m = 1, 4                                ! explicit: array sections here cost a heap temporary
+          xseg(:, m) = c%x(:, pass%segments(m, segment))
+          vseg(:, m) = c%v(:, pass%segments(m, segment))
+          lightest = min(lightest, c%mass(pass%segments(m, segment)))
+        end do
+        stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 * lightest)
         call penalty_force(x, pass%t_slave - 2.0_wp * pass%overlap(c%candidates(1, k)), xseg, pass%t_master, &
                            stiffness, f_slave, &
                            f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &
@@ -254,6 +266,25 @@ contains
     !$omp end parallel do
     c%time_force = c%time_force + clock() - t0
   end subroutine contact_local_search
+
+  !> Slave j of the pass, whose nearest master is master, still cannot touch: at an earlier step of
+  !> the same sort (sort number n_sorts) the segments around the same master were all at least
+  !> clear_gap farther from it than they could touch, and since then no node has moved more than
+  !> clear_moved + moved (each at most that far from its place at the sort, then and now). A point
+  !> of a segment moves as its nodes do, so the slave's distance to a segment has shrunk by at most
+  !> twice that, and the offset the face test allows (edge_tolerance times the diagonal) has grown
+  !> by at most edge_tolerance times twice that. The answer is the one the local search would give
+  !> (no record), without its work.
+  pure logical function still_clear(pass, j, master, n_sorts, moved)
+    type(contact_pass_t), intent(in) :: pass
+    integer, intent(in) :: j, master
+    integer(i8), intent(in) :: n_sorts
+    real(wp), intent(in) :: moved
+    still_clear = .false.
+    if (pass%clear_sort(j) /= n_sorts .or. pass%clear_master(j) /= master) return
+    still_clear = pass%clear_gap(j) > 2.0_wp * (1.0_wp + edge_tolerance) * (pass%clear_moved(j) + moved) &
+                                      * (1.0_wp + 1.0e-9_wp)
+  end function still_clear
 
   !> Cheap rejection: a slave farther than a bucket from the master nodes' sorted bounding box
   !> cannot touch (an idle pair costs one box test per slave).
