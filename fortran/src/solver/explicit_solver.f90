@@ -117,6 +117,7 @@ contains
                                                    s%clock%dt, s%control%contact_gather_all)
     allocate (s%node_out_a(3, size(s%halo%owned_local)), s%node_out_b(3, size(s%halo%owned_local)))
     allocate (s%element_out(5, s%dom%n_elements), s%tracked_out(6, deck%n_tracked))
+    allocate (s%element_work(s%dom%n_elements))
     s%n_parts = deck%n_parts
     s%n_contacts = deck%n_contacts
     s%node_part = node_parts(deck, s%dom%nodes)

@@ -100,13 +100,31 @@ contains
 
   !> This rank's internal energy, hourglass energy and plastic work of each part, in turn (n_parts
   !> each). The plastic work of an element: its current area times thickness times the
-  !> through-thickness mean of the material's dissipated work per unit volume.
+  !> through-thickness mean of the material's dissipated work per unit volume. The elements' terms
+  !> are computed on the threads (a material call per element) and summed in element order, so
+  !> the sums are the same for any number of threads.
   subroutine part_energies(s, energies)
-    type(solver_t), intent(in) :: s
+    type(solver_t), intent(inout) :: s
     real(wp), intent(out) :: energies(:)
     real(wp) :: zeta(max_integration_points), wgt(max_integration_points), x(3, 4), area
     integer :: g, p, first, last, i, nip, np
     np = s%n_parts
+    !$omp parallel do schedule(static) private(p, first, last, nip, zeta, wgt, i, x, area)
+    do g = 1, s%dom%n_groups
+      p = s%dom%group_part(g)
+      if (.not. s%props(p)%material%has_history()) cycle
+      first = s%dom%group_first(g)
+      last = first + s%dom%group_count(g) - 1
+      nip = s%props(p)%integration_points
+      call thickness_rule(nip, zeta(1:nip), wgt(1:nip))
+      do i = 1, last - first + 1
+        x = s%nodes%x(:, s%dom%connectivity(:, first + i - 1))
+        area = 0.5_wp * norm2(cross(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2)))
+        s%element_work(first + i - 1) = area * s%props(p)%thickness * 0.5_wp * &
+          sum(wgt(1:nip) * s%props(p)%material%dissipated_work(real(s%elements%groups(g)%eps_p(i, :), wp)))
+      end do
+    end do
+    !$omp end parallel do
     energies = 0.0_wp
     do g = 1, s%dom%n_groups
       p = s%dom%group_part(g)
@@ -114,17 +132,10 @@ contains
       last = first + s%dom%group_count(g) - 1
       energies(p) = energies(p) + sum(s%elements%e_internal(first:last))
       energies(np + p) = energies(np + p) + sum(s%elements%e_hourglass(first:last))
-      associate (props => s%props(p))
-      if (.not. props%material%has_history()) cycle
-      nip = props%integration_points
-      call thickness_rule(nip, zeta(1:nip), wgt(1:nip))
-      do i = 1, last - first + 1
-        x = s%nodes%x(:, s%dom%connectivity(:, first + i - 1))
-        area = 0.5_wp * norm2(cross(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2)))
-        energies(2 * np + p) = energies(2 * np + p) + area * props%thickness * 0.5_wp * &
-          sum(wgt(1:nip) * props%material%dissipated_work(real(s%elements%groups(g)%eps_p(i, :), wp)))
+      if (.not. s%props(p)%material%has_history()) cycle
+      do i = first, last
+        energies(2 * np + p) = energies(2 * np + p) + s%element_work(i)
       end do
-      end associate
     end do
   end subroutine part_energies
 

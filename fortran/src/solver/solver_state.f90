@@ -41,6 +41,7 @@ module solver_state
     type(work_queues_t) :: group_queues        !< the threads' shares of the element groups
     ! output buffers: this rank's owned nodes and its elements
     real(wp), allocatable :: node_out_a(:, :), node_out_b(:, :), element_out(:, :)
+    real(wp), allocatable :: element_work(:)   !< each element's plastic work at a history record
     real(wp), allocatable :: tracked_out(:, :)   !< (6, n_tracked): this rank's share, summed to rank 0
     integer, allocatable :: node_part(:)         !< per local node: the part of its lowest-numbered element
     integer :: n_parts = 0, n_contacts = 0
