@@ -83,7 +83,7 @@ contains
     allocate (x(group_size, 3, 4, n_groups), v(group_size, 3, 4, n_groups), w(group_size, 3, 4, n_groups))
     allocate (stress(group_size, stress_components, 5, n_groups), back(group_size, 3, 5, n_groups))
     allocate (eps_p(group_size, 5, n_groups), hg(group_size, hourglass_components, n_groups))
-    allocate (e_int(group_size, n_groups), e_hg(group_size, n_groups), force(group_size, 6, 4))
+    allocate (e_int(group_size, n_groups), e_hg(group_size, n_groups), force(6, 4, group_size))
     stress = 0
     back = 0
     eps_p = 0

@@ -33,7 +33,8 @@ contains
   !> order); forces use the end-of-step geometry. State arrays are updated in place:
   !> stress (local frame), back stress, effective plastic strain, hourglass resultants.
   !> Element energies accumulate the stress and hourglass work of the step (midpoint rule).
-  !> force(i, 1:3, k) is the internal force, force(i, 4:6, k) the internal moment, global axes.
+  !> force(1:3, k, i) is the internal force, force(4:6, k, i) the internal moment at corner k of
+  !> element i, global axes: the engine's corner layout, so that the forces go straight into it.
   !>
   !> Vectorised across elements: elements are taken group_size at a time, and every stage (frame,
   !> gradients, strain rates, each through-thickness point, hourglass, forces) is a loop over
@@ -55,7 +56,7 @@ contains
     real(ek), intent(inout) :: back(n, 3, back_stress_points(props))
     real(ek), intent(inout) :: eps_p(n, props%integration_points)
     real(ek), intent(inout) :: hourglass(n, hourglass_components)
-    real(wp), intent(out) :: force(n, 6, 4)
+    real(wp), intent(out) :: force(6, 4, n)
     real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
     integer, intent(inout) :: inverted
     real(wp), intent(out) :: dt_element(n)   !< stable step L / c on the end-of-step geometry
@@ -212,7 +213,13 @@ contains
       call nodal_forces(m, e, area, b1, b2, gamma, res, hg, zw, dh, fl)
       if (props%hourglass_form == hourglass_physical) &
         call add_shear_hourglass_moments(m, e, area, xl, yl, s_xi, hg(:, 10), fl)
-      force(o + 1:o + m, :, :) = fl(1:m, :, :)
+      do i = 1, m
+        do k = 1, 4
+          do c = 1, 6
+            force(c, k, o + i) = fl(i, c, k)
+          end do
+        end do
+      end do
     end do
   end subroutine blt_internal_forces
 

@@ -9,7 +9,7 @@ module internal_forces
   use shell_measures, only: blt_lumped_mass
   use work_queues, only: queues_start, queues_take
   use halo_exchange, only: exchange_corners
-  use nodal_assembly, only: gather_group, scatter_corners, assemble_nodes
+  use nodal_assembly, only: gather_group, assemble_nodes
   use phase_timers, only: wall_clock
   use contact_parallel, only: parallel_contact_step, parallel_contact_apply, parallel_contact_worked
   use paradyn_schema, only: effect_elastic_shells, effect_plastic_shells, effect_contact, effect_friction
@@ -20,8 +20,9 @@ module internal_forces
   private
   public :: forces_at_current_state, lumped_masses, workspace_per_group
 
-  !> doubles of one thread's workspace: a group's x, v, w (3 x 4 each) and corner forces (6 x 4)
-  integer, parameter :: workspace_per_group = group_size * (3 * 4 * 3 + 6 * 4)
+  !> doubles of one thread's workspace: a group's x, v, w (3 x 4 each); the kernel writes the
+  !> corner forces straight into the corner array
+  integer, parameter :: workspace_per_group = group_size * 3 * 4 * 3
 
 contains
 
@@ -67,14 +68,13 @@ contains
     type(solver_t), intent(inout) :: s
     real(wp), intent(in) :: dt_strain
     real(wp), intent(out) :: busy(2)
-    integer :: g, n, first, p, tid, emptied, inverted, ox, ov, ow, of, family
+    integer :: g, n, first, p, tid, emptied, inverted, ox, ov, ow, family
     real(wp) :: t0
     inverted = 0
     busy = 0.0_wp
     ox = 1
     ov = ox + 12 * group_size
     ow = ov + 12 * group_size
-    of = ow + 12 * group_size
     call queues_start(s%group_queues, s%dom%n_groups, s%threads)
     !$omp parallel private(g, n, first, p, tid, emptied, t0, family) reduction(+:inverted, busy)
     tid = omp_get_thread_num() + 1
@@ -92,10 +92,9 @@ contains
       associate (gs => s%elements%groups(g))
         call blt_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
                                  s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%hourglass, &
-                                 s%workspace(of, tid), s%elements%e_internal(first), s%elements%e_hourglass(first), &
+                                 s%corner(1, 4 * first - 3), s%elements%e_internal(first), s%elements%e_hourglass(first), &
                                  inverted, s%elements%dt_element(first))
       end associate
-      call scatter_corners(n, first, s%workspace(of, tid), s%corner)
       family = merge(2, 1, s%part_effect(p) == effect_plastic_shells)
       busy(family) = busy(family) + wall_clock() - t0
     end do

@@ -7,7 +7,7 @@ module nodal_assembly
   use paradyn_kinds, only: wp
   implicit none
   private
-  public :: gather_group, scatter_corners, assemble_nodes
+  public :: gather_group, assemble_nodes
 
 contains
 
@@ -27,19 +27,6 @@ contains
       end do
     end do
   end subroutine gather_group
-
-  !> Store group forces force(i, component, corner) into the corner array, slot 4 (e - 1) + k.
-  pure subroutine scatter_corners(n, first, force, corner)
-    integer, intent(in) :: n, first
-    real(wp), intent(inout) :: corner(:, :)
-    real(wp), intent(in) :: force(n, size(corner, 1), 4)
-    integer :: i, k
-    do i = 1, n
-      do k = 1, 4
-        corner(:, 4 * (first + i - 2) + k) = force(i, :, k)
-      end do
-    end do
-  end subroutine scatter_corners
 
   !> nodal(:, j) = sum of corner(:, slot(s)) for s = start(j) .. start(j + 1) - 1, in that order.
   pure subroutine assemble_nodes(n_nodes, start, slot, corner, nodal)
