@@ -25,6 +25,8 @@ program paradyn_engine
   use run_names, only: copy_run_names
   use deck_effects, only: effects_of_deck
   use initial_penetration, only: resolve_initial_penetrations
+  use contact_rows, only: replicated_contact_deck
+  use model_deck, only: node_row, element_row
   use, intrinsic :: iso_fortran_env, only: error_unit
   use effect_table, only: effect_table_t, effect_list
   use machine_memory, only: node_memory_mb, deck_memory_mb, proc_kib
@@ -43,8 +45,9 @@ program paradyn_engine
     end subroutine c_quick_exit
   end interface
 
-  type(deck_t) :: deck
-  real(wp), allocatable :: moves(:, :)   !< initial penetrations moved out (3, n_nodes)
+  type(deck_t) :: deck      !< this rank's rows of the deck (model_deck)
+  type(deck_t) :: contact   !< with contact: the contact parts in the global layout (contact_rows)
+  real(wp), allocatable :: moves(:, :)   !< with contact: initial penetrations moved out (3, n_nodes)
   type(solver_t) :: solver
   type(results_file_t) :: results
   type(run_record_t) :: run
@@ -127,16 +130,23 @@ program paradyn_engine
   checkpoint = checkpoint_path(trim(results_path))
   if (restart_path == '') restart_path = checkpoint
 
-  ! every rank reads and checks the deck; all reach the same verdict
-  call read_deck(trim(deck_path), deck, status, message)
+  ! every rank reads its rows of the deck and checks them; all reach the same verdict
+  call read_deck(trim(deck_path), comm, deck, status, message)
   if (status /= status_ok) call fail(status_bad_input, trim(deck_path)//': '//trim(message))
   call check_memory(deck%n_elements, deck%n_nodes)
+  call write_deck_line()
   call effects_of_deck(deck, effects)   ! what the deck declares; the scene's switched-off effects go
-  call resolve_initial_penetrations(deck, rank == 0, error_unit, moves)   ! reported; moves where asked
-  call solver_setup(solver, deck, effects, comm, status, message)
+  if (deck%n_contacts > 0) then   ! contact set-up reads the contact parts in the global layout
+    contact = replicated_contact_deck(deck, comm)
+    call resolve_initial_penetrations(contact, rank == 0, error_unit, moves)   ! reported; moves where asked
+  end if
+  call solver_setup(solver, deck, contact, effects, comm, status, message)
   if (status /= status_ok) call fail(status, trim(message))
-  solver%nodes%x = solver%nodes%x + moves(:, solver%dom%nodes)   ! initial displacements (a restart restores x)
-  deallocate (moves)   ! global: (3, n_nodes)
+  if (allocated(moves)) then
+    solver%nodes%x = solver%nodes%x + moves(:, solver%dom%nodes)   ! initial displacements (a restart restores x)
+    deallocate (moves)   ! global: (3, n_nodes)
+  end if
+  contact = deck_t()
   if (check_only) then   ! paradyn-run --check: everything is set up and checked; nothing is written
     if (rank == 0) write (*, '(a,es23.16,a,es23.16,a,i0,a,es11.4)') 'PARADYN-CHECK dt=', solver%clock%dt, &
       ' dt_stable=', solver%clock%dt_stable, ' steps=', solver%clock%n_steps, ' end_time=', solver%clock%end_time
@@ -152,7 +162,9 @@ program paradyn_engine
                           deck%n_tracked, deck%n_parts, deck%n_contacts, frames, records, results, status, message)
     else
       call results_create(trim(results_path), comm, deck%n_nodes, deck%n_elements, owned, elements, &
-                          deck%coordinates(:, owned), deck%connectivity(:, elements), deck%element_part(elements), &
+                          deck%coordinates(:, [(node_row(deck, owned(k)), k = 1, size(owned))]), &
+                          deck%connectivity(:, [(element_row(deck, elements(k)), k = 1, size(elements))]), &
+                          deck%element_part([(element_row(deck, elements(k)), k = 1, size(elements))]), &
                           deck%n_tracked, deck%n_parts, deck%n_contacts, results, status, message)
       if (status == status_ok) call copy_run_names(trim(deck_path), results%file)
     end if
@@ -245,8 +257,33 @@ contains
       solver%added_mass / max(solver%model_mass, tiny(1.0_wp)), ' part_added_kg='//trim(adjustl(parts))
   end subroutine write_mass_scaling_line
 
-  !> Refuses a model whose memory estimate, times the ranks on this node, is beyond the node's
-  !> memory (every rank holds the global deck), naming the estimate.
+  !> PARADYN-DECK: the mesh rows each rank read from the deck (its block: elements, nodes) and
+  !> holds after the exchange (its elements, the nodes they touch), rank after rank (comma separated).
+  subroutine write_deck_line()
+    character(len=*), parameter :: keys(4) = [character(len=17) :: 'element_rows_read', 'node_rows_read', &
+                                                 'elements_held', 'nodes_held']
+    integer :: mine(4)
+    integer, allocatable :: all(:, :)
+    character(len=:), allocatable :: line
+    integer :: r, j
+    mine = [deck%rows_read, size(deck%element_ids), size(deck%node_ids)]
+    allocate (all(4, n_ranks))
+    call MPI_Gather(mine, 4, MPI_INTEGER, all, 4, MPI_INTEGER, 0, comm)
+    if (rank /= 0) return
+    line = 'PARADYN-DECK'
+    do j = 1, 4
+      line = line//' '//trim(keys(j))//'='
+      do r = 1, n_ranks
+        write (argument, '(i0)') all(j, r)
+        line = line//trim(merge(',', ' ', r > 1))//trim(argument)
+      end do
+    end do
+    write (*, '(a)') line
+    flush (6)
+  end subroutine write_deck_line
+
+  !> Refuses a model whose memory estimate per rank (its share of the mesh: model_deck's layout),
+  !> times the ranks on this node, is beyond the node's memory, naming the estimate.
   subroutine check_memory(n_elements, n_nodes)
     integer, intent(in) :: n_elements, n_nodes
     type(MPI_Comm) :: node
@@ -256,7 +293,7 @@ contains
     call MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, node)
     call MPI_Comm_size(node, ranks_here)
     call MPI_Comm_free(node)
-    need_mb = ranks_here * deck_memory_mb(n_elements, n_nodes)
+    need_mb = ranks_here * deck_memory_mb((n_elements + n_ranks - 1) / n_ranks, (n_nodes + n_ranks - 1) / n_ranks)
     have_mb = node_memory_mb()
     if (have_mb <= 0.0_wp .or. need_mb <= have_mb) return
     write (text, '(a,i0,a,i0,a,i0,a,i0,a)') 'the model (', n_elements, ' elements) on ', ranks_here, &

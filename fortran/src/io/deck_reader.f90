@@ -1,17 +1,27 @@
 !> Reads a deck (docs/formats.md, version 1) from HDF5 and checks it as strictly as the frontend:
 !> a loop over the schema's datasets (presence, type class, shape, then the value rules of
-!> deck_rules) and /control attributes, then the relations of model_deck.
+!> deck_rules) and /control attributes, then the relations (deck_checks). Collective over the
+!> ranks (issue 19, item 5): the file is opened with parallel HDF5, every rank reads the tables
+!> sized by the definitions whole and, with collective hyperslab reads, only its block of the
+!> mesh's rows: elements block_owner(e, n_elements, n_ranks) and nodes block_owner(n, n_nodes,
+!> n_ranks) (deck_directory). The value rules run on those blocks and are agreed over the ranks
+!> (the first offending row, as one rank reading everything would name it); deck_checks then
+!> gives each rank the rows model_deck's layout holds. A rank never holds a mesh dataset whole.
 module deck_reader
   use hdf5
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size
   use paradyn_kinds, only: wp, i8
+  use parallel_hdf5, only: phdf5_open, phdf5_close, read_rows, row_runs
+  use deck_directory, only: block_range
+  use deck_checks, only: agree_on_first, chain_fingerprint, distribute_and_check
   use deck_fingerprint, only: fingerprint_start, fingerprint_add, group_of
   use paradyn_schema, only: deck_version, deck_version_attribute, deck_datasets, control_attributes, &
                             deck_conditions, deck_enums, n_deck_datasets, n_control_attributes, n_sizes, &
                             size_entity, size_symbol, size_min_rows, class_int, class_float, class_string, &
                             condition_none, enum_code, control_restart_may_change, &
-                            status_ok, status_bad_input
+                            status_ok, status_bad_input, size_n_nodes, size_n_elements
   use deck_rules, only: check_field_values, check_attribute_value, selected_rows, integer_text
-  use model_deck, only: deck_t, store_deck_field, store_control_value, check_deck_relations
+  use model_deck, only: deck_t, store_deck_field, store_control_value
   use hdf5_attributes, only: read_string_attribute, read_real_attribute, read_int_attribute, link_exists
   implicit none
   private
@@ -24,24 +34,31 @@ module deck_reader
 
   !> A deck being read: the open file, the datasets read so far, the row counts known so far (-1
   !> until the first dataset of a row symbol is read), and the first problem found ('' while none).
+  !> The mesh's datasets (rows of nodes or elements) hold this rank's block of rows only: rows
+  !> first(symbol) + 1 .. first(symbol) + held(symbol) of the file's.
   type :: deck_file_t
-    integer(hid_t) :: file = -1
+    integer(hid_t) :: file = -1, transfer = -1
+    type(MPI_Comm) :: comm
+    integer :: rank = 0, n_ranks = 1
     type(field_t) :: fields(n_deck_datasets)
     integer :: sizes(n_sizes) = -1
+    integer :: first(n_sizes) = 0, held(n_sizes) = -1
     real(wp) :: control(n_control_attributes) = 0.0_wp   !< the /control values as read, or their defaults
     character(len=1024) :: message = ''
   end type deck_file_t
 
 contains
 
-  !> status_ok on success, status_bad_input with a message for a bad deck.
-  subroutine read_deck(path, d, status, message)
+  !> status_ok on success, status_bad_input with a message for a bad deck, the same on every rank
+  !> of comm. Collective.
+  subroutine read_deck(path, comm, d, status, message)
     character(len=*), intent(in) :: path
+    type(MPI_Comm), intent(in) :: comm
     type(deck_t), intent(out) :: d
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
     type(deck_file_t) :: r
-    integer :: err, version, id
+    integer :: err, version, id, bad_row
     logical :: exists
 
     status = status_bad_input
@@ -51,8 +68,12 @@ contains
       message = 'no such file; give the path of a deck written by paradyn-run or h5py'
       return
     end if
-    call h5fopen_f(path, H5F_ACC_RDONLY_F, r%file, err)
+    r%comm = comm
+    call MPI_Comm_rank(comm, r%rank)
+    call MPI_Comm_size(comm, r%n_ranks)
+    call phdf5_open(path, comm, 'read', r%file, r%transfer, err)
     if (err /= 0) then
+      call h5pclose_f(r%transfer, err)
       message = 'not an HDF5 file (or a damaged one); give the deck.h5 that paradyn-run or paradyn.deck.write_deck wrote'
       return
     end if
@@ -66,19 +87,36 @@ contains
       call read_field(r, id)
     end do
     if (status_ok_so_far(r)) call read_control(r, d)
-    call h5fclose_f(r%file, err)
+    call phdf5_close(r%file, r%transfer)
     message = r%message
     if (.not. status_ok_so_far(r)) return
 
-    ! every field has its class and shape: now its values, then the relations between fields
+    ! every field has its class and shape: now its values (the first bad row over all ranks),
+    ! then the relations between fields
     do id = 1, n_deck_datasets
-      call check_field_values(id, r%fields(id)%values, r%sizes, rows_to_check(r, id), message)
+      call check_field_values(id, r%fields(id)%values, r%sizes, rows_to_check(r, id), message, &
+                              r%first(deck_datasets(id)%row_symbol), bad_row)
+      if (sliced(id)) call agree_on_first(comm, bad_row, message)
       if (len_trim(message) > 0) return
       call store_deck_field(d, id, r%fields(id)%values)
     end do
     call fingerprint_deck(r, d)
-    call check_deck_relations(d, status, message)
+    d%n_nodes = r%sizes(size_n_nodes)
+    d%n_elements = r%sizes(size_n_elements)
+    d%node_ids = [(id, id = r%first(size_n_nodes) + 1, r%first(size_n_nodes) + r%held(size_n_nodes))]
+    d%element_ids = [(id, id = r%first(size_n_elements) + 1, r%first(size_n_elements) + r%held(size_n_elements))]
+    d%rows_read = [r%held(size_n_elements), r%held(size_n_nodes)]
+    do id = 1, n_deck_datasets   ! the blocks as read: deck_t holds them now
+      deallocate (r%fields(id)%values)
+    end do
+    call distribute_and_check(d, comm, status, message)
   end subroutine read_deck
+
+  !> Whether dataset id is one of the mesh's (a row per node or element): read in blocks.
+  pure logical function sliced(id)
+    integer, intent(in) :: id
+    sliced = deck_datasets(id)%row_symbol == size_n_nodes .or. deck_datasets(id)%row_symbol == size_n_elements
+  end function sliced
 
   !> The rows of dataset `id` its rules apply to (those of the J2 materials for the J2 data).
   function rows_to_check(r, id) result(selected)
@@ -137,7 +175,7 @@ contains
     integer(hid_t) :: dset
     integer(hsize_t) :: dims(2)
     logical :: found
-    integer :: columns, err
+    integer :: columns, err, k
     associate (spec => deck_datasets(id), rows => r%sizes(deck_datasets(id)%row_symbol))
       columns = max(spec%columns, 1)
       call open_checked(r, id, dset, dims, found)
@@ -149,7 +187,8 @@ contains
           return
         end if
         rows = max(rows, 0)
-        allocate (r%fields(id)%values(columns, rows), source=spec%default)
+        call set_block(r, id)
+        allocate (r%fields(id)%values(columns, r%held(spec%row_symbol)), source=spec%default)
         return
       end if
       if (spec%defines_rows) then
@@ -161,11 +200,43 @@ contains
           return
         end if
       end if
+      call set_block(r, id)
+      if (sliced(id)) then   ! collective: this rank's block of rows
+        call h5dclose_f(dset, err)
+        allocate (r%fields(id)%values(columns, r%held(spec%row_symbol)))
+        if (spec%columns > 0) then
+          call read_rows(r%file, r%transfer, trim(spec%path), [int(columns, hsize_t), dims(1)], &
+                         row_runs([(k, k = r%first(spec%row_symbol) + 1, r%first(spec%row_symbol) + &
+                                    r%held(spec%row_symbol))]), r%fields(id)%values, err)
+        else
+          call read_rows(r%file, r%transfer, trim(spec%path), [dims(1)], &
+                         row_runs([(k, k = r%first(spec%row_symbol) + 1, r%first(spec%row_symbol) + &
+                                    r%held(spec%row_symbol))]), r%fields(id)%values, err)
+        end if
+        return
+      end if
       allocate (r%fields(id)%values(columns, dims(1)))
       call h5dread_f(dset, H5T_NATIVE_DOUBLE, r%fields(id)%values, [int(columns, hsize_t), dims(1)], err)
       call h5dclose_f(dset, err)
     end associate
   end subroutine read_field
+
+  !> This rank's block of the rows of dataset id's symbol, once its row count is known: the
+  !> whole table for the tables sized by the definitions.
+  subroutine set_block(r, id)
+    type(deck_file_t), intent(inout) :: r
+    integer, intent(in) :: id
+    integer :: symbol
+    symbol = deck_datasets(id)%row_symbol
+    if (r%held(symbol) >= 0) return
+    if (sliced(id)) then
+      call block_range(r%sizes(symbol), r%rank, r%n_ranks, r%first(symbol), r%held(symbol))
+      r%first(symbol) = r%first(symbol) - 1
+    else
+      r%first(symbol) = 0
+      r%held(symbol) = r%sizes(symbol)
+    end if
+  end subroutine set_block
 
   !> The dataset that sets the row count of dataset id's row symbol (the first with that symbol).
   pure integer function row_setter(id) result(setter)
@@ -262,8 +333,13 @@ contains
         hashes(k) = fingerprint_start()
       end if
       rows = real(size(r%fields(id)%values, 2), wp)
+      if (sliced(id)) rows = real(r%sizes(deck_datasets(id)%row_symbol), wp)   ! the file's, not the block's
       call fingerprint_add(hashes(k), rows)
-      call fingerprint_add(hashes(k), reshape(r%fields(id)%values, [size(r%fields(id)%values)]))
+      if (sliced(id)) then   ! the blocks in rank order: the hash of the whole dataset
+        call chain_fingerprint(r%comm, hashes(k), reshape(r%fields(id)%values, [size(r%fields(id)%values)]))
+      else
+        call fingerprint_add(hashes(k), reshape(r%fields(id)%values, [size(r%fields(id)%values)]))
+      end if
     end do
     n = n + 1
     groups(n) = 'control'

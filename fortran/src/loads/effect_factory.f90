@@ -4,7 +4,7 @@ module effect_factory
   use paradyn_kinds, only: wp
   use paradyn_schema, only: effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
                             effect_prescribed_velocity
-  use model_deck, only: deck_t
+  use model_deck, only: deck_t, node_row
   use domain_decomposition, only: domain_t, local_node
   use effect_table, only: effect_table_t
   use nodal_effect, only: nodal_effect_holder_t
@@ -46,7 +46,7 @@ contains
     if (table%running(effect_pressure)) then
       call append(effects)
       allocate (effects(size(effects))%effect, source=pressure_effect_make(curves, deck%pressure_part, &
-        deck%pressure_value, deck%pressure_curve, deck%element_part(dom%elements)))
+        deck%pressure_value, deck%pressure_curve, deck%element_part))   ! the held elements: the domain's
     end if
     if (table%running(effect_rigid_wall)) then
       call append(effects)
@@ -61,14 +61,19 @@ contains
     end if
   end subroutine make_nodal_effects
 
-  !> The deck's initial velocity of prescribed motion k's dof (the velocity before the first step).
+  !> The deck's initial velocity of prescribed motion k's dof (the velocity before the first step);
+  !> 0 where this rank does not hold the node (the effect keeps only the rows of its nodes).
   pure real(wp) function initial_velocity(deck, k)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k
+    integer :: row
+    initial_velocity = 0.0_wp
+    row = node_row(deck, deck%prescribed_node(k))
+    if (row == 0) return
     if (deck%prescribed_dof(k) <= 3) then
-      initial_velocity = deck%velocity(deck%prescribed_dof(k), deck%prescribed_node(k))
+      initial_velocity = deck%velocity(deck%prescribed_dof(k), row)
     else
-      initial_velocity = deck%angular_velocity(deck%prescribed_dof(k) - 3, deck%prescribed_node(k))
+      initial_velocity = deck%angular_velocity(deck%prescribed_dof(k) - 3, row)
     end if
   end function initial_velocity
 

@@ -27,7 +27,7 @@ contains
     declared(effect_point_loads) = deck%n_loads > 0
     declared(effect_time_integration) = .true.
     declared(effect_mass_damping) = deck%mass_damping > 0.0_wp
-    declared(effect_fixed_boundaries) = any(deck%fixed /= 0)
+    declared(effect_fixed_boundaries) = deck%any_fixed   ! over the whole mesh (deck_checks)
     declared(effect_elastic_shells) = any(part_model /= material_j2_plasticity)
     declared(effect_plastic_shells) = any(part_model == material_j2_plasticity)
     declared(effect_hourglass) = any(deck%hourglass_coefficient > 0.0_wp)

@@ -28,17 +28,24 @@ contains
     selected = condition_values(1, 1:rows) == real(deck_conditions(condition)%code, wp)
   end function selected_rows
 
-  !> Checks every selected entry of dataset `id` (values: (max(columns, 1), rows), as in the file).
-  !> sizes: the count of each row symbol, for index references. An empty message means valid.
-  pure subroutine check_field_values(id, values, sizes, selected, message)
+  !> Checks every selected entry of dataset `id` (values: (max(columns, 1), rows), as in the file,
+  !> or the rows first_row + 1 .. of it when first_row is given). sizes: the count of each row
+  !> symbol, for index references. An empty message means valid; else bad_row is the 1-based row
+  !> of the file it names.
+  pure subroutine check_field_values(id, values, sizes, selected, message, first_row, bad_row)
     integer, intent(in) :: id
     real(wp), intent(in) :: values(:, :)
     integer, intent(in) :: sizes(:)
     logical, intent(in) :: selected(:)
     character(len=*), intent(out) :: message
+    integer, intent(in), optional :: first_row
+    integer, intent(out), optional :: bad_row
     type(dataset_spec_t) :: spec
-    integer :: row, column, upper
+    integer :: row, column, upper, offset
     message = ''
+    offset = 0
+    if (present(first_row)) offset = first_row
+    if (present(bad_row)) bad_row = huge(1)
     spec = deck_datasets(id)
     do row = 1, size(values, 2)
       if (.not. selected(row)) cycle
@@ -46,22 +53,25 @@ contains
         associate (v => values(column, row))
           ! the words are built only for a bad entry: internal writes would cost more than the checks
           if (spec%class == class_float .and. .not. ieee_is_finite(v)) then
-            message = entry_text(spec, row, column, v)//' must be finite'//rows_text(spec)//'; '//trim(spec%fix)
+            message = entry_text(spec, offset + row, column, v)//' must be finite'//rows_text(spec)//'; '//trim(spec%fix)
           else if (.not. within_bounds(v, spec%has_lower, spec%lower_inclusive, spec%lower, &
                                        spec%has_upper, spec%upper_inclusive, spec%upper)) then
-            message = entry_text(spec, row, column, v)//' '//trim(spec%rule)//rows_text(spec)//'; '//trim(spec%fix)
+            message = entry_text(spec, offset + row, column, v)//' '//trim(spec%rule)//rows_text(spec)//'; '//trim(spec%fix)
           else if (spec%n_codes > 0) then
             if (.not. any(real(spec%codes(1:spec%n_codes), wp) == v)) &
-              message = entry_text(spec, row, column, v)//' '//trim(spec%enum_rule)//'; '//trim(spec%fix)
+              message = entry_text(spec, offset + row, column, v)//' '//trim(spec%enum_rule)//'; '//trim(spec%fix)
           else if (spec%reference /= size_none) then
             upper = sizes(spec%reference)
-            if (v < 0.0_wp .or. v >= real(upper, wp)) message = entry_text(spec, row, column, v)// &
+            if (v < 0.0_wp .or. v >= real(upper, wp)) message = entry_text(spec, offset + row, column, v)// &
               ' is out of range 0..'//integer_text(upper - 1)//'; '//trim(size_entity(spec%reference))// &
               ' indices are 0-based and must be below the number of '//trim(size_entity(spec%reference))// &
               's ('//integer_text(upper)//')'
           end if
         end associate
-        if (len_trim(message) > 0) return
+        if (len_trim(message) > 0) then
+          if (present(bad_row)) bad_row = offset + row
+          return
+        end if
       end do
     end do
   end subroutine check_field_values

@@ -1,13 +1,20 @@
-!> The whole model as read from a deck (global numbering, 1-based inside the engine): where each
-!> dataset and /control attribute of the schema (paradyn_schema) goes in deck_t, and the checks
-!> of relations between fields that the schema's per-field rules (deck_rules) cannot express.
+!> The model as one rank holds it after reading a deck (global numbering, 1-based inside the
+!> engine): where each dataset and /control attribute of the schema (paradyn_schema) goes in
+!> deck_t (the relations between fields: deck_relations and io/deck_checks).
+!>
+!> Layout (issue 19, item 5; docs/formats.md, "The deck in the engine"): the tables sized by the
+!> definitions (parts, materials, loads, curves, contact, rigid walls, tracked nodes, /control)
+!> are held whole on every rank. The mesh is held in rows: connectivity and element_part hold the
+!> rows of the global elements element_ids (ascending: this rank's elements), coordinates,
+!> velocity, angular_velocity, fixed and node_part the rows of the global nodes node_ids
+!> (ascending: the distinct nodes of those elements). n_nodes and n_elements stay the global
+!> counts; element_row and node_row find a global id's row (0: not held).
 module model_deck
   use paradyn_kinds, only: wp, ek
   use shell_section, only: shell_properties_t
   use paradyn_schema, only: material_j2_plasticity, contact_kind_single_surface, size_none, deck_datasets, &
                             class_float, class_int, &
-                            enum_name, enum_material_model, control_attributes, control_partition, status_ok, &
-                            status_bad_input, &
+                            enum_name, enum_material_model, control_attributes, control_partition, &
                             dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
                             dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
                             dataset_elements_connectivity, dataset_elements_part, dataset_parts_thickness, &
@@ -39,11 +46,10 @@ module model_deck
   use deck_rules, only: integer_text, number_text, index_list
   use material_factory, only: material_from_name
   use quad_shape, only: quad_shape_fault, shape_sound, shape_concave
-  use integer_sort, only: sort_ascending
   implicit none
   private
   public :: deck_t, part_properties, partition_default, engine_precision
-  public :: store_deck_field, store_control_value, check_deck_relations
+  public :: store_deck_field, store_control_value, node_row, element_row
 
   !> The method when /control has no partition attribute (schema default; docs/performance.md).
   integer, parameter :: partition_default = nint(control_attributes(control_partition)%default)
@@ -53,12 +59,17 @@ module model_deck
   type :: deck_t
     integer :: n_nodes = 0, n_elements = 0, n_parts = 0, n_materials = 0
     integer :: n_loads = 0, n_tracked = 0, n_contacts = 0, n_rigid_walls = 0
-    real(wp), allocatable :: coordinates(:, :)        !< (3, n_nodes)
-    real(wp), allocatable :: velocity(:, :)           !< (3, n_nodes)
-    real(wp), allocatable :: angular_velocity(:, :)   !< (3, n_nodes)
-    integer, allocatable :: fixed(:, :)               !< (6, n_nodes), 1 = fixed
-    integer, allocatable :: connectivity(:, :)        !< (4, n_elements), 1-based nodes
-    integer, allocatable :: element_part(:)           !< (n_elements), 1-based
+    integer, allocatable :: node_ids(:)               !< the global nodes held, ascending (rows below)
+    real(wp), allocatable :: coordinates(:, :)        !< (3, size(node_ids))
+    real(wp), allocatable :: velocity(:, :)           !< (3, size(node_ids))
+    real(wp), allocatable :: angular_velocity(:, :)   !< (3, size(node_ids))
+    integer, allocatable :: fixed(:, :)               !< (6, size(node_ids)), 1 = fixed
+    integer, allocatable :: node_part(:)              !< the part of each held node's lowest-numbered element
+    integer, allocatable :: element_ids(:)            !< the global elements held, ascending (rows below)
+    integer, allocatable :: connectivity(:, :)        !< (4, size(element_ids)), 1-based global nodes
+    integer, allocatable :: element_part(:)           !< (size(element_ids)), 1-based
+    logical :: any_fixed = .false.                    !< some node of the whole mesh has a fixed dof
+    integer :: rows_read(2) = 0                       !< the mesh rows this rank read: elements, nodes
     real(wp), allocatable :: thickness(:), hourglass_coefficient(:)
     integer, allocatable :: part_material(:), integration_points(:), hourglass_form(:), warping_correction(:)
     integer, allocatable :: material_model(:)
@@ -297,204 +308,38 @@ contains
     end select
   end subroutine store_control_value
 
-  !> Relations between fields of a deck whose every field has passed its own rules (schema
-  !> relations: distinct_element_nodes, distinct_elements, tangent_below_youngs, contact_parts_differ,
-  !> node_in_element, then the rigid walls' and the load curves' (curve_first_points,
-  !> curve_times_increase)). Returns status_ok, or status_bad_input with a message naming the
-  !> dataset, the 0-based entry and the fix.
-  subroutine check_deck_relations(d, status, message)
+  !> The row of global node `id` among the held nodes, 0 when this rank does not hold it.
+  pure integer function node_row(d, id)
     type(deck_t), intent(in) :: d
-    integer, intent(out) :: status
-    character(len=*), intent(out) :: message
-    logical, allocatable :: used(:)
-    integer :: i, j, k
+    integer, intent(in) :: id
+    node_row = sorted_position(d%node_ids, id)
+  end function node_row
 
-    status = status_bad_input
-    message = ''
-    if (d%precision /= engine_precision) then
-      message = '/control precision = "'//enum_name(enum_precision, d%precision)//'" but this engine computes in '// &
-                enum_name(enum_precision, engine_precision)//' precision; run paradyn-engine'//trim(merge('-mixed', &
-                '      ', d%precision == precision_mixed))//' (paradyn-run picks it from the deck), or change [run] precision'
-      return
-    end if
-    do i = 1, d%n_elements
-      do k = 1, 4
-        do j = k + 1, 4
-          if (d%connectivity(k, i) == d%connectivity(j, i)) then
-            message = '/elements/connectivity['//integer_text(i - 1)//'] = '//index_list(d%connectivity(:, i))// &
-                      ' repeats a node; every quadrilateral needs four distinct nodes (remesh without '// &
-                      'collapsed elements)'
-            return
-          end if
-        end do
-      end do
-    end do
-    call check_distinct_elements(d, message)
-    if (message /= '') return
-    call check_element_shapes(d, message)
-    if (message /= '') return
-    do i = 1, d%n_materials
-      if (d%material_model(i) /= material_j2_plasticity) cycle
-      if (.not. (d%tangent_modulus(i) < d%young(i))) then
-        message = '/materials/tangent_modulus['//integer_text(i - 1)//'] = '// &
-                  number_text(d%tangent_modulus(i), class_float)//' must be below /materials/youngs_modulus['// &
-                  integer_text(i - 1)//'] = '//number_text(d%young(i), class_float)// &
-                  ' for a j2_plasticity material; give the plastic tangent modulus in Pa below Young''s modulus'
-        return
-      end if
-    end do
-    do i = 1, d%n_contacts
-      if (d%contact_kind(i) == contact_kind_single_surface .neqv. d%contact_pairs(1, i) == d%contact_pairs(2, i)) then
-        if (d%contact_kind(i) == contact_kind_single_surface) then
-          message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
-                    ' names two parts for a single_surface contact; name its one part twice'
-        else
-          message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
-                    ' pairs a part with itself; name two different parts, or make the contact single_surface'
-        end if
-        return
-      end if
-    end do
-    allocate (used(d%n_nodes), source=.false.)
-    used(reshape(d%connectivity, [4 * d%n_elements])) = .true.
-    if (.not. all(used)) then
-      k = findloc(used, .false., dim=1)
-      message = '/nodes/coordinates['//integer_text(k - 1)//'] belongs to no element ('// &
-                integer_text(count(.not. used))//' such nodes); a node without elements has no mass, '// &
-                'remove unused nodes'
-      return
-    end if
-    call check_rigid_walls(d, message)
-    if (len_trim(message) > 0) return
-    call check_curve_relations(d, message)
-    if (len_trim(message) > 0) return
-    status = status_ok
-  end subroutine check_deck_relations
-
-  !> The schema relations rigid_wall_normal_nonzero and rigid_wall_nodes_in_front: message stays
-  !> blank when they hold. A node counts as behind a wall below a distance of 1e-9 of the model's
-  !> size, so that nodes placed on the plane are not refused for a rounding error.
-  subroutine check_rigid_walls(d, message)
+  !> The row of global element `id` among the held elements, 0 when this rank does not hold it.
+  pure integer function element_row(d, id)
     type(deck_t), intent(in) :: d
-    character(len=*), intent(inout) :: message
-    real(wp) :: length, tolerance, lowest, distance
-    integer :: w, j, k
-    tolerance = 1.0e-9_wp * maxval(abs(d%coordinates))
-    do w = 1, d%n_rigid_walls
-      length = norm2(d%rigid_wall_normal(:, w))
-      if (.not. (length > 0.0_wp)) then
-        message = '/rigid_walls/normal['//integer_text(w - 1)//'] is the zero vector; give a nonzero normal '// &
-                  'pointing from the wall towards the model'
-        return
-      end if
-      k = 1
-      lowest = huge(1.0_wp)
-      do j = 1, d%n_nodes
-        distance = dot_product(d%coordinates(:, j) - d%rigid_wall_point(:, w), d%rigid_wall_normal(:, w)) / length
-        if (distance < lowest) then
-          lowest = distance
-          k = j
-        end if
-      end do
-      if (lowest < -tolerance) then
-        message = '/rigid_walls/point['//integer_text(w - 1)//'] puts node '//integer_text(k - 1)// &
-                  ' behind the wall at the start (signed distance '//number_text(lowest, class_float)// &
-                  ' m along /rigid_walls/normal); move the point or flip the normal so that the model starts '// &
-                  'on the side the normal points to'
-        return
-      end if
-    end do
-  end subroutine check_rigid_walls
+    integer, intent(in) :: id
+    element_row = sorted_position(d%element_ids, id)
+  end function element_row
 
-  !> No two elements with the same four nodes (in any order). Elements are bucketed by their
-  !> smallest node, so only elements that share it are compared: linear in the elements.
-  subroutine check_distinct_elements(d, message)
-    type(deck_t), intent(in) :: d
-    character(len=*), intent(inout) :: message
-    integer, allocatable :: start(:), members(:), sorted(:, :), fill(:)
-    integer :: i, j, k, low
-    allocate (sorted(4, d%n_elements), start(d%n_nodes + 1), fill(d%n_nodes), source=0)
-    do i = 1, d%n_elements
-      sorted(:, i) = d%connectivity(:, i)
-      call sort_ascending(sorted(:, i))
-      start(sorted(1, i) + 1) = start(sorted(1, i) + 1) + 1
-    end do
-    start(1) = 1
-    do j = 1, d%n_nodes
-      start(j + 1) = start(j + 1) + start(j)
-    end do
-    allocate (members(d%n_elements))
-    do i = 1, d%n_elements
-      low = sorted(1, i)
-      members(start(low) + fill(low)) = i
-      fill(low) = fill(low) + 1
-    end do
-    do j = 1, d%n_nodes
-      do k = start(j) + 1, start(j + 1) - 1   ! each later member against the earlier ones
-        do i = start(j), k - 1
-          if (all(sorted(:, members(i)) == sorted(:, members(k)))) then
-            message = '/elements/connectivity['//integer_text(max(members(i), members(k)) - 1)//'] = '// &
-                      index_list(d%connectivity(:, max(members(i), members(k))))//' has the same nodes as element '// &
-                      integer_text(min(members(i), members(k)) - 1)//'; a duplicated element doubles its mass '// &
-                      'and stiffness, remove it'
-            return
-          end if
-        end do
-      end do
-    end do
-  end subroutine check_distinct_elements
-
-  !> Every element convex, without coincident or collinear corners (quad_shape).
-  subroutine check_element_shapes(d, message)
-    type(deck_t), intent(in) :: d
-    character(len=*), intent(inout) :: message
-    integer :: i, fault, corner, node
-    do i = 1, d%n_elements
-      call quad_shape_fault(d%coordinates(:, d%connectivity(:, i)), fault, corner)
-      if (fault == shape_sound) cycle
-      node = d%connectivity(corner, i)
-      if (fault == shape_concave) then
-        message = '/nodes/coordinates: element '//integer_text(i - 1)//' (part '//integer_text(d%element_part(i) - 1)// &
-                  ', nodes '//index_list(d%connectivity(:, i))//') is concave or twisted at node '// &
-                  integer_text(node - 1)//'; remesh it (a concave quadrilateral turns inside out at the first step)'
+  !> Place of value in the ascending list ids (binary search), 0 when it is not there.
+  pure integer function sorted_position(ids, value) result(place)
+    integer, intent(in) :: ids(:), value
+    integer :: lo, hi, mid
+    place = 0
+    lo = 1
+    hi = size(ids)
+    do while (lo <= hi)
+      mid = (lo + hi) / 2
+      if (ids(mid) == value) then
+        place = mid
+        return
+      else if (ids(mid) < value) then
+        lo = mid + 1
       else
-        message = '/nodes/coordinates: element '//integer_text(i - 1)//' (part '//integer_text(d%element_part(i) - 1)// &
-                  ', nodes '//index_list(d%connectivity(:, i))//') is collapsed or crossed at node '// &
-                  integer_text(node - 1)//' (coincident or collinear corners, or sides that cross); remesh it'
+        hi = mid - 1
       end if
-      return
     end do
-  end subroutine check_element_shapes
-
-  !> The load curves' relations (curve_first_points, curve_times_increase); message '' when they hold.
-  subroutine check_curve_relations(d, message)
-    type(deck_t), intent(in) :: d
-    character(len=*), intent(out) :: message
-    integer :: i, k, last
-    message = ''
-    do i = 1, d%n_curves
-      if (i == 1) then
-        if (d%curve_first_point(1) == 1 .and. d%n_curve_points >= 1) cycle
-      else if (d%curve_first_point(i) > d%curve_first_point(i - 1) .and. d%curve_first_point(i) <= d%n_curve_points) then
-        cycle
-      end if
-      message = '/curves/first_point['//integer_text(i - 1)//'] = '//integer_text(d%curve_first_point(i) - 1)// &
-                ' breaks the order of the curves; the first curve starts at point 0 and each next one later, '// &
-                'below the number of curve points ('//integer_text(d%n_curve_points)//')'
-      return
-    end do
-    do i = 1, d%n_curves
-      last = d%n_curve_points
-      if (i < d%n_curves) last = d%curve_first_point(i + 1) - 1
-      do k = d%curve_first_point(i) + 1, last
-        if (d%curve_time(k) > d%curve_time(k - 1)) cycle
-        message = '/curves/time['//integer_text(k - 1)//'] = '//number_text(d%curve_time(k), class_float)// &
-                  ' does not follow /curves/time['//integer_text(k - 2)//'] = '// &
-                  number_text(d%curve_time(k - 1), class_float)//' of curve '//integer_text(i - 1)// &
-                  '; give the times of each curve strictly increasing'
-        return
-      end do
-    end do
-  end subroutine check_curve_relations
+  end function sorted_position
 
 end module model_deck

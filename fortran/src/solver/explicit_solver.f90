@@ -12,11 +12,10 @@ module explicit_solver
   use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: status_ok, status_bad_input, status_failure
   use paradyn_schema, only: material_j2_plasticity, effect_plastic_shells, effect_elastic_shells
-  use model_deck, only: deck_t, part_properties
+  use model_deck, only: deck_t, part_properties, node_row
   use effect_table, only: effect_table_t
   use effect_factory, only: make_nodal_effects
   use effect_pipeline, only: pipeline_setup, apply_loads, apply_constraints, count_every_cycle_effects
-  use domain_decomposition, only: partition_elements, partition_rcb
   use distributed_decomposition, only: decompose_distributed
   use halo_exchange, only: halo_setup
   use traffic_counter, only: traffic_t, count_allreduce
@@ -26,6 +25,7 @@ module explicit_solver
                         half_step
   use time_step_control, only: next_time_step, check_time_step_floor
   use mass_scaling, only: mass_scaling_t, mass_scaling_setup, mass_scaling_message
+  use ordered_sums, only: mass_scaling_totals
   use run_control, only: run_control_setup
   use phase_timers, only: wall_clock
   use contact_parallel, only: parallel_contact_setup, contact_log_line
@@ -49,16 +49,18 @@ module explicit_solver
 contains
 
   !> Everything the time loop needs, from the deck and its effect table (deck_effects, with the
-  !> switched-off effects already taken out of the deck), on this rank of comm. status 2 with a
-  !> message for a mesh that cannot run (a node without mass).
-  subroutine solver_setup(s, deck, effects, comm, status, message)
+  !> switched-off effects already taken out of the deck), on this rank of comm. The deck holds
+  !> this rank's elements (model_deck's layout: they become the domain's) and the rows of their
+  !> nodes; contact: the deck in the global layout contact set-up reads (contact_rows; any deck
+  !> when the model has no contact). status 2 with a message for a mesh that cannot run (a node
+  !> without mass).
+  subroutine solver_setup(s, deck, contact, effects, comm, status, message)
     type(solver_t), intent(inout) :: s
-    type(deck_t), intent(in) :: deck
+    type(deck_t), intent(in) :: deck, contact
     type(effect_table_t), intent(in) :: effects
     type(MPI_Comm), intent(in) :: comm
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
-    integer, allocatable :: mine(:)
     integer :: p
     type(mass_scaling_t) :: scaling
     logical :: too_large
@@ -68,8 +70,7 @@ contains
     call MPI_Comm_rank(comm, s%rank)
     call MPI_Comm_size(comm, s%n_ranks)
     s%threads = max(omp_get_max_threads(), 1)
-    mine = my_elements(deck, s%n_ranks, s%rank)
-    call decompose_distributed(comm, deck%n_nodes, mine, deck%connectivity(:, mine), deck%element_part(mine), s%dom)
+    call decompose_distributed(comm, deck%n_nodes, deck%element_ids, deck%connectivity, deck%element_part, s%dom)
     call halo_setup(s%dom, comm, s%halo)
     s%props = [(part_properties(deck, p), p = 1, deck%n_parts)]
     call nodal_state_setup(s%nodes, deck, s%dom)
@@ -81,8 +82,9 @@ contains
     allocate (s%corner(6, 4 * s%dom%n_elements + s%dom%n_ghost_slots), source=0.0_wp)
     allocate (s%workspace(workspace_per_group, s%threads), source=0.0_wp)
 
-    call mass_scaling_setup(scaling, deck, s%props)   ! every rank, from the global deck: the same factors
-    s%elements%step_scale = scaling%step_scale(s%dom%elements)
+    call mass_scaling_setup(scaling, deck, s%props)   ! the held elements (= the domain's, in order)
+    call mass_scaling_totals(comm, deck%n_elements, deck%element_ids, deck%element_part, scaling)
+    s%elements%step_scale = scaling%step_scale
     s%added_mass_part = scaling%added_part
     s%added_mass = scaling%added
     s%model_mass = scaling%model_mass
@@ -102,7 +104,7 @@ contains
     ! the step stays at half that, so a wall never sets it unless the mesh grows the step 1.4 times or more
     if (deck%n_rigid_walls > 0) s%control%dt_cap = s%clock%dt / sqrt(maxval(deck%rigid_wall_penalty_scale))
     if (status == status_ok) call check_step(s%clock, deck, status, message)
-    call check_contact_overlap(deck, comm, status, message)   ! collective: every rank calls it
+    call check_contact_overlap(contact, comm, status, message)   ! collective: every rank calls it
     call agree_on_status(comm, status, message)   ! one rank's verdict stops all of them
     if (status /= status_ok) return
     if (too_large .and. s%rank == 0) then
@@ -113,51 +115,15 @@ contains
     call pipeline_setup(s)
 
     s%has_contact = deck%n_contacts > 0
-    if (s%has_contact) call parallel_contact_setup(s%contact, deck, s%dom, comm, s%nodes%mass, s%nodes%v, &
+    if (s%has_contact) call parallel_contact_setup(s%contact, contact, s%dom, comm, s%nodes%mass, s%nodes%v, &
                                                    s%clock%dt, s%control%contact_gather_all)
     allocate (s%node_out_a(3, size(s%halo%owned_local)), s%node_out_b(3, size(s%halo%owned_local)))
     allocate (s%element_out(5, s%dom%n_elements), s%tracked_out(6, deck%n_tracked))
     allocate (s%element_work(s%dom%n_elements))
     s%n_parts = deck%n_parts
     s%n_contacts = deck%n_contacts
-    s%node_part = node_parts(deck, s%dom%nodes)
+    s%node_part = deck%node_part([(node_row(deck, s%dom%nodes(p)), p = 1, s%dom%n_nodes)])
   end subroutine solver_setup
-
-  !> This rank's elements, ascending: its contiguous block (the paper's partition, computed without
-  !> the mesh), or with recursive coordinate bisection the elements of the owner array that every
-  !> rank computes from the global centroids (the one global step left in the decomposition).
-  function my_elements(deck, n_ranks, rank) result(mine)
-    type(deck_t), intent(in) :: deck
-    integer, intent(in) :: n_ranks, rank
-    integer, allocatable :: mine(:), owner(:)
-    integer :: e, first, last
-    if (deck%partition == partition_rcb) then
-      allocate (owner(deck%n_elements))
-      call partition_elements(deck%partition, deck%coordinates, deck%connectivity, n_ranks, owner)
-      mine = pack([(e, e = 1, deck%n_elements)], owner == rank)
-    else
-      first = int((int(rank, i8) * deck%n_elements) / n_ranks) + 1
-      last = int((int(rank + 1, i8) * deck%n_elements) / n_ranks)
-      mine = [(e, e = first, last)]
-    end if
-  end function my_elements
-
-  !> The part of each of the given global nodes: that of its lowest-numbered element (the
-  !> per-part kinetic energy counts a node shared by parts once).
-  function node_parts(deck, nodes) result(part)
-    type(deck_t), intent(in) :: deck
-    integer, intent(in) :: nodes(:)
-    integer :: part(size(nodes))
-    integer, allocatable :: first_part(:)
-    integer :: e, k
-    allocate (first_part(deck%n_nodes), source=0)
-    do e = deck%n_elements, 1, -1
-      do k = 1, 4
-        first_part(deck%connectivity(k, e)) = deck%element_part(e)
-      end do
-    end do
-    part = first_part(nodes)
-  end function node_parts
 
   !> Refuses a run that cannot finish or would go wrong from the first step: more steps than
   !> max_steps (issue 17: the estimate is named), or mass damping so strong that it reverses the

@@ -2,12 +2,13 @@
 !> mass is added only where an element would set a smaller step). An element whose stable step
 !> times the safety factor, safety L / c, is below /control mass_scaling_step gets its density
 !> raised by (target / (safety L / c))^2, so that its step equals the target (dt ~ sqrt(rho));
-!> the others keep theirs. Computed from the global deck in element order, so every rank gets the
-!> same factors and sums whatever the layout. Without a target every factor is 1 and the step is
-!> the smallest element step of the initial mesh.
+!> the others keep theirs. Each rank computes the factors of the elements it holds (model_deck's
+!> layout); the sums over the model (the mass, the added mass per part) are taken in element order
+!> over the ranks (parallel/ordered_sums), so every rank gets the same sums whatever the layout.
+!> Without a target every factor is 1 and the step is the smallest element step of the initial mesh.
 module mass_scaling
   use paradyn_kinds, only: wp
-  use model_deck, only: deck_t
+  use model_deck, only: deck_t, node_row
   use shell_section, only: shell_properties_t, local_frame
   use shell_measures, only: blt_stable_time_step
   implicit none
@@ -17,8 +18,10 @@ module mass_scaling
   type :: mass_scaling_t
     real(wp) :: target = 0          !< /control mass_scaling_step (s), 0 = off
     real(wp) :: limit = 0           !< /control mass_scaling_limit (fraction of the model's mass)
-    real(wp), allocatable :: step_scale(:)   !< per global element: its step's factor, sqrt of its density's
-    real(wp), allocatable :: added_part(:)   !< added mass per part (kg)
+    real(wp), allocatable :: step_scale(:)   !< per held element (deck%element_ids): its step's factor, sqrt
+                                             !< of its density's
+    real(wp), allocatable :: element_mass(:), element_added(:)   !< per held element: its mass, its added mass
+    real(wp), allocatable :: added_part(:)   !< added mass per part (kg), over the model once summed
     real(wp) :: added = 0           !< added mass in all (kg)
     real(wp) :: model_mass = 0      !< the model's mass before scaling (kg)
     real(wp) :: dt_element_min = 0  !< the smallest element step after scaling, no safety factor (s)
@@ -27,35 +30,36 @@ module mass_scaling
 
 contains
 
-  !> The factors, added masses and smallest step of the deck's mesh at its initial positions.
+  !> The factors, masses and added masses of the held elements at their initial positions, and
+  !> their smallest step and scaled count (this rank's: the totals come from ordered_sums).
   subroutine mass_scaling_setup(ms, deck, props)
     type(mass_scaling_t), intent(out) :: ms
     type(deck_t), intent(in) :: deck
     type(shell_properties_t), intent(in) :: props(:)
     real(wp) :: x(1, 3, 4), dt(1), e(3, 3), xl(4), yl(4), area, mass, wanted
-    integer :: k, p
+    integer :: k, p, j
     ms%target = deck%mass_scaling_step
     ms%limit = deck%mass_scaling_limit
-    allocate (ms%step_scale(deck%n_elements), source=1.0_wp)
+    allocate (ms%step_scale(size(deck%element_ids)), source=1.0_wp)
+    allocate (ms%element_mass(size(deck%element_ids)), ms%element_added(size(deck%element_ids)), source=0.0_wp)
     allocate (ms%added_part(deck%n_parts), source=0.0_wp)
     ms%dt_element_min = huge(1.0_wp)
-    do k = 1, deck%n_elements
+    do k = 1, size(deck%element_ids)
       p = deck%element_part(k)
-      x(1, :, :) = deck%coordinates(:, deck%connectivity(:, k))
+      x(1, :, :) = deck%coordinates(:, [(node_row(deck, deck%connectivity(j, k)), j = 1, 4)])
       call blt_stable_time_step(1, x, props(p), dt)
       call local_frame(x(1, :, :), e, xl, yl, area)
       mass = props(p)%density * props(p)%thickness * abs(area)
-      ms%model_mass = ms%model_mass + mass
+      ms%element_mass(k) = mass
       wanted = ms%target / deck%time_step_safety   ! the element step that gives the target
       if (ms%target > 0.0_wp .and. dt(1) < wanted) then
         ms%step_scale(k) = wanted / dt(1)
-        ms%added_part(p) = ms%added_part(p) + (ms%step_scale(k)**2 - 1.0_wp) * mass
+        ms%element_added(k) = (ms%step_scale(k)**2 - 1.0_wp) * mass
         ms%scaled = ms%scaled + 1
         dt(1) = dt(1) * ms%step_scale(k)
       end if
       ms%dt_element_min = min(ms%dt_element_min, dt(1))
     end do
-    ms%added = sum(ms%added_part)
   end subroutine mass_scaling_setup
 
   !> '' when the added mass is within the limit, else the message that refuses the run.

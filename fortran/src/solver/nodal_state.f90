@@ -3,7 +3,7 @@
 !> per thread.
 module nodal_state
   use paradyn_kinds, only: wp
-  use model_deck, only: deck_t
+  use model_deck, only: deck_t, node_row
   use domain_decomposition, only: domain_t
   use time_integration, only: update_velocities, update_positions
   implicit none
@@ -23,19 +23,23 @@ module nodal_state
 
 contains
 
-  !> The deck's initial state of the nodes this rank holds; masses come later (solver_setup).
+  !> The deck's initial state of the nodes this rank holds (the deck's rows of them, model_deck's
+  !> layout); masses come later (solver_setup).
   subroutine nodal_state_setup(ns, deck, dom)
     type(nodal_state_t), intent(out) :: ns
     type(deck_t), intent(in) :: deck
     type(domain_t), intent(in) :: dom
+    integer, allocatable :: rows(:)
+    integer :: k
     ns%n = dom%n_nodes
-    ns%x0 = deck%coordinates(:, dom%nodes)
+    rows = [(node_row(deck, dom%nodes(k)), k = 1, dom%n_nodes)]
+    ns%x0 = deck%coordinates(:, rows)
     ns%x = ns%x0
-    ns%v = deck%velocity(:, dom%nodes)
-    ns%w = deck%angular_velocity(:, dom%nodes)
+    ns%v = deck%velocity(:, rows)
+    ns%w = deck%angular_velocity(:, rows)
     ns%v_old = ns%v
     ns%w_old = ns%w
-    ns%fixed = deck%fixed(:, dom%nodes)
+    ns%fixed = deck%fixed(:, rows)
     ns%weight = real(dom%node_owned, wp)
     where (ns%fixed(1:3, :) /= 0) ns%v = 0.0_wp
     where (ns%fixed(4:6, :) /= 0) ns%w = 0.0_wp

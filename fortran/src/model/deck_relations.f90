@@ -1,0 +1,181 @@
+!> The relations between fields of a deck that the schema's per-field rules (deck_rules) cannot
+!> express, as messages over the rows one rank holds (model_deck's layout); io/deck_checks applies
+!> them in order across the ranks, so every rank reaches the verdict one rank holding the whole
+!> deck would. Pure: no MPI.
+module deck_relations
+  use paradyn_kinds, only: wp
+  use paradyn_schema, only: material_j2_plasticity, contact_kind_single_surface, class_float, enum_name, &
+                            enum_precision, precision_mixed
+  use deck_rules, only: integer_text, number_text, index_list
+  use quad_shape, only: quad_shape_fault, shape_sound, shape_concave
+  use model_deck, only: deck_t, node_row, engine_precision
+  implicit none
+  private
+  public :: precision_message, repeated_node_message, duplicate_element_message, shape_message, &
+            small_table_message, unused_node_message, wall_normal_message, wall_behind_message, check_curve_relations
+
+contains
+
+  ! The relations between fields of a deck whose every field has passed its own rules, in the
+  ! order io/deck_checks applies them (schema relations: precision, distinct_element_nodes,
+  ! distinct_elements, element shapes, tangent_below_youngs, contact_parts_differ,
+  ! node_in_element, the rigid walls' and the load curves' (curve_first_points,
+  ! curve_times_increase)). Each message names the dataset, the 0-based entry and the fix; ''
+  ! when the relation holds.
+
+  !> The deck's precision against this engine's.
+  function precision_message(d) result(message)
+    type(deck_t), intent(in) :: d
+    character(len=:), allocatable :: message
+    message = ''
+    if (d%precision == engine_precision) return
+    message = '/control precision = "'//enum_name(enum_precision, d%precision)//'" but this engine computes in '// &
+              enum_name(enum_precision, engine_precision)//' precision; run paradyn-engine'//trim(merge('-mixed', &
+              '      ', d%precision == precision_mixed))//' (paradyn-run picks it from the deck), or change [run] precision'
+  end function precision_message
+
+  !> Held element row `row` names a node twice.
+  function repeated_node_message(d, row) result(message)
+    type(deck_t), intent(in) :: d
+    integer, intent(in) :: row
+    character(len=:), allocatable :: message
+    integer :: j, k
+    message = ''
+    do k = 1, 4
+      do j = k + 1, 4
+        if (d%connectivity(k, row) /= d%connectivity(j, row)) cycle
+        message = '/elements/connectivity['//integer_text(d%element_ids(row) - 1)//'] = '// &
+                  index_list(d%connectivity(:, row))//' repeats a node; every quadrilateral needs four distinct '// &
+                  'nodes (remesh without collapsed elements)'
+        return
+      end do
+    end do
+  end function repeated_node_message
+
+  !> Element `later` (1-based, its nodes later_nodes) has the nodes of element `earlier`.
+  function duplicate_element_message(later, earlier, later_nodes) result(message)
+    integer, intent(in) :: later, earlier, later_nodes(4)
+    character(len=:), allocatable :: message
+    message = '/elements/connectivity['//integer_text(later - 1)//'] = '//index_list(later_nodes)// &
+              ' has the same nodes as element '//integer_text(earlier - 1)//'; a duplicated element doubles its '// &
+              'mass and stiffness, remove it'
+  end function duplicate_element_message
+
+  !> Held element row `row` convex, without coincident or collinear corners (quad_shape).
+  function shape_message(d, row) result(message)
+    type(deck_t), intent(in) :: d
+    integer, intent(in) :: row
+    character(len=:), allocatable :: message
+    integer :: fault, corner, node, k
+    real(wp) :: x(3, 4)
+    message = ''
+    x = d%coordinates(:, [(node_row(d, d%connectivity(k, row)), k = 1, 4)])
+    call quad_shape_fault(x, fault, corner)
+    if (fault == shape_sound) return
+    node = d%connectivity(corner, row)
+    associate (i => d%element_ids(row))
+      if (fault == shape_concave) then
+        message = '/nodes/coordinates: element '//integer_text(i - 1)//' (part '//integer_text(d%element_part(row) - 1)// &
+                  ', nodes '//index_list(d%connectivity(:, row))//') is concave or twisted at node '// &
+                  integer_text(node - 1)//'; remesh it (a concave quadrilateral turns inside out at the first step)'
+      else
+        message = '/nodes/coordinates: element '//integer_text(i - 1)//' (part '//integer_text(d%element_part(row) - 1)// &
+                  ', nodes '//index_list(d%connectivity(:, row))//') is collapsed or crossed at node '// &
+                  integer_text(node - 1)//' (coincident or collinear corners, or sides that cross); remesh it'
+      end if
+    end associate
+  end function shape_message
+
+  !> The relations of the tables every rank holds whole that come before the nodes' (the J2
+  !> tangent modulus, the contact pairs).
+  function small_table_message(d) result(message)
+    type(deck_t), intent(in) :: d
+    character(len=:), allocatable :: message
+    integer :: i
+    message = ''
+    do i = 1, d%n_materials
+      if (d%material_model(i) /= material_j2_plasticity) cycle
+      if (.not. (d%tangent_modulus(i) < d%young(i))) then
+        message = '/materials/tangent_modulus['//integer_text(i - 1)//'] = '// &
+                  number_text(d%tangent_modulus(i), class_float)//' must be below /materials/youngs_modulus['// &
+                  integer_text(i - 1)//'] = '//number_text(d%young(i), class_float)// &
+                  ' for a j2_plasticity material; give the plastic tangent modulus in Pa below Young''s modulus'
+        return
+      end if
+    end do
+    do i = 1, d%n_contacts
+      if (d%contact_kind(i) == contact_kind_single_surface .neqv. d%contact_pairs(1, i) == d%contact_pairs(2, i)) then
+        if (d%contact_kind(i) == contact_kind_single_surface) then
+          message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
+                    ' names two parts for a single_surface contact; name its one part twice'
+        else
+          message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
+                    ' pairs a part with itself; name two different parts, or make the contact single_surface'
+        end if
+        return
+      end if
+    end do
+  end function small_table_message
+
+  !> Node `first` (1-based), the lowest of `unused` nodes, belongs to no element.
+  function unused_node_message(first, unused) result(message)
+    integer, intent(in) :: first, unused
+    character(len=:), allocatable :: message
+    message = '/nodes/coordinates['//integer_text(first - 1)//'] belongs to no element ('// &
+              integer_text(unused)//' such nodes); a node without elements has no mass, remove unused nodes'
+  end function unused_node_message
+
+  !> The schema relation rigid_wall_normal_nonzero for wall w.
+  function wall_normal_message(d, w) result(message)
+    type(deck_t), intent(in) :: d
+    integer, intent(in) :: w
+    character(len=:), allocatable :: message
+    message = ''
+    if (norm2(d%rigid_wall_normal(:, w)) > 0.0_wp) return
+    message = '/rigid_walls/normal['//integer_text(w - 1)//'] is the zero vector; give a nonzero normal '// &
+              'pointing from the wall towards the model'
+  end function wall_normal_message
+
+  !> The schema relation rigid_wall_nodes_in_front broken: node (1-based) is `distance` behind wall w.
+  function wall_behind_message(w, node, distance) result(message)
+    integer, intent(in) :: w, node
+    real(wp), intent(in) :: distance
+    character(len=:), allocatable :: message
+    message = '/rigid_walls/point['//integer_text(w - 1)//'] puts node '//integer_text(node - 1)// &
+              ' behind the wall at the start (signed distance '//number_text(distance, class_float)// &
+              ' m along /rigid_walls/normal); move the point or flip the normal so that the model starts '// &
+              'on the side the normal points to'
+  end function wall_behind_message
+
+  !> The load curves' relations (curve_first_points, curve_times_increase); message '' when they hold.
+  subroutine check_curve_relations(d, message)
+    type(deck_t), intent(in) :: d
+    character(len=*), intent(out) :: message
+    integer :: i, k, last
+    message = ''
+    do i = 1, d%n_curves
+      if (i == 1) then
+        if (d%curve_first_point(1) == 1 .and. d%n_curve_points >= 1) cycle
+      else if (d%curve_first_point(i) > d%curve_first_point(i - 1) .and. d%curve_first_point(i) <= d%n_curve_points) then
+        cycle
+      end if
+      message = '/curves/first_point['//integer_text(i - 1)//'] = '//integer_text(d%curve_first_point(i) - 1)// &
+                ' breaks the order of the curves; the first curve starts at point 0 and each next one later, '// &
+                'below the number of curve points ('//integer_text(d%n_curve_points)//')'
+      return
+    end do
+    do i = 1, d%n_curves
+      last = d%n_curve_points
+      if (i < d%n_curves) last = d%curve_first_point(i + 1) - 1
+      do k = d%curve_first_point(i) + 1, last
+        if (d%curve_time(k) > d%curve_time(k - 1)) cycle
+        message = '/curves/time['//integer_text(k - 1)//'] = '//number_text(d%curve_time(k), class_float)// &
+                  ' does not follow /curves/time['//integer_text(k - 2)//'] = '// &
+                  number_text(d%curve_time(k - 1), class_float)//' of curve '//integer_text(i - 1)// &
+                  '; give the times of each curve strictly increasing'
+        return
+      end do
+    end do
+  end subroutine check_curve_relations
+
+end module deck_relations
