@@ -33,21 +33,14 @@ contains
     integer :: pair(2), winner(2), rank
     character(len=1024) :: text
     call MPI_Comm_rank(comm, rank)
+    text = message
     pair = [key, rank]
     call MPI_Allreduce(pair, winner, 1, MPI_2INTEGER, MPI_MINLOC, comm)
     key = winner(1)
     message = ''
     if (key == huge(1)) return
-    text = message
-    if (rank == winner(2)) text = saved(message)
     call MPI_Bcast(text, len(text), MPI_CHARACTER, winner(2), comm)
     message = trim(text)
-  contains
-    function saved(m) result(t)
-      character(len=*), intent(in) :: m
-      character(len=1024) :: t
-      t = m
-    end function saved
   end subroutine agree_on_first
 
   !> The FNV-1a hash (deck_fingerprint) continued over the ranks' blocks of a dataset in rank
