@@ -114,7 +114,9 @@ def _unused_last_node(f: h5py.File) -> None:
     for name in [f"/nodes/{key}" for key in f["/nodes"]]:
         data = f[name][()]
         del f[name]
-        extra = data[-1:] + [1.0, 0.0, 0.0] if name == "/nodes/coordinates" else data[-1:]
+        extra = data[-1:].copy()
+        if name == "/nodes/coordinates":
+            extra[0, 0] += 1.0
         f.create_dataset(name, data=np.concatenate([data, extra]))
 
 
@@ -147,9 +149,11 @@ def _wall_behind_last_node(f: h5py.File) -> None:
 
 # (case id, damage, what the message must name)
 CASES: list[tuple[str, Callable[[h5py.File], None], str]] = [
-    ("nan_coordinate_last_rank", _set("/nodes/coordinates", (27, 1), np.nan), "/nodes/coordinates[27, 1] = NaN must be finite"),
-    ("lowest_of_two_ranks", _both(_set("/nodes/coordinates", (27, 1), np.nan),
-                                  _set("/nodes/coordinates", (12, 0), np.inf)), "/nodes/coordinates[12, 0] = Infinity must be finite"),
+    ("nan_coordinate_last_rank", _set("/nodes/coordinates", (27, 1), np.nan),
+     "/nodes/coordinates[27, 1] = NaN must be finite"),
+    ("lowest_of_two_ranks",
+     _both(_set("/nodes/coordinates", (27, 1), np.nan), _set("/nodes/coordinates", (12, 0), np.inf)),
+     "/nodes/coordinates[12, 0] = Infinity must be finite"),
     ("connectivity_last_rank", _set("/elements/connectivity", (17, 2), 99), "/elements/connectivity[17, 2] = 99"),
     ("repeated_node_last_rank", _set("/elements/connectivity", (17, 3), 19), "/elements/connectivity[17] ="),
     ("duplicate_across_ranks", _duplicate_of_first, "has the same nodes as element 0"),
