@@ -105,7 +105,7 @@ def test_wall_time_and_memory_follow_the_stated_figures(monkeypatch: pytest.Monk
     assert one.memory_mb == pytest.approx(40.0 + 2e-3 * 90)   # 90 nodes
     four = preflight.check_model(model, 2, 2)
     assert four.rate == pytest.approx(4 * preflight.PARALLEL_EFFICIENCY * preflight.RATE_PER_CORE)
-    assert four.memory_mb == pytest.approx(2 * one.memory_mb)
+    assert four.memory_mb == pytest.approx(2 * (40.0 + 2e-3 * 45))   # 2 ranks, each its half of the nodes
     monkeypatch.setenv(preflight.RATE_ENV, "1e5")
     measured = preflight.check_model(model, 2, 2)
     assert measured.rate == 1e5 and preflight.RATE_ENV in measured.rate_source

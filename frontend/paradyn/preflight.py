@@ -87,8 +87,9 @@ class Preflight:
 
     @property
     def memory_mb(self) -> float:
-        """The engine's estimate per rank times the ranks (every rank holds the global deck)."""
-        return self.ranks * (MEMORY_BASE_MB + MEMORY_PER_ENTITY_MB * max(self.n_elements, self.n_nodes))
+        """The engine's estimate per rank times the ranks (each rank holds its share of the mesh)."""
+        share = max(-(-self.n_elements // self.ranks), -(-self.n_nodes // self.ranks))
+        return self.ranks * (MEMORY_BASE_MB + MEMORY_PER_ENTITY_MB * share)
 
     def lines(self) -> list[str]:
         """The check's report, one line each (the warnings last, starting with ``warning:``)."""

@@ -8,7 +8,7 @@ module machine_memory
 
   !> Per element and node of the model (MiB), and the engine's own start (MiB): measured on the
   !> pipe-whip cases (peak 31.8 MiB at 1024 elements, 68.1 MiB at 25600: about 1.5 kB per element
-  !> and node together; every rank also holds the global deck), rounded up.
+  !> and node together), rounded up; a rank holds its share of the mesh (model_deck's layout).
   real(wp), parameter :: mb_per_element = 2.0e-3_wp, mb_base = 40.0_wp
 
 contains

@@ -170,7 +170,7 @@ program paradyn_engine
     end if
   end associate
   if (status /= status_ok) call fail(status, trim(message))
-  ! the solver holds what the run needs from here on (its run control): release the global deck
+  ! the solver holds what the run needs from here on (its run control): release the deck's rows
   deck = deck_t()
   if (rank == 0) then
     write (*, '(a,i0,a,i0,a,i0,a,i0,a,es11.4,a,es11.4,a,es11.4,a)') 'PARADYN-START elements=', &

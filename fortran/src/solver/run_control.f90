@@ -1,4 +1,4 @@
-!> What the time loop needs from the deck, built once at set-up so the global deck can be released:
+!> What the time loop needs from the deck, built once at set-up so the deck can be released:
 !> output and progress intervals, damping, the tracked nodes in local numbering and the sizes for
 !> the run record and checkpoints. (The loads are members of the effect pipeline.)
 module run_control
