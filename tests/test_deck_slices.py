@@ -20,7 +20,7 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import deck, geometry, launch
+from paradyn import benchmark, deck, geometry, launch
 
 pytestmark = pytest.mark.mpi
 
@@ -28,8 +28,8 @@ RANKS = 3
 NX, NY = 6, 3   # 18 elements, 28 nodes: node ids row by row, 7 per row
 
 
-def _model(partition: str = "blocks") -> deck.Model:
-    mesh = geometry.plate((0.06, 0.03), (NX, NY))
+def _model(partition: str = "blocks", mesh: geometry.Mesh | None = None) -> deck.Model:
+    mesh = mesh or geometry.plate((0.06, 0.03), (NX, NY))
     return deck.Model(
         coordinates=mesh.coordinates,
         connectivity=mesh.quads,
@@ -41,7 +41,7 @@ def _model(partition: str = "blocks") -> deck.Model:
         youngs_modulus=np.array([200e9]),
         poisson_ratio=np.array([0.3]),
         initial_velocity=np.tile([0.0, 0.0, 1.0], (mesh.n_nodes, 1)),
-        tracked_nodes=np.array([27]),
+        tracked_nodes=np.array([mesh.n_nodes - 1]),
         control=deck.Control(end_time=4e-6, output_interval=2e-6, partition=partition),
     )
 
@@ -52,6 +52,13 @@ def _engine(deck_path: Path, ranks: int, *extra: str) -> subprocess.CompletedPro
     command = launch.engine_command(deck_path, deck_path.with_name(f"results_{ranks}.h5"), ranks, 1)
     return subprocess.run([*command, *extra], cwd=deck_path.parent, env=launch.engine_environment(1, ranks),
                           capture_output=True, text=True, timeout=300)
+
+
+def _engine_on(deck_path: Path, ranks: int) -> dict[str, list[int]]:
+    """Run the engine on ``ranks`` and return its PARADYN-DECK line."""
+    done = _engine(deck_path, ranks)
+    assert done.returncode == 0, done.stderr
+    return _deck_line(done.stdout)
 
 
 def _deck_line(stdout: str) -> dict[str, list[int]]:
@@ -76,7 +83,8 @@ def test_each_rank_reads_only_its_block(tmp_path: Path, partition: str) -> None:
     one = _engine(path, 1)
     assert one.returncode == 0, one.stderr
     assert _deck_line(one.stdout) == {"element_rows_read": [n_elements], "node_rows_read": [n_nodes],
-                                      "elements_held": [n_elements], "nodes_held": [n_nodes]}
+                                      "elements_held": [n_elements], "nodes_held": [n_nodes],
+                                      "element_id_sums": [n_elements * (n_elements + 1) // 2]}
     done = _engine(path, RANKS)
     assert done.returncode == 0, done.stderr
     line = _deck_line(done.stdout)
@@ -215,3 +223,33 @@ def test_fingerprint_is_the_same_on_any_rank_count(tmp_path: Path) -> None:
     done = _engine(path, RANKS, "--restart")
     assert done.returncode == 2, done.stderr
     assert "was written for another deck: its /nodes differs" in done.stderr
+
+
+def _jittered_plate(nx: int, ny: int) -> deck.Model:
+    """A plate of nx x ny elements whose inner nodes are moved by up to a fifth of an element in
+    x and y (a fixed pseudo-random pattern), so that centroids rarely share a coordinate."""
+    mesh = geometry.plate((0.01 * nx, 0.01 * ny), (nx, ny))
+    x = np.array(mesh.coordinates, dtype=float)
+    inner = (x[:, 0] > 1e-9) & (x[:, 0] < 0.01 * nx - 1e-9) & (x[:, 1] > 1e-9) & (x[:, 1] < 0.01 * ny - 1e-9)
+    shift = 0.002 * np.sin(np.arange(len(x))[:, None] * [1.3, 2.9])
+    x[inner, :2] += shift[inner]
+    return _model("rcb", geometry.Mesh(x, mesh.quads))
+
+
+@pytest.mark.parametrize("mesh, ranks", [("grid", 3), ("grid", 4), ("jittered", 3), ("jittered", 5)])
+def test_distributed_rcb_gives_the_serial_owners(tmp_path: Path, mesh: str, ranks: int) -> None:
+    """partition = "rcb" bisects the centroids distributed over the ranks' blocks (no rank holds
+    them all), yet each rank ends with exactly the elements of the serial bisection
+    (domain_decomposition's rcb_partition through paradyn._kernels): per rank the same count,
+    the same sum of ids and the same nodes. The grid has ties in every coordinate (the id breaks
+    them); the jittered plate has 15 x 9 distinct centroids (several selection rounds)."""
+    model = _model("rcb") if mesh == "grid" else _jittered_plate(15, 9)
+    path = deck.write_deck(model, tmp_path / "deck.h5")
+    line = _engine_on(path, ranks)
+    owner = benchmark.element_owners(model, ranks)
+    connectivity = np.asarray(model.connectivity)
+    ids = np.arange(1, len(owner) + 1)
+    assert line["elements_held"] == [int(np.sum(owner == r)) for r in range(ranks)]
+    assert line["element_id_sums"] == [int(ids[owner == r].sum()) for r in range(ranks)]
+    assert line["nodes_held"] == [len(np.unique(connectivity[owner == r])) for r in range(ranks)]
+    assert line["element_rows_read"] == _block_sizes(len(owner), ranks)

@@ -12,7 +12,7 @@ program paradyn_engine
   use mpi_f08
   use, intrinsic :: iso_c_binding, only: c_int
   use hdf5, only: h5open_f, h5close_f, h5eset_auto_f
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: status_ok, status_failure, status_bad_input, status_stopped
   use model_deck, only: deck_t
   use deck_reader, only: read_deck
@@ -258,20 +258,22 @@ contains
   end subroutine write_mass_scaling_line
 
   !> PARADYN-DECK: the mesh rows each rank read from the deck (its block: elements, nodes) and
-  !> holds after the exchange (its elements, the nodes they touch), rank after rank (comma separated).
+  !> holds after the exchange (its elements, the nodes they touch, the sum of its elements' 1-based
+  !> ids), rank after rank (comma separated).
   subroutine write_deck_line()
-    character(len=*), parameter :: keys(4) = [character(len=17) :: 'element_rows_read', 'node_rows_read', &
-                                                 'elements_held', 'nodes_held']
-    integer :: mine(4)
-    integer, allocatable :: all(:, :)
+    character(len=*), parameter :: keys(5) = [character(len=17) :: 'element_rows_read', 'node_rows_read', &
+                                                 'elements_held', 'nodes_held', 'element_id_sums']
+    integer(i8) :: mine(5)
+    integer(i8), allocatable :: all(:, :)
     character(len=:), allocatable :: line
     integer :: r, j
-    mine = [deck%rows_read, size(deck%element_ids), size(deck%node_ids)]
-    allocate (all(4, n_ranks))
-    call MPI_Gather(mine, 4, MPI_INTEGER, all, 4, MPI_INTEGER, 0, comm)
+    mine = [int(deck%rows_read, i8), int(size(deck%element_ids), i8), int(size(deck%node_ids), i8), &
+            sum(int(deck%element_ids, i8))]
+    allocate (all(5, n_ranks))
+    call MPI_Gather(mine, 5, MPI_INTEGER8, all, 5, MPI_INTEGER8, 0, comm)
     if (rank /= 0) return
     line = 'PARADYN-DECK'
-    do j = 1, 4
+    do j = 1, 5
       line = line//' '//trim(keys(j))//'='
       do r = 1, n_ranks
         write (argument, '(i0)') all(j, r)

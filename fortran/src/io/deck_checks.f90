@@ -4,9 +4,8 @@
 !> its elements touch, the relations are checked in model_deck's order (deck_relations), each
 !> one agreed over the ranks before the next (the first offending entry, lowest id, is the one a
 !> rank holding the whole deck would name; every rank gets the same message), and with partition
-!> = "rcb" the element rows move to their owners. The one step with a global array left:
-!> recursive coordinate bisection gathers every element's centroid on every rank (3 reals per
-!> element, freed at once; docs/performance.md).
+!> = "rcb" the element rows move to their owners, found by a bisection of the distributed
+!> centroids (distributed_rcb). No array here is sized by the global mesh.
 module deck_checks
   use mpi_f08
   use paradyn_kinds, only: wp, i8
@@ -15,9 +14,10 @@ module deck_checks
   use deck_relations, only: precision_message, repeated_node_message, duplicate_element_message, shape_message, &
                             small_table_message, unused_node_message, wall_normal_message, wall_behind_message, &
                             check_curve_relations
-  use deck_directory, only: block_range, fetch_node_rows, first_duplicate_element, move_element_rows, node_values
+  use deck_directory, only: fetch_node_rows, first_duplicate_element, move_element_rows, node_values
   use deck_fingerprint, only: fingerprint_add
-  use domain_decomposition, only: element_centroids, rcb_partition, partition_rcb
+  use domain_decomposition, only: element_centroids, partition_rcb
+  use distributed_rcb, only: rcb_owners
   implicit none
   private
   public :: agree_on_first, chain_fingerprint, distribute_and_check
@@ -187,37 +187,25 @@ contains
     end do
   end subroutine check_rigid_walls
 
-  !> Recursive coordinate bisection without the mesh on one rank, but with every element's
-  !> centroid on every rank: each rank computes its block's centroids, all ranks gather them and
-  !> run the serial bisection (domain_decomposition, the same owners on every rank), the element
-  !> rows move to their owners and fetch the rows of their nodes again.
+  !> Recursive coordinate bisection without the mesh on one rank (distributed_rcb): each rank
+  !> computes the centroids of its block, the bisection runs on them distributed, the element rows
+  !> move to their owners and fetch the rows of their nodes again.
   subroutine rcb_rows(d, comm, home)
     type(deck_t), intent(inout) :: d
     type(MPI_Comm), intent(in) :: comm
     real(wp), intent(in) :: home(:, :)
-    real(wp), allocatable :: mine(:, :), centroids(:, :)
-    integer, allocatable :: counts(:), displs(:), owner(:), local(:, :)
+    real(wp), allocatable :: centroids(:, :)
+    integer, allocatable :: owner(:), local(:, :)
     logical, allocatable :: used(:)
-    integer :: n_ranks, rank, first, n, k
+    integer :: n_ranks, k, n
     call MPI_Comm_size(comm, n_ranks)
-    call MPI_Comm_rank(comm, rank)
     if (n_ranks == 1) return
-    allocate (local(4, size(d%element_ids)), mine(3, size(d%element_ids)))
+    allocate (local(4, size(d%element_ids)), centroids(3, size(d%element_ids)), owner(size(d%element_ids)))
     do k = 1, size(d%element_ids)
       local(:, k) = [(node_row(d, d%connectivity(n, k)), n = 1, 4)]
     end do
-    call element_centroids(d%coordinates, local, mine)
-    allocate (counts(n_ranks), displs(n_ranks))
-    do k = 1, n_ranks
-      call block_range(d%n_elements, k - 1, n_ranks, first, n)
-      counts(k) = 3 * n
-      displs(k) = 3 * (first - 1)
-    end do
-    allocate (centroids(3, d%n_elements), owner(d%n_elements))
-    call MPI_Allgatherv(mine, size(mine), MPI_DOUBLE_PRECISION, centroids, counts, displs, MPI_DOUBLE_PRECISION, comm)
-    call rcb_partition(d%n_elements, centroids, n_ranks, owner)
-    deallocate (centroids)
-    owner = owner(d%element_ids)   ! those of this rank's block
+    call element_centroids(d%coordinates, local, centroids)
+    call rcb_owners(comm, d%element_ids, centroids, owner)
     call move_element_rows(comm, owner, d%element_ids, d%connectivity, d%element_part)
     call held_nodes(d, comm, home, used)
   end subroutine rcb_rows
