@@ -87,6 +87,7 @@ def follow_engine(
     *,
     on_warning: Callable[[str], None] | None = None,
     done_kind: str = "DONE",
+    on_done: Callable[[EngineRun], None] | None = None,
 ) -> EngineRun:
     """Run ``command`` in ``folder`` to completion; raise EngineError with the engine's message
     if it fails.
@@ -96,12 +97,17 @@ def follow_engine(
     when the status is 0 and the engine printed its ``PARADYN-<done_kind>`` line (``CHECK`` for
     ``paradyn-engine --check``).
 
+    ``on_done`` is called once, with the run so far, as the ``PARADYN-<done_kind>`` line arrives:
+    the engine has closed its results file then, and what the caller does with it (reading,
+    post-processing) overlaps the engine's own ending (MPI_Finalize; under mpirun the launcher's
+    too). The exit status is checked after it returns, as always.
+
     Ctrl-C (KeyboardInterrupt) does not kill the run: the engine is asked to stop with SIGUSR1
     (which mpirun forwards to every rank), writes its checkpoint and exits with status 4; the
     EngineError then says how to continue. The engine runs in its own session so that the
     terminal's SIGINT reaches only this process, not mpirun (which would kill the ranks)."""
     run = EngineRun(command=command, exit_code=-1, log_path=log_path)
-    lines = _LineReader(run, on_progress, on_warning, done_kind)
+    lines = _LineReader(run, on_progress, on_warning, done_kind, on_done)
     errors = lines.errors
     started = time.perf_counter()
     with EngineLog(log_path) as log, subprocess.Popen(
@@ -186,6 +192,7 @@ class _LineReader:
     on_progress: Callable[[Progress], None] | None
     on_warning: Callable[[str], None] | None
     done_kind: str
+    on_done: Callable[[EngineRun], None] | None = None
     errors: list[str] = field(default_factory=list)
 
     def take(self, line: str) -> None:
@@ -204,6 +211,8 @@ class _LineReader:
             self.run.start = fields
         elif kind == self.done_kind:
             self.run.done = fields
+            if self.on_done is not None:
+                self.on_done(self.run)
         elif kind == "PROGRESS" and self.on_progress is not None:
             self.on_progress(Progress(int(fields["cycle"]), float(fields["time"]), float(fields["dt"]),
                                       float(fields["end_time"]), float(fields["wall_s"])))

@@ -151,8 +151,12 @@ def run_engine(
     restart: bool = False,
     runner: str | Runner | None = None,
     on_warning: Callable[[str], None] | None = None,
+    on_done: Callable[[EngineRun], None] | None = None,
 ) -> EngineRun:
     """Run the engine to completion; raise EngineError with the engine's message if it fails.
+
+    ``on_done`` runs as the engine prints its ``PARADYN-DONE`` line (its results file closed),
+    while the engine process ends (:func:`paradyn.engine_process.follow_engine`).
 
     ``runner`` picks how (see :func:`make_runner`; by default as :func:`engine_command`); the
     engine is that of the deck's precision (:func:`deck_precision`).
@@ -163,4 +167,4 @@ def run_engine(
         raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
     return make_runner(runner, ranks, deck_precision(deck)).run(deck, results, ranks, threads, on_progress=on_progress,
                                                                  log_path=log_path, restart=restart,
-                                                                 on_warning=on_warning)
+                                                                 on_warning=on_warning, on_done=on_done)

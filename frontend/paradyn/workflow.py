@@ -140,25 +140,46 @@ def run(
         post_command = _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None
         return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
     on_progress = display if display is not None else (progress if callable(progress) else None)
+    finish = _Finish(out / results_name, deck_path, display, post, _source_name(source), extra or {},
+                     {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series})
     try:
         engine_run = launch.run_engine(deck_path, out / results_name, ranks, threads,
                                        on_progress=on_progress,
                                        log_path=out / log_name if log_name else None,
                                        restart=restart, runner=runner,
-                                       on_warning=display.warning if display is not None else None)
-        if display is not None:
-            display.finish_engine(engine_run.done)
+                                       on_warning=display.warning if display is not None else None,
+                                       on_done=finish)
     finally:
         if display is not None:
             display.close()
-    results = read(out / results_name, deck=deck_path)
-    results.engine_run = engine_run
-    if post:
-        details = {"scene": _source_name(source), "command": engine_run.command, **(extra or {})}
-        with _stage(display, "post-processing"):
-            results.outputs = post_process(results, out, details, vtk=vtk, history=history,
-                                           summary=summary, plots=plots, vtk_series=vtk_series)
-    return results
+    return finish.results if finish.results is not None else finish(engine_run)
+
+
+@dataclass
+class _Finish:
+    """Reads the results and post-processes them when the engine prints its DONE line: its
+    results file is complete then, and this overlaps the engine's own exit."""
+
+    results_path: Path
+    deck_path: Path
+    display: RunProgress | None
+    post: bool
+    scene: str | None
+    extra: dict[str, Any]
+    options: dict[str, bool]
+    results: Results | None = None
+
+    def __call__(self, engine_run: launch.EngineRun) -> Results:
+        if self.display is not None:
+            self.display.finish_engine(engine_run.done)
+        results = read(self.results_path, deck=self.deck_path)
+        results.engine_run = engine_run
+        if self.post:
+            details = {"scene": self.scene, "command": engine_run.command, **self.extra}
+            with _stage(self.display, "post-processing"):
+                results.outputs = post_process(results, self.results_path.parent, details, **self.options)
+        self.results = results
+        return results
 
 
 def _stage(display: RunProgress | None, name: str) -> AbstractContextManager[None]:
