@@ -67,3 +67,17 @@ def test_the_console_script_flushes_everything_before_its_fast_exit(tmp_path: Pa
                              capture_output=True, text=True, timeout=60)
     assert refused.returncode == 2
     assert refused.stderr.startswith("paradyn-run: error: ") and "missing.toml" in refused.stderr
+
+
+def test_the_commands_import_with_the_collector_paused_and_resume_it() -> None:
+    """The collector is off while a command's imports run, and on again (with the imports' objects
+    frozen) when its tool starts: a tool that made reference cycles would otherwise leak them."""
+    seen: list[tuple[bool, int]] = []
+    import gc
+
+    with commands._collector_paused():
+        seen.append((gc.isenabled(), gc.get_freeze_count()))
+    seen.append((gc.isenabled(), gc.get_freeze_count()))
+    gc.unfreeze()
+    assert seen[0][0] is False and seen[1][0] is True
+    assert seen[1][1] > 0
