@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from . import deck, keyword_scene, launch, preflight, scene
+from . import deck, launch, preflight, scene
 from .builder import Scene as SceneBuilder
 from .engine_process import Progress
 from .postprocess import post_process
@@ -26,6 +26,7 @@ from .runners import Runner, SbatchRunner
 
 Source = str | Path | scene.Scene | SceneBuilder | deck.Model  # what paradyn.run accepts
 DECK_SUFFIXES = (".h5", ".hdf5")
+KEYWORD_SUFFIXES = (".k", ".key", ".dyn")   # LS-DYNA keyword decks (docs/keyword.md)
 
 
 @dataclass(frozen=True)
@@ -245,8 +246,10 @@ def model_of(source: Source) -> deck.Model:
     path = Path(source)
     if path.suffix in DECK_SUFFIXES:
         return deck.read_deck(path)
-    if path.suffix.lower() in keyword_scene.KEYWORD_SUFFIXES:   # LS-DYNA keyword deck (docs/keyword.md)
-        return keyword_scene.read_keyword(path)
+    if path.suffix.lower() in KEYWORD_SUFFIXES:
+        from .keyword_scene import read_keyword  # loaded only for a keyword deck
+
+        return read_keyword(path)
     return scene.build_model(scene.load_scene(path))
 
 
