@@ -9,6 +9,7 @@ and decides success: the exit status plus the final ``PARADYN-DONE`` line (docs/
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
 import re
@@ -88,9 +89,11 @@ def follow_engine(
     on_warning: Callable[[str], None] | None = None,
     done_kind: str = "DONE",
     on_done: Callable[[EngineRun], None] | None = None,
+    started: AwaitingEngine | None = None,
 ) -> EngineRun:
     """Run ``command`` in ``folder`` to completion; raise EngineError with the engine's message
-    if it fails.
+    if it fails. ``started``: the engine was started before its deck existed
+    (:func:`start_awaiting`); it is told to go on and followed from there.
 
     ``on_progress`` gets every progress line, ``on_warning`` every ``paradyn-engine: warning:``
     line as it comes (the initial penetrations come before the first cycle). The run succeeded
@@ -109,11 +112,9 @@ def follow_engine(
     run = EngineRun(command=command, exit_code=-1, log_path=log_path)
     lines = _LineReader(run, on_progress, on_warning, done_kind, on_done)
     errors = lines.errors
-    started = time.perf_counter()
-    with EngineLog(log_path) as log, subprocess.Popen(
-        command, cwd=folder, env=environment, stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT, text=True, bufsize=1, start_new_session=True,
-    ) as process:
+    clock_start = time.perf_counter()
+    process = started.go() if started is not None else _spawn(command, environment, folder)
+    with EngineLog(log_path) as log, process:
         previous = _forward_stop_signals(process)
         try:
             _read_until_done(process, log, lines)
@@ -121,7 +122,7 @@ def follow_engine(
         finally:
             for number, handler in previous.items():
                 signal.signal(number, handler)
-    run.elapsed_s = time.perf_counter() - started
+    run.elapsed_s = time.perf_counter() - clock_start
     if run.exit_code != STATUS_OK or not run.done:
         message = "; ".join(e for e in errors if "error" in e) or (
             f"the engine stopped with status {run.exit_code} without finishing"
@@ -130,6 +131,46 @@ def follow_engine(
     if log.error:   # the run finished; only its log is short
         raise OSError(errno.ENOSPC if "space" in log.error else errno.EIO, log.error, str(log_path))
     return run
+
+
+def _spawn(command: list[str], environment: dict[str, str], folder: Path, *,
+           stdin: int | None = None) -> subprocess.Popen:
+    return subprocess.Popen(command, cwd=folder, env=environment, stdin=stdin, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, bufsize=1, start_new_session=True)
+
+
+@dataclass
+class AwaitingEngine:
+    """An engine started with ``--await-deck``: it starts MPI and HDF5 while the frontend still
+    writes its deck, then waits for :meth:`go` (docs/formats.md, "Checkpoint": the command line).
+    ``command`` is the run's own command, without the flag."""
+
+    process: subprocess.Popen
+    command: list[str]
+
+    def go(self) -> subprocess.Popen:
+        """The deck is written: the engine reads it and runs."""
+        self._tell("go\n")
+        return self.process
+
+    def cancel(self) -> None:
+        """No deck will come: the engine ends (status 0, nothing written)."""
+        self._tell("")
+        with self.process:
+            self.process.wait()
+
+    def _tell(self, line: str) -> None:
+        assert self.process.stdin is not None
+        with contextlib.suppress(BrokenPipeError):   # an engine that failed to start: its status tells
+            self.process.stdin.write(line)
+            self.process.stdin.close()
+
+
+def start_awaiting(command: list[str], environment: dict[str, str], folder: Path) -> AwaitingEngine:
+    """Start ``command`` with ``--await-deck`` in ``folder`` (which must exist); it reads no deck
+    until :meth:`AwaitingEngine.go`."""
+    process = _spawn([*command, "--await-deck"], environment, folder, stdin=subprocess.PIPE)
+    return AwaitingEngine(process, command)
 
 
 class EngineLog:

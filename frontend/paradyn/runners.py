@@ -2,7 +2,8 @@
 
 A :class:`Runner` turns (deck, results, ranks, threads, restart) into an argument list and an
 environment; :meth:`Runner.run` starts the engine with them and follows it
-(:func:`paradyn.engine_process.follow_engine`). The members:
+(:func:`paradyn.engine_process.follow_engine`), or goes on with the engine that :meth:`Runner.start`
+started before the deck was written. The members:
 
 ========== ===============================================================================
 ``direct`` the engine alone: one rank, no MPI launcher
@@ -31,7 +32,7 @@ from typing import ClassVar
 
 from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_STOPPED
 from .atomic_write import write_text_atomic
-from .engine_process import EngineError, EngineRun, Progress, follow_engine
+from .engine_process import AwaitingEngine, EngineError, EngineRun, Progress, follow_engine, start_awaiting
 
 
 @dataclass(frozen=True)
@@ -122,17 +123,30 @@ class Runner(ABC):
         restart: bool = False,
         on_warning: Callable[[str], None] | None = None,
         on_done: Callable[[EngineRun], None] | None = None,
+        started: AwaitingEngine | None = None,
     ) -> EngineRun:
         """Run the engine to completion in the deck's folder; raise EngineError if it fails.
         ``on_done`` runs as the engine reports its end, before it has exited
-        (:func:`~paradyn.engine_process.follow_engine`)."""
+        (:func:`~paradyn.engine_process.follow_engine`); ``started`` is the engine that
+        :meth:`start` started for these arguments, told now to go on."""
         if ranks < 1 or threads < 1:
             raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
         # the engine runs in the deck's folder, so relative paths would point elsewhere
         deck, results = Path(deck).resolve(), Path(results).resolve()
-        command = self.command(deck, results, ranks, threads, restart)
+        command = started.command if started is not None else self.command(deck, results, ranks, threads, restart)
         return follow_engine(command, self.environment(ranks, threads), deck.parent, on_progress, log_path,
-                             on_warning=on_warning, on_done=on_done)
+                             on_warning=on_warning, on_done=on_done, started=started)
+
+    def start(self, deck: Path, results: Path, ranks: int = 1, threads: int = 1,
+              restart: bool = False) -> AwaitingEngine:
+        """Start the engine before ``deck`` exists: it starts MPI and HDF5 and waits
+        (``--await-deck``, docs/performance.md "Fixed costs"); pass it to :meth:`run` once the deck
+        is written, or call its ``cancel``."""
+        if ranks < 1 or threads < 1:
+            raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
+        deck, results = Path(deck).resolve(), Path(results).resolve()
+        command = self.command(deck, results, ranks, threads, restart)
+        return start_awaiting(command, self.environment(ranks, threads), deck.parent)
 
 
 @dataclass
@@ -264,7 +278,7 @@ class SbatchRunner(SrunRunner):
     def run(self, deck: Path, results: Path, ranks: int = 1, threads: int = 1,
             on_progress: Callable[[Progress], None] | None = None, log_path: Path | None = None,
             restart: bool = False, on_warning: Callable[[str], None] | None = None,
-            on_done: Callable[[EngineRun], None] | None = None) -> EngineRun:
+            on_done: Callable[[EngineRun], None] | None = None, started: AwaitingEngine | None = None) -> EngineRun:
         raise EngineError("the sbatch runner writes a job script and runs nothing; call "
                           "write_job(...), or paradyn.run(..., runner='sbatch'), then submit the "
                           "script with sbatch", STATUS_BAD_INPUT)

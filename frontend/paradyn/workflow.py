@@ -129,15 +129,17 @@ def run(
     ranks = default_ranks if ranks is None else ranks
     threads = default_threads if threads is None else threads
     display = progress if isinstance(progress, RunProgress) else (RunProgress() if progress is True else None)
+    batch = runner == SbatchRunner.name or isinstance(runner, SbatchRunner)
+    started: launch.AwaitingEngine | None = None
     if restart:
         deck_path = restart_deck(out, _restart_model(source))
     else:
-        with _stage(display, "meshing" if _is_scene(source) else "reading the model"):
-            model = model_of(source)
-        deck_path = deck.write_deck(model, out / "deck.h5")
-        if display is not None:
-            display.report(preflight.check_model(model, ranks, threads).lines())
-    if runner == SbatchRunner.name or isinstance(runner, SbatchRunner):
+        loaded = _loaded(source)
+        if not batch and (precision := _precision(loaded)) is not None:
+            # the engine starts MPI while the scene is meshed and its deck written
+            started = launch.start_engine(out / "deck.h5", out / results_name, ranks, threads, runner, precision)
+        deck_path = _write_deck(source, loaded, out, ranks, threads, display, started)
+    if batch:
         post_command = _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None
         return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
     on_progress = display if display is not None else (progress if callable(progress) else None)
@@ -149,7 +151,7 @@ def run(
                                        log_path=out / log_name if log_name else None,
                                        restart=restart, runner=runner,
                                        on_warning=display.warning if display is not None else None,
-                                       on_done=finish)
+                                       on_done=finish, started=started)
     finally:
         if display is not None:
             display.close()
@@ -251,6 +253,39 @@ def model_of(source: Source) -> deck.Model:
 
         return read_keyword(path)
     return scene.build_model(scene.load_scene(path))
+
+
+def _write_deck(source: Source, loaded: Source, out: Path, ranks: int, threads: int, display: RunProgress | None,
+                started: launch.AwaitingEngine | None) -> Path:
+    """Mesh (or read) ``loaded``, write its deck and show the check; a failure ends ``started``."""
+    try:
+        with _stage(display, "meshing" if _is_scene(source) else "reading the model"):
+            model = model_of(loaded)
+        deck_path = deck.write_deck(model, out / "deck.h5")
+        if display is not None:
+            display.report(preflight.check_model(model, ranks, threads).lines())
+    except BaseException:
+        if started is not None:
+            started.cancel()
+        raise
+    return deck_path
+
+
+def _loaded(source: Source) -> Source:
+    """A scene file loaded (its ``[run]`` says which engine runs it); any other source as it is."""
+    if isinstance(source, (str, Path)) and _is_scene(source) and Path(source).suffix.lower() not in KEYWORD_SUFFIXES:
+        return scene.load_scene(source)
+    return source
+
+
+def _precision(source: Source) -> str | None:
+    """The precision a loaded scene or a model asks for ("double" when it names none); None for a
+    source that says so only once it is built or read."""
+    if isinstance(source, scene.Scene):
+        return source.run.precision or "double"
+    if isinstance(source, deck.Model):
+        return source.control.precision or "double"
+    return None
 
 
 def prepare_deck(source: Source, out_dir: Path) -> Path:
