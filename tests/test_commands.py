@@ -3,12 +3,17 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
+from pathlib import Path
 
+import h5py
 import pytest
 
 from paradyn import commands
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
 
 
 def test_importing_paradyn_loads_no_numpy_until_a_name_is_used() -> None:
@@ -44,3 +49,35 @@ def test_each_command_runs_its_tool(monkeypatch: pytest.MonkeyPatch) -> None:
         with pytest.raises(SystemExit) as stop:
             entry()
         assert stop.value.code == 0
+
+
+def test_the_console_script_flushes_everything_before_its_fast_exit(tmp_path: Path) -> None:
+    """paradyn-run ends with os._exit (no interpreter clean-up): its piped output must still be
+    whole, its files closed and its status the one main returned, for a run and for bad input."""
+    script = Path(sys.executable).parent / "paradyn-run"
+    out = tmp_path / "out"
+    done = subprocess.run([str(script), str(CASES / "small_plate" / "scene.toml"), "-o", str(out), "-q"],
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.rstrip().endswith(str(out / "summary.json"))
+    assert json.loads((out / "summary.json").read_text())["cycles"] == 48
+    with h5py.File(out / "results.vtkhdf", "r") as f:
+        assert f["VTKHDF/Steps"].attrs["NSteps"] > 1
+    refused = subprocess.run([str(script), str(tmp_path / "missing.toml"), "-o", str(out)],
+                             capture_output=True, text=True, timeout=60)
+    assert refused.returncode == 2
+    assert refused.stderr.startswith("paradyn-run: error: ") and "missing.toml" in refused.stderr
+
+
+def test_the_commands_import_with_the_collector_paused_and_resume_it() -> None:
+    """The collector is off while a command's imports run, and on again (with the imports' objects
+    frozen) when its tool starts: a tool that made reference cycles would otherwise leak them."""
+    seen: list[tuple[bool, int]] = []
+    import gc
+
+    with commands._collector_paused():
+        seen.append((gc.isenabled(), gc.get_freeze_count()))
+    seen.append((gc.isenabled(), gc.get_freeze_count()))
+    gc.unfreeze()
+    assert seen[0][0] is False and seen[1][0] is True
+    assert seen[1][1] > 0

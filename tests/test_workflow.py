@@ -97,3 +97,45 @@ def test_the_engine_writes_the_run_names_so_results_h5_stands_alone(tmp_path: Pa
     alone = paradyn.read(tmp_path / "results.h5")
     assert (alone.title, alone.part_names, alone.effects) == ("Small cantilever plate", ["plate"], EFFECTS)
     assert alone.tracked_names == ["tip_corner", "tip_middle", "middle"]
+
+
+def test_a_scene_s_engine_starts_while_it_is_meshed_and_ends_if_meshing_fails(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """docs/performance.md, "Fixed costs": a scene file's engine is started (``--await-deck``) before
+    the scene is meshed, and told to go on once its deck is written; a scene that fails to mesh
+    ends that engine (status 0, nothing written) before the error reaches the caller."""
+    started: list[launch.AwaitingEngine] = []
+    original = launch.start_engine
+
+    def recording(*args: object, **kwargs: object) -> launch.AwaitingEngine:
+        started.append(original(*args, **kwargs))  # type: ignore[arg-type]
+        return started[-1]
+
+    monkeypatch.setattr(launch, "start_engine", recording)
+    res = paradyn.run(SMALL_PLATE, tmp_path / "good", ranks=1, threads=1, post=False)
+    assert len(started) == 1 and started[0].process.returncode == 0 and res.complete
+    assert "--await-deck" in started[0].process.args and "--await-deck" not in res.engine_run.command
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SMALL_PLATE.read_text().replace('origin = [0.0, 0.0, 0.0]',
+                                                   'origin = [0.0, 0.0, 0.0]\nv_axis = [1.0, 1.0, 0.0]'))
+    with pytest.raises(scene.SceneError, match="perpendicular"):
+        paradyn.run(bad, tmp_path / "bad", ranks=1, threads=1)
+    assert len(started) == 2 and started[1].process.returncode == 0
+    assert not (tmp_path / "bad" / "results.h5").exists() and not (tmp_path / "bad" / "deck.h5").exists()
+
+
+def test_an_engine_awaiting_its_deck_runs_on_go_only(tmp_path: Path, plate_model: deck.Model) -> None:
+    """paradyn-engine --await-deck (docs/formats.md): the line ``go`` runs the deck; end of input or
+    any other line ends it with status 0, having written nothing."""
+    import subprocess
+
+    deck_path = deck.write_deck(plate_model, tmp_path / "deck.h5")
+    command = [str(launch.engine_path()), str(deck_path), str(tmp_path / "r.h5"), "--await-deck"]
+    for given in ("", "stop\n"):
+        ended = subprocess.run(command, input=given, capture_output=True, text=True, timeout=60,
+                               env=launch.engine_environment(1))
+        assert ended.returncode == 0 and "PARADYN-START" not in ended.stdout
+        assert not (tmp_path / "r.h5").exists()
+    ran = subprocess.run(command, input="go\n", capture_output=True, text=True, timeout=120,
+                         env=launch.engine_environment(1))
+    assert ran.returncode == 0 and "PARADYN-DONE" in ran.stdout and (tmp_path / "r.h5").is_file()

@@ -4,36 +4,73 @@ Each sets the process environment, then loads its tool. One OpenBLAS thread: the
 heavy linear algebra, and starting OpenBLAS's thread pool when numpy loads cost 70 ms of every
 ``paradyn-run`` (docs/performance.md, "Fixed costs"); a setting of the user's own wins, and a
 Python session that imports paradyn keeps its own.
+
+The command's imports (numpy, h5py and the package) run with Python's cyclic garbage collector
+paused: it otherwise ran 76 times while they loaded, walking a heap that grows to 29 000
+objects, a tenth of their time (docs/performance.md, "Fixed costs"). What they made is then frozen
+(:func:`gc.freeze`), out of every later collection's way, and the collector resumes for the run.
+
+A command ends with :func:`os._exit` once its streams are flushed: every file it wrote is closed
+by then, and the interpreter's own clean-up (tearing down numpy, h5py and gmsh module by module)
+took 25 ms of every ``paradyn-run`` (docs/performance.md, "Fixed costs"). Inside Python call
+:func:`paradyn.cli.main` (or :func:`paradyn.run`), which returns.
 """
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import os
+import sys
+from collections.abc import Iterator
+from typing import NoReturn
 
 
 def _settle_environment() -> None:
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
-def paradyn_run() -> int:
+def paradyn_run() -> NoReturn:
     """``paradyn-run``: :func:`paradyn.cli.main`."""
     _settle_environment()
-    from .cli import main
+    with _collector_paused():
+        from .cli import main
 
-    return main()
+    _leave(main())
 
 
-def paradyn_study() -> int:
+def paradyn_study() -> NoReturn:
     """``paradyn-study``: :func:`paradyn.study_cli.main`."""
     _settle_environment()
-    from .study_cli import main
+    with _collector_paused():
+        from .study_cli import main
 
-    return main()
+    _leave(main())
 
 
-def paradyn_scaling() -> int:
+def paradyn_scaling() -> NoReturn:
     """``paradyn-scaling``: :func:`paradyn.benchmark.main`."""
     _settle_environment()
-    from .benchmark import main
+    with _collector_paused():
+        from .benchmark import main
 
-    return main()
+    _leave(main())
+
+
+@contextlib.contextmanager
+def _collector_paused() -> Iterator[None]:
+    """Imports without the cyclic collector; what they made is frozen out of later collections."""
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.freeze()
+        gc.enable()
+
+
+def _leave(status: int | None) -> NoReturn:
+    """End the process with ``status`` now: flush the streams, skip the interpreter's clean-up."""
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(OSError, ValueError):   # a closed pipe or stream: nothing can reach it
+            stream.flush()
+    os._exit(status or 0)

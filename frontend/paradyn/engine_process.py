@@ -9,6 +9,7 @@ and decides success: the exit status plus the final ``PARADYN-DONE`` line (docs/
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
 import re
@@ -87,27 +88,33 @@ def follow_engine(
     *,
     on_warning: Callable[[str], None] | None = None,
     done_kind: str = "DONE",
+    on_done: Callable[[EngineRun], None] | None = None,
+    started: AwaitingEngine | None = None,
 ) -> EngineRun:
     """Run ``command`` in ``folder`` to completion; raise EngineError with the engine's message
-    if it fails.
+    if it fails. ``started``: the engine was started before its deck existed
+    (:func:`start_awaiting`); it is told to go on and followed from there.
 
     ``on_progress`` gets every progress line, ``on_warning`` every ``paradyn-engine: warning:``
     line as it comes (the initial penetrations come before the first cycle). The run succeeded
     when the status is 0 and the engine printed its ``PARADYN-<done_kind>`` line (``CHECK`` for
     ``paradyn-engine --check``).
 
+    ``on_done`` is called once, with the run so far, as the ``PARADYN-<done_kind>`` line arrives:
+    the engine has closed its results file then, and what the caller does with it (reading,
+    post-processing) overlaps the engine's own ending (MPI_Finalize; under mpirun the launcher's
+    too). The exit status is checked after it returns, as always.
+
     Ctrl-C (KeyboardInterrupt) does not kill the run: the engine is asked to stop with SIGUSR1
     (which mpirun forwards to every rank), writes its checkpoint and exits with status 4; the
     EngineError then says how to continue. The engine runs in its own session so that the
     terminal's SIGINT reaches only this process, not mpirun (which would kill the ranks)."""
     run = EngineRun(command=command, exit_code=-1, log_path=log_path)
-    lines = _LineReader(run, on_progress, on_warning, done_kind)
+    lines = _LineReader(run, on_progress, on_warning, done_kind, on_done)
     errors = lines.errors
-    started = time.perf_counter()
-    with EngineLog(log_path) as log, subprocess.Popen(
-        command, cwd=folder, env=environment, stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT, text=True, bufsize=1, start_new_session=True,
-    ) as process:
+    clock_start = time.perf_counter()
+    process = started.go() if started is not None else _spawn(command, environment, folder)
+    with EngineLog(log_path) as log, process:
         previous = _forward_stop_signals(process)
         try:
             _read_until_done(process, log, lines)
@@ -115,7 +122,7 @@ def follow_engine(
         finally:
             for number, handler in previous.items():
                 signal.signal(number, handler)
-    run.elapsed_s = time.perf_counter() - started
+    run.elapsed_s = time.perf_counter() - clock_start
     if run.exit_code != STATUS_OK or not run.done:
         message = "; ".join(e for e in errors if "error" in e) or (
             f"the engine stopped with status {run.exit_code} without finishing"
@@ -124,6 +131,46 @@ def follow_engine(
     if log.error:   # the run finished; only its log is short
         raise OSError(errno.ENOSPC if "space" in log.error else errno.EIO, log.error, str(log_path))
     return run
+
+
+def _spawn(command: list[str], environment: dict[str, str], folder: Path, *,
+           stdin: int | None = None) -> subprocess.Popen:
+    return subprocess.Popen(command, cwd=folder, env=environment, stdin=stdin, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, bufsize=1, start_new_session=True)
+
+
+@dataclass
+class AwaitingEngine:
+    """An engine started with ``--await-deck``: it starts MPI and HDF5 while the frontend still
+    writes its deck, then waits for :meth:`go` (docs/formats.md, "Checkpoint": the command line).
+    ``command`` is the run's own command, without the flag."""
+
+    process: subprocess.Popen
+    command: list[str]
+
+    def go(self) -> subprocess.Popen:
+        """The deck is written: the engine reads it and runs."""
+        self._tell("go\n")
+        return self.process
+
+    def cancel(self) -> None:
+        """No deck will come: the engine ends (status 0, nothing written)."""
+        self._tell("")
+        with self.process:
+            self.process.wait()
+
+    def _tell(self, line: str) -> None:
+        assert self.process.stdin is not None
+        with contextlib.suppress(BrokenPipeError):   # an engine that failed to start: its status tells
+            self.process.stdin.write(line)
+            self.process.stdin.close()
+
+
+def start_awaiting(command: list[str], environment: dict[str, str], folder: Path) -> AwaitingEngine:
+    """Start ``command`` with ``--await-deck`` in ``folder`` (which must exist); it reads no deck
+    until :meth:`AwaitingEngine.go`."""
+    process = _spawn([*command, "--await-deck"], environment, folder, stdin=subprocess.PIPE)
+    return AwaitingEngine(process, command)
 
 
 class EngineLog:
@@ -186,6 +233,7 @@ class _LineReader:
     on_progress: Callable[[Progress], None] | None
     on_warning: Callable[[str], None] | None
     done_kind: str
+    on_done: Callable[[EngineRun], None] | None = None
     errors: list[str] = field(default_factory=list)
 
     def take(self, line: str) -> None:
@@ -204,6 +252,8 @@ class _LineReader:
             self.run.start = fields
         elif kind == self.done_kind:
             self.run.done = fields
+            if self.on_done is not None:
+                self.on_done(self.run)
         elif kind == "PROGRESS" and self.on_progress is not None:
             self.on_progress(Progress(int(fields["cycle"]), float(fields["time"]), float(fields["dt"]),
                                       float(fields["end_time"]), float(fields["wall_s"])))

@@ -24,7 +24,6 @@ from paradyn.keyword_units import Units, UnitsError
 from paradyn.scene_building import _apply_contacts
 from paradyn.scene_specs import ContactSpec, MaterialSpec, PartSpec, RunSettings, Scene
 
-KEYWORD_SUFFIXES = (".k", ".key", ".dyn")
 MAX_INTEGRATION_POINTS = int(next(d.upper.value for d in _schema.DATASETS if d.python == "integration_points"))
 # LS-DYNA's IHQ for shells -> ParaDyn's hourglass form (docs/keyword.md)
 HOURGLASS_OF_IHQ = {0: "viscous", 1: "viscous", 2: "viscous", 3: "viscous", 4: "stiffness", 5: "stiffness"}
@@ -350,4 +349,4 @@ def _apply_tracks(data: KeywordData, mesh: KeywordMesh, model: deck.Model) -> No
     model.tracked_names = names
 
 
-__all__ = ["KEYWORD_SUFFIXES", "KeywordScene", "keyword_scene", "load_keyword", "read_keyword"]
+__all__ = ["KeywordScene", "keyword_scene", "load_keyword", "read_keyword"]

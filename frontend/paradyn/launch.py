@@ -17,7 +17,7 @@ from importlib import resources
 from pathlib import Path
 
 from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE
-from .engine_process import EngineError, EngineRun, Progress, parse_line
+from .engine_process import AwaitingEngine, EngineError, EngineRun, Progress, parse_line
 from .progress import RunProgress as ProgressBar  # the name before the tqdm display
 from .runners import Machine, Runner, create_runner
 from .runners import engine_environment as _environment_for
@@ -30,9 +30,11 @@ ENGINES = {"double": ("paradyn-engine", ENGINE_ENV), "mixed": ("paradyn-engine-m
 BIND_ENV = "PARADYN_BIND"   # "none": let the ranks and threads float over the cores
 
 __all__ = [
-    "BIND_ENV", "ENGINES", "ENGINE_ENV", "MIXED_ENGINE_ENV", "EngineError", "EngineRun", "Progress", "ProgressBar",
+    "BIND_ENV", "ENGINES", "ENGINE_ENV", "MIXED_ENGINE_ENV", "AwaitingEngine", "EngineError", "EngineRun", "Progress",
+    "ProgressBar",
     "available_cores", "binds_to_cores", "current_machine", "deck_precision", "default_layout", "engine_command",
     "engine_environment", "engine_path", "inside_slurm", "make_runner", "parse_line", "run_engine",
+    "start_engine",
 ]
 
 
@@ -151,8 +153,15 @@ def run_engine(
     restart: bool = False,
     runner: str | Runner | None = None,
     on_warning: Callable[[str], None] | None = None,
+    on_done: Callable[[EngineRun], None] | None = None,
+    started: AwaitingEngine | None = None,
 ) -> EngineRun:
     """Run the engine to completion; raise EngineError with the engine's message if it fails.
+    ``started``: the engine :func:`start_engine` started with these arguments before the deck
+    was written.
+
+    ``on_done`` runs as the engine prints its ``PARADYN-DONE`` line (its results file closed),
+    while the engine process ends (:func:`paradyn.engine_process.follow_engine`).
 
     ``runner`` picks how (see :func:`make_runner`; by default as :func:`engine_command`); the
     engine is that of the deck's precision (:func:`deck_precision`).
@@ -163,4 +172,13 @@ def run_engine(
         raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
     return make_runner(runner, ranks, deck_precision(deck)).run(deck, results, ranks, threads, on_progress=on_progress,
                                                                  log_path=log_path, restart=restart,
-                                                                 on_warning=on_warning)
+                                                                 on_warning=on_warning, on_done=on_done,
+                                                                 started=started)
+
+
+def start_engine(deck: Path, results: Path, ranks: int = 1, threads: int = 1, runner: str | Runner | None = None,
+                 precision: str | None = None) -> AwaitingEngine:
+    """Start the engine of ``precision`` for a deck not yet written (``--await-deck``): MPI's
+    start-up overlaps the meshing and the deck's writing (docs/performance.md, "Fixed costs").
+    Hand it to :func:`run_engine` (``started=``) once the deck is there, or cancel it."""
+    return make_runner(runner, ranks, precision).start(deck, results, ranks, threads)

@@ -2,7 +2,8 @@
 
 A :class:`Runner` turns (deck, results, ranks, threads, restart) into an argument list and an
 environment; :meth:`Runner.run` starts the engine with them and follows it
-(:func:`paradyn.engine_process.follow_engine`). The members:
+(:func:`paradyn.engine_process.follow_engine`), or goes on with the engine that :meth:`Runner.start`
+started before the deck was written. The members:
 
 ========== ===============================================================================
 ``direct`` the engine alone: one rank, no MPI launcher
@@ -31,7 +32,7 @@ from typing import ClassVar
 
 from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_STOPPED
 from .atomic_write import write_text_atomic
-from .engine_process import EngineError, EngineRun, Progress, follow_engine
+from .engine_process import AwaitingEngine, EngineError, EngineRun, Progress, follow_engine, start_awaiting
 
 
 @dataclass(frozen=True)
@@ -73,14 +74,18 @@ def engine_environment(threads: int, bind_threads: bool) -> dict[str, str]:
 # own transport (UCX on InfiniBand) should be left to choose.
 HOST_LIST_VARIABLES = ("PBS_NODEFILE", "LSB_HOSTS", "LSB_MCPU_HOSTS", "PE_HOSTFILE", "OAR_NODEFILE",
                        "OMPI_MCA_orte_default_hostfile")
+HWLOC_WITHOUT_IO = "-pci,-linuxio"   # hwloc's topology without the PCI devices (one machine)
 
 
 def one_machine_mpi(env: dict[str, str]) -> dict[str, str]:
     """Open MPI's ob1 messaging layer (shared memory between the ranks of one machine) instead of
-    probing the network libraries, which costs mpirun 0.16 s at start-up (docs/performance.md,
-    "Fixed costs"); the user's own setting wins. (The engine alone, on one rank, settles its own
+    probing the network libraries, which costs mpirun 0.16 s at start-up, and hwloc's topology
+    without its I/O devices (reading every PCI device's configuration costs each process of the
+    launch 13 ms; on one machine no network card is chosen by locality) (docs/performance.md,
+    "Fixed costs"); the user's own settings win. (The engine alone, on one rank, settles its own
     start-up: fortran/src/app/singleton_start.f90.)"""
-    return {**env, "OMPI_MCA_pml": env.get("OMPI_MCA_pml", "ob1")}
+    return {**env, "OMPI_MCA_pml": env.get("OMPI_MCA_pml", "ob1"),
+            "HWLOC_COMPONENTS": env.get("HWLOC_COMPONENTS", HWLOC_WITHOUT_IO)}
 
 
 def _engine_arguments(deck: Path, results: Path, restart: bool, ranks: int | None = None) -> list[str]:
@@ -117,15 +122,31 @@ class Runner(ABC):
         log_path: Path | None = None,
         restart: bool = False,
         on_warning: Callable[[str], None] | None = None,
+        on_done: Callable[[EngineRun], None] | None = None,
+        started: AwaitingEngine | None = None,
     ) -> EngineRun:
-        """Run the engine to completion in the deck's folder; raise EngineError if it fails."""
+        """Run the engine to completion in the deck's folder; raise EngineError if it fails.
+        ``on_done`` runs as the engine reports its end, before it has exited
+        (:func:`~paradyn.engine_process.follow_engine`); ``started`` is the engine that
+        :meth:`start` started for these arguments, told now to go on."""
         if ranks < 1 or threads < 1:
             raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
         # the engine runs in the deck's folder, so relative paths would point elsewhere
         deck, results = Path(deck).resolve(), Path(results).resolve()
-        command = self.command(deck, results, ranks, threads, restart)
+        command = started.command if started is not None else self.command(deck, results, ranks, threads, restart)
         return follow_engine(command, self.environment(ranks, threads), deck.parent, on_progress, log_path,
-                             on_warning=on_warning)
+                             on_warning=on_warning, on_done=on_done, started=started)
+
+    def start(self, deck: Path, results: Path, ranks: int = 1, threads: int = 1,
+              restart: bool = False) -> AwaitingEngine:
+        """Start the engine before ``deck`` exists: it starts MPI and HDF5 and waits
+        (``--await-deck``, docs/performance.md "Fixed costs"); pass it to :meth:`run` once the deck
+        is written, or call its ``cancel``."""
+        if ranks < 1 or threads < 1:
+            raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
+        deck, results = Path(deck).resolve(), Path(results).resolve()
+        command = self.command(deck, results, ranks, threads, restart)
+        return start_awaiting(command, self.environment(ranks, threads), deck.parent)
 
 
 @dataclass
@@ -256,7 +277,8 @@ class SbatchRunner(SrunRunner):
 
     def run(self, deck: Path, results: Path, ranks: int = 1, threads: int = 1,
             on_progress: Callable[[Progress], None] | None = None, log_path: Path | None = None,
-            restart: bool = False, on_warning: Callable[[str], None] | None = None) -> EngineRun:
+            restart: bool = False, on_warning: Callable[[str], None] | None = None,
+            on_done: Callable[[EngineRun], None] | None = None, started: AwaitingEngine | None = None) -> EngineRun:
         raise EngineError("the sbatch runner writes a job script and runs nothing; call "
                           "write_job(...), or paradyn.run(..., runner='sbatch'), then submit the "
                           "script with sbatch", STATUS_BAD_INPUT)

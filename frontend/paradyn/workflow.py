@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from . import deck, keyword_scene, launch, preflight, scene
+from . import deck, launch, preflight, scene
 from .builder import Scene as SceneBuilder
 from .engine_process import Progress
 from .postprocess import post_process
@@ -26,6 +26,7 @@ from .runners import Runner, SbatchRunner
 
 Source = str | Path | scene.Scene | SceneBuilder | deck.Model  # what paradyn.run accepts
 DECK_SUFFIXES = (".h5", ".hdf5")
+KEYWORD_SUFFIXES = (".k", ".key", ".dyn")   # LS-DYNA keyword decks (docs/keyword.md)
 
 
 @dataclass(frozen=True)
@@ -128,37 +129,60 @@ def run(
     ranks = default_ranks if ranks is None else ranks
     threads = default_threads if threads is None else threads
     display = progress if isinstance(progress, RunProgress) else (RunProgress() if progress is True else None)
+    batch = runner == SbatchRunner.name or isinstance(runner, SbatchRunner)
+    started: launch.AwaitingEngine | None = None
     if restart:
         deck_path = restart_deck(out, _restart_model(source))
     else:
-        with _stage(display, "meshing" if _is_scene(source) else "reading the model"):
-            model = model_of(source)
-        deck_path = deck.write_deck(model, out / "deck.h5")
-        if display is not None:
-            display.report(preflight.check_model(model, ranks, threads).lines())
-    if runner == SbatchRunner.name or isinstance(runner, SbatchRunner):
+        loaded = _loaded(source)
+        if not batch and (precision := _precision(loaded)) is not None:
+            # the engine starts MPI while the scene is meshed and its deck written
+            started = launch.start_engine(out / "deck.h5", out / results_name, ranks, threads, runner, precision)
+        deck_path = _write_deck(source, loaded, out, ranks, threads, display, started)
+    if batch:
         post_command = _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None
         return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
     on_progress = display if display is not None else (progress if callable(progress) else None)
+    finish = _Finish(out / results_name, deck_path, display, post, _source_name(source), extra or {},
+                     {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series})
     try:
         engine_run = launch.run_engine(deck_path, out / results_name, ranks, threads,
                                        on_progress=on_progress,
                                        log_path=out / log_name if log_name else None,
                                        restart=restart, runner=runner,
-                                       on_warning=display.warning if display is not None else None)
-        if display is not None:
-            display.finish_engine(engine_run.done)
+                                       on_warning=display.warning if display is not None else None,
+                                       on_done=finish, started=started)
     finally:
         if display is not None:
             display.close()
-    results = read(out / results_name, deck=deck_path)
-    results.engine_run = engine_run
-    if post:
-        details = {"scene": _source_name(source), "command": engine_run.command, **(extra or {})}
-        with _stage(display, "post-processing"):
-            results.outputs = post_process(results, out, details, vtk=vtk, history=history,
-                                           summary=summary, plots=plots, vtk_series=vtk_series)
-    return results
+    return finish.results if finish.results is not None else finish(engine_run)
+
+
+@dataclass
+class _Finish:
+    """Reads the results and post-processes them when the engine prints its DONE line: its
+    results file is complete then, and this overlaps the engine's own exit."""
+
+    results_path: Path
+    deck_path: Path
+    display: RunProgress | None
+    post: bool
+    scene: str | None
+    extra: dict[str, Any]
+    options: dict[str, bool]
+    results: Results | None = None
+
+    def __call__(self, engine_run: launch.EngineRun) -> Results:
+        if self.display is not None:
+            self.display.finish_engine(engine_run.done)
+        results = read(self.results_path, deck=self.deck_path)
+        results.engine_run = engine_run
+        if self.post:
+            details = {"scene": self.scene, "command": engine_run.command, **self.extra}
+            with _stage(self.display, "post-processing"):
+                results.outputs = post_process(results, self.results_path.parent, details, **self.options)
+        self.results = results
+        return results
 
 
 def _stage(display: RunProgress | None, name: str) -> AbstractContextManager[None]:
@@ -224,9 +248,44 @@ def model_of(source: Source) -> deck.Model:
     path = Path(source)
     if path.suffix in DECK_SUFFIXES:
         return deck.read_deck(path)
-    if path.suffix.lower() in keyword_scene.KEYWORD_SUFFIXES:   # LS-DYNA keyword deck (docs/keyword.md)
-        return keyword_scene.read_keyword(path)
+    if path.suffix.lower() in KEYWORD_SUFFIXES:
+        from .keyword_scene import read_keyword  # loaded only for a keyword deck
+
+        return read_keyword(path)
     return scene.build_model(scene.load_scene(path))
+
+
+def _write_deck(source: Source, loaded: Source, out: Path, ranks: int, threads: int, display: RunProgress | None,
+                started: launch.AwaitingEngine | None) -> Path:
+    """Mesh (or read) ``loaded``, write its deck and show the check; a failure ends ``started``."""
+    try:
+        with _stage(display, "meshing" if _is_scene(source) else "reading the model"):
+            model = model_of(loaded)
+        deck_path = deck.write_deck(model, out / "deck.h5")
+        if display is not None:
+            display.report(preflight.check_model(model, ranks, threads).lines())
+    except BaseException:
+        if started is not None:
+            started.cancel()
+        raise
+    return deck_path
+
+
+def _loaded(source: Source) -> Source:
+    """A scene file loaded (its ``[run]`` says which engine runs it); any other source as it is."""
+    if isinstance(source, (str, Path)) and _is_scene(source) and Path(source).suffix.lower() not in KEYWORD_SUFFIXES:
+        return scene.load_scene(source)
+    return source
+
+
+def _precision(source: Source) -> str | None:
+    """The precision a loaded scene or a model asks for ("double" when it names none); None for a
+    source that says so only once it is built or read."""
+    if isinstance(source, scene.Scene):
+        return source.run.precision or "double"
+    if isinstance(source, deck.Model):
+        return source.control.precision or "double"
+    return None
 
 
 def prepare_deck(source: Source, out_dir: Path) -> Path:

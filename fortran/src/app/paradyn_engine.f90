@@ -1,8 +1,11 @@
-!> paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]] [--check] [--expect-ranks=N]
+!> paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]] [--check] [--expect-ranks=N] [--await-deck]
 !>
 !> --check sets the run up (the deck's checks, the initial penetrations, the stable step), prints
 !> PARADYN-CHECK and exits without writing anything; --expect-ranks=N refuses to run on another
-!> number of MPI ranks than the launcher was asked for (docs/errors.md).
+!> number of MPI ranks than the launcher was asked for (docs/errors.md); --await-deck starts MPI
+!> and HDF5, then waits for the line `go` on standard input before it reads the deck (the frontend
+!> starts the engine while it still meshes and writes the deck; end of input or another line ends
+!> the engine with status 0, having written nothing).
 !> Runs one deck under MPI (element partitions across ranks) and OpenMP (groups across threads) and
 !> writes the results file, with a checkpoint beside it every /control checkpoint_interval and
 !> when stopped by SIGTERM, SIGINT or SIGUSR1. --restart continues a run from its checkpoint.
@@ -56,7 +59,7 @@ program paradyn_engine
   character(len=:), allocatable :: checkpoint
   character(len=1024) :: message
   integer :: rank, n_ranks, status, err, n_args, k, n_positional, frames, records
-  logical :: restart, check_only
+  logical :: restart, check_only, await_deck
   integer :: expect_ranks
   real(wp) :: pause_time
   real(wp) :: engine_start = 0, setup_s = -1   !< the wall clock after MPI start-up; set-up seconds
@@ -82,6 +85,7 @@ program paradyn_engine
   n_positional = 0
   restart = .false.
   check_only = .false.
+  await_deck = .false.
   expect_ranks = 0
   restart_path = ''
   deck_path = ''
@@ -94,7 +98,8 @@ program paradyn_engine
         'Runs a ParaDyn deck (docs/formats.md); launch it with mpirun -n RANKS and OMP_NUM_THREADS.', &
         '--restart continues an interrupted run from its checkpoint (default RESULTS.checkpoint.h5).', &
         '--check sets the run up, prints PARADYN-CHECK (the first step, the stable step, the steps) and writes nothing.', &
-        '--expect-ranks=N stops with status 2 unless the launcher started N ranks.'
+        '--expect-ranks=N stops with status 2 unless the launcher started N ranks.', &
+        '--await-deck waits for the line go on standard input before reading the deck (end of input: exit 0).'
       call finish(status_ok)
     else if (argument == '--restart') then
       restart = .true.
@@ -103,6 +108,8 @@ program paradyn_engine
       restart_path = argument(11:)
     else if (argument == '--check') then
       check_only = .true.
+    else if (argument == '--await-deck') then
+      await_deck = .true.
     else if (argument(1:15) == '--expect-ranks=') then
       read (argument(16:), *, iostat=err) expect_ranks
       if (err /= 0 .or. expect_ranks < 1) call fail(status_bad_input, 'bad '//trim(argument)// &
@@ -129,6 +136,9 @@ program paradyn_engine
   if (n_positional < 2) results_path = beside(deck_path, 'results.h5')
   checkpoint = checkpoint_path(trim(results_path))
   if (restart_path == '') restart_path = checkpoint
+  if (await_deck) then
+    if (.not. go_given()) call finish(status_ok)   ! the frontend gave up before the deck was written
+  end if
 
   ! every rank reads its rows of the deck and checks them; all reach the same verdict
   call read_deck(trim(deck_path), comm, deck, status, message)
@@ -311,6 +321,18 @@ contains
     mine = proc_kib('/proc/self/status', 'VmHWM:') / 1024.0_wp
     call MPI_Allreduce(mine, largest, 1, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
   end function largest_peak_memory_mb
+
+  !> Rank 0 reads one line of standard input; every rank learns whether it was `go`.
+  logical function go_given() result(go)
+    character(len=16) :: line
+    integer :: io
+    go = .false.
+    if (rank == 0) then
+      read (*, '(a)', iostat=io) line
+      go = io == 0 .and. line == 'go'
+    end if
+    call MPI_Bcast(go, 1, MPI_LOGICAL, 0, comm)
+  end function go_given
 
   function beside(path, name) result(other)
     character(len=*), intent(in) :: path, name
