@@ -12,8 +12,8 @@
 module model_deck
   use paradyn_kinds, only: wp, ek
   use shell_section, only: shell_properties_t
-  use paradyn_schema, only: material_j2_plasticity, contact_kind_single_surface, size_none, deck_datasets, &
-                            class_float, class_int, &
+  use paradyn_schema, only: material_j2_plasticity, size_none, deck_datasets, &
+                            class_int, &
                             enum_name, enum_material_model, control_attributes, control_partition, &
                             dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
                             dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
@@ -38,14 +38,12 @@ module model_deck
                             control_time_step_floor, control_contact_travel_limit, &
                             control_mass_scaling_step, control_mass_scaling_limit, &
                             n_effects, effect_switch, &
-                            switch_off, control_precision, precision_double, precision_mixed, enum_precision, &
+                            switch_off, control_precision, precision_double, precision_mixed, &
                             dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
                             dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
                             dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
                             dataset_prescribed_curve, control_gravity_x, control_gravity_y, control_gravity_z
-  use deck_rules, only: integer_text, number_text, index_list
   use material_factory, only: material_from_name
-  use quad_shape, only: quad_shape_fault, shape_sound, shape_concave
   implicit none
   private
   public :: deck_t, part_properties, partition_default, engine_precision
@@ -138,7 +136,9 @@ contains
   end function part_properties
 
   !> Puts one dataset, as read from the file ((max(columns, 1), rows), 0-based indices), into its
-  !> field of deck_t; indices become 1-based. One line per dataset of the schema.
+  !> field of deck_t; indices become 1-based. One line per dataset of the schema. A mesh dataset
+  !> arrives as the rank's block of rows (the reader then sets n_nodes and n_elements to the
+  !> file's counts and the ids of the rows, and deck_checks moves the rows to model_deck's layout).
   subroutine store_deck_field(d, id, values)
     type(deck_t), intent(inout) :: d
     integer, intent(in) :: id
