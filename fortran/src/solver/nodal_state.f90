@@ -32,7 +32,10 @@ contains
     integer, allocatable :: rows(:)
     integer :: k
     ns%n = dom%n_nodes
-    rows = [(node_row(deck, dom%nodes(k)), k = 1, dom%n_nodes)]
+    allocate (rows(dom%n_nodes))
+    do k = 1, dom%n_nodes
+      rows(k) = node_row(deck, dom%nodes(k))
+    end do
     ns%x0 = deck%coordinates(:, rows)
     ns%x = ns%x0
     ns%v = deck%velocity(:, rows)
