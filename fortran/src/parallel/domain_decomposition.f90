@@ -3,7 +3,8 @@
 !> coordinate bisection of the element centroids (rcb_partition). For any owner array, decompose
 !> builds one rank's elements and nodes in local numbering, which neighbour ranks share nodes,
 !> which element corners go to and come from each of them, and the fixed-order assembly lists.
-!> Pure computation from the global mesh: no MPI here.
+!> Pure computation from the global mesh: no MPI here (the engine builds its domain with
+!> distributed_decomposition and bisects with distributed_rcb; these are their references).
 module domain_decomposition
   use paradyn_kinds, only: wp, i8
   use element_groups, only: group_size
