@@ -6,10 +6,11 @@
 !> the elements it read; the sets of a level are known on every rank from the rank ranges alone;
 !> per level, the sets' counts and boxes are reductions, and the cut of each set is a distributed
 !> selection of its n_low-th element in (coordinate, id) order: every rank proposes the median of
-!> its remaining candidates, the weighted median of the proposals (an MPI_Allgather) is counted
-!> against (an MPI_Allreduce) and the candidates shrink to one side, until the proposal is the
-!> n_low-th. Each round removes at least a quarter of a set's candidates: O(log n) rounds a level,
-!> log2 p levels. Memory per rank: its elements, and 3 numbers per set and rank per round.
+!> its remaining candidates, the weighted median of the proposals (an MPI_Allgatherv; a rank
+!> proposes only for the sets it has candidates in) is counted against (an MPI_Allreduce) and the
+!> candidates shrink to one side, until the proposal is the n_low-th. Each round removes at least
+!> a quarter of a set's candidates: O(log n) rounds a level, log2 p levels. Memory per rank: its
+!> elements, a count per set, and 4 numbers per proposal of all ranks in a round.
 module distributed_rcb
   use mpi_f08
   use paradyn_kinds, only: wp, i8
@@ -196,28 +197,20 @@ contains
     type(key_t), allocatable, intent(out) :: pivot(:)
     integer, allocatable :: first(:), last(:)
     integer(i8), allocatable :: below(:), at_most(:)
-    real(wp), allocatable :: proposal(:, :), all(:, :, :)
+    real(wp), allocatable :: proposals(:, :)
     logical, allocatable :: done(:)
-    integer :: n_sets, n_ranks, s, m
+    integer :: n_sets, s
     n_sets = size(n_low)
-    call MPI_Comm_size(comm, n_ranks)
     allocate (pivot(n_sets), done(n_sets), below(n_sets), at_most(n_sets))
     done = n_low <= 0
     below = 0   ! elements of the set known to come before every candidate, over all ranks
     first = start(1:n_sets)          ! this rank's candidates of set s: sorted(first(s):last(s))
     last = start(2:n_sets + 1) - 1
-    allocate (proposal(3, n_sets), all(3, n_sets, n_ranks))
-    do while (.not. all_done(done))
-      do s = 1, n_sets   ! (value, id, weight): the median of this rank's candidates
-        proposal(:, s) = 0.0_wp
-        if (done(s) .or. last(s) < first(s)) cycle
-        m = (first(s) + last(s)) / 2
-        proposal(:, s) = [sorted(m)%value, real(sorted(m)%id, wp), real(last(s) - first(s) + 1, wp)]
-      end do
-      call MPI_Allgather(proposal, 3 * n_sets, MPI_DOUBLE_PRECISION, all, 3 * n_sets, MPI_DOUBLE_PRECISION, comm)
+    do while (.not. all(done))
+      call gather_proposals(comm, sorted, first, last, done, proposals)
+      call weighted_medians(proposals, done, pivot)
+      at_most = 0
       do s = 1, n_sets
-        if (.not. done(s)) pivot(s) = weighted_median(all(:, s, :))
-        at_most(s) = 0
         if (.not. done(s)) at_most(s) = count_at_most(sorted(first(s):last(s)), pivot(s))
       end do
       call MPI_Allreduce(MPI_IN_PLACE, at_most, n_sets, MPI_INTEGER8, MPI_SUM, comm)
@@ -235,56 +228,78 @@ contains
     end do
   end subroutine select_pivots
 
-  pure logical function all_done(done)
+  !> Every rank's proposals (set, value, id, weight) for the sets not done where it has candidates:
+  !> the median of its candidates, weighted by their count (MPI_Allgatherv: a rank sends only the
+  !> sets its elements are in). proposals (4, all ranks' proposals), rank after rank.
+  subroutine gather_proposals(comm, sorted, first, last, done, proposals)
+    type(MPI_Comm), intent(in) :: comm
+    type(key_t), intent(in) :: sorted(:)
+    integer, intent(in) :: first(:), last(:)
     logical, intent(in) :: done(:)
-    all_done = all(done)
-  end function all_done
-
-  !> The key whose cumulative weight first reaches half the total, over proposals (3, n_ranks)
-  !> of (value, id, weight) in key order (weight 0: no proposal).
-  pure function weighted_median(proposals) result(key)
-    real(wp), intent(in) :: proposals(:, :)
-    type(key_t) :: key
-    type(key_t) :: keys(size(proposals, 2))
-    integer :: order(size(proposals, 2)), r, n
-    real(wp) :: total, sum_so_far
+    real(wp), allocatable, intent(out) :: proposals(:, :)
+    real(wp), allocatable :: mine(:, :)
+    integer, allocatable :: counts(:), displs(:)
+    integer :: n_ranks, s, n, m, r
+    call MPI_Comm_size(comm, n_ranks)
+    allocate (mine(4, count(.not. done .and. last >= first)))
     n = 0
-    do r = 1, size(proposals, 2)
-      if (proposals(3, r) <= 0.0_wp) cycle
+    do s = 1, size(done)
+      if (done(s) .or. last(s) < first(s)) cycle
       n = n + 1
-      keys(n) = key_t(proposals(1, r), nint(proposals(2, r)))
-      order(n) = r
+      m = (first(s) + last(s)) / 2
+      mine(:, n) = [real(s, wp), sorted(m)%value, real(sorted(m)%id, wp), real(last(s) - first(s) + 1, wp)]
     end do
-    call sort_keys_array(keys(1:n), order(1:n))
-    total = sum(proposals(3, :))
-    sum_so_far = 0.0_wp
-    do r = 1, n
-      sum_so_far = sum_so_far + proposals(3, order(r))
-      if (2.0_wp * sum_so_far >= total) exit
+    allocate (counts(n_ranks), displs(n_ranks))
+    call MPI_Allgather(4 * n, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, comm)
+    displs(1) = 0
+    do r = 2, n_ranks
+      displs(r) = displs(r - 1) + counts(r - 1)
     end do
-    key = keys(min(r, n))
-  end function weighted_median
+    allocate (proposals(4, sum(counts) / 4))
+    call MPI_Allgatherv(mine, 4 * n, MPI_DOUBLE_PRECISION, proposals, counts, displs, MPI_DOUBLE_PRECISION, comm)
+  end subroutine gather_proposals
 
-  !> Insertion sort of keys (one per rank) carrying order along.
-  pure subroutine sort_keys_array(keys, order)
-    type(key_t), intent(inout) :: keys(:)
-    integer, intent(inout) :: order(:)
-    type(key_t) :: key
-    integer :: i, j, value
-    do i = 2, size(keys)
-      key = keys(i)
-      value = order(i)
-      j = i - 1
-      do while (j >= 1)
-        if (.not. after(keys(j), key)) exit
-        keys(j + 1) = keys(j)
-        order(j + 1) = order(j)
-        j = j - 1
-      end do
-      keys(j + 1) = key
-      order(j + 1) = value
+  !> pivot(s) for each set not done: the proposal whose cumulative weight, in key order, first
+  !> reaches half the weight of the set's proposals.
+  pure subroutine weighted_medians(proposals, done, pivot)
+    real(wp), intent(in) :: proposals(:, :)
+    logical, intent(in) :: done(:)
+    type(key_t), intent(inout) :: pivot(:)
+    type(key_t), allocatable :: keys(:)
+    integer, allocatable :: start(:), order(:), fill(:)
+    integer :: k, s, j
+    real(wp) :: total, so_far
+    allocate (start(size(done) + 1), source=0)
+    do k = 1, size(proposals, 2)   ! the proposals bucketed by set
+      s = nint(proposals(1, k))
+      start(s + 1) = start(s + 1) + 1
     end do
-  end subroutine sort_keys_array
+    start(1) = 1
+    do s = 1, size(done)
+      start(s + 1) = start(s + 1) + start(s)
+    end do
+    fill = start(1:size(done))
+    allocate (order(size(proposals, 2)), keys(size(proposals, 2)))
+    do k = 1, size(proposals, 2)
+      s = nint(proposals(1, k))
+      order(fill(s)) = k
+      fill(s) = fill(s) + 1
+      keys(k) = key_t(proposals(2, k), nint(proposals(3, k)))
+    end do
+    do s = 1, size(done)
+      if (done(s)) cycle
+      associate (mine => order(start(s):start(s + 1) - 1))
+        call sort_keys(mine, keys)
+        total = sum(proposals(4, mine))
+        so_far = 0.0_wp
+        do j = 1, size(mine)
+          so_far = so_far + proposals(4, mine(j))
+          if (2.0_wp * so_far >= total) exit
+        end do
+        pivot(s) = keys(mine(min(j, size(mine))))
+      end associate
+    end do
+  end subroutine weighted_medians
 
   !> How many of the ascending keys come at or before x (binary search).
   pure integer(i8) function count_at_most(keys, x) result(n)
