@@ -41,7 +41,7 @@ module contact_interface
   private
   public :: contact_t, contact_setup
   public :: contact_begin, contact_sort_due, contact_movement
-  public :: contact_restore
+  public :: contact_restore, contact_sort_pass
   public :: contact_activity_update, contact_all_idle, contact_count_activity
   public :: clock_seconds
 
@@ -82,6 +82,10 @@ module contact_interface
     logical, allocatable :: in_gather(:)
     logical :: gather_subset = .false.
     logical :: gather_all = .false.             !< never gather a subset (to check that it changes nothing)
+    ! local contact (contact_neighbours): each rank searches the slaves it owns against the masters
+    ! it holds (its domain's and the ghosts near its slaves); held and owned flag those contact nodes
+    logical :: local = .false.
+    logical, allocatable :: held(:), owned(:)
     type(contact_pass_t), allocatable :: passes(:)
     ! candidates of the step's passes: n_own found here, n_all shared by every rank (the caller
     ! fills all_pairs), n_candidates in pass order and, within a pass, slave order; pairs are
@@ -200,26 +204,39 @@ contains
     do p = 1, size(c%passes)
       ! an idle pass sorts when it wakes, from these positions (the same grid as sorting now)
       c%passes(p)%stale = c%passes(p)%idle
-      if (.not. c%passes(p)%idle) call sort_pass(c, p)
+      if (.not. c%passes(p)%idle) call contact_sort_pass(c, p)
     end do
     c%last_sort = cycle
     c%n_sorts = c%n_sorts + 1
-    new_gather_set = c%sort_interval == 0 .and. .not. c%gather_all
+    new_gather_set = c%sort_interval == 0 .and. .not. c%gather_all .and. .not. c%local
     if (new_gather_set) then
       call choose_gather_set(c)
       c%gather_subset = .true.
     end if
   end subroutine sort_passes
 
-  !> The bucket grid of pass p at the positions of the last sort.
-  subroutine sort_pass(c, p)
+  !> The bucket grid of pass p at the positions of the last sort: of every master, or (local
+  !> contact) of the masters this rank holds, in ascending order, so that a search on them finds
+  !> the same nearest master with the same tie rule (the lower index) wherever it lies within reach.
+  subroutine contact_sort_pass(c, p)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
-    c%passes(p)%x_sorted = c%x_at_sort(:, c%passes(p)%masters)
-    call bucket_grid_build(int(size(c%passes(p)%masters), ip), c%passes(p)%x_sorted, &
-                           c%passes(p)%bucket_size, c%passes(p)%grid)
-    c%passes(p)%stale = .false.
-  end subroutine sort_pass
+    integer :: i
+    associate (pass => c%passes(p))
+    if (c%local) then
+      pass%held_only = .true.
+      pass%held_masters = pack([(i, i = 1, size(pass%masters))], c%held(pass%masters))
+      if (.not. allocated(pass%held_index)) allocate (pass%held_index(size(pass%masters)))
+      pass%held_index = 0
+      pass%held_index(pass%held_masters) = [(i, i = 1, size(pass%held_masters))]
+      pass%x_sorted = c%x_at_sort(:, pass%masters(pass%held_masters))
+    else
+      pass%x_sorted = c%x_at_sort(:, pass%masters)
+    end if
+    call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
+    pass%stale = .false.
+    end associate
+  end subroutine contact_sort_pass
 
   !> An activity check at this cycle: extents(:, 2 p - 1) and extents(:, 2 p) are the slave and
   !> master extents of pass p over all ranks (contact_activity). A pass that cannot touch for the
@@ -246,7 +263,7 @@ contains
       next = min(next, merge(n, active_recheck_cycles, idle))
       changed = changed .or. (idle .neqv. pass%idle)
       pass%idle = idle
-      if (.not. idle .and. pass%stale .and. c%last_sort >= 0) call sort_pass(c, p)
+      if (.not. idle .and. pass%stale .and. c%last_sort >= 0) call contact_sort_pass(c, p)
       end associate
     end do
     c%next_check = cycle + max(1_i8, min(int(next, i8), 2 * (cycle - c%last_check)))

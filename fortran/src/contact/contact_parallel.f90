@@ -23,7 +23,8 @@ module contact_parallel
   use phase_timers, only: phase_timers_t, wall_clock
   use traffic_counter, only: traffic_t, count_allgather, count_allreduce
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
-                               contact_restore, contact_activity_update, contact_all_idle, contact_count_activity
+                               contact_restore, contact_activity_update, contact_all_idle, contact_count_activity, &
+                               contact_sort_pass
   use contact_activity, only: extent_width, extent_empty, side_extent
   use contact_stages, only: contact_global_search, contact_candidates, contact_local_search, contact_sum, &
                             contact_end
@@ -31,6 +32,8 @@ module contact_parallel
                               allgather_node_subset, record_share_t, record_share_setup, &
                               share_contact_records, candidate_share_t, candidate_share_setup, &
                               share_contact_candidates
+  use contact_neighbours, only: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, &
+                                share_records_locally
   implicit none
   private
   public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply
@@ -50,6 +53,8 @@ module contact_parallel
     real(wp), allocatable :: v_before(:, :)   !< velocities of the contact nodes this rank owns, the cycle before a check
     integer(i8) :: v_before_cycle = -huge(1_i8)      !< the cycle they are from
     type(traffic_t) :: traffic                !< messages and bytes of the contact's sharing (traffic_counter)
+    type(neighbours_t) :: nb                  !< local contact: ghosts and record routes (contact_neighbours)
+    logical :: touched_anywhere = .false.     !< local contact: a force was left on some rank last step
   end type parallel_contact_t
 
 contains
@@ -82,6 +87,10 @@ contains
     allocate (pc%v_before(3, pc%c%n_nodes), source=0.0_wp)
     call record_share_setup(size(pc%c%record_nodes, 2), dom%n_ranks, pc%records)
     call candidate_share_setup(dom%n_ranks, pc%candidates)
+    ! more than one rank: local contact, unless every contact node is to be gathered (the
+    ! replicated scheme, kept as the reference that takes no shortcut)
+    pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
+    if (pc%c%local) call neighbours_setup(pc%nb, pc%c, dom, comm, pc%nodes%local, pc%nodes%owned_member)
   end subroutine parallel_contact_setup
 
   !> Contact forces at the positions x (local nodes) of this cycle. Communication time goes to
@@ -91,7 +100,7 @@ contains
     real(wp), intent(in) :: x(:, :), v(:, :), dt_strain
     integer(i8), intent(in) :: cycle
     type(phase_timers_t), intent(inout) :: timers
-    real(wp) :: t_start, comm_before
+    real(wp) :: t_start, comm_before, t0
     t_start = wall_clock()
     comm_before = timers%communication
     if (pc%c%check_activity) then
@@ -99,26 +108,36 @@ contains
       if (cycle == pc%c%next_check - 1) call keep_velocities(pc, v, cycle)
     end if
     call contact_count_activity(pc%c)
-    call gather_positions(pc, x, v, cycle, timers)
+    if (pc%c%local) then
+      call local_positions(pc, x, v, cycle, timers)
+    else
+      call gather_positions(pc, x, v, cycle, timers)
+      pc%touched_anywhere = pc%c%n_touched_old > 0
+    end if
     ! every pass idle and no force left from the last step: no stage has anything to do
-    pc%c%last_step_worked = .not. (contact_all_idle(pc%c) .and. pc%c%n_touched_old == 0)
+    pc%c%last_step_worked = .not. (contact_all_idle(pc%c) .and. .not. pc%touched_anywhere)
     if (.not. pc%c%last_step_worked) then
       pc%c%n_candidates = 0
       timers%contact = timers%contact + wall_clock() - t_start - (timers%communication - comm_before)
       return
     end if
     call contact_global_search(pc%c, cycle, wall_clock)
-    if (pc%c%n_ranks > 1) then
+    if (pc%c%n_ranks > 1 .and. .not. pc%c%local) then
       call timed_share_candidates(pc, timers)
     end if
     call contact_candidates(pc%c, cycle, wall_clock)
     call contact_local_search(pc%c, wall_clock)
     ! no candidate on any rank (every rank holds the same count): no record to share
-    if (pc%c%n_ranks > 1 .and. pc%c%n_candidates > 0) then
+    if (pc%c%local) then
+      t0 = wall_clock()
+      call share_records_locally(pc%nb, pc%c, pc%traffic)
+      timers%communication = timers%communication + wall_clock() - t0
+    else if (pc%c%n_ranks > 1 .and. pc%c%n_candidates > 0) then
       call timed_share_records(pc, timers)
     end if
     call contact_sum(pc%c, wall_clock)
-    call contact_end(pc%c, cycle, dt_strain)
+    ! local contact: rank 0 alone has every record, so it alone keeps the energy
+    if (.not. pc%c%local .or. pc%c%rank == 0) call contact_end(pc%c, cycle, dt_strain)
     ! the sharing inside counts as communication, not twice
     timers%contact = timers%contact + wall_clock() - t_start - (timers%communication - comm_before)
   end subroutine parallel_contact_step
@@ -252,6 +271,66 @@ contains
     end if
   end subroutine gather_positions
 
+  !> Local contact: this domain's contact nodes from x and v, the largest movements since the last
+  !> sort and the last refresh of the ghosts and whether any rank carries a force (one maximum
+  !> reduction), then new ghosts (at a sort, after a restore, or once a node has moved a tenth of
+  !> the smallest bucket since the last refresh: contact_neighbours) or the ghosts' new positions,
+  !> and the bucket sort when one is due (a refresh between sorts regrids from the positions of
+  !> the last sort, which is the same grid over the masters now held).
+  subroutine local_positions(pc, x, v, cycle, timers)
+    type(parallel_contact_t), intent(inout) :: pc
+    real(wp), intent(in) :: x(:, :), v(:, :)
+    integer(i8), intent(in) :: cycle
+    type(phase_timers_t), intent(inout) :: timers
+    real(wp) :: t0, values(3), smallest
+    integer :: i, k, p
+    logical :: sort, refresh, new_gather_set
+    do i = 1, size(pc%nb%domain_node)
+      k = pc%nb%domain_node(i)
+      pc%c%x(:, k) = x(:, pc%nb%domain_local(i))
+      pc%c%v(:, k) = v(:, pc%nb%domain_local(i))
+    end do
+    call contact_movement(pc%c, values(1), wall_clock, pc%nodes%owned_member, pc%nodes%local, x)
+    values(2) = 0.0_wp
+    do i = 1, size(pc%nb%owned_node)
+      k = pc%nb%owned_node(i)
+      values(2) = max(values(2), sum((pc%c%x(:, k) - pc%nb%x_at_refresh(:, i))**2))
+    end do
+    values(2) = sqrt(values(2))
+    values(3) = merge(1.0_wp, 0.0_wp, pc%c%n_touched > 0)
+    t0 = wall_clock()
+    call MPI_Allreduce(MPI_IN_PLACE, values, 3, MPI_DOUBLE_PRECISION, MPI_MAX, pc%comm)
+    call count_allreduce(pc%traffic, 24_i8, pc%c%n_ranks)
+    timers%communication = timers%communication + wall_clock() - t0
+    pc%touched_anywhere = values(3) > 0.0_wp
+    sort = contact_sort_due(pc%c, cycle, values(1))
+    smallest = minval([(pc%c%passes(p)%bucket_size, p = 1, size(pc%c%passes))])
+    refresh = sort .or. pc%nb%refresh_pending .or. values(2) > 0.1_wp * smallest
+    t0 = wall_clock()
+    if (refresh) then
+      call neighbours_refresh(pc%nb, pc%c, sort, pc%traffic)
+    else
+      call neighbours_update(pc%nb, pc%c, pc%traffic)
+    end if
+    timers%communication = timers%communication + wall_clock() - t0
+    call contact_begin(pc%c, cycle, sort, wall_clock, new_gather_set)
+    if (refresh .and. .not. sort .and. pc%c%last_sort >= 0) then
+      do p = 1, size(pc%c%passes)
+        if (pc%c%passes(p)%idle) then
+          pc%c%passes(p)%stale = .true.
+        else
+          call contact_sort_pass(pc%c, p)
+        end if
+      end do
+    end if
+    pc%c%moved = huge(1.0_wp)
+    if (sort) then
+      pc%c%moved = 0.0_wp
+    else if (pc%c%sort_interval == 0 .and. pc%c%last_sort >= 0) then
+      pc%c%moved = values(1)
+    end if
+  end subroutine local_positions
+
   subroutine timed_share_candidates(pc, timers)
     type(parallel_contact_t), intent(inout) :: pc
     type(phase_timers_t), intent(inout) :: timers
@@ -327,10 +406,21 @@ contains
   subroutine contact_checkpoint_rows(pc, rows)
     type(parallel_contact_t), intent(in) :: pc
     real(wp), intent(out) :: rows(contact_checkpoint_width, pc%c%n_nodes)
+    real(wp), allocatable :: at_sort(:, :), ignored(:, :)
+    type(node_set_t) :: nodes
     integer :: k
     rows = 0.0_wp
     rows(1:3, :) = pc%c%force
     rows(4:6, :) = pc%c%x_at_sort
+    if (pc%c%local) then   ! each rank has the positions of the last sort of its own nodes: gathered
+      allocate (at_sort(3, max(1, maxval(pc%nodes%local))), source=0.0_wp)
+      do k = 1, size(pc%nb%owned_node)
+        at_sort(:, pc%nodes%local(pc%nb%owned_node(k))) = pc%c%x_at_sort(:, pc%nb%owned_node(k))
+      end do
+      allocate (ignored(3, pc%c%n_nodes))
+      nodes = pc%nodes                                ! its buffers are written
+      call allgather_node_set(pc%comm, nodes, at_sort, at_sort, rows(4:6, :), ignored)
+    end if
     do k = 1, pc%c%n_touched   ! the order in which the last step summed the forces
       rows(7, pc%c%touched(k)) = real(k, wp)
     end do
@@ -345,6 +435,7 @@ contains
     call contact_restore(pc%c, rows(1:3, :), nint(rows(7, :)), rows(4:6, :), last_sort, energy, &
                          max_penetration, new_gather_set)
     if (new_gather_set) call node_subset_setup(pc%nodes, pc%c%in_gather)
+    pc%nb%refresh_pending = .true.
   end subroutine contact_checkpoint_restore
 
 end module contact_parallel
