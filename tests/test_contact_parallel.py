@@ -76,7 +76,8 @@ def _contact_log(path: Path) -> list[dict[str, int]]:
                    if kind == "CONTACT"), key=lambda f: f["rank"])
 
 
-SLIDING_LAYOUTS = [(1, 1, "all"), (2, 1, "all"), (2, 1, "subset"), (4, 1, "subset"), (1, 2, "subset")]
+SLIDING_LAYOUTS = [(1, 1, "all"), (2, 1, "all"), (2, 1, "subset"), (3, 1, "subset"), (4, 1, "subset"),
+                   (3, 1, "all"), (1, 2, "subset")]
 
 
 @pytest.fixture(scope="module")
@@ -114,12 +115,15 @@ def sliding(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[int, int, st
 @pytest.mark.mpi
 @pytest.mark.parametrize("layout", SLIDING_LAYOUTS, ids=lambda layout: f"{layout[0]}x{layout[1]}_{layout[2]}")
 def test_gathering_only_the_nodes_near_contact_changes_nothing(sliding, layout):
-    """docs/theory.md (parallel contact): between sorts only the contact nodes that can come
-    into contact before the next sort are gathered, and the global search visits only those
-    slaves. Reference: the same run gathering every contact node every step
-    (/control contact_gather = "all"). A node missing from the subset would be read at a stale
-    position, so the frames, contact energy and penetration of the sliding plate (many sorts,
-    the subset changing at each) must be bitwise those of 1 rank x 1 thread with the subset."""
+    """docs/theory.md (parallel contact): on one rank, between sorts only the contact nodes that
+    can come into contact before the next sort are read; on several, each rank holds only the
+    master segments of other ranks near its own slaves (ghosts, chosen anew at each sort) and
+    the records go only to the ranks that hold their nodes (and rank 0). Reference: 1 rank x 1
+    thread; the replicated scheme (/control contact_gather = "all", every contact node on every
+    rank) on 1, 2 and 3 ranks. A ghost missing would be read at a stale position and a record
+    missing would lose a force, so the frames, contact energy and penetration of the sliding
+    plate (many sorts, the slider crossing from one rank's elements onto another's, its ghosts
+    coming and going) must be bitwise equal on 1, 2, 3 and 4 ranks and 2 threads."""
     reference, data = sliding[(1, 1, "subset")], sliding[layout]
     for key in ("displacement", "velocity", "contact_energy", "contact_penetration"):
         assert np.array_equal(data[key], reference[key]), key
@@ -128,13 +132,31 @@ def test_gathering_only_the_nodes_near_contact_changes_nothing(sliding, layout):
 
 
 @pytest.mark.mpi
-@pytest.mark.parametrize("ranks", [2, 4])
+@pytest.mark.parametrize("ranks", [2, 3, 4])
+def test_each_rank_searches_the_slaves_it_owns(sliding, ranks):
+    """Local contact (docs/theory.md, parallel contact): each rank finds the candidates of the
+    slaves it owns and searches them itself, so over the ranks the candidates add up to those of
+    one rank (each found once) and every rank searches what it found. The slider starts over
+    the elements of one rank and crosses onto another's (the paper's blocks by element number),
+    so the candidates of more than one rank must add up."""
+    log = sliding[(ranks, 1, "subset")]["log"]
+    one = sliding[(1, 1, "subset")]["log"][0]
+    assert [f["rank"] for f in log] == list(range(ranks))
+    assert all(f["local_searches"] == f["candidates"] for f in log)
+    assert sum(f["candidates"] for f in log) == one["candidates"] > 0
+    assert sum(f["candidates"] > 0 for f in log) >= 2
+    assert all(f["sorts"] == one["sorts"] and f["pass_steps"] == one["pass_steps"] for f in log)
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("ranks", [2, 3])
 def test_candidate_blocks_are_equal_on_every_rank(sliding, ranks):
-    """The paper's section 5: the candidates of each pass are split into one block per rank whose
-    sizes differ by at most one. Reference: the engine's per-rank counts over the run (log):
+    """The paper's section 5, kept by the replicated scheme (/control contact_gather = "all"): the
+    candidates of each pass are split into one block per rank whose sizes differ by at most one.
+    Reference: the engine's per-rank counts over the run (log):
     every candidate is searched by exactly one rank (the local searches add up to the candidates)
     and no rank searched more than one candidate per pass and step above another."""
-    log = sliding[(ranks, 1, "subset")]["log"]
+    log = sliding[(ranks, 1, "all")]["log"]
     assert [f["rank"] for f in log] == list(range(ranks))
     total, steps = log[0]["candidates"], log[0]["pass_steps"]
     assert all(f["candidates"] == total and f["pass_steps"] == steps for f in log)
