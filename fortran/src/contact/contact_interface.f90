@@ -12,22 +12,22 @@
 !> (passes = 2, the default) or one per step, alternating as in the paper (passes = 1). The
 !> passes of a step run together, in the paper's two parallel stages (docs/theory.md, parallel
 !> contact), so a step shares candidates and records once whatever the number of passes:
-!>   1. global search (contact_global_search): the slaves are dealt node-wise cyclically to the
-!>      ranks and, inside a rank, to the threads; each slave near the master box gets its nearest
-!>      master node, and the pairs (slave, nearest master) found are this rank's candidates;
-!>   2. the caller shares the candidates between ranks; contact_candidates puts them in
+!>   1. global search (contact_global_search): each rank's slaves (local contact: those it owns;
+!>      the replicated scheme: a cyclic share of all), inside a rank dealt to the threads; each
+!>      slave near the master box gets its nearest master node, and the pairs (slave, nearest
+!>      master) found are this rank's candidates;
+!>   2. the replicated scheme shares the candidates between ranks; contact_candidates puts them in
 !>      ascending slave order and gives each rank one contiguous block of equal size (within
-!>      one), and contact_local_search finds the segment, the closest point and the penalty force
-!>      of each candidate of the block, threads sharing the block.
+!>      one); local contact keeps its own. contact_local_search finds the segment, the closest
+!>      point and the penalty force of each candidate, threads sharing them.
 !> Every candidate writes its own record (its force and the forces on the 4 master nodes); the
 !> records are then summed in candidate order, which is pass order and slave order within a
-!> pass, so the result does not depend on the number of threads. The contact nodes' positions are
-!> gathered on every rank (contact_exchange): all of them at a sort, and between sorts only those
-!> that can come into
-!> contact before the next one (choose_gather_set). The records are shared by value and every
-!> rank sums all of them, so the result does not depend on the number of ranks either. Only the
-!> nodes touched in the last two steps carry a force, so only they are cleared, applied and
-!> summed into the energy. No MPI here.
+!> pass, so the result does not depend on the number of threads. Between ranks
+!> (contact_neighbours, contact_exchange) each rank gets the records that touch the nodes it
+!> holds, by value, and sums them in the same order, so the result does not depend on the number
+!> of ranks either. On one rank a sort chooses the nodes that can come into contact before the
+!> next one (choose_gather_set). Only the nodes touched in the last two steps carry a force, so
+!> only they are cleared, applied and summed into the energy. No MPI here.
 module contact_interface
   use paradyn_kinds, only: wp, ip, i8
   use model_deck, only: deck_t

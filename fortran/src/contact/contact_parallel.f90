@@ -3,12 +3,13 @@
 !> checkpoint rows and their restore), around the pure stages of contact_interface and the MPI
 !> sharing of contact_exchange.
 !>
-!> A step: the contact nodes' positions are gathered on every rank (all of them when a sort is
-!> due, else only those that can be in contact before the next sort, with each rank's largest
-!> movement, which tells whether a sort is due). Then each rank searches its cyclic share of the
-!> slaves of every pass for candidates, the candidates are shared, each rank locally searches its
-!> equal block of them, the records are shared, and every rank sums all of them in pass and slave
-!> order. One rank communicates nothing.
+!> A step on several ranks (local contact, contact_neighbours): this domain's contact nodes and
+!> the ghosts near its slaves are brought up to date (new ghosts at a sort), each rank searches
+!> the slaves it owns, and the records go to the ranks that hold their nodes and to rank 0, which
+!> keeps the energy; each rank sums the records it has in pass and slave order. With
+!> contact_gather = "all", the paper's replicated scheme: every contact node gathered on every
+!> rank, the candidates shared and cut into equal blocks, every record on every rank (the
+!> reference that takes no shortcut). One rank communicates nothing.
 !>
 !> Idle is cheap: at activity checks (contact_activity) every rank measures the extents of its own
 !> nodes of each pass, one maximum reduction combines them, and a pass that cannot touch before
