@@ -17,7 +17,7 @@
 !> the step measures only what the sort schedule needs (so the sorts fall as without the skip, and
 !> the answer is bitwise the same) and skips the search stages and their sharing.
 module contact_parallel
-  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX
+  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_Bcast, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX
   use paradyn_kinds, only: wp, i8
   use model_deck, only: deck_t
   use domain_decomposition, only: domain_t
@@ -39,6 +39,7 @@ module contact_parallel
   private
   public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply
   public :: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, contact_log_line
+  public :: contact_checkpoint_sums
   public :: parallel_contact_worked, parallel_contact_idle_cycles, contact_travel_step
 
   integer, parameter :: contact_checkpoint_width = 7   !< force, position at the last sort, place in the sum
@@ -426,6 +427,19 @@ contains
       rows(7, pc%c%touched(k)) = real(k, wp)
     end do
   end subroutine contact_checkpoint_rows
+
+  !> The checkpoint's sums over the whole contact: the energy, the deepest penetration and the
+  !> force on each definition (sums(3 + 3 k - 2 : 3 + 3 k) for definition k). With local contact
+  !> only rank 0 keeps them, and every rank gets its values (the attributes are written by all).
+  !> Collective.
+  subroutine contact_checkpoint_sums(pc, sums)
+    type(parallel_contact_t), intent(in) :: pc
+    real(wp), intent(out) :: sums(:)
+    sums(1) = pc%c%energy
+    sums(2) = pc%c%max_penetration
+    sums(3:) = reshape(pc%c%definition_force, [size(sums) - 2])
+    if (pc%c%local) call MPI_Bcast(sums, size(sums), MPI_DOUBLE_PRECISION, 0, pc%comm)
+  end subroutine contact_checkpoint_sums
 
   !> The contact state of a checkpoint (rows of contact_checkpoint_rows and the attributes).
   subroutine contact_checkpoint_restore(pc, rows, last_sort, energy, max_penetration)
