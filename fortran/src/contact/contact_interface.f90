@@ -218,10 +218,16 @@ contains
   !> The bucket grid of pass p at the positions of the last sort: of every master, or (local
   !> contact) of the masters this rank holds, in ascending order, so that a search on them finds
   !> the same nearest master with the same tie rule (the lower index) wherever it lies within reach.
+  !> Local contact also chooses the slaves the global search visits until the next grid: its own
+  !> slaves within near_box's margin of the grid's box plus how far a slave can move till then
+  !> (each stays within a tenth of the smallest bucket of where it was at the last refresh, so
+  !> within a fifth of where it is now; three tenths against round-off): the others would fail
+  !> near_box, as choose_gather_set's slaves on one rank.
   subroutine contact_sort_pass(c, p)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
-    integer :: i
+    integer :: i, j
+    real(wp) :: lower(3), upper(3), margin
     associate (pass => c%passes(p))
     if (c%local) then
       pass%held_only = .true.
@@ -230,6 +236,20 @@ contains
       pass%held_index = 0
       pass%held_index(pass%held_masters) = [(i, i = 1, size(pass%held_masters))]
       pass%x_sorted = c%x_at_sort(:, pass%masters(pass%held_masters))
+      call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
+      margin = pass%bucket_size + pass%t_slave + pass%t_master + 0.3_wp * smallest_bucket(c)
+      lower = pass%grid%lower - margin
+      upper = pass%grid%upper + margin
+      pass%n_near = 0
+      do i = 1, size(pass%own_slaves)
+        j = pass%own_slaves(i)
+        if (any(c%x(:, pass%slaves(j)) < lower) .or. any(c%x(:, pass%slaves(j)) > upper)) cycle
+        pass%n_near = pass%n_near + 1
+        pass%near_slaves(pass%n_near) = j
+      end do
+      if (size(pass%x_sorted, 2) == 0) pass%n_near = 0
+      pass%stale = .false.
+      return
     else
       pass%x_sorted = c%x_at_sort(:, pass%masters)
     end if

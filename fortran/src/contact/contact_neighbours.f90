@@ -113,8 +113,9 @@ contains
         n = n + 1
         nb%my_segment(n) = s
       end do
-      c%passes(p)%near_slaves = pack([(s, s = 1, size(c%passes(p)%slaves))], c%owned(c%passes(p)%slaves))
-      c%passes(p)%n_near = size(c%passes(p)%near_slaves)
+      c%passes(p)%own_slaves = pack([(s, s = 1, size(c%passes(p)%slaves))], c%owned(c%passes(p)%slaves))
+      c%passes(p)%near_slaves(1:size(c%passes(p)%own_slaves)) = c%passes(p)%own_slaves
+      c%passes(p)%n_near = size(c%passes(p)%own_slaves)
     end do
     nb%segment_first(size(c%passes) + 1) = n + 1
     allocate (nb%mark(c%n_nodes), source=0)
@@ -140,8 +141,8 @@ contains
     do p = 1, size(c%passes)
       boxes(1:3, p) = huge(1.0_wp)
       boxes(4:6, p) = -huge(1.0_wp)
-      do i = 1, c%passes(p)%n_near
-        k = c%passes(p)%slaves(c%passes(p)%near_slaves(i))
+      do i = 1, size(c%passes(p)%own_slaves)
+        k = c%passes(p)%slaves(c%passes(p)%own_slaves(i))
         boxes(1:3, p) = min(boxes(1:3, p), c%x(:, k))
         boxes(4:6, p) = max(boxes(4:6, p), c%x(:, k))
       end do

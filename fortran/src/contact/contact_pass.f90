@@ -34,6 +34,7 @@ module contact_pass
     ! which alone are sorted into the grid (held_index: a master's place among them, 0 if not held)
     logical :: held_only = .false.
     integer, allocatable :: held_masters(:), held_index(:)
+    integer, allocatable :: own_slaves(:)      !< local contact: the slaves (indices) this rank owns
     integer, allocatable :: segment_start(:), segment_list(:)  !< contact node -> its segments
     real(wp), allocatable :: stiffness(:)      !< penalty stiffness per segment (initial geometry)
     !> slave s is a node of master segments: its search skips their nodes, master indices
