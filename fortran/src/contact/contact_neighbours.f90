@@ -1,27 +1,21 @@
 !> Local contact between ranks (docs/theory.md, "Parallel contact and determinism"): each rank
-!> searches the slaves it owns, holds as ghosts only the master segments of other ranks near them,
-!> and sends each contact record to the ranks whose domains hold one of its nodes. Three exchanges:
-!>   - neighbours_refresh, at every bucket sort and whenever a contact node has moved a tenth of
-!>     the smallest bucket since the last refresh: every rank's box of its own slaves per pass
-!>     (one allgather of 6 doubles per pass and rank), then each rank sends every other rank whose
-!>     box comes near the nodes of the master segments of its own elements, point to point (a
-!>     sparse exchange: sends, probes and a non-blocking barrier, so no rank needs to know who
-!>     sends to it);
-!>   - neighbours_update, every other step: the same ghosts' positions and velocities from the
-!>     same ranks, point to point;
-!>   - share_records_locally, every step: each record (by value) to the holders of its five nodes
-!>     and to rank 0, which keeps the whole sum for the energy, the per-definition forces, the
-!>     deepest penetration and the checkpoint. Every rank orders the records it has by pass and
-!>     slave, the order of the serial sum, so each node's force is bitwise the serial one.
-!> Which ranks hold each contact node is set up once from one allgather of the domains' contact
-!> nodes; the contact state (positions, forces, records) is still indexed by the global contact
-!> nodes (docs/performance.md, "Beyond one machine", says what is left).
+!> searches the slaves it owns against the masters it holds, its domain's and the ghosts near its
+!> slaves, and sends each record to the ranks whose domains hold one of its nodes. Three exchanges:
+!> neighbours_refresh (at a sort, after a restart, or once a node has moved a tenth of the smallest
+!> bucket since the last one: every rank's box of its own slaves per pass, one small allgather,
+!> then the ghosts, point to point in a sparse exchange), neighbours_update (every other step: the
+!> same ghosts from the same ranks) and share_records_locally (every step: each record by value to
+!> the holders of its five nodes and to rank 0, which keeps the whole sum for the energy). Every
+!> rank orders the records it has by pass and slave, the order of the serial sum, so each node's
+!> force is bitwise the serial one. Which ranks hold each contact node is set up once (one
+!> allgather); the contact state is still indexed by every contact node (docs/performance.md).
 module contact_neighbours
   use mpi_f08
   use paradyn_kinds, only: wp, i8
   use domain_decomposition, only: domain_t, local_element
   use integer_sort, only: merge_sort_ascending
-  use traffic_counter, only: traffic_t, count_messages, count_allgather, count_allreduce
+  use traffic_counter, only: traffic_t, count_messages, count_allgather
+  use contact_sparse, only: sparse_exchange
   use contact_interface, only: contact_t
   implicit none
   private
@@ -42,6 +36,7 @@ module contact_neighbours
     integer, allocatable :: holder_start(:), holder(:)        !< CSR: ranks whose domain holds each contact node
     integer, allocatable :: segment_first(:), my_segment(:)   !< per pass: the segments of this rank's elements
     type(rank_lists_t) :: send, recv                          !< the ghosts, from the last refresh
+    integer, allocatable :: own_near(:)                       !< the nodes of own segments near own slaves
     integer, allocatable :: mark(:), slot(:)                  !< workspace per contact node, per rank
     integer :: stamp = 0
     logical :: refresh_pending = .true.                       !< at the start and after a restore
@@ -50,7 +45,7 @@ module contact_neighbours
   integer, parameter :: ghost_width = 10      !< node, position at the sort, position, velocity
   integer, parameter :: record_width = 23     !< pass, slave, 5 nodes, 15 forces, penetration
   integer, parameter :: root_width = record_width + 15   !< and the velocities of the 5 nodes (to rank 0)
-  integer, parameter :: update_tag = 710, sparse_tag = 720
+  integer, parameter :: update_tag = 710
 
 contains
 
@@ -128,23 +123,31 @@ contains
   !> of that rank's box, measured at the positions of the last sort (at the current ones when a sort
   !> follows: sorting). A master within reach of a slave before the next refresh is then held, and
   !> so are the nodes of every segment around it. Collective.
-  subroutine neighbours_refresh(nb, c, sorting, traffic)
+  subroutine neighbours_refresh(nb, c, sorting, from_sort, traffic)
     type(neighbours_t), intent(inout) :: nb
     type(contact_t), intent(inout) :: c
     logical, intent(in) :: sorting
+    !> the slaves' boxes at their places at the last sort (a restart under automatic sorting)
+    logical, intent(in) :: from_sort
     type(traffic_t), intent(inout) :: traffic
     real(wp) :: boxes(6, size(c%passes)), all_boxes(6, size(c%passes), nb%n_ranks), smallest
     integer, allocatable :: list(:), start(:), dest(:), sources(:), rstart(:)
     real(wp), allocatable :: buffer(:), received(:)
     integer :: p, q, first, i, k, m
+    if (allocated(nb%own_near)) deallocate (nb%own_near)
     smallest = minval([(c%passes(p)%bucket_size, p = 1, size(c%passes))])
     do p = 1, size(c%passes)
       boxes(1:3, p) = huge(1.0_wp)
       boxes(4:6, p) = -huge(1.0_wp)
       do i = 1, size(c%passes(p)%own_slaves)
         k = c%passes(p)%slaves(c%passes(p)%own_slaves(i))
-        boxes(1:3, p) = min(boxes(1:3, p), c%x(:, k))
-        boxes(4:6, p) = max(boxes(4:6, p), c%x(:, k))
+        if (from_sort) then
+          boxes(1:3, p) = min(boxes(1:3, p), c%x_at_sort(:, k))
+          boxes(4:6, p) = max(boxes(4:6, p), c%x_at_sort(:, k))
+        else
+          boxes(1:3, p) = min(boxes(1:3, p), c%x(:, k))
+          boxes(4:6, p) = max(boxes(4:6, p), c%x(:, k))
+        end if
       end do
     end do
     call MPI_Allgather(boxes, size(boxes), MPI_DOUBLE_PRECISION, all_boxes, size(boxes), MPI_DOUBLE_PRECISION, &
@@ -152,6 +155,11 @@ contains
     call count_allgather(traffic, int(8 * size(boxes), i8), int(8 * size(all_boxes), i8), nb%n_ranks)
     allocate (list(0), start(1), dest(0))
     start(1) = 1
+    allocate (nb%own_near(0))
+    nb%stamp = nb%stamp + 1
+    do p = 1, size(c%passes)
+      call near_segments(nb, c, p, all_boxes(:, p, nb%rank + 1), smallest, sorting, nb%own_near)
+    end do
     do q = 0, nb%n_ranks - 1
       if (q == nb%rank) cycle
       first = size(list) + 1
@@ -172,7 +180,8 @@ contains
       k = list(i)
       buffer(ghost_width * (i - 1) + 1:ghost_width * i) = [real(k, wp), c%x_at_sort(:, k), c%x(:, k), c%v(:, k)]
     end do
-    call sparse_exchange(nb, dest, ghost_width * (start - 1) + 1, buffer, sources, rstart, received, traffic)
+    call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, ghost_width * (start - 1) + 1, buffer, sources, &
+                         rstart, received, traffic)
     ! the held nodes: this domain's and the ghosts
     c%held = nb%in_domain
     nb%recv%rank = sources
@@ -190,6 +199,7 @@ contains
       c%v(:, k) = received(m + 8:m + 10)
     end do
     nb%x_at_refresh = c%x(:, nb%owned_node)
+    if (from_sort) nb%x_at_refresh = c%x_at_sort(:, nb%owned_node)
     nb%refresh_pending = .false.
   end subroutine neighbours_refresh
 
@@ -230,10 +240,14 @@ contains
     end associate
   end subroutine near_segments
 
-  !> The ghosts' positions and velocities from the ranks that sent them at the last refresh.
-  subroutine neighbours_update(nb, c, traffic)
+  !> The ghosts' positions and velocities from the ranks that sent them at the last refresh (this
+  !> rank's are x and v at local columns local(node); a ghost that is also a node of this domain
+  !> gets the same values as its own copy, and so becomes current here too).
+  subroutine neighbours_update(nb, c, x, v, local, traffic)
     type(neighbours_t), intent(inout) :: nb
     type(contact_t), intent(inout) :: c
+    real(wp), intent(in) :: x(:, :), v(:, :)
+    integer, intent(in) :: local(:)
     type(traffic_t), intent(inout) :: traffic
     real(wp), allocatable :: out(:), in(:)
     type(MPI_Request), allocatable :: requests(:)
@@ -242,8 +256,8 @@ contains
     n_recv = size(nb%recv%rank)
     allocate (out(6 * size(nb%send%node)), in(6 * size(nb%recv%node)), requests(n_send + n_recv))
     do j = 1, size(nb%send%node)
-      k = nb%send%node(j)
-      out(6 * j - 5:6 * j) = [c%x(:, k), c%v(:, k)]
+      k = local(nb%send%node(j))
+      out(6 * j - 5:6 * j) = [x(:, k), v(:, k)]
     end do
     do i = 1, n_recv
       at = 6 * (nb%recv%start(i) - 1)
@@ -259,7 +273,6 @@ contains
     call count_messages(traffic, n_send, int(8 * size(out), i8), int(8 * size(in), i8))
     do j = 1, size(nb%recv%node)
       k = nb%recv%node(j)
-      if (nb%in_domain(k)) cycle
       c%x(:, k) = in(6 * j - 5:6 * j - 3)
       c%v(:, k) = in(6 * j - 2:6 * j)
     end do
@@ -335,7 +348,8 @@ contains
         fill(i) = fill(i) + 4
       end do
     end do
-    call sparse_exchange(nb, dest, start, buffer, sources, rstart, received, traffic)
+    call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, start, buffer, sources, rstart, received, &
+                         traffic)
     call take_records(c, own, received, rstart)
   contains
     !> The ranks record k goes to: the holders of its nodes and rank 0, not this rank, once each.
@@ -397,8 +411,7 @@ contains
         if (width /= root_width) cycle
         do m = 1, 5
           node = nint(rows(2 + m, n + j))
-          if (.not. c%held(node)) &
-            c%v(:, node) = received(at + 2 + width * (j - 1) + record_width + 3 * m - 2: &
+          c%v(:, node) = received(at + 2 + width * (j - 1) + record_width + 3 * m - 2: &
                                     at + 2 + width * (j - 1) + record_width + 3 * m)
         end do
       end do
@@ -406,7 +419,7 @@ contains
       at = at + 3 + width * nint(received(at))
       do j = 1, nint(received(rstart(i) + 2))
         node = nint(received(at))
-        if (.not. c%held(node)) c%v(:, node) = received(at + 1:at + 3)
+        c%v(:, node) = received(at + 1:at + 3)
         at = at + 4
       end do
     end do
@@ -442,60 +455,5 @@ contains
     end do
   end function findloc_sorted
 
-  !> A sparse exchange (sends, probes, a non-blocking barrier): message i of buffer, from
-  !> start(i) to start(i + 1) - 1, goes to rank dest(i); the messages that came are in received,
-  !> message i from rank sources(i) starting at rstart(i) (rstart(size(sources) + 1): the end + 1).
-  !> No rank needs to know who sends to it. Two tags, alternating, keep a fast rank's next
-  !> exchange apart from this one. Collective.
-  subroutine sparse_exchange(nb, dest, start, buffer, sources, rstart, received, traffic)
-    type(neighbours_t), intent(inout) :: nb
-    integer, intent(in) :: dest(:), start(:)
-    real(wp), intent(in), asynchronous :: buffer(:)
-    integer, allocatable, intent(out) :: sources(:), rstart(:)
-    real(wp), allocatable, intent(out) :: received(:)
-    type(traffic_t), intent(inout) :: traffic
-    type(MPI_Request) :: requests(size(dest)), barrier
-    type(MPI_Status) :: status
-    real(wp), allocatable :: grown(:)
-    logical :: arrived, sent, done, barrier_on
-    integer :: i, tag, n, at
-    tag = sparse_tag + mod(nb%round, 2)
-    nb%round = nb%round + 1
-    do i = 1, size(dest)
-      call MPI_Issend(buffer(start(i):start(i + 1) - 1), start(i + 1) - start(i), MPI_DOUBLE_PRECISION, dest(i), &
-                      tag, nb%comm, requests(i))
-    end do
-    allocate (sources(0), rstart(1), received(1024))
-    rstart(1) = 1
-    at = 0
-    barrier_on = .false.
-    do
-      call MPI_Iprobe(MPI_ANY_SOURCE, tag, nb%comm, arrived, status)
-      if (arrived) then
-        call MPI_Get_count(status, MPI_DOUBLE_PRECISION, n)
-        if (at + n > size(received)) then
-          allocate (grown(max(2 * size(received), at + n)))
-          grown(1:at) = received(1:at)
-          call move_alloc(grown, received)
-        end if
-        call MPI_Recv(received(at + 1:at + n), n, MPI_DOUBLE_PRECISION, status%MPI_SOURCE, tag, nb%comm, &
-                      MPI_STATUS_IGNORE)
-        sources = [sources, status%MPI_SOURCE]
-        at = at + n
-        rstart = [rstart, at + 1]
-      else if (barrier_on) then
-        call MPI_Test(barrier, done, MPI_STATUS_IGNORE)
-        if (done) exit
-      else
-        call MPI_Testall(size(dest), requests, sent, MPI_STATUSES_IGNORE)
-        if (sent) then
-          call MPI_Ibarrier(nb%comm, barrier)
-          barrier_on = .true.
-        end if
-      end if
-    end do
-    call count_messages(traffic, size(dest), int(8 * (start(size(dest) + 1) - 1), i8), int(8 * at, i8))
-    call count_allreduce(traffic, 0_i8, nb%n_ranks)   ! the barrier
-  end subroutine sparse_exchange
 
 end module contact_neighbours

@@ -285,20 +285,21 @@ contains
     integer(i8), intent(in) :: cycle
     type(phase_timers_t), intent(inout) :: timers
     real(wp) :: t0, values(3), smallest
-    integer :: i, k, p
+    integer :: i, j, k, p
     logical :: sort, refresh, new_gather_set
-    do i = 1, size(pc%nb%domain_node)
-      k = pc%nb%domain_node(i)
-      pc%c%x(:, k) = x(:, pc%nb%domain_local(i))
-      pc%c%v(:, k) = v(:, pc%nb%domain_local(i))
-    end do
     call contact_movement(pc%c, values(1), wall_clock, pc%nodes%owned_member, pc%nodes%local, x)
-    values(2) = 0.0_wp
-    do i = 1, size(pc%nb%owned_node)
-      k = pc%nb%owned_node(i)
-      values(2) = max(values(2), sum((pc%c%x(:, k) - pc%nb%x_at_refresh(:, i))**2))
-    end do
-    values(2) = sqrt(values(2))
+    ! automatic sorting refreshes at every sort (after a restart from the slaves' places at the last
+    ! sort), so the movement since the sort is the movement since the refresh
+    values(2) = values(1)
+    if (pc%c%sort_interval > 0) then
+      values(2) = 0.0_wp
+      do i = 1, size(pc%nb%owned_node)
+        j = pc%nodes%local(pc%nb%owned_node(i))
+        values(2) = max(values(2), (x(1, j) - pc%nb%x_at_refresh(1, i))**2 + (x(2, j) - pc%nb%x_at_refresh(2, i))**2 &
+                                   + (x(3, j) - pc%nb%x_at_refresh(3, i))**2)
+      end do
+      values(2) = sqrt(values(2))
+    end if
     values(3) = merge(1.0_wp, 0.0_wp, pc%c%n_touched > 0)
     t0 = wall_clock()
     call MPI_Allreduce(MPI_IN_PLACE, values, 3, MPI_DOUBLE_PRECISION, MPI_MAX, pc%comm)
@@ -308,11 +309,20 @@ contains
     sort = contact_sort_due(pc%c, cycle, values(1))
     smallest = minval([(pc%c%passes(p)%bucket_size, p = 1, size(pc%c%passes))])
     refresh = sort .or. pc%nb%refresh_pending .or. values(2) > 0.1_wp * smallest
+    if (refresh) then   ! every contact node of this domain, for the boxes and the ghosts
+      call copy_domain_nodes(pc, pc%nb%domain_node, x, v)
+    else                ! those the step reads: near slaves, own segments near them, last forces
+      do p = 1, size(pc%c%passes)
+        call copy_domain_nodes(pc, pc%c%passes(p)%slaves(pc%c%passes(p)%near_slaves(1:pc%c%passes(p)%n_near)), x, v)
+      end do
+      call copy_domain_nodes(pc, pc%nb%own_near, x, v)
+      call copy_domain_nodes(pc, pc%c%touched(1:pc%c%n_touched), x, v)
+    end if
     t0 = wall_clock()
     if (refresh) then
-      call neighbours_refresh(pc%nb, pc%c, sort, pc%traffic)
+      call neighbours_refresh(pc%nb, pc%c, sort, pc%c%sort_interval == 0 .and. .not. sort, pc%traffic)
     else
-      call neighbours_update(pc%nb, pc%c, pc%traffic)
+      call neighbours_update(pc%nb, pc%c, x, v, pc%nodes%local, pc%traffic)
     end if
     timers%communication = timers%communication + wall_clock() - t0
     call contact_begin(pc%c, cycle, sort, wall_clock, new_gather_set)
@@ -332,6 +342,25 @@ contains
       pc%c%moved = values(1)
     end if
   end subroutine local_positions
+
+  !> c%x and c%v of the given contact nodes that lie in this domain, from x and v.
+  subroutine copy_domain_nodes(pc, nodes, x, v)
+    type(parallel_contact_t), intent(inout) :: pc
+    integer, intent(in) :: nodes(:)
+    real(wp), intent(in) :: x(:, :), v(:, :)
+    integer :: i, j, k
+    do i = 1, size(nodes)
+      k = nodes(i)
+      j = pc%nodes%local(k)
+      if (j == 0) cycle
+      pc%c%x(1, k) = x(1, j)
+      pc%c%x(2, k) = x(2, j)
+      pc%c%x(3, k) = x(3, j)
+      pc%c%v(1, k) = v(1, j)
+      pc%c%v(2, k) = v(2, j)
+      pc%c%v(3, k) = v(3, j)
+    end do
+  end subroutine copy_domain_nodes
 
   subroutine timed_share_candidates(pc, timers)
     type(parallel_contact_t), intent(inout) :: pc
