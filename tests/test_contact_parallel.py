@@ -55,8 +55,8 @@ def layouts(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[int, int], d
 @pytest.mark.mpi
 @pytest.mark.parametrize("layout", LAYOUTS, ids=lambda layout: f"{layout[0]}x{layout[1]}")
 def test_contact_is_bitwise_independent_of_the_decomposition(layouts, layout):
-    """docs/theory.md (parallel design) and contact_interface.f90: contact forces are computed
-    on every rank from gathered positions and summed in slave order, so the frames of an
+    """docs/theory.md (parallel contact): each rank sums the records that touch its nodes in pass
+    and slave order (local contact), so the frames of an
     oblique plate impact with friction (offset meshes, mu = 0.3, default step, 40 us, frames
     every 2 us) are bitwise equal on 1 rank x 1 thread, 2 and 4 ranks and 1 rank x 2 threads,
     and so are the contact energy and penetration histories."""
