@@ -91,3 +91,30 @@ def test_weak_scaling_table(tool, tmp_path: Path, capsys: pytest.CaptureFixture[
     assert cells[0][6] == 0 and cells[1][6] > 0
     with h5py.File(tmp_path / "ranks_2" / "results.h5", "r") as f:
         assert f["run"].attrs["elements"] == 200 and f["run"].attrs["ranks"] == 2
+
+
+def _contact_traffic(tool, folder: Path, ranks: int, gather: str | None) -> dict[str, float]:
+    """/run of the benchmark's contact problem (8 x 8 segments, 6 x 6 plates, 30 steps)."""
+    model = tool.weak_model(ranks, tool.Sizes(8, 6), 30)
+    model.control.contact_gather = gather
+    path = deck.write_deck(model, folder / f"deck_{ranks}_{gather}.h5")
+    results = folder / f"results_{ranks}_{gather}.h5"
+    launch.run_engine(path, results, ranks, 1)
+    with h5py.File(results, "r") as f:
+        return {key: float(f["run"].attrs[key]) for key in ("messages_per_step", "bytes_sent_per_step")}
+
+
+def test_local_contact_traffic_does_not_grow_with_the_ranks(tool, tmp_path: Path) -> None:
+    """Issue 19 item 5, docs/performance.md "Beyond one machine": with local contact a rank sends
+    its ghosts and records only to the ranks near it, so from 4 to 8 ranks of the benchmark (each
+    rank's plate on its own segment, every plate in contact) the most messages any rank sends per
+    step grow only by the rounds of the reductions (three per step: the step's minimum, the
+    contact's movement, the records' barrier; one round more each from 4 to 8), and the bytes it
+    sends stay within 10 %. Reference: the replicated scheme (/control contact_gather = "all"),
+    whose five allgathers per step add at least 5 x 4 messages per rank from 4 to 8 ranks."""
+    local = {ranks: _contact_traffic(tool, tmp_path, ranks, None) for ranks in (4, 8)}
+    replicated = {ranks: _contact_traffic(tool, tmp_path, ranks, "all") for ranks in (4, 8)}
+    assert replicated[8]["messages_per_step"] - replicated[4]["messages_per_step"] >= 20.0
+    assert local[8]["messages_per_step"] - local[4]["messages_per_step"] <= 4.0
+    assert local[8]["bytes_sent_per_step"] <= 1.1 * local[4]["bytes_sent_per_step"]
+    assert local[8]["messages_per_step"] < replicated[8]["messages_per_step"] / 2

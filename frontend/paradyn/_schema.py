@@ -573,9 +573,11 @@ CONTROL: tuple[AttributeSpec, ...] = (
         'contact_gather', 'string', False, 'near', None, None, None, None, '', 'contact_gather',
         'must be "near" or "all"', '-',
         (
-            'which contact nodes every rank gathers between bucket sorts (docs/theory.md, parallel contact); '
-            '"all" also turns off the skipping of idle contact pairs (the reference without shortcuts). The '
-            'answer is bitwise the same either way'
+            'how the ranks share the contact (docs/theory.md, parallel contact): "near", local contact (each rank '
+            'holds the contact nodes near its own slaves, the records go to the ranks that hold their nodes; on '
+            'one rank only the nodes near contact are read between sorts), or "all", the replicated scheme (every '
+            'contact node on every rank every step, candidates shared in equal blocks) with no skipping of idle '
+            'contact pairs (the reference without shortcuts). The answer is bitwise the same either way'
         ), '[run] contact_gather', 'leave it out for the default',
     ),
     AttributeSpec(

@@ -12,22 +12,22 @@
 !> (passes = 2, the default) or one per step, alternating as in the paper (passes = 1). The
 !> passes of a step run together, in the paper's two parallel stages (docs/theory.md, parallel
 !> contact), so a step shares candidates and records once whatever the number of passes:
-!>   1. global search (contact_global_search): the slaves are dealt node-wise cyclically to the
-!>      ranks and, inside a rank, to the threads; each slave near the master box gets its nearest
-!>      master node, and the pairs (slave, nearest master) found are this rank's candidates;
-!>   2. the caller shares the candidates between ranks; contact_candidates puts them in
+!>   1. global search (contact_global_search): each rank's slaves (local contact: those it owns;
+!>      the replicated scheme: a cyclic share of all), inside a rank dealt to the threads; each
+!>      slave near the master box gets its nearest master node, and the pairs (slave, nearest
+!>      master) found are this rank's candidates;
+!>   2. the replicated scheme shares the candidates between ranks; contact_candidates puts them in
 !>      ascending slave order and gives each rank one contiguous block of equal size (within
-!>      one), and contact_local_search finds the segment, the closest point and the penalty force
-!>      of each candidate of the block, threads sharing the block.
+!>      one); local contact keeps its own. contact_local_search finds the segment, the closest
+!>      point and the penalty force of each candidate, threads sharing them.
 !> Every candidate writes its own record (its force and the forces on the 4 master nodes); the
 !> records are then summed in candidate order, which is pass order and slave order within a
-!> pass, so the result does not depend on the number of threads. The contact nodes' positions are
-!> gathered on every rank (contact_exchange): all of them at a sort, and between sorts only those
-!> that can come into
-!> contact before the next one (choose_gather_set). The records are shared by value and every
-!> rank sums all of them, so the result does not depend on the number of ranks either. Only the
-!> nodes touched in the last two steps carry a force, so only they are cleared, applied and
-!> summed into the energy. No MPI here.
+!> pass, so the result does not depend on the number of threads. Between ranks
+!> (contact_neighbours, contact_exchange) each rank gets the records that touch the nodes it
+!> holds, by value, and sums them in the same order, so the result does not depend on the number
+!> of ranks either. On one rank a sort chooses the nodes that can come into contact before the
+!> next one (choose_gather_set). Only the nodes touched in the last two steps carry a force, so
+!> only they are cleared, applied and summed into the energy. No MPI here.
 module contact_interface
   use paradyn_kinds, only: wp, ip, i8
   use model_deck, only: deck_t
@@ -41,7 +41,7 @@ module contact_interface
   private
   public :: contact_t, contact_setup
   public :: contact_begin, contact_sort_due, contact_movement
-  public :: contact_restore
+  public :: contact_restore, contact_sort_pass
   public :: contact_activity_update, contact_all_idle, contact_count_activity
   public :: clock_seconds
 
@@ -82,6 +82,10 @@ module contact_interface
     logical, allocatable :: in_gather(:)
     logical :: gather_subset = .false.
     logical :: gather_all = .false.             !< never gather a subset (to check that it changes nothing)
+    ! local contact (contact_neighbours): each rank searches the slaves it owns against the masters
+    ! it holds (its domain's and the ghosts near its slaves); held and owned flag those contact nodes
+    logical :: local = .false.
+    logical, allocatable :: held(:), owned(:)
     type(contact_pass_t), allocatable :: passes(:)
     ! candidates of the step's passes: n_own found here, n_all shared by every rank (the caller
     ! fills all_pairs), n_candidates in pass order and, within a pass, slave order; pairs are
@@ -200,26 +204,59 @@ contains
     do p = 1, size(c%passes)
       ! an idle pass sorts when it wakes, from these positions (the same grid as sorting now)
       c%passes(p)%stale = c%passes(p)%idle
-      if (.not. c%passes(p)%idle) call sort_pass(c, p)
+      if (.not. c%passes(p)%idle) call contact_sort_pass(c, p)
     end do
     c%last_sort = cycle
     c%n_sorts = c%n_sorts + 1
-    new_gather_set = c%sort_interval == 0 .and. .not. c%gather_all
+    new_gather_set = c%sort_interval == 0 .and. .not. c%gather_all .and. .not. c%local
     if (new_gather_set) then
       call choose_gather_set(c)
       c%gather_subset = .true.
     end if
   end subroutine sort_passes
 
-  !> The bucket grid of pass p at the positions of the last sort.
-  subroutine sort_pass(c, p)
+  !> The bucket grid of pass p at the positions of the last sort: of every master, or (local
+  !> contact) of the masters this rank holds, in ascending order, so that a search on them finds
+  !> the same nearest master with the same tie rule (the lower index) wherever it lies within reach.
+  !> Local contact also chooses the slaves the global search visits until the next grid: its own
+  !> slaves within near_box's margin of the grid's box plus how far a slave can move till then
+  !> (each stays within a tenth of the smallest bucket of where it was at the last refresh, so
+  !> within a fifth of where it is now; three tenths against round-off): the others would fail
+  !> near_box, as choose_gather_set's slaves on one rank.
+  subroutine contact_sort_pass(c, p)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
-    c%passes(p)%x_sorted = c%x_at_sort(:, c%passes(p)%masters)
-    call bucket_grid_build(int(size(c%passes(p)%masters), ip), c%passes(p)%x_sorted, &
-                           c%passes(p)%bucket_size, c%passes(p)%grid)
-    c%passes(p)%stale = .false.
-  end subroutine sort_pass
+    integer :: i, j
+    real(wp) :: lower(3), upper(3), margin
+    associate (pass => c%passes(p))
+    if (c%local) then
+      pass%held_only = .true.
+      pass%held_masters = pack([(i, i = 1, size(pass%masters))], c%held(pass%masters))
+      if (.not. allocated(pass%held_index)) allocate (pass%held_index(size(pass%masters)))
+      pass%held_index = 0
+      pass%held_index(pass%held_masters) = [(i, i = 1, size(pass%held_masters))]
+      pass%x_sorted = c%x_at_sort(:, pass%masters(pass%held_masters))
+      call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
+      margin = pass%bucket_size + pass%t_slave + pass%t_master + 0.3_wp * smallest_bucket(c)
+      lower = pass%grid%lower - margin
+      upper = pass%grid%upper + margin
+      pass%n_near = 0
+      do i = 1, size(pass%own_slaves)
+        j = pass%own_slaves(i)
+        if (any(c%x(:, pass%slaves(j)) < lower) .or. any(c%x(:, pass%slaves(j)) > upper)) cycle
+        pass%n_near = pass%n_near + 1
+        pass%near_slaves(pass%n_near) = j
+      end do
+      if (size(pass%x_sorted, 2) == 0) pass%n_near = 0
+      pass%stale = .false.
+      return
+    else
+      pass%x_sorted = c%x_at_sort(:, pass%masters)
+    end if
+    call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
+    pass%stale = .false.
+    end associate
+  end subroutine contact_sort_pass
 
   !> An activity check at this cycle: extents(:, 2 p - 1) and extents(:, 2 p) are the slave and
   !> master extents of pass p over all ranks (contact_activity). A pass that cannot touch for the
@@ -246,7 +283,7 @@ contains
       next = min(next, merge(n, active_recheck_cycles, idle))
       changed = changed .or. (idle .neqv. pass%idle)
       pass%idle = idle
-      if (.not. idle .and. pass%stale .and. c%last_sort >= 0) call sort_pass(c, p)
+      if (.not. idle .and. pass%stale .and. c%last_sort >= 0) call contact_sort_pass(c, p)
       end associate
     end do
     c%next_check = cycle + max(1_i8, min(int(next, i8), 2 * (cycle - c%last_check)))

@@ -3,12 +3,13 @@
 !> checkpoint rows and their restore), around the pure stages of contact_interface and the MPI
 !> sharing of contact_exchange.
 !>
-!> A step: the contact nodes' positions are gathered on every rank (all of them when a sort is
-!> due, else only those that can be in contact before the next sort, with each rank's largest
-!> movement, which tells whether a sort is due). Then each rank searches its cyclic share of the
-!> slaves of every pass for candidates, the candidates are shared, each rank locally searches its
-!> equal block of them, the records are shared, and every rank sums all of them in pass and slave
-!> order. One rank communicates nothing.
+!> A step on several ranks (local contact, contact_neighbours): this domain's contact nodes and
+!> the ghosts near its slaves are brought up to date (new ghosts at a sort), each rank searches
+!> the slaves it owns, and the records go to the ranks that hold their nodes and to rank 0, which
+!> keeps the energy; each rank sums the records it has in pass and slave order. With
+!> contact_gather = "all", the paper's replicated scheme: every contact node gathered on every
+!> rank, the candidates shared and cut into equal blocks, every record on every rank (the
+!> reference that takes no shortcut). One rank communicates nothing.
 !>
 !> Idle is cheap: at activity checks (contact_activity) every rank measures the extents of its own
 !> nodes of each pass, one maximum reduction combines them, and a pass that cannot touch before
@@ -16,14 +17,15 @@
 !> the step measures only what the sort schedule needs (so the sorts fall as without the skip, and
 !> the answer is bitwise the same) and skips the search stages and their sharing.
 module contact_parallel
-  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX
+  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_Bcast, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX
   use paradyn_kinds, only: wp, i8
   use model_deck, only: deck_t
   use domain_decomposition, only: domain_t
   use phase_timers, only: phase_timers_t, wall_clock
   use traffic_counter, only: traffic_t, count_allgather, count_allreduce
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
-                               contact_restore, contact_activity_update, contact_all_idle, contact_count_activity
+                               contact_restore, contact_activity_update, contact_all_idle, contact_count_activity, &
+                               contact_sort_pass
   use contact_activity, only: extent_width, extent_empty, side_extent
   use contact_stages, only: contact_global_search, contact_candidates, contact_local_search, contact_sum, &
                             contact_end
@@ -31,10 +33,13 @@ module contact_parallel
                               allgather_node_subset, record_share_t, record_share_setup, &
                               share_contact_records, candidate_share_t, candidate_share_setup, &
                               share_contact_candidates
+  use contact_neighbours, only: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, &
+                                share_records_locally
   implicit none
   private
   public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply
   public :: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, contact_log_line
+  public :: contact_checkpoint_sums
   public :: parallel_contact_worked, parallel_contact_idle_cycles, contact_travel_step
 
   integer, parameter :: contact_checkpoint_width = 7   !< force, position at the last sort, place in the sum
@@ -50,6 +55,8 @@ module contact_parallel
     real(wp), allocatable :: v_before(:, :)   !< velocities of the contact nodes this rank owns, the cycle before a check
     integer(i8) :: v_before_cycle = -huge(1_i8)      !< the cycle they are from
     type(traffic_t) :: traffic                !< messages and bytes of the contact's sharing (traffic_counter)
+    type(neighbours_t) :: nb                  !< local contact: ghosts and record routes (contact_neighbours)
+    logical :: touched_anywhere = .false.     !< local contact: a force was left on some rank last step
   end type parallel_contact_t
 
 contains
@@ -82,6 +89,10 @@ contains
     allocate (pc%v_before(3, pc%c%n_nodes), source=0.0_wp)
     call record_share_setup(size(pc%c%record_nodes, 2), dom%n_ranks, pc%records)
     call candidate_share_setup(dom%n_ranks, pc%candidates)
+    ! more than one rank: local contact, unless every contact node is to be gathered (the
+    ! replicated scheme, kept as the reference that takes no shortcut)
+    pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
+    if (pc%c%local) call neighbours_setup(pc%nb, pc%c, dom, comm, pc%nodes%local, pc%nodes%owned_member)
   end subroutine parallel_contact_setup
 
   !> Contact forces at the positions x (local nodes) of this cycle. Communication time goes to
@@ -91,7 +102,7 @@ contains
     real(wp), intent(in) :: x(:, :), v(:, :), dt_strain
     integer(i8), intent(in) :: cycle
     type(phase_timers_t), intent(inout) :: timers
-    real(wp) :: t_start, comm_before
+    real(wp) :: t_start, comm_before, t0
     t_start = wall_clock()
     comm_before = timers%communication
     if (pc%c%check_activity) then
@@ -99,26 +110,36 @@ contains
       if (cycle == pc%c%next_check - 1) call keep_velocities(pc, v, cycle)
     end if
     call contact_count_activity(pc%c)
-    call gather_positions(pc, x, v, cycle, timers)
+    if (pc%c%local) then
+      call local_positions(pc, x, v, cycle, timers)
+    else
+      call gather_positions(pc, x, v, cycle, timers)
+      pc%touched_anywhere = pc%c%n_touched_old > 0
+    end if
     ! every pass idle and no force left from the last step: no stage has anything to do
-    pc%c%last_step_worked = .not. (contact_all_idle(pc%c) .and. pc%c%n_touched_old == 0)
+    pc%c%last_step_worked = .not. (contact_all_idle(pc%c) .and. .not. pc%touched_anywhere)
     if (.not. pc%c%last_step_worked) then
       pc%c%n_candidates = 0
       timers%contact = timers%contact + wall_clock() - t_start - (timers%communication - comm_before)
       return
     end if
     call contact_global_search(pc%c, cycle, wall_clock)
-    if (pc%c%n_ranks > 1) then
+    if (pc%c%n_ranks > 1 .and. .not. pc%c%local) then
       call timed_share_candidates(pc, timers)
     end if
     call contact_candidates(pc%c, cycle, wall_clock)
     call contact_local_search(pc%c, wall_clock)
     ! no candidate on any rank (every rank holds the same count): no record to share
-    if (pc%c%n_ranks > 1 .and. pc%c%n_candidates > 0) then
+    if (pc%c%local) then
+      t0 = wall_clock()
+      call share_records_locally(pc%nb, pc%c, pc%traffic)
+      timers%communication = timers%communication + wall_clock() - t0
+    else if (pc%c%n_ranks > 1 .and. pc%c%n_candidates > 0) then
       call timed_share_records(pc, timers)
     end if
     call contact_sum(pc%c, wall_clock)
-    call contact_end(pc%c, cycle, dt_strain)
+    ! local contact: rank 0 alone has every record, so it alone keeps the energy
+    if (.not. pc%c%local .or. pc%c%rank == 0) call contact_end(pc%c, cycle, dt_strain)
     ! the sharing inside counts as communication, not twice
     timers%contact = timers%contact + wall_clock() - t_start - (timers%communication - comm_before)
   end subroutine parallel_contact_step
@@ -252,6 +273,95 @@ contains
     end if
   end subroutine gather_positions
 
+  !> Local contact: this domain's contact nodes from x and v, the largest movements since the last
+  !> sort and the last refresh of the ghosts and whether any rank carries a force (one maximum
+  !> reduction), then new ghosts (at a sort, after a restore, or once a node has moved a tenth of
+  !> the smallest bucket since the last refresh: contact_neighbours) or the ghosts' new positions,
+  !> and the bucket sort when one is due (a refresh between sorts regrids from the positions of
+  !> the last sort, which is the same grid over the masters now held).
+  subroutine local_positions(pc, x, v, cycle, timers)
+    type(parallel_contact_t), intent(inout) :: pc
+    real(wp), intent(in) :: x(:, :), v(:, :)
+    integer(i8), intent(in) :: cycle
+    type(phase_timers_t), intent(inout) :: timers
+    real(wp) :: t0, values(3), smallest
+    integer :: i, j, k, p
+    logical :: sort, refresh, new_gather_set
+    call contact_movement(pc%c, values(1), wall_clock, pc%nodes%owned_member, pc%nodes%local, x)
+    ! automatic sorting refreshes at every sort (after a restart from the slaves' places at the last
+    ! sort), so the movement since the sort is the movement since the refresh
+    values(2) = values(1)
+    if (pc%c%sort_interval > 0) then
+      values(2) = 0.0_wp
+      do i = 1, size(pc%nb%owned_node)
+        j = pc%nodes%local(pc%nb%owned_node(i))
+        values(2) = max(values(2), (x(1, j) - pc%nb%x_at_refresh(1, i))**2 + (x(2, j) - pc%nb%x_at_refresh(2, i))**2 &
+                                   + (x(3, j) - pc%nb%x_at_refresh(3, i))**2)
+      end do
+      values(2) = sqrt(values(2))
+    end if
+    values(3) = merge(1.0_wp, 0.0_wp, pc%c%n_touched > 0)
+    t0 = wall_clock()
+    call MPI_Allreduce(MPI_IN_PLACE, values, 3, MPI_DOUBLE_PRECISION, MPI_MAX, pc%comm)
+    call count_allreduce(pc%traffic, 24_i8, pc%c%n_ranks)
+    timers%communication = timers%communication + wall_clock() - t0
+    pc%touched_anywhere = values(3) > 0.0_wp
+    sort = contact_sort_due(pc%c, cycle, values(1))
+    smallest = minval([(pc%c%passes(p)%bucket_size, p = 1, size(pc%c%passes))])
+    refresh = sort .or. pc%nb%refresh_pending .or. values(2) > 0.1_wp * smallest
+    if (refresh) then   ! every contact node of this domain, for the boxes and the ghosts
+      call copy_domain_nodes(pc, pc%nb%domain_node, x, v)
+    else                ! those the step reads: near slaves, own segments near them, last forces
+      do p = 1, size(pc%c%passes)
+        call copy_domain_nodes(pc, pc%c%passes(p)%slaves(pc%c%passes(p)%near_slaves(1:pc%c%passes(p)%n_near)), x, v)
+      end do
+      call copy_domain_nodes(pc, pc%nb%own_near, x, v)
+      call copy_domain_nodes(pc, pc%c%touched(1:pc%c%n_touched), x, v)
+    end if
+    t0 = wall_clock()
+    if (refresh) then
+      call neighbours_refresh(pc%nb, pc%c, sort, pc%c%sort_interval == 0 .and. .not. sort, pc%traffic)
+    else
+      call neighbours_update(pc%nb, pc%c, x, v, pc%nodes%local, pc%traffic)
+    end if
+    timers%communication = timers%communication + wall_clock() - t0
+    call contact_begin(pc%c, cycle, sort, wall_clock, new_gather_set)
+    if (refresh .and. .not. sort .and. pc%c%last_sort >= 0) then
+      do p = 1, size(pc%c%passes)
+        if (pc%c%passes(p)%idle) then
+          pc%c%passes(p)%stale = .true.
+        else
+          call contact_sort_pass(pc%c, p)
+        end if
+      end do
+    end if
+    pc%c%moved = huge(1.0_wp)
+    if (sort) then
+      pc%c%moved = 0.0_wp
+    else if (pc%c%sort_interval == 0 .and. pc%c%last_sort >= 0) then
+      pc%c%moved = values(1)
+    end if
+  end subroutine local_positions
+
+  !> c%x and c%v of the given contact nodes that lie in this domain, from x and v.
+  subroutine copy_domain_nodes(pc, nodes, x, v)
+    type(parallel_contact_t), intent(inout) :: pc
+    integer, intent(in) :: nodes(:)
+    real(wp), intent(in) :: x(:, :), v(:, :)
+    integer :: i, j, k
+    do i = 1, size(nodes)
+      k = nodes(i)
+      j = pc%nodes%local(k)
+      if (j == 0) cycle
+      pc%c%x(1, k) = x(1, j)
+      pc%c%x(2, k) = x(2, j)
+      pc%c%x(3, k) = x(3, j)
+      pc%c%v(1, k) = v(1, j)
+      pc%c%v(2, k) = v(2, j)
+      pc%c%v(3, k) = v(3, j)
+    end do
+  end subroutine copy_domain_nodes
+
   subroutine timed_share_candidates(pc, timers)
     type(parallel_contact_t), intent(inout) :: pc
     type(phase_timers_t), intent(inout) :: timers
@@ -327,14 +437,38 @@ contains
   subroutine contact_checkpoint_rows(pc, rows)
     type(parallel_contact_t), intent(in) :: pc
     real(wp), intent(out) :: rows(contact_checkpoint_width, pc%c%n_nodes)
+    real(wp), allocatable :: at_sort(:, :), ignored(:, :)
+    type(node_set_t) :: nodes
     integer :: k
     rows = 0.0_wp
     rows(1:3, :) = pc%c%force
     rows(4:6, :) = pc%c%x_at_sort
+    if (pc%c%local) then   ! each rank has the positions of the last sort of its own nodes: gathered
+      allocate (at_sort(3, max(1, maxval(pc%nodes%local))), source=0.0_wp)
+      do k = 1, size(pc%nb%owned_node)
+        at_sort(:, pc%nodes%local(pc%nb%owned_node(k))) = pc%c%x_at_sort(:, pc%nb%owned_node(k))
+      end do
+      allocate (ignored(3, pc%c%n_nodes))
+      nodes = pc%nodes                                ! its buffers are written
+      call allgather_node_set(pc%comm, nodes, at_sort, at_sort, rows(4:6, :), ignored)
+    end if
     do k = 1, pc%c%n_touched   ! the order in which the last step summed the forces
       rows(7, pc%c%touched(k)) = real(k, wp)
     end do
   end subroutine contact_checkpoint_rows
+
+  !> The checkpoint's sums over the whole contact: the energy, the deepest penetration and the
+  !> force on each definition (sums(3 + 3 k - 2 : 3 + 3 k) for definition k). With local contact
+  !> only rank 0 keeps them, and every rank gets its values (the attributes are written by all).
+  !> Collective.
+  subroutine contact_checkpoint_sums(pc, sums)
+    type(parallel_contact_t), intent(in) :: pc
+    real(wp), intent(out) :: sums(:)
+    sums(1) = pc%c%energy
+    sums(2) = pc%c%max_penetration
+    sums(3:) = reshape(pc%c%definition_force, [size(sums) - 2])
+    if (pc%c%local) call MPI_Bcast(sums, size(sums), MPI_DOUBLE_PRECISION, 0, pc%comm)
+  end subroutine contact_checkpoint_sums
 
   !> The contact state of a checkpoint (rows of contact_checkpoint_rows and the attributes).
   subroutine contact_checkpoint_restore(pc, rows, last_sort, energy, max_penetration)
@@ -345,6 +479,7 @@ contains
     call contact_restore(pc%c, rows(1:3, :), nint(rows(7, :)), rows(4:6, :), last_sort, energy, &
                          max_penetration, new_gather_set)
     if (new_gather_set) call node_subset_setup(pc%nodes, pc%c%in_gather)
+    pc%nb%refresh_pending = .true.
   end subroutine contact_checkpoint_restore
 
 end module contact_parallel

@@ -29,6 +29,12 @@ module contact_pass
     integer, allocatable :: slaves(:)          !< contact-node ids of the slave part's nodes
     integer, allocatable :: masters(:)         !< contact-node ids of the master part's nodes
     integer, allocatable :: segments(:, :)     !< (4, n) master segments, contact-node ids
+    integer, allocatable :: segment_element(:) !< the global element of each segment
+    ! local contact (contact_neighbours): the masters whose positions this rank holds, ascending,
+    ! which alone are sorted into the grid (held_index: a master's place among them, 0 if not held)
+    logical :: held_only = .false.
+    integer, allocatable :: held_masters(:), held_index(:)
+    integer, allocatable :: own_slaves(:)      !< local contact: the slaves (indices) this rank owns
     integer, allocatable :: segment_start(:), segment_list(:)  !< contact node -> its segments
     real(wp), allocatable :: stiffness(:)      !< penalty stiffness per segment (initial geometry)
     !> slave s is a node of master segments: its search skips their nodes, master indices
@@ -73,6 +79,7 @@ contains
     call part_nodes(deck, master_part, master_nodes, elements)
     pass%masters = contact_id(master_nodes)
     allocate (pass%segments(4, size(elements)), pass%stiffness(size(elements)))
+    pass%segment_element = elements
     young = deck%young(deck%part_material(master_part))
     poisson = deck%poisson(deck%part_material(master_part))
     pass%bucket_size = 0.0_wp

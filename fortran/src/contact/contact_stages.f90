@@ -100,14 +100,17 @@ contains
     type(contact_t), intent(inout) :: c
     integer(i8), intent(in) :: cycle
     procedure(clock_seconds) :: clock
-    integer :: i, j, p, found, total, n_mine(size(c%passes)), offset(size(c%passes) + 1)
+    integer :: i, j, p, found, total, n_mine(size(c%passes)), offset(size(c%passes) + 1), rank, n_ranks
     real(wp) :: x(3), t0
     t0 = clock()
+    ! local contact: near_slaves are this rank's own slaves, all searched here
+    rank = merge(0, c%rank, c%local)
+    n_ranks = merge(1, c%n_ranks, c%local)
     offset(1) = 0
     do p = 1, size(c%passes)
       n_mine(p) = 0
       if (contact_pass_active(c, p, cycle)) &
-        n_mine(p) = max(0, (c%passes(p)%n_near - c%rank + c%n_ranks - 1) / c%n_ranks)
+        n_mine(p) = max(0, (c%passes(p)%n_near - rank + n_ranks - 1) / n_ranks)
       offset(p + 1) = offset(p) + n_mine(p)
     end do
     total = offset(size(offset))
@@ -118,10 +121,12 @@ contains
     do i = 1, total
       p = pass_of(offset, i)
       associate (pass => c%passes(p))
-      j = pass%near_slaves(c%rank + 1 + (i - offset(p) - 1) * c%n_ranks)
+      j = pass%near_slaves(rank + 1 + (i - offset(p) - 1) * n_ranks)
       x = c%x(:, pass%slaves(j))
       if (near_box(x, pass)) then
-        if (pass%shares_nodes) then
+        if (pass%held_only) then
+          call nearest_held(pass, j, x, found)
+        else if (pass%shares_nodes) then
           call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
                                      pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, &
                                      found, excluded=pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
@@ -139,11 +144,33 @@ contains
       do i = offset(p) + 1, offset(p + 1)
         if (c%nearest(i) == 0) cycle
         c%n_own = c%n_own + 1
-        c%own_pairs(:, c%n_own) = [c%rank + 1 + (i - offset(p) - 1) * c%n_ranks, c%nearest(i), p]
+        c%own_pairs(:, c%n_own) = [rank + 1 + (i - offset(p) - 1) * n_ranks, c%nearest(i), p]
       end do
     end do
     c%time_search = c%time_search + clock() - t0
   end subroutine contact_global_search
+
+  !> nearest_master_listed for slave j of the pass among the masters this rank holds (local
+  !> contact): the grid holds them alone, in ascending order, so the excluded masters are taken to
+  !> their places among them and the answer back to its master index.
+  subroutine nearest_held(pass, j, x, found)
+    type(contact_pass_t), intent(inout) :: pass
+    integer, intent(in) :: j
+    real(wp), intent(in) :: x(3)
+    integer, intent(out) :: found
+    integer, allocatable :: excluded(:)
+    if (pass%shares_nodes) then
+      excluded = pass%held_index(pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
+      excluded = pack(excluded, excluded > 0)
+      call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
+                                 pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, &
+                                 found, excluded=excluded)
+    else
+      call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
+                                 pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, found)
+    end if
+    if (found > 0) found = pass%held_masters(found)
+  end subroutine nearest_held
 
   !> The pass whose share of the global search holds entry i (offset: where each pass starts).
   pure integer function pass_of(offset, i) result(p)
@@ -166,7 +193,7 @@ contains
     real(wp) :: t0
     integer :: k, p, n_pass, n_found, first
     t0 = clock()
-    if (c%n_ranks == 1) then
+    if (c%n_ranks == 1 .or. c%local) then   ! local contact: this rank's own candidates
       c%n_candidates = c%n_own
       c%candidates(:, 1:c%n_own) = c%own_pairs(:, 1:c%n_own)
     else
@@ -189,7 +216,8 @@ contains
     do k = 1, c%n_candidates
       c%candidates(1, k) = c%passes(c%candidates(3, k))%near_slaves(c%candidates(1, k))
     end do
-    call candidate_block(int(c%n_candidates, ip), int(c%n_ranks, ip), int(c%rank, ip), c%first, c%last)
+    call candidate_block(int(c%n_candidates, ip), int(merge(1, c%n_ranks, c%local), ip), &
+                         int(merge(0, c%rank, c%local), ip), c%first, c%last)
     do p = 1, size(c%passes)
       if (contact_pass_active(c, p, cycle)) c%n_pass_steps = c%n_pass_steps + 1
     end do

@@ -69,8 +69,8 @@ module paradyn_schema
   integer, parameter :: contact_kind_single_surface = 2   !< the part is slave to its own shell segments (self-contact); the pair n
   integer, parameter :: initial_penetration_move = 1   !< slave nodes inside the contact thickness at the start are moved onto i
   integer, parameter :: initial_penetration_gap = 2   !< each slave node's overlap at the start is taken as its gap: contact pu
-  integer, parameter :: contact_gather_near = 1   !< between sorts, gather only the contact nodes that can come into contac
-  integer, parameter :: contact_gather_all = 2   !< gather every contact node every step (a check: the same answer, slower
+  integer, parameter :: contact_gather_near = 1   !< local contact: each rank holds only the contact nodes near its own sla
+  integer, parameter :: contact_gather_all = 2   !< the replicated scheme: every contact node on every rank every step (a 
   integer, parameter :: switch_off = 0   !< the effect is switched off
   integer, parameter :: switch_on = 1   !< the effect runs where the deck declares it
   integer, parameter :: partition_blocks = 1   !< contiguous blocks by element number (the paper)

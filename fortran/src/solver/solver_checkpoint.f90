@@ -14,7 +14,8 @@ module solver_checkpoint
   use run_control, only: run_control_t
   use nodal_effect, only: stage_corners
   use element_state, only: element_row_width, element_rows_pack, element_rows_unpack
-  use contact_parallel, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width
+  use contact_parallel, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, &
+                              contact_checkpoint_sums
   use parallel_hdf5, only: row_runs, phdf5_open, phdf5_close, create_dataset, write_rows, &
                            read_rows, write_int_attribute, write_real_attribute, read_int_attribute, &
                            read_real_attribute, write_long_attribute, read_long_attribute, &
@@ -59,6 +60,7 @@ contains
     integer(hid_t) :: file, transfer
     integer(hsize_t) :: nn, ne, nc, nr, width
     real(wp), allocatable :: nodes(:, :), elements(:, :), contact(:, :)
+    real(wp) :: contact_sums(2 + 3 * s%n_contacts)
     integer :: err, k, j
     nn = int(s%control%n_nodes, hsize_t)
     ne = int(s%control%n_elements, hsize_t)
@@ -96,10 +98,11 @@ contains
     call write_long_attribute(file, 'frame_index', s%clock%frame_index)
     call write_long_attribute(file, 'record_index', s%clock%record_index)
     call write_long_attribute(file, 'contact_last_sort', s%contact%c%last_sort)
-    call write_real_attribute(file, 'contact_energy', s%contact%c%energy)
-    call write_real_attribute(file, 'contact_max_penetration', s%contact%c%max_penetration)
-    if (s%has_contact) call write_real_array_attribute(file, 'contact_definition_force', &
-                                                       reshape(s%contact%c%definition_force, [3 * s%n_contacts]))
+    contact_sums = 0.0_wp
+    if (s%has_contact) call contact_checkpoint_sums(s%contact, contact_sums)
+    call write_real_attribute(file, 'contact_energy', contact_sums(1))
+    call write_real_attribute(file, 'contact_max_penetration', contact_sums(2))
+    if (s%has_contact) call write_real_array_attribute(file, 'contact_definition_force', contact_sums(3:))
 
     allocate (nodes(node_width, size(s%halo%owned_local)))
     do k = 1, size(s%halo%owned_local)

@@ -1,0 +1,459 @@
+!> Local contact between ranks (docs/theory.md, "Parallel contact and determinism"): each rank
+!> searches the slaves it owns against the masters it holds, its domain's and the ghosts near its
+!> slaves, and sends each record to the ranks whose domains hold one of its nodes. Three exchanges:
+!> neighbours_refresh (at a sort, after a restart, or once a node has moved a tenth of the smallest
+!> bucket since the last one: every rank's box of its own slaves per pass, one small allgather,
+!> then the ghosts, point to point in a sparse exchange), neighbours_update (every other step: the
+!> same ghosts from the same ranks) and share_records_locally (every step: each record by value to
+!> the holders of its five nodes and to rank 0, which keeps the whole sum for the energy). Every
+!> rank orders the records it has by pass and slave, the order of the serial sum, so each node's
+!> force is bitwise the serial one. Which ranks hold each contact node is set up once (one
+!> allgather); the contact state is still indexed by every contact node (docs/performance.md).
+module contact_neighbours
+  use mpi_f08
+  use paradyn_kinds, only: wp, i8
+  use domain_decomposition, only: domain_t, local_element
+  use integer_sort, only: merge_sort_ascending
+  use traffic_counter, only: traffic_t, count_messages, count_allgather
+  use contact_sparse, only: sparse_exchange
+  use contact_interface, only: contact_t
+  implicit none
+  private
+  public :: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, share_records_locally
+
+  !> Lists of contact nodes per rank (CSR): node(start(i) : start(i + 1) - 1) go to or come from rank(i).
+  type :: rank_lists_t
+    integer, allocatable :: rank(:), start(:), node(:)
+  end type rank_lists_t
+
+  type :: neighbours_t
+    type(MPI_Comm) :: comm
+    integer :: rank = 0, n_ranks = 1, round = 0
+    integer, allocatable :: domain_node(:), domain_local(:)   !< contact nodes of this domain, their local columns
+    logical, allocatable :: in_domain(:)                      !< per contact node
+    integer, allocatable :: owned_node(:)                     !< contact nodes this rank owns, ascending
+    real(wp), allocatable :: x_at_refresh(:, :)               !< their positions at the last refresh
+    integer, allocatable :: holder_start(:), holder(:)        !< CSR: ranks whose domain holds each contact node
+    integer, allocatable :: segment_first(:), my_segment(:)   !< per pass: the segments of this rank's elements
+    type(rank_lists_t) :: send, recv                          !< the ghosts, from the last refresh
+    integer, allocatable :: own_near(:)                       !< the nodes of own segments near own slaves
+    integer, allocatable :: mark(:), slot(:)                  !< workspace per contact node, per rank
+    integer :: stamp = 0
+    logical :: refresh_pending = .true.                       !< at the start and after a restore
+  end type neighbours_t
+
+  integer, parameter :: ghost_width = 10      !< node, position at the sort, position, velocity
+  integer, parameter :: record_width = 23     !< pass, slave, 5 nodes, 15 forces, penetration
+  integer, parameter :: root_width = record_width + 15   !< and the velocities of the 5 nodes (to rank 0)
+  integer, parameter :: update_tag = 710
+
+contains
+
+  !> local: each contact node's column on this rank (0 if not in its domain); owned_member: the
+  !> contact nodes it owns. Collective (one allgather of the domains' contact nodes).
+  subroutine neighbours_setup(nb, c, dom, comm, local, owned_member)
+    type(neighbours_t), intent(out) :: nb
+    type(contact_t), intent(inout) :: c
+    type(domain_t), intent(in) :: dom
+    type(MPI_Comm), intent(in) :: comm
+    integer, intent(in) :: local(:), owned_member(:)
+    integer, allocatable :: counts(:), displs(:), all_nodes(:), fill(:)
+    integer :: k, r, p, s, n, i
+    nb%comm = comm
+    nb%rank = dom%rank
+    nb%n_ranks = dom%n_ranks
+    nb%domain_node = pack([(k, k = 1, c%n_nodes)], local > 0)
+    nb%domain_local = local(nb%domain_node)
+    nb%in_domain = local > 0
+    nb%owned_node = owned_member
+    allocate (nb%x_at_refresh(3, size(owned_member)), source=0.0_wp)
+    allocate (c%owned(c%n_nodes), source=.false.)
+    c%owned(owned_member) = .true.
+    c%held = nb%in_domain
+    ! which ranks hold each contact node
+    allocate (counts(nb%n_ranks), displs(nb%n_ranks))
+    call MPI_Allgather(size(nb%domain_node), 1, MPI_INTEGER, counts, 1, MPI_INTEGER, comm)
+    displs(1) = 0
+    do r = 2, nb%n_ranks
+      displs(r) = displs(r - 1) + counts(r - 1)
+    end do
+    allocate (all_nodes(sum(counts)))
+    call MPI_Allgatherv(nb%domain_node, size(nb%domain_node), MPI_INTEGER, all_nodes, counts, displs, &
+                        MPI_INTEGER, comm)
+    allocate (nb%holder_start(c%n_nodes + 1), source=0)
+    do i = 1, size(all_nodes)
+      nb%holder_start(all_nodes(i) + 1) = nb%holder_start(all_nodes(i) + 1) + 1
+    end do
+    nb%holder_start(1) = 1
+    do k = 1, c%n_nodes
+      nb%holder_start(k + 1) = nb%holder_start(k + 1) + nb%holder_start(k)
+    end do
+    allocate (nb%holder(size(all_nodes)), fill(c%n_nodes))
+    fill = nb%holder_start(1:c%n_nodes)
+    do r = 1, nb%n_ranks           ! rank after rank: each node's holders ascending
+      do i = displs(r) + 1, displs(r) + counts(r)
+        nb%holder(fill(all_nodes(i))) = r - 1
+        fill(all_nodes(i)) = fill(all_nodes(i)) + 1
+      end do
+    end do
+    ! the segments of this rank's elements, pass after pass; the slaves it owns
+    allocate (nb%segment_first(size(c%passes) + 1))
+    allocate (nb%my_segment(sum([(size(c%passes(p)%segment_element), p = 1, size(c%passes))])))
+    n = 0
+    do p = 1, size(c%passes)
+      nb%segment_first(p) = n + 1
+      do s = 1, size(c%passes(p)%segment_element)
+        if (dom%n_elements == 0) cycle
+        if (dom%elements(local_element(dom, c%passes(p)%segment_element(s))) /= c%passes(p)%segment_element(s)) cycle
+        n = n + 1
+        nb%my_segment(n) = s
+      end do
+      c%passes(p)%own_slaves = pack([(s, s = 1, size(c%passes(p)%slaves))], c%owned(c%passes(p)%slaves))
+      c%passes(p)%near_slaves(1:size(c%passes(p)%own_slaves)) = c%passes(p)%own_slaves
+      c%passes(p)%n_near = size(c%passes(p)%own_slaves)
+    end do
+    nb%segment_first(size(c%passes) + 1) = n + 1
+    allocate (nb%mark(c%n_nodes), source=0)
+    allocate (nb%slot(0:nb%n_ranks - 1), source=0)
+  end subroutine neighbours_setup
+
+  !> New ghosts: every rank's box of its own slaves per pass goes to all; this rank sends each other
+  !> rank the nodes of its own master segments that have a node within the search radius of the
+  !> pass plus twice the movement allowed before the next refresh (a fifth of the smallest bucket)
+  !> of that rank's box, measured at the positions of the last sort (at the current ones when a sort
+  !> follows: sorting). A master within reach of a slave before the next refresh is then held, and
+  !> so are the nodes of every segment around it. Collective.
+  subroutine neighbours_refresh(nb, c, sorting, from_sort, traffic)
+    type(neighbours_t), intent(inout) :: nb
+    type(contact_t), intent(inout) :: c
+    logical, intent(in) :: sorting
+    !> the slaves' boxes at their places at the last sort (a restart under automatic sorting)
+    logical, intent(in) :: from_sort
+    type(traffic_t), intent(inout) :: traffic
+    real(wp) :: boxes(6, size(c%passes)), all_boxes(6, size(c%passes), nb%n_ranks), smallest
+    integer, allocatable :: list(:), start(:), dest(:), sources(:), rstart(:)
+    real(wp), allocatable :: buffer(:), received(:)
+    integer :: p, q, first, i, k, m
+    if (allocated(nb%own_near)) deallocate (nb%own_near)
+    smallest = minval([(c%passes(p)%bucket_size, p = 1, size(c%passes))])
+    do p = 1, size(c%passes)
+      boxes(1:3, p) = huge(1.0_wp)
+      boxes(4:6, p) = -huge(1.0_wp)
+      do i = 1, size(c%passes(p)%own_slaves)
+        k = c%passes(p)%slaves(c%passes(p)%own_slaves(i))
+        if (from_sort) then
+          boxes(1:3, p) = min(boxes(1:3, p), c%x_at_sort(:, k))
+          boxes(4:6, p) = max(boxes(4:6, p), c%x_at_sort(:, k))
+        else
+          boxes(1:3, p) = min(boxes(1:3, p), c%x(:, k))
+          boxes(4:6, p) = max(boxes(4:6, p), c%x(:, k))
+        end if
+      end do
+    end do
+    call MPI_Allgather(boxes, size(boxes), MPI_DOUBLE_PRECISION, all_boxes, size(boxes), MPI_DOUBLE_PRECISION, &
+                       nb%comm)
+    call count_allgather(traffic, int(8 * size(boxes), i8), int(8 * size(all_boxes), i8), nb%n_ranks)
+    allocate (list(0), start(1), dest(0))
+    start(1) = 1
+    allocate (nb%own_near(0))
+    nb%stamp = nb%stamp + 1
+    do p = 1, size(c%passes)
+      call near_segments(nb, c, p, all_boxes(:, p, nb%rank + 1), smallest, sorting, nb%own_near)
+    end do
+    do q = 0, nb%n_ranks - 1
+      if (q == nb%rank) cycle
+      first = size(list) + 1
+      nb%stamp = nb%stamp + 1
+      do p = 1, size(c%passes)
+        call near_segments(nb, c, p, all_boxes(:, p, q + 1), smallest, sorting, list)
+      end do
+      if (size(list) < first) cycle
+      call merge_sort_ascending(list(first:))
+      dest = [dest, q]
+      start = [start, size(list) + 1]
+    end do
+    nb%send%rank = dest
+    nb%send%start = start
+    nb%send%node = list
+    allocate (buffer(ghost_width * size(list)))
+    do i = 1, size(list)
+      k = list(i)
+      buffer(ghost_width * (i - 1) + 1:ghost_width * i) = [real(k, wp), c%x_at_sort(:, k), c%x(:, k), c%v(:, k)]
+    end do
+    call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, ghost_width * (start - 1) + 1, buffer, sources, &
+                         rstart, received, traffic)
+    ! the held nodes: this domain's and the ghosts
+    c%held = nb%in_domain
+    nb%recv%rank = sources
+    nb%recv%start = (rstart - 1) / ghost_width + 1
+    if (allocated(nb%recv%node)) deallocate (nb%recv%node)
+    allocate (nb%recv%node((rstart(size(rstart)) - 1) / ghost_width))
+    do i = 1, size(nb%recv%node)
+      m = ghost_width * (i - 1)
+      k = nint(received(m + 1))
+      nb%recv%node(i) = k
+      if (nb%in_domain(k)) cycle
+      c%held(k) = .true.
+      c%x_at_sort(:, k) = received(m + 2:m + 4)
+      c%x(:, k) = received(m + 5:m + 7)
+      c%v(:, k) = received(m + 8:m + 10)
+    end do
+    nb%x_at_refresh = c%x(:, nb%owned_node)
+    if (from_sort) nb%x_at_refresh = c%x_at_sort(:, nb%owned_node)
+    nb%refresh_pending = .false.
+  end subroutine neighbours_refresh
+
+  !> Append to list the nodes (not yet marked) of this rank's segments of pass p with a node near
+  !> box (lower and upper corner of a rank's own slaves of the pass).
+  subroutine near_segments(nb, c, p, box, smallest, sorting, list)
+    type(neighbours_t), intent(inout) :: nb
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: p
+    real(wp), intent(in) :: box(6), smallest
+    logical, intent(in) :: sorting
+    integer, allocatable, intent(inout) :: list(:)
+    real(wp) :: reach, lower(3), upper(3), x(3)
+    integer :: i, m, k
+    if (any(box(1:3) > box(4:6))) return          ! no slave of the pass there
+    associate (pass => c%passes(p))
+    reach = pass%bucket_size + pass%t_slave + pass%t_master + 0.2_wp * smallest
+    lower = box(1:3) - reach
+    upper = box(4:6) + reach
+    do i = nb%segment_first(p), nb%segment_first(p + 1) - 1
+      do m = 1, 4
+        k = pass%segments(m, nb%my_segment(i))
+        if (sorting) then
+          x = c%x(:, k)
+        else
+          x = c%x_at_sort(:, k)
+        end if
+        if (all(x >= lower .and. x <= upper)) exit
+      end do
+      if (m > 4) cycle
+      do m = 1, 4
+        k = pass%segments(m, nb%my_segment(i))
+        if (nb%mark(k) == nb%stamp) cycle
+        nb%mark(k) = nb%stamp
+        list = [list, k]
+      end do
+    end do
+    end associate
+  end subroutine near_segments
+
+  !> The ghosts' positions and velocities from the ranks that sent them at the last refresh (this
+  !> rank's are x and v at local columns local(node); a ghost that is also a node of this domain
+  !> gets the same values as its own copy, and so becomes current here too).
+  subroutine neighbours_update(nb, c, x, v, local, traffic)
+    type(neighbours_t), intent(inout) :: nb
+    type(contact_t), intent(inout) :: c
+    real(wp), intent(in) :: x(:, :), v(:, :)
+    integer, intent(in) :: local(:)
+    type(traffic_t), intent(inout) :: traffic
+    real(wp), allocatable :: out(:), in(:)
+    type(MPI_Request), allocatable :: requests(:)
+    integer :: i, j, k, n_send, n_recv, at
+    n_send = size(nb%send%rank)
+    n_recv = size(nb%recv%rank)
+    allocate (out(6 * size(nb%send%node)), in(6 * size(nb%recv%node)), requests(n_send + n_recv))
+    do j = 1, size(nb%send%node)
+      k = local(nb%send%node(j))
+      out(6 * j - 5:6 * j) = [x(:, k), v(:, k)]
+    end do
+    do i = 1, n_recv
+      at = 6 * (nb%recv%start(i) - 1)
+      call MPI_Irecv(in(at + 1:6 * (nb%recv%start(i + 1) - 1)), 6 * (nb%recv%start(i + 1) - nb%recv%start(i)), &
+                     MPI_DOUBLE_PRECISION, nb%recv%rank(i), update_tag, nb%comm, requests(i))
+    end do
+    do i = 1, n_send
+      at = 6 * (nb%send%start(i) - 1)
+      call MPI_Isend(out(at + 1:6 * (nb%send%start(i + 1) - 1)), 6 * (nb%send%start(i + 1) - nb%send%start(i)), &
+                     MPI_DOUBLE_PRECISION, nb%send%rank(i), update_tag, nb%comm, requests(n_recv + i))
+    end do
+    call MPI_Waitall(n_send + n_recv, requests, MPI_STATUSES_IGNORE)
+    call count_messages(traffic, n_send, int(8 * size(out), i8), int(8 * size(in), i8))
+    do j = 1, size(nb%recv%node)
+      k = nb%recv%node(j)
+      c%x(:, k) = in(6 * j - 5:6 * j - 3)
+      c%v(:, k) = in(6 * j - 2:6 * j)
+    end do
+  end subroutine neighbours_update
+
+  !> The records this rank computed (its own slaves: c%record_*(1:c%n_candidates), empty where
+  !> node 1 is 0) go to the ranks whose domains hold one of their nodes and to rank 0 (with the
+  !> velocities of their nodes, and those of this rank's own nodes that carried a force last step,
+  !> for the energy); after the call c%record_* and c%candidates hold every record this rank has,
+  !> in pass and slave order (c%n_candidates of them). Collective.
+  subroutine share_records_locally(nb, c, traffic)
+    type(neighbours_t), intent(inout) :: nb
+    type(contact_t), intent(inout) :: c
+    type(traffic_t), intent(inout) :: traffic
+    integer, allocatable :: dest(:), start(:), fill(:), n_to(:), sources(:), rstart(:), own(:)
+    real(wp), allocatable :: buffer(:), received(:)
+    integer :: ranks(21), n, i, j, d, n_own, n_v
+    own = pack([(j, j = 1, c%n_candidates)], c%record_nodes(1, 1:c%n_candidates) /= 0)
+    n_own = size(own)
+    n_v = 0
+    if (nb%rank /= 0) n_v = count(c%owned(c%touched_old(1:c%n_touched_old)))
+    ! the destinations, ascending (rank 0 always, for the whole sum), and the records for each
+    allocate (dest(0))
+    if (nb%rank /= 0) dest = [0]
+    do i = 1, n_own
+      call destinations(own(i), ranks, n)
+      do j = 1, n
+        if (.not. any(dest == ranks(j))) dest = [dest, ranks(j)]
+      end do
+    end do
+    call merge_sort_ascending(dest)
+    allocate (n_to(size(dest)), source=0)
+    do i = 1, size(dest)
+      nb%slot(dest(i)) = i
+    end do
+    do i = 1, n_own
+      call destinations(own(i), ranks, n)
+      n_to(nb%slot(ranks(1:n))) = n_to(nb%slot(ranks(1:n))) + 1
+    end do
+    ! each message: a header (records, their width, velocities), the records, the velocities
+    allocate (start(size(dest) + 1), fill(size(dest)))
+    start(1) = 1
+    do i = 1, size(dest)
+      if (dest(i) == 0) then
+        start(i + 1) = start(i) + 3 + root_width * n_to(i) + 4 * n_v
+        fill(i) = start(i) + 3
+      else
+        start(i + 1) = start(i) + 3 + record_width * n_to(i)
+        fill(i) = start(i) + 3
+      end if
+    end do
+    allocate (buffer(start(size(dest) + 1) - 1))
+    do i = 1, n_own
+      call destinations(own(i), ranks, n)
+      do j = 1, n
+        d = nb%slot(ranks(j))
+        buffer(fill(d):fill(d) + record_width - 1) = record_row(c, own(i))
+        fill(d) = fill(d) + record_width
+        if (ranks(j) == 0) then
+          buffer(fill(d):fill(d) + 14) = reshape(c%v(:, c%record_nodes(:, own(i))), [15])
+          fill(d) = fill(d) + 15
+        end if
+      end do
+    end do
+    do i = 1, size(dest)
+      buffer(start(i):start(i) + 2) = real([n_to(i), merge(root_width, record_width, dest(i) == 0), &
+                                            merge(n_v, 0, dest(i) == 0)], wp)
+      if (dest(i) /= 0) cycle
+      do j = 1, c%n_touched_old
+        n = c%touched_old(j)
+        if (.not. c%owned(n)) cycle
+        buffer(fill(i):fill(i) + 3) = [real(n, wp), c%v(:, n)]
+        fill(i) = fill(i) + 4
+      end do
+    end do
+    call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, start, buffer, sources, rstart, received, &
+                         traffic)
+    call take_records(c, own, received, rstart)
+  contains
+    !> The ranks record k goes to: the holders of its nodes and rank 0, not this rank, once each.
+    subroutine destinations(k, ranks, n)
+      integer, intent(in) :: k
+      integer, intent(out) :: ranks(:), n
+      integer :: m, jj, r
+      n = 0
+      if (nb%rank /= 0) then
+        n = 1
+        ranks(1) = 0
+      end if
+      do m = 1, 5
+        do jj = nb%holder_start(c%record_nodes(m, k)), nb%holder_start(c%record_nodes(m, k) + 1) - 1
+          r = nb%holder(jj)
+          if (r == nb%rank .or. any(ranks(1:n) == r)) cycle
+          n = n + 1
+          ranks(n) = r
+        end do
+      end do
+    end subroutine destinations
+  end subroutine share_records_locally
+
+  pure function record_row(c, k) result(row)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: k
+    real(wp) :: row(record_width)
+    row(1) = real(c%candidates(3, k), wp)
+    row(2) = real(c%candidates(1, k), wp)
+    row(3:7) = real(c%record_nodes(:, k), wp)
+    row(8:22) = reshape(c%record_force(:, :, k), [15])
+    row(23) = c%record_penetration(k)
+  end function record_row
+
+  !> This rank's records (own) and those received (messages received(rstart(i) :)), in pass and
+  !> slave order, into c%record_* and c%candidates; the velocities sent to rank 0 into c%v where
+  !> this rank does not hold the node.
+  subroutine take_records(c, own, received, rstart)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: own(:), rstart(:)
+    real(wp), intent(in) :: received(:)
+    real(wp), allocatable :: rows(:, :)
+    integer, allocatable :: keys(:), order(:)
+    integer :: i, j, m, n, at, width, slaves, node
+    n = size(own)
+    do i = 1, size(rstart) - 1
+      n = n + nint(received(rstart(i)))
+    end do
+    allocate (rows(record_width, n), keys(n))
+    do i = 1, size(own)
+      rows(:, i) = record_row(c, own(i))
+    end do
+    n = size(own)
+    do i = 1, size(rstart) - 1
+      at = rstart(i)
+      width = nint(received(at + 1))
+      do j = 1, nint(received(at))
+        rows(:, n + j) = received(at + 3 + width * (j - 1):at + 2 + width * (j - 1) + record_width)
+        if (width /= root_width) cycle
+        do m = 1, 5
+          node = nint(rows(2 + m, n + j))
+          c%v(:, node) = received(at + 2 + width * (j - 1) + record_width + 3 * m - 2: &
+                                    at + 2 + width * (j - 1) + record_width + 3 * m)
+        end do
+      end do
+      n = n + nint(received(at))
+      at = at + 3 + width * nint(received(at))
+      do j = 1, nint(received(rstart(i) + 2))
+        node = nint(received(at))
+        c%v(:, node) = received(at + 1:at + 3)
+        at = at + 4
+      end do
+    end do
+    slaves = maxval([(size(c%passes(j)%slaves), j = 1, size(c%passes))])
+    do i = 1, n
+      keys(i) = (nint(rows(1, i)) - 1) * slaves + nint(rows(2, i))
+    end do
+    order = keys
+    call merge_sort_ascending(order)
+    do i = 1, n
+      j = findloc_sorted(order, keys(i))
+      c%candidates(:, j) = [nint(rows(2, i)), 0, nint(rows(1, i))]
+      c%record_nodes(:, j) = nint(rows(3:7, i))
+      c%record_force(:, :, j) = reshape(rows(8:22, i), [3, 5])
+      c%record_penetration(j) = rows(23, i)
+    end do
+    c%n_candidates = n
+  end subroutine take_records
+
+  !> The place of key in the ascending list a (which holds it).
+  pure integer function findloc_sorted(a, key) result(lo)
+    integer, intent(in) :: a(:), key
+    integer :: hi, mid
+    lo = 1
+    hi = size(a)
+    do while (lo < hi)
+      mid = (lo + hi) / 2
+      if (a(mid) < key) then
+        lo = mid + 1
+      else
+        hi = mid
+      end if
+    end do
+  end function findloc_sorted
+
+
+end module contact_neighbours
