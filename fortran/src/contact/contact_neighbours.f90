@@ -13,7 +13,7 @@ module contact_neighbours
   use mpi_f08
   use paradyn_kinds, only: wp, i8
   use domain_decomposition, only: domain_t, local_element
-  use integer_sort, only: merge_sort_ascending
+  use integer_sort, only: merge_sort_ascending, sorted_position
   use traffic_counter, only: traffic_t, count_messages, count_allgather
   use contact_sparse, only: sparse_exchange
   use contact_interface, only: contact_t
@@ -430,7 +430,7 @@ contains
     order = keys
     call merge_sort_ascending(order)
     do i = 1, n
-      j = findloc_sorted(order, keys(i))
+      j = sorted_position(order, keys(i))
       c%candidates(:, j) = [nint(rows(2, i)), 0, nint(rows(1, i))]
       c%record_nodes(:, j) = nint(rows(3:7, i))
       c%record_force(:, :, j) = reshape(rows(8:22, i), [3, 5])
@@ -438,22 +438,5 @@ contains
     end do
     c%n_candidates = n
   end subroutine take_records
-
-  !> The place of key in the ascending list a (which holds it).
-  pure integer function findloc_sorted(a, key) result(lo)
-    integer, intent(in) :: a(:), key
-    integer :: hi, mid
-    lo = 1
-    hi = size(a)
-    do while (lo < hi)
-      mid = (lo + hi) / 2
-      if (a(mid) < key) then
-        lo = mid + 1
-      else
-        hi = mid
-      end if
-    end do
-  end function findloc_sorted
-
 
 end module contact_neighbours

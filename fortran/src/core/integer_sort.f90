@@ -4,7 +4,7 @@
 module integer_sort
   implicit none
   private
-  public :: sort_ascending, merge_sort_ascending
+  public :: sort_ascending, merge_sort_ascending, sorted_position, distinct_ascending
 
 contains
 
@@ -63,5 +63,39 @@ contains
     end do
     if (.not. in_a) a = work
   end subroutine merge_sort_ascending
+
+  !> Place of value in the ascending list a, which holds it (binary search).
+  pure integer function sorted_position(a, value) result(lo)
+    integer, intent(in) :: a(:), value
+    integer :: hi, mid
+    lo = 1
+    hi = size(a)
+    do while (lo < hi)
+      mid = (lo + hi) / 2
+      if (a(mid) < value) then
+        lo = mid + 1
+      else
+        hi = mid
+      end if
+    end do
+  end function sorted_position
+
+  !> The distinct values, ascending.
+  pure function distinct_ascending(values) result(distinct)
+    integer, intent(in) :: values(:)
+    integer, allocatable :: distinct(:)
+    integer :: k, n
+    distinct = values
+    call merge_sort_ascending(distinct)
+    n = 0
+    do k = 1, size(distinct)
+      if (n > 0) then
+        if (distinct(k) == distinct(n)) cycle
+      end if
+      n = n + 1
+      distinct(n) = distinct(k)
+    end do
+    distinct = distinct(1:n)
+  end function distinct_ascending
 
 end module integer_sort

@@ -12,10 +12,11 @@ module deck_directory
   use mpi_f08
   use paradyn_kinds, only: wp
   use domain_decomposition, only: block_owner
-  use integer_sort, only: merge_sort_ascending, sort_ascending
+  use integer_sort, only: sort_ascending, sorted_position, distinct_ascending
+  use rank_exchange, only: exchange_int, exchange_real, offsets
   implicit none
   private
-  public :: block_range, fetch_node_rows, first_duplicate_element, move_element_rows, exchange_int, exchange_real
+  public :: block_range, fetch_node_rows, first_duplicate_element, move_element_rows
   public :: node_values   ! values per node row: coordinates 3, velocity 3, angular velocity 3, fixed 6
 
   integer, parameter :: node_values = 15
@@ -47,11 +48,11 @@ contains
     integer :: n_ranks, rank, first, nb, e, k, j, r, n
     call MPI_Comm_size(comm, n_ranks)
     call MPI_Comm_rank(comm, rank)
-    call distinct_nodes(connectivity, node_ids)
+    node_ids = distinct_ascending(reshape(connectivity, [size(connectivity)]))
     allocate (low(size(node_ids)), low_part(size(node_ids)), source=huge(1))
     do e = 1, size(element_ids)   ! ascending: the first element met is the node's lowest here
       do k = 1, 4
-        j = position(node_ids, connectivity(k, e))
+        j = sorted_position(node_ids, connectivity(k, e))
         if (element_ids(e) < low(j)) then
           low(j) = element_ids(e)
           low_part(j) = element_part(e)
@@ -224,83 +225,5 @@ contains
     connectivity = reshape([(recv(6 * e - 4:6 * e - 1), e = 1, m)], [4, m])
     element_part = recv(6:6 * m:6)
   end subroutine move_element_rows
-
-  !> The distinct entries of connectivity, ascending.
-  pure subroutine distinct_nodes(connectivity, nodes)
-    integer, intent(in) :: connectivity(:, :)
-    integer, allocatable, intent(out) :: nodes(:)
-    integer, allocatable :: all(:)
-    integer :: k, n
-    all = reshape(connectivity, [size(connectivity)])
-    call merge_sort_ascending(all)
-    n = 0
-    do k = 1, size(all)
-      if (n > 0) then
-        if (all(k) == all(n)) cycle
-      end if
-      n = n + 1
-      all(n) = all(k)
-    end do
-    nodes = all(1:n)
-  end subroutine distinct_nodes
-
-  !> Place of value in the ascending list a (binary search; the value is there).
-  pure integer function position(a, value)
-    integer, intent(in) :: a(:), value
-    integer :: lo, hi, mid
-    lo = 1
-    hi = size(a)
-    do while (lo < hi)
-      mid = (lo + hi) / 2
-      if (a(mid) < value) then
-        lo = mid + 1
-      else
-        hi = mid
-      end if
-    end do
-    position = lo
-  end function position
-
-  !> send(displacement of rank r + 1 : ... + counts(r)) to each rank r; recv: what every rank sent
-  !> here, rank after rank; recv_counts: how much from each.
-  subroutine exchange_int(comm, send, counts, recv, recv_counts)
-    type(MPI_Comm), intent(in) :: comm
-    integer, intent(in) :: send(:), counts(:)
-    integer, allocatable, intent(out) :: recv(:), recv_counts(:)
-    integer, allocatable :: send_displs(:), recv_displs(:)
-    allocate (recv_counts(size(counts)), send_displs(size(counts)), recv_displs(size(counts)))
-    call MPI_Alltoall(counts, 1, MPI_INTEGER, recv_counts, 1, MPI_INTEGER, comm)
-    call offsets(counts, send_displs)
-    call offsets(recv_counts, recv_displs)
-    allocate (recv(max(sum(recv_counts), 0)))
-    call MPI_Alltoallv(send, counts, send_displs, MPI_INTEGER, recv, recv_counts, recv_displs, MPI_INTEGER, comm)
-  end subroutine exchange_int
-
-  !> As exchange_int for reals, without the counts' exchange (the caller's counts answer earlier ones).
-  subroutine exchange_real(comm, send, counts, recv)
-    type(MPI_Comm), intent(in) :: comm
-    real(wp), intent(in) :: send(:)
-    integer, intent(in) :: counts(:)
-    real(wp), allocatable, intent(out) :: recv(:)
-    integer, allocatable :: recv_counts(:), send_displs(:), recv_displs(:)
-    allocate (recv_counts(size(counts)), send_displs(size(counts)), recv_displs(size(counts)))
-    call MPI_Alltoall(counts, 1, MPI_INTEGER, recv_counts, 1, MPI_INTEGER, comm)
-    call offsets(counts, send_displs)
-    call offsets(recv_counts, recv_displs)
-    allocate (recv(max(sum(recv_counts), 0)))
-    call MPI_Alltoallv(send, counts, send_displs, MPI_DOUBLE_PRECISION, recv, recv_counts, recv_displs, &
-                       MPI_DOUBLE_PRECISION, comm)
-  end subroutine exchange_real
-
-  !> Exclusive prefix sums: displs(r) = counts(1) + ... + counts(r - 1).
-  pure subroutine offsets(counts, displs)
-    integer, intent(in) :: counts(:)
-    integer, intent(out) :: displs(:)
-    integer :: r
-    displs(1) = 0
-    do r = 2, size(counts)
-      displs(r) = displs(r - 1) + counts(r - 1)
-    end do
-  end subroutine offsets
 
 end module deck_directory

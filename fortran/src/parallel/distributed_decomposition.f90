@@ -11,7 +11,8 @@
 module distributed_decomposition
   use mpi_f08
   use domain_decomposition, only: domain_t, block_owner, local_node, local_element, build_groups
-  use integer_sort, only: merge_sort_ascending, sort_ascending
+  use integer_sort, only: merge_sort_ascending, sort_ascending, sorted_position, distinct_ascending
+  use rank_exchange, only: exchange_int, offsets
   implicit none
   private
   public :: decompose_distributed
@@ -49,20 +50,9 @@ contains
   pure subroutine local_nodes(connectivity, dom)
     integer, intent(in) :: connectivity(:, :)
     type(domain_t), intent(inout) :: dom
-    integer, allocatable :: all(:)
-    integer :: k, n, le
-    all = reshape(connectivity, [4 * dom%n_elements])
-    call merge_sort_ascending(all)
-    n = 0
-    do k = 1, size(all)
-      if (n > 0) then
-        if (all(k) == all(n)) cycle
-      end if
-      n = n + 1
-      all(n) = all(k)
-    end do
-    dom%n_nodes = n
-    dom%nodes = all(1:n)
+    integer :: k, le
+    dom%nodes = distinct_ascending(reshape(connectivity, [4 * dom%n_elements]))
+    dom%n_nodes = size(dom%nodes)
     allocate (dom%connectivity(4, dom%n_elements))
     do le = 1, dom%n_elements
       do k = 1, 4
@@ -99,7 +89,7 @@ contains
         fill(r) = fill(r) + 2
       end do
     end do
-    call exchange(comm, send, counts, recv, recv_counts)
+    call exchange_int(comm, send, counts, recv, recv_counts)
     allocate (source(size(recv) / 2))
     k = 0
     do r = 1, p
@@ -107,7 +97,7 @@ contains
       k = k + recv_counts(r) / 2
     end do
     call answer_from_home(dom, n_nodes, recv, source, send, counts)
-    call exchange(comm, send, counts, recv, recv_counts)
+    call exchange_int(comm, send, counts, recv, recv_counts)
     call unpack_incidence(recv, dom, inc)
   end subroutine node_incidence
 
@@ -312,52 +302,9 @@ contains
       else
         k = findloc(dom%neighbour, inc%owner(s), dim=1)
         dom%assembly_slot(s) = 4 * dom%n_elements + dom%recv_start(k) - 1 + &
-                               position(ghost_corner(dom%recv_start(k):dom%recv_start(k + 1) - 1), inc%corner(s))
+                               sorted_position(ghost_corner(dom%recv_start(k):dom%recv_start(k + 1) - 1), inc%corner(s))
       end if
     end do
   end subroutine assembly_lists
-
-  !> Place of value in the ascending list a (binary search; the value is there).
-  pure integer function position(a, value)
-    integer, intent(in) :: a(:), value
-    integer :: lo, hi, mid
-    lo = 1
-    hi = size(a)
-    do while (lo < hi)
-      mid = (lo + hi) / 2
-      if (a(mid) < value) then
-        lo = mid + 1
-      else
-        hi = mid
-      end if
-    end do
-    position = lo
-  end function position
-
-  !> Send send(displacement of rank r + 1 : ... + counts(r)) to each rank r; recv gets what every
-  !> rank sent here, rank after rank, recv_counts how much from each.
-  subroutine exchange(comm, send, counts, recv, recv_counts)
-    type(MPI_Comm), intent(in) :: comm
-    integer, intent(in) :: send(:), counts(:)
-    integer, allocatable, intent(out) :: recv(:), recv_counts(:)
-    integer, allocatable :: send_displs(:), recv_displs(:)
-    allocate (recv_counts(size(counts)), send_displs(size(counts)), recv_displs(size(counts)))
-    call MPI_Alltoall(counts, 1, MPI_INTEGER, recv_counts, 1, MPI_INTEGER, comm)
-    call offsets(counts, send_displs)
-    call offsets(recv_counts, recv_displs)
-    allocate (recv(max(sum(recv_counts), 0)))
-    call MPI_Alltoallv(send, counts, send_displs, MPI_INTEGER, recv, recv_counts, recv_displs, MPI_INTEGER, comm)
-  end subroutine exchange
-
-  !> Exclusive prefix sums: displs(r) = counts(1) + ... + counts(r - 1).
-  pure subroutine offsets(counts, displs)
-    integer, intent(in) :: counts(:)
-    integer, intent(out) :: displs(:)
-    integer :: r
-    displs(1) = 0
-    do r = 2, size(counts)
-      displs(r) = displs(r - 1) + counts(r - 1)
-    end do
-  end subroutine offsets
 
 end module distributed_decomposition

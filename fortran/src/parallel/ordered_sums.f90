@@ -7,7 +7,8 @@ module ordered_sums
   use mpi_f08
   use paradyn_kinds, only: wp
   use domain_decomposition, only: block_owner
-  use deck_directory, only: block_range, exchange_int, exchange_real
+  use deck_directory, only: block_range
+  use rank_exchange, only: exchange_int, exchange_real
   use mass_scaling, only: mass_scaling_t
   implicit none
   private
