@@ -122,6 +122,15 @@ def test_a_scene_s_engine_starts_while_it_is_meshed_and_ends_if_meshing_fails(
         paradyn.run(bad, tmp_path / "bad", ranks=1, threads=1)
     assert len(started) == 2 and started[1].process.returncode == 0
     assert not (tmp_path / "bad" / "results.h5").exists() and not (tmp_path / "bad" / "deck.h5").exists()
+    # a failure after the deck is written, before the engine is told to go, ends it too
+    def failing(*args: object, **kwargs: object) -> launch.EngineRun:
+        raise launch.EngineError("the launcher failed", 1)
+
+    monkeypatch.setattr(launch, "run_engine", failing)
+    with pytest.raises(launch.EngineError, match="the launcher failed"):
+        paradyn.run(SMALL_PLATE, tmp_path / "late", ranks=1, threads=1)
+    assert len(started) == 3 and started[2].process.returncode == 0
+    assert not (tmp_path / "late" / "results.h5").exists()
 
 
 def test_an_engine_awaiting_its_deck_runs_on_go_only(tmp_path: Path, plate_model: deck.Model) -> None:

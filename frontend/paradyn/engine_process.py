@@ -154,7 +154,11 @@ class AwaitingEngine:
         return self.process
 
     def cancel(self) -> None:
-        """No deck will come: the engine ends (status 0, nothing written)."""
+        """No deck will come: the engine ends (status 0, nothing written). Nothing once it was
+        told to go (its run is followed, and ended, elsewhere)."""
+        assert self.process.stdin is not None
+        if self.process.stdin.closed:
+            return
         self._tell("")
         with self.process:
             self.process.wait()

@@ -153,6 +153,8 @@ def run(
                                        on_warning=display.warning if display is not None else None,
                                        on_done=finish, started=started)
     finally:
+        if started is not None:   # a failure before the engine was told to go must not leave it waiting
+            started.cancel()
         if display is not None:
             display.close()
     return finish.results if finish.results is not None else finish(engine_run)
