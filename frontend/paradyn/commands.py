@@ -7,7 +7,7 @@ Python session that imports paradyn keeps its own.
 
 The command's imports (numpy, h5py and the package) run with Python's cyclic garbage collector
 paused: it otherwise ran 76 times while they loaded, walking a heap that grows to 29 000
-objects, a tenth of their time (docs/performance.md, "Fixed costs"). What they made is then frozen
+objects, a sixth of their time (docs/performance.md, "Fixed costs"). What they made is then frozen
 (:func:`gc.freeze`), out of every later collection's way, and the collector resumes for the run.
 
 A command ends with :func:`os._exit` once its streams are flushed: every file it wrote is closed
