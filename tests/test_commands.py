@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -81,3 +82,19 @@ def test_the_commands_import_with_the_collector_paused_and_resume_it() -> None:
     gc.unfreeze()
     assert seen[0][0] is False and seen[1][0] is True
     assert seen[1][1] > 0
+
+
+def test_a_reader_that_stops_reading_ends_the_command_quietly(tmp_path: Path) -> None:
+    """paradyn-run SCENE | head: the pipe closes before the report is printed; the command ends
+    with status 0 and no traceback, its files written."""
+    script = Path(sys.executable).parent / "paradyn-run"
+    out = tmp_path / "out"
+    # unbuffered, so that the report's first print meets the closed pipe (buffered, the last flush would)
+    process = subprocess.Popen([str(script), str(CASES / "small_plate" / "scene.toml"), "-o", str(out), "-q"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    assert process.stdout is not None and process.stderr is not None
+    process.stdout.close()   # the reader is gone before anything is printed
+    errors = process.stderr.read()
+    assert process.wait(timeout=300) == 0, errors
+    assert "Traceback" not in errors and (out / "summary.json").is_file()

@@ -22,7 +22,7 @@ import contextlib
 import gc
 import os
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import NoReturn
 
 
@@ -36,7 +36,7 @@ def paradyn_run() -> NoReturn:
     with _collector_paused():
         from .cli import main
 
-    _leave(main())
+    _leave(_run(main))
 
 
 def paradyn_study() -> NoReturn:
@@ -45,7 +45,7 @@ def paradyn_study() -> NoReturn:
     with _collector_paused():
         from .study_cli import main
 
-    _leave(main())
+    _leave(_run(main))
 
 
 def paradyn_scaling() -> NoReturn:
@@ -54,7 +54,7 @@ def paradyn_scaling() -> NoReturn:
     with _collector_paused():
         from .benchmark import main
 
-    _leave(main())
+    _leave(_run(main))
 
 
 @contextlib.contextmanager
@@ -66,6 +66,16 @@ def _collector_paused() -> Iterator[None]:
     finally:
         gc.freeze()
         gc.enable()
+
+
+def _run(main: Callable[[], int]) -> int:
+    """The tool's status; a reader of its output that stopped reading (``paradyn-run ... | head``)
+    ends it quietly, as it does a Unix tool, instead of with a traceback."""
+    try:
+        return main()
+    except BrokenPipeError:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())   # the last flush goes nowhere
+        return 0
 
 
 def _leave(status: int | None) -> NoReturn:
