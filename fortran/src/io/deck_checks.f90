@@ -22,6 +22,9 @@ module deck_checks
   private
   public :: agree_on_first, chain_fingerprint, distribute_and_check
 
+  ! the element-row relations first_element_message checks
+  integer, parameter :: repeated_nodes = 1, element_shape = 2
+
 contains
 
   !> Every rank passes the key of its first problem (a global id, huge(1) for none) and its
@@ -42,6 +45,29 @@ contains
     call MPI_Bcast(text, len(text), MPI_CHARACTER, winner(2), comm)
     message = trim(text)
   end subroutine agree_on_first
+
+  !> The message of the lowest element id whose row breaks the relation, over the ranks ('' when none).
+  subroutine first_element_message(d, comm, relation, message)
+    type(deck_t), intent(in) :: d
+    type(MPI_Comm), intent(in) :: comm
+    integer, intent(in) :: relation   !< repeated_nodes or element_shape
+    character(len=*), intent(out) :: message
+    integer :: key, row
+    key = huge(1)
+    message = ''
+    do row = 1, size(d%element_ids)
+      if (relation == repeated_nodes) then
+        message = repeated_node_message(d, row)
+      else
+        message = shape_message(d, row)
+      end if
+      if (message /= '') then
+        key = d%element_ids(row)
+        exit
+      end if
+    end do
+    call agree_on_first(comm, key, message)
+  end subroutine first_element_message
 
   !> The FNV-1a hash (deck_fingerprint) continued over the ranks' blocks of a dataset in rank
   !> order, as over the whole dataset: each rank takes the hash from the rank before, adds its
@@ -70,20 +96,12 @@ contains
     real(wp), allocatable :: home(:, :)
     integer, allocatable :: home_ids(:)
     logical, allocatable :: used(:)
-    integer :: key, later, earlier, later_nodes(4), row
+    integer :: later, earlier, later_nodes(4)
     logical :: fixed_here
     status = status_bad_input
     message = precision_message(d)
     if (message /= '') return
-    key = huge(1)
-    do row = 1, size(d%element_ids)
-      message = repeated_node_message(d, row)
-      if (message /= '') then
-        key = d%element_ids(row)
-        exit
-      end if
-    end do
-    call agree_on_first(comm, key, message)
+    call first_element_message(d, comm, repeated_nodes, message)
     if (message /= '') return
     call first_duplicate_element(comm, d%n_nodes, d%element_ids, d%connectivity, later, earlier, later_nodes)
     if (later > 0) then
@@ -99,15 +117,7 @@ contains
     fixed_here = any(d%fixed /= 0)
     call MPI_Allreduce(fixed_here, d%any_fixed, 1, MPI_LOGICAL, MPI_LOR, comm)
     call held_nodes(d, comm, home, used)
-    key = huge(1)
-    do row = 1, size(d%element_ids)
-      message = shape_message(d, row)
-      if (message /= '') then
-        key = d%element_ids(row)
-        exit
-      end if
-    end do
-    call agree_on_first(comm, key, message)
+    call first_element_message(d, comm, element_shape, message)
     if (message /= '') return
     message = small_table_message(d)
     if (message /= '') return
