@@ -27,7 +27,7 @@ program paradyn_engine
   use singleton_start, only: prefer_light_singleton, remove_session_base
   use run_names, only: copy_run_names
   use deck_effects, only: effects_of_deck
-  use initial_penetration, only: resolve_initial_penetrations
+  use contact_checks, only: resolve_initial_penetrations
   use contact_rows, only: replicated_contact_deck
   use model_deck, only: node_row, element_row
   use, intrinsic :: iso_fortran_env, only: error_unit
@@ -50,7 +50,7 @@ program paradyn_engine
 
   type(deck_t) :: deck      !< this rank's rows of the deck (model_deck)
   type(deck_t) :: contact   !< with contact: the contact parts in the global layout (contact_rows)
-  real(wp), allocatable :: moves(:, :)   !< with contact: initial penetrations moved out (3, n_nodes)
+  real(wp), allocatable :: moves(:, :)   !< with contact: initial penetrations moved out (3, this rank's node rows)
   type(solver_t) :: solver
   type(results_file_t) :: results
   type(run_record_t) :: run
@@ -146,15 +146,16 @@ program paradyn_engine
   call check_memory(deck%n_elements, deck%n_nodes)
   call write_deck_line()
   call effects_of_deck(deck, effects)   ! what the deck declares; the scene's switched-off effects go
-  if (deck%n_contacts > 0) then   ! contact set-up reads the contact parts in the global layout
+  if (deck%n_contacts > 0) then   ! checked on each rank's rows; the contact state reads the global layout
+    call resolve_initial_penetrations(deck, comm, rank == 0, error_unit, moves)   ! reported; moves where asked
     contact = replicated_contact_deck(deck, comm)
-    call resolve_initial_penetrations(contact, rank == 0, error_unit, moves)   ! reported; moves where asked
   end if
   call solver_setup(solver, deck, contact, effects, comm, status, message)
   if (status /= status_ok) call fail(status, trim(message))
   if (allocated(moves)) then
-    solver%nodes%x = solver%nodes%x + moves(:, solver%dom%nodes)   ! initial displacements (a restart restores x)
-    deallocate (moves)   ! global: (3, n_nodes)
+    ! initial displacements (a restart restores x)
+    solver%nodes%x = solver%nodes%x + moves(:, [(node_row(deck, solver%dom%nodes(k)), k = 1, solver%dom%n_nodes)])
+    deallocate (moves)
   end if
   contact = deck_t()
   if (check_only) then   ! paradyn-run --check: everything is set up and checked; nothing is written

@@ -14,14 +14,16 @@ module surface_overlap
 contains
 
   !> The first element side of elements_a (4, n) that pierces an element of elements_b, as the
-  !> element of a, the element of b and the point; element_a = 0 when none does. Sides that only
-  !> touch an element (a shared node or edge, within round-off) do not count.
+  !> element of a, the element of b (the first in their order that the side pierces) and the
+  !> point; element_a = 0 when none does. Sides that only touch an element (a shared node or edge,
+  !> within round-off) do not count. The answer does not depend on the grid's cells, so a rank
+  !> holding only the elements of b near its elements of a, in the same order, finds the same.
   subroutine first_crossing(x, elements_a, elements_b, element_a, element_b, point)
     real(wp), intent(in) :: x(:, :)
     integer, intent(in) :: elements_a(:, :), elements_b(:, :)
     integer, intent(out) :: element_a, element_b
     real(wp), intent(out) :: point(3)
-    real(wp) :: lower(3), cell
+    real(wp) :: lower(3), cell, hit(3)
     integer :: dims(3), e, k, i, j, l, lo(3), hi(3), f
     integer, allocatable :: start(:), members(:)
     element_a = 0
@@ -38,16 +40,18 @@ contains
             do j = lo(2), hi(2)
               do i = lo(1), hi(1)
                 do f = start(index_of(i, j, l, dims)), start(index_of(i, j, l, dims) + 1) - 1
-                  if (side_pierces(p, q, x(:, elements_b(:, members(f))), point)) then
+                  if (element_b > 0 .and. members(f) >= element_b) cycle
+                  if (side_pierces(p, q, x(:, elements_b(:, members(f))), hit)) then
                     element_a = e
                     element_b = members(f)
-                    return
+                    point = hit
                   end if
                 end do
               end do
             end do
           end do
         end associate
+        if (element_a > 0) return
       end do
     end do
   end subroutine first_crossing

@@ -34,7 +34,7 @@ module explicit_solver
   use solver_state, only: solver_t
   use stop_signals, only: stop_signal_received
   use status_agreement, only: agree_on_status
-  use surface_overlap, only: first_crossing
+  use contact_checks, only: check_contact_overlap
   use results_writer, only: results_file_t, run_record_t, results_failed
   implicit none
   private
@@ -104,7 +104,7 @@ contains
     ! the step stays at half that, so a wall never sets it unless the mesh grows the step 1.4 times or more
     if (deck%n_rigid_walls > 0) s%control%dt_cap = s%clock%dt / sqrt(maxval(deck%rigid_wall_penalty_scale))
     if (status == status_ok) call check_step(s%clock, deck, status, message)
-    call check_contact_overlap(contact, comm, status, message)   ! collective: every rank calls it
+    call check_contact_overlap(deck, comm, status, message)   ! collective: every rank calls it
     call agree_on_status(comm, status, message)   ! one rank's verdict stops all of them
     if (status /= status_ok) return
     if (too_large .and. s%rank == 0) then
@@ -152,47 +152,6 @@ contains
         'use a smaller mass_damping (dynamic relaxation needs about twice the lowest natural frequency)'
     end if
   end subroutine check_step
-
-  !> Refuses a contact pair whose mid-surfaces cross at the start (surface_overlap): its nodes are
-  !> past the surface they should meet, and contact would never engage (issue 17). Collective:
-  !> each rank tests the sides of its block of the first part's elements, and the first crossing
-  !> in element order over all ranks is the one reported, as one rank testing them all would.
-  !> status: left as it is unless it is status_ok and a pair crosses.
-  subroutine check_contact_overlap(deck, comm, status, message)
-    type(deck_t), intent(in) :: deck
-    type(MPI_Comm), intent(in) :: comm
-    integer, intent(inout) :: status
-    character(len=*), intent(inout) :: message
-    integer, allocatable :: a(:)
-    integer :: j, k, side, element_a, element_b, part(2), rank, n_ranks, first, last, found, first_found
-    real(wp) :: point(3)
-    call MPI_Comm_rank(comm, rank)
-    call MPI_Comm_size(comm, n_ranks)
-    do k = 1, deck%n_contacts
-      do side = 1, 2   ! a small element of one part may poke through the middle of a large one of the other
-        part = deck%contact_pairs(:, k)
-        if (side == 2) part = part([2, 1])
-        a = pack([(j, j = 1, deck%n_elements)], deck%element_part == part(1))
-        first = int((int(rank, i8) * size(a)) / n_ranks) + 1
-        last = int((int(rank + 1, i8) * size(a)) / n_ranks)
-        call first_crossing(deck%coordinates, deck%connectivity(:, a(first:last)), deck%connectivity(:, &
-                            pack([(j, j = 1, deck%n_elements)], deck%element_part == part(2))), element_a, element_b, point)
-        found = huge(1)
-        if (element_a > 0) found = first + element_a - 1
-        call MPI_Allreduce(found, first_found, 1, MPI_INTEGER, MPI_MIN, comm)
-        if (first_found == huge(1)) cycle
-        ! the rank holding the first crossing gives its point (ranks in order of their blocks)
-        call MPI_Allreduce(merge(rank, n_ranks, found == first_found), j, 1, MPI_INTEGER, MPI_MIN, comm)
-        call MPI_Bcast(point, 3, MPI_DOUBLE_PRECISION, j, comm)
-        if (status /= status_ok) return
-        status = status_bad_input
-        write (message, '(a,i0,a,i0,a,3es11.3,a)') 'the parts of /contact/pairs[', k - 1, '] cross at the start (part ', &
-          part(1) - 1, ' passes through the other near', point, '); contact would never engage: move the parts '// &
-          'apart so that their surfaces do not intersect'
-        return
-      end do
-    end do
-  end subroutine check_contact_overlap
 
   !> The time loop, from where the solver stands (the start, a pause, or a restored checkpoint)
   !> to the end time (s%finished), or until a pause: at the first step at or after pause_time, or
