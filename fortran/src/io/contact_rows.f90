@@ -1,6 +1,7 @@
-!> The replicated contact state's cost (issue 19, item 5): until contact set-up works on each
-!> rank's own rows (the local-contact work), it reads the deck in the global layout it was written
-!> for. replicated_contact_deck gives it that layout for the contact parts only: every rank gathers
+!> The replicated contact state's cost (issue 19, item 5): until the contact state is indexed by
+!> each rank's own and ghost contact nodes, its set-up (contact_setup) reads the deck in the
+!> global layout it was written for (the start checks no longer do: contact_checks works on each
+!> rank's rows). replicated_contact_deck gives it that layout for the contact parts only: every rank gathers
 !> the rows of the elements of the parts that some /contact/pairs entry names, and the coordinates
 !> of their nodes, from the ranks that hold them (MPI_Allgatherv), into arrays indexed by global
 !> node and element id. A model without contact never calls it and holds nothing global; a model

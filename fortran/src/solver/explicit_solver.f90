@@ -51,8 +51,8 @@ contains
   !> Everything the time loop needs, from the deck and its effect table (deck_effects, with the
   !> switched-off effects already taken out of the deck), on this rank of comm. The deck holds
   !> this rank's elements (model_deck's layout: they become the domain's) and the rows of their
-  !> nodes; contact: the deck in the global layout contact set-up reads (contact_rows; any deck
-  !> when the model has no contact). status 2 with a message for a mesh that cannot run (a node
+  !> nodes (the crossing check of contact runs on them); contact: the deck in the global layout
+  !> the contact state's set-up reads (contact_rows; any deck when the model has no contact). status 2 with a message for a mesh that cannot run (a node
   !> without mass).
   subroutine solver_setup(s, deck, contact, effects, comm, status, message)
     type(solver_t), intent(inout) :: s
