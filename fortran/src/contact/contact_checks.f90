@@ -6,8 +6,9 @@
 !> rank holding the whole deck would report: the same count, the same deepest node (the lowest id
 !> among the deepest), the same first crossing (the lowest element id, then its first side, then
 !> the lowest element pierced). A node that several ranks hold is tested by each of them with the
-!> same elements near it, so each moves it by the same push; it is counted once, at its home in
-!> the node directory (block_owner). Nothing here is sized by the global mesh.
+!> same elements near it, so each moves it by the same push; a rank that holds it through another
+!> part's element only gets the moved position through its home in the node directory
+!> (block_owner), where it is also counted, once. Nothing here is sized by the global mesh.
 module contact_checks
   use mpi_f08
   use paradyn_kinds, only: wp
@@ -15,7 +16,8 @@ module contact_checks
   use model_deck, only: deck_t, node_row
   use integer_sort, only: distinct_ascending, sorted_position
   use domain_decomposition, only: block_owner
-  use rank_exchange, only: exchange_int
+  use rank_exchange, only: exchange_int, exchange_real
+  use deck_directory, only: block_range
   use near_elements, only: near_set_t, gather_near, box_of
   use initial_penetration, only: slave_penetrations
   use surface_overlap, only: first_crossing
@@ -63,6 +65,7 @@ contains
     character(len=*), intent(in) :: what
     integer, allocatable :: slaves(:), rows(:), at(:)
     real(wp), allocatable :: depth(:), push(:, :), slave_x(:, :)
+    logical, allocatable :: moved(:)
     type(near_set_t) :: near
     integer :: side, slave_part, master_part, i, n_inside, node
     real(wp) :: reach, t_slave, t_master, deepest, where(3)
@@ -92,9 +95,13 @@ contains
           ', deepest', deepest, ' m (', deepest / reach, ' of the reach (t_slave + t_master)/2) '// &
           'at node ', node - 1, ' near', where, '; '//what
         if (move) then
+          allocate (moved(size(x, 2)), source=.false.)
           do i = 1, size(slaves)
             if (depth(i) > 0.0_wp) x(:, at(i)) = x(:, at(i)) + push(:, i)
+            moved(at(i)) = depth(i) > 0.0_wp
           end do
+          call share_moves(deck, comm, x, moved)   ! also to the ranks that hold a node by another part
+          deallocate (moved)
         end if
       end if
       deallocate (depth, push)
@@ -145,6 +152,56 @@ contains
     if (holder == rank) where = slave_x(:, i)
     call MPI_Bcast(where, 3, MPI_DOUBLE_PRECISION, holder, comm)
   end subroutine deepest_node
+
+  !> The moved positions to every rank that holds the node (a node of the slave part may be held by
+  !> a rank through an element of another part only, and that rank moves nothing): each rank sends
+  !> the node rows it moved (moved: per node row) to their homes, and each asks the homes for every
+  !> node it holds and takes the new position of those moved. Copies: every holder ends with the
+  !> mover's bits. Collective.
+  subroutine share_moves(deck, comm, x, moved)
+    type(deck_t), intent(in) :: deck
+    type(MPI_Comm), intent(in) :: comm
+    real(wp), intent(inout) :: x(:, :)
+    logical, intent(in) :: moved(:)
+    integer, allocatable :: ids(:), counts(:), recv(:), recv_counts(:)
+    real(wp), allocatable :: send_x(:), recv_x(:), home_x(:, :), reply(:), answer(:)
+    logical, allocatable :: home_moved(:)
+    integer :: n_ranks, rank, first, n_home, i, n
+    call MPI_Comm_size(comm, n_ranks)
+    call MPI_Comm_rank(comm, rank)
+    call block_range(deck%n_nodes, rank, n_ranks, first, n_home)
+    allocate (home_x(3, n_home), home_moved(n_home))
+    home_moved = .false.
+    ids = pack(deck%node_ids, moved)   ! ascending: grouped by home
+    send_x = reshape(x(:, pack([(i, i = 1, size(moved))], moved)), [3 * size(ids)])
+    call exchange_int(comm, ids, homes(ids), recv, recv_counts)
+    call exchange_real(comm, send_x, 3 * homes(ids), recv_x)
+    do i = 1, size(recv)
+      n = recv(i) - first + 1
+      home_x(:, n) = recv_x(3 * i - 2:3 * i)   ! every holder that moved it sent the same bits
+      home_moved(n) = .true.
+    end do
+    call exchange_int(comm, deck%node_ids, homes(deck%node_ids), recv, recv_counts)
+    allocate (reply(4 * size(recv)))
+    do i = 1, size(recv)
+      n = recv(i) - first + 1
+      reply(4 * i - 3:4 * i) = [merge(1.0_wp, 0.0_wp, home_moved(n)), home_x(:, n)]
+    end do
+    call exchange_real(comm, reply, 4 * recv_counts, answer)
+    do i = 1, size(deck%node_ids)
+      if (answer(4 * i - 3) > 0.0_wp) x(:, i) = answer(4 * i - 2:4 * i)
+    end do
+  contains
+    !> How many of the ascending ids go to each home.
+    function homes(list) result(c)
+      integer, intent(in) :: list(:)
+      integer :: c(n_ranks), j
+      c = 0
+      do j = 1, size(list)
+        c(block_owner(list(j), deck%n_nodes, n_ranks) + 1) = c(block_owner(list(j), deck%n_nodes, n_ranks) + 1) + 1
+      end do
+    end function homes
+  end subroutine share_moves
 
   !> Refuses a contact pair whose mid-surfaces cross at the start (surface_overlap): its nodes are
   !> past the surface they should meet, and contact would never engage (issue 17). Each rank tests
