@@ -43,7 +43,7 @@ module contact_interface
   public :: contact_begin, contact_sort_due, contact_movement
   public :: contact_restore, contact_sort_pass
   public :: contact_activity_update, contact_all_idle, contact_count_activity
-  public :: clock_seconds
+  public :: clock_seconds, contact_search_room, contact_record_room
 
   !> The wall clock the phases are timed with (the solver passes MPI_Wtime's wrapper).
   abstract interface
@@ -123,7 +123,7 @@ contains
     type(contact_t), intent(out) :: c
     logical, allocatable :: in_contact(:)
     integer, allocatable :: contact_id(:)
-    integer :: i, k, p, n_max, e, n_passes
+    integer :: i, k, p, e, n_passes
     type(contact_kind_holder_t), allocatable :: kinds(:)
     allocate (in_contact(deck%n_nodes), source=.false.)
     do e = 1, deck%n_elements
@@ -150,16 +150,41 @@ contains
       call kinds(k)%kind%make_passes(deck, k, contact_id, c%n_nodes, c%passes(n_passes + 1:n_passes + p))
       n_passes = n_passes + p
     end do
-    n_max = 1 + sum([(size(c%passes(p)%slaves), p = 1, n_passes)])   ! slaves of all passes together
-    allocate (c%record_nodes(5, n_max), source=0)
-    allocate (c%record_force(3, 5, n_max), c%record_penetration(n_max), source=0.0_wp)
-    allocate (c%nearest(n_max), c%own_pairs(3, n_max), c%all_pairs(3, n_max), c%candidates(3, n_max), &
-              c%pass_pairs(2, n_max), source=0)
     allocate (c%touched(c%n_nodes), c%touched_old(c%n_nodes), c%mark(c%n_nodes), source=0)
     allocate (c%in_gather(c%n_nodes), source=.true.)
     allocate (c%pair_active_cycles(deck%n_contacts), c%pair_skipped_cycles(deck%n_contacts), source=0_i8)
     allocate (c%definition_force(3, deck%n_contacts), source=0.0_wp)
   end subroutine contact_setup
+
+  !> Room for the global search of n_search slaves (their nearest masters and pairs) and for
+  !> n_shared pairs shared by every rank (the replicated scheme; 0 otherwise), and records for
+  !> n_search candidates: every slave of every pass on one rank and in the replicated scheme, a
+  !> rank's own slaves under local contact (whose records it receives are made room for as they
+  !> come, contact_record_room), so that no rank fills more than it uses.
+  subroutine contact_search_room(c, n_search, n_shared)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: n_search, n_shared
+    allocate (c%nearest(n_search), c%own_pairs(3, n_search), source=0)
+    allocate (c%all_pairs(3, n_shared), c%pass_pairs(2, n_shared), source=0)
+    call contact_record_room(c, n_search)
+  end subroutine contact_search_room
+
+  !> Candidates and records for at least n (a half more than asked when they grow, so that a
+  !> growing contact reallocates seldom); what they held is not kept.
+  subroutine contact_record_room(c, n)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: n
+    integer :: room
+    if (allocated(c%candidates)) then
+      if (size(c%candidates, 2) >= n) return
+      room = max(n, size(c%candidates, 2) + size(c%candidates, 2) / 2)
+      deallocate (c%candidates, c%record_nodes, c%record_force, c%record_penetration)
+    else
+      room = n
+    end if
+    allocate (c%candidates(3, room), c%record_nodes(5, room), source=0)
+    allocate (c%record_force(3, 5, room), c%record_penetration(room), source=0.0_wp)
+  end subroutine contact_record_room
 
   !> Start a step: keep the last forces, redo the bucket sorts if sort (contact_sort_due; the
   !> positions of all contact nodes are then current). Only the nodes touched in the last two

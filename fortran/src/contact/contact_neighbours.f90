@@ -16,7 +16,7 @@ module contact_neighbours
   use integer_sort, only: merge_sort_ascending, sorted_position
   use traffic_counter, only: traffic_t, count_messages, count_allgather
   use contact_sparse, only: sparse_exchange
-  use contact_interface, only: contact_t
+  use contact_interface, only: contact_t, contact_record_room
   implicit none
   private
   public :: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, share_records_locally
@@ -429,6 +429,7 @@ contains
     end do
     order = keys
     call merge_sort_ascending(order)
+    call contact_record_room(c, n)   ! rows holds them all: what c%record_* held may go
     do i = 1, n
       j = sorted_position(order, keys(i))
       c%candidates(:, j) = [nint(rows(2, i)), 0, nint(rows(1, i))]

@@ -25,7 +25,7 @@ module contact_parallel
   use traffic_counter, only: traffic_t, count_allgather, count_allreduce
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
                                contact_restore, contact_activity_update, contact_all_idle, contact_count_activity, &
-                               contact_sort_pass
+                               contact_sort_pass, contact_search_room
   use contact_activity, only: extent_width, extent_empty, side_extent
   use contact_stages, only: contact_global_search, contact_candidates, contact_local_search, contact_sum, &
                             contact_end
@@ -72,6 +72,7 @@ contains
     type(MPI_Comm), intent(in) :: comm
     real(wp), intent(in) :: mass(:), v(:, :), dt
     logical, intent(in) :: gather_all
+    integer :: n_slaves, p
     pc%comm = comm
     call contact_setup(deck, pc%c)
     call node_set_setup(dom, comm, pc%c%global_node, pc%nodes)
@@ -87,12 +88,18 @@ contains
     pc%at(pc%nodes%owned_member) = pc%nodes%local(pc%nodes%owned_member)
     allocate (pc%extents(extent_width, 2 * size(pc%c%passes)))
     allocate (pc%v_before(3, pc%c%n_nodes), source=0.0_wp)
-    call record_share_setup(size(pc%c%record_nodes, 2), dom%n_ranks, pc%records)
-    call candidate_share_setup(dom%n_ranks, pc%candidates)
     ! more than one rank: local contact, unless every contact node is to be gathered (the
     ! replicated scheme, kept as the reference that takes no shortcut)
     pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
-    if (pc%c%local) call neighbours_setup(pc%nb, pc%c, dom, comm, pc%nodes%local, pc%nodes%owned_member)
+    if (pc%c%local) then   ! its own slaves searched here; the records it receives get room as they come
+      call neighbours_setup(pc%nb, pc%c, dom, comm, pc%nodes%local, pc%nodes%owned_member)
+      call contact_search_room(pc%c, 1 + sum([(size(pc%c%passes(p)%own_slaves), p = 1, size(pc%c%passes))]), 0)
+    else                   ! every slave of every pass
+      n_slaves = 1 + sum([(size(pc%c%passes(p)%slaves), p = 1, size(pc%c%passes))])
+      call contact_search_room(pc%c, n_slaves, n_slaves)
+      call record_share_setup(n_slaves, dom%n_ranks, pc%records)
+      call candidate_share_setup(dom%n_ranks, pc%candidates)
+    end if
   end subroutine parallel_contact_setup
 
   !> Contact forces at the positions x (local nodes) of this cycle. Communication time goes to
