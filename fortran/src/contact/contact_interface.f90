@@ -90,14 +90,15 @@ module contact_interface
     ! candidates of the step's passes: n_own found here, n_all shared by every rank (the caller
     ! fills all_pairs), n_candidates in pass order and, within a pass, slave order; pairs are
     ! (slave index, master index, pass)
-    integer, allocatable :: nearest(:)          !< workspace, one per slave of all passes
+    integer, allocatable :: nearest(:)          !< workspace, one per slave searched here (contact_search_room)
     integer, allocatable :: own_pairs(:, :), all_pairs(:, :), candidates(:, :)  !< (3, n)
     integer, allocatable :: pass_pairs(:, :)    !< (2, n) workspace: one pass's shared pairs
     integer :: n_own = 0, n_all = 0, n_candidates = 0
     integer :: first = 1, last = 0              !< this rank's block of the candidates
     ! counts over the run: sorts, passes run, candidates (all ranks), local searches on this rank
     integer(i8) :: n_sorts = 0, n_pass_steps = 0, candidates_total = 0, candidates_searched = 0
-    ! per-candidate records, reused every step
+    ! per-candidate records, reused every step: room for every slave of every pass, or (local
+    ! contact) for this rank's own slaves, grown as the records it receives need (contact_record_room)
     integer, allocatable :: record_nodes(:, :) !< (5, n) slave then the 4 master nodes, 0 = none
     real(wp), allocatable :: record_force(:, :, :)  !< (3, 5, n)
     real(wp), allocatable :: record_penetration(:)  !< (n)
@@ -169,8 +170,9 @@ contains
     call contact_record_room(c, n_search)
   end subroutine contact_search_room
 
-  !> Candidates and records for at least n (a half more than asked when they grow, so that a
-  !> growing contact reallocates seldom); what they held is not kept.
+  !> Candidates and records for at least n: at set-up, cleared; grown (a half more than asked, so
+  !> that a growing contact reallocates seldom), neither cleared nor kept: the caller writes the
+  !> first n, and no stage reads past n_candidates, so only the room used is ever touched.
   subroutine contact_record_room(c, n)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: n
@@ -179,11 +181,11 @@ contains
       if (size(c%candidates, 2) >= n) return
       room = max(n, size(c%candidates, 2) + size(c%candidates, 2) / 2)
       deallocate (c%candidates, c%record_nodes, c%record_force, c%record_penetration)
+      allocate (c%candidates(3, room), c%record_nodes(5, room), c%record_force(3, 5, room), c%record_penetration(room))
     else
-      room = n
+      allocate (c%candidates(3, n), c%record_nodes(5, n), source=0)
+      allocate (c%record_force(3, 5, n), c%record_penetration(n), source=0.0_wp)
     end if
-    allocate (c%candidates(3, room), c%record_nodes(5, room), source=0)
-    allocate (c%record_force(3, 5, room), c%record_penetration(room), source=0.0_wp)
   end subroutine contact_record_room
 
   !> Start a step: keep the last forces, redo the bucket sorts if sort (contact_sort_due; the

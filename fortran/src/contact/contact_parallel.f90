@@ -27,6 +27,7 @@ module contact_parallel
                                contact_restore, contact_activity_update, contact_all_idle, contact_count_activity, &
                                contact_sort_pass, contact_search_room
   use contact_activity, only: extent_width, extent_empty, side_extent
+  use contact_pass, only: pass_near_lists
   use contact_stages, only: contact_global_search, contact_candidates, contact_local_search, contact_sum, &
                             contact_end
   use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, &
@@ -94,9 +95,15 @@ contains
     if (pc%c%local) then   ! its own slaves searched here; the records it receives get room as they come
       call neighbours_setup(pc%nb, pc%c, dom, comm, pc%nodes%local, pc%nodes%owned_member)
       call contact_search_room(pc%c, 1 + sum([(size(pc%c%passes(p)%own_slaves), p = 1, size(pc%c%passes))]), 0)
+      do p = 1, size(pc%c%passes)
+        call pass_near_lists(pc%c%passes(p), own=.true.)
+      end do
     else                   ! every slave of every pass
       n_slaves = 1 + sum([(size(pc%c%passes(p)%slaves), p = 1, size(pc%c%passes))])
       call contact_search_room(pc%c, n_slaves, n_slaves)
+      do p = 1, size(pc%c%passes)
+        call pass_near_lists(pc%c%passes(p), own=.false.)
+      end do
       call record_share_setup(n_slaves, dom%n_ranks, pc%records)
       call candidate_share_setup(dom%n_ranks, pc%candidates)
     end if

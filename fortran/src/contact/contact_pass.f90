@@ -17,7 +17,7 @@ module contact_pass
   use paradyn_schema, only: initial_penetration_gap
   implicit none
   private
-  public :: contact_pass_t, pass_between_parts
+  public :: contact_pass_t, pass_between_parts, pass_near_lists
 
   type :: contact_pass_t
     integer :: pair = 0                        !< the contact definition (deck entry) it comes from
@@ -50,7 +50,10 @@ module contact_pass
     ! sort fell while it was idle, so its grid is rebuilt from the positions of that sort on waking
     logical :: idle = .false., stale = .false.
     type(bucket_grid_t) :: grid
-    type(near_lists_t) :: near                 !< each slave's nearby master nodes (nearest_cache)
+    type(near_lists_t) :: near                 !< nearby master nodes (nearest_cache) of each slave searched here
+    !> local contact: each slave's list in near, its place among own_slaves (0: not own, no list);
+    !> elsewhere (not allocated) slave j has list j
+    integer, allocatable :: near_slot(:)
     !> each slave's clearance (contact_stages): at sort number clear_sort, when the contact moved
     !> clear_moved since that sort, every segment around master clear_master was at least clear_gap
     !> farther from the slave than it could touch
@@ -95,7 +98,6 @@ contains
     allocate (pass%x_sorted(3, size(pass%masters)), source=0.0_wp)
     pass%near_slaves = [(e, e = 1, size(pass%slaves))]
     pass%n_near = size(pass%slaves)
-    call near_lists_setup(size(pass%slaves), pass%near)
     allocate (pass%clear_master(size(pass%slaves)), source=0)
     allocate (pass%clear_sort(size(pass%slaves)), source=-1_i8)
     allocate (pass%clear_gap(size(pass%slaves)), pass%clear_moved(size(pass%slaves)), source=0.0_wp)
@@ -110,6 +112,21 @@ contains
       call slave_penetrations(deck%coordinates, slave_nodes, deck%connectivity(:, elements), pass%t_slave, &
                               pass%t_master, pass%overlap, push)
   end subroutine pass_between_parts
+
+  !> The lists of nearby master nodes of the slaves this rank searches: every slave, or (own, local
+  !> contact) the slaves it owns, own_slaves, alone.
+  subroutine pass_near_lists(pass, own)
+    type(contact_pass_t), intent(inout) :: pass
+    logical, intent(in) :: own
+    integer :: i
+    if (own) then
+      allocate (pass%near_slot(size(pass%slaves)), source=0)
+      pass%near_slot(pass%own_slaves) = [(i, i = 1, size(pass%own_slaves))]
+      call near_lists_setup(size(pass%own_slaves), pass%near)
+    else
+      call near_lists_setup(size(pass%slaves), pass%near)
+    end if
+  end subroutine pass_near_lists
 
   !> For each slave, the master indices of the nodes of the master segments that contain it (none
   !> where the slave and master parts share no node).

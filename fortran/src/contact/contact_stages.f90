@@ -162,11 +162,11 @@ contains
     if (pass%shares_nodes) then
       excluded = pass%held_index(pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
       excluded = pack(excluded, excluded > 0)
-      call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
+      call nearest_master_listed(pass%near, pass%near_slot(j), pass%grid, pass%x_sorted, x, &
                                  pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, &
                                  found, excluded=excluded)
     else
-      call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
+      call nearest_master_listed(pass%near, pass%near_slot(j), pass%grid, pass%x_sorted, x, &
                                  pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, found)
     end if
     if (found > 0) found = pass%held_masters(found)
