@@ -95,7 +95,7 @@ contains
     allocate (pass%segment_start(n_contact + 1), pass%segment_list(4 * size(elements)))
     call node_segment_map(int(n_contact, ip), int(size(elements), ip), pass%segments, pass%segment_start, &
                           pass%segment_list, n_entries)
-    allocate (pass%x_sorted(3, size(pass%masters)), source=0.0_wp)
+    allocate (pass%x_sorted(3, 0))   ! each sort gives it the masters it sorts (contact_sort_pass)
     pass%near_slaves = [(e, e = 1, size(pass%slaves))]
     pass%n_near = size(pass%slaves)
     allocate (pass%clear_master(size(pass%slaves)), source=0)
