@@ -43,7 +43,7 @@ module contact_interface
   public :: contact_begin, contact_sort_due, contact_movement
   public :: contact_restore, contact_sort_pass
   public :: contact_activity_update, contact_all_idle, contact_count_activity
-  public :: clock_seconds, contact_search_room, contact_record_room
+  public :: clock_seconds
 
   !> The wall clock the phases are timed with (the solver passes MPI_Wtime's wrapper).
   abstract interface
@@ -156,37 +156,6 @@ contains
     allocate (c%pair_active_cycles(deck%n_contacts), c%pair_skipped_cycles(deck%n_contacts), source=0_i8)
     allocate (c%definition_force(3, deck%n_contacts), source=0.0_wp)
   end subroutine contact_setup
-
-  !> Room for the global search of n_search slaves (their nearest masters and pairs) and for
-  !> n_shared pairs shared by every rank (the replicated scheme; 0 otherwise), and records for
-  !> n_search candidates: every slave of every pass on one rank and in the replicated scheme, a
-  !> rank's own slaves under local contact (whose records it receives are made room for as they
-  !> come, contact_record_room), so that no rank fills more than it uses.
-  subroutine contact_search_room(c, n_search, n_shared)
-    type(contact_t), intent(inout) :: c
-    integer, intent(in) :: n_search, n_shared
-    allocate (c%nearest(n_search), c%own_pairs(3, n_search), source=0)
-    allocate (c%all_pairs(3, n_shared), c%pass_pairs(2, n_shared), source=0)
-    call contact_record_room(c, n_search)
-  end subroutine contact_search_room
-
-  !> Candidates and records for at least n: at set-up, cleared; grown (a half more than asked, so
-  !> that a growing contact reallocates seldom), neither cleared nor kept: the caller writes the
-  !> first n, and no stage reads past n_candidates, so only the room used is ever touched.
-  subroutine contact_record_room(c, n)
-    type(contact_t), intent(inout) :: c
-    integer, intent(in) :: n
-    integer :: room
-    if (allocated(c%candidates)) then
-      if (size(c%candidates, 2) >= n) return
-      room = max(n, size(c%candidates, 2) + size(c%candidates, 2) / 2)
-      deallocate (c%candidates, c%record_nodes, c%record_force, c%record_penetration)
-      allocate (c%candidates(3, room), c%record_nodes(5, room), c%record_force(3, 5, room), c%record_penetration(room))
-    else
-      allocate (c%candidates(3, n), c%record_nodes(5, n), source=0)
-      allocate (c%record_force(3, 5, n), c%record_penetration(n), source=0.0_wp)
-    end if
-  end subroutine contact_record_room
 
   !> Start a step: keep the last forces, redo the bucket sorts if sort (contact_sort_due; the
   !> positions of all contact nodes are then current). Only the nodes touched in the last two

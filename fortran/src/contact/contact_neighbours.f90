@@ -16,7 +16,8 @@ module contact_neighbours
   use integer_sort, only: merge_sort_ascending, sorted_position
   use traffic_counter, only: traffic_t, count_messages, count_allgather
   use contact_sparse, only: sparse_exchange
-  use contact_interface, only: contact_t, contact_record_room
+  use contact_interface, only: contact_t
+  use contact_room, only: contact_record_room
   implicit none
   private
   public :: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, share_records_locally

@@ -25,7 +25,8 @@ module contact_parallel
   use traffic_counter, only: traffic_t, count_allgather, count_allreduce
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
                                contact_restore, contact_activity_update, contact_all_idle, contact_count_activity, &
-                               contact_sort_pass, contact_search_room
+                               contact_sort_pass
+  use contact_room, only: contact_search_room
   use contact_activity, only: extent_width, extent_empty, side_extent
   use contact_pass, only: pass_near_lists
   use contact_stages, only: contact_global_search, contact_candidates, contact_local_search, contact_sum, &
