@@ -101,8 +101,9 @@ contains
   pure real(wp) function exact_value(acc_in) result(x)
     integer(i8), intent(in) :: acc_in(exact_width)
     integer(i8) :: acc(exact_width), q
-    integer :: top, length, p
+    integer :: top, length, low, i, o
     logical :: negative, guard, sticky
+    x = 0.0_wp
     if (acc_in(nan_at) > 0 .or. (acc_in(plus_inf_at) > 0 .and. acc_in(minus_inf_at) > 0)) then
       x = ieee_value(x, ieee_quiet_nan)
       return
@@ -112,6 +113,8 @@ contains
     else if (acc_in(minus_inf_at) > 0) then
       x = ieee_value(x, ieee_negative_inf)
       return
+    else if (all(acc_in(1:n_limbs) == 0)) then
+      return
     end if
     acc = acc_in
     call exact_normalise(acc)
@@ -120,7 +123,6 @@ contains
       acc(1:n_limbs) = -acc(1:n_limbs)
       call exact_normalise(acc)
     end if
-    x = 0.0_wp
     do top = n_limbs, 1, -1
       if (acc(top) /= 0) exit
     end do
@@ -131,28 +133,22 @@ contains
       q = acc(1)
       if (top == 2) q = q + ishft(acc(2), limb_bits)
       x = scale(real(q, wp), -1074)
-    else                             ! the top 53 bits, then round to nearest, ties to even
-      q = 0
-      do p = length - 1, length - 53, -1
-        q = 2 * q + merge(1_i8, 0_i8, bit_at(acc, p))
-      end do
-      guard = bit_at(acc, length - 54)
-      sticky = .false.
-      do p = length - 55, limb_bits * ((length - 54) / limb_bits), -1
-        sticky = sticky .or. bit_at(acc, p)
-      end do
-      sticky = sticky .or. any(acc(1:(length - 54) / limb_bits) /= 0)
-      if (guard .and. (sticky .or. btest(q, 0))) q = q + 1
-      x = scale(real(q, wp), length - 53 - 1074)
+    else                             ! the top 53 bits, from bit `low` on, then round
+      low = length - 53
+      i = low / limb_bits + 1
+      o = mod(low, limb_bits)
+      q = ishft(acc(i), -o)
+      if (i + 1 <= top) q = q + ishft(acc(i + 1), limb_bits - o)
+      if (i + 2 <= top) q = q + ishft(acc(i + 2), 2 * limb_bits - o)
+      ! the guard bit (just below the 53) and whether any bit below it is set
+      i = (low - 1) / limb_bits + 1
+      o = mod(low - 1, limb_bits)
+      guard = btest(acc(i), o)
+      sticky = iand(acc(i), ishft(1_i8, o) - 1) /= 0 .or. any(acc(1:i - 1) /= 0)
+      if (guard .and. (sticky .or. btest(q, 0))) q = q + 1   ! to nearest, ties to even
+      x = scale(real(q, wp), low - 1074)
     end if
     if (negative) x = -x
   end function exact_value
-
-  !> Bit p (0 = the unit 2^-1074) of a normalised, non-negative accumulator.
-  pure logical function bit_at(acc, p)
-    integer(i8), intent(in) :: acc(exact_width)
-    integer, intent(in) :: p
-    bit_at = btest(acc(p / limb_bits + 1), mod(p, limb_bits))
-  end function bit_at
 
 end module exact_sum
