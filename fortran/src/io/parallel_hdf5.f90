@@ -5,7 +5,7 @@
 module parallel_hdf5
   use, intrinsic :: iso_c_binding, only: c_loc, c_ptr
   use hdf5
-  use mpi_f08, only: MPI_Comm, MPI_INFO_NULL
+  use mpi_f08, only: MPI_Comm, MPI_Info, MPI_Info_create, MPI_Info_set, MPI_Info_free
   use paradyn_kinds, only: wp, i8
   implicit none
   private
@@ -14,6 +14,9 @@ module parallel_hdf5
   public :: write_long_array_attribute, write_real_array_attribute, read_long_attribute
   public :: write_int_attribute, write_long_attribute, write_real_attribute, read_int_attribute, read_real_attribute
   public :: read_real_array_attribute
+
+  !> The MPI-IO hint cb_buffer_size of every file (bytes, as the hint's text): 4 MiB.
+  character(len=*), parameter :: collective_buffer_bytes = '4194304'
 
   !> The global rows (node or element ids) a rank reads or writes, as runs of consecutive ids.
   type :: row_runs_t
@@ -53,8 +56,16 @@ contains
     integer, intent(out) :: err
     integer(hid_t) :: access
     integer :: ignored
+    type(MPI_Info) :: hints
+    ! the MPI-IO layer's collective buffer: an aggregator rank (rank 0 among them) gathers the
+    ! ranks' rows of a collective write in cycles of this many bytes, so its memory stays within
+    ! it whatever the mesh (the libraries' defaults, 16 or 32 MiB, grow in with the global mesh
+    ! until reached; docs/performance.md, "Beyond one machine")
+    call MPI_Info_create(hints)
+    call MPI_Info_set(hints, 'cb_buffer_size', collective_buffer_bytes)
     call h5pcreate_f(H5P_FILE_ACCESS_F, access, ignored)
-    call h5pset_fapl_mpio_f(access, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, ignored)
+    call h5pset_fapl_mpio_f(access, comm%MPI_VAL, hints%MPI_VAL, ignored)   ! HDF5 keeps a copy
+    call MPI_Info_free(hints)
     select case (mode)
     case ('create')
       call h5fcreate_f(path, H5F_ACC_TRUNC_F, file, err, access_prp=access)
