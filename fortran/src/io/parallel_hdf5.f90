@@ -5,7 +5,7 @@
 module parallel_hdf5
   use, intrinsic :: iso_c_binding, only: c_loc, c_ptr
   use hdf5
-  use mpi_f08, only: MPI_Comm, MPI_INFO_NULL
+  use mpi_f08, only: MPI_Comm, MPI_INFO_NULL, MPI_Comm_size
   use paradyn_kinds, only: wp, i8
   implicit none
   private
@@ -52,9 +52,11 @@ contains
     integer(hid_t), intent(out) :: file, transfer
     integer, intent(out) :: err
     integer(hid_t) :: access
-    integer :: ignored
+    integer :: ignored, n_ranks
+    call MPI_Comm_size(comm, n_ranks)
     call h5pcreate_f(H5P_FILE_ACCESS_F, access, ignored)
-    call h5pset_fapl_mpio_f(access, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, ignored)
+    ! one rank: the POSIX driver; MPI-IO would load its components and make lock and shared files
+    if (n_ranks > 1) call h5pset_fapl_mpio_f(access, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, ignored)
     select case (mode)
     case ('create')
       call h5fcreate_f(path, H5F_ACC_TRUNC_F, file, err, access_prp=access)
@@ -65,7 +67,7 @@ contains
     end select
     call h5pclose_f(access, ignored)
     call h5pcreate_f(H5P_DATASET_XFER_F, transfer, ignored)
-    call h5pset_dxpl_mpio_f(transfer, H5FD_MPIO_COLLECTIVE_F, ignored)
+    if (n_ranks > 1) call h5pset_dxpl_mpio_f(transfer, H5FD_MPIO_COLLECTIVE_F, ignored)
   end subroutine phdf5_open
 
   subroutine phdf5_close(file, transfer)
@@ -105,6 +107,9 @@ contains
     call h5pset_chunk_f(plist, size(chunk), chunk, err)
     ! every entry is written before it is read: no fill values (parallel HDF5 writes them at each extension)
     call h5pset_fill_time_f(plist, H5D_FILL_TIME_NEVER_F, err)
+    ! chunks made when the dataset grows, as parallel HDF5 requires: a file one rank wrote
+    ! (POSIX driver) continues on several (a restart on another layout)
+    call h5pset_alloc_time_f(plist, H5D_ALLOC_TIME_EARLY_F, err)
     call h5dcreate_f(loc, name, H5T_NATIVE_DOUBLE, space, dset, err, plist)
     call h5dclose_f(dset, err)
     call h5pclose_f(plist, err)
