@@ -101,7 +101,8 @@ contains
     integer :: err
     dims = [fixed, 0_hsize_t]
     maxdims = [fixed, H5S_UNLIMITED_F]
-    chunk = [max(fixed, 1_hsize_t), merge(64_hsize_t, 1_hsize_t, size(fixed) == 0)]
+    ! rows of about 4 KiB per chunk (1 to 64): a history row of a few numbers is not a chunk of its own
+    chunk = [max(fixed, 1_hsize_t), max(1_hsize_t, min(64_hsize_t, 512_hsize_t / max(1_hsize_t, product(fixed))))]
     call h5screate_simple_f(size(dims), dims, space, err, maxdims)
     call h5pcreate_f(H5P_DATASET_CREATE_F, plist, err)
     call h5pset_chunk_f(plist, size(chunk), chunk, err)
