@@ -45,7 +45,8 @@ def test_a_scene_starts_loading_gmsh_on_another_thread_and_a_deck_does_not() -> 
     while the main thread goes on; a deck starts nothing."""
     code = ("import sys, threading; from paradyn import commands; "
             "commands._preload_mesher(['deck.h5', '-o', 'out']); assert threading.active_count() == 1; "
-            "commands._preload_mesher(['scene.toml']); [t] = [t for t in threading.enumerate() if t.name == 'preload-gmsh']; "
+            "commands._preload_mesher(['scene.toml']); "
+            "[t] = [t for t in threading.enumerate() if t.name == 'preload-gmsh']; "
             "t.join(); assert 'gmsh' in sys.modules and sys.modules['gmsh'].lib is not None; print('ok')")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert result.stdout.strip() == "ok"
