@@ -40,18 +40,6 @@ def test_the_commands_ask_for_one_openblas_thread_unless_the_user_chose(monkeypa
     assert os.environ["OPENBLAS_NUM_THREADS"] == "4"
 
 
-def test_a_scene_starts_loading_gmsh_on_another_thread_and_a_deck_does_not() -> None:
-    """In a fresh interpreter: a .toml argument starts the preload thread, which imports gmsh
-    while the main thread goes on; a deck starts nothing."""
-    code = ("import sys, threading; from paradyn import commands; "
-            "commands._preload_mesher(['deck.h5', '-o', 'out']); assert threading.active_count() == 1; "
-            "commands._preload_mesher(['scene.toml']); "
-            "[t] = [t for t in threading.enumerate() if t.name == 'preload-gmsh']; "
-            "t.join(); assert 'gmsh' in sys.modules and sys.modules['gmsh'].lib is not None; print('ok')")
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert result.stdout.strip() == "ok"
-
-
 def test_each_command_runs_its_tool(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(sys, "argv", ["paradyn-run", "--version"])
     with pytest.raises(SystemExit) as stop:

@@ -10,10 +10,6 @@ paused: it otherwise ran 76 times while they loaded, walking a heap that grows t
 objects, a sixth of their time (docs/performance.md, "Fixed costs"). What they made is then frozen
 (:func:`gc.freeze`), out of every later collection's way, and the collector resumes for the run.
 
-A command given a scene (``.toml``) starts importing gmsh on a second thread first: loading its
-90 MB library is 14 ms that ctypes runs without the interpreter lock, beside numpy's import on
-this thread (docs/performance.md, "Fixed costs"); the meshing's own import then finds it loaded.
-
 A command ends with :func:`os._exit` once its streams are flushed: every file it wrote is closed
 by then, and the interpreter's own clean-up (tearing down numpy, h5py and gmsh module by module)
 took 25 ms of every ``paradyn-run`` (docs/performance.md, "Fixed costs"). Inside Python call
@@ -24,10 +20,8 @@ from __future__ import annotations
 
 import contextlib
 import gc
-import importlib
 import os
 import sys
-import threading
 from collections.abc import Callable, Iterator
 from typing import NoReturn
 
@@ -39,7 +33,6 @@ def _settle_environment() -> None:
 def paradyn_run() -> NoReturn:
     """``paradyn-run``: :func:`paradyn.cli.main`."""
     _settle_environment()
-    _preload_mesher(sys.argv[1:])
     with _collector_paused():
         from .cli import main
 
@@ -49,7 +42,6 @@ def paradyn_run() -> NoReturn:
 def paradyn_study() -> NoReturn:
     """``paradyn-study``: :func:`paradyn.study_cli.main`."""
     _settle_environment()
-    _preload_mesher(sys.argv[1:])
     with _collector_paused():
         from .study_cli import main
 
@@ -63,17 +55,6 @@ def paradyn_scaling() -> NoReturn:
         from .benchmark import main
 
     _leave(_run(main))
-
-
-def _preload_mesher(arguments: list[str]) -> None:
-    """Import gmsh on a daemon thread when a scene is among ``arguments``."""
-    if any(argument.endswith(".toml") for argument in arguments):
-        threading.Thread(target=_import_quietly, args=("gmsh",), name="preload-gmsh", daemon=True).start()
-
-
-def _import_quietly(module: str) -> None:
-    with contextlib.suppress(Exception):   # the meshing's own import reports what went wrong
-        importlib.import_module(module)
 
 
 @contextlib.contextmanager
