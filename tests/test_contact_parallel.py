@@ -47,6 +47,7 @@ def layouts(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[int, int], d
                 "displacement": f["/frames/displacement"][()], "velocity": f["/frames/velocity"][()],
                 "contact_energy": f["/history/contact_energy"][()],
                 "contact_penetration": f["/history/contact_penetration"][()],
+                "contact_force": f["/history/contact_force"][()],
                 "layout": (int(f["/run"].attrs["ranks"]), int(f["/run"].attrs["threads"])),
             }
     return out
@@ -59,10 +60,11 @@ def test_contact_is_bitwise_independent_of_the_decomposition(layouts, layout):
     and slave order (local contact), so the frames of an
     oblique plate impact with friction (offset meshes, mu = 0.3, default step, 40 us, frames
     every 2 us) are bitwise equal on 1 rank x 1 thread, 2 and 4 ranks and 1 rank x 2 threads,
-    and so are the contact energy and penetration histories."""
+    and so are the contact energy, penetration and definition force histories (exact sums of
+    every rank's terms, core/exact_sum: the same bits in any order)."""
     reference, data = layouts[(1, 1)], layouts[layout]
     assert data["layout"] == layout
-    for key in ("displacement", "velocity", "contact_energy", "contact_penetration"):
+    for key in ("displacement", "velocity", "contact_energy", "contact_penetration", "contact_force"):
         assert data[key].shape == reference[key].shape, key
         assert np.array_equal(data[key], reference[key]), key
     assert reference["contact_penetration"].max() > 0.0
@@ -107,6 +109,7 @@ def sliding(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[int, int, st
                 "displacement": f["/frames/displacement"][()], "velocity": f["/frames/velocity"][()],
                 "contact_energy": f["/history/contact_energy"][()],
                 "contact_penetration": f["/history/contact_penetration"][()],
+                "contact_force": f["/history/contact_force"][()],
                 "log": _contact_log(folder / f"engine_{name}.log"),
             }
     return out
@@ -118,14 +121,14 @@ def test_gathering_only_the_nodes_near_contact_changes_nothing(sliding, layout):
     """docs/theory.md (parallel contact): on one rank, between sorts only the contact nodes that
     can come into contact before the next sort are read; on several, each rank holds only the
     master segments of other ranks near its own slaves (ghosts, chosen anew at each sort) and
-    the records go only to the ranks that hold their nodes (and rank 0). Reference: 1 rank x 1
+    the records go only to the ranks that hold their nodes. Reference: 1 rank x 1
     thread; the replicated scheme (/control contact_gather = "all", every contact node on every
     rank) on 1, 2 and 3 ranks. A ghost missing would be read at a stale position and a record
-    missing would lose a force, so the frames, contact energy and penetration of the sliding
+    missing would lose a force, so the frames, contact energy, penetration and definition force of the sliding
     plate (many sorts, the slider crossing from one rank's elements onto another's, its ghosts
     coming and going) must be bitwise equal on 1, 2, 3 and 4 ranks and 2 threads."""
     reference, data = sliding[(1, 1, "subset")], sliding[layout]
-    for key in ("displacement", "velocity", "contact_energy", "contact_penetration"):
+    for key in ("displacement", "velocity", "contact_energy", "contact_penetration", "contact_force"):
         assert np.array_equal(data[key], reference[key]), key
     assert reference["contact_penetration"].max() > 0.0
     assert reference["log"][0]["sorts"] >= 10
@@ -168,10 +171,11 @@ def test_candidate_blocks_are_equal_on_every_rank(sliding, ranks):
 @pytest.mark.mpi
 def test_local_contact_restarts_bitwise(tmp_path: Path):
     """A checkpoint of the sliding plate written on 3 ranks while it touches the other (40 us;
-    contact from about 34 to 44 us): local contact keeps the last step's forces, their order in
-    the sum and the positions of the last sort on the ranks that hold them, and the checkpoint
-    gathers them. The run continues bitwise on 3 ranks and on 2: frames, contact energy and
-    penetration equal those of 1 rank x 1 thread uninterrupted."""
+    contact from about 34 to 44 us): local contact keeps the last step's forces, which nodes
+    carried one and the positions of the last sort on the ranks that hold them, and each rank
+    writes the rows of the contact nodes it owns. The run continues bitwise on 3 ranks and on 2:
+    frames, contact energy, penetration and definition force equal those of 1 rank x 1 thread
+    uninterrupted."""
     if shutil.which("mpirun") is None and shutil.which("mpiexec") is None:
         pytest.skip("mpirun is not installed")
     base = M.flat_plate((PLATE, PLATE), (N, N), origin=(-0.5 * PLATE, -0.5 * PLATE, 0.0))
@@ -182,9 +186,10 @@ def test_local_contact_restarts_bitwise(tmp_path: Path):
     deck_path = write_deck(asm.model, tmp_path / "deck.h5")
     launch.run_engine(deck_path, tmp_path / "reference.h5", 1, 1)
     launch.run_engine(deck_path, tmp_path / "results.h5", 3, 1)
-    with h5py.File(tmp_path / "results.checkpoint.h5", "r") as f:   # rows (node, 7): place in the sum last
+    with h5py.File(tmp_path / "results.checkpoint.h5", "r") as f:   # rows (node, 7): 1 if it carried a force
         assert 0 < f.attrs["time"] < 60.0e-6 and f["contact"][()][:, 6].max() > 0 and f.attrs["contact_energy"] > 0
-    names = ("/frames/displacement", "/frames/velocity", "/history/contact_energy", "/history/contact_penetration")
+    names = ("/frames/displacement", "/frames/velocity", "/history/contact_energy", "/history/contact_penetration",
+             "/history/contact_force")
     with h5py.File(tmp_path / "reference.h5", "r") as f:
         reference = {name: f[name][()] for name in names}
     assert reference["/history/contact_penetration"].max() > 0

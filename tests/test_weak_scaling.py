@@ -108,13 +108,17 @@ def test_local_contact_traffic_does_not_grow_with_the_ranks(tool, tmp_path: Path
     """Issue 19 item 5, docs/performance.md "Beyond one machine": with local contact a rank sends
     its ghosts and records only to the ranks near it, so from 4 to 8 ranks of the benchmark (each
     rank's plate on its own segment, every plate in contact) the most messages any rank sends per
-    step grow only by the rounds of the reductions (three per step: the step's minimum, the
-    contact's movement, the records' barrier; one round more each from 4 to 8), and the bytes it
-    sends stay within 10 %. Reference: the replicated scheme (/control contact_gather = "all"),
+    step grow only by the rounds of the reductions (four per step: the step's minimum, the
+    contact's movement, the records' barrier and the contact's exact sums; one round more each
+    from 4 to 8), and the bytes it
+    sends stay within 10 % but for the one round more of the exact sums' reduction (a block of
+    71 integers of 8 bytes per sum, core/exact_sum.f90: the energy and 3 for the one definition,
+    and the penetration). Reference: the replicated scheme (/control contact_gather = "all"),
     whose five allgathers per step add at least 5 x 4 messages per rank from 4 to 8 ranks."""
+    sums_round = 8 * (71 * (1 + 3) + 1)
     local = {ranks: _contact_traffic(tool, tmp_path, ranks, None) for ranks in (4, 8)}
     replicated = {ranks: _contact_traffic(tool, tmp_path, ranks, "all") for ranks in (4, 8)}
     assert replicated[8]["messages_per_step"] - replicated[4]["messages_per_step"] >= 20.0
-    assert local[8]["messages_per_step"] - local[4]["messages_per_step"] <= 4.0
-    assert local[8]["bytes_sent_per_step"] <= 1.1 * local[4]["bytes_sent_per_step"]
+    assert local[8]["messages_per_step"] - local[4]["messages_per_step"] <= 5.0
+    assert local[8]["bytes_sent_per_step"] <= 1.1 * local[4]["bytes_sent_per_step"] + sums_round
     assert local[8]["messages_per_step"] < replicated[8]["messages_per_step"] / 2

@@ -5,7 +5,8 @@ OLD and NEW are paradyn-engine binaries (for example one built from an earlier c
 engines, old first in odd rounds and new first in even ones, so drifts of a shared machine fall on
 both; each run's engine wall time is ``/run wall_s`` of its results file, its element phase
 ``/run phase_elements_s``, its contact phase ``/run phase_contact_s`` and that phase's stages
-(sort, search, force). Prints, per layout and for each time, the medians, the spread (lowest and
+(sort, search, force), its output phase and its set-up (``/run phase_output_s``, ``setup_s``).
+Prints, per layout and for each time, the medians, the spread (lowest and
 highest) and the median of the per-round ratios old/new (above 1: NEW is faster), with their
 range. DECK may be two decks, OLD_DECK,NEW_DECK, one per engine: the double and the mixed engine
 each take only a deck of their precision (/control precision), the same model otherwise.
@@ -26,7 +27,7 @@ from paradyn.launch import current_machine
 from paradyn.runners import MpirunRunner
 
 TIMES = ("wall_s", "phase_elements_s", "phase_contact_s", "phase_contact_sort_s", "phase_contact_search_s",
-         "phase_contact_force_s")
+         "phase_contact_force_s", "phase_output_s", "setup_s")
 
 
 def run_once(engine: str, deck: Path, out: Path, ranks: int, threads: int) -> tuple[float, ...]:

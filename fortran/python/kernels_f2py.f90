@@ -459,3 +459,27 @@ subroutine pressure_element(x_start, x, p_start, p_end, corner, work)
   call pressure_corner_forces([1], reshape([1, 2, 3, 4], [4, 1]), x, p_end, corner, f_previous, &
                               x_sum_previous, .true., work)
 end subroutine pressure_element
+
+! The exact sum of x (core/exact_sum) as the engine takes it over ranks: the terms dealt cyclically
+! to `parts` accumulators (parts = 1: one accumulator), each normalised, the accumulators added
+! limb by limb (what MPI_Allreduce with MPI_SUM does), the total rounded once to nearest.
+subroutine exact_sum_split(n, x, parts, total)
+  use paradyn_kinds, only: wp, i8
+  use exact_sum, only: exact_width, exact_add, exact_normalise, exact_value
+  implicit none
+  integer, intent(in) :: n, parts
+  real(wp), intent(in) :: x(n)
+  real(wp), intent(out) :: total
+  integer(i8) :: acc(exact_width, max(parts, 1)), whole(exact_width)
+  integer :: i
+  acc = 0
+  do i = 1, n
+    call exact_add(acc(:, mod(i - 1, max(parts, 1)) + 1), x(i))
+  end do
+  whole = 0
+  do i = 1, max(parts, 1)
+    call exact_normalise(acc(:, i))
+    whole = whole + acc(:, i)
+  end do
+  total = exact_value(whole)
+end subroutine exact_sum_split

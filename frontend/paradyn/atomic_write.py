@@ -47,11 +47,12 @@ def replacing(path: str | Path) -> Iterator[Path]:
 
 
 def write_text_atomic(path: str | Path, text: str) -> Path:
-    """Write ``text`` (UTF-8, ``\\n`` line ends) to ``path`` atomically and synced to disk; return
-    the path."""
+    """Write ``text`` (UTF-8, ``\\n`` line ends) to ``path`` atomically; return the path.
+
+    Not synced to disk, as no derived output is (the VTK files neither): they are made from
+    ``results.h5``, which the engine syncs, and ``paradyn-post`` writes them again.
+    """
     path = Path(path)
     with replacing(path) as temporary, open(temporary, "w", encoding="utf-8", newline="\n") as stream:
         stream.write(text)
-        stream.flush()
-        os.fsync(stream.fileno())
     return path

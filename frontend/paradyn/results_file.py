@@ -7,6 +7,7 @@ that names the file, the dataset and what to do. :mod:`paradyn.reading` builds t
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -21,6 +22,8 @@ SUPPORTED_RESULTS_VERSIONS = (1,)
 TRACKED_COMPONENTS = ("dx", "dy", "dz", "vx", "vy", "vz")
 # the frame fields of schema/results.toml, under the names Results gives them (element_ dropped)
 FRAME_DATASETS = {name.removeprefix("element_"): f"/frames/{name}" for name in FRAME_FIELDS if name != "time"}
+# an open file, or some of its datasets by full path (_opened_datasets): what ``in`` and ``[]`` need
+Datasets = h5py.Group | Mapping[str, h5py.Dataset]
 
 
 @dataclass(frozen=True)
@@ -135,7 +138,7 @@ def read_mesh(h5: h5py.File, path: Path) -> dict[str, np.ndarray]:
 
 
 def _available_rows(
-    h5: h5py.File, names: dict[str, str], complete: bool, path: Path, group: str
+    h5: Datasets, names: dict[str, str], complete: bool, path: Path, group: str
 ) -> int:
     """Number of rows present in every dataset; a mismatch is an error in a complete file."""
     lengths = {name: (h5[ds].shape[0] if ds in h5 else 0) for name, ds in names.items()}
@@ -167,15 +170,16 @@ def read_frame_layout(
     return the times of the whole frames (an incomplete file may hold the time ahead of the
     fields: only frames written completely count)."""
     names = {"time": "/frames/time", **FRAME_DATASETS}
+    data = _opened_datasets(h5, "/frames")
     if complete:
         for ds in names.values():
-            _ensure(h5, ds, path)
-    n = _available_rows(h5, names, complete, path, "/frames")
+            _ensure(data, ds, path)
+    n = _available_rows(data, names, complete, path, "/frames")
     for name, tail in frame_tails(n_nodes, n_elements).items():
         ds = FRAME_DATASETS[name]
-        if ds in h5 and n > 0 and h5[ds].shape[1:] != tail:
-            raise ResultsError(_shape_error(path, ds, h5[ds].shape, tail))
-    return read_rows(h5, "/frames/time", n, (), path)
+        if ds in data and n > 0 and data[ds].shape[1:] != tail:
+            raise ResultsError(_shape_error(path, ds, data[ds].shape, tail))
+    return read_rows(data, "/frames/time", n, (), path)
 
 
 def read_history(h5: h5py.File, path: Path, complete: bool) -> dict[str, np.ndarray]:
@@ -185,34 +189,43 @@ def read_history(h5: h5py.File, path: Path, complete: bool) -> dict[str, np.ndar
         "tracked_displacement": "/history/tracked_displacement",
         "tracked_velocity": "/history/tracked_velocity",
     }
+    data = _opened_datasets(h5, "/history")
     if complete:
         for ds in energy.values():
-            _ensure(h5, ds, path)
-    present_tracked = {k: v for k, v in tracked.items() if v in h5}
-    n = _available_rows(h5, {**energy, **present_tracked}, complete, path, "/history")
-    out = {name: read_rows(h5, ds, n, (), path) for name, ds in energy.items()}
+            _ensure(data, ds, path)
+    present_tracked = {k: v for k, v in tracked.items() if v in data}
+    n = _available_rows(data, {**energy, **present_tracked}, complete, path, "/history")
+    out = {name: read_rows(data, ds, n, (), path) for name, ds in energy.items()}
     # deepest contact penetration (m); zeros for files written before the engine had contact
-    out["contact_penetration"] = read_rows(h5, "/history/contact_penetration", n, (), path)
+    out["contact_penetration"] = read_rows(data, "/history/contact_penetration", n, (), path)
     # the step from each record on and the element that sets it (docs/theory.md); files written
     # before the step followed the mesh have neither: dt reads as NaN and the element as -1
     for name in ("dt", "dt_stable"):
-        out[name] = (read_rows(h5, f"/history/{name}", n, (), path) if f"/history/{name}" in h5
+        out[name] = (read_rows(data, f"/history/{name}", n, (), path) if f"/history/{name}" in data
                      else np.full(n, np.nan))
-    out["dt_element"] = (read_rows(h5, "/history/dt_element", n, (), path) if "/history/dt_element" in h5
+    out["dt_element"] = (read_rows(data, "/history/dt_element", n, (), path) if "/history/dt_element" in data
                          else np.full(n, -1.0))
-    n_tracked = h5[tracked["tracked_displacement"]].shape[1] if present_tracked else 0
+    n_tracked = data[tracked["tracked_displacement"]].shape[1] if present_tracked else 0
     for name, ds in tracked.items():
-        out[name] = read_rows(h5, ds, n, (n_tracked, 3), path)
+        out[name] = read_rows(data, ds, n, (n_tracked, 3), path)
     # per part (n_records, n_parts) and per contact definition (n_records, n_contacts, 3); files
     # written before the engine had them read as no columns
     for name, tail in (("part_kinetic_energy", ()), ("part_internal_energy", ()), ("part_hourglass_energy", ()),
                        ("part_plastic_work", ()), ("contact_force", (3,))):
-        width = h5[f"/history/{name}"].shape[1] if f"/history/{name}" in h5 else 0
-        out[name] = read_rows(h5, f"/history/{name}", n, (width, *tail), path) if width else np.zeros((n, 0, *tail))
+        width = data[f"/history/{name}"].shape[1] if f"/history/{name}" in data else 0
+        out[name] = read_rows(data, f"/history/{name}", n, (width, *tail), path) if width else np.zeros((n, 0, *tail))
     return out
 
 
-def _ensure(h5: h5py.File, name: str, path: Path) -> None:
+def _opened_datasets(h5: h5py.File, group: str) -> Datasets:
+    """Every dataset of ``group``, opened once, by its full path: h5py looks a path up anew at
+    each ``in`` and ``[]`` (20 to 40 us each), which was most of reading a short history."""
+    if group not in h5:
+        return {}
+    return {f"{group}/{name}": item for name, item in h5[group].items() if isinstance(item, h5py.Dataset)}
+
+
+def _ensure(h5: Datasets, name: str, path: Path) -> None:
     if name not in h5:
         raise ResultsError(
             f"{path} says the run is complete but dataset {name} is missing; the file is "
@@ -225,7 +238,7 @@ def _shape_error(path: Path, name: str, shape: tuple[int, ...], tail: tuple[int,
     return f"{path}: dataset {name} has shape {shape}, expected {expected} (see docs/formats.md)"
 
 
-def read_rows(h5: h5py.File, name: str, n: int, tail: tuple[int, ...], path: Path) -> np.ndarray:
+def read_rows(h5: Datasets, name: str, n: int, tail: tuple[int, ...], path: Path) -> np.ndarray:
     """The first ``n`` rows of dataset ``name`` as float64 (zeros when it is absent)."""
     if name not in h5 or n == 0:
         return np.zeros((n, *tail), dtype=np.float64)

@@ -231,17 +231,9 @@ program paradyn_engine
   run%peak_memory_mb = largest_peak_memory_mb()
   call MPI_Bcast(setup_s, 1, MPI_DOUBLE_PRECISION, 0, comm)   ! rank 0's: attributes must agree
   run%setup_s = setup_s
-  if (results_failed(results)) then
-    ! HDF5 cannot close a file it cannot flush, and its clean-up at MPI_Finalize then crashes: the
-    ! file holds what was written before (complete = 0), so end here with the failure status
-    if (rank == 0) write (0, '(a)') 'paradyn-engine: error: cannot write '//trim(results_path)// &
-      ': the disk is full or the file system failed; the results file holds at most what was written '// &
-      'before (complete = 0; it may not open); free space and rerun (or --restart from the last checkpoint)'
-    flush (0)
-    flush (6)
-    call c_quick_exit(int(status_failure, c_int))
-  end if
+  if (results_failed(results)) call stop_on_full_disk()
   call results_finish(results, run, status == status_ok)
+  if (results_failed(results)) call stop_on_full_disk()   ! the end's own writes found the disk full
   if (status /= status_ok) call fail(status, trim(message))
   if (rank == 0) then
     write (*, '(a,i0,a,es13.6,a,f0.3,a,es11.4)') 'PARADYN-DONE cycles=', run%cycles, ' time=', solver%clock%time, &
@@ -322,6 +314,17 @@ contains
     mine = proc_kib('/proc/self/status', 'VmHWM:') / 1024.0_wp
     call MPI_Allreduce(mine, largest, 1, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
   end function largest_peak_memory_mb
+
+  !> HDF5 cannot close a file it cannot flush, and its clean-up at MPI_Finalize then crashes: the
+  !> file holds what was written before (complete = 0), so end here with the failure status.
+  subroutine stop_on_full_disk()
+    if (rank == 0) write (0, '(a)') 'paradyn-engine: error: cannot write '//trim(results_path)// &
+      ': the disk is full or the file system failed; the results file holds at most what was written '// &
+      'before (complete = 0; it may not open); free space and rerun (or --restart from the last checkpoint)'
+    flush (0)
+    flush (6)
+    call c_quick_exit(int(status_failure, c_int))
+  end subroutine stop_on_full_disk
 
   !> Rank 0 reads one line of standard input; every rank learns whether it was `go`.
   logical function go_given() result(go)

@@ -107,6 +107,9 @@ module contact_interface
     integer :: sort_interval = 0
     real(wp) :: energy = 0.0_wp, max_penetration = 0.0_wp
     real(wp), allocatable :: definition_force(:, :)   !< (3, definitions): force on each one's first part this step
+    ! the step's exact sums (exact_sum) of the energy's work and each definition's force, over this
+    ! rank's terms; with local contact added over the ranks before they are rounded
+    integer(i8), allocatable :: sums(:, :)           !< (exact_width, 1 + 3 definitions)
     real(wp) :: time_sort = 0, time_search = 0, time_force = 0
     ! activity (contact_activity): whether idle passes are skipped (not with gather_all, which
     ! takes no shortcut), the cycles of the next check and of the last, and per contact

@@ -5,9 +5,9 @@
 !> bucket since the last one: every rank's box of its own slaves per pass, one small allgather,
 !> then the ghosts, point to point in a sparse exchange), neighbours_update (every other step: the
 !> same ghosts from the same ranks) and share_records_locally (every step: each record by value to
-!> the holders of its five nodes and to rank 0, which keeps the whole sum for the energy). Every
-!> rank orders the records it has by pass and slave, the order of the serial sum, so each node's
-!> force is bitwise the serial one. Which ranks hold each contact node is set up once (one
+!> the holders of its five nodes; the energy and the definitions' forces are exact sums that every
+!> rank takes part in, contact_parallel). Every rank orders the records it has by pass and slave,
+!> the order of the serial sum, so each node's force is bitwise the serial one. Which ranks hold each contact node is set up once (one
 !> allgather); the contact state is still indexed by every contact node (docs/performance.md).
 module contact_neighbours
   use mpi_f08
@@ -45,7 +45,6 @@ module contact_neighbours
 
   integer, parameter :: ghost_width = 10      !< node, position at the sort, position, velocity
   integer, parameter :: record_width = 23     !< pass, slave, 5 nodes, 15 forces, penetration
-  integer, parameter :: root_width = record_width + 15   !< and the velocities of the 5 nodes (to rank 0)
   integer, parameter :: update_tag = 710
 
 contains
@@ -280,24 +279,20 @@ contains
   end subroutine neighbours_update
 
   !> The records this rank computed (its own slaves: c%record_*(1:c%n_candidates), empty where
-  !> node 1 is 0) go to the ranks whose domains hold one of their nodes and to rank 0 (with the
-  !> velocities of their nodes, and those of this rank's own nodes that carried a force last step,
-  !> for the energy); after the call c%record_* and c%candidates hold every record this rank has,
-  !> in pass and slave order (c%n_candidates of them). Collective.
+  !> node 1 is 0) go to the ranks whose domains hold one of their nodes; after the call c%record_*
+  !> and c%candidates hold every record this rank has, in pass and slave order (c%n_candidates of
+  !> them). Collective.
   subroutine share_records_locally(nb, c, traffic)
     type(neighbours_t), intent(inout) :: nb
     type(contact_t), intent(inout) :: c
     type(traffic_t), intent(inout) :: traffic
     integer, allocatable :: dest(:), start(:), fill(:), n_to(:), sources(:), rstart(:), own(:)
     real(wp), allocatable :: buffer(:), received(:)
-    integer :: ranks(21), n, i, j, d, n_own, n_v
+    integer :: ranks(21), n, i, j, d, n_own
     own = pack([(j, j = 1, c%n_candidates)], c%record_nodes(1, 1:c%n_candidates) /= 0)
     n_own = size(own)
-    n_v = 0
-    if (nb%rank /= 0) n_v = count(c%owned(c%touched_old(1:c%n_touched_old)))
-    ! the destinations, ascending (rank 0 always, for the whole sum), and the records for each
+    ! the destinations, ascending, and the records for each
     allocate (dest(0))
-    if (nb%rank /= 0) dest = [0]
     do i = 1, n_own
       call destinations(own(i), ranks, n)
       do j = 1, n
@@ -313,17 +308,12 @@ contains
       call destinations(own(i), ranks, n)
       n_to(nb%slot(ranks(1:n))) = n_to(nb%slot(ranks(1:n))) + 1
     end do
-    ! each message: a header (records, their width, velocities), the records, the velocities
+    ! each message: the number of records, then the records
     allocate (start(size(dest) + 1), fill(size(dest)))
     start(1) = 1
     do i = 1, size(dest)
-      if (dest(i) == 0) then
-        start(i + 1) = start(i) + 3 + root_width * n_to(i) + 4 * n_v
-        fill(i) = start(i) + 3
-      else
-        start(i + 1) = start(i) + 3 + record_width * n_to(i)
-        fill(i) = start(i) + 3
-      end if
+      start(i + 1) = start(i) + 1 + record_width * n_to(i)
+      fill(i) = start(i) + 1
     end do
     allocate (buffer(start(size(dest) + 1) - 1))
     do i = 1, n_own
@@ -332,37 +322,21 @@ contains
         d = nb%slot(ranks(j))
         buffer(fill(d):fill(d) + record_width - 1) = record_row(c, own(i))
         fill(d) = fill(d) + record_width
-        if (ranks(j) == 0) then
-          buffer(fill(d):fill(d) + 14) = reshape(c%v(:, c%record_nodes(:, own(i))), [15])
-          fill(d) = fill(d) + 15
-        end if
       end do
     end do
     do i = 1, size(dest)
-      buffer(start(i):start(i) + 2) = real([n_to(i), merge(root_width, record_width, dest(i) == 0), &
-                                            merge(n_v, 0, dest(i) == 0)], wp)
-      if (dest(i) /= 0) cycle
-      do j = 1, c%n_touched_old
-        n = c%touched_old(j)
-        if (.not. c%owned(n)) cycle
-        buffer(fill(i):fill(i) + 3) = [real(n, wp), c%v(:, n)]
-        fill(i) = fill(i) + 4
-      end do
+      buffer(start(i)) = real(n_to(i), wp)
     end do
     call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, start, buffer, sources, rstart, received, &
                          traffic)
     call take_records(c, own, received, rstart)
   contains
-    !> The ranks record k goes to: the holders of its nodes and rank 0, not this rank, once each.
+    !> The ranks record k goes to: the holders of its nodes, not this rank, once each.
     subroutine destinations(k, ranks, n)
       integer, intent(in) :: k
       integer, intent(out) :: ranks(:), n
       integer :: m, jj, r
       n = 0
-      if (nb%rank /= 0) then
-        n = 1
-        ranks(1) = 0
-      end if
       do m = 1, 5
         do jj = nb%holder_start(c%record_nodes(m, k)), nb%holder_start(c%record_nodes(m, k) + 1) - 1
           r = nb%holder(jj)
@@ -386,15 +360,14 @@ contains
   end function record_row
 
   !> This rank's records (own) and those received (messages received(rstart(i) :)), in pass and
-  !> slave order, into c%record_* and c%candidates; the velocities sent to rank 0 into c%v where
-  !> this rank does not hold the node.
+  !> slave order, into c%record_* and c%candidates.
   subroutine take_records(c, own, received, rstart)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: own(:), rstart(:)
     real(wp), intent(in) :: received(:)
     real(wp), allocatable :: rows(:, :)
     integer, allocatable :: keys(:), order(:)
-    integer :: i, j, m, n, at, width, slaves, node
+    integer :: i, j, n, at, slaves
     n = size(own)
     do i = 1, size(rstart) - 1
       n = n + nint(received(rstart(i)))
@@ -405,24 +378,11 @@ contains
     end do
     n = size(own)
     do i = 1, size(rstart) - 1
-      at = rstart(i)
-      width = nint(received(at + 1))
-      do j = 1, nint(received(at))
-        rows(:, n + j) = received(at + 3 + width * (j - 1):at + 2 + width * (j - 1) + record_width)
-        if (width /= root_width) cycle
-        do m = 1, 5
-          node = nint(rows(2 + m, n + j))
-          c%v(:, node) = received(at + 2 + width * (j - 1) + record_width + 3 * m - 2: &
-                                    at + 2 + width * (j - 1) + record_width + 3 * m)
-        end do
+      at = rstart(i) + 1
+      do j = 1, nint(received(rstart(i)))
+        rows(:, n + j) = received(at + record_width * (j - 1):at + record_width * j - 1)
       end do
-      n = n + nint(received(at))
-      at = at + 3 + width * nint(received(at))
-      do j = 1, nint(received(rstart(i) + 2))
-        node = nint(received(at))
-        c%v(:, node) = received(at + 1:at + 3)
-        at = at + 4
-      end do
+      n = n + nint(received(rstart(i)))
     end do
     slaves = maxval([(size(c%passes(j)%slaves), j = 1, size(c%passes))])
     do i = 1, n

@@ -5,8 +5,9 @@
 !>
 !> A step on several ranks (local contact, contact_neighbours): this domain's contact nodes and
 !> the ghosts near its slaves are brought up to date (new ghosts at a sort), each rank searches
-!> the slaves it owns, and the records go to the ranks that hold their nodes and to rank 0, which
-!> keeps the energy; each rank sums the records it has in pass and slave order. With
+!> the slaves it owns, the records go to the ranks that hold their nodes, each rank sums the
+!> records it has in pass and slave order, and the energy and the definitions' forces are exact
+!> sums of every rank's terms (contact_reduction), the same on every rank. With
 !> contact_gather = "all", the paper's replicated scheme: every contact node gathered on every
 !> rank, the candidates shared and cut into equal blocks, every record on every rank (the
 !> reference that takes no shortcut). One rank communicates nothing.
@@ -17,7 +18,7 @@
 !> the step measures only what the sort schedule needs (so the sorts fall as without the skip, and
 !> the answer is bitwise the same) and skips the search stages and their sharing.
 module contact_parallel
-  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_Bcast, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX
+  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX
   use paradyn_kinds, only: wp, i8
   use model_deck, only: deck_t
   use domain_decomposition, only: domain_t
@@ -30,7 +31,9 @@ module contact_parallel
   use contact_activity, only: extent_width, extent_empty, side_extent
   use contact_pass, only: pass_near_lists
   use contact_stages, only: contact_global_search, contact_candidates, contact_local_search, contact_sum, &
-                            contact_end
+                            contact_end, contact_finish
+  use exact_sum, only: exact_width
+  use contact_reduction, only: reduce_contact_sums
   use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, &
                               allgather_node_subset, record_share_t, record_share_setup, &
                               share_contact_records, candidate_share_t, candidate_share_setup, &
@@ -90,6 +93,7 @@ contains
     pc%at(pc%nodes%owned_member) = pc%nodes%local(pc%nodes%owned_member)
     allocate (pc%extents(extent_width, 2 * size(pc%c%passes)))
     allocate (pc%v_before(3, pc%c%n_nodes), source=0.0_wp)
+    allocate (pc%c%sums(exact_width, 1 + size(pc%c%definition_force)), source=0_i8)
     ! more than one rank: local contact, unless every contact node is to be gathered (the
     ! replicated scheme, kept as the reference that takes no shortcut)
     pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
@@ -153,8 +157,16 @@ contains
       call timed_share_records(pc, timers)
     end if
     call contact_sum(pc%c, wall_clock)
-    ! local contact: rank 0 alone has every record, so it alone keeps the energy
-    if (.not. pc%c%local .or. pc%c%rank == 0) call contact_end(pc%c, cycle, dt_strain)
+    ! local contact: the terms of the energy are counted by the owners of the nodes, which read
+    ! the velocities of those this step's records touched
+    if (pc%c%local) call copy_domain_nodes(pc, pc%c%touched(1:pc%c%n_touched), x, v)
+    call contact_end(pc%c, cycle)
+    if (pc%c%local) then
+      t0 = wall_clock()
+      call reduce_contact_sums(pc%comm, pc%c%n_ranks, pc%c%sums, pc%c%max_penetration, pc%traffic)
+      timers%communication = timers%communication + wall_clock() - t0
+    end if
+    call contact_finish(pc%c, cycle, dt_strain)
     ! the sharing inside counts as communication, not twice
     timers%contact = timers%contact + wall_clock() - t_start - (timers%communication - comm_before)
   end subroutine parallel_contact_step
@@ -447,42 +459,35 @@ contains
     parallel_contact_idle_cycles = sum(pc%c%pair_skipped_cycles)
   end function parallel_contact_idle_cycles
 
-  !> The checkpoint rows, one per contact node (the same on every rank): force, position at the
-  !> last sort, and its place k > 0 in the last step's force sum (0 = no force).
-  subroutine contact_checkpoint_rows(pc, rows)
+  !> The checkpoint rows of the contact nodes this rank owns (nodes, ascending; every contact node
+  !> has one owner, so the ranks' rows together are one per contact node): force, position at the
+  !> last sort, and 1 if it carried a force in the last step (0 = no force). The owner holds every
+  !> record that touches its node, so its force is the whole one.
+  subroutine contact_checkpoint_rows(pc, rows, nodes)
     type(parallel_contact_t), intent(in) :: pc
-    real(wp), intent(out) :: rows(contact_checkpoint_width, pc%c%n_nodes)
-    real(wp), allocatable :: at_sort(:, :), ignored(:, :)
-    type(node_set_t) :: nodes
+    real(wp), allocatable, intent(out) :: rows(:, :)
+    integer, allocatable, intent(out) :: nodes(:)
     integer :: k
-    rows = 0.0_wp
-    rows(1:3, :) = pc%c%force
-    rows(4:6, :) = pc%c%x_at_sort
-    if (pc%c%local) then   ! each rank has the positions of the last sort of its own nodes: gathered
-      allocate (at_sort(3, max(1, maxval(pc%nodes%local))), source=0.0_wp)
-      do k = 1, size(pc%nb%owned_node)
-        at_sort(:, pc%nodes%local(pc%nb%owned_node(k))) = pc%c%x_at_sort(:, pc%nb%owned_node(k))
-      end do
-      allocate (ignored(3, pc%c%n_nodes))
-      nodes = pc%nodes                                ! its buffers are written
-      call allgather_node_set(pc%comm, nodes, at_sort, at_sort, rows(4:6, :), ignored)
-    end if
-    do k = 1, pc%c%n_touched   ! the order in which the last step summed the forces
-      rows(7, pc%c%touched(k)) = real(k, wp)
+    nodes = pc%nodes%owned_member
+    allocate (rows(contact_checkpoint_width, size(nodes)))
+    rows(1:3, :) = pc%c%force(:, nodes)
+    rows(4:6, :) = pc%c%x_at_sort(:, nodes)
+    rows(7, :) = 0.0_wp
+    if (pc%c%n_touched == 0) return   ! (before the first step every mark equals the stamp, 0)
+    do k = 1, size(nodes)
+      if (pc%c%mark(nodes(k)) == pc%c%stamp) rows(7, k) = 1.0_wp
     end do
   end subroutine contact_checkpoint_rows
 
   !> The checkpoint's sums over the whole contact: the energy, the deepest penetration and the
-  !> force on each definition (sums(3 + 3 k - 2 : 3 + 3 k) for definition k). With local contact
-  !> only rank 0 keeps them, and every rank gets its values (the attributes are written by all).
-  !> Collective.
+  !> force on each definition (sums(3 + 3 k - 2 : 3 + 3 k) for definition k), the same on every
+  !> rank (exact sums added over the ranks: contact_stages, contact_finish).
   subroutine contact_checkpoint_sums(pc, sums)
     type(parallel_contact_t), intent(in) :: pc
     real(wp), intent(out) :: sums(:)
     sums(1) = pc%c%energy
     sums(2) = pc%c%max_penetration
     sums(3:) = reshape(pc%c%definition_force, [size(sums) - 2])
-    if (pc%c%local) call MPI_Bcast(sums, size(sums), MPI_DOUBLE_PRECISION, 0, pc%comm)
   end subroutine contact_checkpoint_sums
 
   !> The contact state of a checkpoint (rows of contact_checkpoint_rows and the attributes).
@@ -491,7 +496,17 @@ contains
     real(wp), intent(in) :: rows(:, :), energy, max_penetration
     integer(i8), intent(in) :: last_sort
     logical :: new_gather_set
-    call contact_restore(pc%c, rows(1:3, :), nint(rows(7, :)), rows(4:6, :), last_sort, energy, &
+    integer :: places(size(rows, 2)), k, n
+    ! the nodes that carried a force, in ascending order (their order no longer matters: the
+    ! energy's sum is exact, and each node's force is its own sum)
+    n = 0
+    places = 0
+    do k = 1, size(rows, 2)
+      if (rows(7, k) <= 0.0_wp) cycle
+      n = n + 1
+      places(k) = n
+    end do
+    call contact_restore(pc%c, rows(1:3, :), places, rows(4:6, :), last_sort, energy, &
                          max_penetration, new_gather_set)
     if (new_gather_set) call node_subset_setup(pc%nodes, pc%c%in_gather)
     pc%nb%refresh_pending = .true.

@@ -1,8 +1,9 @@
 !> The stages of a contact step after the sort, over the state of contact_interface: the global
 !> search (each rank's cyclic share of the slaves finds its nearest master nodes), the candidates
 !> in pass and slave order with this rank's block of them, the local search of the block (segment,
-!> closest point, penalty force), and the sum of the records in candidate order. No MPI here: the
-!> caller (contact_parallel) shares candidates and records between the stages.
+!> closest point, penalty force), the sum of the records in candidate order, and the exact sums of
+!> the energy and the definitions' forces. No MPI here: the caller (contact_parallel) shares
+!> candidates and records between the stages and adds the exact sums over the ranks.
 module contact_stages
   use paradyn_kinds, only: wp, ip, i8
   use nearest_cache, only: nearest_master_listed
@@ -10,9 +11,11 @@ module contact_stages
                             edge_tolerance
   use contact_pass, only: contact_pass_t
   use contact_interface, only: contact_t, clock_seconds
+  use exact_sum, only: exact_add, exact_value
   implicit none
   private
-  public :: contact_global_search, contact_candidates, contact_local_search, contact_sum, contact_end
+  public :: contact_global_search, contact_candidates, contact_local_search, contact_sum, contact_end, &
+            contact_finish
 
   !> Below this slip speed friction falls linearly to zero (a viscous regularisation of stick
   !> that needs no history per contact; a body at rest on a slope creeps at most this fast).
@@ -41,18 +44,25 @@ contains
 
   !> Add the records of the step (complete on this rank: the caller has shared them between
   !> ranks) to the contact forces, in candidate order (pass, then slave), the same for any layout.
+  !> The records this rank counts (counted) also add their slave force to their definition's exact
+  !> sum (c%sums) and their penetration to the deepest.
   subroutine contact_sum(c, clock)
     type(contact_t), intent(inout) :: c
     procedure(clock_seconds) :: clock
-    integer :: j, k, node
+    integer :: j, k, node, d
     real(wp) :: t0
     t0 = clock()
     do j = 1, c%n_candidates
       if (c%record_nodes(1, j) == 0) cycle
-      c%max_penetration = max(c%max_penetration, c%record_penetration(j))
-      associate (pass => c%passes(c%candidates(3, j)))
-      c%definition_force(:, pass%pair) = c%definition_force(:, pass%pair) + pass%first_part_sign * c%record_force(:, 1, j)
-      end associate
+      if (counted(c, c%record_nodes(1, j))) then
+        c%max_penetration = max(c%max_penetration, c%record_penetration(j))
+        associate (pass => c%passes(c%candidates(3, j)))
+        do k = 1, 3
+          d = 1 + 3 * (pass%pair - 1) + k
+          call exact_add(c%sums(:, d), pass%first_part_sign * c%record_force(k, 1, j))
+        end do
+        end associate
+      end if
       do k = 1, 5
         node = c%record_nodes(k, j)
         if (c%mark(node) /= c%stamp) then
@@ -66,29 +76,52 @@ contains
     c%time_force = c%time_force + clock() - t0
   end subroutine contact_sum
 
-  !> End a step: the contact energy advances by minus the work of the mean contact force over
-  !> the last step dt (the velocities are those of that step). Only nodes touched in this step
-  !> or the last have a force; they are summed in the order of the lists, which is the same on
-  !> every rank and for any number of threads.
-  subroutine contact_end(c, cycle, dt)
+  !> Whether this rank adds the terms of a record (by its slave node) or of a node to the sums of
+  !> the energy and the definitions: every one on one rank and in the replicated scheme, where
+  !> every rank has every record; with local contact the ones of the nodes it owns, so that each
+  !> term is added on exactly one rank.
+  pure logical function counted(c, node)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: node
+    counted = .true.
+    if (c%local) counted = c%owned(node)
+  end function counted
+
+  !> The terms of the contact energy's step: minus the work of the mean contact force over the
+  !> last step dt (the velocities are those of that step) is -dt / 2 times the sum, over the nodes
+  !> touched in this step or the last (only they have a force), of v . (force_old + force). Each
+  !> counted node's term goes to the exact sum c%sums(:, 1), so the sum is the same for any
+  !> order, rank count and number of threads.
+  subroutine contact_end(c, cycle)
     type(contact_t), intent(inout) :: c
     integer(i8), intent(in) :: cycle
-    real(wp), intent(in) :: dt
     integer :: i, j
-    real(wp) :: work
     if (cycle == 0) return
-    work = 0.0_wp
     do i = 1, c%n_touched
       j = c%touched(i)
-      work = work + dot_product(c%v(:, j), c%force_old(:, j) + c%force(:, j))
+      if (counted(c, j)) call exact_add(c%sums(:, 1), dot_product(c%v(:, j), c%force_old(:, j) + c%force(:, j)))
     end do
     do i = 1, c%n_touched_old
       j = c%touched_old(i)
       if (c%mark(j) == c%stamp) cycle   ! in both lists: counted above
-      work = work + dot_product(c%v(:, j), c%force_old(:, j))
+      if (counted(c, j)) call exact_add(c%sums(:, 1), dot_product(c%v(:, j), c%force_old(:, j)))
     end do
-    c%energy = c%energy - 0.5_wp * dt * work
   end subroutine contact_end
+
+  !> After the sums are complete (with local contact, added over the ranks): each rounded once,
+  !> the contact energy advanced by -dt / 2 times the work's sum and the definitions' forces set,
+  !> the same on every rank; the sums are cleared for the next step.
+  subroutine contact_finish(c, cycle, dt)
+    type(contact_t), intent(inout) :: c
+    integer(i8), intent(in) :: cycle
+    real(wp), intent(in) :: dt
+    integer :: d
+    if (cycle > 0) c%energy = c%energy - 0.5_wp * dt * exact_value(c%sums(:, 1))
+    do d = 1, size(c%definition_force)
+      c%definition_force(mod(d - 1, 3) + 1, (d - 1) / 3 + 1) = exact_value(c%sums(:, 1 + d))
+    end do
+    c%sums = 0
+  end subroutine contact_finish
 
   !> Stage 1, the global search, for every pass active this cycle: this rank's share of the
   !> slaves that can be near (near_slaves; all slaves with a fixed sort interval), dealt

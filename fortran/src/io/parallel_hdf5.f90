@@ -5,7 +5,7 @@
 module parallel_hdf5
   use, intrinsic :: iso_c_binding, only: c_loc, c_ptr
   use hdf5
-  use mpi_f08, only: MPI_Comm, MPI_INFO_NULL
+  use mpi_f08, only: MPI_Comm, MPI_Comm_size, MPI_Info, MPI_Info_create, MPI_Info_set, MPI_Info_free
   use paradyn_kinds, only: wp, i8
   implicit none
   private
@@ -14,6 +14,9 @@ module parallel_hdf5
   public :: write_long_array_attribute, write_real_array_attribute, read_long_attribute
   public :: write_int_attribute, write_long_attribute, write_real_attribute, read_int_attribute, read_real_attribute
   public :: read_real_array_attribute
+
+  !> The MPI-IO hint cb_buffer_size of every file (bytes, as the hint's text): 4 MiB.
+  character(len=*), parameter :: collective_buffer_bytes = '4194304'
 
   !> The global rows (node or element ids) a rank reads or writes, as runs of consecutive ids.
   type :: row_runs_t
@@ -52,9 +55,21 @@ contains
     integer(hid_t), intent(out) :: file, transfer
     integer, intent(out) :: err
     integer(hid_t) :: access
-    integer :: ignored
+    integer :: ignored, n_ranks
+    type(MPI_Info) :: hints
+    call MPI_Comm_size(comm, n_ranks)
     call h5pcreate_f(H5P_FILE_ACCESS_F, access, ignored)
-    call h5pset_fapl_mpio_f(access, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, ignored)
+    ! one rank: the POSIX driver; MPI-IO would load its components and make lock and shared files.
+    ! Several: MPI-IO, with its collective buffer bounded: an aggregator rank (rank 0 among them)
+    ! gathers the ranks' rows of a collective write in cycles of this many bytes, so its memory
+    ! stays within it whatever the mesh (the libraries' defaults, 16 or 32 MiB, fill with the
+    ! global mesh until reached; docs/performance.md, "Beyond one machine")
+    if (n_ranks > 1) then
+      call MPI_Info_create(hints)
+      call MPI_Info_set(hints, 'cb_buffer_size', collective_buffer_bytes)
+      call h5pset_fapl_mpio_f(access, comm%MPI_VAL, hints%MPI_VAL, ignored)   ! HDF5 keeps a copy
+      call MPI_Info_free(hints)
+    end if
     select case (mode)
     case ('create')
       call h5fcreate_f(path, H5F_ACC_TRUNC_F, file, err, access_prp=access)
@@ -65,7 +80,7 @@ contains
     end select
     call h5pclose_f(access, ignored)
     call h5pcreate_f(H5P_DATASET_XFER_F, transfer, ignored)
-    call h5pset_dxpl_mpio_f(transfer, H5FD_MPIO_COLLECTIVE_F, ignored)
+    if (n_ranks > 1) call h5pset_dxpl_mpio_f(transfer, H5FD_MPIO_COLLECTIVE_F, ignored)
   end subroutine phdf5_open
 
   subroutine phdf5_close(file, transfer)
@@ -99,12 +114,16 @@ contains
     integer :: err
     dims = [fixed, 0_hsize_t]
     maxdims = [fixed, H5S_UNLIMITED_F]
-    chunk = [max(fixed, 1_hsize_t), merge(64_hsize_t, 1_hsize_t, size(fixed) == 0)]
+    ! rows of about 4 KiB per chunk (1 to 64): a history row of a few numbers is not a chunk of its own
+    chunk = [max(fixed, 1_hsize_t), max(1_hsize_t, min(64_hsize_t, 512_hsize_t / max(1_hsize_t, product(fixed))))]
     call h5screate_simple_f(size(dims), dims, space, err, maxdims)
     call h5pcreate_f(H5P_DATASET_CREATE_F, plist, err)
     call h5pset_chunk_f(plist, size(chunk), chunk, err)
     ! every entry is written before it is read: no fill values (parallel HDF5 writes them at each extension)
     call h5pset_fill_time_f(plist, H5D_FILL_TIME_NEVER_F, err)
+    ! chunks made when the dataset grows, as parallel HDF5 requires: a file one rank wrote
+    ! (POSIX driver) continues on several (a restart on another layout)
+    call h5pset_alloc_time_f(plist, H5D_ALLOC_TIME_EARLY_F, err)
     call h5dcreate_f(loc, name, H5T_NATIVE_DOUBLE, space, dset, err, plist)
     call h5dclose_f(dset, err)
     call h5pclose_f(plist, err)

@@ -362,6 +362,8 @@ contains
     call h5gclose_f(group, err)
     call write_effect_table(rf%file, run)
     if (complete) call write_int_attribute(rf%file, 'complete', 1)
+    call flush_file(rf)   ! a disk that fills now leaves the file open: results_failed says so
+    if (results_failed(rf)) return
     call phdf5_close(rf%file, rf%transfer)
   end subroutine results_finish
 

@@ -68,7 +68,8 @@ contains
               's ('//integer_text(upper)//')'
           end if
         end associate
-        if (len_trim(message) > 0) then
+        ! a message starts with its dataset's path; len_trim would scan the whole buffer per entry
+        if (message(1:1) /= ' ') then
           if (present(bad_row)) bad_row = offset + row
           return
         end if

@@ -62,6 +62,7 @@ contains
     real(wp), allocatable :: nodes(:, :), elements(:, :), contact(:, :)
     real(wp) :: contact_sums(2 + 3 * s%n_contacts)
     integer :: err, k, j
+    integer, allocatable :: contact_nodes(:)
     nn = int(s%control%n_nodes, hsize_t)
     ne = int(s%control%n_elements, hsize_t)
     nr = int(s%n_ranks, hsize_t)
@@ -122,15 +123,13 @@ contains
     call write_rows(file, transfer, 'work', [2_hsize_t, nr], row_runs([s%rank + 1]), 0, &
                     real_values=[s%external_work, s%damping_work])
     if (s%has_contact) then
-      ! the contact state (force, position at the last sort and place in the sum per contact
-      ! node) is the same on every rank: rank 0 writes it
+      ! the contact state (force, position at the last sort and whether it carried a force, per
+      ! contact node): each rank writes the rows of the contact nodes it owns
       nc = int(s%contact%c%n_nodes, hsize_t)
-      allocate (contact(contact_checkpoint_width, s%contact%c%n_nodes))
-      call contact_checkpoint_rows(s%contact, contact)
+      call contact_checkpoint_rows(s%contact, contact, contact_nodes)
       call create_dataset(file, 'contact', H5T_NATIVE_DOUBLE, [int(contact_checkpoint_width, hsize_t), nc])
       call write_rows(file, transfer, 'contact', [int(contact_checkpoint_width, hsize_t), nc], &
-                      row_runs(pack([(j, j = 1, int(nc))], s%rank == 0)), 0, &
-                      real_values=reshape(contact, [size(contact)]))
+                      row_runs(contact_nodes), 0, real_values=reshape(contact, [size(contact)]))
     end if
     call phdf5_close(file, transfer)
     call MPI_Barrier(s%halo%comm)
