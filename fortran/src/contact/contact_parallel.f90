@@ -27,9 +27,8 @@ module contact_parallel
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
                                contact_restore, contact_activity_update, contact_all_idle, contact_count_activity, &
                                contact_sort_pass
-  use contact_room, only: contact_search_room
+  use contact_room, only: contact_rooms
   use contact_activity, only: extent_width, extent_empty, side_extent
-  use contact_pass, only: pass_near_lists
   use contact_stages, only: contact_global_search, contact_candidates, contact_local_search, contact_sum, &
                             contact_end, contact_finish
   use exact_sum, only: exact_width
@@ -66,10 +65,9 @@ module contact_parallel
 
 contains
 
-  !> Contact of the deck's pairs on this rank's domain; mass and v are the local nodal masses and
-  !> velocities, dt the solver's step (for the penalty's stability cap). gather_all: no shortcut,
-  !> gather every contact node and run every pass every step (a check that the near-contact
-  !> subset and the skipping of idle pairs change nothing).
+  !> Contact of the deck's pairs on this rank's domain (mass, v: the local nodal masses and
+  !> velocities; dt: the solver's step, for the penalty's stability cap). gather_all: no shortcut,
+  !> every contact node gathered, every pass run every step (to check that those change nothing).
   subroutine parallel_contact_setup(pc, deck, dom, comm, mass, v, dt, gather_all)
     type(parallel_contact_t), intent(out) :: pc
     type(deck_t), intent(in) :: deck
@@ -77,7 +75,6 @@ contains
     type(MPI_Comm), intent(in) :: comm
     real(wp), intent(in) :: mass(:), v(:, :), dt
     logical, intent(in) :: gather_all
-    integer :: n_slaves, p
     pc%comm = comm
     call contact_setup(deck, pc%c)
     call node_set_setup(dom, comm, pc%c%global_node, pc%nodes)
@@ -94,24 +91,12 @@ contains
     allocate (pc%extents(extent_width, 2 * size(pc%c%passes)))
     allocate (pc%v_before(3, pc%c%n_nodes), source=0.0_wp)
     allocate (pc%c%sums(exact_width, 1 + size(pc%c%definition_force)), source=0_i8)
-    ! more than one rank: local contact, unless every contact node is to be gathered (the
-    ! replicated scheme, kept as the reference that takes no shortcut)
+    ! local contact on more than one rank, unless every node is gathered (the replicated reference)
     pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
-    if (pc%c%local) then   ! its own slaves searched here; the records it receives get room as they come
-      call neighbours_setup(pc%nb, pc%c, dom, comm, pc%nodes%local, pc%nodes%owned_member)
-      call contact_search_room(pc%c, 1 + sum([(size(pc%c%passes(p)%own_slaves), p = 1, size(pc%c%passes))]), 0)
-      do p = 1, size(pc%c%passes)
-        call pass_near_lists(pc%c%passes(p), own=.true.)
-      end do
-    else                   ! every slave of every pass
-      n_slaves = 1 + sum([(size(pc%c%passes(p)%slaves), p = 1, size(pc%c%passes))])
-      call contact_search_room(pc%c, n_slaves, n_slaves)
-      do p = 1, size(pc%c%passes)
-        call pass_near_lists(pc%c%passes(p), own=.false.)
-      end do
-      call record_share_setup(n_slaves, dom%n_ranks, pc%records)
-      call candidate_share_setup(dom%n_ranks, pc%candidates)
-    end if
+    if (pc%c%local) call neighbours_setup(pc%nb, pc%c, dom, comm, pc%nodes%local, pc%nodes%owned_member)
+    call contact_rooms(pc%c)   ! local contact: for this rank's own slaves (contact_room)
+    call record_share_setup(merge(0, size(pc%c%record_nodes, 2), pc%c%local), dom%n_ranks, pc%records)
+    call candidate_share_setup(dom%n_ranks, pc%candidates)
   end subroutine parallel_contact_setup
 
   !> Contact forces at the positions x (local nodes) of this cycle. Communication time goes to

@@ -6,11 +6,30 @@
 module contact_room
   use paradyn_kinds, only: wp
   use contact_interface, only: contact_t
+  use contact_pass, only: pass_near_lists
   implicit none
   private
-  public :: contact_search_room, contact_record_room
+  public :: contact_rooms, contact_search_room, contact_record_room
 
 contains
+
+  !> The rooms of the global search, the records and the near lists: for every slave of every
+  !> pass, or under local contact (c%local, after contact_neighbours has set own_slaves) for this
+  !> rank's own slaves.
+  subroutine contact_rooms(c)
+    type(contact_t), intent(inout) :: c
+    integer :: p, n_slaves
+    if (c%local) then
+      n_slaves = 1 + sum([(size(c%passes(p)%own_slaves), p = 1, size(c%passes))])
+      call contact_search_room(c, n_slaves, 0)
+    else
+      n_slaves = 1 + sum([(size(c%passes(p)%slaves), p = 1, size(c%passes))])
+      call contact_search_room(c, n_slaves, n_slaves)
+    end if
+    do p = 1, size(c%passes)
+      call pass_near_lists(c%passes(p), own=c%local)
+    end do
+  end subroutine contact_rooms
 
   !> Room for the global search of n_search slaves (their nearest masters and pairs) and for
   !> n_shared pairs shared by every rank (the replicated scheme; 0 otherwise), and records for
