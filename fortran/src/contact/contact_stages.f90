@@ -342,7 +342,8 @@ contains
     integer(i8), intent(in) :: n_sorts
     real(wp), intent(in) :: moved
     still_clear = .false.
-    if (pass%clear_sort(j) /= n_sorts .or. pass%clear_master(j) /= master) return
+    ! an unknown movement (huge) is never clear, and would overflow the bound below
+    if (pass%clear_sort(j) /= n_sorts .or. pass%clear_master(j) /= master .or. moved >= huge(1.0_wp)) return
     still_clear = pass%clear_gap(j) > 2.0_wp * (1.0_wp + edge_tolerance) * (pass%clear_moved(j) + moved) &
                                       * (1.0_wp + 1.0e-9_wp)
   end function still_clear
