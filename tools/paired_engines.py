@@ -14,6 +14,7 @@ each take only a deck of their precision (/control precision), the same model ot
 
 from __future__ import annotations
 
+import math
 import os
 import statistics
 import subprocess
@@ -37,7 +38,8 @@ def run_once(engine: str, deck: Path, out: Path, ranks: int, threads: int) -> tu
     env = dict(os.environ, **runner.environment(ranks, threads))
     subprocess.run(command, env=env, check=True, capture_output=True)
     with h5py.File(out, "r") as f:
-        return tuple(float(f["run"].attrs[name]) for name in TIMES)
+        # NaN where an older engine did not write the time
+        return tuple(float(f["run"].attrs.get(name, float("nan"))) for name in TIMES)
 
 
 def main(argv: list[str]) -> int:
@@ -56,6 +58,9 @@ def main(argv: list[str]) -> int:
         for j, name in enumerate(TIMES):
             o = [t[j] for t in times[("old", layout)]]
             n = [t[j] for t in times[("new", layout)]]
+            if any(math.isnan(v) for v in o + n):
+                print(f"{layout} {name}: not written by both engines")
+                continue
             ratio = statistics.median(a / b for a, b in zip(o, n, strict=True))
             low, high = min(a / b for a, b in zip(o, n, strict=True)), max(a / b for a, b in zip(o, n, strict=True))
             print(f"{layout} {name}: old median {statistics.median(o):.4f} s ({min(o):.4f}-{max(o):.4f}), "
