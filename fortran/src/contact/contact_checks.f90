@@ -21,7 +21,7 @@ module contact_checks
   use near_elements, only: near_set_t, gather_near, box_of
   use initial_penetration, only: slave_penetrations
   use surface_overlap, only: first_crossing
-  use contact_surfaces, only: self_thickness_cap
+  use contact_surfaces, only: capped_thickness, shortest_edge
   implicit none
   private
   public :: resolve_initial_penetrations, check_contact_overlap
@@ -284,16 +284,11 @@ contains
     real(wp) :: shortest
     t = deck%thickness(part)
     if (deck%contact_kind(definition) /= contact_kind_single_surface) return
-    shortest = huge(1.0_wp)
-    do e = 1, size(deck%element_ids)
-      if (deck%element_part(e) /= part) cycle
-      do k = 1, 4
-        shortest = min(shortest, norm2(deck%coordinates(:, node_row(deck, deck%connectivity(k, e))) &
-                                       - deck%coordinates(:, node_row(deck, deck%connectivity(modulo(k, 4) + 1, e)))))
-      end do
-    end do
+    shortest = shortest_edge(deck%coordinates, &
+                             reshape([((node_row(deck, deck%connectivity(k, e)), k = 1, 4), e = 1, size(deck%element_ids))], &
+                                     [4, size(deck%element_ids)]), deck%element_part, part)
     call MPI_Allreduce(MPI_IN_PLACE, shortest, 1, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
-    t = min(t, self_thickness_cap * shortest)
+    t = capped_thickness(t, shortest)
   end function held_thickness
 
 end module contact_checks

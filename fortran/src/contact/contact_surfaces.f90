@@ -8,7 +8,7 @@ module contact_surfaces
   use paradyn_schema, only: contact_kind_single_surface
   implicit none
   private
-  public :: part_nodes, contact_thickness, self_thickness_cap
+  public :: part_nodes, contact_thickness, self_thickness_cap, capped_thickness, shortest_edge
 
   !> The thickness of a single-surface contact is at most this fraction of the shortest edge.
   real(wp), parameter :: self_thickness_cap = 0.4_wp
@@ -36,19 +36,30 @@ contains
   real(wp) function contact_thickness(deck, definition, part) result(t)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: definition, part
-    integer :: e, k
-    real(wp) :: shortest
     t = deck%thickness(part)
-    if (deck%contact_kind(definition) /= contact_kind_single_surface) return
+    if (deck%contact_kind(definition) == contact_kind_single_surface) &
+      t = capped_thickness(t, shortest_edge(deck%coordinates, deck%connectivity, deck%element_part, part))
+  end function contact_thickness
+
+  !> A single-surface contact's thickness: at most self_thickness_cap times the shortest edge.
+  pure real(wp) function capped_thickness(thickness, shortest) result(t)
+    real(wp), intent(in) :: thickness, shortest
+    t = min(thickness, self_thickness_cap * shortest)
+  end function capped_thickness
+
+  !> The shortest element edge of part `part` (huge without an element): connectivity(:, e) are
+  !> columns of x.
+  pure real(wp) function shortest_edge(x, connectivity, element_part, part) result(shortest)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: connectivity(:, :), element_part(:), part
+    integer :: e, k
     shortest = huge(1.0_wp)
-    do e = 1, deck%n_elements
-      if (deck%element_part(e) /= part) cycle
+    do e = 1, size(connectivity, 2)
+      if (element_part(e) /= part) cycle
       do k = 1, 4
-        shortest = min(shortest, norm2(deck%coordinates(:, deck%connectivity(k, e)) &
-                                       - deck%coordinates(:, deck%connectivity(modulo(k, 4) + 1, e))))
+        shortest = min(shortest, norm2(x(:, connectivity(k, e)) - x(:, connectivity(modulo(k, 4) + 1, e))))
       end do
     end do
-    t = min(t, self_thickness_cap * shortest)
-  end function contact_thickness
+  end function shortest_edge
 
 end module contact_surfaces
