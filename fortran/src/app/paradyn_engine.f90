@@ -25,6 +25,7 @@ program paradyn_engine
   use solver_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_path
   use stop_signals, only: install_stop_handlers
   use singleton_start, only: prefer_light_singleton, remove_session_base
+  use process_environment, only: default_environment
   use run_names, only: copy_run_names
   use deck_effects, only: effects_of_deck
   use contact_checks, only: resolve_initial_penetrations
@@ -77,6 +78,9 @@ program paradyn_engine
   if (thread_level < MPI_THREAD_FUNNELED) &
     call fail(status_failure, 'the MPI library does not support MPI_THREAD_FUNNELED, which the OpenMP threads need; '// &
               'use an MPI built with thread support (Open MPI and MPICH are)')
+  ! a file system without locks (some NFS and Lustre mounts) must not stop a one-rank run, whose
+  ! POSIX driver takes HDF5's lock where the file system has one
+  call default_environment('HDF5_USE_FILE_LOCKING', 'BEST_EFFORT')
   call h5open_f(err)
   call h5eset_auto_f(0, err)   ! HDF5's own error stacks would bury the engine's one-line message
 

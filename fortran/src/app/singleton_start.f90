@@ -11,6 +11,7 @@
 !> MPI_Finalize. Settings the user made win; other MPIs ignore these names.
 module singleton_start
   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_ptr, c_associated
+  use process_environment, only: default_environment
   implicit none
   private
   public :: prefer_light_singleton, remove_session_base
@@ -21,12 +22,6 @@ module singleton_start
   character(len=*), parameter :: hwloc_without_io = '-pci,-linuxio'   !< hwloc's component list
 
   interface
-    function c_setenv(name, value, overwrite) bind(C, name='setenv') result(status)
-      import :: c_int, c_char
-      character(kind=c_char), intent(in) :: name(*), value(*)
-      integer(c_int), value :: overwrite
-      integer(c_int) :: status
-    end function c_setenv
     function c_mkdtemp(template) bind(C, name='mkdtemp') result(path)
       import :: c_char, c_ptr
       character(kind=c_char), intent(inout) :: template(*)
@@ -47,21 +42,20 @@ contains
     character(len=:), allocatable, intent(out) :: session_base
     character(kind=c_char, len=:), allocatable :: template
     integer :: k, length
-    integer(c_int) :: status
     session_base = ''
     do k = 1, size(launcher_variables)
       call get_environment_variable(trim(launcher_variables(k)), length=length)
       if (length > 0) return
     end do
-    status = c_setenv('OMPI_MCA_pml'//c_null_char, 'ob1'//c_null_char, 0_c_int)
-    status = c_setenv('HWLOC_COMPONENTS'//c_null_char, hwloc_without_io//c_null_char, 0_c_int)
+    call default_environment('OMPI_MCA_pml', 'ob1')
+    call default_environment('HWLOC_COMPONENTS', hwloc_without_io)
     call get_environment_variable('OMPI_MCA_ess_singleton_isolated', length=length)
     if (length > 0) return   ! the user's choice, and the user's session directories
     template = temporary_folder()//'/paradyn-mpi.XXXXXX'//c_null_char
     if (.not. c_associated(c_mkdtemp(template))) return   ! no private folder: keep the daemon
     session_base = template(1:len(template) - 1)
-    status = c_setenv('OMPI_MCA_orte_tmpdir_base'//c_null_char, session_base//c_null_char, 0_c_int)
-    status = c_setenv('OMPI_MCA_ess_singleton_isolated'//c_null_char, '1'//c_null_char, 0_c_int)
+    call default_environment('OMPI_MCA_orte_tmpdir_base', session_base)
+    call default_environment('OMPI_MCA_ess_singleton_isolated', '1')
   end subroutine prefer_light_singleton
 
   !> After MPI_Finalize (which removes what it put inside): the private session directory itself.
