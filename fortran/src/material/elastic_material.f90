@@ -36,11 +36,11 @@ contains
     changes = .false.
   end function elastic_has_history
 
-  pure function elastic_dissipated_work(self, eps_p) result(work)
+  pure subroutine elastic_dissipated_work(self, eps_p, work)
     class(elastic_material_t), intent(in) :: self
-    real(wp), intent(in) :: eps_p(:)
-    real(wp) :: work(size(eps_p))
+    real(wp), intent(in) :: eps_p(:, :)
+    real(wp), intent(out) :: work(:, :)
     work = 0.0_wp
-  end function elastic_dissipated_work
+  end subroutine elastic_dissipated_work
 
 end module elastic_material

@@ -49,12 +49,13 @@ contains
   !> The work of the stress relative to the back stress, integral of the yield radius
   !> sigma_y0 + beta H eps_p over eps_p: exact on any path for this law (the back stress's share,
   !> stored and recoverable, is not dissipated).
-  pure function j2_dissipated_work(self, eps_p) result(work)
+  pure subroutine j2_dissipated_work(self, eps_p, work)
     class(j2_material_t), intent(in) :: self
-    real(wp), intent(in) :: eps_p(:)
-    real(wp) :: work(size(eps_p)), h_iso
+    real(wp), intent(in) :: eps_p(:, :)
+    real(wp), intent(out) :: work(:, :)
+    real(wp) :: h_iso
     h_iso = self%hardening_mixing * self%young * self%tangent_modulus / (self%young - self%tangent_modulus)
     work = self%yield_stress * eps_p + 0.5_wp * h_iso * eps_p**2
-  end function j2_dissipated_work
+  end subroutine j2_dissipated_work
 
 end module j2_material

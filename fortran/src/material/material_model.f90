@@ -20,7 +20,8 @@ module material_model
     procedure(back_points_interface), deferred :: back_stress_points
     !> Whether the law changes the back stress or the plastic strain (else they are not written)
     procedure(history_interface), deferred :: has_history
-    !> Plastic work dissipated per unit volume at points with equivalent plastic strains eps_p
+    !> work(i, k): plastic work dissipated per unit volume at the points with equivalent plastic
+    !> strains eps_p(i, k); a batch per call, as update_points (no temporaries per element)
     procedure(dissipation_interface), deferred :: dissipated_work
   end type material_t
 
@@ -44,12 +45,12 @@ module material_model
       class(material_t), intent(in) :: self
     end function history_interface
 
-    pure function dissipation_interface(self, eps_p) result(work)
+    pure subroutine dissipation_interface(self, eps_p, work)
       import :: material_t, wp
       class(material_t), intent(in) :: self
-      real(wp), intent(in) :: eps_p(:)
-      real(wp) :: work(size(eps_p))
-    end function dissipation_interface
+      real(wp), intent(in) :: eps_p(:, :)
+      real(wp), intent(out) :: work(:, :)
+    end subroutine dissipation_interface
   end interface
 
 end module material_model
