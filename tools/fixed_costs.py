@@ -6,7 +6,9 @@ Each round runs the scene three ways, in fresh processes so that imports count:
   time from summary.json (``wall_s``); the difference is the fixed cost;
 - the same stages one by one, each timed inside one process (interpreter and imports, meshing,
   deck, check, engine process against its loop, reading and post-processing);
-- ``python -c pass``, the interpreter alone.
+- ``python -c pass``, the interpreter alone;
+- ``paradyn.run`` twice in one interpreter: the second call's wall time less its loop is what a
+  Python session (a notebook, a script looping over runs) pays, with no imports left to make.
 
 Rounds alternate the three, so a slow spell of a shared machine falls on all of them; the table
 gives medians. Usage (docs/performance.md, "Fixed costs")::
@@ -52,6 +54,20 @@ print(json.dumps({"imports": t1 - t0, "meshing": t2 - t1, "deck": t3 - t2, "chec
 """
 
 
+# run in a fresh interpreter: paradyn.run twice, prints the second call's seconds beyond its loop
+IN_SESSION = r"""
+import sys, tempfile, time
+from pathlib import Path
+import paradyn
+for _ in range(2):
+    with tempfile.TemporaryDirectory() as out:
+        start = time.perf_counter()
+        results = paradyn.run(sys.argv[1], out, ranks=1, threads=int(sys.argv[2]), plots=sys.argv[3] == "1")
+        cost = time.perf_counter() - start - float(results.engine_run.done["wall_s"])
+print(cost)
+"""
+
+
 def _wall(command: list[str]) -> float:
     start = time.perf_counter()
     subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
@@ -80,8 +96,11 @@ def one_round(scene: Path, threads: int, plots: bool, compare: str | None) -> di
                                             "1" if plots else "0"], check=True, capture_output=True,
                                            text=True).stdout)
     interpreter = _wall([python, "-c", "pass"])
+    in_session = float(subprocess.run([python, "-c", IN_SESSION, str(scene), str(threads), "1" if plots else "0"],
+                                      check=True, capture_output=True, text=True).stdout)
     return {"whole paradyn-run": elapsed, "time loop": loop, "fixed cost (whole - loop)": elapsed - loop,
-            "interpreter": interpreter, **stages, **other}
+            "interpreter": interpreter, **stages, "paradyn.run again in one interpreter: fixed cost": in_session,
+            **other}
 
 
 def main(argv: list[str] | None = None) -> int:
