@@ -43,7 +43,7 @@ module contact_neighbours
     logical :: refresh_pending = .true.                       !< at the start and after a restore
   end type neighbours_t
 
-  integer, parameter :: ghost_width = 10      !< node, position at the sort, position, velocity
+  integer, parameter :: ghost_width = 11      !< node, position at the sort, position, velocity, mass
   integer, parameter :: record_width = 23     !< pass, slave, 5 nodes, 15 forces, penetration
   integer, parameter :: update_tag = 710
 
@@ -109,7 +109,7 @@ contains
         nb%my_segment(n) = s
       end do
       c%passes(p)%own_slaves = pack([(s, s = 1, size(c%passes(p)%slaves))], c%owned(c%passes(p)%slaves))
-      c%passes(p)%near_slaves(1:size(c%passes(p)%own_slaves)) = c%passes(p)%own_slaves
+      c%passes(p)%near_slaves = c%passes(p)%own_slaves   ! the near ones are among them
       c%passes(p)%n_near = size(c%passes(p)%own_slaves)
     end do
     nb%segment_first(size(c%passes) + 1) = n + 1
@@ -178,7 +178,8 @@ contains
     allocate (buffer(ghost_width * size(list)))
     do i = 1, size(list)
       k = list(i)
-      buffer(ghost_width * (i - 1) + 1:ghost_width * i) = [real(k, wp), c%x_at_sort(:, k), c%x(:, k), c%v(:, k)]
+      buffer(ghost_width * (i - 1) + 1:ghost_width * i) = [real(k, wp), c%x_at_sort(:, k), c%x(:, k), c%v(:, k), &
+                                                           c%mass(k)]
     end do
     call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, ghost_width * (start - 1) + 1, buffer, sources, &
                          rstart, received, traffic)
@@ -197,6 +198,7 @@ contains
       c%x_at_sort(:, k) = received(m + 2:m + 4)
       c%x(:, k) = received(m + 5:m + 7)
       c%v(:, k) = received(m + 8:m + 10)
+      c%mass(k) = received(m + 11)
     end do
     nb%x_at_refresh = c%x(:, nb%owned_node)
     if (from_sort) nb%x_at_refresh = c%x_at_sort(:, nb%owned_node)

@@ -33,7 +33,7 @@ module contact_parallel
                             contact_end, contact_finish
   use exact_sum, only: exact_width
   use contact_reduction, only: reduce_contact_sums
-  use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, &
+  use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, node_set_masses, &
                               allgather_node_subset, record_share_t, record_share_setup, &
                               share_contact_records, candidate_share_t, candidate_share_setup, &
                               share_contact_candidates
@@ -56,7 +56,7 @@ module contact_parallel
     type(MPI_Comm) :: comm
     integer, allocatable :: at(:)             !< local column of each contact node this rank owns, else 0
     real(wp), allocatable :: extents(:, :)    !< (extent_width, 2 passes): the activity check's slave and master extents
-    real(wp), allocatable :: v_before(:, :)   !< velocities of the contact nodes this rank owns, the cycle before a check
+    real(wp), allocatable :: v_before(:, :)   !< velocities (local columns) of the contact nodes this rank owns, the cycle before a check
     integer(i8) :: v_before_cycle = -huge(1_i8)      !< the cycle they are from
     type(traffic_t) :: traffic                !< messages and bytes of the contact's sharing (traffic_counter)
     type(neighbours_t) :: nb                  !< local contact: ghosts and record routes (contact_neighbours)
@@ -77,10 +77,12 @@ contains
     logical, intent(in) :: gather_all
     pc%comm = comm
     call contact_setup(deck, pc%c)
-    call node_set_setup(dom, comm, pc%c%global_node, pc%nodes)
-    ! the lumped masses of the contact nodes, for the penalty's stability cap
-    call allgather_node_set(comm, pc%nodes, spread(mass, 1, 3), v, pc%c%x, pc%c%v)
-    pc%c%mass = pc%c%x(1, :)
+    ! local contact on more than one rank, unless every node is gathered (the replicated reference)
+    pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
+    call node_set_setup(dom, comm, pc%c%global_node, .not. pc%c%local, pc%nodes)
+    ! the lumped masses of the contact nodes, for the penalty's stability cap (local contact: the
+    ! domain's here, the ghosts' with them, contact_neighbours)
+    call node_set_masses(comm, pc%nodes, .not. pc%c%local, mass, pc%c%mass)
     pc%c%time_step = dt
     pc%c%rank = dom%rank
     pc%c%n_ranks = dom%n_ranks
@@ -89,10 +91,8 @@ contains
     allocate (pc%at(pc%c%n_nodes), source=0)
     pc%at(pc%nodes%owned_member) = pc%nodes%local(pc%nodes%owned_member)
     allocate (pc%extents(extent_width, 2 * size(pc%c%passes)))
-    allocate (pc%v_before(3, pc%c%n_nodes), source=0.0_wp)
+    allocate (pc%v_before(3, size(v, 2)), source=0.0_wp)
     allocate (pc%c%sums(exact_width, 1 + size(pc%c%definition_force)), source=0_i8)
-    ! local contact on more than one rank, unless every node is gathered (the replicated reference)
-    pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
     if (pc%c%local) call neighbours_setup(pc%nb, pc%c, dom, comm, pc%nodes%local, pc%nodes%owned_member)
     call contact_rooms(pc%c)   ! local contact: for this rank's own slaves (contact_room)
     call record_share_setup(merge(0, size(pc%c%record_nodes, 2), pc%c%local), dom%n_ranks, pc%records)
@@ -192,10 +192,10 @@ contains
     type(parallel_contact_t), intent(inout) :: pc
     real(wp), intent(in) :: v(:, :)
     integer(i8), intent(in) :: cycle
-    integer :: i, k
+    integer :: i, j
     do i = 1, size(pc%nodes%owned_member)
-      k = pc%nodes%owned_member(i)
-      pc%v_before(:, k) = v(:, pc%at(k))
+      j = pc%at(pc%nodes%owned_member(i))
+      pc%v_before(:, j) = v(:, j)
     end do
     pc%v_before_cycle = cycle
   end subroutine keep_velocities
