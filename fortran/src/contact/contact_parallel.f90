@@ -24,7 +24,7 @@ module contact_parallel
   use domain_decomposition, only: domain_t
   use phase_timers, only: phase_timers_t, wall_clock
   use traffic_counter, only: traffic_t, count_allgather, count_allreduce
-  use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
+  use contact_interface, only: contact_t, contact_setup, contact_node_state, contact_begin, contact_sort_due, contact_movement, &
                                contact_restore, contact_activity_update, contact_all_idle, contact_count_activity, &
                                contact_sort_pass
   use contact_room, only: contact_rooms
@@ -77,11 +77,11 @@ contains
     pc%comm = comm
     call contact_setup(deck, pc%c)
     deck = deck_t()
+    call contact_node_state(pc%c)
     ! local contact on more than one rank, unless every node is gathered (the replicated reference)
     pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
     call node_set_setup(dom, comm, pc%c%global_node, .not. pc%c%local, pc%nodes)
-    ! the lumped masses of the contact nodes, for the penalty's stability cap (local contact: the
-    ! domain's here, the ghosts' with them, contact_neighbours)
+    ! the masses of the contact nodes, for the stability cap (local: the ghosts' come with them)
     call node_set_masses(comm, pc%nodes, .not. pc%c%local, mass, pc%c%mass)
     pc%c%time_step = dt
     pc%c%rank = dom%rank

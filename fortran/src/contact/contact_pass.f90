@@ -105,10 +105,12 @@ contains
     pass%mu_static = deck%contact_static_friction(pair)
     pass%mu_dynamic = deck%contact_dynamic_friction(pair)
     pass%decay = deck%contact_friction_decay(pair)
-    allocate (pass%overlap(size(slave_nodes)), push(3, size(slave_nodes)), source=0.0_wp)
-    if (deck%contact_initial_penetration(pair) == initial_penetration_gap) &
+    allocate (pass%overlap(size(slave_nodes)), source=0.0_wp)
+    if (deck%contact_initial_penetration(pair) == initial_penetration_gap) then
+      allocate (push(3, size(slave_nodes)))
       call slave_penetrations(deck%coordinates, slave_nodes, deck%connectivity(:, elements), pass%t_slave, &
                               pass%t_master, pass%overlap, push)
+    end if
   end subroutine pass_between_parts
 
   !> The lists of nearby master nodes and the clearances of the slaves this rank searches: every
@@ -153,7 +155,12 @@ contains
     integer :: s, j, node, n, m
     allocate (master_index(n_contact), source=0)
     master_index(contact_id(master_nodes)) = [(j, j = 1, size(master_nodes))]
-    allocate (pass%excluded_start(size(pass%slaves) + 1), list(4 * size(pass%segment_list)))
+    ! at most the 4 nodes of each segment around each slave (none where the parts share no node)
+    n = 0
+    do s = 1, size(pass%slaves)
+      n = n + 4 * (pass%segment_start(pass%slaves(s) + 1) - pass%segment_start(pass%slaves(s)))
+    end do
+    allocate (pass%excluded_start(size(pass%slaves) + 1), list(n))
     n = 0
     do s = 1, size(pass%slaves)
       pass%excluded_start(s) = n + 1
