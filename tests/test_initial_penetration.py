@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import models as M
+import paradyn
 from paradyn._schema import ENUMS
 from paradyn.deck import Control
 
@@ -77,6 +78,27 @@ def test_kept_gap_still_pushes_past_the_overlap(tmp_path):
     h = M.run(asm.model, tmp_path).results.history
     assert np.max(h["contact_energy"]) > 0.0
     assert h["tracked_velocity"][-1, 0, 2] < -0.5
+
+
+def test_kept_gap_is_bitwise_on_several_ranks(tmp_path):
+    """Under local contact a rank keeps the overlaps (and clearances) of its own slaves alone
+    (contact_pass, slave_slot): the kept-gap plates of the test above, pushing past their overlap,
+    give bitwise the same frames and contact histories on 2 and 3 ranks as on one. The upper plate
+    overlaps half of the lower one, so the slaves' overlaps differ (4 mm, less at the edges, 0)."""
+    lower = M.flat_plate((0.1, 0.1), (4, 4))
+    upper = M.flat_plate((0.1, 0.1), (4, 4), origin=(0.05, 0.0, GAP))
+    control = Control(end_time=2.0e-4, output_interval=1.0e-4, history_interval=1.0e-5)
+    asm = M.contact_model([M.Body(lower, T), M.Body(upper, T, (0.0, 0.0, -5.0))], STEEL, control)
+    asm.model.contact_initial_penetration = np.array([ENUMS["initial_penetration"]["gap"]], dtype=np.int32)
+    runs = [paradyn.run(asm.model, tmp_path / str(ranks), ranks=ranks, threads=1, post=False) for ranks in (1, 2, 3)]
+    reference = runs[0]
+    assert np.max(reference.history["contact_energy"]) > 0.0
+    last = reference.n_frames - 1
+    for other in runs[1:]:
+        for key in ("contact_energy", "contact_penetration", "contact_force"):
+            assert np.array_equal(other.history[key], reference.history[key]), key
+        assert np.array_equal(other.frame_arrays(last).displacement, reference.frame_arrays(last).displacement)
+        assert np.array_equal(other.frame_arrays(last).velocity, reference.frame_arrays(last).velocity)
 
 
 def _scene_text(mode: str, height: float) -> str:

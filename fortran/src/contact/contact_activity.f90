@@ -33,21 +33,20 @@ contains
   end function extent_empty
 
   !> Add the nodes members (contact-node ids) whose column at(member) in x, v is not 0 (the
-  !> rank's own nodes) to extent; v_before(:, member) is the member's velocity a cycle earlier.
+  !> rank's own nodes) to extent; v_before(:, at(member)) is the member's velocity a cycle earlier.
   pure subroutine side_extent(members, at, x, v, v_before, extent)
     integer, intent(in) :: members(:), at(:)
     real(wp), intent(in) :: x(:, :), v(:, :), v_before(:, :)
     real(wp), intent(inout) :: extent(extent_width)
-    integer :: i, j, k
+    integer :: i, j
     do i = 1, size(members)
-      k = members(i)
-      j = at(k)
+      j = at(members(i))
       if (j == 0) cycle
       extent(1:3) = max(extent(1:3), -x(:, j))
       extent(4:6) = max(extent(4:6), x(:, j))
       extent(7) = max(extent(7), v(1, j)**2 + v(2, j)**2 + v(3, j)**2)
-      extent(8) = max(extent(8), (v(1, j) - v_before(1, k))**2 + (v(2, j) - v_before(2, k))**2 &
-                                 + (v(3, j) - v_before(3, k))**2)
+      extent(8) = max(extent(8), (v(1, j) - v_before(1, j))**2 + (v(2, j) - v_before(2, j))**2 &
+                                 + (v(3, j) - v_before(3, j))**2)
     end do
   end subroutine side_extent
 

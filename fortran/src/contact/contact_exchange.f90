@@ -9,7 +9,7 @@ module contact_exchange
   use domain_decomposition, only: domain_t, local_node
   implicit none
   private
-  public :: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, allgather_node_subset
+  public :: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, allgather_node_subset, node_set_masses
   public :: record_share_t, record_share_setup, share_contact_records
   public :: candidate_share_t, candidate_share_setup, share_contact_candidates
 
@@ -110,11 +110,14 @@ contains
     end do
   end subroutine share_contact_records
 
-  !> members: global node ids, ascending.
-  subroutine node_set_setup(dom, comm, members, set)
+  !> members: global node ids, ascending. gathers: set up the gathers (collective); without them
+  !> (local contact, which never gathers the set) only where each member lives, and no buffer
+  !> sized by the set's members on other ranks.
+  subroutine node_set_setup(dom, comm, members, gathers, set)
     type(domain_t), intent(in) :: dom
     type(MPI_Comm), intent(in) :: comm
     integer, intent(in) :: members(:)
+    logical, intent(in) :: gathers
     type(node_set_t), intent(out) :: set
     integer :: k, total
     set%n = size(members)
@@ -124,6 +127,7 @@ contains
     end do
     set%owned_member = pack([(k, k = 1, set%n)], set%local > 0)
     set%owned_member = pack(set%owned_member, dom%node_owned(set%local(set%owned_member)) == 1)
+    if (.not. gathers) return
     allocate (set%counts(dom%n_ranks), set%displs(dom%n_ranks))
     call MPI_Allgather(size(set%owned_member), 1, MPI_INTEGER, set%counts, 1, MPI_INTEGER, comm)
     call displacements(set%counts, set%displs, total)
@@ -248,6 +252,30 @@ contains
     end do
     !$omp end parallel do
   end subroutine allgather_node_set
+
+  !> The lumped masses (mass: local columns) of the set's members: gathered from their owners
+  !> (gathers, a set from node_set_setup with its gathers; collective), or those of the members
+  !> in this domain, 0 elsewhere: a shared node's mass is the same on every rank that holds it
+  !> (the corners' sums are assembled in one order), so either way it is the owner's.
+  subroutine node_set_masses(comm, set, gathers, mass, masses)
+    type(MPI_Comm), intent(in) :: comm
+    type(node_set_t), intent(inout) :: set
+    logical, intent(in) :: gathers
+    real(wp), intent(in) :: mass(:)
+    real(wp), allocatable, intent(out) :: masses(:)
+    real(wp), allocatable :: x_set(:, :), v_set(:, :)
+    integer :: k
+    if (gathers) then
+      allocate (x_set(3, set%n), v_set(3, set%n))
+      call allgather_node_set(comm, set, spread(mass, 1, 3), spread(mass, 1, 3), x_set, v_set)
+      masses = x_set(1, :)
+      return
+    end if
+    allocate (masses(set%n), source=0.0_wp)
+    do k = 1, set%n
+      if (set%local(k) > 0) masses(k) = mass(set%local(k))
+    end do
+  end subroutine node_set_masses
 
   subroutine displacements(counts, displs, total)
     integer, intent(in) :: counts(:)

@@ -39,7 +39,7 @@ module contact_interface
   use paradyn_schema, only: enum_name, enum_contact_kind
   implicit none
   private
-  public :: contact_t, contact_setup
+  public :: contact_t, contact_setup, contact_node_state
   public :: contact_begin, contact_sort_due, contact_movement
   public :: contact_restore, contact_sort_pass
   public :: contact_activity_update, contact_all_idle, contact_count_activity
@@ -137,8 +137,6 @@ contains
     c%n_nodes = size(c%global_node)
     allocate (contact_id(deck%n_nodes), source=0)
     contact_id(c%global_node) = [(i, i = 1, c%n_nodes)]
-    allocate (c%x(3, c%n_nodes), c%v(3, c%n_nodes), c%force(3, c%n_nodes), c%force_old(3, c%n_nodes), &
-              c%x_at_sort(3, c%n_nodes), source=0.0_wp)
     c%sort_interval = deck%contact_sort_interval
     ! each definition's passes, one after the other, from its member of the contact family
     allocate (kinds(deck%n_contacts))
@@ -154,11 +152,19 @@ contains
       call kinds(k)%kind%make_passes(deck, k, contact_id, c%n_nodes, c%passes(n_passes + 1:n_passes + p))
       n_passes = n_passes + p
     end do
-    allocate (c%touched(c%n_nodes), c%touched_old(c%n_nodes), c%mark(c%n_nodes), source=0)
-    allocate (c%in_gather(c%n_nodes), source=.true.)
     allocate (c%pair_active_cycles(deck%n_contacts), c%pair_skipped_cycles(deck%n_contacts), source=0_i8)
     allocate (c%definition_force(3, deck%n_contacts), source=0.0_wp)
   end subroutine contact_setup
+
+  !> The state of each contact node (positions, velocities, forces, the touched lists), after
+  !> contact_setup: allocated once the caller has released the deck it read.
+  subroutine contact_node_state(c)
+    type(contact_t), intent(inout) :: c
+    allocate (c%x(3, c%n_nodes), c%v(3, c%n_nodes), c%force(3, c%n_nodes), c%force_old(3, c%n_nodes), &
+              c%x_at_sort(3, c%n_nodes), source=0.0_wp)
+    allocate (c%touched(c%n_nodes), c%touched_old(c%n_nodes), c%mark(c%n_nodes), source=0)
+    allocate (c%in_gather(c%n_nodes), source=.true.)
+  end subroutine contact_node_state
 
   !> Start a step: keep the last forces, redo the bucket sorts if sort (contact_sort_due; the
   !> positions of all contact nodes are then current). Only the nodes touched in the last two

@@ -7,13 +7,15 @@
 !> same ghosts from the same ranks) and share_records_locally (every step: each record by value to
 !> the holders of its five nodes; the energy and the definitions' forces are exact sums that every
 !> rank takes part in, contact_parallel). Every rank orders the records it has by pass and slave,
-!> the order of the serial sum, so each node's force is bitwise the serial one. Which ranks hold each contact node is set up once (one
-!> allgather); the contact state is still indexed by every contact node (docs/performance.md).
+!> the order of the serial sum, so each node's force is bitwise the serial one. Which ranks hold a
+!> node of this domain comes from the halo (the neighbours its corners go to), and a ghost's
+!> holders come with it; the contact state is still indexed by every contact node
+!> (docs/performance.md).
 module contact_neighbours
   use mpi_f08
   use paradyn_kinds, only: wp, i8
   use domain_decomposition, only: domain_t, local_element
-  use integer_sort, only: merge_sort_ascending, sorted_position
+  use integer_sort, only: merge_sort_ascending, sorted_position, distinct_ascending
   use traffic_counter, only: traffic_t, count_messages, count_allgather
   use contact_sparse, only: sparse_exchange
   use contact_interface, only: contact_t
@@ -34,7 +36,10 @@ module contact_neighbours
     logical, allocatable :: in_domain(:)                      !< per contact node
     integer, allocatable :: owned_node(:)                     !< contact nodes this rank owns, ascending
     real(wp), allocatable :: x_at_refresh(:, :)               !< their positions at the last refresh
-    integer, allocatable :: holder_start(:), holder(:)        !< CSR: ranks whose domain holds each contact node
+    ! the ranks whose domains hold each contact node of this domain (domain_node's order) and each
+    ! ghost (ghost_node: the ghosts not of this domain, ascending), ascending (CSR)
+    integer, allocatable :: holder_start(:), holder(:)
+    integer, allocatable :: ghost_node(:), ghost_holder_start(:), ghost_holder(:)
     integer, allocatable :: segment_first(:), my_segment(:)   !< per pass: the segments of this rank's elements
     type(rank_lists_t) :: send, recv                          !< the ghosts, from the last refresh
     integer, allocatable :: own_near(:)                       !< the nodes of own segments near own slaves
@@ -43,22 +48,22 @@ module contact_neighbours
     logical :: refresh_pending = .true.                       !< at the start and after a restore
   end type neighbours_t
 
-  integer, parameter :: ghost_width = 10      !< node, position at the sort, position, velocity
+  !> node, position at the sort, position, velocity, mass, number of holders (the holders follow)
+  integer, parameter :: ghost_width = 12
   integer, parameter :: record_width = 23     !< pass, slave, 5 nodes, 15 forces, penetration
   integer, parameter :: update_tag = 710
 
 contains
 
   !> local: each contact node's column on this rank (0 if not in its domain); owned_member: the
-  !> contact nodes it owns. Collective (one allgather of the domains' contact nodes).
+  !> contact nodes it owns. No communication.
   subroutine neighbours_setup(nb, c, dom, comm, local, owned_member)
     type(neighbours_t), intent(out) :: nb
     type(contact_t), intent(inout) :: c
     type(domain_t), intent(in) :: dom
     type(MPI_Comm), intent(in) :: comm
     integer, intent(in) :: local(:), owned_member(:)
-    integer, allocatable :: counts(:), displs(:), all_nodes(:), fill(:)
-    integer :: k, r, p, s, n, i
+    integer :: k, p, s, n
     nb%comm = comm
     nb%rank = dom%rank
     nb%n_ranks = dom%n_ranks
@@ -70,32 +75,7 @@ contains
     allocate (c%owned(c%n_nodes), source=.false.)
     c%owned(owned_member) = .true.
     c%held = nb%in_domain
-    ! which ranks hold each contact node
-    allocate (counts(nb%n_ranks), displs(nb%n_ranks))
-    call MPI_Allgather(size(nb%domain_node), 1, MPI_INTEGER, counts, 1, MPI_INTEGER, comm)
-    displs(1) = 0
-    do r = 2, nb%n_ranks
-      displs(r) = displs(r - 1) + counts(r - 1)
-    end do
-    allocate (all_nodes(sum(counts)))
-    call MPI_Allgatherv(nb%domain_node, size(nb%domain_node), MPI_INTEGER, all_nodes, counts, displs, &
-                        MPI_INTEGER, comm)
-    allocate (nb%holder_start(c%n_nodes + 1), source=0)
-    do i = 1, size(all_nodes)
-      nb%holder_start(all_nodes(i) + 1) = nb%holder_start(all_nodes(i) + 1) + 1
-    end do
-    nb%holder_start(1) = 1
-    do k = 1, c%n_nodes
-      nb%holder_start(k + 1) = nb%holder_start(k + 1) + nb%holder_start(k)
-    end do
-    allocate (nb%holder(size(all_nodes)), fill(c%n_nodes))
-    fill = nb%holder_start(1:c%n_nodes)
-    do r = 1, nb%n_ranks           ! rank after rank: each node's holders ascending
-      do i = displs(r) + 1, displs(r) + counts(r)
-        nb%holder(fill(all_nodes(i))) = r - 1
-        fill(all_nodes(i)) = fill(all_nodes(i)) + 1
-      end do
-    end do
+    call domain_holders(nb, dom)
     ! the segments of this rank's elements, pass after pass; the slaves it owns
     allocate (nb%segment_first(size(c%passes) + 1))
     allocate (nb%my_segment(sum([(size(c%passes(p)%segment_element), p = 1, size(c%passes))])))
@@ -109,13 +89,58 @@ contains
         nb%my_segment(n) = s
       end do
       c%passes(p)%own_slaves = pack([(s, s = 1, size(c%passes(p)%slaves))], c%owned(c%passes(p)%slaves))
-      c%passes(p)%near_slaves(1:size(c%passes(p)%own_slaves)) = c%passes(p)%own_slaves
+      c%passes(p)%near_slaves = c%passes(p)%own_slaves   ! the near ones are among them
       c%passes(p)%n_near = size(c%passes(p)%own_slaves)
     end do
     nb%segment_first(size(c%passes) + 1) = n + 1
     allocate (nb%mark(c%n_nodes), source=0)
     allocate (nb%slot(0:nb%n_ranks - 1), source=0)
   end subroutine neighbours_setup
+
+  !> The ranks whose domains hold each contact node of this domain: this rank and the neighbours
+  !> that its corners at the node go to (halo_exchange sends every corner at a shared node to each
+  !> other rank whose elements touch it), ascending.
+  subroutine domain_holders(nb, dom)
+    type(neighbours_t), intent(inout) :: nb
+    type(domain_t), intent(in) :: dom
+    integer, allocatable :: place(:), last(:), counts(:), fill(:)
+    integer :: n, i, k, s, round
+    n = size(nb%domain_node)
+    allocate (place(dom%n_nodes), source=0)
+    place(nb%domain_local) = [(i, i = 1, n)]
+    allocate (counts(n), source=1)   ! this rank
+    allocate (last(n), fill(n), nb%holder_start(n + 1))
+    do round = 1, 2   ! count, then fill
+      last = 0
+      if (round == 2) then
+        nb%holder_start(1) = 1
+        do i = 1, n
+          nb%holder_start(i + 1) = nb%holder_start(i) + counts(i)
+        end do
+        allocate (nb%holder(nb%holder_start(n + 1) - 1))
+        fill = nb%holder_start(1:n)
+        nb%holder(fill) = nb%rank
+        fill = fill + 1
+      end if
+      do k = 1, dom%n_neighbours
+        do s = dom%send_start(k), dom%send_start(k + 1) - 1   ! corner slot 4 (element - 1) + corner
+          i = place(dom%connectivity(modulo(dom%send_slot(s) - 1, 4) + 1, (dom%send_slot(s) - 1) / 4 + 1))
+          if (i == 0) cycle
+          if (last(i) == k) cycle
+          last(i) = k
+          if (round == 1) then
+            counts(i) = counts(i) + 1
+          else
+            nb%holder(fill(i)) = dom%neighbour(k)
+            fill(i) = fill(i) + 1
+          end if
+        end do
+      end do
+    end do
+    do i = 1, n
+      call merge_sort_ascending(nb%holder(nb%holder_start(i):nb%holder_start(i + 1) - 1))
+    end do
+  end subroutine domain_holders
 
   !> New ghosts: every rank's box of its own slaves per pass goes to all; this rank sends each other
   !> rank the nodes of its own master segments that have a node within the search radius of the
@@ -131,9 +156,9 @@ contains
     logical, intent(in) :: from_sort
     type(traffic_t), intent(inout) :: traffic
     real(wp) :: boxes(6, size(c%passes)), all_boxes(6, size(c%passes), nb%n_ranks), smallest
-    integer, allocatable :: list(:), start(:), dest(:), sources(:), rstart(:)
+    integer, allocatable :: list(:), start(:), dest(:), sources(:), rstart(:), at(:)
     real(wp), allocatable :: buffer(:), received(:)
-    integer :: p, q, first, i, k, m
+    integer :: p, q, first, i, k, h
     if (allocated(nb%own_near)) deallocate (nb%own_near)
     smallest = minval([(c%passes(p)%bucket_size, p = 1, size(c%passes))])
     do p = 1, size(c%passes)
@@ -175,33 +200,84 @@ contains
     nb%send%rank = dest
     nb%send%start = start
     nb%send%node = list
-    allocate (buffer(ghost_width * size(list)))
+    ! each ghost's row, then its holders (list holds nodes of this domain: of its own segments)
+    allocate (at(size(list) + 1))
+    at(1) = 1
+    do i = 1, size(list)
+      h = sorted_position(nb%domain_node, list(i))
+      at(i + 1) = at(i) + ghost_width + nb%holder_start(h + 1) - nb%holder_start(h)
+    end do
+    allocate (buffer(at(size(list) + 1) - 1))
     do i = 1, size(list)
       k = list(i)
-      buffer(ghost_width * (i - 1) + 1:ghost_width * i) = [real(k, wp), c%x_at_sort(:, k), c%x(:, k), c%v(:, k)]
+      h = sorted_position(nb%domain_node, k)
+      buffer(at(i):at(i + 1) - 1) = [real(k, wp), c%x_at_sort(:, k), c%x(:, k), c%v(:, k), c%mass(k), &
+                                     real(nb%holder_start(h + 1) - nb%holder_start(h), wp), &
+                                     real(nb%holder(nb%holder_start(h):nb%holder_start(h + 1) - 1), wp)]
     end do
-    call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, ghost_width * (start - 1) + 1, buffer, sources, &
-                         rstart, received, traffic)
-    ! the held nodes: this domain's and the ghosts
-    c%held = nb%in_domain
-    nb%recv%rank = sources
-    nb%recv%start = (rstart - 1) / ghost_width + 1
-    if (allocated(nb%recv%node)) deallocate (nb%recv%node)
-    allocate (nb%recv%node((rstart(size(rstart)) - 1) / ghost_width))
-    do i = 1, size(nb%recv%node)
-      m = ghost_width * (i - 1)
-      k = nint(received(m + 1))
-      nb%recv%node(i) = k
-      if (nb%in_domain(k)) cycle
-      c%held(k) = .true.
-      c%x_at_sort(:, k) = received(m + 2:m + 4)
-      c%x(:, k) = received(m + 5:m + 7)
-      c%v(:, k) = received(m + 8:m + 10)
-    end do
+    call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, at(start), buffer, sources, rstart, received, traffic)
+    call take_ghosts(nb, c, sources, rstart, received)
     nb%x_at_refresh = c%x(:, nb%owned_node)
     if (from_sort) nb%x_at_refresh = c%x_at_sort(:, nb%owned_node)
     nb%refresh_pending = .false.
   end subroutine neighbours_refresh
+
+  !> The ghosts of a refresh (messages received(rstart(i) :) from sources(i), rows of neighbours_refresh):
+  !> the held nodes are this domain's and these; their positions, velocities and masses, the
+  !> lists to update between refreshes (recv), and each ghost's holders.
+  subroutine take_ghosts(nb, c, sources, rstart, received)
+    type(neighbours_t), intent(inout) :: nb
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: sources(:), rstart(:)
+    real(wp), intent(in) :: received(:)
+    integer, allocatable :: nodes(:), first(:)
+    integer :: i, j, k, m, n, g, width
+    ! the rows: where each starts, message after message
+    allocate (first(0), nodes(0))
+    if (allocated(nb%ghost_holder)) deallocate (nb%recv%start, nb%ghost_holder_start, nb%ghost_holder)
+    nb%recv%rank = sources
+    allocate (nb%recv%start(size(sources) + 1))
+    do i = 1, size(sources)
+      nb%recv%start(i) = size(nodes) + 1
+      m = rstart(i)
+      do while (m < rstart(i + 1))
+        first = [first, m]
+        nodes = [nodes, nint(received(m))]
+        m = m + ghost_width + nint(received(m + 11))
+      end do
+    end do
+    nb%recv%start(size(sources) + 1) = size(nodes) + 1
+    nb%recv%node = nodes
+    c%held = nb%in_domain
+    nb%ghost_node = distinct_ascending(pack(nodes, .not. nb%in_domain(nodes)))
+    n = size(nb%ghost_node)
+    allocate (nb%ghost_holder_start(n + 1), source=0)
+    do j = 1, size(nodes)   ! a ghost from several ranks comes with the same holders from each
+      k = nodes(j)
+      if (nb%in_domain(k)) cycle
+      m = first(j)
+      c%held(k) = .true.
+      c%x_at_sort(:, k) = received(m + 1:m + 3)
+      c%x(:, k) = received(m + 4:m + 6)
+      c%v(:, k) = received(m + 7:m + 9)
+      c%mass(k) = received(m + 10)
+      nb%ghost_holder_start(sorted_position(nb%ghost_node, k) + 1) = nint(received(m + 11))
+    end do
+    nb%ghost_holder_start(1) = 1
+    do g = 1, n
+      nb%ghost_holder_start(g + 1) = nb%ghost_holder_start(g + 1) + nb%ghost_holder_start(g)
+    end do
+    allocate (nb%ghost_holder(nb%ghost_holder_start(n + 1) - 1))
+    do j = 1, size(nodes)
+      k = nodes(j)
+      if (nb%in_domain(k)) cycle
+      m = first(j)
+      g = sorted_position(nb%ghost_node, k)
+      width = nint(received(m + 11))
+      nb%ghost_holder(nb%ghost_holder_start(g):nb%ghost_holder_start(g + 1) - 1) = &
+        nint(received(m + ghost_width:m + ghost_width + width - 1))
+    end do
+  end subroutine take_ghosts
 
   !> Append to list the nodes (not yet marked) of this rank's segments of pass p with a node near
   !> box (lower and upper corner of a rank's own slaves of the pass).
@@ -331,22 +407,37 @@ contains
                          traffic)
     call take_records(c, own, received, rstart)
   contains
-    !> The ranks record k goes to: the holders of its nodes, not this rank, once each.
+    !> The ranks record k goes to: the holders of its nodes (held here: this domain's or ghosts), not
+    !> this rank, once each.
     subroutine destinations(k, ranks, n)
       integer, intent(in) :: k
       integer, intent(out) :: ranks(:), n
-      integer :: m, jj, r
+      integer :: m, node, h
       n = 0
       do m = 1, 5
-        do jj = nb%holder_start(c%record_nodes(m, k)), nb%holder_start(c%record_nodes(m, k) + 1) - 1
-          r = nb%holder(jj)
-          if (r == nb%rank .or. any(ranks(1:n) == r)) cycle
-          n = n + 1
-          ranks(n) = r
-        end do
+        node = c%record_nodes(m, k)
+        if (nb%in_domain(node)) then
+          h = sorted_position(nb%domain_node, node)
+          call add_ranks(nb%holder(nb%holder_start(h):nb%holder_start(h + 1) - 1), nb%rank, ranks, n)
+        else
+          h = sorted_position(nb%ghost_node, node)
+          call add_ranks(nb%ghost_holder(nb%ghost_holder_start(h):nb%ghost_holder_start(h + 1) - 1), nb%rank, ranks, n)
+        end if
       end do
     end subroutine destinations
   end subroutine share_records_locally
+
+  !> Append to ranks(1:n) the holders that are not me and not there yet.
+  pure subroutine add_ranks(holders, me, ranks, n)
+    integer, intent(in) :: holders(:), me
+    integer, intent(inout) :: ranks(:), n
+    integer :: j
+    do j = 1, size(holders)
+      if (holders(j) == me .or. any(ranks(1:n) == holders(j))) cycle
+      n = n + 1
+      ranks(n) = holders(j)
+    end do
+  end subroutine add_ranks
 
   pure function record_row(c, k) result(row)
     type(contact_t), intent(in) :: c

@@ -24,7 +24,7 @@ module contact_parallel
   use domain_decomposition, only: domain_t
   use phase_timers, only: phase_timers_t, wall_clock
   use traffic_counter, only: traffic_t, count_allgather, count_allreduce
-  use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
+  use contact_interface, only: contact_t, contact_setup, contact_node_state, contact_begin, contact_sort_due, contact_movement, &
                                contact_restore, contact_activity_update, contact_all_idle, contact_count_activity, &
                                contact_sort_pass
   use contact_room, only: contact_rooms
@@ -33,18 +33,16 @@ module contact_parallel
                             contact_end, contact_finish
   use exact_sum, only: exact_width
   use contact_reduction, only: reduce_contact_sums
-  use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, &
-                              allgather_node_subset, record_share_t, record_share_setup, &
-                              share_contact_records, candidate_share_t, candidate_share_setup, &
-                              share_contact_candidates
+  use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, node_set_masses, &
+                              allgather_node_subset, record_share_t, record_share_setup, share_contact_records, &
+                              candidate_share_t, candidate_share_setup, share_contact_candidates
   use contact_neighbours, only: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, &
                                 share_records_locally
   implicit none
   private
   public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply
   public :: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, contact_log_line
-  public :: contact_checkpoint_sums
-  public :: parallel_contact_worked, parallel_contact_idle_cycles, contact_travel_step
+  public :: contact_checkpoint_sums, parallel_contact_worked, parallel_contact_idle_cycles, contact_travel_step
 
   integer, parameter :: contact_checkpoint_width = 7   !< force, position at the last sort, place in the sum
 
@@ -56,7 +54,7 @@ module contact_parallel
     type(MPI_Comm) :: comm
     integer, allocatable :: at(:)             !< local column of each contact node this rank owns, else 0
     real(wp), allocatable :: extents(:, :)    !< (extent_width, 2 passes): the activity check's slave and master extents
-    real(wp), allocatable :: v_before(:, :)   !< velocities of the contact nodes this rank owns, the cycle before a check
+    real(wp), allocatable :: v_before(:, :)   !< velocities (local columns) of own contact nodes, the cycle before a check
     integer(i8) :: v_before_cycle = -huge(1_i8)      !< the cycle they are from
     type(traffic_t) :: traffic                !< messages and bytes of the contact's sharing (traffic_counter)
     type(neighbours_t) :: nb                  !< local contact: ghosts and record routes (contact_neighbours)
@@ -65,22 +63,26 @@ module contact_parallel
 
 contains
 
-  !> Contact of the deck's pairs on this rank's domain (mass, v: the local nodal masses and
-  !> velocities; dt: the solver's step, for the penalty's stability cap). gather_all: no shortcut,
-  !> every contact node gathered, every pass run every step (to check that those change nothing).
+  !> Contact of the deck's pairs (the contact parts in the global layout, released once the passes
+  !> are built) on this rank's domain (mass, v: the local nodal masses and velocities; dt: the
+  !> solver's step, for the penalty's stability cap). gather_all: no shortcut, every contact node
+  !> gathered, every pass run every step (to check that those change nothing).
   subroutine parallel_contact_setup(pc, deck, dom, comm, mass, v, dt, gather_all)
     type(parallel_contact_t), intent(out) :: pc
-    type(deck_t), intent(in) :: deck
+    type(deck_t), intent(inout) :: deck
     type(domain_t), intent(in) :: dom
     type(MPI_Comm), intent(in) :: comm
     real(wp), intent(in) :: mass(:), v(:, :), dt
     logical, intent(in) :: gather_all
     pc%comm = comm
     call contact_setup(deck, pc%c)
-    call node_set_setup(dom, comm, pc%c%global_node, pc%nodes)
-    ! the lumped masses of the contact nodes, for the penalty's stability cap
-    call allgather_node_set(comm, pc%nodes, spread(mass, 1, 3), v, pc%c%x, pc%c%v)
-    pc%c%mass = pc%c%x(1, :)
+    deck = deck_t()
+    call contact_node_state(pc%c)
+    ! local contact on more than one rank, unless every node is gathered (the replicated reference)
+    pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
+    call node_set_setup(dom, comm, pc%c%global_node, .not. pc%c%local, pc%nodes)
+    ! the masses of the contact nodes, for the stability cap (local: the ghosts' come with them)
+    call node_set_masses(comm, pc%nodes, .not. pc%c%local, mass, pc%c%mass)
     pc%c%time_step = dt
     pc%c%rank = dom%rank
     pc%c%n_ranks = dom%n_ranks
@@ -89,10 +91,8 @@ contains
     allocate (pc%at(pc%c%n_nodes), source=0)
     pc%at(pc%nodes%owned_member) = pc%nodes%local(pc%nodes%owned_member)
     allocate (pc%extents(extent_width, 2 * size(pc%c%passes)))
-    allocate (pc%v_before(3, pc%c%n_nodes), source=0.0_wp)
+    allocate (pc%v_before(3, size(v, 2)), source=0.0_wp)
     allocate (pc%c%sums(exact_width, 1 + size(pc%c%definition_force)), source=0_i8)
-    ! local contact on more than one rank, unless every node is gathered (the replicated reference)
-    pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
     if (pc%c%local) call neighbours_setup(pc%nb, pc%c, dom, comm, pc%nodes%local, pc%nodes%owned_member)
     call contact_rooms(pc%c)   ! local contact: for this rank's own slaves (contact_room)
     call record_share_setup(merge(0, size(pc%c%record_nodes, 2), pc%c%local), dom%n_ranks, pc%records)
@@ -158,8 +158,8 @@ contains
 
   !> The largest step in which a slave and a master of an active pass close by at most `fraction` of
   !> the pass's thinner contact thickness, their closing speed bounded by twice the speed of the
-  !> pass's fastest node (v: local velocities; this rank's own nodes). huge when none moves. A
-  !> bound from one node's speed makes the least over the ranks independent of the layout.
+  !> pass's fastest node (v: local velocities; this rank's own nodes; huge when none moves): a bound
+  !> from one node's speed makes the least over the ranks independent of the layout.
   real(wp) function contact_travel_step(pc, v, fraction) result(dt)
     type(parallel_contact_t), intent(in) :: pc
     real(wp), intent(in) :: v(:, :), fraction
@@ -192,10 +192,10 @@ contains
     type(parallel_contact_t), intent(inout) :: pc
     real(wp), intent(in) :: v(:, :)
     integer(i8), intent(in) :: cycle
-    integer :: i, k
+    integer :: i, j
     do i = 1, size(pc%nodes%owned_member)
-      k = pc%nodes%owned_member(i)
-      pc%v_before(:, k) = v(:, pc%at(k))
+      j = pc%at(pc%nodes%owned_member(i))
+      pc%v_before(:, j) = v(:, j)
     end do
     pc%v_before_cycle = cycle
   end subroutine keep_velocities

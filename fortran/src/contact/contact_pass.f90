@@ -17,7 +17,7 @@ module contact_pass
   use paradyn_schema, only: initial_penetration_gap
   implicit none
   private
-  public :: contact_pass_t, pass_between_parts, pass_near_lists
+  public :: contact_pass_t, pass_between_parts, pass_near_lists, slave_slot
 
   type :: contact_pass_t
     integer :: pair = 0                        !< the contact definition (deck entry) it comes from
@@ -41,7 +41,8 @@ module contact_pass
     !> excluded(excluded_start(s) : excluded_start(s + 1) - 1), and the segments
     logical :: shares_nodes = .false.
     integer, allocatable :: excluded_start(:), excluded(:)
-    !> each slave's overlap at the start, taken as its gap (/contact/initial_penetration = gap), else 0
+    !> each slave's overlap at the start, taken as its gap (/contact/initial_penetration = gap), else
+    !> 0; at its slave_slot (local contact: the rank's own slaves only, from pass_near_lists)
     real(wp), allocatable :: overlap(:)
     real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted
     integer, allocatable :: near_slaves(:)     !< slaves that can come near the master box before the next sort
@@ -56,7 +57,7 @@ module contact_pass
     integer, allocatable :: near_slot(:)
     !> each slave's clearance (contact_stages): at sort number clear_sort, when the contact moved
     !> clear_moved since that sort, every segment around master clear_master was at least clear_gap
-    !> farther from the slave than it could touch
+    !> farther from the slave than it could touch; like overlap, at the slave's slave_slot
     integer, allocatable :: clear_master(:)
     integer(i8), allocatable :: clear_sort(:)
     real(wp), allocatable :: clear_gap(:), clear_moved(:)
@@ -98,35 +99,52 @@ contains
     allocate (pass%x_sorted(3, 0))   ! each sort gives it the masters it sorts (contact_sort_pass)
     pass%near_slaves = [(e, e = 1, size(pass%slaves))]
     pass%n_near = size(pass%slaves)
-    allocate (pass%clear_master(size(pass%slaves)), source=0)
-    allocate (pass%clear_sort(size(pass%slaves)), source=-1_i8)
-    allocate (pass%clear_gap(size(pass%slaves)), pass%clear_moved(size(pass%slaves)), source=0.0_wp)
     pass%t_slave = contact_thickness(deck, pair, slave_part)
     pass%t_master = contact_thickness(deck, pair, master_part)
     call exclusions(pass, contact_id, master_nodes, n_contact)
     pass%mu_static = deck%contact_static_friction(pair)
     pass%mu_dynamic = deck%contact_dynamic_friction(pair)
     pass%decay = deck%contact_friction_decay(pair)
-    allocate (pass%overlap(size(slave_nodes)), push(3, size(slave_nodes)), source=0.0_wp)
-    if (deck%contact_initial_penetration(pair) == initial_penetration_gap) &
+    allocate (pass%overlap(size(slave_nodes)), source=0.0_wp)
+    if (deck%contact_initial_penetration(pair) == initial_penetration_gap) then
+      allocate (push(3, size(slave_nodes)))
       call slave_penetrations(deck%coordinates, slave_nodes, deck%connectivity(:, elements), pass%t_slave, &
                               pass%t_master, pass%overlap, push)
+    end if
   end subroutine pass_between_parts
 
-  !> The lists of nearby master nodes of the slaves this rank searches: every slave, or (own, local
-  !> contact) the slaves it owns, own_slaves, alone.
+  !> The lists of nearby master nodes and the clearances of the slaves this rank searches: every
+  !> slave, or (own, local contact) the slaves it owns, own_slaves, alone, whose overlaps are then
+  !> kept alone too (each at its place among them, near_slot).
   subroutine pass_near_lists(pass, own)
     type(contact_pass_t), intent(inout) :: pass
     logical, intent(in) :: own
-    integer :: i
+    integer :: i, n
     if (own) then
       allocate (pass%near_slot(size(pass%slaves)), source=0)
       pass%near_slot(pass%own_slaves) = [(i, i = 1, size(pass%own_slaves))]
-      call near_lists_setup(size(pass%own_slaves), pass%near)
+      pass%overlap = pass%overlap(pass%own_slaves)
+      n = size(pass%own_slaves)
     else
-      call near_lists_setup(size(pass%slaves), pass%near)
+      n = size(pass%slaves)
     end if
+    call near_lists_setup(n, pass%near)
+    allocate (pass%clear_master(n), source=0)
+    allocate (pass%clear_sort(n), source=-1_i8)
+    allocate (pass%clear_gap(n), pass%clear_moved(n), source=0.0_wp)
   end subroutine pass_near_lists
+
+  !> The place of slave j's clearance and overlap: its place among the rank's own slaves under
+  !> local contact (near_slot), else j.
+  pure integer function slave_slot(pass, j) result(slot)
+    type(contact_pass_t), intent(in) :: pass
+    integer, intent(in) :: j
+    if (allocated(pass%near_slot)) then
+      slot = pass%near_slot(j)
+    else
+      slot = j
+    end if
+  end function slave_slot
 
   !> For each slave, the master indices of the nodes of the master segments that contain it (none
   !> where the slave and master parts share no node).
@@ -137,7 +155,12 @@ contains
     integer :: s, j, node, n, m
     allocate (master_index(n_contact), source=0)
     master_index(contact_id(master_nodes)) = [(j, j = 1, size(master_nodes))]
-    allocate (pass%excluded_start(size(pass%slaves) + 1), list(4 * size(pass%segment_list)))
+    ! at most the 4 nodes of each segment around each slave (none where the parts share no node)
+    n = 0
+    do s = 1, size(pass%slaves)
+      n = n + 4 * (pass%segment_start(pass%slaves(s) + 1) - pass%segment_start(pass%slaves(s)))
+    end do
+    allocate (pass%excluded_start(size(pass%slaves) + 1), list(n))
     n = 0
     do s = 1, size(pass%slaves)
       pass%excluded_start(s) = n + 1

@@ -9,7 +9,7 @@ module contact_stages
   use nearest_cache, only: nearest_master_listed
   use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order, &
                             edge_tolerance
-  use contact_pass, only: contact_pass_t
+  use contact_pass, only: contact_pass_t, slave_slot
   use contact_interface, only: contact_t, clock_seconds
   use exact_sum, only: exact_add, exact_value
   implicit none
@@ -267,7 +267,7 @@ contains
   subroutine contact_local_search(c, clock)
     type(contact_t), intent(inout) :: c
     procedure(clock_seconds) :: clock
-    integer :: k, node, segment, m
+    integer :: k, node, segment, m, slot
     real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
     real(wp) :: penetration, t0, stiffness, reach, lightest, clearance
     logical :: touching
@@ -276,15 +276,16 @@ contains
     c%record_nodes(1, c%last + 1:c%n_candidates) = 0
     !$omp parallel do schedule(static, 1) default(shared) &
     !$omp private(k, node, segment, x, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
-    !$omp penetration, touching, stiffness, reach, lightest, m, clearance)
+    !$omp penetration, touching, stiffness, reach, lightest, m, clearance, slot)
     do k = c%first, c%last
       c%record_nodes(:, k) = 0
       associate (pass => c%passes(c%candidates(3, k)))
       node = pass%slaves(c%candidates(1, k))
       x = c%x(:, node)
-      if (still_clear(pass, c%candidates(1, k), c%candidates(2, k), c%n_sorts, c%moved)) cycle
+      slot = slave_slot(pass, c%candidates(1, k))
+      if (still_clear(pass, slot, c%candidates(2, k), c%n_sorts, c%moved)) cycle
       ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
-      reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(c%candidates(1, k)) + pass%t_master)
+      reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(slot) + pass%t_master)
       if (pass%shares_nodes) then
         call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
@@ -296,10 +297,10 @@ contains
                                 pass%segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance)
       end if
       if (clearance > 0.0_wp .and. c%moved < huge(1.0_wp)) then   ! this slave's only: no other thread writes it
-        pass%clear_master(c%candidates(1, k)) = c%candidates(2, k)
-        pass%clear_sort(c%candidates(1, k)) = c%n_sorts
-        pass%clear_gap(c%candidates(1, k)) = clearance
-        pass%clear_moved(c%candidates(1, k)) = c%moved
+        pass%clear_master(slot) = c%candidates(2, k)
+        pass%clear_sort(slot) = c%n_sorts
+        pass%clear_gap(slot) = clearance
+        pass%clear_moved(slot) = c%moved
       end if
       if (segment > 0) then
         lightest = c%mass(node)
@@ -309,7 +310,7 @@ contains
           lightest = min(lightest, c%mass(pass%segments(m, segment)))
         end do
         stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 * lightest)
-        call penalty_force(x, pass%t_slave - 2.0_wp * pass%overlap(c%candidates(1, k)), xseg, pass%t_master, &
+        call penalty_force(x, pass%t_slave - 2.0_wp * pass%overlap(slot), xseg, pass%t_master, &
                            stiffness, f_slave, &
                            f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &
                            mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
@@ -328,7 +329,7 @@ contains
     c%time_force = c%time_force + clock() - t0
   end subroutine contact_local_search
 
-  !> Slave j of the pass, whose nearest master is master, still cannot touch: at an earlier step of
+  !> The slave at slave_slot j of the pass, whose nearest master is master, still cannot touch: at an earlier step of
   !> the same sort (sort number n_sorts) the segments around the same master were all at least
   !> clear_gap farther from it than they could touch, and since then no node has moved more than
   !> clear_moved + moved (each at most that far from its place at the sort, then and now). A point

@@ -52,11 +52,13 @@ contains
   !> switched-off effects already taken out of the deck), on this rank of comm. The deck holds
   !> this rank's elements (model_deck's layout: they become the domain's) and the rows of their
   !> nodes (the crossing check of contact runs on them); contact: the deck in the global layout
-  !> the contact state's set-up reads (contact_rows; any deck when the model has no contact). status 2 with a message for a mesh that cannot run (a node
-  !> without mass).
+  !> the contact state's set-up reads (contact_rows; any deck when the model has no contact),
+  !> released once that state is built. status 2 with a message for a mesh that cannot run (a
+  !> node without mass).
   subroutine solver_setup(s, deck, contact, effects, comm, status, message)
     type(solver_t), intent(inout) :: s
-    type(deck_t), intent(in) :: deck, contact
+    type(deck_t), intent(in) :: deck
+    type(deck_t), intent(inout) :: contact
     type(effect_table_t), intent(in) :: effects
     type(MPI_Comm), intent(in) :: comm
     integer, intent(out) :: status
