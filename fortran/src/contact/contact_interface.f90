@@ -39,7 +39,7 @@ module contact_interface
   use paradyn_schema, only: enum_name, enum_contact_kind
   implicit none
   private
-  public :: contact_t, contact_setup, contact_node_state
+  public :: contact_t, contact_setup
   public :: contact_begin, contact_sort_due, contact_movement
   public :: contact_restore, contact_sort_pass
   public :: contact_activity_update, contact_all_idle, contact_count_activity
@@ -57,6 +57,10 @@ module contact_interface
   type :: contact_t
     integer :: n_nodes = 0                     !< nodes of all parts in contact
     integer, allocatable :: global_node(:)     !< their global ids, ascending
+    ! the held slots (contact_slots): the contact nodes this rank holds, ascending (every one on
+    ! one rank and in the replicated scheme), and each contact node's slot among them (0: not held);
+    ! the per-node arrays below are indexed by slot
+    integer, allocatable :: held_node(:), slot(:)
     real(wp), allocatable :: x(:, :), v(:, :)  !< gathered positions and velocities
     real(wp), allocatable :: mass(:)           !< lumped mass of each contact node
     real(wp) :: time_step = 0.0_wp             !< the solver's step, for the stability cap
@@ -83,9 +87,9 @@ module contact_interface
     logical :: gather_subset = .false.
     logical :: gather_all = .false.             !< never gather a subset (to check that it changes nothing)
     ! local contact (contact_neighbours): each rank searches the slaves it owns against the masters
-    ! it holds (its domain's and the ghosts near its slaves); held and owned flag those contact nodes
+    ! it holds (its domain's and the ghosts near its slaves); owned flags its own contact nodes
     logical :: local = .false.
-    logical, allocatable :: held(:), owned(:)
+    logical, allocatable :: owned(:)
     type(contact_pass_t), allocatable :: passes(:)
     ! candidates of the step's passes: n_own found here, n_all shared by every rank (the caller
     ! fills all_pairs), n_candidates in pass order and, within a pass, slave order; pairs are
@@ -156,16 +160,6 @@ contains
     allocate (c%definition_force(3, deck%n_contacts), source=0.0_wp)
   end subroutine contact_setup
 
-  !> The state of each contact node (positions, velocities, forces, the touched lists), after
-  !> contact_setup: allocated once the caller has released the deck it read.
-  subroutine contact_node_state(c)
-    type(contact_t), intent(inout) :: c
-    allocate (c%x(3, c%n_nodes), c%v(3, c%n_nodes), c%force(3, c%n_nodes), c%force_old(3, c%n_nodes), &
-              c%x_at_sort(3, c%n_nodes), source=0.0_wp)
-    allocate (c%touched(c%n_nodes), c%touched_old(c%n_nodes), c%mark(c%n_nodes), source=0)
-    allocate (c%in_gather(c%n_nodes), source=.true.)
-  end subroutine contact_node_state
-
   !> Start a step: keep the last forces, redo the bucket sorts if sort (contact_sort_due; the
   !> positions of all contact nodes are then current). Only the nodes touched in the last two
   !> steps hold nonzero forces, so only they are copied and cleared. With sort interval 0, a sort
@@ -231,16 +225,16 @@ contains
   subroutine contact_sort_pass(c, p)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
-    integer :: i, j
+    integer :: i, j, k
     real(wp) :: lower(3), upper(3), margin
     associate (pass => c%passes(p))
     if (c%local) then
       pass%held_only = .true.
-      pass%held_masters = pack([(i, i = 1, size(pass%masters))], c%held(pass%masters))
+      pass%held_masters = pack([(i, i = 1, size(pass%masters))], c%slot(pass%masters) > 0)
       if (.not. allocated(pass%held_index)) allocate (pass%held_index(size(pass%masters)))
       pass%held_index = 0
       pass%held_index(pass%held_masters) = [(i, i = 1, size(pass%held_masters))]
-      pass%x_sorted = c%x_at_sort(:, pass%masters(pass%held_masters))
+      pass%x_sorted = c%x_at_sort(:, c%slot(pass%masters(pass%held_masters)))
       call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
       margin = pass%bucket_size + pass%t_slave + pass%t_master + 0.3_wp * smallest_bucket(c)
       lower = pass%grid%lower - margin
@@ -248,7 +242,8 @@ contains
       pass%n_near = 0
       do i = 1, size(pass%own_slaves)
         j = pass%own_slaves(i)
-        if (any(c%x(:, pass%slaves(j)) < lower) .or. any(c%x(:, pass%slaves(j)) > upper)) cycle
+        k = c%slot(pass%slaves(j))
+        if (any(c%x(:, k) < lower) .or. any(c%x(:, k) > upper)) cycle
         pass%n_near = pass%n_near + 1
         pass%near_slaves(pass%n_near) = j
       end do
@@ -256,7 +251,7 @@ contains
       pass%stale = .false.
       return
     else
-      pass%x_sorted = c%x_at_sort(:, pass%masters)
+      pass%x_sorted = c%x_at_sort(:, c%slot(pass%masters))
     end if
     call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
     pass%stale = .false.
@@ -328,9 +323,9 @@ contains
   end subroutine contact_count_activity
 
   !> The contact state of a checkpoint at the top of a step: the forces of the last step and the
-  !> nodes they act on in the order of the sum (touched_order(j) = k > 0 for the k-th touched
-  !> node), the energy, the deepest penetration, and the sort redone at the positions of the last
-  !> sort, so the later sorts, gathers and sums fall as in the uninterrupted run.
+  !> nodes they act on (touched_order(j) > 0, ascending), per contact node, of which the held ones
+  !> are kept, the energy, the deepest penetration, and the sort redone at the positions of the
+  !> last sort, so the later sorts, gathers and sums fall as in the uninterrupted run.
   subroutine contact_restore(c, force, touched_order, x_at_sort, last_sort, energy, max_penetration, &
                              new_gather_set)
     type(contact_t), intent(inout) :: c
@@ -338,19 +333,21 @@ contains
     integer, intent(in) :: touched_order(:)
     integer(i8), intent(in) :: last_sort
     logical, intent(out) :: new_gather_set
-    integer :: j
-    c%x = x_at_sort
+    integer :: s, j
+    c%x = x_at_sort(:, c%held_node)
     call sort_passes(c, last_sort, new_gather_set)
-    c%force = force
+    c%force = force(:, c%held_node)
     c%force_old = 0.0_wp
     c%n_touched_old = 0
-    c%n_touched = count(touched_order > 0)
+    c%n_touched = 0
     c%stamp = 1
     c%mark = 0
-    do j = 1, c%n_nodes
+    do s = 1, size(c%held_node)
+      j = c%held_node(s)
       if (touched_order(j) == 0) cycle
-      c%touched(touched_order(j)) = j
-      c%mark(j) = c%stamp
+      c%n_touched = c%n_touched + 1
+      c%touched(c%n_touched) = s
+      c%mark(s) = c%stamp
     end do
     c%energy = energy
     c%max_penetration = max_penetration
@@ -380,11 +377,11 @@ contains
       slave_upper = -huge(1.0_wp)
       pass%n_near = 0
       do j = 1, size(pass%slaves)
-        x = c%x_at_sort(:, pass%slaves(j))
+        x = c%x_at_sort(:, c%slot(pass%slaves(j)))
         if (any(x < lower) .or. any(x > upper)) cycle
         pass%n_near = pass%n_near + 1
         pass%near_slaves(pass%n_near) = j
-        c%in_gather(pass%slaves(j)) = .true.
+        c%in_gather(c%slot(pass%slaves(j))) = .true.
         slave_lower = min(slave_lower, x)
         slave_upper = max(slave_upper, x)
       end do
@@ -392,9 +389,9 @@ contains
       slave_upper = slave_upper + (margin + reach)
       do j = 1, size(pass%segments, 2)
         do k = 1, 4
-          x = c%x_at_sort(:, pass%segments(k, j))
+          x = c%x_at_sort(:, c%slot(pass%segments(k, j)))
           if (all(x >= slave_lower .and. x <= slave_upper)) then
-            c%in_gather(pass%segments(:, j)) = .true.
+            c%in_gather(c%slot(pass%segments(:, j))) = .true.
             exit
           end if
         end do
@@ -446,7 +443,7 @@ contains
       n = size(members)
       if (c%member_sort /= c%n_sorts .or. .not. allocated(c%member_at)) then   ! a sort since
         c%member_at = local(members)
-        c%member_at_sort = c%x_at_sort(:, members)
+        c%member_at_sort = c%x_at_sort(:, c%slot(members))
         c%member_sort = c%n_sorts
         c%member_run = .false.
         if (n > 0) c%member_run = all(c%member_at == [(c%member_at(1) + i - 1, i = 1, n)])
@@ -473,7 +470,7 @@ contains
       !$omp end parallel do
     else if (c%sort_interval == 0 .and. c%last_sort >= 0) then   ! else contact_sort_due does not ask
       !$omp parallel do schedule(static) reduction(max:moved)
-      do k = 1, c%n_nodes
+      do k = 1, size(c%x, 2)
         moved = max(moved, (c%x(1, k) - c%x_at_sort(1, k))**2 + (c%x(2, k) - c%x_at_sort(2, k))**2 &
                            + (c%x(3, k) - c%x_at_sort(3, k))**2)
       end do

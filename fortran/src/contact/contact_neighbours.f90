@@ -9,8 +9,9 @@
 !> rank takes part in, contact_parallel). Every rank orders the records it has by pass and slave,
 !> the order of the serial sum, so each node's force is bitwise the serial one. Which ranks hold a
 !> node of this domain comes from the halo (the neighbours its corners go to), and a ghost's
-!> holders come with it; the contact state is still indexed by every contact node
-!> (docs/performance.md).
+!> holders come with it. The contact state's per-node arrays hold this domain's contact nodes and
+!> the ghosts, renumbered at each refresh (contact_slots); the passes and the lists here still
+!> name nodes by contact-node index (docs/performance.md).
 module contact_neighbours
   use mpi_f08
   use paradyn_kinds, only: wp, i8
@@ -20,6 +21,7 @@ module contact_neighbours
   use contact_sparse, only: sparse_exchange
   use contact_interface, only: contact_t
   use contact_room, only: contact_record_room
+  use contact_slots, only: contact_hold
   implicit none
   private
   public :: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, share_records_locally
@@ -74,7 +76,6 @@ contains
     allocate (nb%x_at_refresh(3, size(owned_member)), source=0.0_wp)
     allocate (c%owned(c%n_nodes), source=.false.)
     c%owned(owned_member) = .true.
-    c%held = nb%in_domain
     call domain_holders(nb, dom)
     ! the segments of this rank's elements, pass after pass; the slaves it owns
     allocate (nb%segment_first(size(c%passes) + 1))
@@ -165,7 +166,7 @@ contains
       boxes(1:3, p) = huge(1.0_wp)
       boxes(4:6, p) = -huge(1.0_wp)
       do i = 1, size(c%passes(p)%own_slaves)
-        k = c%passes(p)%slaves(c%passes(p)%own_slaves(i))
+        k = c%slot(c%passes(p)%slaves(c%passes(p)%own_slaves(i)))
         if (from_sort) then
           boxes(1:3, p) = min(boxes(1:3, p), c%x_at_sort(:, k))
           boxes(4:6, p) = max(boxes(4:6, p), c%x_at_sort(:, k))
@@ -209,29 +210,29 @@ contains
     end do
     allocate (buffer(at(size(list) + 1) - 1))
     do i = 1, size(list)
-      k = list(i)
-      h = sorted_position(nb%domain_node, k)
-      buffer(at(i):at(i + 1) - 1) = [real(k, wp), c%x_at_sort(:, k), c%x(:, k), c%v(:, k), c%mass(k), &
+      k = c%slot(list(i))
+      h = sorted_position(nb%domain_node, list(i))
+      buffer(at(i):at(i + 1) - 1) = [real(list(i), wp), c%x_at_sort(:, k), c%x(:, k), c%v(:, k), c%mass(k), &
                                      real(nb%holder_start(h + 1) - nb%holder_start(h), wp), &
                                      real(nb%holder(nb%holder_start(h):nb%holder_start(h + 1) - 1), wp)]
     end do
     call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, at(start), buffer, sources, rstart, received, traffic)
     call take_ghosts(nb, c, sources, rstart, received)
-    nb%x_at_refresh = c%x(:, nb%owned_node)
-    if (from_sort) nb%x_at_refresh = c%x_at_sort(:, nb%owned_node)
+    nb%x_at_refresh = c%x(:, c%slot(nb%owned_node))
+    if (from_sort) nb%x_at_refresh = c%x_at_sort(:, c%slot(nb%owned_node))
     nb%refresh_pending = .false.
   end subroutine neighbours_refresh
 
   !> The ghosts of a refresh (messages received(rstart(i) :) from sources(i), rows of neighbours_refresh):
-  !> the held nodes are this domain's and these; their positions, velocities and masses, the
-  !> lists to update between refreshes (recv), and each ghost's holders.
+  !> the held nodes are this domain's and these (renumbered: contact_hold); their positions,
+  !> velocities and masses, the lists to update between refreshes (recv), and each ghost's holders.
   subroutine take_ghosts(nb, c, sources, rstart, received)
     type(neighbours_t), intent(inout) :: nb
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: sources(:), rstart(:)
     real(wp), intent(in) :: received(:)
-    integer, allocatable :: nodes(:), first(:)
-    integer :: i, j, k, m, n, g, width
+    integer, allocatable :: nodes(:), first(:), held(:)
+    integer :: i, j, k, m, n, g, width, s
     ! the rows: where each starts, message after message
     allocate (first(0), nodes(0))
     if (allocated(nb%ghost_holder)) deallocate (nb%recv%start, nb%ghost_holder_start, nb%ghost_holder)
@@ -248,19 +249,21 @@ contains
     end do
     nb%recv%start(size(sources) + 1) = size(nodes) + 1
     nb%recv%node = nodes
-    c%held = nb%in_domain
     nb%ghost_node = distinct_ascending(pack(nodes, .not. nb%in_domain(nodes)))
     n = size(nb%ghost_node)
+    held = [nb%domain_node, nb%ghost_node]
+    call merge_sort_ascending(held)
+    call contact_hold(c, held)
     allocate (nb%ghost_holder_start(n + 1), source=0)
     do j = 1, size(nodes)   ! a ghost from several ranks comes with the same holders from each
       k = nodes(j)
       if (nb%in_domain(k)) cycle
       m = first(j)
-      c%held(k) = .true.
-      c%x_at_sort(:, k) = received(m + 1:m + 3)
-      c%x(:, k) = received(m + 4:m + 6)
-      c%v(:, k) = received(m + 7:m + 9)
-      c%mass(k) = received(m + 10)
+      s = c%slot(k)
+      c%x_at_sort(:, s) = received(m + 1:m + 3)
+      c%x(:, s) = received(m + 4:m + 6)
+      c%v(:, s) = received(m + 7:m + 9)
+      c%mass(s) = received(m + 10)
       nb%ghost_holder_start(sorted_position(nb%ghost_node, k) + 1) = nint(received(m + 11))
     end do
     nb%ghost_holder_start(1) = 1
@@ -297,7 +300,7 @@ contains
     upper = box(4:6) + reach
     do i = nb%segment_first(p), nb%segment_first(p + 1) - 1
       do m = 1, 4
-        k = pass%segments(m, nb%my_segment(i))
+        k = c%slot(pass%segments(m, nb%my_segment(i)))
         if (sorting) then
           x = c%x(:, k)
         else
@@ -348,7 +351,7 @@ contains
     call MPI_Waitall(n_send + n_recv, requests, MPI_STATUSES_IGNORE)
     call count_messages(traffic, n_send, int(8 * size(out), i8), int(8 * size(in), i8))
     do j = 1, size(nb%recv%node)
-      k = nb%recv%node(j)
+      k = c%slot(nb%recv%node(j))
       c%x(:, k) = in(6 * j - 5:6 * j - 3)
       c%v(:, k) = in(6 * j - 2:6 * j)
     end do

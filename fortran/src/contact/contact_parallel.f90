@@ -24,7 +24,8 @@ module contact_parallel
   use domain_decomposition, only: domain_t
   use phase_timers, only: phase_timers_t, wall_clock
   use traffic_counter, only: traffic_t, count_allgather, count_allreduce
-  use contact_interface, only: contact_t, contact_setup, contact_node_state, contact_begin, contact_sort_due, contact_movement, &
+  use contact_slots, only: contact_node_state
+  use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
                                contact_restore, contact_activity_update, contact_all_idle, contact_count_activity, &
                                contact_sort_pass
   use contact_room, only: contact_rooms
@@ -74,15 +75,17 @@ contains
     type(MPI_Comm), intent(in) :: comm
     real(wp), intent(in) :: mass(:), v(:, :), dt
     logical, intent(in) :: gather_all
+    real(wp), allocatable :: masses(:)
     pc%comm = comm
     call contact_setup(deck, pc%c)
     deck = deck_t()
-    call contact_node_state(pc%c)
     ! local contact on more than one rank, unless every node is gathered (the replicated reference)
     pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
     call node_set_setup(dom, comm, pc%c%global_node, .not. pc%c%local, pc%nodes)
     ! the masses of the contact nodes, for the stability cap (local: the ghosts' come with them)
-    call node_set_masses(comm, pc%nodes, .not. pc%c%local, mass, pc%c%mass)
+    call node_set_masses(comm, pc%nodes, .not. pc%c%local, mass, masses)
+    ! the nodes held: every contact node, or (local contact) this domain's until the first refresh
+    call contact_node_state(pc%c, pc%nodes%local > 0 .or. .not. pc%c%local, masses)
     pc%c%time_step = dt
     pc%c%rank = dom%rank
     pc%c%n_ranks = dom%n_ranks
@@ -144,7 +147,7 @@ contains
     call contact_sum(pc%c, wall_clock)
     ! local contact: the terms of the energy are counted by the owners of the nodes, which read
     ! the velocities of those this step's records touched
-    if (pc%c%local) call copy_domain_nodes(pc, pc%c%touched(1:pc%c%n_touched), x, v)
+    if (pc%c%local) call copy_domain_nodes(pc, pc%c%held_node(pc%c%touched(1:pc%c%n_touched)), x, v)
     call contact_end(pc%c, cycle)
     if (pc%c%local) then
       t0 = wall_clock()
@@ -297,7 +300,7 @@ contains
     integer(i8), intent(in) :: cycle
     type(phase_timers_t), intent(inout) :: timers
     real(wp) :: t0, values(3), smallest
-    integer :: i, j, k, p
+    integer :: i, j, p
     logical :: sort, refresh, new_gather_set
     call contact_movement(pc%c, values(1), wall_clock, pc%nodes%owned_member, pc%nodes%local, x)
     ! automatic sorting refreshes at every sort (after a restart from the slaves' places at the last
@@ -328,7 +331,7 @@ contains
         call copy_domain_nodes(pc, pc%c%passes(p)%slaves(pc%c%passes(p)%near_slaves(1:pc%c%passes(p)%n_near)), x, v)
       end do
       call copy_domain_nodes(pc, pc%nb%own_near, x, v)
-      call copy_domain_nodes(pc, pc%c%touched(1:pc%c%n_touched), x, v)
+      call copy_domain_nodes(pc, pc%c%held_node(pc%c%touched(1:pc%c%n_touched)), x, v)
     end if
     t0 = wall_clock()
     if (refresh) then
@@ -355,22 +358,18 @@ contains
     end if
   end subroutine local_positions
 
-  !> c%x and c%v of the given contact nodes that lie in this domain, from x and v.
+  !> c%x and c%v of the given contact nodes (indices) that lie in this domain, from x and v.
   subroutine copy_domain_nodes(pc, nodes, x, v)
     type(parallel_contact_t), intent(inout) :: pc
     integer, intent(in) :: nodes(:)
     real(wp), intent(in) :: x(:, :), v(:, :)
     integer :: i, j, k
     do i = 1, size(nodes)
-      k = nodes(i)
-      j = pc%nodes%local(k)
+      j = pc%nodes%local(nodes(i))
       if (j == 0) cycle
-      pc%c%x(1, k) = x(1, j)
-      pc%c%x(2, k) = x(2, j)
-      pc%c%x(3, k) = x(3, j)
-      pc%c%v(1, k) = v(1, j)
-      pc%c%v(2, k) = v(2, j)
-      pc%c%v(3, k) = v(3, j)
+      k = pc%c%slot(nodes(i))
+      pc%c%x(:, k) = x(:, j)
+      pc%c%v(:, k) = v(:, j)
     end do
   end subroutine copy_domain_nodes
 
@@ -415,7 +414,7 @@ contains
     integer :: i, k, j
     do i = 1, pc%c%n_touched
       k = pc%c%touched(i)
-      j = pc%nodes%local(k)
+      j = pc%nodes%local(pc%c%held_node(k))
       if (j > 0) f_int(1:3, j) = f_int(1:3, j) - pc%c%force(:, k)
     end do
   end subroutine parallel_contact_apply
@@ -455,12 +454,12 @@ contains
     integer :: k
     nodes = pc%nodes%owned_member
     allocate (rows(contact_checkpoint_width, size(nodes)))
-    rows(1:3, :) = pc%c%force(:, nodes)
-    rows(4:6, :) = pc%c%x_at_sort(:, nodes)
+    rows(1:3, :) = pc%c%force(:, pc%c%slot(nodes))
+    rows(4:6, :) = pc%c%x_at_sort(:, pc%c%slot(nodes))
     rows(7, :) = 0.0_wp
     if (pc%c%n_touched == 0) return   ! (before the first step every mark equals the stamp, 0)
     do k = 1, size(nodes)
-      if (pc%c%mark(nodes(k)) == pc%c%stamp) rows(7, k) = 1.0_wp
+      if (pc%c%mark(pc%c%slot(nodes(k))) == pc%c%stamp) rows(7, k) = 1.0_wp
     end do
   end subroutine contact_checkpoint_rows
 

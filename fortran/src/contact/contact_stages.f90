@@ -45,12 +45,14 @@ contains
   !> Add the records of the step (complete on this rank: the caller has shared them between
   !> ranks) to the contact forces, in candidate order (pass, then slave), the same for any layout.
   !> The records this rank counts (counted) also add their slave force to their definition's exact
-  !> sum (c%sums) and their penetration to the deepest.
+  !> sum (c%sums) and their penetration to the deepest. A record's nodes that this rank does not
+  !> hold (local contact: the record came for another of its nodes) take no force here.
   subroutine contact_sum(c, clock)
     type(contact_t), intent(inout) :: c
     procedure(clock_seconds) :: clock
     integer :: j, k, node, d
     real(wp) :: t0
+    integer :: s
     t0 = clock()
     do j = 1, c%n_candidates
       if (c%record_nodes(1, j) == 0) cycle
@@ -65,12 +67,14 @@ contains
       end if
       do k = 1, 5
         node = c%record_nodes(k, j)
-        if (c%mark(node) /= c%stamp) then
-          c%mark(node) = c%stamp
+        s = c%slot(node)
+        if (s == 0) cycle
+        if (c%mark(s) /= c%stamp) then
+          c%mark(s) = c%stamp
           c%n_touched = c%n_touched + 1
-          c%touched(c%n_touched) = node
+          c%touched(c%n_touched) = s
         end if
-        c%force(:, node) = c%force(:, node) + c%record_force(:, k, j)
+        c%force(:, s) = c%force(:, s) + c%record_force(:, k, j)
       end do
     end do
     c%time_force = c%time_force + clock() - t0
@@ -79,7 +83,7 @@ contains
   !> Whether this rank adds the terms of a record (by its slave node) or of a node to the sums of
   !> the energy and the definitions: every one on one rank and in the replicated scheme, where
   !> every rank has every record; with local contact the ones of the nodes it owns, so that each
-  !> term is added on exactly one rank.
+  !> term is added on exactly one rank. node: a contact-node index.
   pure logical function counted(c, node)
     type(contact_t), intent(in) :: c
     integer, intent(in) :: node
@@ -89,8 +93,8 @@ contains
 
   !> The terms of the contact energy's step: minus the work of the mean contact force over the
   !> last step dt (the velocities are those of that step) is -dt / 2 times the sum, over the nodes
-  !> touched in this step or the last (only they have a force), of v . (force_old + force). Each
-  !> counted node's term goes to the exact sum c%sums(:, 1), so the sum is the same for any
+  !> touched in this step or the last (only they have a force; the lists hold slots), of
+  !> v . (force_old + force). Each counted node's term goes to the exact sum c%sums(:, 1), so the sum is the same for any
   !> order, rank count and number of threads.
   subroutine contact_end(c, cycle)
     type(contact_t), intent(inout) :: c
@@ -99,12 +103,13 @@ contains
     if (cycle == 0) return
     do i = 1, c%n_touched
       j = c%touched(i)
-      if (counted(c, j)) call exact_add(c%sums(:, 1), dot_product(c%v(:, j), c%force_old(:, j) + c%force(:, j)))
+      if (counted(c, c%held_node(j))) &
+        call exact_add(c%sums(:, 1), dot_product(c%v(:, j), c%force_old(:, j) + c%force(:, j)))
     end do
     do i = 1, c%n_touched_old
       j = c%touched_old(i)
       if (c%mark(j) == c%stamp) cycle   ! in both lists: counted above
-      if (counted(c, j)) call exact_add(c%sums(:, 1), dot_product(c%v(:, j), c%force_old(:, j)))
+      if (counted(c, c%held_node(j))) call exact_add(c%sums(:, 1), dot_product(c%v(:, j), c%force_old(:, j)))
     end do
   end subroutine contact_end
 
@@ -155,7 +160,7 @@ contains
       p = pass_of(offset, i)
       associate (pass => c%passes(p))
       j = pass%near_slaves(rank + 1 + (i - offset(p) - 1) * n_ranks)
-      x = c%x(:, pass%slaves(j))
+      x = c%x(:, c%slot(pass%slaves(j)))
       if (near_box(x, pass)) then
         if (pass%held_only) then
           call nearest_held(pass, j, x, found)
@@ -267,7 +272,7 @@ contains
   subroutine contact_local_search(c, clock)
     type(contact_t), intent(inout) :: c
     procedure(clock_seconds) :: clock
-    integer :: k, node, segment, m, slot
+    integer :: k, node, segment, m, slot, at, seg_at(4)
     real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
     real(wp) :: penetration, t0, stiffness, reach, lightest, clearance
     logical :: touching
@@ -276,12 +281,13 @@ contains
     c%record_nodes(1, c%last + 1:c%n_candidates) = 0
     !$omp parallel do schedule(static, 1) default(shared) &
     !$omp private(k, node, segment, x, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
-    !$omp penetration, touching, stiffness, reach, lightest, m, clearance, slot)
+    !$omp penetration, touching, stiffness, reach, lightest, m, clearance, slot, at, seg_at)
     do k = c%first, c%last
       c%record_nodes(:, k) = 0
       associate (pass => c%passes(c%candidates(3, k)))
       node = pass%slaves(c%candidates(1, k))
-      x = c%x(:, node)
+      at = c%slot(node)
+      x = c%x(:, at)
       slot = slave_slot(pass, c%candidates(1, k))
       if (still_clear(pass, slot, c%candidates(2, k), c%n_sorts, c%moved)) cycle
       ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
@@ -290,11 +296,12 @@ contains
         call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
                                 pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(node, ip), reach=reach, &
-                                clearance=clearance)
+                                clearance=clearance, column=c%slot)
       else
         call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
-                                pass%segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance)
+                                pass%segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance, &
+                                column=c%slot)
       end if
       if (clearance > 0.0_wp .and. c%moved < huge(1.0_wp)) then   ! this slave's only: no other thread writes it
         pass%clear_master(slot) = c%candidates(2, k)
@@ -303,16 +310,17 @@ contains
         pass%clear_moved(slot) = c%moved
       end if
       if (segment > 0) then
-        lightest = c%mass(node)
+        lightest = c%mass(at)
         do m = 1, 4                                ! explicit: array sections here cost a heap temporary
-          xseg(:, m) = c%x(:, pass%segments(m, segment))
-          vseg(:, m) = c%v(:, pass%segments(m, segment))
-          lightest = min(lightest, c%mass(pass%segments(m, segment)))
+          seg_at(m) = c%slot(pass%segments(m, segment))
+          xseg(:, m) = c%x(:, seg_at(m))
+          vseg(:, m) = c%v(:, seg_at(m))
+          lightest = min(lightest, c%mass(seg_at(m)))
         end do
         stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 * lightest)
         call penalty_force(x, pass%t_slave - 2.0_wp * pass%overlap(slot), xseg, pass%t_master, &
                            stiffness, f_slave, &
-                           f_master, penetration, touching, v_slave=c%v(:, node), v_master=vseg, &
+                           f_master, penetration, touching, v_slave=c%v(:, at), v_master=vseg, &
                            mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
                            v_slip=stick_speed, rounded_edges=.true., closest=[xi, eta, xc, normal])
         if (touching) then
