@@ -91,8 +91,8 @@ contains
   !> `node` (from node_segment_map), the one whose closest point is nearest to p (the lower
   !> segment number on ties), with that closest point and the normal there. segment = 0 when
   !> the node belongs to no segment. With skip_node, segments that contain that node do not count
-  !> (a slave's own segments in a single-surface contact). With column, node i's coordinates are
-  !> coords(:, column(i)) (the held slots of the contact state, contact_slots), else coords(:, i).
+  !> (a slave's own segments in a single-surface contact). Node i's coordinates are
+  !> coords(:, column(i)) (the held slots of the contact state, contact_slots).
   !>
   !> The segments are projected in the order of their segment_distance_bound, and one whose bound
   !> already exceeds the nearest closest point found cannot be nearer: it is not projected. The
@@ -101,12 +101,13 @@ contains
   !> penalty_force's test with that reach (half the two thicknesses), that is when every bound
   !> exceeds the reach plus the offset the face test allows (edge_tolerance times the longer
   !> diagonal): the projections are then skipped.
-  pure subroutine segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, &
+  pure subroutine segment_candidates(p, node, n_nodes, coords, column, n_segments, segment_nodes, &
                                      segment_start, segment_list, segment, xi, eta, xc, normal, skip_node, reach, &
-                                     clearance, column)
+                                     clearance)
     real(wp), intent(in) :: p(3)
     integer(ip), intent(in) :: node, n_nodes, n_segments
     real(wp), intent(in) :: coords(3, *)
+    integer, intent(in) :: column(n_nodes)
     integer(ip), intent(in) :: segment_nodes(4, n_segments)
     integer(ip), intent(in) :: segment_start(n_nodes + 1)
     integer(ip), intent(in) :: segment_list(*)
@@ -117,10 +118,9 @@ contains
     !> with reach, where no segment can touch: how much farther than it could touch the nearest
     !> segment lies at least (the least of bound - (reach + offset)); else 0
     real(wp), intent(out), optional :: clearance
-    integer, intent(in), optional :: column(n_nodes)
     integer, parameter :: most = 16              ! segments around a node that are ordered
     real(wp) :: s_xi, s_eta, s_xc(3), s_normal(3), d2, best_d2, xseg(3, 4), bound(most), b, diagonal, touch, gap
-    integer(ip) :: order(most), j, s, k, n
+    integer(ip) :: order(most), j, s, k, n, i
     logical :: near, ordered
 
     segment = 0
@@ -142,7 +142,9 @@ contains
         if (present(skip_node)) then
           if (any(segment_nodes(:, s) == skip_node)) cycle
         end if
-        call corners(s, xseg)
+        do i = 1, 4
+          xseg(:, i) = coords(:, column(segment_nodes(i, s)))
+        end do
         if (near) then
           b = segment_distance_bound(xseg, p)
         else
@@ -179,7 +181,9 @@ contains
           if (any(segment_nodes(:, s) == skip_node)) cycle
         end if
       end if
-      call corners(s, xseg)
+      do i = 1, 4
+        xseg(:, i) = coords(:, column(segment_nodes(i, s)))
+      end do
       call closest_point_on_segment(xseg, p, s_xi, s_eta, s_xc, s_normal)
       d2 = sum((p - s_xc)**2)
       if (segment == 0 .or. d2 < best_d2 .or. (d2 == best_d2 .and. s < segment)) then
@@ -191,22 +195,6 @@ contains
         normal = s_normal
       end if
     end do
-  contains
-    !> The corners of segment s.
-    pure subroutine corners(s, xseg)
-      integer(ip), intent(in) :: s
-      real(wp), intent(out) :: xseg(3, 4)
-      integer :: m
-      if (present(column)) then
-        do m = 1, 4
-          xseg(:, m) = coords(:, column(segment_nodes(m, s)))
-        end do
-      else
-        do m = 1, 4
-          xseg(:, m) = coords(:, segment_nodes(m, s))
-        end do
-      end if
-    end subroutine corners
   end subroutine segment_candidates
 
   !> Penalty stiffness of a shell master segment, LS-DYNA's shell form k = scale K A / d_max:

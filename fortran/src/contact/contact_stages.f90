@@ -293,15 +293,14 @@ contains
       ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
       reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(slot) + pass%t_master)
       if (pass%shares_nodes) then
-        call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
+        call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, c%slot, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
                                 pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(node, ip), reach=reach, &
-                                clearance=clearance, column=c%slot)
+                                clearance=clearance)
       else
-        call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, &
+        call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, c%slot, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
-                                pass%segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance, &
-                                column=c%slot)
+                                pass%segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance)
       end if
       if (clearance > 0.0_wp .and. c%moved < huge(1.0_wp)) then   ! this slave's only: no other thread writes it
         pass%clear_master(slot) = c%candidates(2, k)
