@@ -152,6 +152,23 @@ def test_each_rank_searches_the_slaves_it_owns(sliding, ranks):
 
 
 @pytest.mark.mpi
+def test_local_contact_holds_the_domains_nodes_and_the_ghosts(sliding):
+    """docs/theory.md ("Dividing the contact state", held slots): the contact state's per-node
+    arrays hold a rank's domain's contact nodes and its ghosts, renumbered at each refresh, every
+    contact node on one rank and in the replicated scheme. Reference: the engine's log, the most
+    nodes each rank held at once (held) and the model's contact nodes (74: 7 x 7 and 5 x 5). On
+    3 and 4 ranks the ranks whose domains lie away from the slider hold fewer than all (the
+    answers stay bitwise those of one rank: test_gathering_only_the_nodes_near_contact_changes_nothing)."""
+    one = sliding[(1, 1, "subset")]["log"][0]
+    assert one["held"] == one["contact_nodes"] == 7 * 7 + 5 * 5
+    assert all(f["held"] == f["contact_nodes"] for f in sliding[(2, 1, "all")]["log"])
+    for ranks in (3, 4):
+        held = [f["held"] for f in sliding[(ranks, 1, "subset")]["log"]]
+        assert all(0 < h <= one["contact_nodes"] for h in held)
+        assert min(held) < one["contact_nodes"], held
+
+
+@pytest.mark.mpi
 @pytest.mark.parametrize("ranks", [2, 3])
 def test_candidate_blocks_are_equal_on_every_rank(sliding, ranks):
     """The paper's section 5, kept by the replicated scheme (/control contact_gather = "all"): the

@@ -883,7 +883,7 @@ PROGRESS_KINDS: dict[str, tuple[str, ...]] = {
     'RESTART': ('time', 'cycle'),
     'CHECKPOINT': ('time', 'cycle', 'path'),
     'DONE': ('cycles', 'time', 'wall_s'),
-    'CONTACT': ('rank', 'sorts', 'pass_steps', 'candidates', 'local_searches', 'idle_cycles'),
+    'CONTACT': ('rank', 'sorts', 'pass_steps', 'candidates', 'local_searches', 'idle_cycles', 'held', 'contact_nodes'),
     'PHASES': ('rank', 'elements_s', 'contact_s', 'communication_s', 'output_s', 'nodes_s'),
 }
 

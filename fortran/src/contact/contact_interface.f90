@@ -61,6 +61,7 @@ module contact_interface
     ! one rank and in the replicated scheme), and each contact node's slot among them (0: not held);
     ! the per-node arrays below are indexed by slot
     integer, allocatable :: held_node(:), slot(:)
+    integer :: held_most = 0                   !< the most nodes held at once over the run (the log)
     real(wp), allocatable :: x(:, :), v(:, :)  !< gathered positions and velocities
     real(wp), allocatable :: mass(:)           !< lumped mass of each contact node
     real(wp) :: time_step = 0.0_wp             !< the solver's step, for the stability cap

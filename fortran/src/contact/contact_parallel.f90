@@ -425,9 +425,9 @@ contains
   subroutine contact_log_line(pc, rank)
     type(parallel_contact_t), intent(in) :: pc
     integer, intent(in) :: rank
-    write (*, '(6(a,i0))') 'PARADYN-CONTACT rank=', rank, ' sorts=', pc%c%n_sorts, ' pass_steps=', &
+    write (*, '(8(a,i0))') 'PARADYN-CONTACT rank=', rank, ' sorts=', pc%c%n_sorts, ' pass_steps=', &
       pc%c%n_pass_steps, ' candidates=', pc%c%candidates_total, ' local_searches=', pc%c%candidates_searched, &
-      ' idle_cycles=', parallel_contact_idle_cycles(pc)
+      ' idle_cycles=', parallel_contact_idle_cycles(pc), ' held=', pc%c%held_most, ' contact_nodes=', pc%c%n_nodes
     flush (6)
   end subroutine contact_log_line
 

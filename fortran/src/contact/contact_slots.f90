@@ -26,6 +26,7 @@ contains
     integer :: n, s
     c%held_node = pack([(s, s = 1, c%n_nodes)], held)
     n = size(c%held_node)
+    c%held_most = n
     allocate (c%slot(c%n_nodes), source=0)
     c%slot(c%held_node) = [(s, s = 1, n)]
     allocate (c%x(3, n), c%v(3, n), c%force(3, n), c%force_old(3, n), c%x_at_sort(3, n), source=0.0_wp)
@@ -46,6 +47,7 @@ contains
     logical, allocatable :: in_gather(:)
     integer :: n, s, o
     n = size(held)
+    c%held_most = max(c%held_most, n)
     allocate (from(n))
     from = c%slot(held)
     allocate (x(3, n), v(3, n), force(3, n), force_old(3, n), x_at_sort(3, n), mass(n), source=0.0_wp)
