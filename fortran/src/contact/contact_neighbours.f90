@@ -233,21 +233,23 @@ contains
     real(wp), intent(in) :: received(:)
     integer, allocatable :: nodes(:), first(:), held(:)
     integer :: i, j, k, m, n, g, width, s
-    ! the rows: where each starts, message after message
-    allocate (first(0), nodes(0))
     if (allocated(nb%ghost_holder)) deallocate (nb%recv%start, nb%ghost_holder_start, nb%ghost_holder)
     nb%recv%rank = sources
     allocate (nb%recv%start(size(sources) + 1))
+    allocate (first(size(received) / ghost_width))   ! where each row starts (ghost_width or more long)
+    j = 0
     do i = 1, size(sources)
-      nb%recv%start(i) = size(nodes) + 1
+      nb%recv%start(i) = j + 1
       m = rstart(i)
       do while (m < rstart(i + 1))
-        first = [first, m]
-        nodes = [nodes, nint(received(m))]
+        j = j + 1
+        first(j) = m
         m = m + ghost_width + nint(received(m + 11))
       end do
     end do
-    nb%recv%start(size(sources) + 1) = size(nodes) + 1
+    nb%recv%start(size(sources) + 1) = j + 1
+    first = first(1:j)
+    nodes = nint(received(first))
     nb%recv%node = nodes
     nb%ghost_node = distinct_ascending(pack(nodes, .not. nb%in_domain(nodes)))
     n = size(nb%ghost_node)
