@@ -147,6 +147,7 @@ class AwaitingEngine:
 
     process: subprocess.Popen
     command: list[str]
+    environment: dict[str, str] = field(default_factory=dict)   #: the one it was started in
 
     def go(self) -> subprocess.Popen:
         """The deck is written: the engine reads it and runs."""
@@ -174,7 +175,7 @@ def start_awaiting(command: list[str], environment: dict[str, str], folder: Path
     """Start ``command`` with ``--await-deck`` in ``folder`` (which must exist); it reads no deck
     until :meth:`AwaitingEngine.go`."""
     process = _spawn([*command, "--await-deck"], environment, folder, stdin=subprocess.PIPE)
-    return AwaitingEngine(process, command)
+    return AwaitingEngine(process, command, environment)
 
 
 class EngineLog:

@@ -1,5 +1,5 @@
-"""Shell meshes for ParaDyn: structured cylinders (gmsh) and flat plates (numpy); mesh files are read by
-:mod:`paradyn.mesh_files`.
+"""Shell meshes for ParaDyn: structured cylinders and flat plates, by formula (numpy); mesh files
+are read by :mod:`paradyn.mesh_files` (gmsh or meshio).
 
 Every mesh is a :class:`Mesh` of 4-node quadrilaterals with 0-based node indices, counter-clockwise
 seen from the side the shell normal points to (the convention of ``docs/formats.md``).
@@ -7,8 +7,7 @@ seen from the side the shell normal points to (the convention of ``docs/formats.
 
 from __future__ import annotations
 
-import contextlib
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -122,33 +121,6 @@ def quad_normals(coordinates: np.ndarray, quads: np.ndarray) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------------------------
-# gmsh session handling
-
-
-@contextlib.contextmanager
-def _gmsh_model(name: str) -> Iterator[object]:
-    """A fresh gmsh model; initialises gmsh if needed and always cleans up, also after errors."""
-    try:
-        import gmsh
-    except ImportError as exc:  # pragma: no cover - gmsh is a declared dependency
-        raise GeometryError("gmsh is not installed; install it with `pip install gmsh`") from exc
-    owns_session = not gmsh.isInitialized()
-    if owns_session:
-        gmsh.initialize(readConfigFiles=False, interruptible=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add(name)
-        try:
-            yield gmsh
-        finally:
-            if not owns_session:
-                gmsh.model.remove()
-    finally:
-        if owns_session:
-            gmsh.finalize()
-
-
-# ----------------------------------------------------------------------------------------------
 # cylinder
 
 
@@ -163,9 +135,18 @@ def cylinder(
     """Structured quadrilateral mesh of the lateral surface of a cylinder (open ends).
 
     The cylinder is centred at ``center`` and spans ``length / 2`` each way along ``axis``.
-    Normals point outward. Nodes are numbered ring by ring from the ``-axis`` end,
-    node ``ring * elements_around + k`` lies at angle ``k * 2 pi / elements_around`` from the
-    first in-plane direction (see :func:`cross_section_basis`).
+    Normals point outward. Nodes are numbered ring by ring from the ``-axis`` end: node
+    ``ring * elements_around + k`` lies at angle ``k * 2 pi / elements_around`` from the first
+    in-plane direction (see :func:`cross_section_basis`), exactly on the circle; element
+    ``ring * elements_around + k`` has the corners ``k`` and ``k + 1`` of rings ``ring`` and
+    ``ring + 1``. ``elements_around`` is a multiple of 4, so that nodes lie on the four lines at
+    0, 90, 180 and 270 degrees (a horizontal cylinder's top, bottom and sides).
+
+    Examples
+    --------
+    >>> mesh = cylinder(0.08, 2.0, elements_around=16, elements_along=32)
+    >>> mesh.n_nodes, mesh.n_elements
+    (528, 512)
     """
     radius = _positive(radius, "radius")
     length = _positive(length, "length")
@@ -173,80 +154,22 @@ def cylinder(
     n_along = _count(elements_along, "elements_along")
     if n_around % 4 != 0:
         raise GeometryError(
-            f"elements_around = {n_around} must be a multiple of 4 (the circle is meshed as four "
-            f"quarter arcs); use {4 * max(1, round(n_around / 4))} for example"
+            f"elements_around = {n_around} must be a multiple of 4 (nodes on the top, bottom and "
+            f"sides of the circle); use {4 * max(1, round(n_around / 4))} for example"
         )
     a, e1, e2 = cross_section_basis(axis)
-    c = _point(center, "center")
-    start = c - 0.5 * length * a
-
-    with _gmsh_model("paradyn_cylinder") as gmsh:
-        geo = gmsh.model.geo
-        centre_tag = geo.addPoint(*start)
-        corner_tags = []
-        for k in range(4):
-            angle = 0.5 * np.pi * k
-            corner_tags.append(geo.addPoint(*(start + radius * (np.cos(angle) * e1 + np.sin(angle) * e2))))
-        arcs = [geo.addCircleArc(corner_tags[k], centre_tag, corner_tags[(k + 1) % 4]) for k in range(4)]
-        for arc in arcs:
-            geo.mesh.setTransfiniteCurve(arc, n_around // 4 + 1)
-        extruded = geo.extrude([(1, arc) for arc in arcs], *(length * a),
-                               numElements=[n_along], recombine=True)
-        geo.synchronize()
-        surfaces = [tag for dim, tag in extruded if dim == 2]
-        group = gmsh.model.addPhysicalGroup(2, surfaces)
-        gmsh.model.mesh.generate(2)
-        gmsh.model.mesh.removeDuplicateNodes()
-        node_tags, node_xyz = gmsh.model.mesh.getNodesForPhysicalGroup(2, group)
-        quad_tags_flat = np.concatenate(
-            [gmsh.model.mesh.getElementsByType(3, tag)[1] for tag in surfaces]
-        )
-    mesh = _mesh_from_tags(np.asarray(node_tags), np.asarray(node_xyz), np.asarray(quad_tags_flat))
-    mesh = _order_cylinder(mesh, start, a, e1, e2, length, n_around, n_along)
+    start = _point(center, "center") - 0.5 * length * a
+    angle = np.arange(n_around) * (2.0 * np.pi / n_around)
+    ring = radius * (np.outer(np.cos(angle), e1) + np.outer(np.sin(angle), e2))
+    along = np.arange(n_along + 1) * (length / n_along)
+    coordinates = (start + along[:, None, None] * a + ring[None, :, :]).reshape(-1, 3)
+    k, layer = np.meshgrid(np.arange(n_around), np.arange(n_along))
+    first = (layer * n_around + k).ravel()
+    second = (layer * n_around + (k + 1) % n_around).ravel()
+    quads = np.stack([first, second, second + n_around, first + n_around], axis=1)
+    mesh = Mesh(coordinates=coordinates, quads=quads)
     _orient_outward(mesh, start, a)
-    expected = (n_around * (n_along + 1), n_around * n_along)
-    if (mesh.n_nodes, mesh.n_elements) != expected:  # pragma: no cover - guards a gmsh change
-        raise GeometryError(
-            f"gmsh produced {mesh.n_nodes} nodes and {mesh.n_elements} quads for the cylinder, "
-            f"expected {expected[0]} and {expected[1]}; check the gmsh version"
-        )
     return mesh
-
-
-def _mesh_from_tags(node_tags: np.ndarray, node_xyz: np.ndarray, quad_tags_flat: np.ndarray) -> Mesh:
-    """Turn gmsh node tags and element node tags into 0-based arrays."""
-    order = np.argsort(node_tags)
-    sorted_tags = node_tags[order]
-    quad_tags = quad_tags_flat.reshape(-1, 4)
-    position = np.searchsorted(sorted_tags, quad_tags)
-    position = np.clip(position, 0, len(sorted_tags) - 1)
-    if not np.all(sorted_tags[position] == quad_tags):  # pragma: no cover - guards a gmsh change
-        raise GeometryError("gmsh returned quads that use nodes outside the meshed surface")
-    coordinates = node_xyz.reshape(-1, 3)[order]
-    return Mesh(coordinates=coordinates, quads=position)
-
-
-def _order_cylinder(mesh: Mesh, start: np.ndarray, a: np.ndarray, e1: np.ndarray, e2: np.ndarray,
-                    length: float, n_around: int, n_along: int) -> Mesh:
-    """Renumber nodes ring by ring and elements in the same order, so results are reproducible."""
-    rel = mesh.coordinates - start
-    ring = np.rint(rel @ a / (length / n_along)).astype(np.int64)
-    angle = np.mod(np.arctan2(rel @ e2, rel @ e1), 2.0 * np.pi)
-    k = np.mod(np.rint(angle / (2.0 * np.pi / n_around)).astype(np.int64), n_around)
-    new_index = ring * n_around + k
-    if sorted(new_index.tolist()) != list(range(n_around * (n_along + 1))):
-        raise GeometryError(  # pragma: no cover - guards a gmsh change
-            "the cylinder mesh from gmsh is not the expected structured grid; check the gmsh version"
-        )
-    coordinates = np.empty_like(mesh.coordinates)
-    coordinates[new_index] = mesh.coordinates
-    quads = new_index[mesh.quads]
-    # element order: by the lowest ring, then by the angle of the element's first corner in the ring
-    element_ring = quads.min(axis=1) // n_around
-    centre_angle = np.mod(np.arctan2((coordinates[quads].mean(axis=1) - start) @ e2,
-                                     (coordinates[quads].mean(axis=1) - start) @ e1), 2.0 * np.pi)
-    quads = quads[np.lexsort((centre_angle, element_ring))]
-    return Mesh(coordinates=coordinates, quads=quads)
 
 
 def _orient_outward(mesh: Mesh, start: np.ndarray, a: np.ndarray) -> None:

@@ -12,14 +12,37 @@ the file's own name otherwise (``plate_a.toml`` and ``plate_b.toml`` of one fold
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 from .atomic_write import write_text_atomic
-from .workflow import OutputFolderError, output_folder
 
 SOURCE_FILE = "source.txt"
 SCENE_FILE_NAME = "scene.toml"   # the usual name: its folder names the run
 RUN_FILES = ("deck.h5", "results.h5", "results.checkpoint.h5", "summary.json")
+
+
+class OutputFolderError(ValueError):
+    """The output folder cannot be made or written: a bad command line or call (exit status 2)."""
+
+
+def output_folder(out: str | Path) -> Path:
+    """The output folder, created, after checking that a run can write there (issue 17: a path that
+    is a file, lies under a file, or is read-only gets a message, not a traceback halfway)."""
+    out = Path(out)
+    blocking = next((p for p in [out, *out.parents] if p.exists() and not p.is_dir()), None)
+    if blocking is not None:
+        raise OutputFolderError(f"{out}: cannot be the output folder, {blocking} is a file; give a folder path "
+                      f"(paradyn-run -o FOLDER)")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputFolderError(f"{out}: cannot create the output folder ({exc.strerror}); give a folder you can "
+                      f"write (paradyn-run -o FOLDER)") from exc
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise OutputFolderError(f"{out}: the output folder is not writable; give a folder you can write "
+                      f"(paradyn-run -o FOLDER), or change its permissions")
+    return out
 
 
 def default_output(source: Path, cwd: Path | None = None) -> Path:

@@ -7,7 +7,6 @@ test models, the studies): write the deck into the output folder, run the engine
 
 from __future__ import annotations
 
-import os
 import sys
 from collections.abc import Callable
 from contextlib import AbstractContextManager, nullcontext
@@ -22,6 +21,7 @@ from .postprocess import post_process
 from .progress import RunProgress
 from .reading import Results, read
 from .restart import restart_deck
+from .run_folders import output_folder
 from .runners import Runner, SbatchRunner
 
 Source = str | Path | scene.Scene | SceneBuilder | deck.Model  # what paradyn.run accepts
@@ -59,6 +59,7 @@ def run(
     extra: dict[str, Any] | None = None,
     results_name: str = "results.h5",
     log_name: str | None = "engine.log",
+    started: launch.AwaitingEngine | None = None,
 ) -> Results | BatchJob:
     """Write the deck of ``source`` into ``out``, run the engine, post-process, return the results.
 
@@ -96,6 +97,11 @@ def run(
         Entries added to ``summary.json`` (after ``scene`` and ``command``).
     results_name, log_name : str
         File names of the results and of the engine's log in ``out`` (``log_name=None``: no log).
+    started : AwaitingEngine, optional
+        An engine :func:`paradyn.launch.start_engine` started for this run, waiting for its deck
+        (``paradyn-run`` starts it before its imports: :mod:`paradyn.early_engine`). It is used
+        if its command is the one this run needs, else cancelled; it is cancelled if the run
+        fails before its deck is written.
 
     Returns
     -------
@@ -123,22 +129,16 @@ def run(
     >>> quick = paradyn.run(model, "runs/try", runner="mpirun", ranks=2, post=False)  # doctest: +SKIP
     >>> quick.displacement[-1].max()                                # doctest: +SKIP
     """
-    _check_source(source)
-    out = output_folder(out)
+    batch = runner == SbatchRunner.name or isinstance(runner, SbatchRunner)
+    if started is not None and (restart or batch):   # these start their own engine, or none
+        started.cancel()
+        started = None
     default_ranks, default_threads = launch.default_layout()
     ranks = default_ranks if ranks is None else ranks
     threads = default_threads if threads is None else threads
     display = progress if isinstance(progress, RunProgress) else (RunProgress() if progress is True else None)
-    batch = runner == SbatchRunner.name or isinstance(runner, SbatchRunner)
-    started: launch.AwaitingEngine | None = None
-    if restart:
-        deck_path = restart_deck(out, _restart_model(source))
-    else:
-        loaded = _loaded(source)
-        if not batch and (precision := _precision(loaded)) is not None:
-            # the engine starts MPI while the scene is meshed and its deck written
-            started = launch.start_engine(out / "deck.h5", out / results_name, ranks, threads, runner, precision)
-        deck_path = _write_deck(source, loaded, out, ranks, threads, display, started)
+    out, deck_path, started = _prepare(source, out, ranks, threads, runner, restart, batch, display, results_name,
+                                       started)
     if batch:
         post_command = _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None
         return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
@@ -158,6 +158,40 @@ def run(
         if display is not None:
             display.close()
     return finish.results if finish.results is not None else finish(engine_run)
+
+
+def _prepare(source: Source, out: str | Path, ranks: int, threads: int, runner: str | Runner | None, restart: bool,
+             batch: bool, display: RunProgress | None, results_name: str,
+             started: launch.AwaitingEngine | None) -> tuple[Path, Path, launch.AwaitingEngine | None]:
+    """The output folder, the run's deck (written, or the folder's for a restart) and the engine
+    started while the scene was meshed (``started`` when it fits); a failure ends that engine."""
+    try:
+        _check_source(source)
+        out = output_folder(out)
+        if restart:
+            return out, restart_deck(out, _restart_model(source)), None
+        loaded = _loaded(source)
+        if not batch and (precision := _precision(loaded)) is not None:
+            # the engine starts MPI while the scene is meshed and its deck written
+            started = _engine_for(started, out / "deck.h5", out / results_name, ranks, threads, runner, precision)
+        return out, _write_deck(source, loaded, out, ranks, threads, display, started), started
+    except BaseException:
+        if started is not None:
+            started.cancel()
+        raise
+
+
+def _engine_for(started: launch.AwaitingEngine | None, deck_path: Path, results: Path, ranks: int, threads: int,
+                runner: str | Runner | None, precision: str) -> launch.AwaitingEngine:
+    """``started`` if it is the engine this run needs (the same command and environment: the
+    threads are in the environment), else a new one started."""
+    if started is not None:
+        chosen = launch.make_runner(runner, ranks, precision)
+        if (started.command == chosen.command(deck_path.resolve(), results.resolve(), ranks, threads)
+                and started.environment == chosen.environment(ranks, threads)):
+            return started
+        started.cancel()
+    return launch.start_engine(deck_path, results, ranks, threads, runner, precision)
 
 
 @dataclass
@@ -194,29 +228,6 @@ def _stage(display: RunProgress | None, name: str) -> AbstractContextManager[Non
 def _is_scene(source: Source) -> bool:
     return isinstance(source, (scene.Scene, SceneBuilder)) or (isinstance(source, (str, Path)) and
                                                 Path(source).suffix not in DECK_SUFFIXES)
-
-
-class OutputFolderError(ValueError):
-    """The output folder cannot be made or written: a bad command line or call (exit status 2)."""
-
-
-def output_folder(out: str | Path) -> Path:
-    """The output folder, created, after checking that a run can write there (issue 17: a path that
-    is a file, lies under a file, or is read-only gets a message, not a traceback halfway)."""
-    out = Path(out)
-    blocking = next((p for p in [out, *out.parents] if p.exists() and not p.is_dir()), None)
-    if blocking is not None:
-        raise OutputFolderError(f"{out}: cannot be the output folder, {blocking} is a file; give a folder path "
-                      f"(paradyn-run -o FOLDER)")
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise OutputFolderError(f"{out}: cannot create the output folder ({exc.strerror}); give a folder you can "
-                      f"write (paradyn-run -o FOLDER)") from exc
-    if not os.access(out, os.W_OK | os.X_OK):
-        raise OutputFolderError(f"{out}: the output folder is not writable; give a folder you can write "
-                      f"(paradyn-run -o FOLDER), or change its permissions")
-    return out
 
 
 def _check_source(source: Source) -> None:
