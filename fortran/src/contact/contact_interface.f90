@@ -215,8 +215,8 @@ contains
     end if
   end subroutine sort_passes
 
-  !> The bucket grid of pass p at the positions of the last sort: of every master, or (local
-  !> contact) of the masters this rank holds, in ascending order, so that a search on them finds
+  !> The bucket grid of pass p at the positions of the last sort: of its masters (every one, or under
+  !> local contact the masters this rank holds), in ascending order, so that a search on them finds
   !> the same nearest master with the same tie rule (the lower index) wherever it lies within reach.
   !> Local contact also chooses the slaves the global search visits until the next grid: its own
   !> slaves within near_box's margin of the grid's box plus how far a slave can move till then
@@ -226,36 +226,25 @@ contains
   subroutine contact_sort_pass(c, p)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
-    integer :: i, j, k
+    integer :: j, k
     real(wp) :: lower(3), upper(3), margin
     associate (pass => c%passes(p))
+    pass%x_sorted = c%x_at_sort(:, c%slot(pass%masters))
+    call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
+    pass%stale = .false.
     if (c%local) then
-      pass%held_only = .true.
-      pass%held_masters = pack([(i, i = 1, size(pass%masters))], c%slot(pass%masters) > 0)
-      if (.not. allocated(pass%held_index)) allocate (pass%held_index(size(pass%masters)))
-      pass%held_index = 0
-      pass%held_index(pass%held_masters) = [(i, i = 1, size(pass%held_masters))]
-      pass%x_sorted = c%x_at_sort(:, c%slot(pass%masters(pass%held_masters)))
-      call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
       margin = pass%bucket_size + pass%t_slave + pass%t_master + 0.3_wp * smallest_bucket(c)
       lower = pass%grid%lower - margin
       upper = pass%grid%upper + margin
       pass%n_near = 0
-      do i = 1, size(pass%own_slaves)
-        j = pass%own_slaves(i)
+      do j = 1, size(pass%slaves)
         k = c%slot(pass%slaves(j))
         if (any(c%x(:, k) < lower) .or. any(c%x(:, k) > upper)) cycle
         pass%n_near = pass%n_near + 1
         pass%near_slaves(pass%n_near) = j
       end do
       if (size(pass%x_sorted, 2) == 0) pass%n_near = 0
-      pass%stale = .false.
-      return
-    else
-      pass%x_sorted = c%x_at_sort(:, c%slot(pass%masters))
     end if
-    call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
-    pass%stale = .false.
     end associate
   end subroutine contact_sort_pass
 

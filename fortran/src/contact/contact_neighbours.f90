@@ -10,8 +10,9 @@
 !> the order of the serial sum, so each node's force is bitwise the serial one. Which ranks hold a
 !> node of this domain comes from the halo (the neighbours its corners go to), and a ghost's
 !> holders come with it. The contact state's per-node arrays hold this domain's contact nodes and
-!> the ghosts, renumbered at each refresh (contact_slots); the passes and the lists here still
-!> name nodes by contact-node index (docs/performance.md).
+!> the ghosts, renumbered at each refresh (contact_slots); the passes hold this rank's slaves and
+!> segments and the ghost segments, which travel with the ghosts (contact_ghost_segments); the
+!> passes and the lists here still name nodes by contact-node index (docs/performance.md).
 module contact_neighbours
   use mpi_f08
   use paradyn_kinds, only: wp, i8
@@ -22,6 +23,7 @@ module contact_neighbours
   use contact_interface, only: contact_t
   use contact_room, only: contact_record_room
   use contact_slots, only: contact_hold
+  use contact_ghost_segments, only: keep_own_passes, segment_row_width, segment_row, hold_ghost_segments
   implicit none
   private
   public :: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, share_records_locally
@@ -42,7 +44,6 @@ module contact_neighbours
     ! ghost (ghost_node: the ghosts not of this domain, ascending), ascending (CSR)
     integer, allocatable :: holder_start(:), holder(:)
     integer, allocatable :: ghost_node(:), ghost_holder_start(:), ghost_holder(:)
-    integer, allocatable :: segment_first(:), my_segment(:)   !< per pass: the segments of this rank's elements
     type(rank_lists_t) :: send, recv                          !< the ghosts, from the last refresh
     integer, allocatable :: own_near(:)                       !< the nodes of own segments near own slaves
     integer, allocatable :: mark(:), slot(:)                  !< workspace per contact node, per rank
@@ -52,20 +53,21 @@ module contact_neighbours
 
   !> node, position at the sort, position, velocity, mass, number of holders (the holders follow)
   integer, parameter :: ghost_width = 12
-  integer, parameter :: record_width = 23     !< pass, slave, 5 nodes, 15 forces, penetration
+  integer, parameter :: record_width = 22     !< pass, 5 nodes (slave first), 15 forces, penetration
   integer, parameter :: update_tag = 710
 
 contains
 
   !> local: each contact node's column on this rank (0 if not in its domain); owned_member: the
-  !> contact nodes it owns. No communication.
+  !> contact nodes it owns. The passes keep this rank's slaves and segments (keep_own_passes). No
+  !> communication.
   subroutine neighbours_setup(nb, c, dom, comm, local, owned_member)
     type(neighbours_t), intent(out) :: nb
     type(contact_t), intent(inout) :: c
     type(domain_t), intent(in) :: dom
     type(MPI_Comm), intent(in) :: comm
     integer, intent(in) :: local(:), owned_member(:)
-    integer :: k, p, s, n
+    integer :: k
     nb%comm = comm
     nb%rank = dom%rank
     nb%n_ranks = dom%n_ranks
@@ -77,23 +79,7 @@ contains
     allocate (c%owned(c%n_nodes), source=.false.)
     c%owned(owned_member) = .true.
     call domain_holders(nb, dom)
-    ! the segments of this rank's elements, pass after pass; the slaves it owns
-    allocate (nb%segment_first(size(c%passes) + 1))
-    allocate (nb%my_segment(sum([(size(c%passes(p)%segment_element), p = 1, size(c%passes))])))
-    n = 0
-    do p = 1, size(c%passes)
-      nb%segment_first(p) = n + 1
-      do s = 1, size(c%passes(p)%segment_element)
-        if (dom%n_elements == 0) cycle
-        if (dom%elements(local_element(dom, c%passes(p)%segment_element(s))) /= c%passes(p)%segment_element(s)) cycle
-        n = n + 1
-        nb%my_segment(n) = s
-      end do
-      c%passes(p)%own_slaves = pack([(s, s = 1, size(c%passes(p)%slaves))], c%owned(c%passes(p)%slaves))
-      c%passes(p)%near_slaves = c%passes(p)%own_slaves   ! the near ones are among them
-      c%passes(p)%n_near = size(c%passes(p)%own_slaves)
-    end do
-    nb%segment_first(size(c%passes) + 1) = n + 1
+    call keep_own_passes(c, dom)
     allocate (nb%mark(c%n_nodes), source=0)
     allocate (nb%slot(0:nb%n_ranks - 1), source=0)
   end subroutine neighbours_setup
@@ -157,16 +143,16 @@ contains
     logical, intent(in) :: from_sort
     type(traffic_t), intent(inout) :: traffic
     real(wp) :: boxes(6, size(c%passes)), all_boxes(6, size(c%passes), nb%n_ranks), smallest
-    integer, allocatable :: list(:), start(:), dest(:), sources(:), rstart(:), at(:)
+    integer, allocatable :: list(:), start(:), dest(:), sources(:), rstart(:), at(:), segs(:, :), seg_start(:)
     real(wp), allocatable :: buffer(:), received(:)
-    integer :: p, q, first, i, k, h
+    integer :: p, q, first, i, k, h, d, n_segs
     if (allocated(nb%own_near)) deallocate (nb%own_near)
     smallest = minval([(c%passes(p)%bucket_size, p = 1, size(c%passes))])
     do p = 1, size(c%passes)
       boxes(1:3, p) = huge(1.0_wp)
       boxes(4:6, p) = -huge(1.0_wp)
-      do i = 1, size(c%passes(p)%own_slaves)
-        k = c%slot(c%passes(p)%slaves(c%passes(p)%own_slaves(i)))
+      do i = 1, size(c%passes(p)%slaves)   ! its own slaves alone
+        k = c%slot(c%passes(p)%slaves(i))
         if (from_sort) then
           boxes(1:3, p) = min(boxes(1:3, p), c%x_at_sort(:, k))
           boxes(4:6, p) = max(boxes(4:6, p), c%x_at_sort(:, k))
@@ -179,8 +165,10 @@ contains
     call MPI_Allgather(boxes, size(boxes), MPI_DOUBLE_PRECISION, all_boxes, size(boxes), MPI_DOUBLE_PRECISION, &
                        nb%comm)
     call count_allgather(traffic, int(8 * size(boxes), i8), int(8 * size(all_boxes), i8), nb%n_ranks)
-    allocate (list(0), start(1), dest(0))
+    allocate (list(0), start(1), dest(0), segs(2, 64), seg_start(1))
     start(1) = 1
+    seg_start(1) = 1
+    n_segs = 0
     allocate (nb%own_near(0))
     nb%stamp = nb%stamp + 1
     do p = 1, size(c%passes)
@@ -191,32 +179,47 @@ contains
       first = size(list) + 1
       nb%stamp = nb%stamp + 1
       do p = 1, size(c%passes)
-        call near_segments(nb, c, p, all_boxes(:, p, q + 1), smallest, sorting, list)
+        call near_segments(nb, c, p, all_boxes(:, p, q + 1), smallest, sorting, list, segs, n_segs)
       end do
       if (size(list) < first) cycle
       call merge_sort_ascending(list(first:))
       dest = [dest, q]
       start = [start, size(list) + 1]
+      seg_start = [seg_start, n_segs + 1]
     end do
     nb%send%rank = dest
     nb%send%start = start
     nb%send%node = list
-    ! each ghost's row, then its holders (list holds nodes of this domain: of its own segments)
+    ! each message: its number of ghost segments, their rows, then each ghost's row and its holders
+    ! (list holds nodes of this domain: of its own segments)
     allocate (at(size(list) + 1))
     at(1) = 1
     do i = 1, size(list)
       h = sorted_position(nb%domain_node, list(i))
       at(i + 1) = at(i) + ghost_width + nb%holder_start(h + 1) - nb%holder_start(h)
     end do
-    allocate (buffer(at(size(list) + 1) - 1))
-    do i = 1, size(list)
-      k = c%slot(list(i))
-      h = sorted_position(nb%domain_node, list(i))
-      buffer(at(i):at(i + 1) - 1) = [real(list(i), wp), c%x_at_sort(:, k), c%x(:, k), c%v(:, k), c%mass(k), &
-                                     real(nb%holder_start(h + 1) - nb%holder_start(h), wp), &
-                                     real(nb%holder(nb%holder_start(h):nb%holder_start(h + 1) - 1), wp)]
+    allocate (buffer(at(size(list) + 1) - 1 + size(dest) * 1 + segment_row_width * n_segs))
+    k = 0
+    do d = 1, size(dest)
+      start(d) = k + 1
+      buffer(k + 1) = real(seg_start(d + 1) - seg_start(d), wp)
+      k = k + 1
+      do i = seg_start(d), seg_start(d + 1) - 1
+        buffer(k + 1:k + segment_row_width) = segment_row(c, segs(1, i), segs(2, i))
+        k = k + segment_row_width
+      end do
+      do i = nb%send%start(d), nb%send%start(d + 1) - 1
+        k = k + 1
+        h = sorted_position(nb%domain_node, list(i))
+        buffer(k:k + at(i + 1) - at(i) - 1) = [real(list(i), wp), c%x_at_sort(:, c%slot(list(i))), &
+                                               c%x(:, c%slot(list(i))), c%v(:, c%slot(list(i))), c%mass(c%slot(list(i))), &
+                                               real(nb%holder_start(h + 1) - nb%holder_start(h), wp), &
+                                               real(nb%holder(nb%holder_start(h):nb%holder_start(h + 1) - 1), wp)]
+        k = k + at(i + 1) - at(i) - 1
+      end do
     end do
-    call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, at(start), buffer, sources, rstart, received, traffic)
+    start(size(dest) + 1) = k + 1
+    call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, start, buffer, sources, rstart, received, traffic)
     call take_ghosts(nb, c, sources, rstart, received)
     nb%x_at_refresh = c%x(:, c%slot(nb%owned_node))
     if (from_sort) nb%x_at_refresh = c%x_at_sort(:, c%slot(nb%owned_node))
@@ -232,15 +235,27 @@ contains
     integer, intent(in) :: sources(:), rstart(:)
     real(wp), intent(in) :: received(:)
     integer, allocatable :: nodes(:), first(:), held(:)
-    integer :: i, j, k, m, n, g, width, s
+    real(wp), allocatable :: segment_rows(:, :)
+    integer :: i, j, k, m, n, g, width, s, n_segs
     if (allocated(nb%ghost_holder)) deallocate (nb%recv%start, nb%ghost_holder_start, nb%ghost_holder)
     nb%recv%rank = sources
     allocate (nb%recv%start(size(sources) + 1))
     allocate (first(size(received) / ghost_width))   ! where each row starts (ghost_width or more long)
+    n_segs = 0
+    do i = 1, size(sources)
+      n_segs = n_segs + nint(received(rstart(i)))
+    end do
+    allocate (segment_rows(segment_row_width, n_segs))
+    n_segs = 0
     j = 0
     do i = 1, size(sources)
       nb%recv%start(i) = j + 1
       m = rstart(i)
+      do k = 1, nint(received(m))   ! the ghost segments, then the ghosts
+        n_segs = n_segs + 1
+        segment_rows(:, n_segs) = received(m + 1 + segment_row_width * (k - 1):m + segment_row_width * k)
+      end do
+      m = m + 1 + segment_row_width * nint(received(m))
       do while (m < rstart(i + 1))
         j = j + 1
         first(j) = m
@@ -256,6 +271,7 @@ contains
     held = [nb%domain_node, nb%ghost_node]
     call merge_sort_ascending(held)
     call contact_hold(c, held)
+    call hold_ghost_segments(c, segment_rows)
     allocate (nb%ghost_holder_start(n + 1), source=0)
     do j = 1, size(nodes)   ! a ghost from several ranks comes with the same holders from each
       k = nodes(j)
@@ -285,14 +301,18 @@ contains
   end subroutine take_ghosts
 
   !> Append to list the nodes (not yet marked) of this rank's segments of pass p with a node near
-  !> box (lower and upper corner of a rank's own slaves of the pass).
-  subroutine near_segments(nb, c, p, box, smallest, sorting, list)
+  !> box (lower and upper corner of a rank's own slaves of the pass), and (segs: the ghost
+  !> segments for that rank, segs(:, 1:n_segs)) the pass and the place of each of those segments.
+  subroutine near_segments(nb, c, p, box, smallest, sorting, list, segs, n_segs)
     type(neighbours_t), intent(inout) :: nb
     type(contact_t), intent(in) :: c
     integer, intent(in) :: p
     real(wp), intent(in) :: box(6), smallest
     logical, intent(in) :: sorting
     integer, allocatable, intent(inout) :: list(:)
+    integer, allocatable, intent(inout), optional :: segs(:, :)
+    integer, intent(inout), optional :: n_segs
+    integer, allocatable :: grown(:, :)
     real(wp) :: reach, lower(3), upper(3), x(3)
     integer :: i, m, k
     if (any(box(1:3) > box(4:6))) return          ! no slave of the pass there
@@ -300,9 +320,9 @@ contains
     reach = pass%bucket_size + pass%t_slave + pass%t_master + 0.2_wp * smallest
     lower = box(1:3) - reach
     upper = box(4:6) + reach
-    do i = nb%segment_first(p), nb%segment_first(p + 1) - 1
+    do i = 1, size(pass%own_element)
       do m = 1, 4
-        k = c%slot(pass%segments(m, nb%my_segment(i)))
+        k = c%slot(pass%own_segments(m, i))
         if (sorting) then
           x = c%x(:, k)
         else
@@ -311,8 +331,17 @@ contains
         if (all(x >= lower .and. x <= upper)) exit
       end do
       if (m > 4) cycle
+      if (present(segs)) then
+        if (n_segs == size(segs, 2)) then
+          allocate (grown(2, 2 * n_segs))
+          grown(:, 1:n_segs) = segs(:, 1:n_segs)
+          call move_alloc(grown, segs)
+        end if
+        n_segs = n_segs + 1
+        segs(:, n_segs) = [p, i]
+      end if
       do m = 1, 4
-        k = pass%segments(m, nb%my_segment(i))
+        k = pass%own_segments(m, i)
         if (nb%mark(k) == nb%stamp) cycle
         nb%mark(k) = nb%stamp
         list = [list, k]
@@ -449,10 +478,9 @@ contains
     integer, intent(in) :: k
     real(wp) :: row(record_width)
     row(1) = real(c%candidates(3, k), wp)
-    row(2) = real(c%candidates(1, k), wp)
-    row(3:7) = real(c%record_nodes(:, k), wp)
-    row(8:22) = reshape(c%record_force(:, :, k), [15])
-    row(23) = c%record_penetration(k)
+    row(2:6) = real(c%record_nodes(:, k), wp)
+    row(7:21) = reshape(c%record_force(:, :, k), [15])
+    row(22) = c%record_penetration(k)
   end function record_row
 
   !> This rank's records (own) and those received (messages received(rstart(i) :)), in pass and
@@ -463,7 +491,7 @@ contains
     real(wp), intent(in) :: received(:)
     real(wp), allocatable :: rows(:, :)
     integer, allocatable :: keys(:), order(:)
-    integer :: i, j, n, at, slaves
+    integer :: i, j, n, at
     n = size(own)
     do i = 1, size(rstart) - 1
       n = n + nint(received(rstart(i)))
@@ -480,19 +508,20 @@ contains
       end do
       n = n + nint(received(rstart(i)))
     end do
-    slaves = maxval([(size(c%passes(j)%slaves), j = 1, size(c%passes))])
+    ! the order (pass, slave's contact node) is the order (pass, slave) of one rank: a pass's
+    ! slaves are ascending
     do i = 1, n
-      keys(i) = (nint(rows(1, i)) - 1) * slaves + nint(rows(2, i))
+      keys(i) = (nint(rows(1, i)) - 1) * c%n_nodes + nint(rows(2, i))
     end do
     order = keys
     call merge_sort_ascending(order)
     call contact_record_room(c, n)   ! rows holds them all: what c%record_* held may go
     do i = 1, n
       j = sorted_position(order, keys(i))
-      c%candidates(:, j) = [nint(rows(2, i)), 0, nint(rows(1, i))]
-      c%record_nodes(:, j) = nint(rows(3:7, i))
-      c%record_force(:, :, j) = reshape(rows(8:22, i), [3, 5])
-      c%record_penetration(j) = rows(23, i)
+      c%candidates(:, j) = [0, 0, nint(rows(1, i))]
+      c%record_nodes(:, j) = nint(rows(2:6, i))
+      c%record_force(:, :, j) = reshape(rows(7:21, i), [3, 5])
+      c%record_penetration(j) = rows(22, i)
     end do
     c%n_candidates = n
   end subroutine take_records

@@ -172,7 +172,7 @@ contains
     do p = 1, size(pc%c%passes)
       if (pc%c%passes(p)%idle) cycle
       associate (pass => pc%c%passes(p))
-      closing = 2.0_wp * sqrt(max(fastest2_of(pass%slaves), fastest2_of(pass%masters)))
+      closing = 2.0_wp * sqrt(max(fastest2_of(pass%slaves), fastest2_of(pass%own_masters)))
       reach = fraction * min(pass%t_slave, pass%t_master)
       if (closing > 0.0_wp) dt = min(dt, reach / closing)
       end associate
@@ -224,7 +224,7 @@ contains
       pc%extents(:, 2 * p - 1) = extent_empty()
       pc%extents(:, 2 * p) = extent_empty()
       call side_extent(pc%c%passes(p)%slaves, pc%at, x, v, pc%v_before, pc%extents(:, 2 * p - 1))
-      call side_extent(pc%c%passes(p)%masters, pc%at, x, v, pc%v_before, pc%extents(:, 2 * p))
+      call side_extent(pc%c%passes(p)%own_masters, pc%at, x, v, pc%v_before, pc%extents(:, 2 * p))
     end do
     if (pc%c%n_ranks > 1) then
       t0 = wall_clock()

@@ -107,7 +107,7 @@ contains
     real(wp), intent(in) :: p(3)
     integer(ip), intent(in) :: node, n_nodes, n_segments
     real(wp), intent(in) :: coords(3, *)
-    integer, intent(in) :: column(n_nodes)
+    integer, intent(in) :: column(*)
     integer(ip), intent(in) :: segment_nodes(4, n_segments)
     integer(ip), intent(in) :: segment_start(n_nodes + 1)
     integer(ip), intent(in) :: segment_list(*)

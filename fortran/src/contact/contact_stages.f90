@@ -9,7 +9,7 @@ module contact_stages
   use nearest_cache, only: nearest_master_listed
   use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order, &
                             edge_tolerance
-  use contact_pass, only: contact_pass_t, slave_slot
+  use contact_pass, only: contact_pass_t
   use contact_interface, only: contact_t, clock_seconds
   use exact_sum, only: exact_add, exact_value
   implicit none
@@ -162,9 +162,7 @@ contains
       j = pass%near_slaves(rank + 1 + (i - offset(p) - 1) * n_ranks)
       x = c%x(:, c%slot(pass%slaves(j)))
       if (near_box(x, pass)) then
-        if (pass%held_only) then
-          call nearest_held(pass, j, x, found)
-        else if (pass%shares_nodes) then
+        if (pass%shares_nodes) then
           call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
                                      pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, &
                                      found, excluded=pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
@@ -187,28 +185,6 @@ contains
     end do
     c%time_search = c%time_search + clock() - t0
   end subroutine contact_global_search
-
-  !> nearest_master_listed for slave j of the pass among the masters this rank holds (local
-  !> contact): the grid holds them alone, in ascending order, so the excluded masters are taken to
-  !> their places among them and the answer back to its master index.
-  subroutine nearest_held(pass, j, x, found)
-    type(contact_pass_t), intent(inout) :: pass
-    integer, intent(in) :: j
-    real(wp), intent(in) :: x(3)
-    integer, intent(out) :: found
-    integer, allocatable :: excluded(:)
-    if (pass%shares_nodes) then
-      excluded = pass%held_index(pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
-      excluded = pack(excluded, excluded > 0)
-      call nearest_master_listed(pass%near, pass%near_slot(j), pass%grid, pass%x_sorted, x, &
-                                 pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, &
-                                 found, excluded=excluded)
-    else
-      call nearest_master_listed(pass%near, pass%near_slot(j), pass%grid, pass%x_sorted, x, &
-                                 pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, found)
-    end if
-    if (found > 0) found = pass%held_masters(found)
-  end subroutine nearest_held
 
   !> The pass whose share of the global search holds entry i (offset: where each pass starts).
   pure integer function pass_of(offset, i) result(p)
@@ -288,22 +264,22 @@ contains
       node = pass%slaves(c%candidates(1, k))
       at = c%slot(node)
       x = c%x(:, at)
-      slot = slave_slot(pass, c%candidates(1, k))
-      if (still_clear(pass, slot, c%candidates(2, k), c%n_sorts, c%moved)) cycle
+      slot = c%candidates(1, k)
+      if (still_clear(pass, slot, pass%masters(c%candidates(2, k)), c%n_sorts, c%moved)) cycle
       ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
       reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(slot) + pass%t_master)
       if (pass%shares_nodes) then
-        call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, c%slot, &
+        call segment_candidates(x, int(c%candidates(2, k), ip), int(size(pass%masters), ip), c%x, c%slot, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
                                 pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(node, ip), reach=reach, &
                                 clearance=clearance)
       else
-        call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, c%slot, &
+        call segment_candidates(x, int(c%candidates(2, k), ip), int(size(pass%masters), ip), c%x, c%slot, &
                                 int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
                                 pass%segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance)
       end if
       if (clearance > 0.0_wp .and. c%moved < huge(1.0_wp)) then   ! this slave's only: no other thread writes it
-        pass%clear_master(slot) = c%candidates(2, k)
+        pass%clear_master(slot) = pass%masters(c%candidates(2, k))
         pass%clear_sort(slot) = c%n_sorts
         pass%clear_gap(slot) = clearance
         pass%clear_moved(slot) = c%moved
@@ -336,7 +312,7 @@ contains
     c%time_force = c%time_force + clock() - t0
   end subroutine contact_local_search
 
-  !> The slave at slave_slot j of the pass, whose nearest master is master, still cannot touch: at an earlier step of
+  !> Slave j of the pass, whose nearest master is master (a contact-node id), still cannot touch: at an earlier step of
   !> the same sort (sort number n_sorts) the segments around the same master were all at least
   !> clear_gap farther from it than they could touch, and since then no node has moved more than
   !> clear_moved + moved (each at most that far from its place at the sort, then and now). A point
