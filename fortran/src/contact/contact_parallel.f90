@@ -37,8 +37,8 @@ module contact_parallel
   use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, node_set_masses, &
                               allgather_node_subset, record_share_t, record_share_setup, share_contact_records, &
                               candidate_share_t, candidate_share_setup, share_contact_candidates
-  use contact_neighbours, only: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, &
-                                share_records_locally
+  use contact_neighbours, only: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update
+  use contact_record_routes, only: share_records_locally
   implicit none
   private
   public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply
