@@ -1,55 +1,23 @@
-!> The passes of a rank under local contact (docs/theory.md, "Dividing the contact state": passes
-!> per rank): each pass keeps the slaves this rank owns, the segments of its domain's elements and
-!> the ghost segments of the last refresh of the ghosts, and from those its masters (the nodes of
-!> the segments held) and each master's segments (contact_pass's pass_hold_segments). A ghost
+!> The segments a pass holds under local contact (docs/theory.md, "Dividing the contact state":
+!> passes per rank): the segments of its domain's elements (contact_local_setup) and the ghost
+!> segments of the last refresh of the ghosts, and from those its masters (the nodes of the
+!> segments held) and each master's segments (contact_pass's pass_hold_segments). A ghost
 !> segment travels with the ghosts (contact_neighbours) as one row: its pass, its element, its 4
 !> contact nodes and its penalty stiffness, computed once from the deck's coordinates (the same
 !> bits on every rank). The segments held are in ascending element id, so each master's segments
 !> are listed in the order of one rank, and the lower segment on a tie is the same one. No MPI.
 module contact_ghost_segments
   use paradyn_kinds, only: wp
-  use domain_decomposition, only: domain_t, local_element
   use integer_sort, only: merge_sort_ascending, sorted_position
   use contact_interface, only: contact_t
   use contact_pass, only: pass_hold_segments
   implicit none
   private
-  public :: keep_own_passes, segment_row_width, segment_row, hold_ghost_segments
+  public :: segment_row_width, segment_row, hold_ghost_segments
 
   integer, parameter :: segment_row_width = 7   !< pass, element, 4 contact nodes, stiffness
 
 contains
-
-  !> Each pass (every slave, master and segment of the model, from contact_setup) cut to this
-  !> rank's: the slaves it owns (c%owned) with their overlaps, the segments of its domain's
-  !> elements, and the masters it owns (for the activity extents); the segments held are its own
-  !> until the first refresh brings the ghost segments.
-  subroutine keep_own_passes(c, dom)
-    type(contact_t), intent(inout) :: c
-    type(domain_t), intent(in) :: dom
-    logical, allocatable :: mine(:)
-    integer :: p, s
-    do p = 1, size(c%passes)
-      associate (pass => c%passes(p))
-      allocate (mine(size(pass%segment_element)), source=.false.)
-      if (dom%n_elements > 0) then
-        do s = 1, size(pass%segment_element)
-          mine(s) = dom%elements(local_element(dom, pass%segment_element(s))) == pass%segment_element(s)
-        end do
-      end if
-      pass%own_segments = pass%segments(:, pack([(s, s = 1, size(mine))], mine))
-      pass%own_element = pack(pass%segment_element, mine)
-      pass%own_stiffness = pack(pass%stiffness, mine)
-      deallocate (mine)
-      pass%overlap = pack(pass%overlap, c%owned(pass%slaves))
-      pass%slaves = pack(pass%slaves, c%owned(pass%slaves))
-      pass%own_masters = pack(pass%masters, c%owned(pass%masters))
-      pass%near_slaves = [(s, s = 1, size(pass%slaves))]   ! the near ones are among them
-      pass%n_near = size(pass%slaves)
-      end associate
-    end do
-    call hold_ghost_segments(c, reshape([real(wp) ::], [segment_row_width, 0]))
-  end subroutine keep_own_passes
 
   !> The row of own segment s of pass p, for a rank that holds it as a ghost segment.
   pure function segment_row(c, p, s) result(row)

@@ -22,7 +22,7 @@ module contact_neighbours
   use contact_sparse, only: sparse_exchange
   use contact_interface, only: contact_t
   use contact_slots, only: contact_hold
-  use contact_ghost_segments, only: keep_own_passes, segment_row_width, segment_row, hold_ghost_segments
+  use contact_ghost_segments, only: segment_row_width, segment_row, hold_ghost_segments
   implicit none
   private
   public :: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update
@@ -57,8 +57,7 @@ module contact_neighbours
 contains
 
   !> local: each contact node's column on this rank (0 if not in its domain); owned_member: the
-  !> contact nodes it owns. The passes keep this rank's slaves and segments (keep_own_passes). No
-  !> communication.
+  !> contact nodes it owns. No communication.
   subroutine neighbours_setup(nb, c, dom, comm, local, owned_member)
     type(neighbours_t), intent(out) :: nb
     type(contact_t), intent(inout) :: c
@@ -77,7 +76,6 @@ contains
     allocate (c%owned(c%n_nodes), source=.false.)
     c%owned(owned_member) = .true.
     call domain_holders(nb, dom)
-    call keep_own_passes(c, dom)
     allocate (nb%mark(c%n_nodes), source=0)
     allocate (nb%slot(0:nb%n_ranks - 1), source=0)
   end subroutine neighbours_setup

@@ -26,7 +26,7 @@ module contact_parallel
   use traffic_counter, only: traffic_t, count_allgather, count_allreduce
   use contact_slots, only: contact_node_state
   use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
-                               contact_restore, contact_activity_update, contact_all_idle, contact_count_activity, &
+                               contact_activity_update, contact_all_idle, contact_count_activity, &
                                contact_sort_pass
   use contact_room, only: contact_rooms
   use contact_activity, only: extent_width, extent_empty, side_extent
@@ -34,18 +34,18 @@ module contact_parallel
                             contact_end, contact_finish
   use exact_sum, only: exact_width
   use contact_reduction, only: reduce_contact_sums
-  use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, node_set_masses, &
-                              allgather_node_subset, record_share_t, record_share_setup, share_contact_records, &
+  use contact_local_setup, only: local_contact_setup
+  use contact_exchange, only: node_set_t, node_set_setup, node_set_of_domain, allgather_node_set, node_subset_setup, &
+                              node_set_masses, allgather_node_subset, record_share_t, record_share_setup, share_contact_records, &
                               candidate_share_t, candidate_share_setup, share_contact_candidates
   use contact_neighbours, only: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update
   use contact_record_routes, only: share_records_locally
   implicit none
   private
   public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply
-  public :: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, contact_log_line
-  public :: contact_checkpoint_sums, parallel_contact_worked, parallel_contact_idle_cycles, contact_travel_step
-
-  integer, parameter :: contact_checkpoint_width = 7   !< force, position at the last sort, place in the sum
+  public :: contact_log_line
+  public :: parallel_contact_worked, parallel_contact_idle_cycles, contact_travel_step
+  public :: contact_is_local
 
   type :: parallel_contact_t
     type(contact_t) :: c                  !< the contact state, the same on every rank
@@ -64,24 +64,35 @@ module contact_parallel
 
 contains
 
-  !> Contact of the deck's pairs (the contact parts in the global layout, released once the passes
-  !> are built) on this rank's domain (mass, v: the local nodal masses and velocities; dt: the
-  !> solver's step, for the penalty's stability cap). gather_all: no shortcut, every contact node
-  !> gathered, every pass run every step (to check that those change nothing).
-  subroutine parallel_contact_setup(pc, deck, dom, comm, mass, v, dt, gather_all)
+  !> Contact of the deck's pairs on this rank's domain (mass, v: the local nodal masses and
+  !> velocities; dt: the solver's step, for the penalty's stability cap): under local contact from
+  !> this rank's rows (rows: contact_local_setup), else from the contact parts in the global
+  !> layout (contact: contact_rows, released once the passes are built; empty under local
+  !> contact). gather_all: no shortcut, every contact node gathered, every pass run every step (to
+  !> check that those change nothing).
+  subroutine parallel_contact_setup(pc, contact, rows, dom, comm, mass, v, dt, gather_all)
     type(parallel_contact_t), intent(out) :: pc
-    type(deck_t), intent(inout) :: deck
+    type(deck_t), intent(inout) :: contact
+    type(deck_t), intent(in) :: rows
     type(domain_t), intent(in) :: dom
     type(MPI_Comm), intent(in) :: comm
     real(wp), intent(in) :: mass(:), v(:, :), dt
     logical, intent(in) :: gather_all
     real(wp), allocatable :: masses(:)
+    integer, allocatable :: contact_of(:)
+    logical :: local
     pc%comm = comm
-    call contact_setup(deck, pc%c)
-    deck = deck_t()
     ! local contact on more than one rank, unless every node is gathered (the replicated reference)
-    pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
-    call node_set_setup(dom, comm, pc%c%global_node, .not. pc%c%local, pc%nodes)
+    local = contact_is_local(dom%n_ranks, gather_all)
+    if (local) then
+      call local_contact_setup(rows, dom, comm, pc%c, contact_of)
+      call node_set_of_domain(dom, contact_of, pc%c%n_nodes, pc%nodes)
+    else
+      call contact_setup(contact, pc%c)
+      call node_set_setup(dom, comm, pc%c%global_node, .true., pc%nodes)
+    end if
+    contact = deck_t()
+    pc%c%local = local
     ! the masses of the contact nodes, for the stability cap (local: the ghosts' come with them)
     call node_set_masses(comm, pc%nodes, .not. pc%c%local, mass, masses)
     ! the nodes held: every contact node, or (local contact) this domain's until the first refresh
@@ -101,6 +112,14 @@ contains
     call record_share_setup(merge(0, size(pc%c%record_nodes, 2), pc%c%local), dom%n_ranks, pc%records)
     call candidate_share_setup(dom%n_ranks, pc%candidates)
   end subroutine parallel_contact_setup
+
+  !> Whether the contact is local (each rank its own slaves and the ghosts near them): on more than
+  !> one rank, unless every node is gathered (contact_gather = "all", the replicated scheme).
+  pure logical function contact_is_local(n_ranks, gather_all)
+    integer, intent(in) :: n_ranks
+    logical, intent(in) :: gather_all
+    contact_is_local = n_ranks > 1 .and. .not. gather_all
+  end function contact_is_local
 
   !> Contact forces at the positions x (local nodes) of this cycle. Communication time goes to
   !> timers%communication, the rest to timers%contact.
@@ -443,57 +462,5 @@ contains
     parallel_contact_idle_cycles = sum(pc%c%pair_skipped_cycles)
   end function parallel_contact_idle_cycles
 
-  !> The checkpoint rows of the contact nodes this rank owns (nodes, ascending; every contact node
-  !> has one owner, so the ranks' rows together are one per contact node): force, position at the
-  !> last sort, and 1 if it carried a force in the last step (0 = no force). The owner holds every
-  !> record that touches its node, so its force is the whole one.
-  subroutine contact_checkpoint_rows(pc, rows, nodes)
-    type(parallel_contact_t), intent(in) :: pc
-    real(wp), allocatable, intent(out) :: rows(:, :)
-    integer, allocatable, intent(out) :: nodes(:)
-    integer :: k
-    nodes = pc%nodes%owned_member
-    allocate (rows(contact_checkpoint_width, size(nodes)))
-    rows(1:3, :) = pc%c%force(:, pc%c%slot(nodes))
-    rows(4:6, :) = pc%c%x_at_sort(:, pc%c%slot(nodes))
-    rows(7, :) = 0.0_wp
-    if (pc%c%n_touched == 0) return   ! (before the first step every mark equals the stamp, 0)
-    do k = 1, size(nodes)
-      if (pc%c%mark(pc%c%slot(nodes(k))) == pc%c%stamp) rows(7, k) = 1.0_wp
-    end do
-  end subroutine contact_checkpoint_rows
-
-  !> The checkpoint's sums over the whole contact: the energy, the deepest penetration and the
-  !> force on each definition (sums(3 + 3 k - 2 : 3 + 3 k) for definition k), the same on every
-  !> rank (exact sums added over the ranks: contact_stages, contact_finish).
-  subroutine contact_checkpoint_sums(pc, sums)
-    type(parallel_contact_t), intent(in) :: pc
-    real(wp), intent(out) :: sums(:)
-    sums(1) = pc%c%energy
-    sums(2) = pc%c%max_penetration
-    sums(3:) = reshape(pc%c%definition_force, [size(sums) - 2])
-  end subroutine contact_checkpoint_sums
-
-  !> The contact state of a checkpoint (rows of contact_checkpoint_rows and the attributes).
-  subroutine contact_checkpoint_restore(pc, rows, last_sort, energy, max_penetration)
-    type(parallel_contact_t), intent(inout) :: pc
-    real(wp), intent(in) :: rows(:, :), energy, max_penetration
-    integer(i8), intent(in) :: last_sort
-    logical :: new_gather_set
-    integer :: places(size(rows, 2)), k, n
-    ! the nodes that carried a force, in ascending order (their order no longer matters: the
-    ! energy's sum is exact, and each node's force is its own sum)
-    n = 0
-    places = 0
-    do k = 1, size(rows, 2)
-      if (rows(7, k) <= 0.0_wp) cycle
-      n = n + 1
-      places(k) = n
-    end do
-    call contact_restore(pc%c, rows(1:3, :), places, rows(4:6, :), last_sort, energy, &
-                         max_penetration, new_gather_set)
-    if (new_gather_set) call node_subset_setup(pc%nodes, pc%c%in_gather)
-    pc%nb%refresh_pending = .true.
-  end subroutine contact_checkpoint_restore
 
 end module contact_parallel

@@ -22,6 +22,7 @@ module contact_pass
 
   type :: contact_pass_t
     integer :: pair = 0                        !< the contact definition (deck entry) it comes from
+    integer :: slave_part = 0, master_part = 0 !< the parts of its slaves and of its segments
     logical :: every_cycle = .true.            !< runs every cycle, or (the paper's swap) every other one
     integer :: swap_index = 1                  !< with every_cycle false: runs when cycle + swap_index is odd
     !> the slave force's share of the definition's force on its first part: 1 (the slave is the first
@@ -78,6 +79,8 @@ contains
     integer :: e, s
     real(wp) :: xseg(3, 4), young, poisson
     pass%pair = pair
+    pass%slave_part = slave_part
+    pass%master_part = master_part
     if (slave_part /= master_part) pass%first_part_sign = merge(1.0_wp, -1.0_wp, slave_part == deck%contact_pairs(1, pair))
     call part_nodes(deck, slave_part, slave_nodes, slave_elements)
     pass%slaves = contact_id(slave_nodes)

@@ -14,8 +14,8 @@ module solver_checkpoint
   use run_control, only: run_control_t
   use nodal_effect, only: stage_corners
   use element_state, only: element_row_width, element_rows_pack, element_rows_unpack
-  use contact_parallel, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, &
-                              contact_checkpoint_sums
+  use contact_checkpoint, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, &
+                                contact_checkpoint_sums
   use parallel_hdf5, only: row_runs, phdf5_open, phdf5_close, create_dataset, write_rows, &
                            read_rows, write_int_attribute, write_real_attribute, read_int_attribute, &
                            read_real_attribute, write_long_attribute, read_long_attribute, &
