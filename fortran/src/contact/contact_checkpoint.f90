@@ -6,6 +6,7 @@ module contact_checkpoint
   use contact_interface, only: contact_restore
   use contact_exchange, only: node_subset_setup
   use contact_parallel, only: parallel_contact_t
+  use contact_slots, only: slot_of
   implicit none
   private
   public :: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, contact_checkpoint_sums
@@ -22,15 +23,17 @@ contains
     type(parallel_contact_t), intent(in) :: pc
     real(wp), allocatable, intent(out) :: rows(:, :)
     integer, allocatable, intent(out) :: nodes(:)
+    integer, allocatable :: slots(:)
     integer :: k
     nodes = pc%nodes%owned_member
+    slots = [(slot_of(pc%c, nodes(k)), k = 1, size(nodes))]
     allocate (rows(contact_checkpoint_width, size(nodes)))
-    rows(1:3, :) = pc%c%force(:, pc%c%slot(nodes))
-    rows(4:6, :) = pc%c%x_at_sort(:, pc%c%slot(nodes))
+    rows(1:3, :) = pc%c%force(:, slots)
+    rows(4:6, :) = pc%c%x_at_sort(:, slots)
     rows(7, :) = 0.0_wp
     if (pc%c%n_touched == 0) return   ! (before the first step every mark equals the stamp, 0)
     do k = 1, size(nodes)
-      if (pc%c%mark(pc%c%slot(nodes(k))) == pc%c%stamp) rows(7, k) = 1.0_wp
+      if (pc%c%mark(slots(k)) == pc%c%stamp) rows(7, k) = 1.0_wp
     end do
   end subroutine contact_checkpoint_rows
 

@@ -9,7 +9,7 @@ module contact_exchange
   use domain_decomposition, only: domain_t, local_node
   implicit none
   private
-  public :: node_set_t, node_set_setup, node_set_of_domain, allgather_node_set, node_subset_setup, allgather_node_subset
+  public :: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, allgather_node_subset
   public :: node_set_masses
   public :: record_share_t, record_share_setup, share_contact_records
   public :: candidate_share_t, candidate_share_setup, share_contact_candidates
@@ -146,21 +146,6 @@ contains
     allocate (set%sub_send_buffer(6 * size(set%owned_member) + 1), set%sub_recv_buffer(6 * set%n + dom%n_ranks))
     call node_subset_setup(set, [(.true., k = 1, set%n)])
   end subroutine node_set_setup
-
-  !> Local contact (no gathers): the set of the n contact nodes, of which this domain holds those
-  !> with contact_of(ln) > 0 (contact-node id of local node ln), from contact_local_setup.
-  subroutine node_set_of_domain(dom, contact_of, n, set)
-    type(domain_t), intent(in) :: dom
-    integer, intent(in) :: contact_of(:), n
-    type(node_set_t), intent(out) :: set
-    integer :: ln
-    set%n = n
-    allocate (set%local(n), source=0)
-    do ln = 1, dom%n_nodes
-      if (contact_of(ln) > 0) set%local(contact_of(ln)) = ln
-    end do
-    set%owned_member = pack(contact_of, contact_of > 0 .and. dom%node_owned == 1)
-  end subroutine node_set_of_domain
 
   !> Choose the members that allgather_node_subset sends (in_subset, the same on every rank): the
   !> lists are derived without communication, since every rank knows who owns each member.

@@ -21,22 +21,22 @@ module contact_neighbours
   use traffic_counter, only: traffic_t, count_messages, count_allgather
   use contact_sparse, only: sparse_exchange
   use contact_interface, only: contact_t
-  use contact_slots, only: contact_hold
+  use contact_slots, only: contact_hold, slot_of, contact_pass_slots
   use contact_ghost_segments, only: segment_row_width, segment_row, hold_ghost_segments
   implicit none
   private
-  public :: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update
+  public :: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, in_domain
 
-  !> Lists of contact nodes per rank (CSR): node(start(i) : start(i + 1) - 1) go to or come from rank(i).
+  !> Lists of contact nodes per rank (CSR): node(start(i) : start(i + 1) - 1) go to or come from
+  !> rank(i); at: where each lies here (sent: its local column; received: its slot)
   type :: rank_lists_t
-    integer, allocatable :: rank(:), start(:), node(:)
+    integer, allocatable :: rank(:), start(:), node(:), at(:)
   end type rank_lists_t
 
   type :: neighbours_t
     type(MPI_Comm) :: comm
     integer :: rank = 0, n_ranks = 1, round = 0
     integer, allocatable :: domain_node(:), domain_local(:)   !< contact nodes of this domain, their local columns
-    logical, allocatable :: in_domain(:)                      !< per contact node
     integer, allocatable :: owned_node(:)                     !< contact nodes this rank owns, ascending
     real(wp), allocatable :: x_at_refresh(:, :)               !< their positions at the last refresh
     ! the ranks whose domains hold each contact node of this domain (domain_node's order) and each
@@ -44,8 +44,8 @@ module contact_neighbours
     integer, allocatable :: holder_start(:), holder(:)
     integer, allocatable :: ghost_node(:), ghost_holder_start(:), ghost_holder(:)
     type(rank_lists_t) :: send, recv                          !< the ghosts, from the last refresh
-    integer, allocatable :: own_near(:)                       !< the nodes of own segments near own slaves
-    integer, allocatable :: mark(:), slot(:)                  !< workspace per contact node, per rank
+    integer, allocatable :: own_near(:)                       !< the slots of own segments' nodes near own slaves
+    integer, allocatable :: mark(:), slot(:)                  !< workspace per held slot, per rank
     integer :: stamp = 0
     logical :: refresh_pending = .true.                       !< at the start and after a restore
   end type neighbours_t
@@ -56,27 +56,22 @@ module contact_neighbours
 
 contains
 
-  !> local: each contact node's column on this rank (0 if not in its domain); owned_member: the
-  !> contact nodes it owns. No communication.
-  subroutine neighbours_setup(nb, c, dom, comm, local, owned_member)
+  !> contact_of(ln): the contact-node id of local node ln (0: not a contact node). No communication.
+  subroutine neighbours_setup(nb, dom, comm, contact_of)
     type(neighbours_t), intent(out) :: nb
-    type(contact_t), intent(inout) :: c
     type(domain_t), intent(in) :: dom
     type(MPI_Comm), intent(in) :: comm
-    integer, intent(in) :: local(:), owned_member(:)
+    integer, intent(in) :: contact_of(:)
     integer :: k
     nb%comm = comm
     nb%rank = dom%rank
     nb%n_ranks = dom%n_ranks
-    nb%domain_node = pack([(k, k = 1, c%n_nodes)], local > 0)
-    nb%domain_local = local(nb%domain_node)
-    nb%in_domain = local > 0
-    nb%owned_node = owned_member
-    allocate (nb%x_at_refresh(3, size(owned_member)), source=0.0_wp)
-    allocate (c%owned(c%n_nodes), source=.false.)
-    c%owned(owned_member) = .true.
+    nb%domain_node = pack(contact_of, contact_of > 0)
+    nb%domain_local = pack([(k, k = 1, dom%n_nodes)], contact_of > 0)
+    nb%owned_node = pack(contact_of, contact_of > 0 .and. dom%node_owned == 1)
+    allocate (nb%x_at_refresh(3, size(nb%owned_node)), source=0.0_wp)
     call domain_holders(nb, dom)
-    allocate (nb%mark(c%n_nodes), source=0)
+    allocate (nb%mark(0))
     allocate (nb%slot(0:nb%n_ranks - 1), source=0)
   end subroutine neighbours_setup
 
@@ -141,14 +136,15 @@ contains
     real(wp) :: boxes(6, size(c%passes)), all_boxes(6, size(c%passes), nb%n_ranks), smallest
     integer, allocatable :: list(:), start(:), dest(:), sources(:), rstart(:), at(:), segs(:, :), seg_start(:)
     real(wp), allocatable :: buffer(:), received(:)
-    integer :: p, q, first, i, k, h, d, n_segs
+    integer, allocatable :: slots(:)
+    integer :: p, q, first, i, k, h, d, n_segs, s
     if (allocated(nb%own_near)) deallocate (nb%own_near)
     smallest = minval([(c%passes(p)%bucket_size, p = 1, size(c%passes))])
     do p = 1, size(c%passes)
       boxes(1:3, p) = huge(1.0_wp)
       boxes(4:6, p) = -huge(1.0_wp)
       do i = 1, size(c%passes(p)%slaves)   ! its own slaves alone
-        k = c%slot(c%passes(p)%slaves(i))
+        k = c%passes(p)%slave_at(i)
         if (from_sort) then
           boxes(1:3, p) = min(boxes(1:3, p), c%x_at_sort(:, k))
           boxes(4:6, p) = max(boxes(4:6, p), c%x_at_sort(:, k))
@@ -166,6 +162,10 @@ contains
     seg_start(1) = 1
     n_segs = 0
     allocate (nb%own_near(0))
+    if (size(nb%mark) < size(c%held_node)) then   ! marks per slot (a stamp never 0)
+      deallocate (nb%mark)
+      allocate (nb%mark(size(c%held_node)), source=0)
+    end if
     nb%stamp = nb%stamp + 1
     do p = 1, size(c%passes)
       call near_segments(nb, c, p, all_boxes(:, p, nb%rank + 1), smallest, sorting, nb%own_near)
@@ -186,6 +186,7 @@ contains
     nb%send%rank = dest
     nb%send%start = start
     nb%send%node = list
+    nb%send%at = [(nb%domain_local(sorted_position(nb%domain_node, list(i))), i = 1, size(list))]
     ! each message: its number of ghost segments, their rows, then each ghost's row and its holders
     ! (list holds nodes of this domain: of its own segments)
     allocate (at(size(list) + 1))
@@ -207,8 +208,8 @@ contains
       do i = nb%send%start(d), nb%send%start(d + 1) - 1
         k = k + 1
         h = sorted_position(nb%domain_node, list(i))
-        buffer(k:k + at(i + 1) - at(i) - 1) = [real(list(i), wp), c%x_at_sort(:, c%slot(list(i))), &
-                                               c%x(:, c%slot(list(i))), c%v(:, c%slot(list(i))), c%mass(c%slot(list(i))), &
+        s = slot_of(c, list(i))
+        buffer(k:k + at(i + 1) - at(i) - 1) = [real(list(i), wp), c%x_at_sort(:, s), c%x(:, s), c%v(:, s), c%mass(s), &
                                                real(nb%holder_start(h + 1) - nb%holder_start(h), wp), &
                                                real(nb%holder(nb%holder_start(h):nb%holder_start(h + 1) - 1), wp)]
         k = k + at(i + 1) - at(i) - 1
@@ -217,8 +218,10 @@ contains
     start(size(dest) + 1) = k + 1
     call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, start, buffer, sources, rstart, received, traffic)
     call take_ghosts(nb, c, sources, rstart, received)
-    nb%x_at_refresh = c%x(:, c%slot(nb%owned_node))
-    if (from_sort) nb%x_at_refresh = c%x_at_sort(:, c%slot(nb%owned_node))
+    nb%own_near = [(slot_of(c, nb%own_near(i)), i = 1, size(nb%own_near))]   ! names till now, slots from here
+    slots = [(slot_of(c, nb%owned_node(i)), i = 1, size(nb%owned_node))]
+    nb%x_at_refresh = c%x(:, slots)
+    if (from_sort) nb%x_at_refresh = c%x_at_sort(:, slots)
     nb%refresh_pending = .false.
   end subroutine neighbours_refresh
 
@@ -262,18 +265,20 @@ contains
     first = first(1:j)
     nodes = nint(received(first))
     nb%recv%node = nodes
-    nb%ghost_node = distinct_ascending(pack(nodes, .not. nb%in_domain(nodes)))
+    nb%ghost_node = distinct_ascending(pack(nodes, [(.not. in_domain(nb, nodes(i)), i = 1, size(nodes))]))
     n = size(nb%ghost_node)
     held = [nb%domain_node, nb%ghost_node]
     call merge_sort_ascending(held)
     call contact_hold(c, held)
     call hold_ghost_segments(c, segment_rows)
+    call contact_pass_slots(c)
+    nb%recv%at = [(slot_of(c, nodes(i)), i = 1, size(nodes))]
     allocate (nb%ghost_holder_start(n + 1), source=0)
     do j = 1, size(nodes)   ! a ghost from several ranks comes with the same holders from each
       k = nodes(j)
-      if (nb%in_domain(k)) cycle
+      if (in_domain(nb, k)) cycle
       m = first(j)
-      s = c%slot(k)
+      s = nb%recv%at(j)
       c%x_at_sort(:, s) = received(m + 1:m + 3)
       c%x(:, s) = received(m + 4:m + 6)
       c%v(:, s) = received(m + 7:m + 9)
@@ -287,7 +292,7 @@ contains
     allocate (nb%ghost_holder(nb%ghost_holder_start(n + 1) - 1))
     do j = 1, size(nodes)
       k = nodes(j)
-      if (nb%in_domain(k)) cycle
+      if (in_domain(nb, k)) cycle
       m = first(j)
       g = sorted_position(nb%ghost_node, k)
       width = nint(received(m + 11))
@@ -318,7 +323,7 @@ contains
     upper = box(4:6) + reach
     do i = 1, size(pass%own_element)
       do m = 1, 4
-        k = c%slot(pass%own_segments(m, i))
+        k = pass%own_segment_at(m, i)
         if (sorting) then
           x = c%x(:, k)
         else
@@ -337,23 +342,22 @@ contains
         segs(:, n_segs) = [p, i]
       end if
       do m = 1, 4
-        k = pass%own_segments(m, i)
+        k = pass%own_segment_at(m, i)
         if (nb%mark(k) == nb%stamp) cycle
         nb%mark(k) = nb%stamp
-        list = [list, k]
+        list = [list, pass%own_segments(m, i)]
       end do
     end do
     end associate
   end subroutine near_segments
 
   !> The ghosts' positions and velocities from the ranks that sent them at the last refresh (this
-  !> rank's are x and v at local columns local(node); a ghost that is also a node of this domain
+  !> rank's are x and v at local columns send%at; a ghost that is also a node of this domain
   !> gets the same values as its own copy, and so becomes current here too).
-  subroutine neighbours_update(nb, c, x, v, local, traffic)
+  subroutine neighbours_update(nb, c, x, v, traffic)
     type(neighbours_t), intent(inout) :: nb
     type(contact_t), intent(inout) :: c
     real(wp), intent(in) :: x(:, :), v(:, :)
-    integer, intent(in) :: local(:)
     type(traffic_t), intent(inout) :: traffic
     real(wp), allocatable :: out(:), in(:)
     type(MPI_Request), allocatable :: requests(:)
@@ -362,7 +366,7 @@ contains
     n_recv = size(nb%recv%rank)
     allocate (out(6 * size(nb%send%node)), in(6 * size(nb%recv%node)), requests(n_send + n_recv))
     do j = 1, size(nb%send%node)
-      k = local(nb%send%node(j))
+      k = nb%send%at(j)
       out(6 * j - 5:6 * j) = [x(:, k), v(:, k)]
     end do
     do i = 1, n_recv
@@ -378,11 +382,21 @@ contains
     call MPI_Waitall(n_send + n_recv, requests, MPI_STATUSES_IGNORE)
     call count_messages(traffic, n_send, int(8 * size(out), i8), int(8 * size(in), i8))
     do j = 1, size(nb%recv%node)
-      k = c%slot(nb%recv%node(j))
+      k = nb%recv%at(j)
       c%x(:, k) = in(6 * j - 5:6 * j - 3)
       c%v(:, k) = in(6 * j - 2:6 * j)
     end do
   end subroutine neighbours_update
 
+
+  !> Whether contact node `node` is one of this domain's.
+  pure logical function in_domain(nb, node)
+    type(neighbours_t), intent(in) :: nb
+    integer, intent(in) :: node
+    integer :: h
+    h = sorted_position(nb%domain_node, node)
+    in_domain = .false.
+    if (h <= size(nb%domain_node)) in_domain = nb%domain_node(h) == node
+  end function in_domain
 
 end module contact_neighbours

@@ -41,6 +41,11 @@ module contact_pass
     real(wp), allocatable :: stiffness(:)      !< penalty stiffness per segment (initial geometry)
     !> local contact: the segments of this rank's elements (the domain's part of segments above)
     integer, allocatable :: own_segments(:, :), own_element(:)
+    ! the held slots (contact_slots) of the slaves, the masters, the segments' nodes and the own
+    ! segments' nodes, renewed whenever the slots are (contact_pass_slots)
+    integer, allocatable :: slave_at(:), master_at(:), segment_at(:, :), own_segment_at(:, :)
+    !> the local columns on this rank of the slaves and masters it owns (the activity extents)
+    integer, allocatable :: slave_columns(:), master_columns(:)
     real(wp), allocatable :: own_stiffness(:)
     !> slave s is a node of master segments: its search skips their nodes, master indices
     !> excluded(excluded_start(s) : excluded_start(s + 1) - 1), and the segments

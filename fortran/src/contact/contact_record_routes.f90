@@ -11,7 +11,7 @@ module contact_record_routes
   use contact_sparse, only: sparse_exchange
   use contact_interface, only: contact_t
   use contact_room, only: contact_record_room
-  use contact_neighbours, only: neighbours_t
+  use contact_neighbours, only: neighbours_t, in_domain
   implicit none
   private
   public :: share_records_locally
@@ -82,7 +82,7 @@ contains
       n = 0
       do m = 1, 5
         node = c%record_nodes(m, k)
-        if (nb%in_domain(node)) then
+        if (in_domain(nb, node)) then
           h = sorted_position(nb%domain_node, node)
           call add_ranks(nb%holder(nb%holder_start(h):nb%holder_start(h + 1) - 1), nb%rank, ranks, n)
         else
