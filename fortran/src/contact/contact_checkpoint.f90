@@ -26,7 +26,10 @@ contains
     integer, allocatable :: slots(:)
     integer :: k
     nodes = pc%nodes%owned_member
-    slots = [(slot_of(pc%c, nodes(k)), k = 1, size(nodes))]
+    allocate (slots(size(nodes)))
+    do k = 1, size(nodes)
+      slots(k) = slot_of(pc%c, nodes(k))
+    end do
     allocate (rows(contact_checkpoint_width, size(nodes)))
     rows(1:3, :) = pc%c%force(:, slots)
     rows(4:6, :) = pc%c%x_at_sort(:, slots)
@@ -48,7 +51,8 @@ contains
     sums(3:) = reshape(pc%c%definition_force, [size(sums) - 2])
   end subroutine contact_checkpoint_sums
 
-  !> The contact state of a checkpoint (rows of contact_checkpoint_rows and the attributes).
+  !> The contact state of a checkpoint (the rows of contact_checkpoint_rows of the nodes held, in
+  !> held_node's order, and the attributes).
   subroutine contact_checkpoint_restore(pc, rows, last_sort, energy, max_penetration)
     type(parallel_contact_t), intent(inout) :: pc
     real(wp), intent(in) :: rows(:, :), energy, max_penetration

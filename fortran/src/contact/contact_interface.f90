@@ -316,10 +316,11 @@ contains
     end where
   end subroutine contact_count_activity
 
-  !> The contact state of a checkpoint at the top of a step: the forces of the last step and the
-  !> nodes they act on (touched_order(j) > 0, ascending), per contact node, of which the held ones
-  !> are kept, the energy, the deepest penetration, and the sort redone at the positions of the
-  !> last sort, so the later sorts, gathers and sums fall as in the uninterrupted run.
+  !> The contact state of a checkpoint at the top of a step, per node held (held_node's order: the
+  !> checkpoint's rows of those nodes): the forces of the last step and the nodes they act on
+  !> (touched_order(s) > 0), the energy, the deepest penetration, and the sort redone at the
+  !> positions of the last sort, so the later sorts, gathers and sums fall as in the uninterrupted
+  !> run.
   subroutine contact_restore(c, force, touched_order, x_at_sort, last_sort, energy, max_penetration, &
                              new_gather_set)
     type(contact_t), intent(inout) :: c
@@ -327,18 +328,17 @@ contains
     integer, intent(in) :: touched_order(:)
     integer(i8), intent(in) :: last_sort
     logical, intent(out) :: new_gather_set
-    integer :: s, j
-    c%x = x_at_sort(:, c%held_node)
+    integer :: s
+    c%x = x_at_sort
     call sort_passes(c, last_sort, new_gather_set)
-    c%force = force(:, c%held_node)
+    c%force = force
     c%force_old = 0.0_wp
     c%n_touched_old = 0
     c%n_touched = 0
     c%stamp = 1
     c%mark = 0
     do s = 1, size(c%held_node)
-      j = c%held_node(s)
-      if (touched_order(j) == 0) cycle
+      if (touched_order(s) == 0) cycle
       c%n_touched = c%n_touched + 1
       c%touched(c%n_touched) = s
       c%mark(s) = c%stamp

@@ -304,12 +304,13 @@ contains
     real(wp), intent(in) :: energy, penetration
     real(wp), allocatable :: contact(:, :), force(:)
     integer(hsize_t) :: nc
-    integer :: j, err
+    integer :: err
     s%contact%c%time_step = s%clock%dt   ! the penalty's cap follows the step (time_step_control)
     nc = int(s%contact%c%n_nodes, hsize_t)
-    allocate (contact(contact_checkpoint_width, nc), force(3 * s%n_contacts))
+    ! the rows of the contact nodes this rank holds (contact-node ids, ascending)
+    allocate (contact(contact_checkpoint_width, size(s%contact%c%held_node)), force(3 * s%n_contacts))
     call read_rows(file, transfer, 'contact', [int(contact_checkpoint_width, hsize_t), nc], &
-                   row_runs([(j, j = 1, int(nc))]), contact, err)
+                   row_runs(s%contact%c%held_node), contact, err)
     call contact_checkpoint_restore(s%contact, contact, last_sort, energy, penetration)
     call read_real_array_attribute(file, 'contact_definition_force', force, err)
     s%contact%c%definition_force = reshape(force, [3, s%n_contacts])
