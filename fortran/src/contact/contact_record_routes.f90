@@ -122,13 +122,13 @@ contains
     integer, intent(in) :: own(:), rstart(:)
     real(wp), intent(in) :: received(:)
     real(wp), allocatable :: rows(:, :)
-    integer, allocatable :: keys(:), order(:)
-    integer :: i, j, n, at
+    integer, allocatable :: keys(:), order(:), first(:)
+    integer :: i, j, n, at, p, k
     n = size(own)
     do i = 1, size(rstart) - 1
       n = n + nint(received(rstart(i)))
     end do
-    allocate (rows(record_width, n), keys(n))
+    allocate (rows(record_width, n))
     do i = 1, size(own)
       rows(:, i) = record_row(c, own(i))
     end do
@@ -141,19 +141,30 @@ contains
       n = n + nint(received(rstart(i)))
     end do
     ! the order (pass, slave's contact node) is the order (pass, slave) of one rank: a pass's
-    ! slaves are ascending
+    ! slaves are ascending. Each pass's records go after those of the passes before it
+    ! (first(p)), in the order of their slaves' ids (a slave has one record per pass)
+    allocate (first(size(c%passes) + 1), source=0)
     do i = 1, n
-      keys(i) = (nint(rows(1, i)) - 1) * c%n_nodes + nint(rows(2, i))
+      first(nint(rows(1, i)) + 1) = first(nint(rows(1, i)) + 1) + 1
     end do
-    order = keys
-    call merge_sort_ascending(order)
+    do p = 1, size(c%passes)
+      first(p + 1) = first(p + 1) + first(p)
+    end do
     call contact_record_room(c, n)   ! rows holds them all: what c%record_* held may go
-    do i = 1, n
-      j = sorted_position(order, keys(i))
-      c%candidates(:, j) = [0, 0, nint(rows(1, i))]
-      c%record_nodes(:, j) = nint(rows(2:6, i))
-      c%record_force(:, :, j) = reshape(rows(7:21, i), [3, 5])
-      c%record_penetration(j) = rows(22, i)
+    do p = 1, size(c%passes)
+      keys = pack(nint(rows(2, 1:n)), nint(rows(1, 1:n)) == p)
+      order = keys
+      call merge_sort_ascending(order)
+      k = 0
+      do i = 1, n
+        if (nint(rows(1, i)) /= p) cycle
+        k = k + 1
+        j = first(p) + sorted_position(order, keys(k))
+        c%candidates(:, j) = [0, 0, p]
+        c%record_nodes(:, j) = nint(rows(2:6, i))
+        c%record_force(:, :, j) = reshape(rows(7:21, i), [3, 5])
+        c%record_penetration(j) = rows(22, i)
+      end do
     end do
     c%n_candidates = n
   end subroutine take_records
