@@ -81,8 +81,9 @@ def test_kept_gap_still_pushes_past_the_overlap(tmp_path):
 
 
 def test_kept_gap_is_bitwise_on_several_ranks(tmp_path):
-    """Under local contact a rank keeps the overlaps (and clearances) of its own slaves alone
-    (contact_pass, slave_slot): the kept-gap plates of the test above, pushing past their overlap,
+    """Under local contact a rank keeps the overlaps (and clearances) of its own slaves alone, the
+    overlaps measured against the master elements near them from every rank (contact_local_setup's
+    gap_overlaps, not the global layout): the kept-gap plates of the test above, pushing past their overlap,
     give bitwise the same frames and contact histories on 2 and 3 ranks as on one. The upper plate
     overlaps half of the lower one, so the slaves' overlaps differ (4 mm, less at the edges, 0)."""
     lower = M.flat_plate((0.1, 0.1), (4, 4))

@@ -297,12 +297,11 @@ subroutine contact_segment_candidates(p, node, n_nodes, coords, n_segments, segm
   real(wp), intent(out) :: xi, eta, xc(3), normal(3)
   real(wp), intent(in) :: reach
   !f2py real(wp) optional, intent(in) :: reach = -1.0
-  integer :: i
   if (reach >= 0.0_wp) then
-    call segment_candidates(p, node, n_nodes, coords, [(i, i = 1, n_nodes)], n_segments, segment_nodes, &
+    call segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, &
                             segment_start, segment_list, segment, xi, eta, xc, normal, reach=reach)
   else
-    call segment_candidates(p, node, n_nodes, coords, [(i, i = 1, n_nodes)], n_segments, segment_nodes, &
+    call segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, &
                             segment_start, segment_list, segment, xi, eta, xc, normal)
   end if
 end subroutine contact_segment_candidates
@@ -320,8 +319,7 @@ subroutine contact_segment_clearance(p, node, n_nodes, coords, n_segments, segme
   real(wp), intent(out) :: clearance
   integer :: segment
   real(wp) :: xi, eta, xc(3), normal(3)
-  integer :: i
-  call segment_candidates(p, node, n_nodes, coords, [(i, i = 1, n_nodes)], n_segments, segment_nodes, &
+  call segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, &
                           segment_start, segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance)
 end subroutine contact_segment_clearance
 

@@ -16,7 +16,7 @@ program paradyn_engine
   use, intrinsic :: iso_c_binding, only: c_int
   use hdf5, only: h5open_f, h5close_f, h5eset_auto_f
   use paradyn_kinds, only: wp, i8
-  use paradyn_schema, only: status_ok, status_failure, status_bad_input, status_stopped
+  use paradyn_schema, only: status_ok, status_failure, status_bad_input, status_stopped, contact_gather_all
   use model_deck, only: deck_t
   use deck_reader, only: read_deck
   use explicit_solver, only: solver_t, solver_setup, solver_run, record_at_stop
@@ -30,6 +30,7 @@ program paradyn_engine
   use deck_effects, only: effects_of_deck
   use contact_checks, only: resolve_initial_penetrations
   use contact_rows, only: replicated_contact_deck
+  use contact_parallel, only: contact_is_local
   use model_deck, only: node_row, element_row
   use, intrinsic :: iso_fortran_env, only: error_unit
   use effect_table, only: effect_table_t, effect_list
@@ -150,9 +151,12 @@ program paradyn_engine
   call check_memory(deck%n_elements, deck%n_nodes)
   call write_deck_line()
   call effects_of_deck(deck, effects)   ! what the deck declares; the scene's switched-off effects go
-  if (deck%n_contacts > 0) then   ! checked on each rank's rows; the contact state reads the global layout
+  if (deck%n_contacts > 0) then   ! checked on each rank's rows
     call resolve_initial_penetrations(deck, comm, rank == 0, error_unit, moves)   ! reported; moves where asked
-    contact = replicated_contact_deck(deck, comm)
+    ! local contact sets up from each rank's rows; one rank and the replicated scheme read the
+    ! contact parts in the global layout (contact_rows)
+    if (.not. contact_is_local(n_ranks, deck%contact_gather == contact_gather_all)) &
+      contact = replicated_contact_deck(deck, comm)
   end if
   call solver_setup(solver, deck, contact, effects, comm, status, message)
   if (status /= status_ok) call fail(status, trim(message))

@@ -32,16 +32,15 @@ contains
     extent = -huge(1.0_wp)
   end function extent_empty
 
-  !> Add the nodes members (contact-node ids) whose column at(member) in x, v is not 0 (the
-  !> rank's own nodes) to extent; v_before(:, at(member)) is the member's velocity a cycle earlier.
-  pure subroutine side_extent(members, at, x, v, v_before, extent)
-    integer, intent(in) :: members(:), at(:)
+  !> Add the nodes at local columns `columns` of x and v (the rank's own nodes of a side) to
+  !> extent; v_before(:, column) is the node's velocity a cycle earlier.
+  pure subroutine side_extent(columns, x, v, v_before, extent)
+    integer, intent(in) :: columns(:)
     real(wp), intent(in) :: x(:, :), v(:, :), v_before(:, :)
     real(wp), intent(inout) :: extent(extent_width)
     integer :: i, j
-    do i = 1, size(members)
-      j = at(members(i))
-      if (j == 0) cycle
+    do i = 1, size(columns)
+      j = columns(i)
       extent(1:3) = max(extent(1:3), -x(:, j))
       extent(4:6) = max(extent(4:6), x(:, j))
       extent(7) = max(extent(7), v(1, j)**2 + v(2, j)**2 + v(3, j)**2)

@@ -24,7 +24,7 @@ module contact_checks
   use contact_surfaces, only: capped_thickness, shortest_edge
   implicit none
   private
-  public :: resolve_initial_penetrations, check_contact_overlap
+  public :: resolve_initial_penetrations, check_contact_overlap, held_thickness, part_rows, corners
 
 contains
 

@@ -9,7 +9,8 @@ module contact_exchange
   use domain_decomposition, only: domain_t, local_node
   implicit none
   private
-  public :: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, allgather_node_subset, node_set_masses
+  public :: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, allgather_node_subset
+  public :: node_set_masses
   public :: record_share_t, record_share_setup, share_contact_records
   public :: candidate_share_t, candidate_share_setup, share_contact_candidates
 

@@ -40,7 +40,7 @@ module contact_interface
   implicit none
   private
   public :: contact_t, contact_setup
-  public :: contact_begin, contact_sort_due, contact_movement
+  public :: contact_begin, contact_sort_due
   public :: contact_restore, contact_sort_pass
   public :: contact_activity_update, contact_all_idle, contact_count_activity
   public :: clock_seconds
@@ -56,11 +56,13 @@ module contact_interface
 
   type :: contact_t
     integer :: n_nodes = 0                     !< nodes of all parts in contact
-    integer, allocatable :: global_node(:)     !< their global ids, ascending
+    integer, allocatable :: global_node(:)     !< their global ids, ascending (not under local contact)
     ! the held slots (contact_slots): the contact nodes this rank holds, ascending (every one on
-    ! one rank and in the replicated scheme), and each contact node's slot among them (0: not held);
-    ! the per-node arrays below are indexed by slot
-    integer, allocatable :: held_node(:), slot(:)
+    ! one rank and in the replicated scheme, where slot(node) is each one's; under local contact a
+    ! search in held_node finds it: slot_of), their local columns on this rank (0: a ghost) and
+    ! whether this rank owns them; the per-node arrays below are indexed by slot
+    integer, allocatable :: held_node(:), slot(:), column(:)
+    logical, allocatable :: own(:)
     integer :: held_most = 0                   !< the most nodes held at once over the run (the log)
     real(wp), allocatable :: x(:, :), v(:, :)  !< gathered positions and velocities
     real(wp), allocatable :: mass(:)           !< lumped mass of each contact node
@@ -88,9 +90,8 @@ module contact_interface
     logical :: gather_subset = .false.
     logical :: gather_all = .false.             !< never gather a subset (to check that it changes nothing)
     ! local contact (contact_neighbours): each rank searches the slaves it owns against the masters
-    ! it holds (its domain's and the ghosts near its slaves); owned flags its own contact nodes
+    ! it holds (its domain's and the ghosts near its slaves)
     logical :: local = .false.
-    logical, allocatable :: owned(:)
     type(contact_pass_t), allocatable :: passes(:)
     ! candidates of the step's passes: n_own found here, n_all shared by every rank (the caller
     ! fills all_pairs), n_candidates in pass order and, within a pass, slave order; pairs are
@@ -127,6 +128,9 @@ module contact_interface
 
 contains
 
+  !> The contact state of the deck's pairs from the contact parts in the global layout (one rank
+  !> and the replicated scheme, io/contact_rows; local contact: contact_local_setup): every contact
+  !> node, numbered in global id order, and every definition's passes with all their lists.
   subroutine contact_setup(deck, c)
     type(deck_t), intent(in) :: deck
     type(contact_t), intent(out) :: c
@@ -215,8 +219,8 @@ contains
     end if
   end subroutine sort_passes
 
-  !> The bucket grid of pass p at the positions of the last sort: of every master, or (local
-  !> contact) of the masters this rank holds, in ascending order, so that a search on them finds
+  !> The bucket grid of pass p at the positions of the last sort: of its masters (every one, or under
+  !> local contact the masters this rank holds), in ascending order, so that a search on them finds
   !> the same nearest master with the same tie rule (the lower index) wherever it lies within reach.
   !> Local contact also chooses the slaves the global search visits until the next grid: its own
   !> slaves within near_box's margin of the grid's box plus how far a slave can move till then
@@ -226,36 +230,25 @@ contains
   subroutine contact_sort_pass(c, p)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
-    integer :: i, j, k
+    integer :: j, k
     real(wp) :: lower(3), upper(3), margin
     associate (pass => c%passes(p))
+    pass%x_sorted = c%x_at_sort(:, pass%master_at)
+    call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
+    pass%stale = .false.
     if (c%local) then
-      pass%held_only = .true.
-      pass%held_masters = pack([(i, i = 1, size(pass%masters))], c%slot(pass%masters) > 0)
-      if (.not. allocated(pass%held_index)) allocate (pass%held_index(size(pass%masters)))
-      pass%held_index = 0
-      pass%held_index(pass%held_masters) = [(i, i = 1, size(pass%held_masters))]
-      pass%x_sorted = c%x_at_sort(:, c%slot(pass%masters(pass%held_masters)))
-      call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
       margin = pass%bucket_size + pass%t_slave + pass%t_master + 0.3_wp * smallest_bucket(c)
       lower = pass%grid%lower - margin
       upper = pass%grid%upper + margin
       pass%n_near = 0
-      do i = 1, size(pass%own_slaves)
-        j = pass%own_slaves(i)
-        k = c%slot(pass%slaves(j))
+      do j = 1, size(pass%slaves)
+        k = pass%slave_at(j)
         if (any(c%x(:, k) < lower) .or. any(c%x(:, k) > upper)) cycle
         pass%n_near = pass%n_near + 1
         pass%near_slaves(pass%n_near) = j
       end do
       if (size(pass%x_sorted, 2) == 0) pass%n_near = 0
-      pass%stale = .false.
-      return
-    else
-      pass%x_sorted = c%x_at_sort(:, c%slot(pass%masters))
     end if
-    call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
-    pass%stale = .false.
     end associate
   end subroutine contact_sort_pass
 
@@ -323,10 +316,11 @@ contains
     end where
   end subroutine contact_count_activity
 
-  !> The contact state of a checkpoint at the top of a step: the forces of the last step and the
-  !> nodes they act on (touched_order(j) > 0, ascending), per contact node, of which the held ones
-  !> are kept, the energy, the deepest penetration, and the sort redone at the positions of the
-  !> last sort, so the later sorts, gathers and sums fall as in the uninterrupted run.
+  !> The contact state of a checkpoint at the top of a step, per node held (held_node's order: the
+  !> checkpoint's rows of those nodes): the forces of the last step and the nodes they act on
+  !> (touched_order(s) > 0), the energy, the deepest penetration, and the sort redone at the
+  !> positions of the last sort, so the later sorts, gathers and sums fall as in the uninterrupted
+  !> run.
   subroutine contact_restore(c, force, touched_order, x_at_sort, last_sort, energy, max_penetration, &
                              new_gather_set)
     type(contact_t), intent(inout) :: c
@@ -334,18 +328,17 @@ contains
     integer, intent(in) :: touched_order(:)
     integer(i8), intent(in) :: last_sort
     logical, intent(out) :: new_gather_set
-    integer :: s, j
-    c%x = x_at_sort(:, c%held_node)
+    integer :: s
+    c%x = x_at_sort
     call sort_passes(c, last_sort, new_gather_set)
-    c%force = force(:, c%held_node)
+    c%force = force
     c%force_old = 0.0_wp
     c%n_touched_old = 0
     c%n_touched = 0
     c%stamp = 1
     c%mark = 0
     do s = 1, size(c%held_node)
-      j = c%held_node(s)
-      if (touched_order(j) == 0) cycle
+      if (touched_order(s) == 0) cycle
       c%n_touched = c%n_touched + 1
       c%touched(c%n_touched) = s
       c%mark(s) = c%stamp
@@ -378,11 +371,11 @@ contains
       slave_upper = -huge(1.0_wp)
       pass%n_near = 0
       do j = 1, size(pass%slaves)
-        x = c%x_at_sort(:, c%slot(pass%slaves(j)))
+        x = c%x_at_sort(:, pass%slave_at(j))
         if (any(x < lower) .or. any(x > upper)) cycle
         pass%n_near = pass%n_near + 1
         pass%near_slaves(pass%n_near) = j
-        c%in_gather(c%slot(pass%slaves(j))) = .true.
+        c%in_gather(pass%slave_at(j)) = .true.
         slave_lower = min(slave_lower, x)
         slave_upper = max(slave_upper, x)
       end do
@@ -390,9 +383,9 @@ contains
       slave_upper = slave_upper + (margin + reach)
       do j = 1, size(pass%segments, 2)
         do k = 1, 4
-          x = c%x_at_sort(:, c%slot(pass%segments(k, j)))
+          x = c%x_at_sort(:, pass%segment_at(k, j))
           if (all(x >= slave_lower .and. x <= slave_upper)) then
-            c%in_gather(c%slot(pass%segments(:, j))) = .true.
+            c%in_gather(pass%segment_at(:, j)) = .true.
             exit
           end if
         end do
@@ -425,60 +418,5 @@ contains
       due = moved > 0.1_wp * smallest_bucket(c)
     end if
   end function contact_sort_due
-
-  !> The largest distance that contact nodes have moved since the last sort: the given nodes
-  !> (members, at columns local(members) of x), or without them every contact node at c%x. A
-  !> maximum is exact in any order, so the threads and ranks may share it; squared distances
-  !> and one square root at the end (norm2's scaling against overflow costs more than the rest).
-  subroutine contact_movement(c, moved, clock, members, local, x)
-    type(contact_t), intent(inout) :: c
-    real(wp), intent(out) :: moved
-    procedure(clock_seconds) :: clock
-    integer, intent(in), optional :: members(:), local(:)
-    real(wp), intent(in), optional :: x(:, :)
-    real(wp) :: t0
-    integer :: i, j, k, n
-    t0 = clock()
-    moved = 0.0_wp
-    if (present(members) .and. present(local) .and. present(x)) then
-      n = size(members)
-      if (c%member_sort /= c%n_sorts .or. .not. allocated(c%member_at)) then   ! a sort since
-        c%member_at = local(members)
-        c%member_at_sort = c%x_at_sort(:, c%slot(members))
-        c%member_sort = c%n_sorts
-        c%member_run = .false.
-        if (n > 0) c%member_run = all(c%member_at == [(c%member_at(1) + i - 1, i = 1, n)])
-      end if
-      if (c%member_run) then
-        ! the members' columns are one run (all the nodes are contact nodes): contiguous reads
-        k = c%member_at(1) - 1
-        !$omp parallel do schedule(static) reduction(max:moved)
-        do i = 1, n
-          moved = max(moved, (x(1, k + i) - c%member_at_sort(1, i))**2 + (x(2, k + i) - c%member_at_sort(2, i))**2 &
-                             + (x(3, k + i) - c%member_at_sort(3, i))**2)
-        end do
-        !$omp end parallel do
-        moved = sqrt(moved)
-        c%time_sort = c%time_sort + clock() - t0
-        return
-      end if
-      !$omp parallel do schedule(static) private(j) reduction(max:moved)
-      do i = 1, n
-        j = c%member_at(i)
-        moved = max(moved, (x(1, j) - c%member_at_sort(1, i))**2 + (x(2, j) - c%member_at_sort(2, i))**2 &
-                           + (x(3, j) - c%member_at_sort(3, i))**2)
-      end do
-      !$omp end parallel do
-    else if (c%sort_interval == 0 .and. c%last_sort >= 0) then   ! else contact_sort_due does not ask
-      !$omp parallel do schedule(static) reduction(max:moved)
-      do k = 1, size(c%x, 2)
-        moved = max(moved, (c%x(1, k) - c%x_at_sort(1, k))**2 + (c%x(2, k) - c%x_at_sort(2, k))**2 &
-                           + (c%x(3, k) - c%x_at_sort(3, k))**2)
-      end do
-      !$omp end parallel do
-    end if
-    moved = sqrt(moved)
-    c%time_sort = c%time_sort + clock() - t0
-  end subroutine contact_movement
 
 end module contact_interface

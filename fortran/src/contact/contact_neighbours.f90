@@ -4,14 +4,15 @@
 !> neighbours_refresh (at a sort, after a restart, or once a node has moved a tenth of the smallest
 !> bucket since the last one: every rank's box of its own slaves per pass, one small allgather,
 !> then the ghosts, point to point in a sparse exchange), neighbours_update (every other step: the
-!> same ghosts from the same ranks) and share_records_locally (every step: each record by value to
-!> the holders of its five nodes; the energy and the definitions' forces are exact sums that every
-!> rank takes part in, contact_parallel). Every rank orders the records it has by pass and slave,
+!> same ghosts from the same ranks) and the records' (contact_record_routes, every step: each
+!> record by value to the holders of its five nodes; the energy and the definitions' forces are
+!> exact sums that every rank takes part in, contact_parallel). Every rank orders the records it has by pass and slave,
 !> the order of the serial sum, so each node's force is bitwise the serial one. Which ranks hold a
 !> node of this domain comes from the halo (the neighbours its corners go to), and a ghost's
 !> holders come with it. The contact state's per-node arrays hold this domain's contact nodes and
-!> the ghosts, renumbered at each refresh (contact_slots); the passes and the lists here still
-!> name nodes by contact-node index (docs/performance.md).
+!> the ghosts, renumbered at each refresh (contact_slots); the passes hold this rank's slaves and
+!> segments and the ghost segments, which travel with the ghosts (contact_ghost_segments); the
+!> passes and the lists here still name nodes by contact-node index (docs/performance.md).
 module contact_neighbours
   use mpi_f08
   use paradyn_kinds, only: wp, i8
@@ -20,81 +21,57 @@ module contact_neighbours
   use traffic_counter, only: traffic_t, count_messages, count_allgather
   use contact_sparse, only: sparse_exchange
   use contact_interface, only: contact_t
-  use contact_room, only: contact_record_room
-  use contact_slots, only: contact_hold
+  use contact_slots, only: contact_hold, slot_of, contact_pass_slots
+  use contact_ghost_segments, only: segment_row_width, segment_row, hold_ghost_segments
   implicit none
   private
-  public :: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, share_records_locally
+  public :: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, in_domain
 
-  !> Lists of contact nodes per rank (CSR): node(start(i) : start(i + 1) - 1) go to or come from rank(i).
+  !> Lists of contact nodes per rank (CSR): node(start(i) : start(i + 1) - 1) go to or come from
+  !> rank(i); at: where each lies here (sent: its local column; received: its slot)
   type :: rank_lists_t
-    integer, allocatable :: rank(:), start(:), node(:)
+    integer, allocatable :: rank(:), start(:), node(:), at(:)
   end type rank_lists_t
 
   type :: neighbours_t
     type(MPI_Comm) :: comm
     integer :: rank = 0, n_ranks = 1, round = 0
     integer, allocatable :: domain_node(:), domain_local(:)   !< contact nodes of this domain, their local columns
-    logical, allocatable :: in_domain(:)                      !< per contact node
     integer, allocatable :: owned_node(:)                     !< contact nodes this rank owns, ascending
     real(wp), allocatable :: x_at_refresh(:, :)               !< their positions at the last refresh
     ! the ranks whose domains hold each contact node of this domain (domain_node's order) and each
     ! ghost (ghost_node: the ghosts not of this domain, ascending), ascending (CSR)
     integer, allocatable :: holder_start(:), holder(:)
     integer, allocatable :: ghost_node(:), ghost_holder_start(:), ghost_holder(:)
-    integer, allocatable :: segment_first(:), my_segment(:)   !< per pass: the segments of this rank's elements
     type(rank_lists_t) :: send, recv                          !< the ghosts, from the last refresh
-    integer, allocatable :: own_near(:)                       !< the nodes of own segments near own slaves
-    integer, allocatable :: mark(:), slot(:)                  !< workspace per contact node, per rank
+    integer, allocatable :: own_near(:)                       !< the slots of own segments' nodes near own slaves
+    integer, allocatable :: mark(:), slot(:)                  !< workspace per held slot, per rank
     integer :: stamp = 0
     logical :: refresh_pending = .true.                       !< at the start and after a restore
   end type neighbours_t
 
   !> node, position at the sort, position, velocity, mass, number of holders (the holders follow)
   integer, parameter :: ghost_width = 12
-  integer, parameter :: record_width = 23     !< pass, slave, 5 nodes, 15 forces, penetration
   integer, parameter :: update_tag = 710
 
 contains
 
-  !> local: each contact node's column on this rank (0 if not in its domain); owned_member: the
-  !> contact nodes it owns. No communication.
-  subroutine neighbours_setup(nb, c, dom, comm, local, owned_member)
+  !> contact_of(ln): the contact-node id of local node ln (0: not a contact node). No communication.
+  subroutine neighbours_setup(nb, dom, comm, contact_of)
     type(neighbours_t), intent(out) :: nb
-    type(contact_t), intent(inout) :: c
     type(domain_t), intent(in) :: dom
     type(MPI_Comm), intent(in) :: comm
-    integer, intent(in) :: local(:), owned_member(:)
-    integer :: k, p, s, n
+    integer, intent(in) :: contact_of(:)
+    integer :: k
     nb%comm = comm
     nb%rank = dom%rank
     nb%n_ranks = dom%n_ranks
-    nb%domain_node = pack([(k, k = 1, c%n_nodes)], local > 0)
-    nb%domain_local = local(nb%domain_node)
-    nb%in_domain = local > 0
-    nb%owned_node = owned_member
-    allocate (nb%x_at_refresh(3, size(owned_member)), source=0.0_wp)
-    allocate (c%owned(c%n_nodes), source=.false.)
-    c%owned(owned_member) = .true.
+    nb%domain_node = pack(contact_of, contact_of > 0)
+    nb%domain_local = pack([(k, k = 1, dom%n_nodes)], contact_of > 0)
+    nb%owned_node = pack(contact_of, contact_of > 0 .and. dom%node_owned == 1)
+    allocate (nb%x_at_refresh(3, size(nb%owned_node)), source=0.0_wp)
     call domain_holders(nb, dom)
-    ! the segments of this rank's elements, pass after pass; the slaves it owns
-    allocate (nb%segment_first(size(c%passes) + 1))
-    allocate (nb%my_segment(sum([(size(c%passes(p)%segment_element), p = 1, size(c%passes))])))
-    n = 0
-    do p = 1, size(c%passes)
-      nb%segment_first(p) = n + 1
-      do s = 1, size(c%passes(p)%segment_element)
-        if (dom%n_elements == 0) cycle
-        if (dom%elements(local_element(dom, c%passes(p)%segment_element(s))) /= c%passes(p)%segment_element(s)) cycle
-        n = n + 1
-        nb%my_segment(n) = s
-      end do
-      c%passes(p)%own_slaves = pack([(s, s = 1, size(c%passes(p)%slaves))], c%owned(c%passes(p)%slaves))
-      c%passes(p)%near_slaves = c%passes(p)%own_slaves   ! the near ones are among them
-      c%passes(p)%n_near = size(c%passes(p)%own_slaves)
-    end do
-    nb%segment_first(size(c%passes) + 1) = n + 1
-    allocate (nb%mark(c%n_nodes), source=0)
+    allocate (nb%mark(0))
     allocate (nb%slot(0:nb%n_ranks - 1), source=0)
   end subroutine neighbours_setup
 
@@ -157,16 +134,17 @@ contains
     logical, intent(in) :: from_sort
     type(traffic_t), intent(inout) :: traffic
     real(wp) :: boxes(6, size(c%passes)), all_boxes(6, size(c%passes), nb%n_ranks), smallest
-    integer, allocatable :: list(:), start(:), dest(:), sources(:), rstart(:), at(:)
+    integer, allocatable :: list(:), start(:), dest(:), sources(:), rstart(:), at(:), segs(:, :), seg_start(:)
     real(wp), allocatable :: buffer(:), received(:)
-    integer :: p, q, first, i, k, h
+    integer, allocatable :: slots(:)
+    integer :: p, q, first, i, k, h, d, n_segs, s
     if (allocated(nb%own_near)) deallocate (nb%own_near)
     smallest = minval([(c%passes(p)%bucket_size, p = 1, size(c%passes))])
     do p = 1, size(c%passes)
       boxes(1:3, p) = huge(1.0_wp)
       boxes(4:6, p) = -huge(1.0_wp)
-      do i = 1, size(c%passes(p)%own_slaves)
-        k = c%slot(c%passes(p)%slaves(c%passes(p)%own_slaves(i)))
+      do i = 1, size(c%passes(p)%slaves)   ! its own slaves alone
+        k = c%passes(p)%slave_at(i)
         if (from_sort) then
           boxes(1:3, p) = min(boxes(1:3, p), c%x_at_sort(:, k))
           boxes(4:6, p) = max(boxes(4:6, p), c%x_at_sort(:, k))
@@ -179,9 +157,15 @@ contains
     call MPI_Allgather(boxes, size(boxes), MPI_DOUBLE_PRECISION, all_boxes, size(boxes), MPI_DOUBLE_PRECISION, &
                        nb%comm)
     call count_allgather(traffic, int(8 * size(boxes), i8), int(8 * size(all_boxes), i8), nb%n_ranks)
-    allocate (list(0), start(1), dest(0))
+    allocate (list(0), start(1), dest(0), segs(2, 64), seg_start(1))
     start(1) = 1
+    seg_start(1) = 1
+    n_segs = 0
     allocate (nb%own_near(0))
+    if (size(nb%mark) < size(c%held_node)) then   ! marks per slot (a stamp never 0)
+      deallocate (nb%mark)
+      allocate (nb%mark(size(c%held_node)), source=0)
+    end if
     nb%stamp = nb%stamp + 1
     do p = 1, size(c%passes)
       call near_segments(nb, c, p, all_boxes(:, p, nb%rank + 1), smallest, sorting, nb%own_near)
@@ -191,35 +175,53 @@ contains
       first = size(list) + 1
       nb%stamp = nb%stamp + 1
       do p = 1, size(c%passes)
-        call near_segments(nb, c, p, all_boxes(:, p, q + 1), smallest, sorting, list)
+        call near_segments(nb, c, p, all_boxes(:, p, q + 1), smallest, sorting, list, segs, n_segs)
       end do
       if (size(list) < first) cycle
       call merge_sort_ascending(list(first:))
       dest = [dest, q]
       start = [start, size(list) + 1]
+      seg_start = [seg_start, n_segs + 1]
     end do
     nb%send%rank = dest
     nb%send%start = start
     nb%send%node = list
-    ! each ghost's row, then its holders (list holds nodes of this domain: of its own segments)
+    nb%send%at = [(nb%domain_local(sorted_position(nb%domain_node, list(i))), i = 1, size(list))]
+    ! each message: its number of ghost segments, their rows, then each ghost's row and its holders
+    ! (list holds nodes of this domain: of its own segments)
     allocate (at(size(list) + 1))
     at(1) = 1
     do i = 1, size(list)
       h = sorted_position(nb%domain_node, list(i))
       at(i + 1) = at(i) + ghost_width + nb%holder_start(h + 1) - nb%holder_start(h)
     end do
-    allocate (buffer(at(size(list) + 1) - 1))
-    do i = 1, size(list)
-      k = c%slot(list(i))
-      h = sorted_position(nb%domain_node, list(i))
-      buffer(at(i):at(i + 1) - 1) = [real(list(i), wp), c%x_at_sort(:, k), c%x(:, k), c%v(:, k), c%mass(k), &
-                                     real(nb%holder_start(h + 1) - nb%holder_start(h), wp), &
-                                     real(nb%holder(nb%holder_start(h):nb%holder_start(h + 1) - 1), wp)]
+    allocate (buffer(at(size(list) + 1) - 1 + size(dest) * 1 + segment_row_width * n_segs))
+    k = 0
+    do d = 1, size(dest)
+      start(d) = k + 1
+      buffer(k + 1) = real(seg_start(d + 1) - seg_start(d), wp)
+      k = k + 1
+      do i = seg_start(d), seg_start(d + 1) - 1
+        buffer(k + 1:k + segment_row_width) = segment_row(c, segs(1, i), segs(2, i))
+        k = k + segment_row_width
+      end do
+      do i = nb%send%start(d), nb%send%start(d + 1) - 1
+        k = k + 1
+        h = sorted_position(nb%domain_node, list(i))
+        s = slot_of(c, list(i))
+        buffer(k:k + at(i + 1) - at(i) - 1) = [real(list(i), wp), c%x_at_sort(:, s), c%x(:, s), c%v(:, s), c%mass(s), &
+                                               real(nb%holder_start(h + 1) - nb%holder_start(h), wp), &
+                                               real(nb%holder(nb%holder_start(h):nb%holder_start(h + 1) - 1), wp)]
+        k = k + at(i + 1) - at(i) - 1
+      end do
     end do
-    call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, at(start), buffer, sources, rstart, received, traffic)
+    start(size(dest) + 1) = k + 1
+    call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, start, buffer, sources, rstart, received, traffic)
     call take_ghosts(nb, c, sources, rstart, received)
-    nb%x_at_refresh = c%x(:, c%slot(nb%owned_node))
-    if (from_sort) nb%x_at_refresh = c%x_at_sort(:, c%slot(nb%owned_node))
+    nb%own_near = [(slot_of(c, nb%own_near(i)), i = 1, size(nb%own_near))]   ! names till now, slots from here
+    slots = [(slot_of(c, nb%owned_node(i)), i = 1, size(nb%owned_node))]
+    nb%x_at_refresh = c%x(:, slots)
+    if (from_sort) nb%x_at_refresh = c%x_at_sort(:, slots)
     nb%refresh_pending = .false.
   end subroutine neighbours_refresh
 
@@ -232,15 +234,27 @@ contains
     integer, intent(in) :: sources(:), rstart(:)
     real(wp), intent(in) :: received(:)
     integer, allocatable :: nodes(:), first(:), held(:)
-    integer :: i, j, k, m, n, g, width, s
+    real(wp), allocatable :: segment_rows(:, :)
+    integer :: i, j, k, m, n, g, width, s, n_segs
     if (allocated(nb%ghost_holder)) deallocate (nb%recv%start, nb%ghost_holder_start, nb%ghost_holder)
     nb%recv%rank = sources
     allocate (nb%recv%start(size(sources) + 1))
     allocate (first(size(received) / ghost_width))   ! where each row starts (ghost_width or more long)
+    n_segs = 0
+    do i = 1, size(sources)
+      n_segs = n_segs + nint(received(rstart(i)))
+    end do
+    allocate (segment_rows(segment_row_width, n_segs))
+    n_segs = 0
     j = 0
     do i = 1, size(sources)
       nb%recv%start(i) = j + 1
       m = rstart(i)
+      do k = 1, nint(received(m))   ! the ghost segments, then the ghosts
+        n_segs = n_segs + 1
+        segment_rows(:, n_segs) = received(m + 1 + segment_row_width * (k - 1):m + segment_row_width * k)
+      end do
+      m = m + 1 + segment_row_width * nint(received(m))
       do while (m < rstart(i + 1))
         j = j + 1
         first(j) = m
@@ -251,17 +265,20 @@ contains
     first = first(1:j)
     nodes = nint(received(first))
     nb%recv%node = nodes
-    nb%ghost_node = distinct_ascending(pack(nodes, .not. nb%in_domain(nodes)))
+    nb%ghost_node = distinct_ascending(pack(nodes, [(.not. in_domain(nb, nodes(i)), i = 1, size(nodes))]))
     n = size(nb%ghost_node)
     held = [nb%domain_node, nb%ghost_node]
     call merge_sort_ascending(held)
     call contact_hold(c, held)
+    call hold_ghost_segments(c, segment_rows)
+    call contact_pass_slots(c)
+    nb%recv%at = [(slot_of(c, nodes(i)), i = 1, size(nodes))]
     allocate (nb%ghost_holder_start(n + 1), source=0)
     do j = 1, size(nodes)   ! a ghost from several ranks comes with the same holders from each
       k = nodes(j)
-      if (nb%in_domain(k)) cycle
+      if (in_domain(nb, k)) cycle
       m = first(j)
-      s = c%slot(k)
+      s = nb%recv%at(j)
       c%x_at_sort(:, s) = received(m + 1:m + 3)
       c%x(:, s) = received(m + 4:m + 6)
       c%v(:, s) = received(m + 7:m + 9)
@@ -275,7 +292,7 @@ contains
     allocate (nb%ghost_holder(nb%ghost_holder_start(n + 1) - 1))
     do j = 1, size(nodes)
       k = nodes(j)
-      if (nb%in_domain(k)) cycle
+      if (in_domain(nb, k)) cycle
       m = first(j)
       g = sorted_position(nb%ghost_node, k)
       width = nint(received(m + 11))
@@ -285,14 +302,18 @@ contains
   end subroutine take_ghosts
 
   !> Append to list the nodes (not yet marked) of this rank's segments of pass p with a node near
-  !> box (lower and upper corner of a rank's own slaves of the pass).
-  subroutine near_segments(nb, c, p, box, smallest, sorting, list)
+  !> box (lower and upper corner of a rank's own slaves of the pass), and (segs: the ghost
+  !> segments for that rank, segs(:, 1:n_segs)) the pass and the place of each of those segments.
+  subroutine near_segments(nb, c, p, box, smallest, sorting, list, segs, n_segs)
     type(neighbours_t), intent(inout) :: nb
     type(contact_t), intent(in) :: c
     integer, intent(in) :: p
     real(wp), intent(in) :: box(6), smallest
     logical, intent(in) :: sorting
     integer, allocatable, intent(inout) :: list(:)
+    integer, allocatable, intent(inout), optional :: segs(:, :)
+    integer, intent(inout), optional :: n_segs
+    integer, allocatable :: grown(:, :)
     real(wp) :: reach, lower(3), upper(3), x(3)
     integer :: i, m, k
     if (any(box(1:3) > box(4:6))) return          ! no slave of the pass there
@@ -300,9 +321,9 @@ contains
     reach = pass%bucket_size + pass%t_slave + pass%t_master + 0.2_wp * smallest
     lower = box(1:3) - reach
     upper = box(4:6) + reach
-    do i = nb%segment_first(p), nb%segment_first(p + 1) - 1
+    do i = 1, size(pass%own_element)
       do m = 1, 4
-        k = c%slot(pass%segments(m, nb%my_segment(i)))
+        k = pass%own_segment_at(m, i)
         if (sorting) then
           x = c%x(:, k)
         else
@@ -311,24 +332,32 @@ contains
         if (all(x >= lower .and. x <= upper)) exit
       end do
       if (m > 4) cycle
+      if (present(segs)) then
+        if (n_segs == size(segs, 2)) then
+          allocate (grown(2, 2 * n_segs))
+          grown(:, 1:n_segs) = segs(:, 1:n_segs)
+          call move_alloc(grown, segs)
+        end if
+        n_segs = n_segs + 1
+        segs(:, n_segs) = [p, i]
+      end if
       do m = 1, 4
-        k = pass%segments(m, nb%my_segment(i))
+        k = pass%own_segment_at(m, i)
         if (nb%mark(k) == nb%stamp) cycle
         nb%mark(k) = nb%stamp
-        list = [list, k]
+        list = [list, pass%own_segments(m, i)]
       end do
     end do
     end associate
   end subroutine near_segments
 
   !> The ghosts' positions and velocities from the ranks that sent them at the last refresh (this
-  !> rank's are x and v at local columns local(node); a ghost that is also a node of this domain
+  !> rank's are x and v at local columns send%at; a ghost that is also a node of this domain
   !> gets the same values as its own copy, and so becomes current here too).
-  subroutine neighbours_update(nb, c, x, v, local, traffic)
+  subroutine neighbours_update(nb, c, x, v, traffic)
     type(neighbours_t), intent(inout) :: nb
     type(contact_t), intent(inout) :: c
     real(wp), intent(in) :: x(:, :), v(:, :)
-    integer, intent(in) :: local(:)
     type(traffic_t), intent(inout) :: traffic
     real(wp), allocatable :: out(:), in(:)
     type(MPI_Request), allocatable :: requests(:)
@@ -337,7 +366,7 @@ contains
     n_recv = size(nb%recv%rank)
     allocate (out(6 * size(nb%send%node)), in(6 * size(nb%recv%node)), requests(n_send + n_recv))
     do j = 1, size(nb%send%node)
-      k = local(nb%send%node(j))
+      k = nb%send%at(j)
       out(6 * j - 5:6 * j) = [x(:, k), v(:, k)]
     end do
     do i = 1, n_recv
@@ -353,148 +382,21 @@ contains
     call MPI_Waitall(n_send + n_recv, requests, MPI_STATUSES_IGNORE)
     call count_messages(traffic, n_send, int(8 * size(out), i8), int(8 * size(in), i8))
     do j = 1, size(nb%recv%node)
-      k = c%slot(nb%recv%node(j))
+      k = nb%recv%at(j)
       c%x(:, k) = in(6 * j - 5:6 * j - 3)
       c%v(:, k) = in(6 * j - 2:6 * j)
     end do
   end subroutine neighbours_update
 
-  !> The records this rank computed (its own slaves: c%record_*(1:c%n_candidates), empty where
-  !> node 1 is 0) go to the ranks whose domains hold one of their nodes; after the call c%record_*
-  !> and c%candidates hold every record this rank has, in pass and slave order (c%n_candidates of
-  !> them). Collective.
-  subroutine share_records_locally(nb, c, traffic)
-    type(neighbours_t), intent(inout) :: nb
-    type(contact_t), intent(inout) :: c
-    type(traffic_t), intent(inout) :: traffic
-    integer, allocatable :: dest(:), start(:), fill(:), n_to(:), sources(:), rstart(:), own(:)
-    real(wp), allocatable :: buffer(:), received(:)
-    integer :: ranks(21), n, i, j, d, n_own
-    own = pack([(j, j = 1, c%n_candidates)], c%record_nodes(1, 1:c%n_candidates) /= 0)
-    n_own = size(own)
-    ! the destinations, ascending, and the records for each
-    allocate (dest(0))
-    do i = 1, n_own
-      call destinations(own(i), ranks, n)
-      do j = 1, n
-        if (.not. any(dest == ranks(j))) dest = [dest, ranks(j)]
-      end do
-    end do
-    call merge_sort_ascending(dest)
-    allocate (n_to(size(dest)), source=0)
-    do i = 1, size(dest)
-      nb%slot(dest(i)) = i
-    end do
-    do i = 1, n_own
-      call destinations(own(i), ranks, n)
-      n_to(nb%slot(ranks(1:n))) = n_to(nb%slot(ranks(1:n))) + 1
-    end do
-    ! each message: the number of records, then the records
-    allocate (start(size(dest) + 1), fill(size(dest)))
-    start(1) = 1
-    do i = 1, size(dest)
-      start(i + 1) = start(i) + 1 + record_width * n_to(i)
-      fill(i) = start(i) + 1
-    end do
-    allocate (buffer(start(size(dest) + 1) - 1))
-    do i = 1, n_own
-      call destinations(own(i), ranks, n)
-      do j = 1, n
-        d = nb%slot(ranks(j))
-        buffer(fill(d):fill(d) + record_width - 1) = record_row(c, own(i))
-        fill(d) = fill(d) + record_width
-      end do
-    end do
-    do i = 1, size(dest)
-      buffer(start(i)) = real(n_to(i), wp)
-    end do
-    call sparse_exchange(nb%comm, nb%n_ranks, nb%round, dest, start, buffer, sources, rstart, received, &
-                         traffic)
-    call take_records(c, own, received, rstart)
-  contains
-    !> The ranks record k goes to: the holders of its nodes (held here: this domain's or ghosts), not
-    !> this rank, once each.
-    subroutine destinations(k, ranks, n)
-      integer, intent(in) :: k
-      integer, intent(out) :: ranks(:), n
-      integer :: m, node, h
-      n = 0
-      do m = 1, 5
-        node = c%record_nodes(m, k)
-        if (nb%in_domain(node)) then
-          h = sorted_position(nb%domain_node, node)
-          call add_ranks(nb%holder(nb%holder_start(h):nb%holder_start(h + 1) - 1), nb%rank, ranks, n)
-        else
-          h = sorted_position(nb%ghost_node, node)
-          call add_ranks(nb%ghost_holder(nb%ghost_holder_start(h):nb%ghost_holder_start(h + 1) - 1), nb%rank, ranks, n)
-        end if
-      end do
-    end subroutine destinations
-  end subroutine share_records_locally
 
-  !> Append to ranks(1:n) the holders that are not me and not there yet.
-  pure subroutine add_ranks(holders, me, ranks, n)
-    integer, intent(in) :: holders(:), me
-    integer, intent(inout) :: ranks(:), n
-    integer :: j
-    do j = 1, size(holders)
-      if (holders(j) == me .or. any(ranks(1:n) == holders(j))) cycle
-      n = n + 1
-      ranks(n) = holders(j)
-    end do
-  end subroutine add_ranks
-
-  pure function record_row(c, k) result(row)
-    type(contact_t), intent(in) :: c
-    integer, intent(in) :: k
-    real(wp) :: row(record_width)
-    row(1) = real(c%candidates(3, k), wp)
-    row(2) = real(c%candidates(1, k), wp)
-    row(3:7) = real(c%record_nodes(:, k), wp)
-    row(8:22) = reshape(c%record_force(:, :, k), [15])
-    row(23) = c%record_penetration(k)
-  end function record_row
-
-  !> This rank's records (own) and those received (messages received(rstart(i) :)), in pass and
-  !> slave order, into c%record_* and c%candidates.
-  subroutine take_records(c, own, received, rstart)
-    type(contact_t), intent(inout) :: c
-    integer, intent(in) :: own(:), rstart(:)
-    real(wp), intent(in) :: received(:)
-    real(wp), allocatable :: rows(:, :)
-    integer, allocatable :: keys(:), order(:)
-    integer :: i, j, n, at, slaves
-    n = size(own)
-    do i = 1, size(rstart) - 1
-      n = n + nint(received(rstart(i)))
-    end do
-    allocate (rows(record_width, n), keys(n))
-    do i = 1, size(own)
-      rows(:, i) = record_row(c, own(i))
-    end do
-    n = size(own)
-    do i = 1, size(rstart) - 1
-      at = rstart(i) + 1
-      do j = 1, nint(received(rstart(i)))
-        rows(:, n + j) = received(at + record_width * (j - 1):at + record_width * j - 1)
-      end do
-      n = n + nint(received(rstart(i)))
-    end do
-    slaves = maxval([(size(c%passes(j)%slaves), j = 1, size(c%passes))])
-    do i = 1, n
-      keys(i) = (nint(rows(1, i)) - 1) * slaves + nint(rows(2, i))
-    end do
-    order = keys
-    call merge_sort_ascending(order)
-    call contact_record_room(c, n)   ! rows holds them all: what c%record_* held may go
-    do i = 1, n
-      j = sorted_position(order, keys(i))
-      c%candidates(:, j) = [nint(rows(2, i)), 0, nint(rows(1, i))]
-      c%record_nodes(:, j) = nint(rows(3:7, i))
-      c%record_force(:, :, j) = reshape(rows(8:22, i), [3, 5])
-      c%record_penetration(j) = rows(23, i)
-    end do
-    c%n_candidates = n
-  end subroutine take_records
+  !> Whether contact node `node` is one of this domain's.
+  pure logical function in_domain(nb, node)
+    type(neighbours_t), intent(in) :: nb
+    integer, intent(in) :: node
+    integer :: h
+    h = sorted_position(nb%domain_node, node)
+    in_domain = .false.
+    if (h <= size(nb%domain_node)) in_domain = nb%domain_node(h) == node
+  end function in_domain
 
 end module contact_neighbours

@@ -24,9 +24,10 @@ module contact_parallel
   use domain_decomposition, only: domain_t
   use phase_timers, only: phase_timers_t, wall_clock
   use traffic_counter, only: traffic_t, count_allgather, count_allreduce
-  use contact_slots, only: contact_node_state
-  use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, contact_movement, &
-                               contact_restore, contact_activity_update, contact_all_idle, contact_count_activity, &
+  use contact_slots, only: contact_node_state, contact_pass_slots, slot_of
+  use contact_motion, only: contact_movement
+  use contact_interface, only: contact_t, contact_setup, contact_begin, contact_sort_due, &
+                               contact_activity_update, contact_all_idle, contact_count_activity, &
                                contact_sort_pass
   use contact_room, only: contact_rooms
   use contact_activity, only: extent_width, extent_empty, side_extent
@@ -34,18 +35,18 @@ module contact_parallel
                             contact_end, contact_finish
   use exact_sum, only: exact_width
   use contact_reduction, only: reduce_contact_sums
-  use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, node_set_masses, &
-                              allgather_node_subset, record_share_t, record_share_setup, share_contact_records, &
+  use contact_local_setup, only: local_contact_setup
+  use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, &
+                              node_set_masses, allgather_node_subset, record_share_t, record_share_setup, share_contact_records, &
                               candidate_share_t, candidate_share_setup, share_contact_candidates
-  use contact_neighbours, only: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update, &
-                                share_records_locally
+  use contact_neighbours, only: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update
+  use contact_record_routes, only: share_records_locally
   implicit none
   private
   public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply
-  public :: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, contact_log_line
-  public :: contact_checkpoint_sums, parallel_contact_worked, parallel_contact_idle_cycles, contact_travel_step
-
-  integer, parameter :: contact_checkpoint_width = 7   !< force, position at the last sort, place in the sum
+  public :: contact_log_line
+  public :: parallel_contact_worked, parallel_contact_idle_cycles, contact_travel_step
+  public :: contact_is_local
 
   type :: parallel_contact_t
     type(contact_t) :: c                  !< the contact state, the same on every rank
@@ -53,7 +54,7 @@ module contact_parallel
     type(record_share_t) :: records
     type(candidate_share_t) :: candidates
     type(MPI_Comm) :: comm
-    integer, allocatable :: at(:)             !< local column of each contact node this rank owns, else 0
+    integer, allocatable :: owned_local(:)    !< the local columns of the contact nodes this rank owns (nodes%owned_member)
     real(wp), allocatable :: extents(:, :)    !< (extent_width, 2 passes): the activity check's slave and master extents
     real(wp), allocatable :: v_before(:, :)   !< velocities (local columns) of own contact nodes, the cycle before a check
     integer(i8) :: v_before_cycle = -huge(1_i8)      !< the cycle they are from
@@ -64,43 +65,88 @@ module contact_parallel
 
 contains
 
-  !> Contact of the deck's pairs (the contact parts in the global layout, released once the passes
-  !> are built) on this rank's domain (mass, v: the local nodal masses and velocities; dt: the
-  !> solver's step, for the penalty's stability cap). gather_all: no shortcut, every contact node
-  !> gathered, every pass run every step (to check that those change nothing).
-  subroutine parallel_contact_setup(pc, deck, dom, comm, mass, v, dt, gather_all)
+  !> Contact of the deck's pairs on this rank's domain (mass, v: the local nodal masses and
+  !> velocities; dt: the solver's step, for the penalty's stability cap): under local contact from
+  !> this rank's rows (rows: contact_local_setup), else from the contact parts in the global
+  !> layout (contact: contact_rows, released once the passes are built; empty under local
+  !> contact). gather_all: no shortcut, every contact node gathered, every pass run every step (to
+  !> check that those change nothing).
+  subroutine parallel_contact_setup(pc, contact, rows, dom, comm, mass, v, dt, gather_all)
     type(parallel_contact_t), intent(out) :: pc
-    type(deck_t), intent(inout) :: deck
+    type(deck_t), intent(inout) :: contact
+    type(deck_t), intent(in) :: rows
     type(domain_t), intent(in) :: dom
     type(MPI_Comm), intent(in) :: comm
     real(wp), intent(in) :: mass(:), v(:, :), dt
     logical, intent(in) :: gather_all
     real(wp), allocatable :: masses(:)
+    integer, allocatable :: contact_of(:), held(:), columns(:)
+    logical, allocatable :: owned(:)
+    logical :: local
+    integer :: k, j
     pc%comm = comm
-    call contact_setup(deck, pc%c)
-    deck = deck_t()
     ! local contact on more than one rank, unless every node is gathered (the replicated reference)
-    pc%c%local = dom%n_ranks > 1 .and. .not. gather_all
-    call node_set_setup(dom, comm, pc%c%global_node, .not. pc%c%local, pc%nodes)
-    ! the masses of the contact nodes, for the stability cap (local: the ghosts' come with them)
-    call node_set_masses(comm, pc%nodes, .not. pc%c%local, mass, masses)
-    ! the nodes held: every contact node, or (local contact) this domain's until the first refresh
-    call contact_node_state(pc%c, pc%nodes%local > 0 .or. .not. pc%c%local, masses)
+    local = contact_is_local(dom%n_ranks, gather_all)
+    ! the nodes held: every contact node, or (local contact) this domain's until the first refresh,
+    ! with their local columns (0: not in this domain) and the masses for the stability cap
+    ! (local: this domain's, the ghosts' come with them)
+    if (local) then
+      call local_contact_setup(rows, dom, comm, pc%c, contact_of)
+      held = pack(contact_of, contact_of > 0)
+      columns = pack([(k, k = 1, dom%n_nodes)], contact_of > 0)
+      masses = mass(columns)
+      pc%nodes%owned_member = pack(contact_of, contact_of > 0 .and. dom%node_owned == 1)
+    else
+      call contact_setup(contact, pc%c)
+      call node_set_setup(dom, comm, pc%c%global_node, .true., pc%nodes)
+      call node_set_masses(comm, pc%nodes, .true., mass, masses)
+      held = [(k, k = 1, pc%c%n_nodes)]
+      columns = pc%nodes%local
+    end if
+    contact = deck_t()
+    pc%c%local = local
+    allocate (owned(size(held)), source=.false.)
+    do k = 1, size(held)
+      if (columns(k) > 0) owned(k) = dom%node_owned(columns(k)) == 1
+    end do
+    pc%owned_local = pack(columns, owned)
+    call contact_node_state(pc%c, held, masses, columns, owned)
+    call contact_pass_slots(pc%c)
+    do k = 1, size(pc%c%passes)
+      associate (pass => pc%c%passes(k))
+      pass%slave_columns = owned_columns(pass%slave_at)
+      pass%master_columns = owned_columns([(slot_of(pc%c, pass%own_masters(j)), j = 1, size(pass%own_masters))])
+      end associate
+    end do
     pc%c%time_step = dt
     pc%c%rank = dom%rank
     pc%c%n_ranks = dom%n_ranks
     pc%c%gather_all = gather_all
     pc%c%check_activity = .not. gather_all
-    allocate (pc%at(pc%c%n_nodes), source=0)
-    pc%at(pc%nodes%owned_member) = pc%nodes%local(pc%nodes%owned_member)
     allocate (pc%extents(extent_width, 2 * size(pc%c%passes)))
     allocate (pc%v_before(3, size(v, 2)), source=0.0_wp)
     allocate (pc%c%sums(exact_width, 1 + size(pc%c%definition_force)), source=0_i8)
-    if (pc%c%local) call neighbours_setup(pc%nb, pc%c, dom, comm, pc%nodes%local, pc%nodes%owned_member)
+    if (pc%c%local) call neighbours_setup(pc%nb, dom, comm, contact_of)
     call contact_rooms(pc%c)   ! local contact: for this rank's own slaves (contact_room)
     call record_share_setup(merge(0, size(pc%c%record_nodes, 2), pc%c%local), dom%n_ranks, pc%records)
     call candidate_share_setup(dom%n_ranks, pc%candidates)
+  contains
+    !> The local columns of the nodes at these slots that this rank owns.
+    function owned_columns(slots) result(cols)
+      integer, intent(in) :: slots(:)
+      integer, allocatable :: cols(:)
+      integer :: i
+      cols = pack([(pc%c%column(slots(i)), i = 1, size(slots))], [(pc%c%own(slots(i)), i = 1, size(slots))])
+    end function owned_columns
   end subroutine parallel_contact_setup
+
+  !> Whether the contact is local (each rank its own slaves and the ghosts near them): on more than
+  !> one rank, unless every node is gathered (contact_gather = "all", the replicated scheme).
+  pure logical function contact_is_local(n_ranks, gather_all)
+    integer, intent(in) :: n_ranks
+    logical, intent(in) :: gather_all
+    contact_is_local = n_ranks > 1 .and. .not. gather_all
+  end function contact_is_local
 
   !> Contact forces at the positions x (local nodes) of this cycle. Communication time goes to
   !> timers%communication, the rest to timers%contact.
@@ -147,7 +193,7 @@ contains
     call contact_sum(pc%c, wall_clock)
     ! local contact: the terms of the energy are counted by the owners of the nodes, which read
     ! the velocities of those this step's records touched
-    if (pc%c%local) call copy_domain_nodes(pc, pc%c%held_node(pc%c%touched(1:pc%c%n_touched)), x, v)
+    if (pc%c%local) call copy_domain_slots(pc, pc%c%touched(1:pc%c%n_touched), x, v)
     call contact_end(pc%c, cycle)
     if (pc%c%local) then
       t0 = wall_clock()
@@ -172,19 +218,19 @@ contains
     do p = 1, size(pc%c%passes)
       if (pc%c%passes(p)%idle) cycle
       associate (pass => pc%c%passes(p))
-      closing = 2.0_wp * sqrt(max(fastest2_of(pass%slaves), fastest2_of(pass%masters)))
+      closing = 2.0_wp * sqrt(max(fastest2_of(pass%slave_columns), fastest2_of(pass%master_columns)))
       reach = fraction * min(pass%t_slave, pass%t_master)
       if (closing > 0.0_wp) dt = min(dt, reach / closing)
       end associate
     end do
   contains
-    real(wp) function fastest2_of(nodes) result(f)
-      integer, intent(in) :: nodes(:)
+    real(wp) function fastest2_of(columns) result(f)
+      integer, intent(in) :: columns(:)
       integer :: i, j
       f = 0.0_wp
-      do i = 1, size(nodes)
-        j = pc%at(nodes(i))
-        if (j > 0) f = max(f, v(1, j)**2 + v(2, j)**2 + v(3, j)**2)
+      do i = 1, size(columns)
+        j = columns(i)
+        f = max(f, v(1, j)**2 + v(2, j)**2 + v(3, j)**2)
       end do
     end function fastest2_of
   end function contact_travel_step
@@ -196,8 +242,8 @@ contains
     real(wp), intent(in) :: v(:, :)
     integer(i8), intent(in) :: cycle
     integer :: i, j
-    do i = 1, size(pc%nodes%owned_member)
-      j = pc%at(pc%nodes%owned_member(i))
+    do i = 1, size(pc%owned_local)
+      j = pc%owned_local(i)
       pc%v_before(:, j) = v(:, j)
     end do
     pc%v_before_cycle = cycle
@@ -223,8 +269,8 @@ contains
     do p = 1, size(pc%c%passes)
       pc%extents(:, 2 * p - 1) = extent_empty()
       pc%extents(:, 2 * p) = extent_empty()
-      call side_extent(pc%c%passes(p)%slaves, pc%at, x, v, pc%v_before, pc%extents(:, 2 * p - 1))
-      call side_extent(pc%c%passes(p)%masters, pc%at, x, v, pc%v_before, pc%extents(:, 2 * p))
+      call side_extent(pc%c%passes(p)%slave_columns, x, v, pc%v_before, pc%extents(:, 2 * p - 1))
+      call side_extent(pc%c%passes(p)%master_columns, x, v, pc%v_before, pc%extents(:, 2 * p))
     end do
     if (pc%c%n_ranks > 1) then
       t0 = wall_clock()
@@ -260,7 +306,7 @@ contains
         call count_gather(pc, pc%nodes%counts, 8)
       end if
     else if (pc%c%gather_subset) then
-      call contact_movement(pc%c, moved_here, wall_clock, pc%nodes%owned_member, pc%nodes%local, x)
+      call contact_movement(pc%c, moved_here, wall_clock, pc%nodes%owned_member, pc%owned_local, x)
       t0 = wall_clock()
       call allgather_node_subset(pc%comm, pc%nodes, x, v, pc%c%x, pc%c%v, moved_here, moved)
       timers%communication = timers%communication + wall_clock() - t0
@@ -302,14 +348,14 @@ contains
     real(wp) :: t0, values(3), smallest
     integer :: i, j, p
     logical :: sort, refresh, new_gather_set
-    call contact_movement(pc%c, values(1), wall_clock, pc%nodes%owned_member, pc%nodes%local, x)
+    call contact_movement(pc%c, values(1), wall_clock, pc%nodes%owned_member, pc%owned_local, x)
     ! automatic sorting refreshes at every sort (after a restart from the slaves' places at the last
     ! sort), so the movement since the sort is the movement since the refresh
     values(2) = values(1)
     if (pc%c%sort_interval > 0) then
       values(2) = 0.0_wp
       do i = 1, size(pc%nb%owned_node)
-        j = pc%nodes%local(pc%nb%owned_node(i))
+        j = pc%owned_local(i)   ! (nb%owned_node is nodes%owned_member)
         values(2) = max(values(2), (x(1, j) - pc%nb%x_at_refresh(1, i))**2 + (x(2, j) - pc%nb%x_at_refresh(2, i))**2 &
                                    + (x(3, j) - pc%nb%x_at_refresh(3, i))**2)
       end do
@@ -325,19 +371,19 @@ contains
     smallest = minval([(pc%c%passes(p)%bucket_size, p = 1, size(pc%c%passes))])
     refresh = sort .or. pc%nb%refresh_pending .or. values(2) > 0.1_wp * smallest
     if (refresh) then   ! every contact node of this domain, for the boxes and the ghosts
-      call copy_domain_nodes(pc, pc%nb%domain_node, x, v)
+      call copy_domain_slots(pc, [(i, i = 1, size(pc%c%held_node))], x, v)
     else                ! those the step reads: near slaves, own segments near them, last forces
       do p = 1, size(pc%c%passes)
-        call copy_domain_nodes(pc, pc%c%passes(p)%slaves(pc%c%passes(p)%near_slaves(1:pc%c%passes(p)%n_near)), x, v)
+        call copy_domain_slots(pc, pc%c%passes(p)%slave_at(pc%c%passes(p)%near_slaves(1:pc%c%passes(p)%n_near)), x, v)
       end do
-      call copy_domain_nodes(pc, pc%nb%own_near, x, v)
-      call copy_domain_nodes(pc, pc%c%held_node(pc%c%touched(1:pc%c%n_touched)), x, v)
+      call copy_domain_slots(pc, pc%nb%own_near, x, v)
+      call copy_domain_slots(pc, pc%c%touched(1:pc%c%n_touched), x, v)
     end if
     t0 = wall_clock()
     if (refresh) then
       call neighbours_refresh(pc%nb, pc%c, sort, pc%c%sort_interval == 0 .and. .not. sort, pc%traffic)
     else
-      call neighbours_update(pc%nb, pc%c, x, v, pc%nodes%local, pc%traffic)
+      call neighbours_update(pc%nb, pc%c, x, v, pc%traffic)
     end if
     timers%communication = timers%communication + wall_clock() - t0
     call contact_begin(pc%c, cycle, sort, wall_clock, new_gather_set)
@@ -358,20 +404,20 @@ contains
     end if
   end subroutine local_positions
 
-  !> c%x and c%v of the given contact nodes (indices) that lie in this domain, from x and v.
-  subroutine copy_domain_nodes(pc, nodes, x, v)
+  !> c%x and c%v of the nodes at the given slots that lie in this domain, from x and v.
+  subroutine copy_domain_slots(pc, slots, x, v)
     type(parallel_contact_t), intent(inout) :: pc
-    integer, intent(in) :: nodes(:)
+    integer, intent(in) :: slots(:)
     real(wp), intent(in) :: x(:, :), v(:, :)
     integer :: i, j, k
-    do i = 1, size(nodes)
-      j = pc%nodes%local(nodes(i))
+    do i = 1, size(slots)
+      k = slots(i)
+      j = pc%c%column(k)
       if (j == 0) cycle
-      k = pc%c%slot(nodes(i))
       pc%c%x(:, k) = x(:, j)
       pc%c%v(:, k) = v(:, j)
     end do
-  end subroutine copy_domain_nodes
+  end subroutine copy_domain_slots
 
   subroutine timed_share_candidates(pc, timers)
     type(parallel_contact_t), intent(inout) :: pc
@@ -414,7 +460,7 @@ contains
     integer :: i, k, j
     do i = 1, pc%c%n_touched
       k = pc%c%touched(i)
-      j = pc%nodes%local(pc%c%held_node(k))
+      j = pc%c%column(k)
       if (j > 0) f_int(1:3, j) = f_int(1:3, j) - pc%c%force(:, k)
     end do
   end subroutine parallel_contact_apply
@@ -443,57 +489,5 @@ contains
     parallel_contact_idle_cycles = sum(pc%c%pair_skipped_cycles)
   end function parallel_contact_idle_cycles
 
-  !> The checkpoint rows of the contact nodes this rank owns (nodes, ascending; every contact node
-  !> has one owner, so the ranks' rows together are one per contact node): force, position at the
-  !> last sort, and 1 if it carried a force in the last step (0 = no force). The owner holds every
-  !> record that touches its node, so its force is the whole one.
-  subroutine contact_checkpoint_rows(pc, rows, nodes)
-    type(parallel_contact_t), intent(in) :: pc
-    real(wp), allocatable, intent(out) :: rows(:, :)
-    integer, allocatable, intent(out) :: nodes(:)
-    integer :: k
-    nodes = pc%nodes%owned_member
-    allocate (rows(contact_checkpoint_width, size(nodes)))
-    rows(1:3, :) = pc%c%force(:, pc%c%slot(nodes))
-    rows(4:6, :) = pc%c%x_at_sort(:, pc%c%slot(nodes))
-    rows(7, :) = 0.0_wp
-    if (pc%c%n_touched == 0) return   ! (before the first step every mark equals the stamp, 0)
-    do k = 1, size(nodes)
-      if (pc%c%mark(pc%c%slot(nodes(k))) == pc%c%stamp) rows(7, k) = 1.0_wp
-    end do
-  end subroutine contact_checkpoint_rows
-
-  !> The checkpoint's sums over the whole contact: the energy, the deepest penetration and the
-  !> force on each definition (sums(3 + 3 k - 2 : 3 + 3 k) for definition k), the same on every
-  !> rank (exact sums added over the ranks: contact_stages, contact_finish).
-  subroutine contact_checkpoint_sums(pc, sums)
-    type(parallel_contact_t), intent(in) :: pc
-    real(wp), intent(out) :: sums(:)
-    sums(1) = pc%c%energy
-    sums(2) = pc%c%max_penetration
-    sums(3:) = reshape(pc%c%definition_force, [size(sums) - 2])
-  end subroutine contact_checkpoint_sums
-
-  !> The contact state of a checkpoint (rows of contact_checkpoint_rows and the attributes).
-  subroutine contact_checkpoint_restore(pc, rows, last_sort, energy, max_penetration)
-    type(parallel_contact_t), intent(inout) :: pc
-    real(wp), intent(in) :: rows(:, :), energy, max_penetration
-    integer(i8), intent(in) :: last_sort
-    logical :: new_gather_set
-    integer :: places(size(rows, 2)), k, n
-    ! the nodes that carried a force, in ascending order (their order no longer matters: the
-    ! energy's sum is exact, and each node's force is its own sum)
-    n = 0
-    places = 0
-    do k = 1, size(rows, 2)
-      if (rows(7, k) <= 0.0_wp) cycle
-      n = n + 1
-      places(k) = n
-    end do
-    call contact_restore(pc%c, rows(1:3, :), places, rows(4:6, :), last_sort, energy, &
-                         max_penetration, new_gather_set)
-    if (new_gather_set) call node_subset_setup(pc%nodes, pc%c%in_gather)
-    pc%nb%refresh_pending = .true.
-  end subroutine contact_checkpoint_restore
 
 end module contact_parallel

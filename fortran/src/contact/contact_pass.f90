@@ -13,36 +13,45 @@ module contact_pass
   use nearest_cache, only: near_lists_t, near_lists_setup
   use contact_search, only: node_segment_map, shell_penalty_stiffness
   use initial_penetration, only: slave_penetrations
+  use integer_sort, only: distinct_ascending, sorted_position
   use contact_surfaces, only: part_nodes, contact_thickness
   use paradyn_schema, only: initial_penetration_gap
   implicit none
   private
-  public :: contact_pass_t, pass_between_parts, pass_near_lists, slave_slot
+  public :: contact_pass_t, pass_between_parts, pass_near_lists, pass_hold_segments
 
   type :: contact_pass_t
     integer :: pair = 0                        !< the contact definition (deck entry) it comes from
+    integer :: slave_part = 0, master_part = 0 !< the parts of its slaves and of its segments
     logical :: every_cycle = .true.            !< runs every cycle, or (the paper's swap) every other one
     integer :: swap_index = 1                  !< with every_cycle false: runs when cycle + swap_index is odd
     !> the slave force's share of the definition's force on its first part: 1 (the slave is the first
     !> part), -1 (the master is: it takes the reactions), 0 (single surface: within one part)
     real(wp) :: first_part_sign = 0
-    integer, allocatable :: slaves(:)          !< contact-node ids of the slave part's nodes
-    integer, allocatable :: masters(:)         !< contact-node ids of the master part's nodes
-    integer, allocatable :: segments(:, :)     !< (4, n) master segments, contact-node ids
-    integer, allocatable :: segment_element(:) !< the global element of each segment
-    ! local contact (contact_neighbours): the masters whose positions this rank holds, ascending,
-    ! which alone are sorted into the grid (held_index: a master's place among them, 0 if not held)
-    logical :: held_only = .false.
-    integer, allocatable :: held_masters(:), held_index(:)
-    integer, allocatable :: own_slaves(:)      !< local contact: the slaves (indices) this rank owns
-    integer, allocatable :: segment_start(:), segment_list(:)  !< contact node -> its segments
+    ! the pass's lists (docs/theory.md, "Dividing the contact state": passes per rank): every slave,
+    ! master and segment on one rank and in the replicated scheme; under local contact the slaves
+    ! this rank owns, and the segments it holds (its domain's and the ghost segments of the last
+    ! refresh) with their nodes, the masters held, renewed at each refresh (pass_hold_segments)
+    integer, allocatable :: slaves(:)          !< contact-node ids of the slaves, ascending
+    integer, allocatable :: masters(:)         !< contact-node ids of the masters held, ascending
+    integer, allocatable :: own_masters(:)     !< the masters this rank owns (its activity extents)
+    integer, allocatable :: segments(:, :)     !< (4, n) master segments held, contact-node ids
+    integer, allocatable :: segment_element(:) !< the global element of each, ascending
+    integer, allocatable :: segment_start(:), segment_list(:)  !< master index -> its segments
     real(wp), allocatable :: stiffness(:)      !< penalty stiffness per segment (initial geometry)
+    !> local contact: the segments of this rank's elements (the domain's part of segments above)
+    integer, allocatable :: own_segments(:, :), own_element(:)
+    ! the held slots (contact_slots) of the slaves, the masters, the segments' nodes and the own
+    ! segments' nodes, renewed whenever the slots are (contact_pass_slots)
+    integer, allocatable :: slave_at(:), master_at(:), segment_at(:, :), own_segment_at(:, :)
+    !> the local columns on this rank of the slaves and masters it owns (the activity extents)
+    integer, allocatable :: slave_columns(:), master_columns(:)
+    real(wp), allocatable :: own_stiffness(:)
     !> slave s is a node of master segments: its search skips their nodes, master indices
     !> excluded(excluded_start(s) : excluded_start(s + 1) - 1), and the segments
     logical :: shares_nodes = .false.
     integer, allocatable :: excluded_start(:), excluded(:)
-    !> each slave's overlap at the start, taken as its gap (/contact/initial_penetration = gap), else
-    !> 0; at its slave_slot (local contact: the rank's own slaves only, from pass_near_lists)
+    !> each slave's overlap at the start, taken as its gap (/contact/initial_penetration = gap), else 0
     real(wp), allocatable :: overlap(:)
     real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted
     integer, allocatable :: near_slaves(:)     !< slaves that can come near the master box before the next sort
@@ -51,13 +60,10 @@ module contact_pass
     ! sort fell while it was idle, so its grid is rebuilt from the positions of that sort on waking
     logical :: idle = .false., stale = .false.
     type(bucket_grid_t) :: grid
-    type(near_lists_t) :: near                 !< nearby master nodes (nearest_cache) of each slave searched here
-    !> local contact: each slave's list in near, its place among own_slaves (0: not own, no list);
-    !> elsewhere (not allocated) slave j has list j
-    integer, allocatable :: near_slot(:)
+    type(near_lists_t) :: near                 !< nearby master nodes (nearest_cache) of each slave
     !> each slave's clearance (contact_stages): at sort number clear_sort, when the contact moved
-    !> clear_moved since that sort, every segment around master clear_master was at least clear_gap
-    !> farther from the slave than it could touch; like overlap, at the slave's slave_slot
+    !> clear_moved since that sort, every segment around master clear_master (a contact-node id)
+    !> was at least clear_gap farther from the slave than it could touch
     integer, allocatable :: clear_master(:)
     integer(i8), allocatable :: clear_sort(:)
     real(wp), allocatable :: clear_gap(:), clear_moved(:)
@@ -67,21 +73,23 @@ module contact_pass
 contains
 
   !> The pass of contact definition `pair` with the nodes of slave_part against the shell
-  !> segments of master_part (contact_id: the contact-node id of each global node, 0 if none).
-  subroutine pass_between_parts(deck, pair, slave_part, master_part, contact_id, n_contact, pass)
+  !> segments of master_part (contact_id: the contact-node id of each global node, 0 if none):
+  !> every slave, master and segment (a rank under local contact keeps its own: contact_neighbours).
+  subroutine pass_between_parts(deck, pair, slave_part, master_part, contact_id, pass)
     type(deck_t), intent(in) :: deck
-    integer, intent(in) :: pair, slave_part, master_part, contact_id(:), n_contact
+    integer, intent(in) :: pair, slave_part, master_part, contact_id(:)
     type(contact_pass_t), intent(out) :: pass
     integer, allocatable :: elements(:), slave_nodes(:), master_nodes(:), slave_elements(:)
     real(wp), allocatable :: push(:, :)
-    integer :: e, s, n_entries
+    integer :: e, s
     real(wp) :: xseg(3, 4), young, poisson
     pass%pair = pair
+    pass%slave_part = slave_part
+    pass%master_part = master_part
     if (slave_part /= master_part) pass%first_part_sign = merge(1.0_wp, -1.0_wp, slave_part == deck%contact_pairs(1, pair))
     call part_nodes(deck, slave_part, slave_nodes, slave_elements)
     pass%slaves = contact_id(slave_nodes)
     call part_nodes(deck, master_part, master_nodes, elements)
-    pass%masters = contact_id(master_nodes)
     allocate (pass%segments(4, size(elements)), pass%stiffness(size(elements)))
     pass%segment_element = elements
     young = deck%young(deck%part_material(master_part))
@@ -93,15 +101,13 @@ contains
       pass%stiffness(s) = shell_penalty_stiffness(xseg, young, poisson, deck%contact_penalty_scale(pair))
       pass%bucket_size = max(pass%bucket_size, norm2(xseg(:, 3) - xseg(:, 1)), norm2(xseg(:, 4) - xseg(:, 2)))
     end do
-    allocate (pass%segment_start(n_contact + 1), pass%segment_list(4 * size(elements)))
-    call node_segment_map(int(n_contact, ip), int(size(elements), ip), pass%segments, pass%segment_start, &
-                          pass%segment_list, n_entries)
+    call pass_hold_segments(pass)
+    pass%own_masters = pass%masters
     allocate (pass%x_sorted(3, 0))   ! each sort gives it the masters it sorts (contact_sort_pass)
     pass%near_slaves = [(e, e = 1, size(pass%slaves))]
     pass%n_near = size(pass%slaves)
     pass%t_slave = contact_thickness(deck, pair, slave_part)
     pass%t_master = contact_thickness(deck, pair, master_part)
-    call exclusions(pass, contact_id, master_nodes, n_contact)
     pass%mu_static = deck%contact_static_friction(pair)
     pass%mu_dynamic = deck%contact_dynamic_friction(pair)
     pass%decay = deck%contact_friction_decay(pair)
@@ -113,63 +119,69 @@ contains
     end if
   end subroutine pass_between_parts
 
-  !> The lists of nearby master nodes and the clearances of the slaves this rank searches: every
-  !> slave, or (own, local contact) the slaves it owns, own_slaves, alone, whose overlaps are then
-  !> kept alone too (each at its place among them, near_slot).
-  subroutine pass_near_lists(pass, own)
+  !> The lists of nearby master nodes and the clearances of the pass's slaves.
+  subroutine pass_near_lists(pass)
     type(contact_pass_t), intent(inout) :: pass
-    logical, intent(in) :: own
-    integer :: i, n
-    if (own) then
-      allocate (pass%near_slot(size(pass%slaves)), source=0)
-      pass%near_slot(pass%own_slaves) = [(i, i = 1, size(pass%own_slaves))]
-      pass%overlap = pass%overlap(pass%own_slaves)
-      n = size(pass%own_slaves)
-    else
-      n = size(pass%slaves)
-    end if
+    integer :: n
+    n = size(pass%slaves)
     call near_lists_setup(n, pass%near)
     allocate (pass%clear_master(n), source=0)
     allocate (pass%clear_sort(n), source=-1_i8)
     allocate (pass%clear_gap(n), pass%clear_moved(n), source=0.0_wp)
   end subroutine pass_near_lists
 
-  !> The place of slave j's clearance and overlap: its place among the rank's own slaves under
-  !> local contact (near_slot), else j.
-  pure integer function slave_slot(pass, j) result(slot)
-    type(contact_pass_t), intent(in) :: pass
-    integer, intent(in) :: j
-    if (allocated(pass%near_slot)) then
-      slot = pass%near_slot(j)
-    else
-      slot = j
-    end if
-  end function slave_slot
+  !> From the segments held (segments, segment_element ascending, stiffness): the masters held
+  !> (their nodes, ascending), each master's segments (ascending, so in the global order) and, for
+  !> each slave that is a node of master segments, the master indices of their nodes (exclusions).
+  !> The segments around a slave are held with it (they have a node, the slave, within reach of
+  !> this rank's slaves), so its exclusions are the ones of the whole model.
+  subroutine pass_hold_segments(pass)
+    type(contact_pass_t), intent(inout) :: pass
+    integer, allocatable :: corners(:, :)
+    integer :: s, m, n_entries
+    pass%masters = distinct_ascending(reshape(pass%segments, [size(pass%segments)]))
+    allocate (corners(4, size(pass%segments, 2)))
+    do s = 1, size(pass%segments, 2)
+      do m = 1, 4
+        corners(m, s) = sorted_position(pass%masters, pass%segments(m, s))
+      end do
+    end do
+    if (allocated(pass%segment_start)) deallocate (pass%segment_start, pass%segment_list)
+    allocate (pass%segment_start(size(pass%masters) + 1), pass%segment_list(4 * size(pass%segments, 2)))
+    call node_segment_map(int(size(pass%masters), ip), int(size(pass%segments, 2), ip), corners, pass%segment_start, &
+                          pass%segment_list, n_entries)
+    call exclusions(pass, corners)
+  end subroutine pass_hold_segments
 
   !> For each slave, the master indices of the nodes of the master segments that contain it (none
-  !> where the slave and master parts share no node).
-  subroutine exclusions(pass, contact_id, master_nodes, n_contact)
+  !> where the slave and master parts share no node); corners: the segments' nodes as master indices.
+  subroutine exclusions(pass, corners)
     type(contact_pass_t), intent(inout) :: pass
-    integer, intent(in) :: contact_id(:), master_nodes(:), n_contact
-    integer, allocatable :: master_index(:), list(:)
-    integer :: s, j, node, n, m
-    allocate (master_index(n_contact), source=0)
-    master_index(contact_id(master_nodes)) = [(j, j = 1, size(master_nodes))]
+    integer, intent(in) :: corners(:, :)
+    integer, allocatable :: list(:), at(:)
+    integer :: s, j, i, n, m
+    allocate (at(size(pass%slaves)), source=0)
     ! at most the 4 nodes of each segment around each slave (none where the parts share no node)
     n = 0
     do s = 1, size(pass%slaves)
-      n = n + 4 * (pass%segment_start(pass%slaves(s) + 1) - pass%segment_start(pass%slaves(s)))
+      i = sorted_position(pass%masters, pass%slaves(s))
+      if (i < 1 .or. i > size(pass%masters)) cycle
+      if (pass%masters(i) /= pass%slaves(s)) cycle
+      at(s) = i
+      n = n + 4 * (pass%segment_start(i + 1) - pass%segment_start(i))
     end do
+    if (allocated(pass%excluded_start)) deallocate (pass%excluded_start)
     allocate (pass%excluded_start(size(pass%slaves) + 1), list(n))
     n = 0
     do s = 1, size(pass%slaves)
       pass%excluded_start(s) = n + 1
-      node = pass%slaves(s)
-      do j = pass%segment_start(node), pass%segment_start(node + 1) - 1
+      i = at(s)
+      if (i == 0) cycle
+      do j = pass%segment_start(i), pass%segment_start(i + 1) - 1
         do m = 1, 4
-          if (any(list(pass%excluded_start(s):n) == master_index(pass%segments(m, pass%segment_list(j))))) cycle
+          if (any(list(pass%excluded_start(s):n) == corners(m, pass%segment_list(j)))) cycle
           n = n + 1
-          list(n) = master_index(pass%segments(m, pass%segment_list(j)))
+          list(n) = corners(m, pass%segment_list(j))
         end do
       end do
     end do

@@ -14,20 +14,15 @@ module contact_room
 contains
 
   !> The rooms of the global search, the records and the near lists: for every slave of every
-  !> pass, or under local contact (c%local, after contact_neighbours has set own_slaves) for this
-  !> rank's own slaves.
+  !> pass, or under local contact (c%local, after contact_neighbours has kept the pass's own
+  !> slaves alone) for this rank's own slaves.
   subroutine contact_rooms(c)
     type(contact_t), intent(inout) :: c
     integer :: p, n_slaves
-    if (c%local) then
-      n_slaves = 1 + sum([(size(c%passes(p)%own_slaves), p = 1, size(c%passes))])
-      call contact_search_room(c, n_slaves, 0)
-    else
-      n_slaves = 1 + sum([(size(c%passes(p)%slaves), p = 1, size(c%passes))])
-      call contact_search_room(c, n_slaves, n_slaves)
-    end if
+    n_slaves = 1 + sum([(size(c%passes(p)%slaves), p = 1, size(c%passes))])
+    call contact_search_room(c, n_slaves, merge(0, n_slaves, c%local))
     do p = 1, size(c%passes)
-      call pass_near_lists(c%passes(p), own=c%local)
+      call pass_near_lists(c%passes(p))
     end do
   end subroutine contact_rooms
 

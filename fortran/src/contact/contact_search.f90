@@ -91,8 +91,9 @@ contains
   !> `node` (from node_segment_map), the one whose closest point is nearest to p (the lower
   !> segment number on ties), with that closest point and the normal there. segment = 0 when
   !> the node belongs to no segment. With skip_node, segments that contain that node do not count
-  !> (a slave's own segments in a single-surface contact). Node i's coordinates are
-  !> coords(:, column(i)) (the held slots of the contact state, contact_slots).
+  !> (a slave's own segments in a single-surface contact). The segments' nodes are columns of
+  !> coords (the held slots of the contact state, contact_slots: the pass's segment_at), and
+  !> skip_node is one too; node is a master's place in segment_start.
   !>
   !> The segments are projected in the order of their segment_distance_bound, and one whose bound
   !> already exceeds the nearest closest point found cannot be nearer: it is not projected. The
@@ -101,13 +102,12 @@ contains
   !> penalty_force's test with that reach (half the two thicknesses), that is when every bound
   !> exceeds the reach plus the offset the face test allows (edge_tolerance times the longer
   !> diagonal): the projections are then skipped.
-  pure subroutine segment_candidates(p, node, n_nodes, coords, column, n_segments, segment_nodes, &
+  pure subroutine segment_candidates(p, node, n_nodes, coords, n_segments, segment_nodes, &
                                      segment_start, segment_list, segment, xi, eta, xc, normal, skip_node, reach, &
                                      clearance)
     real(wp), intent(in) :: p(3)
     integer(ip), intent(in) :: node, n_nodes, n_segments
     real(wp), intent(in) :: coords(3, *)
-    integer, intent(in) :: column(n_nodes)
     integer(ip), intent(in) :: segment_nodes(4, n_segments)
     integer(ip), intent(in) :: segment_start(n_nodes + 1)
     integer(ip), intent(in) :: segment_list(*)
@@ -143,7 +143,7 @@ contains
           if (any(segment_nodes(:, s) == skip_node)) cycle
         end if
         do i = 1, 4
-          xseg(:, i) = coords(:, column(segment_nodes(i, s)))
+          xseg(:, i) = coords(:, segment_nodes(i, s))
         end do
         if (near) then
           b = segment_distance_bound(xseg, p)
@@ -182,7 +182,7 @@ contains
         end if
       end if
       do i = 1, 4
-        xseg(:, i) = coords(:, column(segment_nodes(i, s)))
+        xseg(:, i) = coords(:, segment_nodes(i, s))
       end do
       call closest_point_on_segment(xseg, p, s_xi, s_eta, s_xc, s_normal)
       d2 = sum((p - s_xc)**2)

@@ -4,55 +4,78 @@
 !> positions at the last sort, the touched lists and marks, the gather flags) is indexed by that
 !> slot. On one rank and in the replicated scheme every contact node is held (slot = index); under
 !> local contact a rank holds its domain's contact nodes and its ghosts, renumbered at each refresh
-!> of the ghosts (contact_hold). The passes still name nodes by contact-node index and reach the
-!> arrays through c%slot (4 bytes per contact node of the model): the intermediate step of the
-!> design, before the passes' lists are the rank's own. No MPI here.
+!> of the ghosts (contact_hold). The passes name nodes by contact-node index and keep their slots
+!> (contact_pass_slots); slot_of finds any other node's: slot(node) where every node is held,
+!> else a search in the held table, so no rank under local contact holds a map sized by the
+!> contact nodes of the model. No MPI here.
 module contact_slots
   use paradyn_kinds, only: wp
+  use integer_sort, only: sorted_position
   use contact_interface, only: contact_t
   implicit none
   private
-  public :: contact_node_state, contact_hold
+  public :: contact_node_state, contact_hold, slot_of, contact_pass_slots
 
 contains
 
-  !> The state of the contact nodes held (held(k): contact node k is), after contact_setup:
-  !> allocated once the caller has released the deck it read; masses: every contact node's mass
-  !> (those of the nodes held are kept).
-  subroutine contact_node_state(c, held, masses)
+  !> The state of the contact nodes held (held: their contact-node ids, ascending; masses, their
+  !> local columns on this rank, 0 for none, and whether it owns them, in that order), after
+  !> contact_setup: allocated once the caller has released the deck it read. Where every contact
+  !> node is held (not c%local) slot(node) is each one's slot.
+  subroutine contact_node_state(c, held, masses, columns, owned)
     type(contact_t), intent(inout) :: c
-    logical, intent(in) :: held(:)
+    integer, intent(in) :: held(:), columns(:)
     real(wp), intent(in) :: masses(:)
+    logical, intent(in) :: owned(:)
     integer :: n, s
-    c%held_node = pack([(s, s = 1, c%n_nodes)], held)
-    n = size(c%held_node)
+    c%held_node = held
+    n = size(held)
     c%held_most = n
-    allocate (c%slot(c%n_nodes), source=0)
-    c%slot(c%held_node) = [(s, s = 1, n)]
+    if (.not. c%local) then
+      allocate (c%slot(c%n_nodes), source=0)
+      c%slot(held) = [(s, s = 1, n)]
+    end if
     allocate (c%x(3, n), c%v(3, n), c%force(3, n), c%force_old(3, n), c%x_at_sort(3, n), source=0.0_wp)
-    c%mass = masses(c%held_node)
+    c%mass = masses
+    c%column = columns
+    c%own = owned
     allocate (c%touched(n), c%touched_old(n), c%mark(n), source=0)
     allocate (c%in_gather(n), source=.true.)
   end subroutine contact_node_state
 
-  !> Hold the contact nodes held (indices, ascending) from now on: the state of a node held before
-  !> moves to its new slot, a node newly held starts from zero (the caller fills its position,
-  !> velocity and mass), and the touched lists keep their order without the nodes no longer held
-  !> (only the owners, which always hold their nodes, apply a node's force and count its energy).
+  !> Hold the contact nodes held (indices, ascending) from now on (local contact): the state of a
+  !> node held before moves to its new slot (its column and ownership too), a node newly held
+  !> starts from zero (a ghost: the caller fills its position, velocity and mass), and the touched
+  !> lists keep their order without the nodes no longer held (only the owners, which always hold
+  !> their nodes, apply a node's force and count its energy).
   subroutine contact_hold(c, held)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: held(:)
     real(wp), allocatable :: x(:, :), v(:, :), force(:, :), force_old(:, :), x_at_sort(:, :), mass(:)
-    integer, allocatable :: mark(:), from(:), old_node(:)
-    logical, allocatable :: in_gather(:)
+    integer, allocatable :: mark(:), from(:), to(:), column(:)
+    logical, allocatable :: in_gather(:), own(:)
     integer :: n, s, o
     n = size(held)
     c%held_most = max(c%held_most, n)
-    allocate (from(n))
-    from = c%slot(held)
+    ! both lists ascending: each new slot's old one (from) and each old slot's new one (to), 0 for none
+    allocate (from(n), source=0)
+    allocate (to(size(c%held_node)), source=0)
+    o = 1
+    do s = 1, n
+      do while (o <= size(c%held_node))
+        if (c%held_node(o) >= held(s)) exit
+        o = o + 1
+      end do
+      if (o > size(c%held_node)) exit
+      if (c%held_node(o) == held(s)) then
+        from(s) = o
+        to(o) = s
+      end if
+    end do
     allocate (x(3, n), v(3, n), force(3, n), force_old(3, n), x_at_sort(3, n), mass(n), source=0.0_wp)
-    allocate (mark(n), source=0)
+    allocate (mark(n), column(n), source=0)
     allocate (in_gather(n), source=.true.)
+    allocate (own(n), source=.false.)
     do s = 1, n
       o = from(s)
       if (o == 0) cycle
@@ -64,6 +87,8 @@ contains
       mass(s) = c%mass(o)
       mark(s) = c%mark(o)
       in_gather(s) = c%in_gather(o)
+      column(s) = c%column(o)
+      own(s) = c%own(o)
     end do
     call move_alloc(x, c%x)
     call move_alloc(v, c%v)
@@ -73,18 +98,17 @@ contains
     call move_alloc(mass, c%mass)
     call move_alloc(mark, c%mark)
     call move_alloc(in_gather, c%in_gather)
-    call move_alloc(c%held_node, old_node)
-    c%slot(old_node) = 0
-    c%slot(held) = [(s, s = 1, n)]
+    call move_alloc(column, c%column)
+    call move_alloc(own, c%own)
     c%held_node = held
-    call keep_held(c%slot, old_node, c%touched, c%n_touched, n)
-    call keep_held(c%slot, old_node, c%touched_old, c%n_touched_old, n)
+    call keep_held(to, c%touched, c%n_touched, n)
+    call keep_held(to, c%touched_old, c%n_touched_old, n)
   end subroutine contact_hold
 
-  !> A touched list (old slots, list(1:count)) in new slots, without the nodes no longer held, in
-  !> its order; resized to n.
-  pure subroutine keep_held(slot, old_node, list, count, n)
-    integer, intent(in) :: slot(:), old_node(:), n
+  !> A touched list (old slots, list(1:count)) in new slots (to: each old slot's new one, 0 if no
+  !> longer held), without the nodes no longer held, in its order; resized to n.
+  pure subroutine keep_held(to, list, count, n)
+    integer, intent(in) :: to(:), n
     integer, allocatable, intent(inout) :: list(:)
     integer, intent(inout) :: count
     integer, allocatable :: kept(:)
@@ -92,12 +116,57 @@ contains
     allocate (kept(n), source=0)
     m = 0
     do i = 1, count
-      if (slot(old_node(list(i))) == 0) cycle
+      if (to(list(i)) == 0) cycle
       m = m + 1
-      kept(m) = slot(old_node(list(i)))
+      kept(m) = to(list(i))
     end do
     count = m
     call move_alloc(kept, list)
   end subroutine keep_held
+
+  !> The slot of contact node `node` (0: not held here): slot(node) where every node is held, else
+  !> a search in the ascending held_node.
+  pure integer function slot_of(c, node) result(s)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: node
+    if (allocated(c%slot)) then
+      s = c%slot(node)
+      return
+    end if
+    s = sorted_position(c%held_node, node)
+    if (s > size(c%held_node)) then
+      s = 0
+    else if (c%held_node(s) /= node) then
+      s = 0
+    end if
+  end function slot_of
+
+  !> The passes' slots of their slaves, masters and segments' nodes, after the slots or the
+  !> segments held have changed.
+  subroutine contact_pass_slots(c)
+    type(contact_t), intent(inout) :: c
+    integer :: p, i, m
+    do p = 1, size(c%passes)
+      associate (pass => c%passes(p))
+      pass%slave_at = [(slot_of(c, pass%slaves(i)), i = 1, size(pass%slaves))]
+      pass%master_at = [(slot_of(c, pass%masters(i)), i = 1, size(pass%masters))]
+      if (allocated(pass%segment_at)) deallocate (pass%segment_at)
+      allocate (pass%segment_at(4, size(pass%segments, 2)))
+      do i = 1, size(pass%segments, 2)
+        do m = 1, 4
+          pass%segment_at(m, i) = slot_of(c, pass%segments(m, i))
+        end do
+      end do
+      if (.not. allocated(pass%own_segments)) cycle
+      if (allocated(pass%own_segment_at)) deallocate (pass%own_segment_at)
+      allocate (pass%own_segment_at(4, size(pass%own_segments, 2)))
+      do i = 1, size(pass%own_segments, 2)
+        do m = 1, 4
+          pass%own_segment_at(m, i) = slot_of(c, pass%own_segments(m, i))
+        end do
+      end do
+      end associate
+    end do
+  end subroutine contact_pass_slots
 
 end module contact_slots

@@ -9,8 +9,9 @@ module contact_stages
   use nearest_cache, only: nearest_master_listed
   use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order, &
                             edge_tolerance
-  use contact_pass, only: contact_pass_t, slave_slot
+  use contact_pass, only: contact_pass_t
   use contact_interface, only: contact_t, clock_seconds
+  use contact_slots, only: slot_of
   use exact_sum, only: exact_add, exact_value
   implicit none
   private
@@ -53,10 +54,13 @@ contains
     integer :: j, k, node, d
     real(wp) :: t0
     integer :: s
+    logical :: counts
     t0 = clock()
     do j = 1, c%n_candidates
       if (c%record_nodes(1, j) == 0) cycle
-      if (counted(c, c%record_nodes(1, j))) then
+      counts = .true.
+      if (c%local) counts = counted(c, slot_of(c, c%record_nodes(1, j)))
+      if (counts) then
         c%max_penetration = max(c%max_penetration, c%record_penetration(j))
         associate (pass => c%passes(c%candidates(3, j)))
         do k = 1, 3
@@ -67,7 +71,7 @@ contains
       end if
       do k = 1, 5
         node = c%record_nodes(k, j)
-        s = c%slot(node)
+        s = slot_of(c, node)
         if (s == 0) cycle
         if (c%mark(s) /= c%stamp) then
           c%mark(s) = c%stamp
@@ -83,12 +87,14 @@ contains
   !> Whether this rank adds the terms of a record (by its slave node) or of a node to the sums of
   !> the energy and the definitions: every one on one rank and in the replicated scheme, where
   !> every rank has every record; with local contact the ones of the nodes it owns, so that each
-  !> term is added on exactly one rank. node: a contact-node index.
-  pure logical function counted(c, node)
+  !> term is added on exactly one rank. s: the node's slot (0: not held here).
+  pure logical function counted(c, s)
     type(contact_t), intent(in) :: c
-    integer, intent(in) :: node
+    integer, intent(in) :: s
     counted = .true.
-    if (c%local) counted = c%owned(node)
+    if (.not. c%local) return
+    counted = .false.
+    if (s > 0) counted = c%own(s)
   end function counted
 
   !> The terms of the contact energy's step: minus the work of the mean contact force over the
@@ -103,13 +109,13 @@ contains
     if (cycle == 0) return
     do i = 1, c%n_touched
       j = c%touched(i)
-      if (counted(c, c%held_node(j))) &
+      if (counted(c, j)) &
         call exact_add(c%sums(:, 1), dot_product(c%v(:, j), c%force_old(:, j) + c%force(:, j)))
     end do
     do i = 1, c%n_touched_old
       j = c%touched_old(i)
       if (c%mark(j) == c%stamp) cycle   ! in both lists: counted above
-      if (counted(c, c%held_node(j))) call exact_add(c%sums(:, 1), dot_product(c%v(:, j), c%force_old(:, j)))
+      if (counted(c, j)) call exact_add(c%sums(:, 1), dot_product(c%v(:, j), c%force_old(:, j)))
     end do
   end subroutine contact_end
 
@@ -160,11 +166,9 @@ contains
       p = pass_of(offset, i)
       associate (pass => c%passes(p))
       j = pass%near_slaves(rank + 1 + (i - offset(p) - 1) * n_ranks)
-      x = c%x(:, c%slot(pass%slaves(j)))
+      x = c%x(:, pass%slave_at(j))
       if (near_box(x, pass)) then
-        if (pass%held_only) then
-          call nearest_held(pass, j, x, found)
-        else if (pass%shares_nodes) then
+        if (pass%shares_nodes) then
           call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
                                      pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, &
                                      found, excluded=pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
@@ -187,28 +191,6 @@ contains
     end do
     c%time_search = c%time_search + clock() - t0
   end subroutine contact_global_search
-
-  !> nearest_master_listed for slave j of the pass among the masters this rank holds (local
-  !> contact): the grid holds them alone, in ascending order, so the excluded masters are taken to
-  !> their places among them and the answer back to its master index.
-  subroutine nearest_held(pass, j, x, found)
-    type(contact_pass_t), intent(inout) :: pass
-    integer, intent(in) :: j
-    real(wp), intent(in) :: x(3)
-    integer, intent(out) :: found
-    integer, allocatable :: excluded(:)
-    if (pass%shares_nodes) then
-      excluded = pass%held_index(pass%excluded(pass%excluded_start(j):pass%excluded_start(j + 1) - 1))
-      excluded = pack(excluded, excluded > 0)
-      call nearest_master_listed(pass%near, pass%near_slot(j), pass%grid, pass%x_sorted, x, &
-                                 pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, &
-                                 found, excluded=excluded)
-    else
-      call nearest_master_listed(pass%near, pass%near_slot(j), pass%grid, pass%x_sorted, x, &
-                                 pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, found)
-    end if
-    if (found > 0) found = pass%held_masters(found)
-  end subroutine nearest_held
 
   !> The pass whose share of the global search holds entry i (offset: where each pass starts).
   pure integer function pass_of(offset, i) result(p)
@@ -286,24 +268,24 @@ contains
       c%record_nodes(:, k) = 0
       associate (pass => c%passes(c%candidates(3, k)))
       node = pass%slaves(c%candidates(1, k))
-      at = c%slot(node)
+      at = pass%slave_at(c%candidates(1, k))
       x = c%x(:, at)
-      slot = slave_slot(pass, c%candidates(1, k))
-      if (still_clear(pass, slot, c%candidates(2, k), c%n_sorts, c%moved)) cycle
+      slot = c%candidates(1, k)
+      if (still_clear(pass, slot, pass%masters(c%candidates(2, k)), c%n_sorts, c%moved)) cycle
       ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
       reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(slot) + pass%t_master)
       if (pass%shares_nodes) then
-        call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, c%slot, &
-                                int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
-                                pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(node, ip), reach=reach, &
+        call segment_candidates(x, int(c%candidates(2, k), ip), int(size(pass%masters), ip), c%x, &
+                                int(size(pass%segments, 2), ip), pass%segment_at, pass%segment_start, &
+                                pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(at, ip), reach=reach, &
                                 clearance=clearance)
       else
-        call segment_candidates(x, int(pass%masters(c%candidates(2, k)), ip), int(c%n_nodes, ip), c%x, c%slot, &
-                                int(size(pass%segments, 2), ip), pass%segments, pass%segment_start, &
+        call segment_candidates(x, int(c%candidates(2, k), ip), int(size(pass%masters), ip), c%x, &
+                                int(size(pass%segments, 2), ip), pass%segment_at, pass%segment_start, &
                                 pass%segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance)
       end if
       if (clearance > 0.0_wp .and. c%moved < huge(1.0_wp)) then   ! this slave's only: no other thread writes it
-        pass%clear_master(slot) = c%candidates(2, k)
+        pass%clear_master(slot) = pass%masters(c%candidates(2, k))
         pass%clear_sort(slot) = c%n_sorts
         pass%clear_gap(slot) = clearance
         pass%clear_moved(slot) = c%moved
@@ -311,7 +293,7 @@ contains
       if (segment > 0) then
         lightest = c%mass(at)
         do m = 1, 4                                ! explicit: array sections here cost a heap temporary
-          seg_at(m) = c%slot(pass%segments(m, segment))
+          seg_at(m) = pass%segment_at(m, segment)
           xseg(:, m) = c%x(:, seg_at(m))
           vseg(:, m) = c%v(:, seg_at(m))
           lightest = min(lightest, c%mass(seg_at(m)))
@@ -336,7 +318,7 @@ contains
     c%time_force = c%time_force + clock() - t0
   end subroutine contact_local_search
 
-  !> The slave at slave_slot j of the pass, whose nearest master is master, still cannot touch: at an earlier step of
+  !> Slave j of the pass, whose nearest master is master (a contact-node id), still cannot touch: at an earlier step of
   !> the same sort (sort number n_sorts) the segments around the same master were all at least
   !> clear_gap farther from it than they could touch, and since then no node has moved more than
   !> clear_moved + moved (each at most that far from its place at the sort, then and now). A point

@@ -30,7 +30,7 @@ contains
     integer :: i
     do i = 1, 2
       call pass_between_parts(deck, definition, deck%contact_pairs(i, definition), &
-                              deck%contact_pairs(3 - i, definition), contact_id, n_contact, passes(i))
+                              deck%contact_pairs(3 - i, definition), contact_id, passes(i))
       passes(i)%every_cycle = deck%contact_passes(definition) == 2
       passes(i)%swap_index = i
     end do

@@ -31,7 +31,7 @@ contains
     integer, intent(in) :: definition, contact_id(:), n_contact
     type(contact_pass_t), intent(inout) :: passes(:)
     call pass_between_parts(deck, definition, deck%contact_pairs(1, definition), deck%contact_pairs(1, definition), &
-                            contact_id, n_contact, passes(1))
+                            contact_id, passes(1))
     passes(1)%every_cycle = .true.
   end subroutine single_surface_passes
 

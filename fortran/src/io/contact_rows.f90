@@ -1,11 +1,10 @@
-!> The replicated contact state's cost (issue 19, item 5): until the contact state is indexed by
-!> each rank's own and ghost contact nodes, its set-up (contact_setup) reads the deck in the
-!> global layout it was written for (the start checks no longer do: contact_checks works on each
-!> rank's rows). replicated_contact_deck gives it that layout for the contact parts only: every rank gathers
-!> the rows of the elements of the parts that some /contact/pairs entry names, and the coordinates
-!> of their nodes, from the ranks that hold them (MPI_Allgatherv), into arrays indexed by global
-!> node and element id. A model without contact never calls it and holds nothing global; a model
-!> with contact pays (3 n_nodes + 5 n_elements) numbers per rank, as before this layout.
+!> The contact parts in the global layout, for the contact state's set-up on one rank and in the
+!> replicated scheme (contact_setup), where every contact node is held anyway; local contact sets
+!> up from each rank's own rows (contact_local_setup) and never calls this. replicated_contact_deck
+!> gives that layout for the contact parts only: every rank gathers the rows of the elements of
+!> the parts that some /contact/pairs entry names, and the coordinates of their nodes, from the
+!> ranks that hold them (MPI_Allgatherv), into arrays indexed by global node and element id: (3
+!> n_nodes + 5 n_elements) numbers per rank. A model without contact never calls it.
 module contact_rows
   use mpi_f08
   use paradyn_kinds, only: wp

@@ -51,9 +51,9 @@ contains
   !> Everything the time loop needs, from the deck and its effect table (deck_effects, with the
   !> switched-off effects already taken out of the deck), on this rank of comm. The deck holds
   !> this rank's elements (model_deck's layout: they become the domain's) and the rows of their
-  !> nodes (the crossing check of contact runs on them); contact: the deck in the global layout
-  !> the contact state's set-up reads (contact_rows; any deck when the model has no contact),
-  !> released once that state is built. status 2 with a message for a mesh that cannot run (a
+  !> nodes (the crossing check and local contact's set-up run on them); contact: the deck in the
+  !> global layout the contact state's set-up reads on one rank and in the replicated scheme
+  !> (contact_rows; any deck otherwise), released once that state is built. status 2 with a message for a mesh that cannot run (a
   !> node without mass).
   subroutine solver_setup(s, deck, contact, effects, comm, status, message)
     type(solver_t), intent(inout) :: s
@@ -117,7 +117,7 @@ contains
     call pipeline_setup(s)
 
     s%has_contact = deck%n_contacts > 0
-    if (s%has_contact) call parallel_contact_setup(s%contact, contact, s%dom, comm, s%nodes%mass, s%nodes%v, &
+    if (s%has_contact) call parallel_contact_setup(s%contact, contact, deck, s%dom, comm, s%nodes%mass, s%nodes%v, &
                                                    s%clock%dt, s%control%contact_gather_all)
     allocate (s%node_out_a(3, size(s%halo%owned_local)), s%node_out_b(3, size(s%halo%owned_local)))
     allocate (s%element_out(5, s%dom%n_elements), s%tracked_out(6, deck%n_tracked))

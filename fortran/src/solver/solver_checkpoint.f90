@@ -14,8 +14,8 @@ module solver_checkpoint
   use run_control, only: run_control_t
   use nodal_effect, only: stage_corners
   use element_state, only: element_row_width, element_rows_pack, element_rows_unpack
-  use contact_parallel, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, &
-                              contact_checkpoint_sums
+  use contact_checkpoint, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, &
+                                contact_checkpoint_sums
   use parallel_hdf5, only: row_runs, phdf5_open, phdf5_close, create_dataset, write_rows, &
                            read_rows, write_int_attribute, write_real_attribute, read_int_attribute, &
                            read_real_attribute, write_long_attribute, read_long_attribute, &
@@ -304,12 +304,13 @@ contains
     real(wp), intent(in) :: energy, penetration
     real(wp), allocatable :: contact(:, :), force(:)
     integer(hsize_t) :: nc
-    integer :: j, err
+    integer :: err
     s%contact%c%time_step = s%clock%dt   ! the penalty's cap follows the step (time_step_control)
     nc = int(s%contact%c%n_nodes, hsize_t)
-    allocate (contact(contact_checkpoint_width, nc), force(3 * s%n_contacts))
+    ! the rows of the contact nodes this rank holds (contact-node ids, ascending)
+    allocate (contact(contact_checkpoint_width, size(s%contact%c%held_node)), force(3 * s%n_contacts))
     call read_rows(file, transfer, 'contact', [int(contact_checkpoint_width, hsize_t), nc], &
-                   row_runs([(j, j = 1, int(nc))]), contact, err)
+                   row_runs(s%contact%c%held_node), contact, err)
     call contact_checkpoint_restore(s%contact, contact, last_sort, energy, penetration)
     call read_real_array_attribute(file, 'contact_definition_force', force, err)
     s%contact%c%definition_force = reshape(force, [3, s%n_contacts])
