@@ -21,7 +21,7 @@ module contact_neighbours
   use traffic_counter, only: traffic_t, count_messages, count_allgather
   use contact_sparse, only: sparse_exchange
   use contact_interface, only: contact_t
-  use contact_slots, only: contact_hold, slot_of, contact_pass_slots
+  use contact_slots, only: contact_hold, slot_of, contact_pass_slots, contact_pass_slots_moved
   use contact_ghost_segments, only: segment_row_width, segment_row, hold_ghost_segments
   implicit none
   private
@@ -48,6 +48,9 @@ module contact_neighbours
     integer, allocatable :: mark(:), slot(:)                  !< workspace per held slot, per rank
     integer :: stamp = 0
     logical :: refresh_pending = .true.                       !< at the start and after a restore
+    ! the ghost segments' rows of the last refresh: a refresh that brings the same keeps the
+    ! passes' lists and moves their slots (rebuilding them is a search per entry)
+    real(wp), allocatable :: segment_rows_before(:, :)
   end type neighbours_t
 
   !> node, position at the sort, position, velocity, mass, number of holders (the holders follow)
@@ -233,7 +236,8 @@ contains
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: sources(:), rstart(:)
     real(wp), intent(in) :: received(:)
-    integer, allocatable :: nodes(:), first(:), held(:)
+    integer, allocatable :: nodes(:), first(:), held(:), to(:)
+    logical :: kept
     real(wp), allocatable :: segment_rows(:, :)
     integer :: i, j, k, m, n, g, width, s, n_segs
     if (allocated(nb%ghost_holder)) deallocate (nb%recv%start, nb%ghost_holder_start, nb%ghost_holder)
@@ -269,9 +273,14 @@ contains
     n = size(nb%ghost_node)
     held = [nb%domain_node, nb%ghost_node]
     call merge_sort_ascending(held)
-    call contact_hold(c, held)
-    call hold_ghost_segments(c, segment_rows)
-    call contact_pass_slots(c)
+    call contact_hold(c, held, to)
+    kept = same_segments(nb, segment_rows)
+    if (kept) call contact_pass_slots_moved(c, to, kept)
+    if (.not. kept) then
+      call hold_ghost_segments(c, segment_rows)
+      call contact_pass_slots(c)
+      nb%segment_rows_before = segment_rows
+    end if
     nb%recv%at = [(slot_of(c, nodes(i)), i = 1, size(nodes))]
     allocate (nb%ghost_holder_start(n + 1), source=0)
     do j = 1, size(nodes)   ! a ghost from several ranks comes with the same holders from each
@@ -300,6 +309,17 @@ contains
         nint(received(m + ghost_width:m + ghost_width + width - 1))
     end do
   end subroutine take_ghosts
+
+  !> Whether a refresh brings the same ghost segments (rows, in the order they came) as the last:
+  !> the passes' segments and masters are then those already built.
+  pure logical function same_segments(nb, segment_rows) result(same)
+    type(neighbours_t), intent(in) :: nb
+    real(wp), intent(in) :: segment_rows(:, :)
+    same = .false.
+    if (.not. allocated(nb%segment_rows_before)) return
+    if (any(shape(segment_rows) /= shape(nb%segment_rows_before))) return
+    same = all(segment_rows == nb%segment_rows_before)
+  end function same_segments
 
   !> Append to list the nodes (not yet marked) of this rank's segments of pass p with a node near
   !> box (lower and upper corner of a rank's own slaves of the pass), and (segs: the ghost

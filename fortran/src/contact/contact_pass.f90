@@ -38,6 +38,7 @@ module contact_pass
     integer, allocatable :: segments(:, :)     !< (4, n) master segments held, contact-node ids
     integer, allocatable :: segment_element(:) !< the global element of each, ascending
     integer, allocatable :: segment_start(:), segment_list(:)  !< master index -> its segments
+    integer, allocatable :: segment_corner(:, :)  !< (4, n) each segment's nodes as master indices
     real(wp), allocatable :: stiffness(:)      !< penalty stiffness per segment (initial geometry)
     !> local contact: the segments of this rank's elements (the domain's part of segments above)
     integer, allocatable :: own_segments(:, :), own_element(:)
@@ -151,6 +152,7 @@ contains
     call node_segment_map(int(size(pass%masters), ip), int(size(pass%segments, 2), ip), corners, pass%segment_start, &
                           pass%segment_list, n_entries)
     call exclusions(pass, corners)
+    call move_alloc(corners, pass%segment_corner)
   end subroutine pass_hold_segments
 
   !> For each slave, the master indices of the nodes of the master segments that contain it (none

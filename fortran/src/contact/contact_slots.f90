@@ -14,7 +14,7 @@ module contact_slots
   use contact_interface, only: contact_t
   implicit none
   private
-  public :: contact_node_state, contact_hold, slot_of, contact_pass_slots
+  public :: contact_node_state, contact_hold, slot_of, contact_pass_slots, contact_pass_slots_moved
 
 contains
 
@@ -48,11 +48,12 @@ contains
   !> starts from zero (a ghost: the caller fills its position, velocity and mass), and the touched
   !> lists keep their order without the nodes no longer held (only the owners, which always hold
   !> their nodes, apply a node's force and count its energy).
-  subroutine contact_hold(c, held)
+  subroutine contact_hold(c, held, to)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: held(:)
+    integer, allocatable, intent(out) :: to(:)   !< each old slot's new one (0: no longer held)
     real(wp), allocatable :: x(:, :), v(:, :), force(:, :), force_old(:, :), x_at_sort(:, :), mass(:)
-    integer, allocatable :: mark(:), from(:), to(:), column(:)
+    integer, allocatable :: mark(:), from(:), column(:)
     logical, allocatable :: in_gather(:), own(:)
     integer :: n, s, o
     n = size(held)
@@ -141,32 +142,100 @@ contains
     end if
   end function slot_of
 
+  !> The passes' slots after a refresh that kept their lists (the same segments held): each old
+  !> slot's new one (to, from contact_hold); ok is false if one of their nodes is no longer held
+  !> (the caller then builds them anew with contact_pass_slots).
+  subroutine contact_pass_slots_moved(c, to, ok)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: to(:)
+    logical, intent(out) :: ok
+    integer :: p
+    ok = .true.
+    do p = 1, size(c%passes)
+      associate (pass => c%passes(p))
+      pass%slave_at = to(pass%slave_at)
+      pass%master_at = to(pass%master_at)
+      pass%segment_at = reshape(to(pack(pass%segment_at, .true.)), shape(pass%segment_at))
+      ok = ok .and. all(pass%slave_at > 0) .and. all(pass%master_at > 0) .and. all(pass%segment_at > 0)
+      if (.not. allocated(pass%own_segments)) cycle
+      pass%own_segment_at = reshape(to(pack(pass%own_segment_at, .true.)), shape(pass%own_segment_at))
+      ok = ok .and. all(pass%own_segment_at > 0)
+      end associate
+    end do
+  end subroutine contact_pass_slots_moved
+
   !> The passes' slots of their slaves, masters and segments' nodes, after the slots or the
-  !> segments held have changed.
+  !> segments held have changed. Ascending lists are matched against the ascending held table in
+  !> one pass (a search per entry cost a fifth of a two-rank run's contact at every refresh), the
+  !> segments' nodes through their masters, the own segments through their elements.
   subroutine contact_pass_slots(c)
     type(contact_t), intent(inout) :: c
+    integer, allocatable :: own_at(:)
     integer :: p, i, m
     do p = 1, size(c%passes)
       associate (pass => c%passes(p))
-      pass%slave_at = [(slot_of(c, pass%slaves(i)), i = 1, size(pass%slaves))]
-      pass%master_at = [(slot_of(c, pass%masters(i)), i = 1, size(pass%masters))]
+      pass%slave_at = places_in(c, c%held_node, pass%slaves)
+      pass%master_at = places_in(c, c%held_node, pass%masters)
       if (allocated(pass%segment_at)) deallocate (pass%segment_at)
       allocate (pass%segment_at(4, size(pass%segments, 2)))
       do i = 1, size(pass%segments, 2)
         do m = 1, 4
-          pass%segment_at(m, i) = slot_of(c, pass%segments(m, i))
+          if (allocated(pass%segment_corner)) then
+            pass%segment_at(m, i) = pass%master_at(pass%segment_corner(m, i))
+          else
+            pass%segment_at(m, i) = slot_of(c, pass%segments(m, i))
+          end if
         end do
       end do
       if (.not. allocated(pass%own_segments)) cycle
       if (allocated(pass%own_segment_at)) deallocate (pass%own_segment_at)
       allocate (pass%own_segment_at(4, size(pass%own_segments, 2)))
+      own_at = places_in(c, pass%segment_element, pass%own_element, search=.true.)
       do i = 1, size(pass%own_segments, 2)
         do m = 1, 4
-          pass%own_segment_at(m, i) = slot_of(c, pass%own_segments(m, i))
+          if (own_at(i) > 0) then   ! an own segment is held: its place among the segments
+            pass%own_segment_at(m, i) = pass%segment_at(m, own_at(i))
+          else
+            pass%own_segment_at(m, i) = slot_of(c, pass%own_segments(m, i))
+          end if
         end do
       end do
       end associate
     end do
   end subroutine contact_pass_slots
+
+  !> The place of each of ids in table (both ascending: one merge), 0 where absent; where ids is
+  !> not ascending, the slots of ids by slot_of (search: also for a table that is not the held one).
+  function places_in(c, table, ids, search) result(at)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: table(:), ids(:)
+    logical, intent(in), optional :: search
+    integer :: at(size(ids)), i, t
+    at = 0
+    if (size(ids) > 1) then
+      if (any(ids(2:) < ids(:size(ids) - 1))) then
+        if (present(search)) then
+          do i = 1, size(ids)
+            t = sorted_position(table, ids(i))
+            if (t <= size(table)) then
+              if (table(t) == ids(i)) at(i) = t
+            end if
+          end do
+        else
+          at = [(slot_of(c, ids(i)), i = 1, size(ids))]
+        end if
+        return
+      end if
+    end if
+    t = 1
+    do i = 1, size(ids)
+      do while (t <= size(table))
+        if (table(t) >= ids(i)) exit
+        t = t + 1
+      end do
+      if (t > size(table)) exit
+      if (table(t) == ids(i)) at(i) = t
+    end do
+  end function places_in
 
 end module contact_slots
