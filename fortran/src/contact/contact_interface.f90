@@ -39,7 +39,7 @@ module contact_interface
   use paradyn_schema, only: enum_name, enum_contact_kind
   implicit none
   private
-  public :: contact_t, contact_setup
+  public :: contact_t, contact_setup, definitions_passes
   public :: contact_begin, contact_sort_due
   public :: contact_restore, contact_sort_pass
   public :: contact_activity_update, contact_all_idle, contact_count_activity
@@ -136,8 +136,7 @@ contains
     type(contact_t), intent(out) :: c
     logical, allocatable :: in_contact(:)
     integer, allocatable :: contact_id(:)
-    integer :: i, k, p, e, n_passes
-    type(contact_kind_holder_t), allocatable :: kinds(:)
+    integer :: i, e
     allocate (in_contact(deck%n_nodes), source=.false.)
     do e = 1, deck%n_elements
       if (any(deck%contact_pairs == deck%element_part(e))) in_contact(deck%connectivity(:, e)) = .true.
@@ -147,23 +146,34 @@ contains
     allocate (contact_id(deck%n_nodes), source=0)
     contact_id(c%global_node) = [(i, i = 1, c%n_nodes)]
     c%sort_interval = deck%contact_sort_interval
-    ! each definition's passes, one after the other, from its member of the contact family
+    call definitions_passes(deck, contact_id, c%n_nodes, c%passes)
+    allocate (c%pair_active_cycles(deck%n_contacts), c%pair_skipped_cycles(deck%n_contacts), source=0_i8)
+    allocate (c%definition_force(3, deck%n_contacts), source=0.0_wp)
+  end subroutine contact_setup
+
+  !> Each contact definition's passes, one after the other, from its member of the contact family
+  !> (contact_id: the contact-node id of each global node, n_contact of them; empty lists for a
+  !> deck without its mesh, whose passes local contact fills from each rank's rows).
+  subroutine definitions_passes(deck, contact_id, n_contact, passes)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: contact_id(:), n_contact
+    type(contact_pass_t), allocatable, intent(out) :: passes(:)
+    type(contact_kind_holder_t), allocatable :: kinds(:)
+    integer :: k, p, n_passes
     allocate (kinds(deck%n_contacts))
     n_passes = 0
     do k = 1, deck%n_contacts
       call contact_kind_from_name(enum_name(enum_contact_kind, deck%contact_kind(k)), kinds(k)%kind)
       n_passes = n_passes + kinds(k)%kind%pass_count()
     end do
-    allocate (c%passes(n_passes))
+    allocate (passes(n_passes))
     n_passes = 0
     do k = 1, deck%n_contacts
       p = kinds(k)%kind%pass_count()
-      call kinds(k)%kind%make_passes(deck, k, contact_id, c%n_nodes, c%passes(n_passes + 1:n_passes + p))
+      call kinds(k)%kind%make_passes(deck, k, contact_id, n_contact, passes(n_passes + 1:n_passes + p))
       n_passes = n_passes + p
     end do
-    allocate (c%pair_active_cycles(deck%n_contacts), c%pair_skipped_cycles(deck%n_contacts), source=0_i8)
-    allocate (c%definition_force(3, deck%n_contacts), source=0.0_wp)
-  end subroutine contact_setup
+  end subroutine definitions_passes
 
   !> Start a step: keep the last forces, redo the bucket sorts if sort (contact_sort_due; the
   !> positions of all contact nodes are then current). Only the nodes touched in the last two

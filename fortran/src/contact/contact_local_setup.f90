@@ -21,16 +21,14 @@
 module contact_local_setup
   use mpi_f08
   use paradyn_kinds, only: wp, i8
-  use paradyn_schema, only: enum_name, enum_contact_kind, initial_penetration_gap
+  use paradyn_schema, only: initial_penetration_gap
   use model_deck, only: deck_t, node_row
   use domain_decomposition, only: domain_t, block_owner, local_element
   use halo_exchange, only: halo_t, halo_setup, exchange_corners
   use rank_exchange, only: exchange_int
   use integer_sort, only: distinct_ascending, sorted_position, merge_sort_ascending
-  use contact_kind, only: contact_kind_holder_t
-  use contact_factory, only: contact_kind_from_name
   use contact_search, only: shell_penalty_stiffness
-  use contact_interface, only: contact_t
+  use contact_interface, only: contact_t, definitions_passes
   use contact_ghost_segments, only: hold_ghost_segments, segment_row_width
   use contact_checks, only: held_thickness, part_rows, corners
   use near_elements, only: near_set_t, gather_near, box_of
@@ -125,10 +123,9 @@ contains
     real(wp), intent(in) :: corner(:, :)
     integer, intent(in) :: contact_of(:)
     type(contact_t), intent(inout) :: c
-    type(contact_kind_holder_t), allocatable :: kinds(:)
     type(deck_t) :: shell
     real(wp), allocatable :: longest(:)
-    integer :: k, p, n_passes
+    integer :: p, n_passes
     ! the deck without its mesh: the kinds give each pass its constants and empty lists
     shell = deck
     shell%n_nodes = 0
@@ -136,19 +133,9 @@ contains
     deallocate (shell%coordinates, shell%connectivity, shell%element_part)
     allocate (shell%coordinates(3, 0), shell%connectivity(4, 0), shell%element_part(0))
     shell%contact_initial_penetration = -1   ! the overlaps come from this rank's rows (gap_overlaps)
-    allocate (kinds(deck%n_contacts))
-    n_passes = 0
-    do k = 1, deck%n_contacts
-      call contact_kind_from_name(enum_name(enum_contact_kind, deck%contact_kind(k)), kinds(k)%kind)
-      n_passes = n_passes + kinds(k)%kind%pass_count()
-    end do
-    allocate (c%passes(n_passes), longest(n_passes))
-    n_passes = 0
-    do k = 1, deck%n_contacts
-      p = kinds(k)%kind%pass_count()
-      call kinds(k)%kind%make_passes(shell, k, [integer ::], 0, c%passes(n_passes + 1:n_passes + p))
-      n_passes = n_passes + p
-    end do
+    call definitions_passes(shell, [integer ::], 0, c%passes)
+    n_passes = size(c%passes)
+    allocate (longest(n_passes))
     do p = 1, n_passes
       call own_lists(deck, dom, corner, contact_of, c, p, longest(p))
     end do
