@@ -22,11 +22,11 @@ import tomllib
 from pathlib import Path
 
 from . import launch
+from ._schema import ENUMS
 from .engine_process import AwaitingEngine, EngineError
 from .run_folders import OutputFolderError, default_output, output_folder
 
 RESULTS_NAME = "results.h5"   # what paradyn-run writes (workflow.run's default)
-PRECISIONS = ("double", "mixed")   # the engines there are (schema: /control precision)
 
 
 def scene_precision(path: Path) -> str | None:
@@ -41,7 +41,7 @@ def scene_precision(path: Path) -> str | None:
         return None
     run = table.get("run", {})
     precision = run.get("precision", "double") if isinstance(run, dict) else None
-    return precision if precision in PRECISIONS else None
+    return precision if precision in ENUMS["precision"] else None
 
 
 def start_early(args: argparse.Namespace) -> AwaitingEngine | None:
