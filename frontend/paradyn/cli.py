@@ -102,23 +102,25 @@ def main(argv: list[str] | None = None) -> int:
 
 def run_command(args: argparse.Namespace, started: AwaitingEngine | None = None) -> int:
     """``paradyn-run`` with parsed arguments; ``started``: its engine, started before the imports
-    (:mod:`paradyn.early_engine`), which a run that does not use it cancels."""
-    if args.post or args.check:
+    (:mod:`paradyn.early_engine`), ended here if the run did not take it (cancelling an engine
+    told to go, or already ended, does nothing)."""
+    try:
+        return _run_parsed(args, started)
+    finally:
         if started is not None:
             started.cancel()
-        if args.post:
-            return post_only(args.scene.resolve(), plots=_plots(args), vtk=not args.no_vtk, vtk_series=args.vtk_series)
+
+
+def _run_parsed(args: argparse.Namespace, started: AwaitingEngine | None) -> int:
+    if args.post:
+        return post_only(args.scene.resolve(), plots=_plots(args), vtk=not args.no_vtk, vtk_series=args.vtk_series)
+    if args.check:
         return check_only(args.scene, args.ranks, args.threads, args.quiet)
     out_dir = (args.output or default_output(args.scene)).resolve()
     try:
-        try:
-            runner = batch_runner(args)
-            if args.scene.is_file():
-                claim_output(out_dir, args.scene, force=args.force or args.restart)
-        except BaseException:
-            if started is not None:
-                started.cancel()
-            raise
+        runner = batch_runner(args)
+        if args.scene.is_file():
+            claim_output(out_dir, args.scene, force=args.force or args.restart)
         outcome = workflow.run(args.scene, out_dir, args.ranks, args.threads,
                                runner=runner, restart=args.restart,
                                progress=RunProgress(quiet=args.quiet), vtk=not args.no_vtk,
