@@ -16,8 +16,8 @@ from __future__ import annotations
 import os
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import h5py
 import numpy as np
 
 from paradyn._schema import (
@@ -45,7 +45,11 @@ from paradyn.deck_model import (
     Model,
     control_default,
 )
+from paradyn.deck_stream import deck_items
 from paradyn.deck_validation import DeckError, validate_model
+
+if TYPE_CHECKING:
+    import h5py
 
 __all__ = [
     "DECK_VERSION",
@@ -75,6 +79,8 @@ __all__ = [
 def write_deck(model: Model, path: str | Path) -> Path:
     """Validate ``model`` and write it to ``path`` atomically (temporary file, then rename)."""
     path = Path(path)
+    import h5py  # where a file is opened: a run sends its deck to the engine before h5py loads (deck_stream)
+
     validate_model(model, source=f"{path} (not written)")
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
@@ -90,29 +96,16 @@ def write_deck(model: Model, path: str | Path) -> Path:
 
 
 def _write_contents(f: h5py.File, model: Model) -> None:
-    f.attrs[VERSION_ATTRIBUTE] = np.int32(DECK_VERSION)
-    if model.title:
-        f.attrs[TITLE_ATTRIBUTE] = model.title
-    for spec in DATASETS:
-        value = getattr(model, spec.python)
-        if value is None or getattr(model, spec.shape[0]) == 0:
-            continue   # no loads, tracked nodes or contacts: the optional group stays out
-        dtype = np.int32 if spec.type == "int" else np.float64
-        f.create_dataset(spec.path, data=np.ascontiguousarray(value, dtype=dtype))
-    for name_spec in NAME_ATTRIBUTES:
-        names = getattr(model, name_spec.python)
-        if names:
-            f.require_group(name_spec.group).attrs[name_spec.name] = np.array(
-                [str(n) for n in names], dtype=h5py.string_dtype())
-    control = f.require_group("/control")
-    for name in Control.REQUIRED + Control.OPTIONAL:
-        value = getattr(model.control, name)
-        if value is not None:
-            control.attrs[name] = np.float64(value)
-    for name in Control.STRINGS + tuple(SWITCH_ATTRIBUTES):
-        value = model.control.value(name)
-        if value is not None:
-            control.attrs[name] = str(value)
+    import h5py
+
+    for item in deck_items(model):
+        if item[0] == "dataset":
+            f.create_dataset(item[1], data=item[2])
+        else:
+            _, group, name, value = item
+            if isinstance(value, tuple):
+                value = np.array(value, dtype=h5py.string_dtype())
+            f.require_group(group).attrs[name] = value
 
 
 # ----------------------------------------------------------------------------------------------
@@ -125,6 +118,8 @@ def read_deck(path: str | Path) -> Model:
     source = str(path)
     if not path.is_file():
         raise DeckError(f"{source}: deck file not found; write it with paradyn.deck.write_deck")
+    import h5py
+
     try:
         f = h5py.File(path, "r")
     except OSError as exc:
@@ -145,6 +140,8 @@ def read_deck_arrays(path: str | Path, names: tuple[str, ...]) -> dict[str, np.n
     """Some datasets of a deck a run already used (so already checked), by their Python names
     (``thickness``, ``contact_pairs``...; None where absent): the post-processing's few numbers
     from the deck without reading and validating all of it again."""
+    import h5py
+
     paths = {spec.python: spec.path for spec in DATASETS}
     with h5py.File(path, "r") as f:
         return {name: (f[paths[name]][()] if paths[name] in f else None) for name in names}
@@ -167,6 +164,8 @@ def _check_version(f: h5py.File, source: str) -> None:
 
 
 def _read_arrays(f: h5py.File, source: str) -> dict[str, np.ndarray | None]:
+    import h5py
+
     arrays: dict[str, np.ndarray | None] = {}
     for spec in DATASETS:
         item = f.get(spec.path)

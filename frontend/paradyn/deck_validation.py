@@ -283,6 +283,12 @@ def _check_names(check: _Checker, sizes: dict[str, int]) -> None:
         if names and len(names) != sizes[spec.one_per]:
             check.fail(f"attribute {spec.name} on {spec.group} has {len(names)} names but there are "
                        f"{sizes[spec.one_per]} {SIZES[spec.one_per].entity}s; give one name each")
+        for name in names or ():
+            if "\0" in str(name):
+                check.fail(f"attribute {spec.name} on {spec.group}: the name {str(name)!r} holds a NUL character, "
+                           f"which HDF5 strings cannot; remove it")
+    if "\0" in (check.model.title or ""):
+        check.fail(f"the title {check.model.title!r} holds a NUL character, which HDF5 strings cannot; remove it")
 
 
 def _check_control(check: _Checker) -> None:

@@ -17,7 +17,7 @@ import signal
 import subprocess
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
@@ -148,11 +148,26 @@ class AwaitingEngine:
     process: subprocess.Popen
     command: list[str]
     environment: dict[str, str] = field(default_factory=dict)   #: the one it was started in
+    #: what the caller does while the engine reads its deck and runs (paradyn.run loads h5py)
+    on_go: Callable[[], None] | None = None
 
     def go(self) -> subprocess.Popen:
-        """The deck is written: the engine reads it and runs."""
+        """The deck is written: the engine reads it and runs; then :attr:`on_go`, if set, runs here."""
         self._tell("go\n")
+        if self.on_go is not None:
+            self.on_go()
         return self.process
+
+    def send_deck(self, stream: Iterable[bytes]) -> None:
+        """Send the deck itself (:func:`paradyn.deck_stream.encode`): the engine writes it to its
+        deck path and waits for :meth:`go`."""
+        assert self.process.stdin is not None
+        with contextlib.suppress(BrokenPipeError):   # an engine that failed: its status tells
+            self.process.stdin.write("deck\n")
+            self.process.stdin.flush()
+            for chunk in stream:
+                self.process.stdin.buffer.write(chunk)
+            self.process.stdin.buffer.flush()
 
     def cancel(self) -> None:
         """No deck will come: the engine ends (status 0, nothing written). Nothing once it was
@@ -166,6 +181,8 @@ class AwaitingEngine:
 
     def _tell(self, line: str) -> None:
         assert self.process.stdin is not None
+        if self.process.stdin.closed:
+            return
         with contextlib.suppress(BrokenPipeError):   # an engine that failed to start: its status tells
             self.process.stdin.write(line)
             self.process.stdin.close()

@@ -170,7 +170,8 @@ def run_engine(
     EngineError then says how to continue."""
     if ranks < 1 or threads < 1:
         raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
-    return make_runner(runner, ranks, deck_precision(deck)).run(deck, results, ranks, threads, on_progress=on_progress,
+    precision = None if started is not None else deck_precision(deck)   # a started engine is the deck's already
+    return make_runner(runner, ranks, precision).run(deck, results, ranks, threads, on_progress=on_progress,
                                                                  log_path=log_path, restart=restart,
                                                                  on_warning=on_warning, on_done=on_done,
                                                                  started=started)

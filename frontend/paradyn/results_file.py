@@ -7,23 +7,27 @@ that names the file, the dataset and what to do. :mod:`paradyn.reading` builds t
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import h5py
 import numpy as np
 
 from ._schema import ENERGY_NAMES, FRAME_FIELDS
+
+if TYPE_CHECKING:
+    from collections.abc import Mapping
+
+    import h5py
+
+    # an open file, or some of its datasets by full path (_opened_datasets): what ``in`` and ``[]`` need
+    Datasets = h5py.Group | Mapping[str, h5py.Dataset]
 
 SUPPORTED_RESULTS_VERSIONS = (1,)
 
 TRACKED_COMPONENTS = ("dx", "dy", "dz", "vx", "vy", "vz")
 # the frame fields of schema/results.toml, under the names Results gives them (element_ dropped)
 FRAME_DATASETS = {name.removeprefix("element_"): f"/frames/{name}" for name in FRAME_FIELDS if name != "time"}
-# an open file, or some of its datasets by full path (_opened_datasets): what ``in`` and ``[]`` need
-Datasets = h5py.Group | Mapping[str, h5py.Dataset]
 
 
 @dataclass(frozen=True)
@@ -50,6 +54,8 @@ class IncompleteResultsError(ResultsError):
 
 def open_results(path: Path) -> h5py.File:
     """Open ``path`` for reading; raise ResultsError saying why it cannot be opened."""
+    import h5py  # where a file is opened: paradyn-run loads it only once its engine runs (deck_stream)
+
     try:
         return h5py.File(path, "r")
     except OSError as exc:
@@ -220,6 +226,8 @@ def read_history(h5: h5py.File, path: Path, complete: bool) -> dict[str, np.ndar
 def _opened_datasets(h5: h5py.File, group: str) -> Datasets:
     """Every dataset of ``group``, opened once, by its full path: h5py looks a path up anew at
     each ``in`` and ``[]`` (20 to 40 us each), which was most of reading a short history."""
+    import h5py
+
     if group not in h5:
         return {}
     return {f"{group}/{name}": item for name, item in h5[group].items() if isinstance(item, h5py.Dataset)}

@@ -13,11 +13,14 @@ import re
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import h5py
 import numpy as np
 
 from .results_file import ResultsError, strings
+
+if TYPE_CHECKING:
+    import h5py
 
 DECK_FILE_NAME = "deck.h5"
 
@@ -119,6 +122,8 @@ def names_in_deck(results_path: Path, deck: str | Path | None, n_nodes: int) -> 
 
 
 def _read_deck_names(deck: Path, n_nodes: int) -> RunNames:
+    import h5py  # where a file is opened (results_file.open_results)
+
     try:
         h5 = h5py.File(deck, "r")
     except OSError as exc:

@@ -14,7 +14,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import h5py
 import numpy as np
 
 from . import grids
@@ -23,6 +22,7 @@ from .reading import Results, ResultsError
 from .results_file import frame_tails, open_results, read_frame_rows
 
 if TYPE_CHECKING:
+    import h5py
     import pyvista
 
 VTKHDF_VERSION = (2, 1)
@@ -38,6 +38,8 @@ def write_vtkhdf(results: Results, path: str | Path) -> Path:
     ParaView opens it with its time steps; from Python, :func:`read_step` reads step ``k``
     (pyvista's own ``pyvista.read`` gives the first step only).
     """
+    import h5py  # where a file is opened (results_file.open_results)
+
     path = Path(path)
     if results.n_frames == 0:
         raise ResultsError(f"{results.path} holds no field frames; there is nothing to write")
