@@ -12,6 +12,7 @@ run it before and after and compare with ``diff``.
 
 from __future__ import annotations
 
+import argparse
 import hashlib
 import sys
 from pathlib import Path
@@ -39,8 +40,13 @@ def history_digest(results: Path, step: bool = False) -> str:
 
 
 def main(argv: list[str]) -> int:
-    out = Path(argv[0]) if argv else Path("runs/fingerprint")
-    names = argv[1:] or sorted(p.parent.name for p in (ROOT / "cases").glob("pipe_whip*/scene.toml"))
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("out", nargs="?", type=Path, default=Path("runs/fingerprint"),
+                        help="folder for the runs (default runs/fingerprint)")
+    parser.add_argument("cases", nargs="*", help="case names (default: every cases/pipe_whip*)")
+    args = parser.parse_args(argv)
+    out = args.out
+    names = args.cases or sorted(p.parent.name for p in (ROOT / "cases").glob("pipe_whip*/scene.toml"))
     for name in names:
         folder = out / name
         paradyn.run(ROOT / "cases" / name / "scene.toml", folder, ranks=1, threads=2, post=False)
