@@ -86,7 +86,7 @@ def test_sbatch_writes_a_job_script_and_runs_nothing(tmp_path: Path) -> None:
     for line in ("#SBATCH --ntasks=2", "#SBATCH --cpus-per-task=3", "export OMP_NUM_THREADS=3",
                  "export SRUN_CPUS_PER_TASK=3"):
         assert line in script
-    assert f"srun -n 2 --cpus-per-task=3 --export=ALL {launch.engine_path()} {tmp_path / 'deck.h5'}" in script
+    assert f"srun -n 2 --cpus-per-task=3 --export=ALL --input=0 {launch.engine_path()} {tmp_path / 'deck.h5'}" in script
     assert f"-m paradyn.cli --post {tmp_path}" in script
     assert (tmp_path / "deck.h5").is_file() and not (tmp_path / "results.h5").exists()
 

@@ -100,7 +100,7 @@ def test_mpirun_on_one_machine_asks_for_shared_memory_messaging(monkeypatch: pyt
 
 def test_srun_passes_the_cpus_per_task() -> None:
     command = runners.SrunRunner(machine()).command(DECK, RESULTS, 4, 3)
-    assert command == ["srun", "-n", "4", "--cpus-per-task=3", "--export=ALL", str(ENGINE), str(DECK),
+    assert command == ["srun", "-n", "4", "--cpus-per-task=3", "--export=ALL", "--input=0", str(ENGINE), str(DECK),
                        str(RESULTS), "--expect-ranks=4"]
 
 
@@ -111,8 +111,8 @@ def test_sbatch_writes_a_job_script_and_refuses_to_run(tmp_path: Path) -> None:
     assert script == tmp_path / "job.sbatch"
     lines = script.read_text().splitlines()
     assert lines[0] == "#!/bin/bash" and f"#SBATCH --job-name=paradyn-{tmp_path.name}" in lines
-    srun = (f"srun -n 2 --cpus-per-task=3 --export=ALL {ENGINE} {tmp_path / 'deck.h5'} {tmp_path / 'results.h5'} "
-            "--expect-ranks=2 $restart || status=$?")
+    srun = (f"srun -n 2 --cpus-per-task=3 --export=ALL --input=0 {ENGINE} {tmp_path / 'deck.h5'} "
+            f"{tmp_path / 'results.h5'} --expect-ranks=2 $restart || status=$?")
     assert srun in lines
     assert lines[-1] == " ".join(post)
     with pytest.raises(EngineError, match="writes a job script"):

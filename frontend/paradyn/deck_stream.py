@@ -49,7 +49,7 @@ def deck_items(model: Model) -> Iterator[Item]:
             yield ("attribute", "/control", name, str(value))
 
 
-def encode(model: Model) -> Iterator[bytes]:
+def encode(model: Model) -> Iterator[bytes | memoryview]:
     """The deck of ``model`` as the engine's standard input reads it after the line ``deck``:
     a header line, then per item a line naming it and its bytes (little-endian numbers; each
     string as a line with its length in bytes, then its UTF-8 bytes), then ``end``."""
@@ -58,14 +58,14 @@ def encode(model: Model) -> Iterator[bytes]:
         if item[0] == "dataset":
             _, path, array = item
             yield f"dataset {path} {_kind(array)} {array.ndim} {' '.join(map(str, array.shape))}\n".encode()
-            yield array.tobytes()
+            yield array.data.cast("B")   # the array's own bytes (C order), not a copy
         else:
             _, group, name, value = item
             yield from _attribute(group, name, value)
     yield b"end\n"
 
 
-def _attribute(group: str, name: str, value: object) -> Iterator[bytes]:
+def _attribute(group: str, name: str, value: object) -> Iterator[bytes | memoryview]:
     if isinstance(value, (str, tuple)):
         strings = (value,) if isinstance(value, str) else value
         yield f"attribute {group} {name} string {0 if isinstance(value, str) else len(strings)}\n".encode()

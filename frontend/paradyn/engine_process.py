@@ -158,7 +158,7 @@ class AwaitingEngine:
             self.on_go()
         return self.process
 
-    def send_deck(self, stream: Iterable[bytes]) -> None:
+    def send_deck(self, stream: Iterable[bytes | memoryview]) -> None:
         """Send the deck itself (:func:`paradyn.deck_stream.encode`): the engine writes it to its
         deck path and waits for :meth:`go`."""
         assert self.process.stdin is not None
