@@ -174,8 +174,8 @@ contains
     integer :: p, i, m
     do p = 1, size(c%passes)
       associate (pass => c%passes(p))
-      pass%slave_at = places_in(c, c%held_node, pass%slaves)
-      pass%master_at = places_in(c, c%held_node, pass%masters)
+      pass%slave_at = held_slots(c, pass%slaves)
+      pass%master_at = held_slots(c, pass%masters)
       if (allocated(pass%segment_at)) deallocate (pass%segment_at)
       allocate (pass%segment_at(4, size(pass%segments, 2)))
       do i = 1, size(pass%segments, 2)
@@ -190,7 +190,7 @@ contains
       if (.not. allocated(pass%own_segments)) cycle
       if (allocated(pass%own_segment_at)) deallocate (pass%own_segment_at)
       allocate (pass%own_segment_at(4, size(pass%own_segments, 2)))
-      own_at = places_in(c, pass%segment_element, pass%own_element, search=.true.)
+      own_at = places_in(pass%segment_element, pass%own_element)
       do i = 1, size(pass%own_segments, 2)
         do m = 1, 4
           if (own_at(i) > 0) then   ! an own segment is held: its place among the segments
@@ -204,29 +204,42 @@ contains
     end do
   end subroutine contact_pass_slots
 
-  !> The place of each of ids in table (both ascending: one merge), 0 where absent; where ids is
-  !> not ascending, the slots of ids by slot_of (search: also for a table that is not the held one).
-  function places_in(c, table, ids, search) result(at)
+  !> The slots of contact nodes ids, 0 where not held: one merge with the ascending held_node
+  !> where ids ascend, else slot_of for each.
+  pure function held_slots(c, ids) result(at)
     type(contact_t), intent(in) :: c
+    integer, intent(in) :: ids(:)
+    integer :: at(size(ids)), i
+    if (ascending(ids)) then
+      at = merged_places(c%held_node, ids)
+    else
+      at = [(slot_of(c, ids(i)), i = 1, size(ids))]
+    end if
+  end function held_slots
+
+  !> The place of each of ids in the ascending table, 0 where absent: one merge where ids ascend,
+  !> else a search for each.
+  pure function places_in(table, ids) result(at)
     integer, intent(in) :: table(:), ids(:)
-    logical, intent(in), optional :: search
+    integer :: at(size(ids)), i, t
+    if (ascending(ids)) then
+      at = merged_places(table, ids)
+      return
+    end if
+    at = 0
+    do i = 1, size(ids)
+      t = sorted_position(table, ids(i))
+      if (t <= size(table)) then
+        if (table(t) == ids(i)) at(i) = t
+      end if
+    end do
+  end function places_in
+
+  !> places_in for ascending ids: one pass over both.
+  pure function merged_places(table, ids) result(at)
+    integer, intent(in) :: table(:), ids(:)
     integer :: at(size(ids)), i, t
     at = 0
-    if (size(ids) > 1) then
-      if (any(ids(2:) < ids(:size(ids) - 1))) then
-        if (present(search)) then
-          do i = 1, size(ids)
-            t = sorted_position(table, ids(i))
-            if (t <= size(table)) then
-              if (table(t) == ids(i)) at(i) = t
-            end if
-          end do
-        else
-          at = [(slot_of(c, ids(i)), i = 1, size(ids))]
-        end if
-        return
-      end if
-    end if
     t = 1
     do i = 1, size(ids)
       do while (t <= size(table))
@@ -236,6 +249,12 @@ contains
       if (t > size(table)) exit
       if (table(t) == ids(i)) at(i) = t
     end do
-  end function places_in
+  end function merged_places
+
+  pure logical function ascending(ids)
+    integer, intent(in) :: ids(:)
+    ascending = .true.
+    if (size(ids) > 1) ascending = all(ids(2:) >= ids(:size(ids) - 1))
+  end function ascending
 
 end module contact_slots
