@@ -1,4 +1,5 @@
-"""Writes frontend/paradyn/_schema.py: the deck and results tables as frozen dataclasses."""
+"""Writes frontend/paradyn/_schema.py: the deck and results tables as named tuples (immutable records
+that cost a sixth of a frozen dataclass to define when the module loads: docs/performance.md)."""
 
 from __future__ import annotations
 
@@ -8,16 +9,14 @@ from schema_model import Entry, Schema
 
 CLASSES = '''
 
-@dataclass(frozen=True)
-class Bound:
+class Bound(NamedTuple):
     """A bound on every entry; ``inclusive`` allows the bound itself."""
 
     value: float
     inclusive: bool
 
 
-@dataclass(frozen=True)
-class DatasetSpec:
+class DatasetSpec(NamedTuple):
     """One deck dataset (schema/deck.toml explains every field)."""
 
     path: str
@@ -41,8 +40,7 @@ class DatasetSpec:
     fix: str
 
 
-@dataclass(frozen=True)
-class AttributeSpec:
+class AttributeSpec(NamedTuple):
     """One attribute of /control (schema/deck.toml explains every field)."""
 
     name: str
@@ -62,15 +60,13 @@ class AttributeSpec:
     fix: str
 
 
-@dataclass(frozen=True)
-class SizeSpec:
+class SizeSpec(NamedTuple):
     symbol: str
     entity: str
     min_rows: int
 
 
-@dataclass(frozen=True)
-class ConditionSpec:
+class ConditionSpec(NamedTuple):
     """A group that exists, or a dataset with an entry equal to an enum member's code."""
 
     name: str
@@ -81,8 +77,7 @@ class ConditionSpec:
     rows: str                         # words for the rows it selects, for messages
 
 
-@dataclass(frozen=True)
-class RelationSpec:
+class RelationSpec(NamedTuple):
     """A hand-checked relation between fields; ``path`` is what its messages name."""
 
     name: str
@@ -90,8 +85,7 @@ class RelationSpec:
     meaning: str
 
 
-@dataclass(frozen=True)
-class NameAttributeSpec:
+class NameAttributeSpec(NamedTuple):
     group: str
     name: str
     python: str
@@ -187,7 +181,7 @@ def write(schema: Schema, header: str) -> str:
     deck, results = schema.deck, schema.results
     out = [f'"""{header}\n\nThe deck and results formats of docs/formats.md as Python tables; '
            'paradyn.deck validates\nwith them and paradyn.scene takes its defaults from them.\n"""',
-           "", "from __future__ import annotations", "", "from dataclasses import dataclass", CLASSES, ""]
+           "", "from __future__ import annotations", "", "from typing import NamedTuple", CLASSES, ""]
     out += [f"DECK_VERSION = {deck['version']!r}", f"VERSION_ATTRIBUTE = {deck['version_attribute']!r}",
             f"TITLE_ATTRIBUTE = {deck['title_attribute']!r}", f"DOF_NAMES = {tuple(deck['dof_names'])!r}",
             _names("RESTART_MAY_CHANGE", deck["restart_may_change"]), ""]

@@ -6,19 +6,17 @@ with them and paradyn.scene takes its defaults from them.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 
-@dataclass(frozen=True)
-class Bound:
+class Bound(NamedTuple):
     """A bound on every entry; ``inclusive`` allows the bound itself."""
 
     value: float
     inclusive: bool
 
 
-@dataclass(frozen=True)
-class DatasetSpec:
+class DatasetSpec(NamedTuple):
     """One deck dataset (schema/deck.toml explains every field)."""
 
     path: str
@@ -42,8 +40,7 @@ class DatasetSpec:
     fix: str
 
 
-@dataclass(frozen=True)
-class AttributeSpec:
+class AttributeSpec(NamedTuple):
     """One attribute of /control (schema/deck.toml explains every field)."""
 
     name: str
@@ -63,15 +60,13 @@ class AttributeSpec:
     fix: str
 
 
-@dataclass(frozen=True)
-class SizeSpec:
+class SizeSpec(NamedTuple):
     symbol: str
     entity: str
     min_rows: int
 
 
-@dataclass(frozen=True)
-class ConditionSpec:
+class ConditionSpec(NamedTuple):
     """A group that exists, or a dataset with an entry equal to an enum member's code."""
 
     name: str
@@ -82,8 +77,7 @@ class ConditionSpec:
     rows: str                         # words for the rows it selects, for messages
 
 
-@dataclass(frozen=True)
-class RelationSpec:
+class RelationSpec(NamedTuple):
     """A hand-checked relation between fields; ``path`` is what its messages name."""
 
     name: str
@@ -91,8 +85,7 @@ class RelationSpec:
     meaning: str
 
 
-@dataclass(frozen=True)
-class NameAttributeSpec:
+class NameAttributeSpec(NamedTuple):
     group: str
     name: str
     python: str
