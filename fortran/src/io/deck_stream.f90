@@ -16,6 +16,7 @@ module deck_stream
   public :: stream_reader_t, write_streamed_deck
 
   integer, parameter :: buffer_bytes = 65536
+  integer, parameter :: bad_stream = 1, unwritable = 2   !< write_streamed_deck's failures
 
   !> Standard input read as bytes: the first line, then the stream, without a Fortran unit's buffer
   !> taking bytes that belong to the stream.
@@ -50,7 +51,7 @@ module deck_stream
 contains
 
   !> Reads the stream that follows the line `deck` and writes it to `path` (status 0), or says
-  !> in `message` what was wrong with it (1: the stream, 2: the file) and leaves no file.
+  !> in `message` what was wrong (bad_stream or unwritable) and leaves no file.
   subroutine write_streamed_deck(input, path, status, message)
     class(stream_reader_t), intent(inout) :: input
     character(len=*), intent(in) :: path
@@ -62,7 +63,7 @@ contains
     logical :: done
     temporary = hidden_beside(path)
     message = ''
-    status = 2
+    status = unwritable
     call h5fcreate_f(temporary, H5F_ACC_TRUNC_F, file, err)
     if (err /= 0) then
       message = 'cannot create '//temporary//'; check that the folder is writable and has space'
@@ -70,7 +71,7 @@ contains
     end if
     status = 0
     call input%line(header)
-    if (header /= 'paradyn-deck-stream 1') call stream_error(status, message, 'it does not start with '// &
+    if (header /= 'paradyn-deck-stream 1') call note_failure(status, message, bad_stream, 'it does not start with '// &
                                                                '"paradyn-deck-stream 1" but "'//header//'"')
     done = .false.
     do while (status == 0 .and. .not. done)
@@ -78,23 +79,23 @@ contains
       if (header == 'end') then
         done = .true.
       else if (input%ended) then
-        call stream_error(status, message, 'it ended before its line "end" (the frontend stopped while sending it)')
+        call note_failure(status, message, bad_stream, 'it ended before its line "end" (the frontend stopped while sending it)')
       else if (index(header, 'dataset ') == 1) then
         call write_dataset(input, file, header(9:), status, message)
       else if (index(header, 'attribute ') == 1) then
         call write_attribute(input, file, header(11:), status, message)
       else
-        call stream_error(status, message, 'unexpected line "'//header//'"')
+        call note_failure(status, message, bad_stream, 'unexpected line "'//header//'"')
       end if
     end do
     call h5fclose_f(file, err)
     if (status == 0 .and. err /= 0) then
-      status = 2
+      status = unwritable
       message = 'cannot write '//path//' (the disk is full or the file system failed); free space and rerun'
     end if
     if (status == 0) then
       if (c_rename(temporary//c_null_char, path//c_null_char) /= 0) then
-        status = 2
+        status = unwritable
         message = 'cannot rename '//temporary//' to '//path//'; check the folder''s permissions'
       end if
     end if
@@ -124,14 +125,14 @@ contains
     end do
     file_type = numeric_type(words(2))
     if (err /= 0 .or. file_type < 0 .or. any(dims(:max(rank, 1)) < 0)) then
-      call stream_error(status, message, 'bad dataset line "dataset '//trim(fields)//'"')
+      call note_failure(status, message, bad_stream, 'bad dataset line "dataset '//trim(fields)//'"')
       return
     end if
     values = product(dims(:rank))
     allocate (bytes(values * type_bytes(words(2))))
     call input%bytes(bytes)
     if (input%ended) then
-      call stream_error(status, message, 'it ended inside dataset '//trim(words(1)))
+      call note_failure(status, message, bad_stream, 'it ended inside dataset '//trim(words(1)))
       return
     end if
     call h5pcreate_f(H5P_LINK_CREATE_F, links, err)
@@ -140,7 +141,7 @@ contains
     call h5dcreate_f(file, trim(words(1)), file_type, space, dataset, k, lcpl_id=links)
     address = c_loc(bytes)
     if (k == 0 .and. values > 0) call h5dwrite_f(dataset, file_type, address, k)
-    if (k /= 0) call file_error(status, message, 'dataset '//trim(words(1)))
+    if (k /= 0) call note_failure(status, message, unwritable, 'dataset '//trim(words(1)))
     call h5dclose_f(dataset, err)
     call h5sclose_f(space, err)
     call h5pclose_f(links, err)
@@ -168,7 +169,7 @@ contains
     err = 1
     if (n_words == 4) read (words(4), *, iostat=err) count
     if (err /= 0 .or. count < 0 .or. (kind /= 'string' .and. numeric_type(kind) < 0)) then
-      call stream_error(status, message, 'bad attribute line "attribute '//trim(fields)//'"')
+      call note_failure(status, message, bad_stream, 'bad attribute line "attribute '//trim(fields)//'"')
       return
     end if
     if (kind == 'string') then
@@ -181,7 +182,7 @@ contains
       call h5tcopy_f(numeric_type(kind), file_type, err)
     end if
     if (input%ended) then
-      call stream_error(status, message, 'it ended inside attribute '//trim(name)//' of '//trim(object))
+      call note_failure(status, message, bad_stream, 'it ended inside attribute '//trim(name)//' of '//trim(object))
       call h5tclose_f(file_type, err)
       return
     end if
@@ -201,7 +202,7 @@ contains
       call h5awrite_f(attribute, file_type, address, k)
       call h5aclose_f(attribute, err)
     end if
-    if (k /= 0) call file_error(status, message, 'attribute '//trim(name)//' of '//trim(object))
+    if (k /= 0) call note_failure(status, message, unwritable, 'attribute '//trim(name)//' of '//trim(object))
     if (location /= file) call h5gclose_f(location, err)
     call h5sclose_f(space, err)
     call h5tclose_f(file_type, err)
@@ -350,24 +351,21 @@ contains
     size = merge(4, 8, kind == 'int32')
   end function type_bytes
 
-  subroutine stream_error(status, message, what)
+  !> Keeps the first failure: `what` is wrong with the stream (1) or cannot be written (2).
+  subroutine note_failure(status, message, code, what)
     integer, intent(inout) :: status
     character(len=*), intent(inout) :: message
+    integer, intent(in) :: code
     character(len=*), intent(in) :: what
     if (status /= 0) return
-    status = 1
-    message = 'the deck stream on standard input is not one the engine reads: '//what// &
-              ' (docs/formats.md, "Deck stream"); use the paradyn frontend of this engine'
-  end subroutine stream_error
-
-  subroutine file_error(status, message, what)
-    integer, intent(inout) :: status
-    character(len=*), intent(inout) :: message
-    character(len=*), intent(in) :: what
-    if (status /= 0) return
-    status = 2
-    message = 'cannot write '//what//' of the deck (the disk is full or the file system failed); free space and rerun'
-  end subroutine file_error
+    status = code
+    if (code == bad_stream) then
+      message = 'the deck stream on standard input is not one the engine reads: '//what// &
+                ' (docs/formats.md, "Deck stream"); use the paradyn frontend of this engine'
+    else
+      message = 'cannot write '//what//' of the deck (the disk is full or the file system failed); free space and rerun'
+    end if
+  end subroutine note_failure
 
   !> `.NAME.PID.tmp` in the folder of `path`.
   function hidden_beside(path) result(temporary)
