@@ -170,8 +170,9 @@ class AwaitingEngine:
             self.process.stdin.buffer.flush()
 
     def cancel(self) -> None:
-        """No deck will come: the engine ends (status 0, nothing written). Nothing once it was
-        told to go (its run is followed, and ended, elsewhere)."""
+        """No run will come: the engine ends with status 0 without running (a deck it was sent
+        stays written, nothing else). Nothing once it was told to go (its run is followed, and
+        ended, elsewhere)."""
         assert self.process.stdin is not None
         if self.process.stdin.closed:
             return
