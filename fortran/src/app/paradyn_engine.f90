@@ -28,7 +28,7 @@ program paradyn_engine
   use singleton_start, only: prefer_light_singleton, remove_session_base
   use process_environment, only: default_environment
   use run_names, only: copy_run_names
-  use deck_stream, only: stream_reader_t, write_streamed_deck
+  use deck_stream, only: stream_reader_t, write_streamed_deck, bad_stream
   use deck_effects, only: effects_of_deck
   use contact_checks, only: resolve_initial_penetrations
   use contact_rows, only: replicated_contact_deck
@@ -349,7 +349,7 @@ contains
       call input%line(line)
       if (line == 'deck') then
         call write_streamed_deck(input, trim(deck_path), err, message)
-        if (err /= 0) verdict = merge(status_bad_input, status_failure, err == 1)
+        if (err /= 0) verdict = merge(status_bad_input, status_failure, err == bad_stream)
         if (err == 0) call input%line(line)   ! the deck is written: now `go`, as after a deck file
       end if
       if (verdict < 0 .and. line == 'go') verdict = 0

@@ -13,7 +13,7 @@ module deck_stream
   use hdf5
   implicit none
   private
-  public :: stream_reader_t, write_streamed_deck
+  public :: stream_reader_t, write_streamed_deck, bad_stream
 
   integer, parameter :: buffer_bytes = 65536
   integer, parameter :: bad_stream = 1, unwritable = 2   !< write_streamed_deck's failures
