@@ -3,6 +3,7 @@ refuses a broken stream without leaving a file, and a run loads h5py only once i
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -87,16 +88,19 @@ def test_a_unicode_title_and_names_come_through(tmp_path: Path) -> None:
     assert again.title == model.title and list(again.part_names) == model.part_names
 
 
-@pytest.mark.parametrize("cut", ["inside", "before_end", "bad_line"])
+@pytest.mark.parametrize("cut", ["inside", "before_end", "bad_line", "bad_length"])
 def test_a_broken_stream_stops_the_engine_and_leaves_no_file(tmp_path: Path, cut: str) -> None:
     stream = b"".join(deck_stream.encode(_model(SCENES[1])))
     broken = {"inside": stream[: len(stream) // 2], "before_end": stream.removesuffix(b"end\n"),
-              "bad_line": stream.replace(b"dataset /nodes/coordinates float64", b"dataset /nodes/coordinates real")}
+              "bad_line": stream.replace(b"dataset /nodes/coordinates float64", b"dataset /nodes/coordinates real"),
+              "bad_length": re.sub(rb"(attribute / title string 0\n)\d+\n", rb"\1-3\n", stream, count=1)}
+    assert broken[cut] != stream
     ran = _send(tmp_path, broken[cut])
     assert ran.returncode == 2
     message = ran.stderr.decode()
     assert "deck stream" in message and "docs/formats.md" in message
     assert ("bad dataset line" in message) == (cut == "bad_line")
+    assert ("bad string length" in message) == (cut == "bad_length")
     assert list(tmp_path.iterdir()) == []
 
 

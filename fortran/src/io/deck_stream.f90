@@ -157,6 +157,7 @@ contains
     character(len=*), intent(inout) :: message
     character(len=256) :: words(4), object, name, kind
     integer :: n_words, count, err, k
+    logical :: ok
     integer(hid_t) :: file_type, space, location, attribute
     integer(c_int8_t), allocatable, target :: bytes(:)
     character(kind=c_char), allocatable, target :: text(:)
@@ -173,7 +174,12 @@ contains
       return
     end if
     if (kind == 'string') then
-      call read_strings(input, max(count, 1), text, starts)
+      call read_strings(input, max(count, 1), text, starts, ok)
+      if (.not. ok) then
+        call note_failure(status, message, bad_stream, 'a bad string length in attribute '//trim(name)//' of '// &
+                          trim(object))
+        return
+      end if
       call h5tcopy_f(H5T_STRING, file_type, err)   ! the Fortran API's variable-length C string
       call h5tset_cset_f(file_type, H5T_CSET_UTF8_F, err)
     else
@@ -209,21 +215,25 @@ contains
   end subroutine write_attribute
 
   !> `count` strings, each a line with its length in bytes and then its bytes, as C strings and
-  !> the pointers HDF5 writes variable-length strings from.
-  subroutine read_strings(input, count, text, starts)
+  !> the pointers HDF5 writes variable-length strings from; ok is false for a length that is not
+  !> a count of bytes.
+  subroutine read_strings(input, count, text, starts, ok)
     class(stream_reader_t), intent(inout) :: input
     integer, intent(in) :: count
     character(kind=c_char), allocatable, target, intent(out) :: text(:)
     type(c_ptr), allocatable, intent(out) :: starts(:)
+    logical, intent(out) :: ok
     integer :: lengths(count), first(count), k, err, total
     integer(c_int8_t), allocatable :: bytes(:)
     character(len=:), allocatable :: header
     allocate (bytes(0))
     total = 0
+    ok = .true.
     do k = 1, count
       call input%line(header)
       read (header, *, iostat=err) lengths(k)
-      if (err /= 0 .or. input%ended) lengths(k) = 0
+      if (err /= 0 .or. lengths(k) < 0) ok = input%ended   ! the end of input is reported by the caller
+      if (err /= 0 .or. lengths(k) < 0 .or. input%ended) lengths(k) = 0
       first(k) = total + 1
       bytes = [bytes, read_exactly(input, lengths(k)), 0_c_int8_t]
       total = total + lengths(k) + 1
