@@ -166,10 +166,11 @@ class _Writer:
                       "  type :: enum_spec_t", "    integer :: n_members",
                       "    integer :: codes(max_enum_members)",
                       f"    character(len={n['member']}) :: names(max_enum_members)", "  end type enum_spec_t",
-                      "", "  !> A group that exists (group), or a dataset with an entry equal to code.",
+                      "", "  !> A group that exists (group), or a dataset with an entry equal to one of codes.",
                       "  type :: condition_spec_t", f"    character(len={n['group']}) :: group",
                       "    integer :: dataset                  !< dataset id, 0 for a group condition",
-                      "    integer :: code",
+                      "    integer :: n_codes                  !< the codes it selects: codes(1:n_codes)",
+                      "    integer :: codes(max_enum_members)",
                       f"    character(len={n['rows']}) :: rows   !< the rows it selects, in words",
                       "  end type condition_spec_t", "",
                       "  !> One deck dataset (schema/deck.toml explains every field).",
@@ -223,9 +224,13 @@ class _Writer:
                                                + ", ".join(text(m["name"]) for m in members) + "]"], "    ", ")"))
         self._array("type(enum_spec_t)", "deck_enums(n_enums)", rows)
         ids = {d.name: k for k, d in enumerate(s.datasets, start=1)}
-        rows = [_pack("condition_spec_t(", [text(c.get("group", "")), str(ids.get(c.get("dataset"), 0)),
-                                            str(s.condition_code(name) or 0), text(c.get("rows", ""))], "    ", ")")
-                for name, c in s.conditions.items()]
+        width = max(len(x["members"]) for x in s.enums.values())
+        rows = []
+        for name, c in s.conditions.items():
+            codes = list(s.condition_codes(name))
+            padded = "[" + ", ".join(str(k) for k in codes + [0] * (width - len(codes))) + "]"
+            rows.append(_pack("condition_spec_t(", [text(c.get("group", "")), str(ids.get(c.get("dataset"), 0)),
+                                                    str(len(codes)), padded, text(c.get("rows", ""))], "    ", ")"))
         self._array("type(condition_spec_t)", "deck_conditions(n_conditions)", rows)
         references = {v["entity"]: f"size_{k}" for k, v in s.sizes.items()}
         rows = []
@@ -271,10 +276,27 @@ class _Writer:
         self.types(self.n)
         self.tables()
         self.public += ["enum_name", "enum_code"]
+        predicates = self.trait_predicates()
         publics = _pack("public :: ", self.public, "  ")
         lines = [f"!> {h}" for h in header] + [
             "module paradyn_schema", "  use paradyn_kinds, only: wp", "  implicit none", "  private"]
-        return "\n".join([*lines, *publics, *self.body, _ENUM_LOOKUPS, "", "end module paradyn_schema", ""])
+        return "\n".join([*lines, *publics, *self.body, _ENUM_LOOKUPS, *predicates, "",
+                          "end module paradyn_schema", ""])
+
+    def trait_predicates(self) -> list[str]:
+        """One elemental predicate per (enum, trait): ``<prefix>_is_<trait>(code)``, true for the
+        members that carry the trait, so that no code outside a family compares its codes."""
+        out: list[str] = []
+        for enum, trait in self.s.traits():
+            name = f"{self.s.enums[enum]['fortran_prefix']}_is_{trait}"
+            codes = self.s.enum_codes(enum)
+            members = self.s.trait_members(enum, trait)
+            self.public.append(name)
+            out += ["", f"  !> Whether a code of enum {enum} has the trait {trait} ({', '.join(members)})",
+                    f"  elemental logical function {name}(code) result(has)", "    integer, intent(in) :: code",
+                    f"    has = any(code == [{', '.join(str(codes[m]) for m in members)}])",
+                    f"  end function {name}"]
+        return out
 
 
 # The two lookups between an enum's codes and names, the same for every enum

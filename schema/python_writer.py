@@ -67,12 +67,12 @@ class SizeSpec(NamedTuple):
 
 
 class ConditionSpec(NamedTuple):
-    """A group that exists, or a dataset with an entry equal to an enum member's code."""
+    """A group that exists, or a dataset with an entry equal to one of some enum members' codes."""
 
     name: str
     group: str | None
     dataset: str | None
-    code: int | None
+    codes: tuple[int, ...]            # the codes it selects (empty for a group condition)
     meaning: str
     rows: str                         # words for the rows it selects, for messages
 
@@ -187,13 +187,18 @@ def write(schema: Schema, header: str) -> str:
             _names("RESTART_MAY_CHANGE", deck["restart_may_change"]), ""]
     out.append("ENUMS: dict[str, dict[str, int]] = {")
     out += [f"    {name!r}: {schema.enum_codes(name)!r}," for name in schema.enums]
+    out += ["}", "", "# The members of an enum that carry a trait (schema/deck.toml traits): ask a trait, not a name",
+            "ENUM_TRAITS: dict[str, dict[str, tuple[str, ...]]] = {"]
+    for enum in dict.fromkeys(e for e, _ in schema.traits()):
+        traits = {t: tuple(schema.trait_members(enum, t)) for e, t in schema.traits() if e == enum}
+        out.append(f"    {enum!r}: {traits!r},")
     out += ["}", "", "SIZES: dict[str, SizeSpec] = {"]
     out += [f"    {k!r}: SizeSpec({k!r}, {v['entity']!r}, {v['min_rows']!r})," for k, v in schema.sizes.items()]
     out += ["}", "", "CONDITIONS: dict[str, ConditionSpec] = {"]
     for name, c in schema.conditions.items():
-        code = schema.condition_code(name)
         out.append(_call("ConditionSpec", [("name", name), ("group", c.get("group")), ("dataset", c.get("dataset")),
-                                           ("code", code), ("meaning", c["meaning"]), ("rows", c.get("rows", ""))])
+                                           ("codes", schema.condition_codes(name)), ("meaning", c["meaning"]),
+                                           ("rows", c.get("rows", ""))])
                    .replace("    ConditionSpec(", f"    {name!r}: ConditionSpec(", 1))
     out += ["}", "", "RELATIONS: dict[str, RelationSpec] = {"]
     out += [_call("RelationSpec", [("name", k), ("path", v["path"]), ("meaning", v["meaning"])], positional=True)

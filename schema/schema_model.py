@@ -65,13 +65,29 @@ class Schema:
     def enum_codes(self, name: str) -> dict[str, int]:
         return {m["name"]: int(m["code"]) for m in self.enums[name]["members"]}
 
-    def condition_code(self, name: str) -> int | None:
-        """Code that a dataset condition compares with (None for a group condition)."""
+    def trait_members(self, enum: str, trait: str) -> list[str]:
+        """The members of an enum that carry a trait (``traits = [...]`` on a member)."""
+        return [m["name"] for m in self.enums[enum]["members"] if trait in m.get("traits", [])]
+
+    def traits(self) -> list[tuple[str, str]]:
+        """Every (enum, trait) pair the members name, in schema order: one predicate each."""
+        found: list[tuple[str, str]] = []
+        for name, enum in self.enums.items():
+            for m in enum["members"]:
+                found += [(name, t) for t in m.get("traits", []) if (name, t) not in found]
+        return found
+
+    def condition_codes(self, name: str) -> tuple[int, ...]:
+        """Codes a dataset condition selects (empty for a group condition): the member it
+        ``equals``, or every member that ``has_trait``."""
         condition = self.conditions[name]
-        if "equals" not in condition:
-            return None
+        if "equals" not in condition and "has_trait" not in condition:
+            return ()
         dataset = next(d for d in self.datasets if d.name == condition["dataset"])
-        return self.enum_codes(dataset.get("enum"))[condition["equals"]]
+        codes = self.enum_codes(dataset.get("enum"))
+        if "equals" in condition:
+            return (codes[condition["equals"]],)
+        return tuple(codes[m] for m in self.trait_members(dataset.get("enum"), condition["has_trait"]))
 
     def rules(self) -> list[tuple[str, str, str]]:
         """Every rule a damaged deck can break: (what, name, rule), what in version, dataset,

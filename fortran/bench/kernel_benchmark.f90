@@ -75,6 +75,7 @@ contains
     real(wp) :: us(2)
     real(wp), allocatable :: x(:, :, :, :), v(:, :, :, :), w(:, :, :, :), force(:, :, :)
     real(ek), allocatable :: stress(:, :, :, :), back(:, :, :, :), eps_p(:, :, :), hg(:, :, :)   ! element state: kind ek
+    real(ek), allocatable :: state(:, :, :, :)   ! the material member's own state per point
     real(wp), allocatable :: e_int(:, :), e_hg(:, :)
     real(wp) :: r(3), dt_element(group_size)
     integer :: g, i, k, c, inverted
@@ -83,6 +84,7 @@ contains
     allocate (x(group_size, 3, 4, n_groups), v(group_size, 3, 4, n_groups), w(group_size, 3, 4, n_groups))
     allocate (stress(group_size, stress_components, 5, n_groups), back(group_size, 3, 5, n_groups))
     allocate (eps_p(group_size, 5, n_groups), hg(group_size, hourglass_components, n_groups))
+    allocate (state(group_size, p%material%state_width(), 5, n_groups), source=0.0_ek)
     allocate (e_int(group_size, n_groups), e_hg(group_size, n_groups), force(6, 4, group_size))
     stress = 0
     back = 0
@@ -109,7 +111,8 @@ contains
     do c = 1, n_cycles
       do g = 1, n_groups
         call blt_internal_forces(group_size, x(:, :, :, g), v(:, :, :, g), w(:, :, :, g), p, 1.0e-7_wp, &
-                                 stress(:, :, :, g), back(:, :, :, g), eps_p(:, :, g), hg(:, :, g), force, &
+                                 stress(:, :, :, g), back(:, :, :, g), eps_p(:, :, g), state(:, :, :, g), hg(:, :, g), &
+                                 force, &
                                  e_int(:, g), e_hg(:, g), inverted, dt_element)
       end do
     end do

@@ -53,6 +53,7 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   integer, intent(out) :: inverted
   type(shell_properties_t) :: props
   real(wp) :: dt_element(n), corner_force(6, 4, n)
+  real(wp), allocatable :: state(:, :, :)   ! the material member's own state (none for elastic and J2)
   props = shell_properties_t(thickness=thickness, density=density, young=young, poisson=poisson, &
                              hourglass_coefficient=hourglass_coefficient, integration_points=nip, &
                              hourglass_form=hourglass_form, warping_correction=warping_correction /= 0)
@@ -60,7 +61,8 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
                           props%material)
   if (props%material%has_history()) props%hourglass_yield = yield_stress
   inverted = 0
-  call blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, hourglass, corner_force, &
+  allocate (state(n, props%material%state_width(), nip), source=0.0_wp)
+  call blt_internal_forces(n, x, v, w, props, dt, stress, back, eps_p, state, hourglass, corner_force, &
                            e_internal, e_hourglass, inverted, dt_element)
   force = reshape(corner_force, [n, 6, 4], order=[2, 3, 1])   ! (component, corner, element) -> (i, c, k)
 end subroutine blt_forces

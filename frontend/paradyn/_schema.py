@@ -67,12 +67,12 @@ class SizeSpec(NamedTuple):
 
 
 class ConditionSpec(NamedTuple):
-    """A group that exists, or a dataset with an entry equal to an enum member's code."""
+    """A group that exists, or a dataset with an entry equal to one of some enum members' codes."""
 
     name: str
     group: str | None
     dataset: str | None
-    code: int | None
+    codes: tuple[int, ...]            # the codes it selects (empty for a group condition)
     meaning: str
     rows: str                         # words for the rows it selects, for messages
 
@@ -113,6 +113,12 @@ ENUMS: dict[str, dict[str, int]] = {
     'precision': {'double': 1, 'mixed': 2},
 }
 
+# The members of an enum that carry a trait (schema/deck.toml traits): ask a trait, not a name
+ENUM_TRAITS: dict[str, dict[str, tuple[str, ...]]] = {
+    'material_model': {'plastic': ('j2_plasticity',)},
+    'contact_kind': {'self_contact': ('single_surface',)},
+}
+
 SIZES: dict[str, SizeSpec] = {
     'n_nodes': SizeSpec('n_nodes', 'node', 1),
     'n_elements': SizeSpec('n_elements', 'element', 1),
@@ -130,30 +136,30 @@ SIZES: dict[str, SizeSpec] = {
 
 CONDITIONS: dict[str, ConditionSpec] = {
     'loads_group': ConditionSpec(
-        name='loads_group', group='/loads', dataset=None, code=None, meaning='the group /loads exists', rows='',
+        name='loads_group', group='/loads', dataset=None, codes=(), meaning='the group /loads exists', rows='',
     ),
     'contact_group': ConditionSpec(
-        name='contact_group', group='/contact', dataset=None, code=None, meaning='the group /contact exists',
+        name='contact_group', group='/contact', dataset=None, codes=(), meaning='the group /contact exists',
         rows='',
     ),
     'rigid_walls_group': ConditionSpec(
-        name='rigid_walls_group', group='/rigid_walls', dataset=None, code=None,
+        name='rigid_walls_group', group='/rigid_walls', dataset=None, codes=(),
         meaning='the group /rigid_walls exists', rows='',
     ),
     'curves_group': ConditionSpec(
-        name='curves_group', group='/curves', dataset=None, code=None, meaning='the group /curves exists', rows='',
+        name='curves_group', group='/curves', dataset=None, codes=(), meaning='the group /curves exists', rows='',
     ),
     'pressure_group': ConditionSpec(
-        name='pressure_group', group='/pressure', dataset=None, code=None, meaning='the group /pressure exists',
+        name='pressure_group', group='/pressure', dataset=None, codes=(), meaning='the group /pressure exists',
         rows='',
     ),
     'prescribed_group': ConditionSpec(
-        name='prescribed_group', group='/prescribed', dataset=None, code=None,
+        name='prescribed_group', group='/prescribed', dataset=None, codes=(),
         meaning='the group /prescribed exists', rows='',
     ),
-    'j2_plasticity': ConditionSpec(
-        name='j2_plasticity', group=None, dataset='/materials/model', code=2,
-        meaning='some /materials/model is j2_plasticity', rows='for a j2_plasticity material',
+    'plastic': ConditionSpec(
+        name='plastic', group=None, dataset='/materials/model', codes=(2,),
+        meaning='some /materials/model is plastic (j2_plasticity)', rows='for a plastic material',
     ),
 }
 
@@ -314,19 +320,19 @@ DATASETS: tuple[DatasetSpec, ...] = (
         "Poisson's ratio nu", '[[material]] poisson_ratio', 'give a Poisson ratio such as 0.3',
     ),
     DatasetSpec(
-        '/materials/yield_stress', 'yield_stress', 'float', ('n_materials',), False, 'j2_plasticity',
-        'j2_plasticity', 0.0, Bound(0.0, False), None, 'must be > 0', None, '', None, False, 'Pa',
-        'initial yield stress', '[[material]] yield_stress', 'give the initial yield stress in Pa',
+        '/materials/yield_stress', 'yield_stress', 'float', ('n_materials',), False, 'plastic', 'plastic', 0.0,
+        Bound(0.0, False), None, 'must be > 0', None, '', None, False, 'Pa', 'initial yield stress',
+        '[[material]] yield_stress', 'give the initial yield stress in Pa',
     ),
     DatasetSpec(
-        '/materials/tangent_modulus', 'tangent_modulus', 'float', ('n_materials',), False, 'j2_plasticity',
-        'j2_plasticity', 0.0, Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 'Pa',
+        '/materials/tangent_modulus', 'tangent_modulus', 'float', ('n_materials',), False, 'plastic', 'plastic',
+        0.0, Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 'Pa',
         'plastic tangent modulus Et, below E (0 = perfectly plastic)', '[[material]] tangent_modulus',
         "give the plastic tangent modulus in Pa below Young's modulus (0 = perfectly plastic)",
     ),
     DatasetSpec(
-        '/materials/hardening_mixing', 'hardening_mixing', 'float', ('n_materials',), False, 'j2_plasticity',
-        'j2_plasticity', 1.0, Bound(0.0, True), Bound(1.0, True), 'must be in [0, 1]', None, '', None, False, '-',
+        '/materials/hardening_mixing', 'hardening_mixing', 'float', ('n_materials',), False, 'plastic', 'plastic',
+        1.0, Bound(0.0, True), Bound(1.0, True), 'must be in [0, 1]', None, '', None, False, '-',
         'beta: 1 isotropic, 0 kinematic hardening', '[[material]] hardening_mixing',
         'use 1 for isotropic, 0 for kinematic hardening or a mix in between',
     ),

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from paradyn._schema import CONTROL, DATASETS, EFFECT_SWITCHES, ENUMS
+from paradyn._schema import CONTROL, DATASETS, EFFECT_SWITCHES, ENUM_TRAITS, ENUMS
 
 CONTROL_BY_NAME = {a.name: a for a in CONTROL}
 DATASET_BY_ATTRIBUTE = {d.python: d for d in DATASETS}
@@ -236,7 +236,8 @@ class Model:
 
     @property
     def uses_plasticity(self) -> bool:
-        return bool(np.any(np.asarray(self.material_model) == J2_PLASTICITY))
+        plastic = [ENUMS["material_model"][name] for name in ENUM_TRAITS["material_model"]["plastic"]]
+        return bool(np.any(np.isin(np.asarray(self.material_model), plastic)))
 
 
 def _as_array(value: object, kind: str) -> np.ndarray:

@@ -11,12 +11,28 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from paradyn._schema import CONDITIONS, CONTROL, DATASETS, ENUMS, NAME_ATTRIBUTES, SIZES, AttributeSpec, DatasetSpec
+from paradyn._schema import (
+    CONDITIONS,
+    CONTROL,
+    DATASETS,
+    ENUM_TRAITS,
+    ENUMS,
+    NAME_ATTRIBUTES,
+    SIZES,
+    AttributeSpec,
+    DatasetSpec,
+)
 
 if TYPE_CHECKING:
     from paradyn.deck_model import Model
 
-J2_PLASTICITY = ENUMS["material_model"]["j2_plasticity"]
+
+
+def trait_codes(enum: str, trait: str) -> list[int]:
+    """The codes of the members of ``enum`` that carry ``trait`` (schema/deck.toml ``traits``)."""
+    return [ENUMS[enum][name] for name in ENUM_TRAITS[enum][trait]]
+
+
 _BY_ATTRIBUTE = {d.python: d for d in DATASETS}
 _BY_PATH = {d.path: d for d in DATASETS}
 _SYMBOL_OF = {s.entity: s.symbol for s in SIZES.values()}
@@ -106,7 +122,7 @@ class _Checker:
         if spec.checked_when is None:
             return np.ones(a.shape, dtype=bool), ""
         condition = CONDITIONS[spec.checked_when]
-        selected = self.array(_BY_PATH[condition.dataset].python) == condition.code
+        selected = np.isin(self.array(_BY_PATH[condition.dataset].python), condition.codes)
         return selected.reshape(selected.shape + (1,) * (a.ndim - 1)) & np.ones(a.shape, dtype=bool), \
             f" {condition.rows}"
 
@@ -156,9 +172,10 @@ def _check_presence(check: _Checker) -> None:
         condition = CONDITIONS.get(spec.required_when or "")
         if condition is None or condition.dataset is None or getattr(check.model, spec.python) is not None:
             continue
-        holds = np.flatnonzero(check.array(_BY_PATH[condition.dataset].python) == condition.code)
+        values = check.array(_BY_PATH[condition.dataset].python)
+        holds = np.flatnonzero(np.isin(values, condition.codes))
         if holds.size:
-            check.fail(f"{spec.path} is missing but {condition.dataset}[{int(holds[0])}] = {condition.code}; it is "
+            check.fail(f"{spec.path} is missing but {condition.dataset}[{int(holds[0])}] = {values[holds[0]]}; it is "
                        f"required when {condition.meaning}: give it for every {SIZES[spec.shape[0]].entity}")
 
 
@@ -173,18 +190,18 @@ def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
                    f"quadrilateral needs four distinct nodes (remesh without collapsed elements)")
     _check_distinct_elements(check, conn)
     _check_element_shapes(check, conn)
-    plastic = check.array("material_model") == J2_PLASTICITY
+    plastic = np.isin(check.array("material_model"), trait_codes("material_model", "plastic"))
     if np.any(plastic):
         tangent, young = check.array("tangent_modulus"), check.array("youngs_modulus")
         bad = np.flatnonzero(plastic & ~(tangent < young))
         if bad.size:
             i = int(bad[0])
             check.fail(f"/materials/tangent_modulus[{i}] = {_fmt(tangent[i])} must be below "
-                       f"/materials/youngs_modulus[{i}] = {_fmt(young[i])} for a j2_plasticity material; give "
+                       f"/materials/youngs_modulus[{i}] = {_fmt(young[i])} for a plastic material; give "
                        f"the plastic tangent modulus in Pa below Young's modulus")
     pairs = check.array("contact_pairs")
     if sizes["n_contacts"] > 0:
-        single = check.array("contact_kind") == ENUMS["contact_kind"]["single_surface"]
+        single = np.isin(check.array("contact_kind"), trait_codes("contact_kind", "self_contact"))
         same = pairs[:, 0] == pairs[:, 1]
         check.entries(_BY_ATTRIBUTE["contact_pairs"], same & ~single, "pairs a part with itself",
                       "name two different parts, or make the contact single_surface")

@@ -12,7 +12,7 @@
 module contact_checks
   use mpi_f08
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: status_ok, status_bad_input, initial_penetration_move, contact_kind_single_surface
+  use paradyn_schema, only: status_ok, status_bad_input, initial_penetration_move, contact_kind_is_self_contact
   use model_deck, only: deck_t, node_row
   use integer_sort, only: distinct_ascending, sorted_position
   use domain_decomposition, only: block_owner
@@ -73,7 +73,7 @@ contains
       slave_part = deck%contact_pairs(side, k)
       master_part = deck%contact_pairs(3 - side, k)
       ! a single-surface definition names its part twice: one pass
-      if (side == 2 .and. deck%contact_kind(k) == contact_kind_single_surface) exit
+      if (side == 2 .and. contact_kind_is_self_contact(deck%contact_kind(k))) exit
       rows = part_rows(deck, slave_part)
       slaves = distinct_ascending(reshape(deck%connectivity(:, rows), [4 * size(rows)]))
       at = [(node_row(deck, slaves(i)), i = 1, size(slaves))]
@@ -283,7 +283,7 @@ contains
     integer :: e, k
     real(wp) :: shortest
     t = deck%thickness(part)
-    if (deck%contact_kind(definition) /= contact_kind_single_surface) return
+    if (.not. contact_kind_is_self_contact(deck%contact_kind(definition))) return
     shortest = shortest_edge(deck%coordinates, &
                              reshape([((node_row(deck, deck%connectivity(k, e)), k = 1, 4), e = 1, size(deck%element_ids))], &
                                      [4, size(deck%element_ids)]), deck%element_part, part)

@@ -5,7 +5,7 @@
 module contact_surfaces
   use paradyn_kinds, only: wp
   use model_deck, only: deck_t
-  use paradyn_schema, only: contact_kind_single_surface
+  use paradyn_schema, only: contact_kind_is_self_contact
   implicit none
   private
   public :: part_nodes, contact_thickness, self_thickness_cap, capped_thickness, shortest_edge
@@ -37,7 +37,7 @@ contains
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: definition, part
     t = deck%thickness(part)
-    if (deck%contact_kind(definition) == contact_kind_single_surface) &
+    if (contact_kind_is_self_contact(deck%contact_kind(definition))) &
       t = capped_thickness(t, shortest_edge(deck%coordinates, deck%connectivity, deck%element_part, part))
   end function contact_thickness
 

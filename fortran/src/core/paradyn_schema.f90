@@ -19,7 +19,7 @@ module paradyn_schema
       size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
       size_n_pressures, size_n_prescribed, n_sizes, condition_none, condition_loads_group, &
       condition_contact_group, condition_rigid_walls_group, condition_curves_group, condition_pressure_group, &
-      condition_prescribed_group, condition_j2_plasticity, n_conditions, enum_none, enum_material_model, &
+      condition_prescribed_group, condition_plastic, n_conditions, enum_none, enum_material_model, &
       enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_initial_penetration, &
       enum_contact_gather, enum_switch, enum_partition, enum_precision, n_enums, dataset_nodes_coordinates, &
       dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
@@ -51,7 +51,7 @@ module paradyn_schema
       effect_hourglass, effect_contact, effect_friction, effect_names, effect_timed_with, &
       effect_also_timed_with, effect_switch, size_symbol, size_entity, size_min_rows, enum_spec_t, &
       condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, deck_conditions, deck_datasets, &
-      control_attributes, enum_name, enum_code
+      control_attributes, enum_name, enum_code, material_is_plastic, contact_kind_is_self_contact
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
 
@@ -129,7 +129,7 @@ module paradyn_schema
   integer, parameter :: condition_curves_group = 4
   integer, parameter :: condition_pressure_group = 5
   integer, parameter :: condition_prescribed_group = 6
-  integer, parameter :: condition_j2_plasticity = 7
+  integer, parameter :: condition_plastic = 7
   integer, parameter :: n_conditions = 7
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
@@ -272,12 +272,13 @@ module paradyn_schema
     character(len=15) :: names(max_enum_members)
   end type enum_spec_t
 
-  !> A group that exists (group), or a dataset with an entry equal to code.
+  !> A group that exists (group), or a dataset with an entry equal to one of codes.
   type :: condition_spec_t
     character(len=12) :: group
     integer :: dataset                  !< dataset id, 0 for a group condition
-    integer :: code
-    character(len=28) :: rows   !< the rows it selects, in words
+    integer :: n_codes                  !< the codes it selects: codes(1:n_codes)
+    integer :: codes(max_enum_members)
+    character(len=22) :: rows   !< the rows it selects, in words
   end type condition_spec_t
 
   !> One deck dataset (schema/deck.toml explains every field).
@@ -331,13 +332,13 @@ module paradyn_schema
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'double', 'mixed', '']) ]
 
   type(condition_spec_t), parameter :: deck_conditions(n_conditions) = [ &
-    condition_spec_t('/loads', 0, 0, ''), &
-    condition_spec_t('/contact', 0, 0, ''), &
-    condition_spec_t('/rigid_walls', 0, 0, ''), &
-    condition_spec_t('/curves', 0, 0, ''), &
-    condition_spec_t('/pressure', 0, 0, ''), &
-    condition_spec_t('/prescribed', 0, 0, ''), &
-    condition_spec_t('', 16, 2, 'for a j2_plasticity material') ]
+    condition_spec_t('/loads', 0, 0, [0, 0, 0], ''), &
+    condition_spec_t('/contact', 0, 0, [0, 0, 0], ''), &
+    condition_spec_t('/rigid_walls', 0, 0, [0, 0, 0], ''), &
+    condition_spec_t('/curves', 0, 0, [0, 0, 0], ''), &
+    condition_spec_t('/pressure', 0, 0, [0, 0, 0], ''), &
+    condition_spec_t('/prescribed', 0, 0, [0, 0, 0], ''), &
+    condition_spec_t('', 16, 1, [2, 0, 0], 'for a plastic material') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
@@ -403,15 +404,15 @@ module paradyn_schema
         condition_none, condition_none, 0.0_wp, .true., .false., .true., .false., -1.0_wp, 0.5_wp, enum_none, &
         0, [0, 0, 0], size_none, 'must be in (-1, 0.5)', '', 'give a Poisson ratio such as 0.3'), &
     dataset_spec_t('/materials/yield_stress', class_float, 0, size_n_materials, .false., .false., &
-        condition_j2_plasticity, condition_j2_plasticity, 0.0_wp, .true., .false., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0], size_none, 'must be > 0', '', 'give the initial yield stress in Pa'), &
+        condition_plastic, condition_plastic, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0, 0], size_none, 'must be > 0', '', 'give the initial yield stress in Pa'), &
     dataset_spec_t('/materials/tangent_modulus', class_float, 0, size_n_materials, .false., .false., &
-        condition_j2_plasticity, condition_j2_plasticity, 0.0_wp, .true., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0], size_none, 'must be >= 0', '', &
+        condition_plastic, condition_plastic, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0, 0], size_none, 'must be >= 0', '', &
         'give the plastic tangent modulus in Pa below Young''s modulus (0 = perfectly plastic)'), &
     dataset_spec_t('/materials/hardening_mixing', class_float, 0, size_n_materials, .false., .false., &
-        condition_j2_plasticity, condition_j2_plasticity, 1.0_wp, .true., .true., .true., .true., 0.0_wp, &
-        1.0_wp, enum_none, 0, [0, 0, 0], size_none, 'must be in [0, 1]', '', &
+        condition_plastic, condition_plastic, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, &
+        enum_none, 0, [0, 0, 0], size_none, 'must be in [0, 1]', '', &
         'use 1 for isotropic, 0 for kinematic hardening or a mix in between'), &
     dataset_spec_t('/loads/node', class_int, 0, size_n_loads, .true., .false., condition_loads_group, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
@@ -613,5 +614,17 @@ contains
       if (name == trim(deck_enums(enum)%names(k))) code = deck_enums(enum)%codes(k)
     end do
   end function enum_code
+
+  !> Whether a code of enum material_model has the trait plastic (j2_plasticity)
+  elemental logical function material_is_plastic(code) result(has)
+    integer, intent(in) :: code
+    has = any(code == [2])
+  end function material_is_plastic
+
+  !> Whether a code of enum contact_kind has the trait self_contact (single_surface)
+  elemental logical function contact_kind_is_self_contact(code) result(has)
+    integer, intent(in) :: code
+    has = any(code == [2])
+  end function contact_kind_is_self_contact
 
 end module paradyn_schema

@@ -18,6 +18,7 @@ module element_state
     real(ek), allocatable :: back(:, :, :)     !< (elements, 3, points), or no points without kinematic hardening
     real(ek), allocatable :: eps_p(:, :)       !< (elements, points) effective plastic strain
     real(ek), allocatable :: hourglass(:, :)   !< (elements, hourglass_components) resultants
+    real(ek), allocatable :: state(:, :, :)    !< (elements, words, points): the material member's own
   end type group_state_t
 
   type :: element_state_t
@@ -26,6 +27,7 @@ module element_state
     real(wp), allocatable :: dt_element(:)   !< per local element: L / c at the last forces, unscaled density (s)
     real(wp), allocatable :: step_scale(:)   !< per local element: its step's factor from mass scaling (1: none)
     integer :: inverted = 0   !< elements found inside out so far
+    integer :: max_state = 0  !< the most words of material state per point of any part (checkpoint rows)
   end type element_state_t
 
 contains
@@ -34,7 +36,8 @@ contains
     type(element_state_t), intent(out) :: es
     type(domain_t), intent(in) :: dom
     type(shell_properties_t), intent(in) :: props(:)
-    integer :: g, n, nip
+    integer :: g, n, nip, p
+    es%max_state = maxval([(props(p)%material%state_width(), p = 1, size(props))])
     allocate (es%groups(dom%n_groups))
     do g = 1, dom%n_groups
       n = dom%group_count(g)
@@ -42,6 +45,7 @@ contains
       allocate (es%groups(g)%stress(n, stress_components, nip), source=0.0_ek)
       allocate (es%groups(g)%back(n, 3, back_stress_points(props(dom%group_part(g)))), source=0.0_ek)
       allocate (es%groups(g)%eps_p(n, nip), es%groups(g)%hourglass(n, hourglass_components), source=0.0_ek)
+      allocate (es%groups(g)%state(n, props(dom%group_part(g))%material%state_width(), nip), source=0.0_ek)
     end do
     allocate (es%e_internal(dom%n_elements), es%e_hourglass(dom%n_elements), source=0.0_wp)
     allocate (es%dt_element(dom%n_elements), source=huge(1.0_wp))
@@ -49,23 +53,24 @@ contains
   end subroutine element_state_setup
 
   !> Doubles per element row: stress, back stress and plastic strain at the most points any part
-  !> uses, the hourglass resultants, and the two energies.
-  pure integer function element_row_width(max_points) result(width)
-    integer, intent(in) :: max_points
-    width = (stress_components + 3 + 1) * max_points + hourglass_components + 2
+  !> uses, the hourglass resultants, the two energies, then the material state (max_state words
+  !> at each point; none for the elastic and J2 members, so their rows keep their width).
+  pure integer function element_row_width(max_points, max_state) result(width)
+    integer, intent(in) :: max_points, max_state
+    width = (stress_components + 3 + 1) * max_points + hourglass_components + 2 + max_state * max_points
   end function element_row_width
 
   !> Element state by element (checkpoints). A row holds the stress (components x points), back
   !> stress and plastic strain, each at the width of the most points any part uses, then the
-  !> hourglass resultants and the internal and hourglass energies. A part without kinematic
-  !> hardening stores no back stress (zeros in the rows).
+  !> hourglass resultants, the internal and hourglass energies and the material state. A part
+  !> without kinematic hardening stores no back stress (zeros in the rows).
   subroutine element_rows_pack(es, dom, rows)
     type(element_state_t), intent(in) :: es
     type(domain_t), intent(in) :: dom
     real(wp), intent(out) :: rows(:, :)
-    integer :: g, i, e, o(4)
+    integer :: g, i, e, o(5)
     rows = 0.0_wp
-    o = row_offsets(size(rows, 1))
+    o = row_offsets(size(rows, 1), es%max_state)
     do g = 1, dom%n_groups
       associate (gs => es%groups(g))
         do i = 1, dom%group_count(g)
@@ -74,19 +79,20 @@ contains
           rows(o(2) + 1:o(2) + size(gs%back(i, :, :)), e) = reshape(gs%back(i, :, :), [size(gs%back(i, :, :))])
           rows(o(3) + 1:o(3) + size(gs%eps_p, 2), e) = gs%eps_p(i, :)
           rows(o(4) + 1:o(4) + hourglass_components, e) = gs%hourglass(i, :)
+          rows(o(5) + 1:o(5) + size(gs%state(i, :, :)), e) = reshape(gs%state(i, :, :), [size(gs%state(i, :, :))])
         end do
       end associate
     end do
-    rows(size(rows, 1) - 1, :) = es%e_internal
-    rows(size(rows, 1), :) = es%e_hourglass
+    rows(o(4) + hourglass_components + 1, :) = es%e_internal
+    rows(o(4) + hourglass_components + 2, :) = es%e_hourglass
   end subroutine element_rows_pack
 
   subroutine element_rows_unpack(es, dom, rows)
     type(element_state_t), intent(inout) :: es
     type(domain_t), intent(in) :: dom
     real(wp), intent(in) :: rows(:, :)
-    integer :: g, i, e, o(4)
-    o = row_offsets(size(rows, 1))
+    integer :: g, i, e, o(5)
+    o = row_offsets(size(rows, 1), es%max_state)
     do g = 1, dom%n_groups
       associate (gs => es%groups(g))
         do i = 1, dom%group_count(g)
@@ -97,22 +103,26 @@ contains
                                      [size(gs%back, 2), size(gs%back, 3)])
           gs%eps_p(i, :) = real(rows(o(3) + 1:o(3) + size(gs%eps_p, 2), e), ek)
           gs%hourglass(i, :) = real(rows(o(4) + 1:o(4) + hourglass_components, e), ek)
+          gs%state(i, :, :) = reshape(real(rows(o(5) + 1:o(5) + size(gs%state(i, :, :)), e), ek), &
+                                      [size(gs%state, 2), size(gs%state, 3)])
         end do
       end associate
     end do
-    es%e_internal = rows(size(rows, 1) - 1, :)
-    es%e_hourglass = rows(size(rows, 1), :)
+    es%e_internal = rows(o(4) + hourglass_components + 1, :)
+    es%e_hourglass = rows(o(4) + hourglass_components + 2, :)
   end subroutine element_rows_unpack
 
-  !> Where stress, back stress, plastic strain and hourglass start in an element row of `width`.
-  pure function row_offsets(width) result(o)
-    integer, intent(in) :: width
-    integer :: o(4), nip_max
-    nip_max = (width - hourglass_components - 2) / (stress_components + 3 + 1)
+  !> Where stress, back stress, plastic strain, hourglass and material state start in an element
+  !> row of `width` (the energies follow the hourglass resultants).
+  pure function row_offsets(width, max_state) result(o)
+    integer, intent(in) :: width, max_state
+    integer :: o(5), nip_max
+    nip_max = (width - hourglass_components - 2) / (stress_components + 3 + 1 + max_state)
     o(1) = 0
     o(2) = stress_components * nip_max
     o(3) = o(2) + 3 * nip_max
     o(4) = o(3) + nip_max
+    o(5) = o(4) + hourglass_components + 2
   end function row_offsets
 
 end module element_state

@@ -18,6 +18,7 @@ module shell_blt
   use shell_hourglass, only: hourglass_update, add_shear_hourglass_moments, tangent_work, tangent_share
   use shell_warping, only: warp_heights, warp_curvature, warp_twist_moment
   use shell_measures, only: frame_time_steps
+  use material_model, only: max_state_words
   implicit none
   private
   public :: blt_internal_forces
@@ -46,7 +47,7 @@ contains
   !> contraction (fortran/CMakeLists.txt), so the layouts of tests/test_parallel.py agree.
   !> Precision: x, v, w, the step, forces and energies are double (wp); the arithmetic and the
   !> element state are of kind ek, single in the mixed engine (frames; docs/theory.md).
-  pure subroutine blt_internal_forces(n, x, v, w, props, dt_step, stress, back, eps_p, hourglass, &
+  pure subroutine blt_internal_forces(n, x, v, w, props, dt_step, stress, back, eps_p, state, hourglass, &
                                       force, e_internal, e_hourglass, inverted, dt_element)
     integer, intent(in) :: n
     real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
@@ -55,13 +56,14 @@ contains
     real(ek), intent(inout) :: stress(n, stress_components, props%integration_points)
     real(ek), intent(inout) :: back(n, 3, back_stress_points(props))
     real(ek), intent(inout) :: eps_p(n, props%integration_points)
+    real(ek), intent(inout) :: state(:, :, :)   !< (n, the material's state words, points)
     real(ek), intent(inout) :: hourglass(n, hourglass_components)
     real(wp), intent(out) :: force(6, 4, n)
     real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
     integer, intent(inout) :: inverted
     real(wp), intent(out) :: dt_element(n)   !< stable step L / c on the end-of-step geometry
 
-    integer :: first, m, o, i, k, c, nip
+    integer :: first, m, o, i, k, c, nip, ns
     real(wp) :: zeta_wp(max_integration_points), wgt_wp(max_integration_points)
     real(ek) :: zeta(max_integration_points), wgt(max_integration_points)
     real(ek) :: dt, t, half_t, shear_step, z, wz, wzz, s1, s2, s3, s4, s5
@@ -77,6 +79,7 @@ contains
     real(ek) :: rates(group_size, 8), qrate(group_size, hourglass_components), grad_w(group_size, 4)
     real(ek) :: sp(group_size, stress_components)
     real(ek) :: bp(group_size, 3), ep(group_size), deps(group_size, 3), work(group_size)
+    real(ek) :: stp(group_size, max_state_words)   !< the material's own state at a point
     !> res: membrane resultant N (1:3), moment M (4:6), shear Q (7:8)
     real(ek) :: hg(group_size, hourglass_components), res(group_size, 8), fl(group_size, 6, 4)
     real(ek) :: s_xi(group_size)
@@ -84,6 +87,7 @@ contains
     real(ek) :: actual_work(group_size), elastic_work(group_size), tangent(group_size)
 
     nip = props%integration_points
+    ns = size(state, 2)
     history = props%material%has_history()
     call thickness_rule(nip, zeta_wp(1:nip), wgt_wp(1:nip))
     zeta(1:nip) = real(zeta_wp(1:nip), ek)
@@ -139,8 +143,12 @@ contains
           end if
           ep(1:m) = eps_p(o + 1:o + m, k)
         end if
+        if (ns > 0) stp(1:m, 1:ns) = state(o + 1:o + m, 1:ns, k)
         ! one dispatch per batch of points: the member's loop over them vectorises
-        call props%material%update_points(m, sp, bp, ep, deps)
+        call props%material%update_points(m, dt, sp, bp, ep, stp(:, 1:ns), deps)
+        do c = 1, ns
+          state(o + 1:o + m, c, k) = merge(stp(1:m, c), state(o + 1:o + m, c, k), area_mid(1:m) > 0.0_ek)
+        end do
         if (history) then
           if (size(back, 3) > 0) then
             do c = 1, 3

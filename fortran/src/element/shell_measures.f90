@@ -9,7 +9,7 @@ module shell_measures
   use shell_section, only: shell_properties_t, stress_components, local_frame, thickness_rule
   implicit none
   private
-  public :: blt_lumped_mass, blt_stable_time_step, blt_element_results, frame_time_steps, plate_wave_speed
+  public :: blt_lumped_mass, blt_stable_time_step, blt_element_results, frame_time_steps, part_wave_speed
 
 contains
 
@@ -41,7 +41,7 @@ contains
     real(wp), intent(out) :: dt_element(n)
     real(wp) :: e(3, 3), xl(4), yl(4), area, longest, c
     integer :: i, k
-    c = plate_wave_speed(props)
+    c = part_wave_speed(props)
     do i = 1, n
       call local_frame(x(i, :, :), e, xl, yl, area)
       longest = 0.0_wp
@@ -52,11 +52,12 @@ contains
     end do
   end subroutine blt_stable_time_step
 
-  !> The plate wave speed c = sqrt(E / (rho (1 - nu^2))) of a part (unscaled density).
-  pure real(wp) function plate_wave_speed(props) result(c)
+  !> The wave speed of a part's material (unscaled density): the plate wave speed
+  !> c = sqrt(E / (rho (1 - nu^2))) unless the member bounds the step otherwise.
+  pure real(wp) function part_wave_speed(props) result(c)
     type(shell_properties_t), intent(in) :: props
-    c = sqrt(props%young / (props%density * (1.0_wp - props%poisson**2)))
-  end function plate_wave_speed
+    c = props%material%wave_speed(props%density)
+  end function part_wave_speed
 
   !> The stable step L / c of elements 1..m from their co-rotational frame, as the force kernel
   !> has it at the end of a step: local node coordinates xl, yl and projected area, with the same
@@ -71,7 +72,7 @@ contains
     real(wp) :: c
     real(ek) :: longest
     integer :: i, k, k1
-    c = plate_wave_speed(props)
+    c = part_wave_speed(props)
     do i = 1, m
       longest = 0.0_ek
       do k = 1, 4

@@ -20,7 +20,7 @@ module deck_reader
                             size_entity, size_symbol, size_min_rows, class_int, class_float, class_string, &
                             condition_none, enum_code, control_restart_may_change, &
                             status_ok, status_bad_input, size_n_nodes, size_n_elements
-  use deck_rules, only: check_field_values, check_attribute_value, selected_rows, integer_text
+  use deck_rules, only: check_field_values, check_attribute_value, selected_rows, condition_rows, integer_text
   use model_deck, only: deck_t, store_deck_field, store_control_value
   use hdf5_attributes, only: read_string_attribute, read_real_attribute, read_int_attribute, link_exists
   implicit none
@@ -145,7 +145,7 @@ contains
       if (c%dataset == 0) then
         condition_holds = link_exists(r%file, trim(c%group))
       else
-        condition_holds = any(r%fields(c%dataset)%values(1, :) == real(c%code, wp))
+        condition_holds = any(condition_rows(condition, r%fields(c%dataset)%values(1, :)))
       end if
     end associate
   end function condition_holds
@@ -155,15 +155,16 @@ contains
     type(deck_file_t), intent(in) :: r
     integer, intent(in) :: condition
     character(len=:), allocatable :: words
+    integer :: row
     words = ''
     if (condition == condition_none) return
     associate (c => deck_conditions(condition))
       if (c%dataset == 0) then
         words = ' (required since the group '//trim(c%group)//' exists)'
       else
-        words = ' (required since '//trim(deck_datasets(c%dataset)%path)//'['// &
-                integer_text(findloc(r%fields(c%dataset)%values(1, :), real(c%code, wp), dim=1) - 1)//'] = '// &
-                integer_text(c%code)//')'
+        row = findloc(condition_rows(condition, r%fields(c%dataset)%values(1, :)), .true., dim=1)
+        words = ' (required since '//trim(deck_datasets(c%dataset)%path)//'['//integer_text(row - 1)//'] = '// &
+                integer_text(nint(r%fields(c%dataset)%values(1, row)))//')'
       end if
     end associate
   end function required_because

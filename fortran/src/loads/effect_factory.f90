@@ -1,8 +1,9 @@
 !> The members of the nodal effect family that a deck declares and the scene did not switch off,
-!> in the order of schema/effects.toml (the order of the step). A new member adds its block here.
+!> in the order of schema/effects.toml (the order of the step: the loop runs over its ids, so the
+!> order is stated there alone). A new member adds its case here.
 module effect_factory
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
+  use paradyn_schema, only: n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
                             effect_prescribed_velocity
   use model_deck, only: deck_t, node_row
   use domain_decomposition, only: domain_t, local_node
@@ -29,36 +30,36 @@ contains
     real(wp), intent(in) :: dt
     type(nodal_effect_holder_t), allocatable, intent(out) :: effects(:)
     type(load_curves_t) :: curves
-    integer :: k
+    integer :: k, id
     allocate (effects(0))
     curves = load_curves_from(deck%curve_first_point(1:deck%n_curves), deck%curve_time(1:deck%n_curve_points), &
                               deck%curve_value(1:deck%n_curve_points))
-    if (table%running(effect_point_loads)) then
-      call append(effects)
-      allocate (effects(size(effects))%effect, source=point_load_effect_make( &
-        [(local_node(dom, deck%load_node(k)), k = 1, deck%n_loads)], deck%load_dof(1:deck%n_loads), &
-        deck%load_value(1:deck%n_loads), deck%load_ramp_time(1:deck%n_loads)))
-    end if
-    if (table%running(effect_gravity)) then
-      call append(effects)
-      allocate (effects(size(effects))%effect, source=gravity_effect_make(deck%gravity))
-    end if
-    if (table%running(effect_pressure)) then
-      call append(effects)
-      allocate (effects(size(effects))%effect, source=pressure_effect_make(curves, deck%pressure_part, &
-        deck%pressure_value, deck%pressure_curve, deck%element_part))   ! the held elements: the domain's
-    end if
-    if (table%running(effect_rigid_wall)) then
-      call append(effects)
-      allocate (effects(size(effects))%effect, source=rigid_wall_effect_make(deck%rigid_wall_point, &
-        deck%rigid_wall_normal, deck%rigid_wall_velocity, deck%rigid_wall_penalty_scale, dt))
-    end if
-    if (table%running(effect_prescribed_velocity)) then
-      call append(effects)
-      allocate (effects(size(effects))%effect, source=prescribed_velocity_make(curves, &
-        [(local_node(dom, deck%prescribed_node(k)), k = 1, deck%n_prescribed)], deck%prescribed_dof, &
-        deck%prescribed_value, deck%prescribed_curve, [(initial_velocity(deck, k), k = 1, deck%n_prescribed)]))
-    end if
+    do id = 1, n_effects   ! the order of schema/effects.toml is the order of the step
+      if (.not. table%running(id)) cycle
+      select case (id)
+      case (effect_point_loads)
+        call append(effects)
+        allocate (effects(size(effects))%effect, source=point_load_effect_make( &
+          [(local_node(dom, deck%load_node(k)), k = 1, deck%n_loads)], deck%load_dof(1:deck%n_loads), &
+          deck%load_value(1:deck%n_loads), deck%load_ramp_time(1:deck%n_loads)))
+      case (effect_gravity)
+        call append(effects)
+        allocate (effects(size(effects))%effect, source=gravity_effect_make(deck%gravity))
+      case (effect_pressure)
+        call append(effects)
+        allocate (effects(size(effects))%effect, source=pressure_effect_make(curves, deck%pressure_part, &
+          deck%pressure_value, deck%pressure_curve, deck%element_part))   ! the held elements: the domain's
+      case (effect_rigid_wall)
+        call append(effects)
+        allocate (effects(size(effects))%effect, source=rigid_wall_effect_make(deck%rigid_wall_point, &
+          deck%rigid_wall_normal, deck%rigid_wall_velocity, deck%rigid_wall_penalty_scale, dt))
+      case (effect_prescribed_velocity)
+        call append(effects)
+        allocate (effects(size(effects))%effect, source=prescribed_velocity_make(curves, &
+          [(local_node(dom, deck%prescribed_node(k)), k = 1, deck%n_prescribed)], deck%prescribed_dof, &
+          deck%prescribed_value, deck%prescribed_curve, [(initial_velocity(deck, k), k = 1, deck%n_prescribed)]))
+      end select   ! effects that are not nodal (elements, contact, integration) are built elsewhere
+    end do
   end subroutine make_nodal_effects
 
   !> The deck's initial velocity of prescribed motion k's dof (the velocity before the first step);

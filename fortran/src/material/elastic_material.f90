@@ -17,10 +17,11 @@ module elastic_material
 
 contains
 
-  pure subroutine elastic_update_points(self, m, stress, back, eps_p, dstrain)
+  pure subroutine elastic_update_points(self, m, dt, stress, back, eps_p, state, dstrain)
     class(elastic_material_t), intent(in) :: self
     integer, intent(in) :: m
-    real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
+    real(ek), intent(in) :: dt
+    real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:), state(:, :)
     real(ek), intent(in), contiguous :: dstrain(:, :)
     call elastic_plane_stress_update_points(m, stress, dstrain, real(self%young, ek), real(self%poisson, ek))
   end subroutine elastic_update_points

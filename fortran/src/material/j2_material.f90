@@ -21,10 +21,11 @@ module j2_material
 
 contains
 
-  pure subroutine j2_update_points(self, m, stress, back, eps_p, dstrain)
+  pure subroutine j2_update_points(self, m, dt, stress, back, eps_p, state, dstrain)
     class(j2_material_t), intent(in) :: self
     integer, intent(in) :: m
-    real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
+    real(ek), intent(in) :: dt
+    real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:), state(:, :)
     real(ek), intent(in), contiguous :: dstrain(:, :)
     call j2_plane_stress_update_points(m, stress, back, eps_p, dstrain, real(self%young, ek), &
                                        real(self%poisson, ek), real(self%yield_stress, ek), &

@@ -164,16 +164,20 @@ contains
   !> j2_plane_stress_update for points 1..m of arrays laid out point first (stress(:, 1:3)), with
   !> the same algorithm vectorised across the points: the elastic trial runs on every point, the
   !> yielding ones are gathered and returned together (return_points). A point's arithmetic does
-  !> not depend on the other points or on its position in the arrays.
+  !> not depend on the other points or on its position in the arrays. yield_scale(1:m), when
+  !> given, scales each point's yield radius sigma_y0 + beta H eps_p (a rate law: its member
+  !> computes the factor from the point's strain rate); absent, every factor is 1 exactly.
   pure subroutine j2_plane_stress_update_points(m, stress, back, eps_p, dstrain, young, poisson, &
-                                                yield0, tangent, beta)
+                                                yield0, tangent, beta, yield_scale)
     integer, intent(in) :: m
     real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
     real(ek), intent(in), contiguous :: dstrain(:, :)
     real(ek), intent(in) :: young, poisson, yield0, tangent, beta
+    real(ek), intent(in), optional :: yield_scale(:)
     real(ek), parameter :: root2 = sqrt(2.0_ek)
     real(ek) :: c, h, h_iso, h_kin, shear, c1, c2, s1, s2, a1, a2, a3, psi, x1, x2, x3
     real(ek) :: a1t(batch), a2t(batch), a3t(batch), ep(batch), dgamma(batch)
+    real(ek) :: y0p(batch), hp(batch), y0t(batch), ht(batch)   !< each point's sigma_y0 and beta H
     logical :: yielding(batch)
     integer :: idx(batch), first, nb, i, j, np
 
@@ -187,6 +191,13 @@ contains
     ! loop bodies use scalars only: a small array such as xi(3) inside stops the vectoriser
     do first = 1, m, batch
       nb = min(batch, m - first + 1)
+      if (present(yield_scale)) then
+        y0p(1:nb) = yield0 * yield_scale(first:first + nb - 1)
+        hp(1:nb) = h_iso * yield_scale(first:first + nb - 1)
+      else
+        y0p(1:nb) = yield0
+        hp(1:nb) = h_iso
+      end if
       ! elastic trial and yield test on every point (elastic_plane_stress_update, von_mises_plane_stress)
       do i = first, first + nb - 1
         stress(i, 1) = stress(i, 1) + c * (dstrain(i, 1) + poisson * dstrain(i, 2))
@@ -197,7 +208,7 @@ contains
         x3 = stress(i, 3) - back(i, 3)
         ! (a NaN does not yield here, where the scalar version would iterate on it)
         yielding(i - first + 1) = sqrt(max(x1**2 - x1 * x2 + x2**2 + 3.0_ek * x3**2, 0.0_ek)) &
-                                  > yield0 + h_iso * eps_p(i)
+                                  > y0p(i - first + 1) + hp(i - first + 1) * eps_p(i)
       end do
       if (.not. any(yielding(1:nb))) cycle   ! most batches stay elastic: no gather, no return
       ! gather the yielding points: trial relative stress in the eigenbasis of the projector P
@@ -216,8 +227,10 @@ contains
         a2t(j) = (x2 - x1) / root2
         a3t(j) = stress(idx(j), 3) - back(idx(j), 3)
         ep(j) = eps_p(idx(j))
+        y0t(j) = y0p(idx(j) - first + 1)
+        ht(j) = hp(idx(j) - first + 1)
       end do
-      call return_points(np, a1t, a2t, a3t, ep, c1, c2, yield0, h_iso, dgamma)
+      call return_points(np, a1t, a2t, a3t, ep, c1, c2, y0t, ht, dgamma)
       ! the returned state, in the compact arrays, then scattered back
       do j = 1, np
         s1 = 1.0_ek / (1.0_ek + dgamma(j) * c1)
@@ -253,7 +266,7 @@ contains
   !> needs is moved into that branch, which the vectoriser then cannot if-convert (it may trap).
   pure subroutine return_points(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dgamma)
     integer, intent(in) :: np
-    real(ek), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0, h_iso
+    real(ek), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0(np), h_iso(np)
     real(ek), intent(out) :: dgamma(np)
     real(ek) :: lo(batch), hi(batch), f(batch), df(batch), newton, bisection
     logical :: grow(batch), converged
@@ -280,7 +293,7 @@ contains
         lo(j) = merge(dgamma(j), lo(j), active(j) == 1 .and. f(j) > 0.0_ek)
         hi(j) = merge(dgamma(j), hi(j), active(j) == 1 .and. .not. (f(j) > 0.0_ek))
         ! stop on a small |f| keeping dgamma, or on a closed bracket after the step
-        converged = abs(f(j)) <= f_tolerance * yield0**2
+        converged = abs(f(j)) <= f_tolerance * yield0(j)**2
         newton = dgamma(j) - f(j) / df(j)
         bisection = 0.5_ek * (lo(j) + hi(j))
         newton = merge(bisection, newton, newton <= lo(j) .or. newton >= hi(j) .or. df(j) >= 0.0_ek)
@@ -297,7 +310,7 @@ contains
   !> come from one division of their product, and the thirds are products with 1/3.
   pure subroutine yield_functions(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dg, fv, dfv)
     integer, intent(in) :: np
-    real(ek), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0, h_iso, dg(np)
+    real(ek), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0(np), h_iso(np), dg(np)
     real(ek), intent(out) :: fv(np), dfv(np)
     real(ek), parameter :: third = 1.0_ek / 3.0_ek
     real(ek) :: t1, t2, u1, u2, r12, p, dp, root, de, dde, sy_new
@@ -313,9 +326,9 @@ contains
       root = sqrt(max(2.0_ek * p * third, 0.0_ek))
       de = dg(j) * root
       dde = root + merge(dg(j), 0.0_ek, root > 0.0_ek) * dp * third / merge(root, 1.0_ek, root > 0.0_ek)
-      sy_new = yield0 + h_iso * (eps_p(j) + de)
+      sy_new = yield0(j) + h_iso(j) * (eps_p(j) + de)
       fv(j) = 0.5_ek * p - sy_new**2 * third
-      dfv(j) = 0.5_ek * dp - 2.0_ek * third * sy_new * h_iso * dde
+      dfv(j) = 0.5_ek * dp - 2.0_ek * third * sy_new * h_iso(j) * dde
     end do
   end subroutine yield_functions
 

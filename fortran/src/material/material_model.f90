@@ -2,11 +2,16 @@
 !> through-thickness points at once (one dispatch per batch, so the members' loops vectorise), and
 !> says how much state per point it keeps. Members: elastic_material (elastic), j2_material
 !> (J2 plasticity with combined hardening); material_factory makes one from its schema name.
+!> A member gets the step (a rate law's strain rate is dstrain / dt), may keep state_width()
+!> words of its own per point (stored, exchanged and checkpointed by the element state), and
+!> may bound the step through the wave speed it reports.
 module material_model
   use paradyn_kinds, only: wp, ek
   implicit none
   private
-  public :: material_t
+  public :: material_t, max_state_words
+
+  integer, parameter :: max_state_words = 8   !< the most words of state per point a member may keep
 
   type, abstract :: material_t
     real(wp) :: young = 0.0_wp     !< Young's modulus (Pa)
@@ -23,14 +28,21 @@ module material_model
     !> work(i, k): plastic work dissipated per unit volume at the points with equivalent plastic
     !> strains eps_p(i, k); a batch per call, as update_points (no temporaries per element)
     procedure(dissipation_interface), deferred :: dissipated_work
+    !> Words of the member's own state per through-thickness point (0: none, the default)
+    procedure :: state_width => no_state
+    !> The dilatational wave speed that sets the stable step L / c at density rho (default: the
+    !> plate wave speed sqrt(E / (rho (1 - nu^2)))); a stiffening member returns a larger one
+    procedure :: wave_speed => plate_wave_speed
   end type material_t
 
   abstract interface
-    pure subroutine update_points_interface(self, m, stress, back, eps_p, dstrain)
+    !> dt: the step over which dstrain accrues; state(1:m, 1:state_width()): the member's own
+    pure subroutine update_points_interface(self, m, dt, stress, back, eps_p, state, dstrain)
       import :: material_t, ek
       class(material_t), intent(in) :: self
       integer, intent(in) :: m
-      real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
+      real(ek), intent(in) :: dt
+      real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:), state(:, :)
       real(ek), intent(in), contiguous :: dstrain(:, :)
     end subroutine update_points_interface
 
@@ -52,5 +64,18 @@ module material_model
       real(wp), intent(out) :: work(:, :)
     end subroutine dissipation_interface
   end interface
+
+contains
+
+  pure integer function no_state(self) result(width)
+    class(material_t), intent(in) :: self
+    width = 0
+  end function no_state
+
+  pure real(wp) function plate_wave_speed(self, density) result(c)
+    class(material_t), intent(in) :: self
+    real(wp), intent(in) :: density
+    c = sqrt(self%young / (density * (1.0_wp - self%poisson**2)))
+  end function plate_wave_speed
 
 end module material_model

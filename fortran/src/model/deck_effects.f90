@@ -4,7 +4,7 @@
 !> place that decides what a deck switches on; everything else reads the table in results.h5.
 module deck_effects
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: n_effects, material_j2_plasticity, material_elastic, effect_point_loads, &
+  use paradyn_schema, only: n_effects, material_is_plastic, material_elastic, effect_point_loads, &
                             effect_time_integration, effect_mass_damping, effect_fixed_boundaries, &
                             effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, &
                             effect_friction, effect_gravity, effect_pressure, effect_rigid_wall, &
@@ -28,8 +28,8 @@ contains
     declared(effect_time_integration) = .true.
     declared(effect_mass_damping) = deck%mass_damping > 0.0_wp
     declared(effect_fixed_boundaries) = deck%any_fixed   ! over the whole mesh (deck_checks)
-    declared(effect_elastic_shells) = any(part_model /= material_j2_plasticity)
-    declared(effect_plastic_shells) = any(part_model == material_j2_plasticity)
+    declared(effect_elastic_shells) = any(.not. material_is_plastic(part_model))
+    declared(effect_plastic_shells) = any(material_is_plastic(part_model))
     declared(effect_hourglass) = any(deck%hourglass_coefficient > 0.0_wp)
     declared(effect_rigid_wall) = deck%n_rigid_walls > 0
     declared(effect_contact) = deck%n_contacts > 0
@@ -52,7 +52,7 @@ contains
       if (off(effect_mass_damping)) deck%mass_damping = 0.0_wp
       if (off(effect_rigid_wall)) deck%n_rigid_walls = 0
       if (off(effect_plastic_shells)) then
-        where (deck%material_model == material_j2_plasticity) deck%material_model = material_elastic
+        where (material_is_plastic(deck%material_model)) deck%material_model = material_elastic
         table%declared(effect_elastic_shells) = .true.   ! those parts now run as elastic shells
         table%running(effect_elastic_shells) = .true.
       end if

@@ -4,7 +4,7 @@
 !> deck would. Pure: no MPI.
 module deck_relations
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: material_j2_plasticity, contact_kind_single_surface, class_float, enum_name, &
+  use paradyn_schema, only: material_is_plastic, contact_kind_is_self_contact, class_float, enum_name, &
                             enum_precision, precision_mixed
   use deck_rules, only: integer_text, number_text, index_list
   use quad_shape, only: quad_shape_fault, shape_sound, shape_concave
@@ -94,18 +94,18 @@ contains
     integer :: i
     message = ''
     do i = 1, d%n_materials
-      if (d%material_model(i) /= material_j2_plasticity) cycle
+      if (.not. material_is_plastic(d%material_model(i))) cycle
       if (.not. (d%tangent_modulus(i) < d%young(i))) then
         message = '/materials/tangent_modulus['//integer_text(i - 1)//'] = '// &
                   number_text(d%tangent_modulus(i), class_float)//' must be below /materials/youngs_modulus['// &
                   integer_text(i - 1)//'] = '//number_text(d%young(i), class_float)// &
-                  ' for a j2_plasticity material; give the plastic tangent modulus in Pa below Young''s modulus'
+                  ' for a plastic material; give the plastic tangent modulus in Pa below Young''s modulus'
         return
       end if
     end do
     do i = 1, d%n_contacts
-      if (d%contact_kind(i) == contact_kind_single_surface .neqv. d%contact_pairs(1, i) == d%contact_pairs(2, i)) then
-        if (d%contact_kind(i) == contact_kind_single_surface) then
+      if (contact_kind_is_self_contact(d%contact_kind(i)) .neqv. d%contact_pairs(1, i) == d%contact_pairs(2, i)) then
+        if (contact_kind_is_self_contact(d%contact_kind(i))) then
           message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
                     ' names two parts for a single_surface contact; name its one part twice'
         else

@@ -9,13 +9,13 @@ module deck_rules
                             attribute_spec_t, class_int, class_float, size_none, size_entity, condition_none
   implicit none
   private
-  public :: check_field_values, check_attribute_value, selected_rows, within_bounds, &
+  public :: check_field_values, check_attribute_value, selected_rows, condition_rows, within_bounds, &
             number_text, integer_text, index_list
 
 contains
 
   !> Rows whose values are checked: all, or those where the spec's checked_when condition holds
-  !> (the condition's dataset, given as `condition_values`, holds the condition's code there).
+  !> (the condition's dataset, given as `condition_values`, holds one of the condition's codes there).
   pure function selected_rows(id, rows, condition_values) result(selected)
     integer, intent(in) :: id, rows
     real(wp), intent(in) :: condition_values(:, :)
@@ -25,8 +25,20 @@ contains
     selected = .true.
     if (condition == condition_none) return
     if (deck_conditions(condition)%dataset == 0) return
-    selected = condition_values(1, 1:rows) == real(deck_conditions(condition)%code, wp)
+    selected = condition_rows(condition, condition_values(1, 1:rows))
   end function selected_rows
+
+  !> Where a dataset condition holds: the entries of its dataset (values) equal to one of its codes.
+  pure function condition_rows(condition, values) result(holds)
+    integer, intent(in) :: condition
+    real(wp), intent(in) :: values(:)
+    logical :: holds(size(values))
+    integer :: k
+    holds = .false.
+    do k = 1, deck_conditions(condition)%n_codes
+      holds = holds .or. values == real(deck_conditions(condition)%codes(k), wp)
+    end do
+  end function condition_rows
 
   !> Checks every selected entry of dataset `id` (values: (max(columns, 1), rows), as in the file,
   !> or the rows first_row + 1 .. of it when first_row is given). sizes: the count of each row

@@ -12,7 +12,7 @@
 module model_deck
   use paradyn_kinds, only: wp, ek
   use shell_section, only: shell_properties_t
-  use paradyn_schema, only: material_j2_plasticity, size_none, deck_datasets, &
+  use paradyn_schema, only: material_is_plastic, size_none, deck_datasets, &
                             class_int, &
                             enum_name, enum_material_model, control_attributes, control_partition, &
                             dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
@@ -130,7 +130,7 @@ contains
     props%density = deck%density(m)
     props%young = deck%young(m)
     props%poisson = deck%poisson(m)
-    if (deck%material_model(m) == material_j2_plasticity) props%hourglass_yield = deck%yield_stress(m)
+    if (material_is_plastic(deck%material_model(m))) props%hourglass_yield = deck%yield_stress(m)
     call material_from_name(enum_name(enum_material_model, deck%material_model(m)), deck%young(m), deck%poisson(m), &
                             deck%yield_stress(m), deck%tangent_modulus(m), deck%hardening_mixing(m), props%material)
   end function part_properties

@@ -11,7 +11,7 @@ module explicit_solver
   use omp_lib, only: omp_get_max_threads
   use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: status_ok, status_bad_input, status_failure
-  use paradyn_schema, only: material_j2_plasticity, effect_plastic_shells, effect_elastic_shells
+  use paradyn_schema, only: material_is_plastic, effect_plastic_shells, effect_elastic_shells
   use model_deck, only: deck_t, part_properties, node_row
   use effect_table, only: effect_table_t
   use effect_factory, only: make_nodal_effects
@@ -80,7 +80,7 @@ contains
     call run_control_setup(s%control, deck, s%dom)
     s%effects = effects
     s%part_effect = merge(effect_plastic_shells, effect_elastic_shells, &
-                          deck%material_model(deck%part_material) == material_j2_plasticity)
+                          material_is_plastic(deck%material_model(deck%part_material)))
     allocate (s%corner(6, 4 * s%dom%n_elements + s%dom%n_ghost_slots), source=0.0_wp)
     allocate (s%workspace(workspace_per_group, s%threads), source=0.0_wp)
 

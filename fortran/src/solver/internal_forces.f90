@@ -91,7 +91,7 @@ contains
       call gather_group(n, first, s%dom%connectivity, s%nodes%w, s%workspace(ow, tid))
       associate (gs => s%elements%groups(g))
         call blt_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
-                                 s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%hourglass, &
+                                 s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%state, gs%hourglass, &
                                  s%corner(1, 4 * first - 3), s%elements%e_internal(first), s%elements%e_hourglass(first), &
                                  inverted, s%elements%dt_element(first))
       end associate

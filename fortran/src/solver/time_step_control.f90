@@ -8,7 +8,7 @@ module time_step_control
   use mpi_f08
   use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: status_ok, status_numerical
-  use shell_measures, only: plate_wave_speed
+  use shell_measures, only: part_wave_speed
   use step_clock, only: clock_choose_step, clock_finished
   use status_agreement, only: agree_on_status
   use solver_state, only: solver_t
@@ -70,7 +70,7 @@ contains
           s%clock%dt, ' s fell below /control time_step_floor = ', s%control%time_step_floor, &
           ' x the first step ', s%clock%dt_first, ' s at cycle ', s%clock%cycles, ', time ', s%clock%time, &
           ' s: element ', s%clock%controlling, ' of part ', p - 1, ' has shrunk to L = area / longest side = ', &
-          s%elements%dt_element(e) * plate_wave_speed(s%props(p)), ' m; it is being crushed or inverted: '// &
+          s%elements%dt_element(e) * part_wave_speed(s%props(p)), ' m; it is being crushed or inverted: '// &
           'check the mesh, the loads or contact near it, or add mass there ([run] mass_scaling_step)'
       end do
     end do
