@@ -14,9 +14,10 @@ from typing import Any
 
 DATASET_FIELDS = {"path", "python", "type", "shape", "required", "required_when", "checked_when", "default",
                   "lower", "upper", "lower_inclusive", "upper_inclusive", "upper_constant", "enum", "reference",
-                  "units", "meaning", "scene", "fix"}
+                  "units", "meaning", "scene", "fix", "fortran", "engine", "index"}
 CONTROL_FIELDS = DATASET_FIELDS - {"path", "python", "shape", "reference", "checked_when", "required_when",
-                                   "upper_constant"} | {"name", "default_from", "default_divisor"}
+                                   "upper_constant", "fortran", "engine", "index"} | {"name", "default_from",
+                                                                                      "default_divisor", "fortran_type"}
 
 
 class SchemaError(ValueError):

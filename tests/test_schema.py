@@ -15,7 +15,8 @@ from paradyn import _schema, deck
 
 ROOT = Path(__file__).resolve().parents[1]
 GENERATOR = ROOT / "schema" / "generate.py"
-GENERATED = ("frontend/paradyn/_schema.py", "fortran/src/core/paradyn_schema.f90", "docs/formats.md")
+GENERATED = ("frontend/paradyn/_schema.py", "fortran/src/core/paradyn_schema.f90", "fortran/src/model/deck_fields.f90",
+             "docs/formats.md")
 
 
 def _check(root: Path) -> subprocess.CompletedProcess[str]:

@@ -10,9 +10,10 @@ program kernel_benchmark
   use paradyn_kinds, only: wp, ek, i8
   use shell_section, only: shell_properties_t, stress_components, hourglass_components
   use shell_blt, only: blt_internal_forces
-  use material_factory, only: material_from_name
+  use material_factory, only: material_from_deck
+  use deck_fields, only: deck_fields_t
   use element_groups, only: group_size
-  use paradyn_schema, only: hourglass_stiffness, hourglass_physical
+  use paradyn_schema, only: hourglass_stiffness, hourglass_physical, material_elastic, material_j2_plasticity
   implicit none
   integer :: n_elements, n_cycles, n_groups
   character(len=32) :: arg
@@ -40,7 +41,7 @@ program kernel_benchmark
   props%poisson = 0.28_wp
   props%hourglass_coefficient = 0.1_wp
   props%integration_points = 5
-  call material_from_name('elastic', props%young, props%poisson, 250.0e6_wp, 0.0_wp, 1.0_wp, props%material)
+  call material_from_deck(steel(material_elastic), 1, props%material)
   write (*, '(a,i0,a,i0,a,i0,3a)') 'BLT kernel, ', n_groups * group_size, ' elements in groups of ', &
     group_size, ', ', n_cycles, ' cycles, 1 thread, 5 points, element kernel in ', &
     trim(merge('double', 'single', ek == wp)), ' precision'
@@ -51,10 +52,18 @@ program kernel_benchmark
   props%hourglass_form = hourglass_stiffness   ! the physical form's cost against the stiffness form's
   call report('elastic, stiffness hourglass form: ', props)
   props%hourglass_form = hourglass_physical
-  call material_from_name('j2_plasticity', props%young, props%poisson, 250.0e6_wp, 0.0_wp, 1.0_wp, props%material)
+  call material_from_deck(steel(material_j2_plasticity), 1, props%material)
   call report('plastic: ', props)
 
 contains
+
+  !> A deck of one steel of the given material model (perfectly plastic at 250 MPa where plastic).
+  function steel(model) result(deck)
+    integer, intent(in) :: model
+    type(deck_fields_t) :: deck
+    deck = deck_fields_t(material_model=[model], young=[props%young], poisson=[props%poisson], &
+                         yield_stress=[250.0e6_wp], tangent_modulus=[0.0_wp], hardening_mixing=[1.0_wp])
+  end function steel
 
   subroutine report(label, p)
     character(len=*), intent(in) :: label

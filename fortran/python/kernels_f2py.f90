@@ -36,8 +36,8 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   use paradyn_kinds, only: wp
   use shell_section, only: shell_properties_t
   use shell_blt, only: blt_internal_forces
-  use material_factory, only: material_from_name
-  use paradyn_schema, only: enum_name, enum_material_model
+  use material_factory, only: material_from_deck
+  use deck_fields, only: deck_fields_t
   implicit none
   integer, intent(in) :: n, nip, model
   integer, intent(in) :: hourglass_form  ! 1 viscous, 2 stiffness, 3 physical
@@ -52,13 +52,15 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
   integer, intent(out) :: inverted
   type(shell_properties_t) :: props
+  type(deck_fields_t) :: material   ! a deck of this one material
   real(wp) :: dt_element(n), corner_force(6, 4, n)
   real(wp), allocatable :: state(:, :, :)   ! the material member's own state (none for elastic and J2)
   props = shell_properties_t(thickness=thickness, density=density, young=young, poisson=poisson, &
                              hourglass_coefficient=hourglass_coefficient, integration_points=nip, &
                              hourglass_form=hourglass_form, warping_correction=warping_correction /= 0)
-  call material_from_name(enum_name(enum_material_model, model), young, poisson, yield_stress, tangent, beta, &
-                          props%material)
+  material = deck_fields_t(material_model=[model], young=[young], poisson=[poisson], yield_stress=[yield_stress], &
+                           tangent_modulus=[tangent], hardening_mixing=[beta])
+  call material_from_deck(material, 1, props%material)
   if (props%material%has_history()) props%hourglass_yield = yield_stress
   inverted = 0
   allocate (state(n, props%material%state_width(), nip), source=0.0_wp)
@@ -81,6 +83,9 @@ subroutine blt_time_step(n, x, thickness, density, young, poisson, dt_element)
   use paradyn_kinds, only: wp
   use shell_section, only: shell_properties_t
   use shell_measures, only: blt_stable_time_step
+  use material_factory, only: material_from_deck
+  use deck_fields, only: deck_fields_t
+  use paradyn_schema, only: material_elastic
   implicit none
   integer, intent(in) :: n
   real(wp), intent(in) :: x(n, 3, 4), thickness, density, young, poisson
@@ -90,6 +95,9 @@ subroutine blt_time_step(n, x, thickness, density, young, poisson, dt_element)
   props%density = density
   props%young = young
   props%poisson = poisson
+  ! the step follows the material's wave speed: an elastic material of these constants
+  call material_from_deck(deck_fields_t(material_model=[material_elastic], young=[young], poisson=[poisson]), 1, &
+                          props%material)
   call blt_stable_time_step(n, x, props, dt_element)
 end subroutine blt_time_step
 

@@ -21,7 +21,7 @@ module deck_reader
                             condition_none, enum_code, control_restart_may_change, &
                             status_ok, status_bad_input, size_n_nodes, size_n_elements
   use deck_rules, only: check_field_values, check_attribute_value, selected_rows, condition_rows, integer_text
-  use model_deck, only: deck_t, store_deck_field, store_control_value
+  use model_deck, only: deck_t, store_dataset, store_control
   use hdf5_attributes, only: read_string_attribute, read_real_attribute, read_int_attribute, link_exists
   implicit none
   private
@@ -98,7 +98,7 @@ contains
                               r%first(deck_datasets(id)%row_symbol), bad_row)
       if (sliced(id)) call agree_on_first(comm, bad_row, message)
       if (len_trim(message) > 0) return
-      call store_deck_field(d, id, r%fields(id)%values)
+      call store_dataset(d, id, r%fields(id)%values)
     end do
     call fingerprint_deck(r, d)
     d%n_nodes = r%sizes(size_n_nodes)
@@ -379,7 +379,7 @@ contains
           if (status_ok_so_far(r)) call check_attribute_value(id, values(id), r%message)
         end if
         if (.not. status_ok_so_far(r)) return
-        call store_control_value(d, id, values(id))
+        call store_control(d, id, values(id))
         r%control(id) = values(id)
       end associate
     end do

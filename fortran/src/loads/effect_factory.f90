@@ -5,7 +5,7 @@ module effect_factory
   use paradyn_kinds, only: wp
   use paradyn_schema, only: n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
                             effect_prescribed_velocity
-  use model_deck, only: deck_t, node_row
+  use model_deck, only: deck_t, node_row, deck_gravity
   use domain_decomposition, only: domain_t, local_node
   use effect_table, only: effect_table_t
   use nodal_effect, only: nodal_effect_holder_t
@@ -44,7 +44,7 @@ contains
           deck%load_value(1:deck%n_loads), deck%load_ramp_time(1:deck%n_loads)))
       case (effect_gravity)
         call append(effects)
-        allocate (effects(size(effects))%effect, source=gravity_effect_make(deck%gravity))
+        allocate (effects(size(effects))%effect, source=gravity_effect_make(deck_gravity(deck)))
       case (effect_pressure)
         call append(effects)
         allocate (effects(size(effects))%effect, source=pressure_effect_make(curves, deck%pressure_part, &

@@ -9,7 +9,7 @@ module deck_effects
                             effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, &
                             effect_friction, effect_gravity, effect_pressure, effect_rigid_wall, &
                             effect_prescribed_velocity
-  use model_deck, only: deck_t
+  use model_deck, only: deck_t, deck_gravity
   use effect_table, only: effect_table_t
   implicit none
   private
@@ -35,7 +35,7 @@ contains
     declared(effect_contact) = deck%n_contacts > 0
     if (deck%n_contacts > 0) declared(effect_friction) = any(deck%contact_static_friction > 0.0_wp) .or. &
                                                           any(deck%contact_dynamic_friction > 0.0_wp)
-    declared(effect_gravity) = any(deck%gravity /= 0.0_wp)
+    declared(effect_gravity) = any(deck_gravity(deck) /= 0.0_wp)
     declared(effect_pressure) = deck%n_pressures > 0
     declared(effect_prescribed_velocity) = deck%n_prescribed > 0
   end function declared_effects
@@ -65,7 +65,11 @@ contains
         deck%contact_static_friction = 0.0_wp
         deck%contact_dynamic_friction = 0.0_wp
       end if
-      if (off(effect_gravity)) deck%gravity = 0.0_wp
+      if (off(effect_gravity)) then
+        deck%gravity_x = 0.0_wp
+        deck%gravity_y = 0.0_wp
+        deck%gravity_z = 0.0_wp
+      end if
       if (off(effect_pressure)) deck%n_pressures = 0
       if (off(effect_prescribed_velocity)) deck%n_prescribed = 0
     end associate
