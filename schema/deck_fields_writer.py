@@ -73,7 +73,8 @@ def write(schema: Schema, header: list[str]) -> str:
     ids = [f"dataset_{identifier(d.name)}" for d in datasets] + [f"control_{a.name}" for a in attributes]
     out = [f"!> {h}" for h in header]
     out += ["module deck_fields", "  use paradyn_kinds, only: wp"]
-    uses = ["class_int", "size_none", "deck_datasets", "n_effects", "effect_switch", "switch_off", *ids]
+    uses = ["class_int", "size_none", "deck_datasets", "n_effects", "effect_switch", "switch_off", *ids,
+            *[f"effect_{e['name']}" for e in schema.effects if e.get("rows")]]
     line = "  use paradyn_schema, only: "
     for k, name in enumerate(uses):
         piece = name + (", " if k < len(uses) - 1 else "")
@@ -81,7 +82,8 @@ def write(schema: Schema, header: list[str]) -> str:
             out.append(line.rstrip() + " &")
             line = "                            "
         line += piece
-    out += [line, "  implicit none", "  private", "  public :: deck_fields_t, store_dataset, store_control", ""]
+    out += [line, "  implicit none", "  private",
+            "  public :: deck_fields_t, store_dataset, store_control, declare_by_rows, drop_rows", ""]
     out += ["  !> The deck's tables as the schema declares them: every engine dataset and /control attribute.",
             "  type :: deck_fields_t"]
     symbols = [s[2:] for s in schema.sizes]
@@ -110,5 +112,23 @@ def write(schema: Schema, header: list[str]) -> str:
         out += [f"    case (control_{a.name})", f"      d%{a.name} = {value}"]
     out += ["    case default   ! an effect's switch (schema/effects.toml)",
             "      where (effect_switch == id) d%effect_on = nint(value) /= switch_off",
-            "    end select", "  end subroutine store_control", "", "end module deck_fields", ""]
+            "    end select", "  end subroutine store_control", ""]
+    out += _effect_rows(schema)
+    out += ["end module deck_fields", ""]
     return "\n".join(out)
+
+
+def _effect_rows(schema: Schema) -> list[str]:
+    """The effects declared by the rows of their table (schema/effects.toml ``rows``)."""
+    by_rows = [(e["name"], e["rows"]) for e in schema.effects if e.get("rows")]
+    out = ["  !> Marks the effects that the deck declares by rows of their tables (schema/effects.toml rows).",
+           "  pure subroutine declare_by_rows(d, declared)", "    class(deck_fields_t), intent(in) :: d",
+           "    logical, intent(inout) :: declared(n_effects)"]
+    out += [f"    declared(effect_{name}) = d%{rows} > 0" for name, rows in by_rows]
+    out += ["  end subroutine declare_by_rows", "",
+            "  !> Drops the rows of the effects declared by rows that are switched off (off(id)).",
+            "  pure subroutine drop_rows(d, off)", "    class(deck_fields_t), intent(inout) :: d",
+            "    logical, intent(in) :: off(n_effects)"]
+    out += [f"    if (off(effect_{name})) d%{rows} = 0" for name, rows in by_rows]
+    out += ["  end subroutine drop_rows", ""]
+    return out

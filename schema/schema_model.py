@@ -203,7 +203,7 @@ def load(root: Path) -> Schema:
     return schema
 
 
-EFFECT_FIELDS = {"name", "stage", "switch", "timed_with", "declared_by", "meaning"}
+EFFECT_FIELDS = {"name", "stage", "switch", "timed_with", "declared_by", "rows", "meaning"}
 EFFECT_STAGES = ("loads", "velocities", "constraints", "elements", "contact")
 
 
@@ -211,6 +211,7 @@ def _effects(root: Path) -> list[dict[str, Any]]:
     """schema/effects.toml's effects, checked: known fields, a stage, timed_with naming an earlier
     effect that is timed itself."""
     effects = tomllib.loads((root / "schema" / "effects.toml").read_text(encoding="utf-8"))["effect"]
+    sizes = tomllib.loads((root / "schema" / "deck.toml").read_text(encoding="utf-8"))["sizes"]
     names: list[str] = []
     for e in effects:
         unknown = set(e) - EFFECT_FIELDS
@@ -224,6 +225,8 @@ def _effects(root: Path) -> list[dict[str, Any]]:
                                   for o in owners):
             raise SchemaError(f"effect {e['name']}: timed_with must name one or two earlier effects timed by "
                               "themselves")
+        if e.get("rows") is not None and e["rows"] not in sizes:
+            raise SchemaError(f"effect {e['name']}: rows must name a row symbol of schema/deck.toml [sizes]")
         names.append(e["name"])
     return effects
 

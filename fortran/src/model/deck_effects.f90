@@ -4,12 +4,12 @@
 !> place that decides what a deck switches on; everything else reads the table in results.h5.
 module deck_effects
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: n_effects, material_is_plastic, material_elastic, effect_point_loads, &
+  use paradyn_schema, only: n_effects, material_is_plastic, material_elastic, &
                             effect_time_integration, effect_mass_damping, effect_fixed_boundaries, &
                             effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, &
-                            effect_friction, effect_gravity, effect_pressure, effect_rigid_wall, &
-                            effect_prescribed_velocity
+                            effect_friction, effect_gravity
   use model_deck, only: deck_t, deck_gravity
+  use deck_fields, only: declare_by_rows, drop_rows
   use effect_table, only: effect_table_t
   implicit none
   private
@@ -24,20 +24,16 @@ contains
     integer, allocatable :: part_model(:)
     declared = .false.
     part_model = deck%material_model(deck%part_material)
-    declared(effect_point_loads) = deck%n_loads > 0
+    call declare_by_rows(deck, declared)   ! the effects declared by the rows of their tables
     declared(effect_time_integration) = .true.
     declared(effect_mass_damping) = deck%mass_damping > 0.0_wp
     declared(effect_fixed_boundaries) = deck%any_fixed   ! over the whole mesh (deck_checks)
     declared(effect_elastic_shells) = any(.not. material_is_plastic(part_model))
     declared(effect_plastic_shells) = any(material_is_plastic(part_model))
     declared(effect_hourglass) = any(deck%hourglass_coefficient > 0.0_wp)
-    declared(effect_rigid_wall) = deck%n_rigid_walls > 0
-    declared(effect_contact) = deck%n_contacts > 0
     if (deck%n_contacts > 0) declared(effect_friction) = any(deck%contact_static_friction > 0.0_wp) .or. &
                                                           any(deck%contact_dynamic_friction > 0.0_wp)
     declared(effect_gravity) = any(deck_gravity(deck) /= 0.0_wp)
-    declared(effect_pressure) = deck%n_pressures > 0
-    declared(effect_prescribed_velocity) = deck%n_prescribed > 0
   end function declared_effects
 
   !> The effect table of the deck (what it declares, what runs), and the deck with the effects
@@ -48,19 +44,15 @@ contains
     table%declared = declared_effects(deck)
     table%running = table%declared .and. deck%effect_on
     associate (off => table%declared .and. .not. table%running)
-      if (off(effect_point_loads)) deck%n_loads = 0
+      call drop_rows(deck, off)   ! the effects declared by rows: their rows go
       if (off(effect_mass_damping)) deck%mass_damping = 0.0_wp
-      if (off(effect_rigid_wall)) deck%n_rigid_walls = 0
       if (off(effect_plastic_shells)) then
         where (material_is_plastic(deck%material_model)) deck%material_model = material_elastic
         table%declared(effect_elastic_shells) = .true.   ! those parts now run as elastic shells
         table%running(effect_elastic_shells) = .true.
       end if
       if (off(effect_hourglass)) deck%hourglass_coefficient = 0.0_wp
-      if (off(effect_contact)) then
-        deck%n_contacts = 0
-        table%running(effect_friction) = .false.
-      end if
+      if (off(effect_contact)) table%running(effect_friction) = .false.
       if (off(effect_friction)) then
         deck%contact_static_friction = 0.0_wp
         deck%contact_dynamic_friction = 0.0_wp
@@ -70,8 +62,6 @@ contains
         deck%gravity_y = 0.0_wp
         deck%gravity_z = 0.0_wp
       end if
-      if (off(effect_pressure)) deck%n_pressures = 0
-      if (off(effect_prescribed_velocity)) deck%n_prescribed = 0
     end associate
   end subroutine effects_of_deck
 

@@ -31,10 +31,11 @@ module deck_fields
                             control_precision, control_gravity_x, control_gravity_y, control_gravity_z, &
                             control_energy_error_limit, control_time_step_floor, &
                             control_contact_travel_limit, control_mass_scaling_step, &
-                            control_mass_scaling_limit
+                            control_mass_scaling_limit, effect_point_loads, effect_pressure, &
+                            effect_rigid_wall, effect_prescribed_velocity, effect_contact
   implicit none
   private
-  public :: deck_fields_t, store_dataset, store_control
+  public :: deck_fields_t, store_dataset, store_control, declare_by_rows, drop_rows
 
   !> The deck's tables as the schema declares them: every engine dataset and /control attribute.
   type :: deck_fields_t
@@ -291,5 +292,27 @@ contains
       where (effect_switch == id) d%effect_on = nint(value) /= switch_off
     end select
   end subroutine store_control
+
+  !> Marks the effects that the deck declares by rows of their tables (schema/effects.toml rows).
+  pure subroutine declare_by_rows(d, declared)
+    class(deck_fields_t), intent(in) :: d
+    logical, intent(inout) :: declared(n_effects)
+    declared(effect_point_loads) = d%n_loads > 0
+    declared(effect_pressure) = d%n_pressures > 0
+    declared(effect_rigid_wall) = d%n_rigid_walls > 0
+    declared(effect_prescribed_velocity) = d%n_prescribed > 0
+    declared(effect_contact) = d%n_contacts > 0
+  end subroutine declare_by_rows
+
+  !> Drops the rows of the effects declared by rows that are switched off (off(id)).
+  pure subroutine drop_rows(d, off)
+    class(deck_fields_t), intent(inout) :: d
+    logical, intent(in) :: off(n_effects)
+    if (off(effect_point_loads)) d%n_loads = 0
+    if (off(effect_pressure)) d%n_pressures = 0
+    if (off(effect_rigid_wall)) d%n_rigid_walls = 0
+    if (off(effect_prescribed_velocity)) d%n_prescribed = 0
+    if (off(effect_contact)) d%n_contacts = 0
+  end subroutine drop_rows
 
 end module deck_fields
