@@ -6,7 +6,7 @@ otherwise) and is compared with a closed-form reference named in the test's docs
 
 Steel (E = 200 GPa, nu = 0.3, rho = 7850 kg/m^3), shells 2 mm thick. The plates are flat in
 planes z = const; "clearance" is the distance between the contact surfaces (the mid-surfaces less
-half a thickness each, fortran/src/contact_interface.f90).
+half a thickness each, fortran/src/contact/state/contact_interface.f90).
 
 **The contact time scale of thin shells.** A shell has no through-thickness wave, so a plate
 hitting another face on is not the 1-D bar problem turned sideways. Over the few microseconds of
