@@ -187,7 +187,7 @@ def test_end_on_strips_exchange_velocities(tmp_path):
     c = sqrt(E / rho) = 5048 m/s (the plate speed is 4.8 % higher).
 
     Shells have no end face, but the contact surface is rounded at the edges with half a
-    thickness (contact_search.f90), so the end nodes of one strip meet the end edge of the other
+    thickness (contact/force/contact_penalty.f90), so the end nodes of one strip meet the end edge of the other
     when the ends are a thickness apart, and push along the strip. Strips 0.5 m x 0.02 m,
     50 x 2 elements, t = 2 mm, v = 1 m/s, default penalty, a quarter of the stable step.
 
