@@ -2,7 +2,7 @@
 plates, two facing plates symmetric under a half turn, and small measures on their results.
 
 The plates are flat in planes z = const; "clearance" is the distance between the contact
-surfaces (the mid-surfaces less half a thickness each, fortran/src/contact_interface.f90). The
+surfaces (the mid-surfaces less half a thickness each, fortran/src/contact/state/contact_interface.f90). The
 contact time scale of thin shells, which these helpers measure, is explained in the docstring of
 tests/test_contact_impact.py.
 """

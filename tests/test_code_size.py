@@ -1,6 +1,6 @@
 """The house rules of issue 12 (docs/architecture.md): no source file over 500 lines and no routine
-over 120 lines, so that a file fits in a reader's head. The exceptions are named here with their
-reasons; a new one needs the same."""
+over 120 lines, so that a file fits in a reader's head; and (issue 31) no folder of the engine over 20
+files. The exceptions are named here with their reasons; a new one needs the same."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ ROOT = Path(__file__).resolve().parents[1]
 FOLDERS = ("fortran", "frontend", "tests", "schema", "tools", "cases")
 MAX_FILE_LINES = 500
 MAX_ROUTINE_LINES = 120
+MAX_FOLDER_FILES = 20
 # routine -> why it may be longer
 LONG_ROUTINES = {
     "blt_internal_forces": "the element kernel: one pass over a group's stages (frame, strain rates, each "
@@ -57,6 +58,16 @@ def test_no_source_file_is_over_500_lines() -> None:
             if (n := len(p.read_text().splitlines())) > MAX_FILE_LINES and str(p.relative_to(ROOT)) not in LONG_FILES}
     assert long == {}, f"split these by concern (docs/architecture.md): {long}"
 
+
+def test_no_engine_folder_holds_over_20_files() -> None:
+    """A folder of the engine is a room a reader takes in at a glance (issue 31): one that outgrows 20
+    files is split into subfolders by concern, as fortran/src/contact/ is (kinds, search, state, ...)."""
+    src = ROOT / "fortran" / "src"
+    folders = [src, *(p for p in src.rglob("*") if p.is_dir())]
+    assert len(folders) > 10   # the scan found the engine's folders
+    crowded = {str(d.relative_to(ROOT)): n for d in folders
+               if (n := sum(1 for f in d.iterdir() if f.is_file())) > MAX_FOLDER_FILES}
+    assert crowded == {}, f"split these into rooms (docs/architecture.md): {crowded}"
 
 def test_no_routine_is_over_120_lines_but_the_named_exceptions() -> None:
     routines = [(p, name, n) for p in _sources(".f90") for name, n in _fortran_routines(p)]

@@ -1,5 +1,5 @@
 """Idle contact pairs cost almost nothing and change nothing (issue 13, "idle is cheap";
-docs/theory.md, contact activity; fortran/src/contact/contact_activity.f90).
+docs/theory.md, contact activity; fortran/src/contact/search/contact_activity.f90).
 
 At activity checks the engine bounds each side of a contact pass by a box and its largest speed;
 a pass whose boxes, grown by twice the speed times the cycles to the next check, stay farther

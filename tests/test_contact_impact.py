@@ -6,7 +6,7 @@ otherwise) and is compared with a closed-form reference named in the test's docs
 
 Steel (E = 200 GPa, nu = 0.3, rho = 7850 kg/m^3), shells 2 mm thick. The plates are flat in
 planes z = const; "clearance" is the distance between the contact surfaces (the mid-surfaces less
-half a thickness each, fortran/src/contact_interface.f90).
+half a thickness each, fortran/src/contact/state/contact_interface.f90).
 
 **The contact time scale of thin shells.** A shell has no through-thickness wave, so a plate
 hitting another face on is not the 1-D bar problem turned sideways. Over the few microseconds of
@@ -187,7 +187,7 @@ def test_end_on_strips_exchange_velocities(tmp_path):
     c = sqrt(E / rho) = 5048 m/s (the plate speed is 4.8 % higher).
 
     Shells have no end face, but the contact surface is rounded at the edges with half a
-    thickness (contact_search.f90), so the end nodes of one strip meet the end edge of the other
+    thickness (contact/force/contact_penalty.f90), so the end nodes of one strip meet the end edge of the other
     when the ends are a thickness apart, and push along the strip. Strips 0.5 m x 0.02 m,
     50 x 2 elements, t = 2 mm, v = 1 m/s, default penalty, a quarter of the stable step.
 

@@ -1,7 +1,7 @@
 """Contact kernels (issue 4) of the contact forces, called through the f2py wrappers
 (``paradyn._kernels``): penalty force between two-sided shells with thickness and regularised
-Coulomb friction (Hallquist, Goudreau & Benson 1985; LS-DYNA Theory Manual). Each test names its
-reference in its docstring.
+Coulomb friction (Hallquist, Goudreau & Benson 1985; LS-DYNA Theory Manual; the force law is
+fortran/src/contact/force/contact_penalty.f90). Each test names its reference in its docstring.
 
 Node and segment numbers returned by the wrappers are 1-based. A segment is ``xseg[:, I]`` for
 its nodes I = 0..3 at (xi, eta) = (-1, -1), (1, -1), (1, 1), (-1, 1).

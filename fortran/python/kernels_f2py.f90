@@ -218,7 +218,8 @@ subroutine decomposition_check(n_nodes, n_elements, connectivity, element_part, 
 end subroutine decomposition_check
 
 ! ------------------------------------------------------------------------------------------------
-! Contact kernels (contact_buckets, contact_search). Node and segment numbers are 1-based.
+! Contact kernels (contact_buckets, contact_search, segment_projection, contact_penalty). Node and
+! segment numbers are 1-based.
 
 ! Bucket sort of n_master master nodes and the nearest master node of each of n_points points
 ! (build and query in one call; 0 = none). n_buckets: buckets per axis of the grid that was built.
@@ -278,7 +279,7 @@ end subroutine contact_nearest_listed
 
 subroutine contact_closest_point(xseg, p, xi, eta, xc, normal)
   use paradyn_kinds, only: wp
-  use contact_search, only: closest_point_on_segment
+  use segment_projection, only: closest_point_on_segment
   implicit none
   real(wp), intent(in) :: xseg(3, 4), p(3)
   real(wp), intent(out) :: xi, eta, xc(3), normal(3)
@@ -335,7 +336,7 @@ end subroutine contact_segment_clearance
 
 subroutine contact_segment_distance_bound(xseg, p, bound)
   use paradyn_kinds, only: wp
-  use contact_search, only: segment_distance_bound
+  use segment_projection, only: segment_distance_bound
   implicit none
   real(wp), intent(in) :: xseg(3, 4), p(3)
   real(wp), intent(out) :: bound
@@ -344,7 +345,7 @@ end subroutine contact_segment_distance_bound
 
 subroutine contact_penalty_stiffness(xseg, young, poisson, scale, k)
   use paradyn_kinds, only: wp
-  use contact_search, only: shell_penalty_stiffness
+  use contact_penalty, only: shell_penalty_stiffness
   implicit none
   real(wp), intent(in) :: xseg(3, 4), young, poisson, scale
   real(wp), intent(out) :: k
@@ -356,7 +357,7 @@ end subroutine contact_penalty_stiffness
 subroutine contact_penalty_force(p, t_slave, xseg, t_master, k, f_slave, f_master, penetration, in_contact, &
                                  v_slave, v_master, mu_static, mu_dynamic, decay, v_slip, rounded_edges)
   use paradyn_kinds, only: wp
-  use contact_search, only: penalty_force
+  use contact_penalty, only: penalty_force
   implicit none
   real(wp), intent(in) :: p(3), t_slave, xseg(3, 4), t_master, k
   real(wp), intent(out) :: f_slave(3), f_master(3, 4), penetration

@@ -31,7 +31,7 @@ program paradyn_engine
   use deck_stream, only: stream_reader_t, write_streamed_deck, bad_stream
   use deck_effects, only: effects_of_deck
   use contact_checks, only: resolve_initial_penetrations
-  use contact_rows, only: replicated_contact_deck
+  use contact_global_rows, only: replicated_contact_deck
   use contact_parallel, only: contact_is_local
   use model_deck, only: node_row, element_row
   use, intrinsic :: iso_fortran_env, only: error_unit
@@ -53,7 +53,7 @@ program paradyn_engine
   end interface
 
   type(deck_t) :: deck      !< this rank's rows of the deck (model_deck)
-  type(deck_t) :: contact   !< with contact: the contact parts in the global layout (contact_rows)
+  type(deck_t) :: contact   !< with contact: the contact parts in the global layout (contact_global_rows)
   real(wp), allocatable :: moves(:, :)   !< with contact: initial penetrations moved out (3, this rank's node rows)
   type(solver_t) :: solver
   type(results_file_t) :: results
@@ -155,7 +155,7 @@ program paradyn_engine
   if (deck%n_contacts > 0) then   ! checked on each rank's rows
     call resolve_initial_penetrations(deck, comm, rank == 0, error_unit, moves)   ! reported; moves where asked
     ! local contact sets up from each rank's rows; one rank and the replicated scheme read the
-    ! contact parts in the global layout (contact_rows)
+    ! contact parts in the global layout (contact_global_rows)
     if (.not. contact_is_local(n_ranks, deck%contact_gather == contact_gather_all)) &
       contact = replicated_contact_deck(deck, comm)
   end if

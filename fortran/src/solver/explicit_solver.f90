@@ -53,8 +53,8 @@ contains
   !> this rank's elements (model_deck's layout: they become the domain's) and the rows of their
   !> nodes (the crossing check and local contact's set-up run on them); contact: the deck in the
   !> global layout the contact state's set-up reads on one rank and in the replicated scheme
-  !> (contact_rows; any deck otherwise), released once that state is built. status 2 with a message for a mesh that cannot run (a
-  !> node without mass).
+  !> (contact_global_rows; any deck otherwise), released once that state is built. status 2 with a
+  !> message for a mesh that cannot run (a node without mass).
   subroutine solver_setup(s, deck, contact, effects, comm, status, message)
     type(solver_t), intent(inout) :: s
     type(deck_t), intent(in) :: deck

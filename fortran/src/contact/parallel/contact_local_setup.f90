@@ -27,7 +27,7 @@ module contact_local_setup
   use halo_exchange, only: halo_t, halo_setup, exchange_corners
   use rank_exchange, only: exchange_int
   use integer_sort, only: distinct_ascending, sorted_position, merge_sort_ascending
-  use contact_search, only: shell_penalty_stiffness
+  use contact_penalty, only: shell_penalty_stiffness
   use contact_interface, only: contact_t, definitions_passes
   use contact_ghost_segments, only: hold_ghost_segments, segment_row_width
   use contact_checks, only: held_thickness, part_rows, corners

@@ -5,7 +5,7 @@
 !> the parts that some /contact/pairs entry names, and the coordinates of their nodes, from the
 !> ranks that hold them (MPI_Allgatherv), into arrays indexed by global node and element id: (3
 !> n_nodes + 5 n_elements) numbers per rank. A model without contact never calls it.
-module contact_rows
+module contact_global_rows
   use mpi_f08
   use paradyn_kinds, only: wp
   use model_deck, only: deck_t, node_row
@@ -68,4 +68,4 @@ contains
     deallocate (global%velocity, global%angular_velocity, global%fixed, global%node_part)
   end function replicated_contact_deck
 
-end module contact_rows
+end module contact_global_rows

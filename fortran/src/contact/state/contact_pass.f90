@@ -11,7 +11,8 @@ module contact_pass
   use model_deck, only: deck_t
   use contact_buckets, only: bucket_grid_t
   use nearest_cache, only: near_lists_t, near_lists_setup
-  use contact_search, only: node_segment_map, shell_penalty_stiffness
+  use contact_search, only: node_segment_map
+  use contact_penalty, only: shell_penalty_stiffness
   use initial_penetration, only: slave_penetrations
   use integer_sort, only: distinct_ascending, sorted_position
   use contact_surfaces, only: part_nodes, contact_thickness

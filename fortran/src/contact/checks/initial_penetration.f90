@@ -1,6 +1,6 @@
 !> Slave nodes that start inside the contact thickness of the surface they should meet (issue 15):
 !> how deep, where, and the push that takes each out, by the same geometry as the penalty force
-!> (contact_search's penalty_force with unit stiffness: its force is the depth along the push).
+!> (contact_penalty's penalty_force with unit stiffness: its force is the depth along the push).
 !> Every contact definition is checked before the run and reported; the scene chooses what is
 !> done: the nodes are moved onto the surface (the default: initial displacements the solver
 !> adds), or their overlap is kept as their gap (contact_pass). Master elements are binned as in
@@ -8,7 +8,7 @@
 !> on each rank's rows over the ranks; no MPI.
 module initial_penetration
   use paradyn_kinds, only: wp
-  use contact_search, only: penalty_force
+  use contact_penalty, only: penalty_force
   use surface_overlap, only: bin_elements, cell_of, index_of
   implicit none
   private

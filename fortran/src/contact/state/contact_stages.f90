@@ -7,8 +7,8 @@
 module contact_stages
   use paradyn_kinds, only: wp, ip, i8
   use nearest_cache, only: nearest_master_listed
-  use contact_search, only: segment_candidates, penalty_force, candidate_block, candidates_in_slave_order, &
-                            edge_tolerance
+  use contact_search, only: segment_candidates, candidate_block, candidates_in_slave_order
+  use contact_penalty, only: penalty_force, edge_tolerance
   use contact_pass, only: contact_pass_t
   use contact_interface, only: contact_t, clock_seconds
   use contact_slots, only: slot_of

@@ -129,7 +129,7 @@ module contact_interface
 contains
 
   !> The contact state of the deck's pairs from the contact parts in the global layout (one rank
-  !> and the replicated scheme, io/contact_rows; local contact: contact_local_setup): every contact
+  !> and the replicated scheme, contact_global_rows; local contact: contact_local_setup): every contact
   !> node, numbered in global id order, and every definition's passes with all their lists.
   subroutine contact_setup(deck, c)
     type(deck_t), intent(in) :: deck

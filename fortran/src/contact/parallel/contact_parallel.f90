@@ -68,7 +68,7 @@ contains
   !> Contact of the deck's pairs on this rank's domain (mass, v: the local nodal masses and
   !> velocities; dt: the solver's step, for the penalty's stability cap): under local contact from
   !> this rank's rows (rows: contact_local_setup), else from the contact parts in the global
-  !> layout (contact: contact_rows, released once the passes are built; empty under local
+  !> layout (contact: contact_global_rows, released once the passes are built; empty under local
   !> contact). gather_all: no shortcut, every contact node gathered, every pass run every step (to
   !> check that those change nothing).
   subroutine parallel_contact_setup(pc, contact, rows, dom, comm, mass, v, dt, gather_all)
