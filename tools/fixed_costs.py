@@ -41,7 +41,7 @@ t1 = time.perf_counter()
 source, out, threads, plots = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4] == "1"
 model = scene.build_model(scene.load_scene(source))
 t2 = time.perf_counter()
-import h5py   # the command loads it while its engine runs (paradyn.deck_stream)
+import h5py   # the command loads it while its engine runs (paradyn.deck.stream)
 t2h = time.perf_counter()
 path = deck.write_deck(model, out + "/deck.h5")
 t3 = time.perf_counter()

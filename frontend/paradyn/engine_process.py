@@ -159,7 +159,7 @@ class AwaitingEngine:
         return self.process
 
     def send_deck(self, stream: Iterable[bytes | memoryview]) -> None:
-        """Send the deck itself (:func:`paradyn.deck_stream.encode`): the engine writes it to its
+        """Send the deck itself (:func:`paradyn.deck.stream.encode`): the engine writes it to its
         deck path and waits for :meth:`go`."""
         assert self.process.stdin is not None
         with contextlib.suppress(BrokenPipeError):   # an engine that failed: its status tells

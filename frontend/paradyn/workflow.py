@@ -14,8 +14,9 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from . import deck, deck_stream, launch, preflight, scene
+from . import deck, launch, preflight, scene
 from .builder import Scene as SceneBuilder
+from .deck import stream as deck_stream
 from .engine_process import Progress
 from .postprocess import post_process
 from .progress import RunProgress

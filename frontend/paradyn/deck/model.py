@@ -2,8 +2,8 @@
 
 :class:`Model` holds the deck's arrays with the deck's shapes (0-based indices), the control values
 (:class:`Control`) and the names the frontend uses in its outputs; missing optional arrays get the
-schema's defaults. Writing, reading and validating are in :mod:`paradyn.deck` and
-:mod:`paradyn.deck_validation`.
+schema's defaults. Writing and reading are in :mod:`paradyn.deck.files`,
+validating in :mod:`paradyn.deck.validation`.
 """
 
 from __future__ import annotations

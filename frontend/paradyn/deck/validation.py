@@ -24,7 +24,7 @@ from paradyn._schema import (
 )
 
 if TYPE_CHECKING:
-    from paradyn.deck_model import Model
+    from .model import Model
 
 
 

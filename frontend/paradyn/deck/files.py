@@ -1,14 +1,9 @@
-"""The ParaDyn deck (``deck.h5``, format version 1 of ``docs/formats.md``): model, writer, reader, validator.
+"""The deck file (``deck.h5``, format version 1 of ``docs/formats.md``): writing, reading and checking it.
 
-:class:`Model` holds every array of the deck as numpy arrays with the deck's shapes (0-based indices),
-the control values (:class:`Control`) and the names the frontend uses in its outputs.
 :func:`write_deck` validates and writes atomically; :func:`read_deck` reads and validates;
-:func:`validate_deck` only checks a file. Every problem raises :class:`DeckError` with one message
-naming the file, the dataset, the offending entry and the fix.
-
-The datasets, attributes, defaults and rules come from the schema (``schema/deck.toml``, generated
-into :mod:`paradyn._schema`); the engine checks the same tables. The checks themselves live in
-:mod:`paradyn.deck_validation`.
+:func:`read_deck_arrays` reads a few arrays; :func:`validate_deck` only checks a file. Every problem
+raises :class:`~paradyn.deck.DeckError` with one message naming the file, the dataset, the offending
+entry and the fix. The public names are :mod:`paradyn.deck`'s.
 """
 
 from __future__ import annotations
@@ -24,53 +19,19 @@ from paradyn._schema import (
     CONDITIONS,
     DATASETS,
     DECK_VERSION,
-    DOF_NAMES,
     NAME_ATTRIBUTES,
     SIZES,
     TITLE_ATTRIBUTE,
     VERSION_ATTRIBUTE,
     DatasetSpec,
 )
-from paradyn.deck_model import (
-    CONTROL_BY_NAME,
-    DATASET_BY_ATTRIBUTE,
-    DEFAULT_PARTITION,
-    ELASTIC,
-    HOURGLASS_STIFFNESS,
-    HOURGLASS_VISCOUS,
-    J2_PLASTICITY,
-    PARTITIONS,
-    SWITCH_ATTRIBUTES,
-    Control,
-    Model,
-    control_default,
-)
-from paradyn.deck_stream import deck_items
-from paradyn.deck_validation import DeckError, validate_model
+
+from .model import CONTROL_BY_NAME, DATASET_BY_ATTRIBUTE, SWITCH_ATTRIBUTES, Control, Model
+from .stream import deck_items
+from .validation import DeckError, validate_model
 
 if TYPE_CHECKING:
     import h5py
-
-__all__ = [
-    "DECK_VERSION",
-    "DEFAULT_PARTITION",
-    "DOF_NAMES",
-    "ELASTIC",
-    "HOURGLASS_STIFFNESS",
-    "HOURGLASS_VISCOUS",
-    "J2_PLASTICITY",
-    "PARTITIONS",
-    "SWITCH_ATTRIBUTES",
-    "VERSION_ATTRIBUTE",
-    "Control",
-    "DeckError",
-    "Model",
-    "control_default",
-    "read_deck",
-    "validate_deck",
-    "validate_model",
-    "write_deck",
-]
 
 # ----------------------------------------------------------------------------------------------
 # writing
@@ -79,7 +40,7 @@ __all__ = [
 def write_deck(model: Model, path: str | Path) -> Path:
     """Validate ``model`` and write it to ``path`` atomically (temporary file, then rename)."""
     path = Path(path)
-    import h5py  # where a file is opened: a run sends its deck to the engine before h5py loads (deck_stream)
+    import h5py  # where a file is opened: a run sends its deck to the engine before h5py loads (paradyn.deck.stream)
 
     validate_model(model, source=f"{path} (not written)")
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -14,8 +14,9 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from ._schema import DATASETS, DECK_VERSION, NAME_ATTRIBUTES, TITLE_ATTRIBUTE, VERSION_ATTRIBUTE
-from .deck_model import SWITCH_ATTRIBUTES, Control, Model
+from paradyn._schema import DATASETS, DECK_VERSION, NAME_ATTRIBUTES, TITLE_ATTRIBUTE, VERSION_ATTRIBUTE
+
+from .model import SWITCH_ATTRIBUTES, Control, Model
 
 STREAM_HEADER = b"paradyn-deck-stream 1\n"
 # an item: ("dataset", path, array) or ("attribute", object path, name, value); a value is an
