@@ -12,8 +12,10 @@ from pathlib import Path
 import pytest
 
 import paradyn
-from paradyn import cli, deck, geometry, launch, mesh_files, scene
+from paradyn import cli, deck, launch, scene
 from paradyn._schema import STATUS_BAD_INPUT, STATUS_FAILURE
+from paradyn.mesh import files as mesh_files
+from paradyn.mesh import geometry
 from paradyn.results_file import ResultsError
 
 ROOT = Path(__file__).resolve().parents[1]

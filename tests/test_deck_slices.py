@@ -20,7 +20,8 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import benchmark, deck, geometry, launch
+from paradyn import benchmark, deck, launch
+from paradyn.mesh import geometry
 
 pytestmark = pytest.mark.mpi
 

@@ -18,7 +18,8 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import cli, deck, geometry, launch
+from paradyn import cli, deck, launch
+from paradyn.mesh import geometry
 
 ROOT = Path(__file__).resolve().parents[1]
 

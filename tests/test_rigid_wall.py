@@ -28,7 +28,8 @@ import pytest
 
 import paradyn
 from models import interrupted_copy
-from paradyn import deck, geometry, launch, scene
+from paradyn import deck, launch, scene
+from paradyn.mesh import geometry
 
 STEEL_DENSITY = 7850.0
 THICKNESS = 0.002

@@ -12,9 +12,10 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import deck, geometry, scene
+from paradyn import deck, scene
 from paradyn._schema import STATUS_BAD_INPUT
 from paradyn.launch import current_machine, engine_path
+from paradyn.mesh import geometry
 from paradyn.runners import MpirunRunner
 
 

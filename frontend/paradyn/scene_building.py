@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from paradyn import _schema, deck, geometry
+from paradyn import _schema, deck
+from paradyn.mesh import geometry
 from paradyn.scene_specs import HOURGLASS_FORMS, ContactSpec, PartSpec, Scene, SceneError
 from paradyn.scene_tables import _Reader
 

@@ -11,7 +11,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from paradyn import _schema, deck, geometry, mesh_files
+from paradyn import _schema, deck
+from paradyn.mesh import files as mesh_files
+from paradyn.mesh import geometry
 
 
 class SceneError(ValueError):

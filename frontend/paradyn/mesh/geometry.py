@@ -1,5 +1,5 @@
 """Shell meshes for ParaDyn: structured cylinders and flat plates, by formula (numpy); mesh files
-are read by :mod:`paradyn.mesh_files` (gmsh or meshio).
+are read by :mod:`paradyn.mesh.files` (gmsh or meshio).
 
 Every mesh is a :class:`Mesh` of 4-node quadrilaterals with 0-based node indices, counter-clockwise
 seen from the side the shell normal points to (the convention of ``docs/formats.md``).
