@@ -13,7 +13,7 @@ import paradyn
 from paradyn import _schema
 from paradyn.keyword_reader import KeywordError
 from paradyn.keyword_scene import keyword_scene, load_keyword
-from paradyn.scene_specs import ContactSpec
+from paradyn.scene.specs import ContactSpec
 
 HEAD = """*KEYWORD
 *CONTROL_TERMINATION

@@ -2,7 +2,7 @@
 
 :func:`load_keyword` reads a ``.k`` file (:mod:`paradyn.keyword_reader`, :mod:`paradyn.keyword_cards`)
 and returns a :class:`KeywordScene`: the scene-level description (materials, parts, contacts as
-:mod:`paradyn.scene_specs` objects, with the node-level data of the deck beside them), the deck
+:mod:`paradyn.scene.specs` objects, with the node-level data of the deck beside them), the deck
 model in SI, the ids of the deck's nodes, elements and parts, and the warnings. :func:`read_keyword`
 returns the model alone and prints the warnings. Nodes keep the deck's sharing between parts (a
 keyword mesh is one mesh, unlike a TOML scene's parts).
@@ -21,8 +21,8 @@ from paradyn.keyword_cards import KeywordData, Record, collect
 from paradyn.keyword_mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of
 from paradyn.keyword_reader import KeywordError, read_keyword_file
 from paradyn.keyword_units import Units, UnitsError
-from paradyn.scene_building import _apply_contacts
-from paradyn.scene_specs import ContactSpec, MaterialSpec, PartSpec, RunSettings, Scene
+from paradyn.scene.building import _apply_contacts
+from paradyn.scene.specs import ContactSpec, MaterialSpec, PartSpec, RunSettings, Scene
 
 MAX_INTEGRATION_POINTS = int(next(d.upper.value for d in _schema.DATASETS if d.python == "integration_points"))
 # LS-DYNA's IHQ for shells -> ParaDyn's hourglass form (docs/keyword.md)

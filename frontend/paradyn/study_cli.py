@@ -11,7 +11,7 @@ from typing import Any
 
 from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_OK
 from .engine_process import EngineError
-from .scene_specs import SceneError
+from .scene.specs import SceneError
 from .study_design import DESIGNS, KNOBS, UNAVAILABLE, StudyError
 from .study_spec import COSTS, REFERENCES
 from .study_sweep import study

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from . import _schema
-from .scene_specs import HOURGLASS_FORMS, CylinderGeometry, FileGeometry, PlateGeometry, Scene
+from .scene.specs import HOURGLASS_FORMS, CylinderGeometry, FileGeometry, PlateGeometry, Scene
 
 DESIGNS = ("one_at_a_time", "grid", "list")
 PRECISIONS = tuple(_schema.ENUMS["precision"])   # [run] precision: the engines there are

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from .atomic_write import write_text_atomic
-from .scene_specs import Scene
+from .scene.specs import Scene
 from .study_analysis import StudyResult
 from .study_design import KNOBS, UNAVAILABLE
 from .study_error import Quantity

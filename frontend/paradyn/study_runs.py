@@ -26,8 +26,8 @@ from . import deck, launch, reports
 from .atomic_write import write_text_atomic
 from .engine_process import EngineError
 from .reading import read
-from .scene_building import build_model
-from .scene_specs import Scene
+from .scene.building import build_model
+from .scene.specs import Scene
 from .study_design import Config, apply
 
 RUN_RECORD = "run.json"   # written last: a run folder with it is a finished run

@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
-from .scene_specs import Scene
+from .scene.specs import Scene
 from .study_design import DESIGNS, Design, StudyError
 from .study_error import Quantity, parse_quantities, parse_target
 

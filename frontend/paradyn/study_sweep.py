@@ -20,8 +20,8 @@ from typing import Any
 from tqdm.auto import tqdm
 
 from . import launch, scene
-from .builder import Scene as SceneBuilder
 from .reading import read
+from .scene.builder import Scene as SceneBuilder
 from .study_analysis import StudyResult, StudyRun, analyse
 from .study_design import Design, StudyError, apply, base_values, label
 from .study_error import check_quantities, parse_target

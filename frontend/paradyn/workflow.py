@@ -15,7 +15,6 @@ from pathlib import Path
 from typing import Any
 
 from . import deck, launch, preflight, scene
-from .builder import Scene as SceneBuilder
 from .deck import stream as deck_stream
 from .engine_process import Progress
 from .postprocess import post_process
@@ -24,6 +23,7 @@ from .reading import Results, read
 from .restart import restart_deck
 from .run_folders import output_folder
 from .runners import Runner, SbatchRunner
+from .scene.builder import Scene as SceneBuilder
 
 Source = str | Path | scene.Scene | SceneBuilder | deck.Model  # what paradyn.run accepts
 DECK_SUFFIXES = (".h5", ".hdf5")

@@ -14,7 +14,8 @@ from pathlib import Path
 from typing import Any
 
 from paradyn import _schema, deck
-from paradyn.scene_specs import (
+
+from .specs import (
     DOF_GROUPS,
     HOURGLASS_FORMS,
     MATERIAL_MODELS,
@@ -36,7 +37,7 @@ from paradyn.scene_specs import (
     SceneError,
     TrackSpec,
 )
-from paradyn.scene_tables import _REQUIRED, _Reader
+from .tables import _REQUIRED, _Reader
 
 try:
     import tomllib

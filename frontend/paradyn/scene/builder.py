@@ -5,7 +5,7 @@ Every ``add_*`` call checks its entry at once with the reader of :func:`paradyn.
 checks the whole scene (unique names, defined parts, materials and curves) and returns the
 :class:`paradyn.scene.Scene` that :func:`paradyn.scene.build_model` meshes. :meth:`Scene.to_toml`
 writes the scene file that ``load_scene`` reads back to the same scene, and :func:`paradyn.run`
-runs a Scene as it runs a file. The TOML text is written by :mod:`paradyn.toml_writing`.
+runs a Scene as it runs a file. The TOML text is written by :mod:`paradyn.scene.toml_writing`.
 """
 
 from __future__ import annotations
@@ -17,15 +17,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import scene_reading as reading
-from . import scene_specs
-from .scene_building import build_model
-from .scene_reading import _parse_toml, scene_from_tables
-from .scene_tables import _Reader
+from . import reading, specs
+from .building import build_model
+from .reading import _parse_toml, scene_from_tables
+from .tables import _Reader
 from .toml_writing import scene_toml
 
 if TYPE_CHECKING:
-    from . import deck
+    from paradyn import deck
 
 
 class Geometry:
@@ -112,7 +111,7 @@ class Scene:
     >>> scene.add_part("bad", material="steel", thickness=-1.0, geometry=paradyn.Plate((1, 1), (2, 2)))
     Traceback (most recent call last):
     ...
-    paradyn.scene_specs.SceneError: paradyn.Scene 'plate': 'thickness' in [[part]] #2 'bad' must be > 0, got -1.0
+    paradyn.scene.specs.SceneError: paradyn.Scene 'plate': 'thickness' in [[part]] #2 'bad' must be > 0, got -1.0
     """
 
     def __init__(self, title: str = "scene", *, end_time: float, output_interval: float,
@@ -199,7 +198,7 @@ class Scene:
         """The scene's tables, as ``tomllib`` reads them from the file :meth:`to_toml` writes."""
         return copy.deepcopy(self._tables)
 
-    def validate(self) -> scene_specs.Scene:
+    def validate(self) -> specs.Scene:
         """Check the whole scene as :func:`paradyn.scene.load_scene` checks a file; return its specs."""
         return scene_from_tables(self._tables, self.origin)
 
@@ -209,7 +208,7 @@ class Scene:
 
     def to_toml(self, path: str | Path) -> Path:
         """Check the scene, then write it as a scene file (docs/scene.md) at ``path``; return the path."""
-        from .atomic_write import write_text_atomic
+        from paradyn.atomic_write import write_text_atomic
 
         self.validate()
         return write_text_atomic(Path(path), scene_toml(self._tables))

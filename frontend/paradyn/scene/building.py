@@ -15,8 +15,9 @@ import numpy as np
 
 from paradyn import _schema, deck
 from paradyn.mesh import geometry
-from paradyn.scene_specs import HOURGLASS_FORMS, ContactSpec, PartSpec, Scene, SceneError
-from paradyn.scene_tables import _Reader
+
+from .specs import HOURGLASS_FORMS, ContactSpec, PartSpec, Scene, SceneError
+from .tables import _Reader
 
 # ----------------------------------------------------------------------------------------------
 # building the model

@@ -11,7 +11,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from paradyn.scene_specs import SceneError
+from .specs import SceneError
 
 _REQUIRED = object()
 

@@ -4,16 +4,20 @@
 returns a :class:`Scene`; ``build_model(scene)`` meshes the parts and returns a :class:`deck.Model`.
 Every problem raises :class:`SceneError` with a message that starts with the scene file path.
 
-This module is the scene's public face; the work is split by job: the data types are in
-:mod:`paradyn.scene_specs`, reading and checking a file in :mod:`paradyn.scene_reading`, building
-the deck model in :mod:`paradyn.scene_building`.
+This package's names are the scene's public face; the work is split by job: the data types are in
+:mod:`paradyn.scene.specs`, typed access to a scene's tables in :mod:`paradyn.scene.tables`,
+reading and checking a file in :mod:`paradyn.scene.reading`, building the deck model in
+:mod:`paradyn.scene.building`; a scene built in Python (``paradyn.Scene``) in
+:mod:`paradyn.scene.builder`, and its TOML text in :mod:`paradyn.scene.toml_writing`. Meshes come
+from :mod:`paradyn.mesh`; the scene builds a :mod:`paradyn.deck` model and imports nothing of the
+runs, the results or the keyword reader.
 """
 
 from __future__ import annotations
 
-from paradyn.scene_building import build_model
-from paradyn.scene_reading import load_scene
-from paradyn.scene_specs import (
+from .building import build_model
+from .reading import load_scene
+from .specs import (
     DOF_GROUPS,
     HOURGLASS_FORMS,
     MATERIAL_MODELS,
