@@ -23,7 +23,7 @@ SCENES = ("cases/effects_tour/scene.toml", "cases/pipe_whip/scene.toml", "cases/
 
 def _model(source: str) -> deck.Model:
     if source.endswith(".k"):
-        from paradyn.keyword_scene import read_keyword
+        from paradyn.keyword.scene import read_keyword
 
         return read_keyword(ROOT / source, quiet=True)
     return scene.build_model(scene.load_scene(ROOT / source))

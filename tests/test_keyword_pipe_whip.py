@@ -14,7 +14,7 @@ import pytest
 
 import paradyn
 from paradyn import _schema, cli, scene
-from paradyn.keyword_scene import load_keyword
+from paradyn.keyword.scene import load_keyword
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "cases" / "pipe_whip_keyword"

@@ -17,7 +17,7 @@ from importlib.util import find_spec
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from .keyword_scene import read_keyword as read_keyword
+    from .keyword.scene import read_keyword as read_keyword
     from .reading import Results as Results
     from .reading import read as read
     from .scene.builder import Cylinder as Cylinder
@@ -30,7 +30,7 @@ if TYPE_CHECKING:
 
 # name -> the module that defines it
 _EXPORTS = {"BatchJob": "workflow", "Cylinder": "scene.builder", "MeshFile": "scene.builder", "Plate": "scene.builder",
-            "Results": "reading", "Scene": "scene.builder", "read": "reading", "read_keyword": "keyword_scene",
+            "Results": "reading", "Scene": "scene.builder", "read": "reading", "read_keyword": "keyword.scene",
             "run": "workflow", "study": "study_sweep"}
 __all__ = sorted(_EXPORTS)
 __version__ = "0.1.0"

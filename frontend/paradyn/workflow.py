@@ -271,7 +271,7 @@ def model_of(source: Source) -> deck.Model:
     if path.suffix in DECK_SUFFIXES:
         return deck.read_deck(path)
     if path.suffix.lower() in KEYWORD_SUFFIXES:
-        from .keyword_scene import read_keyword  # loaded only for a keyword deck
+        from .keyword.scene import read_keyword  # loaded only for a keyword deck
 
         return read_keyword(path)
     return scene.build_model(scene.load_scene(path))

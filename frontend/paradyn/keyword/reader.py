@@ -1,7 +1,7 @@
 """Reading LS-DYNA keyword files (``.k``, ``.key``, ``.dyn``) into keyword blocks and typed fields.
 
 This module knows the file format, not the meaning of the cards (that is
-:mod:`paradyn.keyword_scene`): it follows ``*INCLUDE`` files, drops ``$`` comments, collects
+:mod:`paradyn.keyword.scene`): it follows ``*INCLUDE`` files, drops ``$`` comments, collects
 ``*PARAMETER`` values, and splits the rest into :class:`Block` objects, one per keyword with its
 data lines. :func:`fields` then reads one data line against a card layout, in fixed columns
 (10-character fields, or the widths the layout gives), in long format (keyword suffix ``+`` or

@@ -13,10 +13,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from paradyn import deck
-from paradyn.keyword_cards import KeywordData, Record
-from paradyn.keyword_reader import KeywordError
-from paradyn.keyword_units import Units
 from paradyn.mesh import geometry
+
+from .cards import KeywordData, Record
+from .reader import KeywordError
+from .units import Units
 
 # *NODE TC and RC: the constrained directions of each code
 CONSTRAINT_CODES = {0: (), 1: (0,), 2: (1,), 3: (2,), 4: (0, 1), 5: (1, 2), 6: (2, 0), 7: (0, 1, 2)}

@@ -1,8 +1,8 @@
 """The keyword subset ParaDyn reads (docs/keyword.md): each keyword's card layout and the records read.
 
-:func:`collect` walks the blocks of a :class:`paradyn.keyword_reader.KeywordFile` and fills a
+:func:`collect` walks the blocks of a :class:`paradyn.keyword.reader.KeywordFile` and fills a
 :class:`KeywordData` with what each supported keyword says, in the deck's own units and ids;
-:mod:`paradyn.keyword_scene` turns that into a model. A keyword outside the subset, or a field
+:mod:`paradyn.keyword.scene` turns that into a model. A keyword outside the subset, or a field
 that is read but has no ParaDyn counterpart and holds a value other than its default, becomes a
 warning naming the keyword, the field and the line.
 """
@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
-from paradyn.keyword_reader import Block, Field, KeywordError, KeywordFile, Line, Value, fields, layout
+from .reader import Block, Field, KeywordError, KeywordFile, Line, Value, fields, layout
 
 NODE = (Field("NID", "int", None, 8), Field("X", "float", 0.0, 16), Field("Y", "float", 0.0, 16),
         Field("Z", "float", 0.0, 16), Field("TC", "int", 0, 8), Field("RC", "int", 0, 8))

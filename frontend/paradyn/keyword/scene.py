@@ -1,6 +1,6 @@
 """An LS-DYNA keyword deck as a ParaDyn scene and deck model (docs/keyword.md).
 
-:func:`load_keyword` reads a ``.k`` file (:mod:`paradyn.keyword_reader`, :mod:`paradyn.keyword_cards`)
+:func:`load_keyword` reads a ``.k`` file (:mod:`paradyn.keyword.reader`, :mod:`paradyn.keyword.cards`)
 and returns a :class:`KeywordScene`: the scene-level description (materials, parts, contacts as
 :mod:`paradyn.scene.specs` objects, with the node-level data of the deck beside them), the deck
 model in SI, the ids of the deck's nodes, elements and parts, and the warnings. :func:`read_keyword`
@@ -17,12 +17,13 @@ from pathlib import Path
 import numpy as np
 
 from paradyn import _schema, deck
-from paradyn.keyword_cards import KeywordData, Record, collect
-from paradyn.keyword_mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of
-from paradyn.keyword_reader import KeywordError, read_keyword_file
-from paradyn.keyword_units import Units, UnitsError
 from paradyn.scene.building import _apply_contacts
 from paradyn.scene.specs import ContactSpec, MaterialSpec, PartSpec, RunSettings, Scene
+
+from .cards import KeywordData, Record, collect
+from .mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of
+from .reader import KeywordError, read_keyword_file
+from .units import Units, UnitsError
 
 MAX_INTEGRATION_POINTS = int(next(d.upper.value for d in _schema.DATASETS if d.python == "integration_points"))
 # LS-DYNA's IHQ for shells -> ParaDyn's hourglass form (docs/keyword.md)
@@ -53,14 +54,14 @@ def read_keyword(path: str | Path, units: str | None = None, quiet: bool = False
     path : str or Path
         The ``.k`` file; ``*INCLUDE`` files are found relative to the file that names them.
     units : str, optional
-        The deck's unit system, one of :data:`paradyn.keyword_units.SYSTEMS` (``"SI"``,
+        The deck's unit system, one of :data:`paradyn.keyword.units.SYSTEMS` (``"SI"``,
         ``"mm-t-s"``, ``"mm-kg-ms"``, ``"mm-g-ms"``); by default the deck's ``*CONTROL_UNITS``, or SI.
     quiet : bool
         True keeps the warnings (unsupported keywords and fields, the units) off standard error.
 
     Raises
     ------
-    paradyn.keyword_reader.KeywordError
+    paradyn.keyword.reader.KeywordError
         A deck that cannot be read; the message names the file, the line and the field.
     """
     read = load_keyword(path, units)
