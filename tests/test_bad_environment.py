@@ -16,7 +16,7 @@ from paradyn import cli, deck, launch, scene
 from paradyn._schema import STATUS_BAD_INPUT, STATUS_FAILURE
 from paradyn.mesh import files as mesh_files
 from paradyn.mesh import geometry
-from paradyn.results_file import ResultsError
+from paradyn.results.layout import ResultsError
 
 ROOT = Path(__file__).resolve().parents[1]
 SMALL_PLATE = ROOT / "cases" / "small_plate" / "scene.toml"

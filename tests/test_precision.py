@@ -25,7 +25,8 @@ import numpy as np
 import pytest
 
 import paradyn
-from paradyn import cli, deck, launch, reports, scene
+from paradyn import cli, deck, launch, scene
+from paradyn.results import reports
 from paradyn.study_design import KNOBS, apply, base_values
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -18,8 +18,8 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from .keyword.scene import read_keyword as read_keyword
-    from .reading import Results as Results
-    from .reading import read as read
+    from .results.reading import Results as Results
+    from .results.reading import read as read
     from .scene.builder import Cylinder as Cylinder
     from .scene.builder import MeshFile as MeshFile
     from .scene.builder import Plate as Plate
@@ -29,9 +29,11 @@ if TYPE_CHECKING:
     from .workflow import run as run
 
 # name -> the module that defines it
-_EXPORTS = {"BatchJob": "workflow", "Cylinder": "scene.builder", "MeshFile": "scene.builder", "Plate": "scene.builder",
-            "Results": "reading", "Scene": "scene.builder", "read": "reading", "read_keyword": "keyword.scene",
-            "run": "workflow", "study": "study_sweep"}
+_EXPORTS = {
+    "BatchJob": "workflow", "Cylinder": "scene.builder", "MeshFile": "scene.builder", "Plate": "scene.builder",
+    "Results": "results.reading", "Scene": "scene.builder", "read": "results.reading", "read_keyword": "keyword.scene",
+    "run": "workflow", "study": "study_sweep",
+}
 __all__ = sorted(_EXPORTS)
 __version__ = "0.1.0"
 

@@ -7,13 +7,14 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
-from . import deck, launch, preflight, reading, scene, workflow
+from . import deck, launch, preflight, scene, workflow
 from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_OK
 from .cli_parser import build_parser
 from .engine_process import AwaitingEngine
-from .postprocess import post_process
 from .progress import RunProgress
-from .reports import accuracy_text, effect_table_text
+from .results import reading
+from .results.postprocess import post_process
+from .results.reports import accuracy_text, effect_table_text
 from .run_folders import claim_output, default_output
 from .runners import SbatchRunner
 

@@ -22,10 +22,11 @@ from typing import Any
 import h5py
 import numpy as np
 
-from . import deck, launch, reports
+from . import deck, launch
 from .atomic_write import write_text_atomic
 from .engine_process import EngineError
-from .reading import read
+from .results import reports
+from .results.reading import read
 from .scene.building import build_model
 from .scene.specs import Scene
 from .study_design import Config, apply

@@ -20,7 +20,7 @@ from typing import Any
 from tqdm.auto import tqdm
 
 from . import launch, scene
-from .reading import read
+from .results.reading import read
 from .scene.builder import Scene as SceneBuilder
 from .study_analysis import StudyResult, StudyRun, analyse
 from .study_design import Design, StudyError, apply, base_values, label

@@ -17,10 +17,10 @@ from typing import Any
 from . import deck, launch, preflight, scene
 from .deck import stream as deck_stream
 from .engine_process import Progress
-from .postprocess import post_process
 from .progress import RunProgress
-from .reading import Results, read
 from .restart import restart_deck
+from .results.postprocess import post_process
+from .results.reading import Results, read
 from .run_folders import output_folder
 from .runners import Runner, SbatchRunner
 from .scene.builder import Scene as SceneBuilder

@@ -1,13 +1,13 @@
 """Figures of ParaDyn results that work without a display: what :meth:`paradyn.Results.plot` returns.
 
 Every ``*_figure`` function returns a :class:`NotebookFigure` (a matplotlib ``Figure`` that Jupyter
-shows as the value of a cell); :mod:`paradyn.plots` writes them as the PNG files of docs/outputs.md.
+shows as the value of a cell); :mod:`paradyn.results.plots` writes them as the PNG files of docs/outputs.md.
 matplotlib is used through its Agg canvas directly (no pyplot, so the caller's backend is left
-alone); the deformed shape is drawn off screen by pyvista (:mod:`paradyn.rendering`), with the
+alone); the deformed shape is drawn off screen by pyvista (:mod:`paradyn.results.rendering`), with the
 displacements magnified by the factor :func:`displacement_scale` chooses, which the caption states.
 
 The ``results`` argument is a :class:`paradyn.Results`; this module does not import
-:mod:`paradyn.reading` (typed ``Any``), so that ``Results.plot`` can draw through it without an
+:mod:`paradyn.results.reading` (typed ``Any``), so that ``Results.plot`` can draw through it without an
 import circle (tests/test_reading.py).
 """
 
@@ -22,7 +22,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from . import rendering
-from .results_file import ENERGY_NAMES, TRACKED_COMPONENTS
+from .layout import ENERGY_NAMES, TRACKED_COMPONENTS
 
 _COMPONENT_LABELS = {
     "dx": ("displacement x", "mm", 1e3),

@@ -14,10 +14,11 @@ from typing import Any
 
 import numpy as np
 
-from .atomic_write import write_text_atomic
+from paradyn.atomic_write import write_text_atomic
+
+from .layout import to_python
+from .names import EffectRow
 from .reading import ENERGY_NAMES, Results
-from .results_file import to_python
-from .run_names import EffectRow
 
 PHASE_NAMES = ("elements", "contact", "communication", "output", "other")
 CONTACT_PHASE_NAMES = ("sort", "search", "force")  # the contact phase split
@@ -158,7 +159,7 @@ def mass_scaling_report(results: Results) -> dict[str, Any]:
 def _penetration_over_thickness(results: Results) -> float | None:
     if results.deck_path is None or not Path(results.deck_path).is_file():
         return None
-    from . import deck  # the deck reader is needed for the thicknesses only
+    from paradyn import deck  # the deck reader is needed for the thicknesses only
 
     arrays = deck.read_deck_arrays(results.deck_path, ("thickness", "contact_pairs"))
     pairs = arrays["contact_pairs"]

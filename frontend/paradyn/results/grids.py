@@ -1,6 +1,6 @@
 """pyvista grids of a results mesh: quadrilaterals (VTK_QUAD) with one frame's fields on them.
 
-Used by :meth:`paradyn.reading.Results.frame` and by the VTK export; the array names, units and
+Used by :meth:`paradyn.results.reading.Results.frame` and by the VTK export; the array names, units and
 the ``TimeValue`` field are those of docs/outputs.md, "VTK time series". pyvista is imported only
 when a grid is built: it is slow to import.
 """
@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from .results_file import FrameArrays
+from .layout import FrameArrays
 
 VTK_QUAD = 9
 MEMBRANE_COMPONENTS = ("sxx", "syy", "sxy")

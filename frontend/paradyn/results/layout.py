@@ -1,8 +1,8 @@
 """The layout of ``results.h5`` (docs/formats.md, version 1) and the checks made when opening one.
 
 Everything here works on an open ``h5py.File`` and raises :class:`ResultsError` with a message
-that names the file, the dataset and what to do. :mod:`paradyn.reading` builds the
-:class:`~paradyn.reading.Results` object from these pieces.
+that names the file, the dataset and what to do. :mod:`paradyn.results.reading` builds the
+:class:`~paradyn.results.reading.Results` object from these pieces.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ._schema import ENERGY_NAMES, FRAME_FIELDS
+from paradyn._schema import ENERGY_NAMES, FRAME_FIELDS
 
 if TYPE_CHECKING:
     from collections.abc import Mapping

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .results_file import ResultsError, strings
+from .layout import ResultsError, strings
 
 if TYPE_CHECKING:
     import h5py

@@ -16,10 +16,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from paradyn.atomic_write import replacing
+
 from . import grids
-from .atomic_write import replacing
+from .layout import frame_tails, open_results, read_frame_rows
 from .reading import Results, ResultsError
-from .results_file import frame_tails, open_results, read_frame_rows
 
 if TYPE_CHECKING:
     import h5py

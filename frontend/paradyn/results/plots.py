@@ -1,6 +1,6 @@
 """Pictures of ParaDyn results as PNG files, without a display (docs/outputs.md, "Pictures").
 
-The figures are made by :mod:`paradyn.figures` (what :meth:`paradyn.Results.plot` returns); this
+The figures are made by :mod:`paradyn.results.figures` (what :meth:`paradyn.Results.plot` returns); this
 module writes them, each through a temporary file renamed at the end (:mod:`paradyn.atomic_write`).
 """
 
@@ -10,8 +10,9 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
+from paradyn.atomic_write import replacing
+
 from . import rendering
-from .atomic_write import replacing
 from .figures import deformed_picture, energies_figure, parts_figure, tracked_figure
 from .reading import Results
 
@@ -49,7 +50,7 @@ def render_deformed(
     cmap: str = "viridis",
     scale: float | None = None,
 ) -> Path:
-    """PNG of :func:`deformed_picture`, off screen (edges as :func:`paradyn.rendering.edges_shown`)."""
+    """PNG of :func:`deformed_picture`, off screen (edges as :func:`paradyn.results.rendering.edges_shown`)."""
     picture = deformed_picture(results, frame, scalars, scale)
     return rendering.render(picture, path, window_size, show_edges, cmap)
 

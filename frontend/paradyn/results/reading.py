@@ -19,10 +19,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.lib.mixins import NDArrayOperatorsMixin
 
-from . import grids, run_names
-from ._schema import HISTORY_UNITS
-from .engine_process import EngineRun
-from .results_file import (
+from paradyn._schema import HISTORY_UNITS
+
+from . import grids
+from . import names as run_names
+from .layout import (
     ENERGY_NAMES,
     FRAME_DATASETS,
     TRACKED_COMPONENTS,
@@ -42,6 +43,8 @@ from .results_file import (
 
 if TYPE_CHECKING:  # pyvista is imported lazily: it is slow to import and only needed for meshes
     import pyvista
+
+    from paradyn.engine_process import EngineRun  # an annotation: the results do not import the runs
 
 __all__ = [
     "ENERGY_NAMES", "TRACKED_COMPONENTS", "FrameArrays", "FrameField", "IncompleteResultsError",
@@ -325,7 +328,7 @@ class Results:
         ``kind``: ``"energies"`` (against time), ``"tracked"`` (``component="dz"``: dx..vz of every
         tracked point) or ``"deformed"`` (``frame=-1``, ``scalars="plastic_strain"``, ``scale=None``:
         a displacement factor chosen so the largest displacement is visible, named in the caption).
-        See :mod:`paradyn.figures`.
+        See :mod:`paradyn.results.figures`.
         """
         from . import figures as made
 

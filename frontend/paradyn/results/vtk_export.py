@@ -9,10 +9,11 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from paradyn.atomic_write import replacing, write_text_atomic
+
 from . import grids
-from .atomic_write import replacing, write_text_atomic
+from .names import unique_safe_names
 from .reading import Results, ResultsError
-from .run_names import unique_safe_names
 
 
 def write_vtk_series(results: Results, out_dir: str | Path) -> list[Path]:
@@ -26,7 +27,7 @@ def write_vtk_series(results: Results, out_dir: str | Path) -> list[Path]:
     Examples
     --------
     >>> import paradyn
-    >>> from paradyn.vtk_export import write_vtk_series
+    >>> from paradyn.results.vtk_export import write_vtk_series
     >>> write_vtk_series(paradyn.read("runs/pipe_whip/results.h5"), "runs/pipe_whip")  # doctest: +SKIP
     [PosixPath('runs/pipe_whip/lower_pipe.pvd'), PosixPath('runs/pipe_whip/upper_pipe.pvd')]
     """

@@ -1,6 +1,6 @@
 """Pictures of a pyvista grid coloured by one of its fields: off screen to a PNG, or in a window.
 
-This module knows grids, not results files: :mod:`paradyn.plots` hands it a frame's grid and a
+This module knows grids, not results files: :mod:`paradyn.results.plots` hands it a frame's grid and a
 caption, so neither the reader nor the plots need the other to draw. Off-screen rendering runs with
 VTK's logging off (:func:`quiet`): without an X server VTK would print a "bad X server connection"
 warning and then render off screen anyway.
@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from .atomic_write import replacing
+from paradyn.atomic_write import replacing
 
 EDGE_LIMIT = 5000  # cells; about 15 x 15 pixels per element when a square mesh fills 1200 x 900
 
