@@ -25,8 +25,9 @@ import numpy as np
 import pytest
 
 import paradyn
-from paradyn import cli, deck, launch, scene
+from paradyn import cli, deck, scene
 from paradyn.results import reports
+from paradyn.running import launch
 from paradyn.study_design import KNOBS, apply, base_values
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -20,19 +20,19 @@ if TYPE_CHECKING:
     from .keyword.scene import read_keyword as read_keyword
     from .results.reading import Results as Results
     from .results.reading import read as read
+    from .running.workflow import BatchJob as BatchJob
+    from .running.workflow import run as run
     from .scene.builder import Cylinder as Cylinder
     from .scene.builder import MeshFile as MeshFile
     from .scene.builder import Plate as Plate
     from .scene.builder import Scene as Scene
     from .study_sweep import study as study
-    from .workflow import BatchJob as BatchJob
-    from .workflow import run as run
 
 # name -> the module that defines it
 _EXPORTS = {
-    "BatchJob": "workflow", "Cylinder": "scene.builder", "MeshFile": "scene.builder", "Plate": "scene.builder",
+    "BatchJob": "running.workflow", "Cylinder": "scene.builder", "MeshFile": "scene.builder", "Plate": "scene.builder",
     "Results": "results.reading", "Scene": "scene.builder", "read": "results.reading", "read_keyword": "keyword.scene",
-    "run": "workflow", "study": "study_sweep",
+    "run": "running.workflow", "study": "study_sweep",
 }
 __all__ = sorted(_EXPORTS)
 __version__ = "0.1.0"

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_OK
-from .engine_process import EngineError
+from .running.engine_process import EngineError
 from .scene.specs import SceneError
 from .study_design import DESIGNS, KNOBS, UNAVAILABLE, StudyError
 from .study_spec import COSTS, REFERENCES

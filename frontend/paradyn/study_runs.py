@@ -22,11 +22,12 @@ from typing import Any
 import h5py
 import numpy as np
 
-from . import deck, launch
+from . import deck
 from .atomic_write import write_text_atomic
-from .engine_process import EngineError
 from .results import reports
 from .results.reading import read
+from .running import launch
+from .running.engine_process import EngineError
 from .scene.building import build_model
 from .scene.specs import Scene
 from .study_design import Config, apply

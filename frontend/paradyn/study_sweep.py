@@ -19,8 +19,9 @@ from typing import Any
 
 from tqdm.auto import tqdm
 
-from . import launch, scene
+from . import scene
 from .results.reading import read
+from .running import launch
 from .scene.builder import Scene as SceneBuilder
 from .study_analysis import StudyResult, StudyRun, analyse
 from .study_design import Design, StudyError, apply, base_values, label

@@ -44,7 +44,7 @@ from .layout import (
 if TYPE_CHECKING:  # pyvista is imported lazily: it is slow to import and only needed for meshes
     import pyvista
 
-    from paradyn.engine_process import EngineRun  # an annotation: the results do not import the runs
+    from paradyn.running.engine_process import EngineRun  # an annotation: the results do not import the runs
 
 __all__ = [
     "ENERGY_NAMES", "TRACKED_COMPONENTS", "FrameArrays", "FrameField", "IncompleteResultsError",

@@ -9,7 +9,7 @@ chooses the engine, with :mod:`tomllib`.
 Only a plain run of a scene file starts early. Anything this module cannot settle (a keyword deck
 or deck.h5, whose precision is known once read; a scene that does not parse; an output folder
 that cannot be made) starts nothing here, and the command's own path reports it as before. The
-command hands the engine to :func:`paradyn.workflow.run` (``started=``), which checks that it is
+command hands the engine to :func:`paradyn.running.workflow.run` (``started=``), which checks that it is
 the engine the run needs (else cancels it and starts the right one) and cancels it when the run
 fails before its deck is written; an engine left waiting also ends when the command's process
 does (its standard input closes).
@@ -21,10 +21,11 @@ import argparse
 import tomllib
 from pathlib import Path
 
+from paradyn._schema import ENUMS
+
 from . import launch
-from ._schema import ENUMS
 from .engine_process import AwaitingEngine, EngineError
-from .run_folders import OutputFolderError, default_output, output_folder
+from .folders import OutputFolderError, default_output, output_folder
 
 RESULTS_NAME = "results.h5"   # what paradyn-run writes (workflow.run's default)
 

@@ -19,7 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import deck, launch
+from paradyn import deck
+
+from . import launch
 from .engine_process import EngineError, follow_engine
 
 # Measured element-cycles per second on one core: the pipe whip (1024 elements, contact, J2) on
@@ -311,7 +313,7 @@ def engine_check(model: deck.Model, threads: int = 1) -> EngineCheck:
 
     Raises
     ------
-    paradyn.launch.EngineError
+    paradyn.running.launch.EngineError
         The engine refuses the deck (its message, status 2): the same refusal a run would get."""
     with tempfile.TemporaryDirectory(prefix="paradyn-check-") as folder:
         deck_path = deck.write_deck(model, Path(folder) / "deck.h5")

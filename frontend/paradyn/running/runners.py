@@ -2,7 +2,7 @@
 
 A :class:`Runner` turns (deck, results, ranks, threads, restart) into an argument list and an
 environment; :meth:`Runner.run` starts the engine with them and follows it
-(:func:`paradyn.engine_process.follow_engine`), or goes on with the engine that :meth:`Runner.start`
+(:func:`paradyn.running.engine_process.follow_engine`), or goes on with the engine that :meth:`Runner.start`
 started before the deck was written. The members:
 
 ========== ===============================================================================
@@ -16,7 +16,7 @@ started before the deck was written. The members:
 :func:`create_runner` builds one by name; without a name it picks what ParaDyn always did:
 ``srun`` inside a Slurm allocation, else ``direct`` for one rank, else ``mpirun``. A runner only
 knows the :class:`Machine` it is given (the engine, the cores, whether to pin), so it decides
-nothing from hidden state; :func:`paradyn.launch.make_runner` gives it this machine's.
+nothing from hidden state; :func:`paradyn.running.launch.make_runner` gives it this machine's.
 """
 
 from __future__ import annotations
@@ -30,8 +30,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import ClassVar
 
-from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_STOPPED
-from .atomic_write import write_text_atomic
+from paradyn._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_STOPPED
+from paradyn.atomic_write import write_text_atomic
+
 from .engine_process import AwaitingEngine, EngineError, EngineRun, Progress, follow_engine, start_awaiting
 
 
@@ -127,7 +128,7 @@ class Runner(ABC):
     ) -> EngineRun:
         """Run the engine to completion in the deck's folder; raise EngineError if it fails.
         ``on_done`` runs as the engine reports its end, before it has exited
-        (:func:`~paradyn.engine_process.follow_engine`); ``started`` is the engine that
+        (:func:`~paradyn.running.engine_process.follow_engine`); ``started`` is the engine that
         :meth:`start` started for these arguments, told now to go on."""
         if ranks < 1 or threads < 1:
             raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)

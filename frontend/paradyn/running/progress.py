@@ -1,7 +1,7 @@
 """What ``paradyn-run`` shows while it works: meshing, the engine's cycles, post-processing.
 
 The engine prints machine-readable ``PARADYN-PROGRESS`` lines (docs/formats.md, "Engine progress
-lines"); :mod:`paradyn.engine_process` turns them into :class:`~paradyn.engine_process.Progress`
+lines"); :mod:`paradyn.running.engine_process` turns them into :class:`~paradyn.running.engine_process.Progress`
 records and this module draws them with tqdm (``tqdm.auto``: a text bar on a terminal, a widget in
 Jupyter). The choices (docs/scene.md, "What paradyn-run shows"):
 
@@ -112,7 +112,7 @@ class RunProgress:
             self.bar = None
 
     def report(self, lines: list[str]) -> None:
-        """The check's lines (:meth:`paradyn.preflight.Preflight.lines`); only its warnings when quiet."""
+        """The check's lines (:meth:`paradyn.running.preflight.Preflight.lines`); only its warnings when quiet."""
         for line in lines:
             if not self.quiet or line.startswith("warning:"):
                 self._print("  " + line)

@@ -15,7 +15,7 @@ import json
 import os
 from pathlib import Path
 
-from .atomic_write import write_text_atomic
+from paradyn.atomic_write import write_text_atomic
 
 SOURCE_FILE = "source.txt"
 SCENE_FILE_NAME = "scene.toml"   # the usual name: its folder names the run

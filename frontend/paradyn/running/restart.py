@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import deck
-from ._schema import CONTROL, DATASETS, RESTART_MAY_CHANGE
+from paradyn import deck
+from paradyn._schema import CONTROL, DATASETS, RESTART_MAY_CHANGE
 
 
 def restart_deck(out_dir: Path, model: deck.Model | None = None) -> Path:

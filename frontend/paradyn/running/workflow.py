@@ -2,7 +2,7 @@
 
 The one sequence every caller used to write by hand (``paradyn-run``, ``paradyn-scaling``, the
 test models, the studies): write the deck into the output folder, run the engine through a runner
-(:mod:`paradyn.runners`), read ``results.h5``, post-process as asked.
+(:mod:`paradyn.running.runners`), read ``results.h5``, post-process as asked.
 """
 
 from __future__ import annotations
@@ -14,16 +14,18 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from . import deck, launch, preflight, scene
-from .deck import stream as deck_stream
+from paradyn import deck, scene
+from paradyn.deck import stream as deck_stream
+from paradyn.results.postprocess import post_process
+from paradyn.results.reading import Results, read
+from paradyn.scene.builder import Scene as SceneBuilder
+
+from . import launch, preflight
 from .engine_process import Progress
+from .folders import output_folder
 from .progress import RunProgress
 from .restart import restart_deck
-from .results.postprocess import post_process
-from .results.reading import Results, read
-from .run_folders import output_folder
 from .runners import Runner, SbatchRunner
-from .scene.builder import Scene as SceneBuilder
 
 Source = str | Path | scene.Scene | SceneBuilder | deck.Model  # what paradyn.run accepts
 DECK_SUFFIXES = (".h5", ".hdf5")
@@ -75,9 +77,9 @@ def run(
         post-processing outputs go there (docs/outputs.md).
     ranks, threads : int, optional
         MPI ranks and OpenMP threads per rank; by default one rank with a thread per core this
-        process may use (:func:`paradyn.launch.default_layout`).
+        process may use (:func:`paradyn.running.launch.default_layout`).
     runner : str or Runner, optional
-        ``"direct"``, ``"mpirun"``, ``"srun"``, ``"sbatch"`` or a :class:`~paradyn.runners.Runner`;
+        ``"direct"``, ``"mpirun"``, ``"srun"``, ``"sbatch"`` or a :class:`~paradyn.running.runners.Runner`;
         by default srun inside a Slurm allocation, the engine alone on one rank, mpirun otherwise.
         ``"sbatch"`` writes ``out/job.sbatch`` (the engine under srun, then
         ``paradyn-run --post``) and returns a :class:`BatchJob` instead of running.
@@ -90,17 +92,17 @@ def run(
         Continue the run in ``out`` from its checkpoint, with the deck already there (the
         checkpoint belongs to it; ``source`` is not written again).
     progress : bool, RunProgress or callable
-        True shows the run on standard error (:class:`paradyn.progress.RunProgress`: meshing, the
-        check's lines of :mod:`paradyn.preflight`, the engine's cycles, its warnings as they come,
+        True shows the run on standard error (:class:`paradyn.running.progress.RunProgress`: meshing, the
+        check's lines of :mod:`paradyn.running.preflight`, the engine's cycles, its warnings as they come,
         post-processing), as does a RunProgress of your own (``RunProgress(quiet=True)``: only the
-        check's warnings); a callable receives every :class:`~paradyn.launch.Progress`.
+        check's warnings); a callable receives every :class:`~paradyn.running.launch.Progress`.
     extra : dict, optional
         Entries added to ``summary.json`` (after ``scene`` and ``command``).
     results_name, log_name : str
         File names of the results and of the engine's log in ``out`` (``log_name=None``: no log).
     started : AwaitingEngine, optional
-        An engine :func:`paradyn.launch.start_engine` started for this run, waiting for its deck
-        (``paradyn-run`` starts it before its imports: :mod:`paradyn.early_engine`). It is used
+        An engine :func:`paradyn.running.launch.start_engine` started for this run, waiting for its deck
+        (``paradyn-run`` starts it before its imports: :mod:`paradyn.running.early_engine`). It is used
         if its command is the one this run needs, else cancelled; it is cancelled if the run
         fails before its deck is written.
 
@@ -117,7 +119,7 @@ def run(
         A bad scene or deck (nothing was run).
     ValueError
         ``restart`` without a checkpoint in ``out``, or an unknown runner name.
-    paradyn.launch.EngineError
+    paradyn.running.launch.EngineError
         The engine failed or was stopped; ``exit_code`` is its status (4: stopped after writing
         its checkpoint, continue with ``restart=True``).
 
@@ -271,7 +273,7 @@ def model_of(source: Source) -> deck.Model:
     if path.suffix in DECK_SUFFIXES:
         return deck.read_deck(path)
     if path.suffix.lower() in KEYWORD_SUFFIXES:
-        from .keyword.scene import read_keyword  # loaded only for a keyword deck
+        from paradyn.keyword.scene import read_keyword  # loaded only for a keyword deck
 
         return read_keyword(path)
     return scene.build_model(scene.load_scene(path))

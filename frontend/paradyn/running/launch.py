@@ -2,9 +2,9 @@
 
 This module knows this machine: where the engine is, which cores this process may use, whether
 it runs inside a Slurm allocation, and the default layout. From these it builds the runner
-(:mod:`paradyn.runners`) that starts the engine: ``srun`` inside Slurm, the engine alone for one
+(:mod:`paradyn.running.runners`) that starts the engine: ``srun`` inside Slurm, the engine alone for one
 rank, ``mpirun`` otherwise, or the one named. Success is the exit status plus the engine's final
-``PARADYN-DONE`` line (:mod:`paradyn.engine_process`); the engine's own output goes to the log.
+``PARADYN-DONE`` line (:mod:`paradyn.running.engine_process`); the engine's own output goes to the log.
 """
 
 from __future__ import annotations
@@ -16,7 +16,8 @@ from dataclasses import replace
 from importlib import resources
 from pathlib import Path
 
-from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE
+from paradyn._schema import STATUS_BAD_INPUT, STATUS_FAILURE
+
 from .engine_process import AwaitingEngine, EngineError, EngineRun, Progress, parse_line
 from .progress import RunProgress as ProgressBar  # the name before the tqdm display
 from .runners import Machine, Runner, create_runner
@@ -123,7 +124,7 @@ def make_runner(runner: str | Runner | None = None, ranks: int = 1, precision: s
 
     Examples
     --------
-    >>> from paradyn import launch
+    >>> from paradyn.running import launch
     >>> launch.make_runner("mpirun").command(Path("d/deck.h5"), Path("d/results.h5"), 2, 1)  # doctest: +SKIP
     ['/usr/bin/mpirun', '-n', '2', '-x', 'OMP_NUM_THREADS', '--map-by', 'slot:PE=1', ...]
     """
@@ -161,7 +162,7 @@ def run_engine(
     was written.
 
     ``on_done`` runs as the engine prints its ``PARADYN-DONE`` line (its results file closed),
-    while the engine process ends (:func:`paradyn.engine_process.follow_engine`).
+    while the engine process ends (:func:`paradyn.running.engine_process.follow_engine`).
 
     ``runner`` picks how (see :func:`make_runner`; by default as :func:`engine_command`); the
     engine is that of the deck's precision (:func:`deck_precision`).

@@ -1,6 +1,6 @@
 """Follow one engine process: its progress lines, Ctrl-C, its exit status.
 
-A runner (:mod:`paradyn.runners`) decides the argument list and the environment; this module
+A runner (:mod:`paradyn.running.runners`) decides the argument list and the environment; this module
 starts the process with them (never a shell string, never ``os.chdir``), turns the engine's
 ``PARADYN-*`` lines into :class:`Progress` records, writes everything the engine prints to a log,
 and decides success: the exit status plus the final ``PARADYN-DONE`` line (docs/formats.md,
@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
-from ._schema import STATUS_FAILURE, STATUS_OK
+from paradyn._schema import STATUS_FAILURE, STATUS_OK
 
 _FIELD = re.compile(r"(\w+)=\s*(\S+)")
 
