@@ -28,7 +28,7 @@ import paradyn
 from paradyn import cli, deck, scene
 from paradyn.results import reports
 from paradyn.running import launch
-from paradyn.study_design import KNOBS, apply, base_values
+from paradyn.studies.design import KNOBS, apply, base_values
 
 ROOT = Path(__file__).resolve().parents[1]
 PIPE_WHIP = ROOT / "cases" / "pipe_whip" / "scene.toml"

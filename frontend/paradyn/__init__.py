@@ -26,13 +26,13 @@ if TYPE_CHECKING:
     from .scene.builder import MeshFile as MeshFile
     from .scene.builder import Plate as Plate
     from .scene.builder import Scene as Scene
-    from .study_sweep import study as study
+    from .studies.sweep import study as study
 
 # name -> the module that defines it
 _EXPORTS = {
     "BatchJob": "running.workflow", "Cylinder": "scene.builder", "MeshFile": "scene.builder", "Plate": "scene.builder",
     "Results": "results.reading", "Scene": "scene.builder", "read": "results.reading", "read_keyword": "keyword.scene",
-    "run": "running.workflow", "study": "study_sweep",
+    "run": "running.workflow", "study": "studies.sweep",
 }
 __all__ = sorted(_EXPORTS)
 __version__ = "0.1.0"

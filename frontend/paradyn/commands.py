@@ -46,10 +46,10 @@ def paradyn_run() -> NoReturn:
 
 
 def paradyn_study() -> NoReturn:
-    """``paradyn-study``: :func:`paradyn.study_cli.main`."""
+    """``paradyn-study``: :func:`paradyn.studies.cli.main`."""
     _settle_environment()
     with _collector_paused():
-        from .study_cli import main
+        from .studies.cli import main
 
     _leave(_run(main))
 

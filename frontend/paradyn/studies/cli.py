@@ -9,12 +9,13 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_OK
-from .running.engine_process import EngineError
-from .scene.specs import SceneError
-from .study_design import DESIGNS, KNOBS, UNAVAILABLE, StudyError
-from .study_spec import COSTS, REFERENCES
-from .study_sweep import study
+from paradyn._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_OK
+from paradyn.running.engine_process import EngineError
+from paradyn.scene.specs import SceneError
+
+from .design import DESIGNS, KNOBS, UNAVAILABLE, StudyError
+from .spec import COSTS, REFERENCES
+from .sweep import study
 
 DESCRIPTION = f"""\
 Sweep knobs of a scene and show what accuracy costs in time.

@@ -15,8 +15,8 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from . import _schema
-from .scene.specs import HOURGLASS_FORMS, CylinderGeometry, FileGeometry, PlateGeometry, Scene
+from paradyn import _schema
+from paradyn.scene.specs import HOURGLASS_FORMS, CylinderGeometry, FileGeometry, PlateGeometry, Scene
 
 DESIGNS = ("one_at_a_time", "grid", "list")
 PRECISIONS = tuple(_schema.ENUMS["precision"])   # [run] precision: the engines there are

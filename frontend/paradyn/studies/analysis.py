@@ -2,7 +2,7 @@
 step buys, and the cheapest run that meets a target.
 
 Every run's error is the largest relative error over the target quantities (all quantities when
-none is named) against their references (:mod:`paradyn.study_error`).
+none is named) against their references (:mod:`paradyn.studies.error`).
 """
 
 from __future__ import annotations
@@ -13,9 +13,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .study_design import Config, Value, label
-from .study_error import Quantity, Reference, pareto_front, reference, relative_error
-from .study_spec import COSTS, StudySpec
+from .design import Config, Value, label
+from .error import Quantity, Reference, pareto_front, reference, relative_error
+from .spec import COSTS, StudySpec
 
 
 @dataclass

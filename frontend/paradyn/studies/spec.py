@@ -12,9 +12,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
-from .scene.specs import Scene
-from .study_design import DESIGNS, Design, StudyError
-from .study_error import Quantity, parse_quantities, parse_target
+from paradyn.scene.specs import Scene
+
+from .design import DESIGNS, Design, StudyError
+from .error import Quantity, parse_quantities, parse_target
 
 REFERENCES = ("richardson", "finest")
 COSTS = {"core_s": "core-seconds (engine wall time x ranks x threads)", "engine_s": "engine wall time (s)",

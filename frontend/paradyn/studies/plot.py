@@ -10,8 +10,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-from .study_analysis import StudyResult
-from .study_spec import COSTS
+from .analysis import StudyResult
+from .spec import COSTS
 
 MARKERS = "osD^v<>phX*P"
 

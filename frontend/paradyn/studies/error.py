@@ -25,8 +25,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._schema import ENERGY_NAMES
-from .study_design import StudyError
+from paradyn._schema import ENERGY_NAMES
+
+from .design import StudyError
 
 COMPONENTS = ("dx", "dy", "dz", "vx", "vy", "vz")
 STATISTICS = ("peak", "max", "min", "final")

@@ -22,15 +22,16 @@ from typing import Any
 import h5py
 import numpy as np
 
-from . import deck
-from .atomic_write import write_text_atomic
-from .results import reports
-from .results.reading import read
-from .running import launch
-from .running.engine_process import EngineError
-from .scene.building import build_model
-from .scene.specs import Scene
-from .study_design import Config, apply
+from paradyn import deck
+from paradyn.atomic_write import write_text_atomic
+from paradyn.results import reports
+from paradyn.results.reading import read
+from paradyn.running import launch
+from paradyn.running.engine_process import EngineError
+from paradyn.scene.building import build_model
+from paradyn.scene.specs import Scene
+
+from .design import Config, apply
 
 RUN_RECORD = "run.json"   # written last: a run folder with it is a finished run
 

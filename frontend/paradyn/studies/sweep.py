@@ -1,10 +1,10 @@
 """``paradyn.study``: what accuracy costs in time, for any scene (issue 16, docs/accuracy-cost.md).
 
-A study turns knobs of a scene (:mod:`paradyn.study_design`), runs every configuration once
-(:mod:`paradyn.study_runs`, cached by deck content, spread over the cores by a process pool, one
+A study turns knobs of a scene (:mod:`paradyn.studies.design`), runs every configuration once
+(:mod:`paradyn.studies.runs`, cached by deck content, spread over the cores by a process pool, one
 progress bar across the runs), measures quantities of interest and their errors
-(:mod:`paradyn.study_error`, :mod:`paradyn.study_analysis`) and writes the tables and the Pareto
-plot (:mod:`paradyn.study_output`). The module is not called ``study`` so that ``paradyn.study``
+(:mod:`paradyn.studies.error`, :mod:`paradyn.studies.analysis`) and writes the tables and the Pareto
+plot (:mod:`paradyn.studies.output`). The package is not called ``study`` so that ``paradyn.study``
 stays the function whatever is imported.
 """
 
@@ -19,16 +19,17 @@ from typing import Any
 
 from tqdm.auto import tqdm
 
-from . import scene
-from .results.reading import read
-from .running import launch
-from .scene.builder import Scene as SceneBuilder
-from .study_analysis import StudyResult, StudyRun, analyse
-from .study_design import Design, StudyError, apply, base_values, label
-from .study_error import check_quantities, parse_target
-from .study_output import write_outputs
-from .study_runs import Prepared, adopt, execute, finished, prepare
-from .study_spec import StudySpec, spec_from_table
+from paradyn import scene
+from paradyn.results.reading import read
+from paradyn.running import launch
+from paradyn.scene.builder import Scene as SceneBuilder
+
+from .analysis import StudyResult, StudyRun, analyse
+from .design import Design, StudyError, apply, base_values, label
+from .error import check_quantities, parse_target
+from .output import write_outputs
+from .runs import Prepared, adopt, execute, finished, prepare
+from .spec import StudySpec, spec_from_table
 
 __all__ = ["Design", "StudyError", "StudyResult", "StudySpec", "study"]
 
@@ -63,7 +64,7 @@ def study(source: str | Path | scene.Scene | SceneBuilder, out: str | Path, *, p
 
     Raises
     ------
-    paradyn.study_design.StudyError
+    paradyn.studies.design.StudyError
         A bad knob, value, quantity or option (nothing was run).
     paradyn.scene.SceneError
         A bad scene, or a configuration whose scene cannot be meshed.

@@ -15,12 +15,13 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from .atomic_write import write_text_atomic
-from .scene.specs import Scene
-from .study_analysis import StudyResult
-from .study_design import KNOBS, UNAVAILABLE
-from .study_error import Quantity
-from .study_spec import COSTS
+from paradyn.atomic_write import write_text_atomic
+from paradyn.scene.specs import Scene
+
+from .analysis import StudyResult
+from .design import KNOBS, UNAVAILABLE
+from .error import Quantity
+from .spec import COSTS
 
 COST_COLUMNS = ("engine_s", "loop_s", "whole_s", "core_s", "cycles", "peak_memory_mb")
 ACCURACY_COLUMNS = ("energy_balance_error", "peak_hourglass_over_internal", "peak_penetration_over_thickness",
@@ -35,7 +36,7 @@ def write_outputs(result: StudyResult, quantities: list[Quantity], out: Path, sc
              "pareto": out / "pareto.png"}
     write_text_atomic(paths["csv"], _csv(rows))
     write_text_atomic(paths["json"], json.dumps(_json(result, rows, scene, command), indent=2) + "\n")
-    from .study_plot import plot_pareto  # matplotlib is loaded only here
+    from .plot import plot_pareto  # matplotlib is loaded only here
 
     plot_pareto(result, paths["pareto"])
     write_text_atomic(paths["markdown"], markdown(result, quantities, scene, command, paths["pareto"].name))
