@@ -122,7 +122,7 @@ def names_in_deck(results_path: Path, deck: str | Path | None, n_nodes: int) -> 
 
 
 def _read_deck_names(deck: Path, n_nodes: int) -> RunNames:
-    import h5py  # where a file is opened (results_file.open_results)
+    import h5py  # where a file is opened (layout.open_results)
 
     try:
         h5 = h5py.File(deck, "r")

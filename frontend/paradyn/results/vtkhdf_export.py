@@ -39,7 +39,7 @@ def write_vtkhdf(results: Results, path: str | Path) -> Path:
     ParaView opens it with its time steps; from Python, :func:`read_step` reads step ``k``
     (pyvista's own ``pyvista.read`` gives the first step only).
     """
-    import h5py  # where a file is opened (results_file.open_results)
+    import h5py  # where a file is opened (layout.open_results)
 
     path = Path(path)
     if results.n_frames == 0:

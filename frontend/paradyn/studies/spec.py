@@ -30,7 +30,7 @@ class StudySpec:
     """A study's settings; ``None`` in an option means the default (see docs/accuracy-cost.md)."""
 
     design: Design = field(default_factory=Design)
-    quantities: dict[str, str] = field(default_factory=dict)   # name -> quantity text (study_error)
+    quantities: dict[str, str] = field(default_factory=dict)   # name -> quantity text (paradyn.studies.error)
     reference: str = "richardson"                              # or "finest"
     reference_values: dict[str, float] = field(default_factory=dict)   # quantity name -> given value
     target: float | None = None                                # relative error, 0.01 = 1 %
