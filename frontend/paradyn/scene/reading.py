@@ -14,8 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from paradyn import _schema, deck
-
-from .specs import (
+from paradyn.scene.specs import (
     DOF_GROUPS,
     HOURGLASS_FORMS,
     MATERIAL_MODELS,
@@ -37,7 +36,7 @@ from .specs import (
     SceneError,
     TrackSpec,
 )
-from .tables import _REQUIRED, _Reader
+from paradyn.scene.tables import _REQUIRED, _Reader
 
 try:
     import tomllib
