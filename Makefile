@@ -35,7 +35,7 @@ stability: $(STAMP)
 
 # Kernel speed: microseconds per element-cycle, elastic and plastic (docs/performance.md)
 bench: $(STAMP)
-	$(PY) -c "from paradyn.launch import engine_path; import subprocess; subprocess.run([str(engine_path().with_name('paradyn-kernel-benchmark'))], check=True)"
+	$(PY) -c "from paradyn.running.launch import engine_path; import subprocess; subprocess.run([str(engine_path().with_name('paradyn-kernel-benchmark'))], check=True)"
 
 # The engine alone, for cluster users: build/engine/paradyn-engine
 engine:

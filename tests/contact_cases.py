@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 import models as M
-from paradyn import geometry
 from paradyn.deck import Control
+from paradyn.mesh import geometry
 
 STEEL = M.Material(young=200.0e9, poisson=0.3, density=7850.0)
 T = 0.002           # shell thickness (m)

@@ -1,6 +1,6 @@
 """Decks for the verification problems of ``tests/test_verification.py``, built in Python.
 
-Meshes come from :mod:`paradyn.geometry` or from numpy, decks from :class:`paradyn.deck.Model`;
+Meshes come from :mod:`paradyn.mesh.geometry` or from numpy, decks from :class:`paradyn.deck.Model`;
 :func:`run` writes the deck, runs the engine and reads the results with :func:`paradyn.run`
 (no post-processing). Nothing here knows a reference value: the tests hold those.
 """
@@ -15,9 +15,9 @@ import h5py
 import numpy as np
 
 import paradyn
-from paradyn import geometry
 from paradyn._schema import ENUMS
 from paradyn.deck import ELASTIC, Control, Model
+from paradyn.mesh import geometry
 
 HOURGLASS_FORMS = dict(ENUMS["hourglass_form"])
 

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 import models as M
-from paradyn import geometry
 from paradyn.deck import Control, Model
+from paradyn.mesh import geometry
 
 
 def _grid_quads(n_u: int, n_v: int) -> np.ndarray:

@@ -12,9 +12,12 @@ from pathlib import Path
 import pytest
 
 import paradyn
-from paradyn import cli, deck, geometry, launch, mesh_files, scene
+from paradyn import cli, deck, scene
 from paradyn._schema import STATUS_BAD_INPUT, STATUS_FAILURE
-from paradyn.results_file import ResultsError
+from paradyn.mesh import files as mesh_files
+from paradyn.mesh import geometry
+from paradyn.results.layout import ResultsError
+from paradyn.running import launch
 
 ROOT = Path(__file__).resolve().parents[1]
 SMALL_PLATE = ROOT / "cases" / "small_plate" / "scene.toml"

@@ -20,7 +20,8 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import deck, launch, scene
+from paradyn import deck, scene
+from paradyn.running import launch
 
 ROOT = Path(__file__).resolve().parents[1]
 END_TIME = 4e-4

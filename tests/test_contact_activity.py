@@ -24,8 +24,8 @@ import pytest
 import models as M
 from contact_cases import PLATE, STEEL, N, T
 from models import interrupted_copy
-from paradyn import launch
 from paradyn.deck import Control, write_deck
+from paradyn.running import launch
 
 SPEED = 50.0          # m/s, the upper plate towards the lower one
 END_TIME = 400.0e-6   # s

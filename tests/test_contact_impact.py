@@ -51,7 +51,7 @@ from contact_cases import (
     _plate_pair,
     _symmetry_error,
 )
-from paradyn import geometry
+from paradyn.mesh import geometry
 
 # ----------------------------------------------------------------------------------------------
 # 1. Momentum

@@ -17,8 +17,8 @@ import pytest
 
 import models as M
 from contact_cases import PLATE, STEEL, H, N, T, _plate_pair
-from paradyn import launch
 from paradyn.deck import Control, write_deck
+from paradyn.running import launch
 
 # ----------------------------------------------------------------------------------------------
 # Decomposition independence

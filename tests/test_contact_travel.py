@@ -22,8 +22,8 @@ import pytest
 
 import models as M
 from contact_cases import STEEL
-from paradyn import geometry
 from paradyn.deck import Control
+from paradyn.mesh import geometry
 
 T = 1.0e-4
 V = 20.0

@@ -9,7 +9,8 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import deck, geometry
+from paradyn import deck
+from paradyn.mesh import geometry
 
 
 def _model(plastic: bool = False) -> deck.Model:

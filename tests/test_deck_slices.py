@@ -20,7 +20,9 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import benchmark, deck, geometry, launch
+from paradyn import benchmark, deck
+from paradyn.mesh import geometry
+from paradyn.running import launch
 
 pytestmark = pytest.mark.mpi
 

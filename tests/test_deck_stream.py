@@ -12,7 +12,9 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import deck, deck_stream, launch, scene
+from paradyn import deck, scene
+from paradyn.deck import stream as deck_stream
+from paradyn.running import launch
 
 ROOT = Path(__file__).resolve().parents[1]
 # the effects tour has loads, pressure, a rigid wall, gravity and prescribed velocities; the pipe
@@ -22,7 +24,7 @@ SCENES = ("cases/effects_tour/scene.toml", "cases/pipe_whip/scene.toml", "cases/
 
 def _model(source: str) -> deck.Model:
     if source.endswith(".k"):
-        from paradyn.keyword_scene import read_keyword
+        from paradyn.keyword.scene import read_keyword
 
         return read_keyword(ROOT / source, quiet=True)
     return scene.build_model(scene.load_scene(ROOT / source))
@@ -121,7 +123,7 @@ def test_a_nul_in_a_name_is_refused_before_anything_is_sent(tmp_path: Path) -> N
 def test_a_run_loads_h5py_only_once_its_engine_runs() -> None:
     """docs/performance.md, "Fixed costs": paradyn-run's modules up to the deck load no h5py (20 ms),
     which comes while the engine runs."""
-    code = ("import sys; import paradyn.commands, paradyn.cli, paradyn.workflow, paradyn.scene, paradyn.deck, "
-            "paradyn.deck_stream; print('h5py' in sys.modules)")
+    code = ("import sys; import paradyn.commands, paradyn.cli, paradyn.running.workflow, paradyn.scene, paradyn.deck, "
+            "paradyn.deck.stream; print('h5py' in sys.modules)")
     loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, check=True)
     assert loaded.stdout.strip() == "False"

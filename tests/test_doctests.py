@@ -9,7 +9,7 @@ import importlib
 
 import pytest
 
-MODULES = ("paradyn.builder", "paradyn.reading", "paradyn.figures", "paradyn.toml_writing")
+MODULES = ("paradyn.scene.builder", "paradyn.results.reading", "paradyn.results.figures", "paradyn.scene.toml_writing")
 
 
 @pytest.mark.parametrize("name", MODULES)

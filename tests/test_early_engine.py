@@ -1,4 +1,4 @@
-"""paradyn-run starts a scene's engine before its heavy imports (paradyn.early_engine,
+"""paradyn-run starts a scene's engine before its heavy imports (paradyn.running.early_engine,
 docs/performance.md "Fixed costs"): the engine used is that one when it fits the run, and it is
 ended, having written nothing, on every path that does not run it."""
 
@@ -10,10 +10,10 @@ from pathlib import Path
 
 import pytest
 
-from paradyn import launch, workflow
 from paradyn.cli import run_command
 from paradyn.cli_parser import build_parser
-from paradyn.early_engine import scene_precision, start_early
+from paradyn.running import launch, workflow
+from paradyn.running.early_engine import scene_precision, start_early
 
 ROOT = Path(__file__).resolve().parents[1]
 SMALL_PLATE = ROOT / "cases" / "small_plate" / "scene.toml"

@@ -17,7 +17,7 @@ import pytest
 
 import paradyn
 from paradyn._schema import ENERGY_NAMES
-from paradyn.run_names import EffectRow
+from paradyn.results.names import EffectRow
 from paradyn.scene import SceneError
 
 TWO_PLATES = """

@@ -18,7 +18,9 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import cli, deck, geometry, launch
+from paradyn import cli, deck
+from paradyn.mesh import geometry
+from paradyn.running import launch
 
 ROOT = Path(__file__).resolve().parents[1]
 

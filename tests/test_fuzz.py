@@ -22,8 +22,10 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from paradyn import deck, geometry, launch, scene
+from paradyn import deck, scene
 from paradyn._schema import CONTROL, DATASETS, EXIT_STATUSES, STATUS_BAD_INPUT, STATUS_OK
+from paradyn.mesh import geometry
+from paradyn.running import launch
 
 ROOT = Path(__file__).resolve().parents[1]
 SMALL_PLATE = ROOT / "cases" / "small_plate" / "scene.toml"

@@ -8,7 +8,8 @@ import meshio
 import numpy as np
 import pytest
 
-from paradyn import geometry, mesh_files
+from paradyn.mesh import files as mesh_files
+from paradyn.mesh import geometry
 
 
 def _radial_dot_normal(mesh: geometry.Mesh, axis: np.ndarray, center: np.ndarray) -> np.ndarray:

@@ -12,7 +12,8 @@ import pytest
 
 from kernel_cases import F
 from paradyn import _kernels as K
-from paradyn import deck, geometry
+from paradyn import deck
+from paradyn.mesh import geometry
 
 # ------------------------------------------------------------------------------------------------
 # domain decomposition

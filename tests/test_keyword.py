@@ -11,9 +11,9 @@ import pytest
 
 import paradyn
 from paradyn import _schema
-from paradyn.keyword_reader import KeywordError
-from paradyn.keyword_scene import keyword_scene, load_keyword
-from paradyn.scene_specs import ContactSpec
+from paradyn.keyword.reader import KeywordError
+from paradyn.keyword.scene import keyword_scene, load_keyword
+from paradyn.scene.specs import ContactSpec
 
 HEAD = """*KEYWORD
 *CONTROL_TERMINATION

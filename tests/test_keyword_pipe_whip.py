@@ -14,7 +14,7 @@ import pytest
 
 import paradyn
 from paradyn import _schema, cli, scene
-from paradyn.keyword_scene import load_keyword
+from paradyn.keyword.scene import load_keyword
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "cases" / "pipe_whip_keyword"
@@ -96,7 +96,7 @@ def test_paradyn_run_reads_a_keyword_deck_and_writes_its_ids(tmp_path: Path,
     grid = pyvista.read(tmp_path / "out" / "vtk" / "upper_pipe_00001.vtu")
     assert grid.cell_data["file_element_id"].min() == 200001 and set(grid.cell_data["file_part_id"]) == {2}
     assert grid.point_data["file_node_id"].min() == 200001
-    from paradyn.vtkhdf_export import read_step
+    from paradyn.results.vtkhdf_export import read_step
     whole = read_step(tmp_path / "out" / "results.vtkhdf", 1)
     assert sorted(set(whole.cell_data["file_part_id"])) == [1, 2]
     np.testing.assert_array_equal(whole.cell_data["file_element_id"], written.element_ids)

@@ -13,7 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from paradyn import cli, launch
+from paradyn import cli
+from paradyn.running import launch
 
 ROOT = Path(__file__).resolve().parents[1]
 SMALL_PLATE = ROOT / "cases" / "small_plate" / "scene.toml"

@@ -10,7 +10,9 @@ import meshio
 import numpy as np
 import pytest
 
-from paradyn import geometry, mesh_files, scene
+from paradyn import scene
+from paradyn.mesh import files as mesh_files
+from paradyn.mesh import geometry
 
 SCENE = """
 [run]

@@ -18,7 +18,8 @@ import numpy as np
 import pytest
 
 import models as M
-from paradyn import benchmark, deck, launch, scene
+from paradyn import benchmark, deck, scene
+from paradyn.running import launch
 
 pytestmark = pytest.mark.mpi
 

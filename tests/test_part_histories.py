@@ -79,7 +79,7 @@ def test_history_csv_has_the_part_and_contact_columns(plates) -> None:
 
 
 def test_parts_plot_is_written(plates, tmp_path: Path) -> None:
-    from paradyn import plots
+    from paradyn.results import plots
 
     _, results = plates
     path = plots.plot_parts(results, tmp_path / "parts.png")

@@ -232,9 +232,10 @@ def test_coarse_clamps_hold_or_free_pipes_conserve_momentum(coarse: SimpleNamesp
 
 
 def test_run_engine_accepts_relative_paths(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """paradyn.launch.run_engine runs the engine in the deck's folder; relative deck and results
+    """paradyn.running.launch.run_engine runs the engine in the deck's folder; relative deck and results
     paths given from elsewhere must still work (they are resolved before launch)."""
-    from paradyn import deck, launch, scene
+    from paradyn import deck, scene
+    from paradyn.running import launch
     model = scene.build_model(scene.load_scene(ROOT / "cases" / "small_plate" / "scene.toml"))
     deck.write_deck(model, tmp_path / "rel" / "deck.h5")
     monkeypatch.chdir(tmp_path)

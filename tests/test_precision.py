@@ -25,8 +25,10 @@ import numpy as np
 import pytest
 
 import paradyn
-from paradyn import cli, deck, launch, reports, scene
-from paradyn.study_design import KNOBS, apply, base_values
+from paradyn import cli, deck, scene
+from paradyn.results import reports
+from paradyn.running import launch
+from paradyn.studies.design import KNOBS, apply, base_values
 
 ROOT = Path(__file__).resolve().parents[1]
 PIPE_WHIP = ROOT / "cases" / "pipe_whip" / "scene.toml"

@@ -16,9 +16,10 @@ import pytest
 
 import models as M
 import paradyn
-from paradyn import cli, preflight
+from paradyn import cli
 from paradyn.deck import Control, Model
-from paradyn.launch import EngineError
+from paradyn.running import preflight
+from paradyn.running.launch import EngineError
 
 STEEL = M.Material(young=200.0e9, poisson=0.3, density=7850.0)
 ALUMINIUM = M.Material(young=70.0e9, poisson=0.33, density=2700.0)

@@ -20,7 +20,8 @@ import pytest
 
 import paradyn
 from models import interrupted_copy
-from paradyn import _kernels, deck, launch, scene
+from paradyn import _kernels, deck, scene
+from paradyn.running import launch
 
 E, NU, RHO = 200e9, 0.3, 7850.0
 R, LENGTH, T = 0.1, 0.2, 0.002

@@ -11,8 +11,9 @@ import types
 
 import pytest
 
-from paradyn import cli, progress
-from paradyn.engine_process import Progress
+from paradyn import cli
+from paradyn.running import progress
+from paradyn.running.engine_process import Progress
 
 
 def _frames(text: str) -> list[str]:

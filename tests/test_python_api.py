@@ -16,8 +16,9 @@ import pytest
 from numpy.testing import assert_allclose
 
 import paradyn
-from paradyn import figures, rendering, scene
-from paradyn.vtkhdf_export import read_step, write_vtkhdf
+from paradyn import scene
+from paradyn.results import figures, rendering
+from paradyn.results.vtkhdf_export import read_step, write_vtkhdf
 
 ROOT = Path(__file__).resolve().parents[1]
 SMALL_PLATE = ROOT / "cases" / "small_plate" / "scene.toml"
@@ -174,7 +175,7 @@ def test_vtkhdf_written_a_frame_at_a_time_is_the_same_file(plate: paradyn.Result
     """The export copies blocks of frames; blocks of one frame must give the same datasets."""
     import h5py
 
-    from paradyn import vtkhdf_export
+    from paradyn.results import vtkhdf_export
 
     monkeypatch.setattr(vtkhdf_export, "_BLOCK_BYTES", 1)
     path = write_vtkhdf(plate, tmp_path / "one_by_one.vtkhdf")
@@ -224,7 +225,7 @@ def test_edges_only_on_coarse_meshes() -> None:
 
 
 def test_rendering_off_screen_prints_no_display_warning(tmp_path: Path) -> None:
-    code = ("import pyvista as pv; from paradyn import rendering; "
+    code = ("import pyvista as pv; from paradyn.results import rendering; "
             "rendering.render(rendering.Picture(pv.Plane().cast_to_unstructured_grid(), 'Normals', 'x'), 'p.png')")
     env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
     done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env, capture_output=True, text=True,

@@ -1,10 +1,9 @@
-"""paradyn.reading: frames read on demand, names from results.h5 before the deck, and the module
-layout that keeps reading, plots and writers free of import circles (synthetic files of
-tests/test_results.py, docs/formats.md version 1)."""
+"""paradyn.results.reading: frames read on demand and names from results.h5 before the deck
+(synthetic files of tests/test_results.py, docs/formats.md version 1). The module layout that keeps
+reading, plots and writers free of import circles is checked in tests/test_layers.py."""
 
 from __future__ import annotations
 
-import ast
 from pathlib import Path
 
 import h5py
@@ -13,7 +12,7 @@ import pytest
 from numpy.testing import assert_array_equal
 
 import paradyn
-from paradyn.reading import FrameField
+from paradyn.results.reading import FrameField
 from test_results import N_FRAMES, write_synthetic
 
 PACKAGE = Path(paradyn.__file__).resolve().parent
@@ -104,35 +103,3 @@ def test_without_names_in_the_results_the_deck_gives_them(tmp_path: Path) -> Non
     assert res.title == "synthetic plate" and res.part_names == ["left plate", "right"]
     s.deck.unlink()
     assert paradyn.read(s.results).effects == []
-
-
-def _paradyn_imports(module: Path) -> set[str]:
-    """The paradyn modules ``module`` imports anywhere in its text (lazy imports included)."""
-    found: set[str] = set()
-    for node in ast.walk(ast.parse(module.read_text())):
-        if isinstance(node, ast.ImportFrom) and (node.level == 1 or node.module == "paradyn"):
-            if node.module and node.module != "paradyn":
-                found.add(node.module.split(".")[0])
-            else:
-                found.update(alias.name for alias in node.names)
-        elif isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("paradyn."):
-            found.add(node.module.split(".")[1])
-    modules = {p.stem for p in PACKAGE.glob("*.py")}
-    return found & modules
-
-
-def test_no_module_of_the_package_imports_itself_back() -> None:
-    """A circle-free package: in particular plots reads results through paradyn.reading only, and
-    reading draws through paradyn.rendering without importing plots."""
-    graph = {p.stem: _paradyn_imports(p) for p in PACKAGE.glob("*.py") if p.stem != "__init__"}
-    assert "results" not in graph["plots"] and "reading" in graph["plots"]
-    assert "plots" not in graph["reading"] and "reading" not in graph["figures"]
-
-    def reaches(start: str, target: str, seen: set[str]) -> bool:
-        for nxt in graph.get(start, ()):
-            if nxt == target or (nxt not in seen and reaches(nxt, target, seen | {nxt})):
-                return True
-        return False
-
-    circles = sorted(name for name in graph if reaches(name, name, {name}))
-    assert circles == []

@@ -1,4 +1,4 @@
-"""Tests of paradyn.results and paradyn.plots on small synthetic files (docs/formats.md, v1)."""
+"""Tests of paradyn.results and paradyn.results.plots on small synthetic files (docs/formats.md, v1)."""
 
 from __future__ import annotations
 
@@ -16,11 +16,11 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from paradyn import plots
 from paradyn.results import (
     IncompleteResultsError,
     ResultsError,
     energy_report,
+    plots,
     read,
     write_history_csv,
     write_summary,
@@ -408,7 +408,7 @@ def test_accuracy_line_warns_above_its_thresholds(synthetic: Synthetic) -> None:
     """Issue 15, guards a person sees: the synthetic run loses 5 % of its energy (balance error 0.05,
     above 0.01) and keeps its hourglass at 5/90 of internal (below 0.1): one warning, for the
     balance; the line shows every indicator the run has."""
-    from paradyn.reports import WARN_ABOVE, accuracy_indicators, accuracy_text
+    from paradyn.results.reports import WARN_ABOVE, accuracy_indicators, accuracy_text
 
     results = read(synthetic.results)
     indicators = accuracy_indicators(results)

@@ -28,7 +28,9 @@ import pytest
 
 import paradyn
 from models import interrupted_copy
-from paradyn import deck, geometry, launch, scene
+from paradyn import deck, scene
+from paradyn.mesh import geometry
+from paradyn.running import launch
 
 STEEL_DENSITY = 7850.0
 THICKNESS = 0.002

@@ -12,10 +12,11 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import deck, geometry, scene
+from paradyn import deck, scene
 from paradyn._schema import STATUS_BAD_INPUT
-from paradyn.launch import current_machine, engine_path
-from paradyn.runners import MpirunRunner
+from paradyn.mesh import geometry
+from paradyn.running.launch import current_machine, engine_path
+from paradyn.running.runners import MpirunRunner
 
 
 def _strip(end_time: float = 2e-6, **control: float) -> deck.Model:

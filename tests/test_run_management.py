@@ -13,8 +13,10 @@ from pathlib import Path
 import h5py
 import pytest
 
-from paradyn import cli, deck, launch, run_folders, runners, scene
-from paradyn.launch import EngineError
+from paradyn import cli, deck, scene
+from paradyn.running import folders as run_folders
+from paradyn.running import launch, runners
+from paradyn.running.launch import EngineError
 
 SMALL_PLATE = Path(__file__).resolve().parents[1] / "cases" / "small_plate" / "scene.toml"
 QUICK = ["-n", "1", "-t", "1", "-q", "--no-plots", "--no-vtk"]

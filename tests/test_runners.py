@@ -1,4 +1,4 @@
-"""Runners (paradyn.runners) and their factory: the automatic choice is what paradyn-run always did
+"""Runners (paradyn.running.runners) and their factory: the automatic choice is what paradyn-run always did
 (srun inside a Slurm allocation, the engine alone on one rank, mpirun otherwise), a name picks a
 member, and each member builds the command README.md and docs/outputs.md describe."""
 
@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from paradyn import launch, runners
-from paradyn.engine_process import EngineError
+from paradyn.running import launch, runners
+from paradyn.running.engine_process import EngineError
 
 DECK, RESULTS = Path("/d/deck.h5"), Path("/d/results.h5")
 ENGINE = Path("/opt/paradyn-engine")

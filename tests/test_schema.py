@@ -70,7 +70,7 @@ def test_generator_rewrites_the_stale_file(tmp_path: Path) -> None:
 
 
 def test_frontend_constants_come_from_the_schema() -> None:
-    """deck.py's public constants are the schema's codes (the engine's paradyn_schema has the same)."""
+    """paradyn.deck's public constants are the schema's codes (the engine's paradyn_schema has the same)."""
     assert (deck.ELASTIC, deck.J2_PLASTICITY) == (1, 2)
     assert (deck.HOURGLASS_VISCOUS, deck.HOURGLASS_STIFFNESS) == (1, 2)
     assert deck.PARTITIONS == {"blocks": 1, "rcb": 2} and deck.DEFAULT_PARTITION == "blocks"

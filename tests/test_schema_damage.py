@@ -26,8 +26,10 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import _schema, deck, geometry, launch
+from paradyn import _schema, deck
 from paradyn._schema import CONTROL, DATASETS, ENUMS, RELATIONS, RULES, SIZES
+from paradyn.mesh import geometry
+from paradyn.running import launch
 
 Damage = Callable[[h5py.File], None]
 _DATASET = {d.path: d for d in DATASETS}

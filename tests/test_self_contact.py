@@ -27,9 +27,11 @@ import pytest
 
 import models as M
 from contact_cases import STEEL, T, _control, _plate_pair
-from paradyn import _schema, deck, geometry, launch, scene
+from paradyn import _schema, deck, scene
 from paradyn._schema import ENUMS
 from paradyn.deck import Control
+from paradyn.mesh import geometry
+from paradyn.running import launch
 
 SINGLE = ENUMS["contact_kind"]["single_surface"]
 

@@ -19,10 +19,10 @@ import pytest
 
 import paradyn
 from paradyn import scene
-from paradyn.study_analysis import StudyRun, analyse
-from paradyn.study_cli import main as study_main
-from paradyn.study_design import Design, StudyError, apply, label
-from paradyn.study_error import (
+from paradyn.studies.analysis import StudyRun, analyse
+from paradyn.studies.cli import main as study_main
+from paradyn.studies.design import Design, StudyError, apply, label
+from paradyn.studies.error import (
     ORDER_RANGE,
     pareto_front,
     parse_quantities,
@@ -31,8 +31,8 @@ from paradyn.study_error import (
     relative_error,
     richardson,
 )
-from paradyn.study_spec import StudySpec
-from paradyn.study_sweep import StudyResult
+from paradyn.studies.spec import StudySpec
+from paradyn.studies.sweep import StudyResult
 
 ROOT = Path(__file__).resolve().parents[1]
 PLATE = ROOT / "cases" / "small_plate" / "scene.toml"

@@ -21,9 +21,11 @@ import pytest
 
 import models as M
 import paradyn
-from paradyn import deck, geometry, launch, scene
+from paradyn import deck, scene
 from paradyn.deck import Control
-from paradyn.launch import EngineError
+from paradyn.mesh import geometry
+from paradyn.running import launch
+from paradyn.running.launch import EngineError
 
 SOFT = M.Material(young=1.0e6, poisson=0.3, density=1000.0)   # c = 33 m/s: steps of 0.1 ms
 SAFETY = 0.9

@@ -1,6 +1,6 @@
 """Verification problems through the whole stack: deck built in Python, engine, results file.
 
-Every test builds its deck with ``tests/models.py`` (numpy + paradyn.geometry + paradyn.deck),
+Every test builds its deck with ``tests/models.py`` (numpy + paradyn.mesh.geometry + paradyn.deck),
 runs ``paradyn-engine`` on one rank and two OpenMP threads, reads ``results.h5`` with
 ``paradyn.read`` and compares with a published or closed-form reference named in its docstring.
 Tolerances are chosen so that a wrong formulation fails: for example the bar and plate wave

@@ -13,8 +13,9 @@ import h5py
 import numpy as np
 import pytest
 
-from paradyn import deck, launch
+from paradyn import deck
 from paradyn.deck import ELASTIC, Control, Model
+from paradyn.running import launch
 
 pytestmark = pytest.mark.mpi
 

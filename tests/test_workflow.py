@@ -11,7 +11,8 @@ import h5py
 import pytest
 
 import paradyn
-from paradyn import deck, launch, scene
+from paradyn import deck, scene
+from paradyn.running import launch
 
 ROOT = Path(__file__).resolve().parents[1]
 SMALL_PLATE = ROOT / "cases" / "small_plate" / "scene.toml"

@@ -13,7 +13,7 @@ import tempfile
 from pathlib import Path
 
 import paradyn
-from paradyn.reports import effect_table_text
+from paradyn.results.reports import effect_table_text
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -30,7 +30,8 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from paradyn import deck, launch, scene
+from paradyn import deck, scene
+from paradyn.running import launch
 
 ROOT = Path(__file__).resolve().parents[1]
 BEFORE_TOUCH = 0.45e-3   # s: two_pipes_meet's pipes touch at 0.5 ms

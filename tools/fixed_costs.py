@@ -36,12 +36,12 @@ t0 = time.perf_counter()
 from paradyn import commands
 commands._settle_environment()   # as the command does, before numpy loads
 from paradyn import cli, deck, launch, preflight, reading, scene
-from paradyn.postprocess import post_process
+from paradyn.results.postprocess import post_process
 t1 = time.perf_counter()
 source, out, threads, plots = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4] == "1"
 model = scene.build_model(scene.load_scene(source))
 t2 = time.perf_counter()
-import h5py   # the command loads it while its engine runs (paradyn.deck_stream)
+import h5py   # the command loads it while its engine runs (paradyn.deck.stream)
 t2h = time.perf_counter()
 path = deck.write_deck(model, out + "/deck.h5")
 t3 = time.perf_counter()

@@ -26,8 +26,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from paradyn import deck, launch, scene
+from paradyn import deck, scene
 from paradyn._schema import ENUMS
+from paradyn.running import launch
 
 ROOT = Path(__file__).resolve().parents[1]
 # (hourglass form, coefficient, warping correction); "paper" is the paper's element, the other three the

@@ -24,8 +24,8 @@ from pathlib import Path
 
 import h5py
 
-from paradyn.launch import current_machine
-from paradyn.runners import MpirunRunner
+from paradyn.running.launch import current_machine
+from paradyn.running.runners import MpirunRunner
 
 TIMES = ("wall_s", "phase_elements_s", "phase_contact_s", "phase_contact_sort_s", "phase_contact_search_s",
          "phase_contact_force_s", "phase_output_s", "setup_s")

@@ -28,9 +28,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from paradyn import geometry
 from paradyn.deck import ELASTIC, Control, Model, write_deck
-from paradyn.launch import engine_path
+from paradyn.mesh import geometry
+from paradyn.running.launch import engine_path
 
 SEGMENT = 0.1          # m, side of a strip segment
 THICKNESS = 1.0e-3     # m

@@ -17,21 +17,23 @@ from importlib.util import find_spec
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from .builder import Cylinder as Cylinder
-    from .builder import MeshFile as MeshFile
-    from .builder import Plate as Plate
-    from .builder import Scene as Scene
-    from .keyword_scene import read_keyword as read_keyword
-    from .reading import Results as Results
-    from .reading import read as read
-    from .study_sweep import study as study
-    from .workflow import BatchJob as BatchJob
-    from .workflow import run as run
+    from .keyword.scene import read_keyword as read_keyword
+    from .results.reading import Results as Results
+    from .results.reading import read as read
+    from .running.workflow import BatchJob as BatchJob
+    from .running.workflow import run as run
+    from .scene.builder import Cylinder as Cylinder
+    from .scene.builder import MeshFile as MeshFile
+    from .scene.builder import Plate as Plate
+    from .scene.builder import Scene as Scene
+    from .studies.sweep import study as study
 
 # name -> the module that defines it
-_EXPORTS = {"BatchJob": "workflow", "Cylinder": "builder", "MeshFile": "builder", "Plate": "builder",
-            "Results": "reading", "Scene": "builder", "read": "reading", "read_keyword": "keyword_scene",
-            "run": "workflow", "study": "study_sweep"}
+_EXPORTS = {
+    "BatchJob": "running.workflow", "Cylinder": "scene.builder", "MeshFile": "scene.builder", "Plate": "scene.builder",
+    "Results": "results.reading", "Scene": "scene.builder", "read": "results.reading", "read_keyword": "keyword.scene",
+    "run": "running.workflow", "study": "studies.sweep",
+}
 __all__ = sorted(_EXPORTS)
 __version__ = "0.1.0"
 

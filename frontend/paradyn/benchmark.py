@@ -21,9 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from . import deck, launch, scene, workflow
+from . import deck, scene
 from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_OK
 from .atomic_write import write_text_atomic
+from .running import launch, workflow
 
 PHASES = ("elements", "contact", "communication", "output", "other")
 

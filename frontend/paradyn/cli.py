@@ -7,15 +7,17 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
-from . import deck, launch, preflight, reading, scene, workflow
+from . import deck, scene
 from ._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_OK
 from .cli_parser import build_parser
-from .engine_process import AwaitingEngine
-from .postprocess import post_process
-from .progress import RunProgress
-from .reports import accuracy_text, effect_table_text
-from .run_folders import claim_output, default_output
-from .runners import SbatchRunner
+from .results import reading
+from .results.postprocess import post_process
+from .results.reports import accuracy_text, effect_table_text
+from .running import launch, preflight, workflow
+from .running.engine_process import AwaitingEngine
+from .running.folders import claim_output, default_output
+from .running.progress import RunProgress
+from .running.runners import SbatchRunner
 
 
 def post_only(out_dir: Path, plots: bool, vtk: bool, vtk_series: bool = False) -> int:
@@ -102,7 +104,7 @@ def main(argv: list[str] | None = None) -> int:
 
 def run_command(args: argparse.Namespace, started: AwaitingEngine | None = None) -> int:
     """``paradyn-run`` with parsed arguments; ``started``: its engine, started before the imports
-    (:mod:`paradyn.early_engine`), ended here if the run did not take it (cancelling an engine
+    (:mod:`paradyn.running.early_engine`), ended here if the run did not take it (cancelling an engine
     told to go, or already ended, does nothing)."""
     try:
         return _run_parsed(args, started)

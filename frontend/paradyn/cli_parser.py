@@ -1,6 +1,6 @@
 """`paradyn-run`'s command line: its options and help. Light (no numpy, h5py or gmsh), so that the
 command can read its arguments and start the engine before the heavy imports
-(:mod:`paradyn.early_engine`)."""
+(:mod:`paradyn.running.early_engine`)."""
 
 from __future__ import annotations
 
@@ -8,8 +8,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from . import __version__, launch
-from .runners import SbatchRunner
+from . import __version__
+from .running import launch
+from .running.runners import SbatchRunner
 
 DESCRIPTION = """\
 Run a ParaDyn scene end to end.

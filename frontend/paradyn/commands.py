@@ -32,11 +32,11 @@ def _settle_environment() -> None:
 
 def paradyn_run() -> NoReturn:
     """``paradyn-run``: :func:`paradyn.cli.main`, with the engine of a scene's run started before
-    the heavy imports (:mod:`paradyn.early_engine`), so that its start overlaps them."""
+    the heavy imports (:mod:`paradyn.running.early_engine`), so that its start overlaps them."""
     _settle_environment()
     with _collector_paused():
         from .cli_parser import build_parser
-        from .early_engine import start_early
+        from .running.early_engine import start_early
     args = build_parser().parse_args()
     started = start_early(args)
     with _collector_paused():
@@ -46,10 +46,10 @@ def paradyn_run() -> NoReturn:
 
 
 def paradyn_study() -> NoReturn:
-    """``paradyn-study``: :func:`paradyn.study_cli.main`."""
+    """``paradyn-study``: :func:`paradyn.studies.cli.main`."""
     _settle_environment()
     with _collector_paused():
-        from .study_cli import main
+        from .studies.cli import main
 
     _leave(_run(main))
 

@@ -4,7 +4,7 @@ Criteria, each pass or fail (``None``: does not apply to the case):
 
 - ``finishes``: the engine ran to the end time (exit status 0, a complete results file);
 - ``finite``: no NaN or Inf in any history column;
-- ``balance``: energy balance error (``paradyn.reports.energy_report``) under 1 %;
+- ``balance``: energy balance error (``paradyn.results.reports.energy_report``) under 1 %;
 - ``hourglass``: the largest hourglass / internal energy over the history records whose internal
   energy exceeds 0.1 % of the initial total energy, under 10 %;
 - ``penetration``: the deepest contact penetration (history ``contact_penetration``) under 20 % of the
@@ -33,7 +33,8 @@ from pathlib import Path
 import numpy as np
 
 import paradyn
-from paradyn import deck, reports
+from paradyn import deck
+from paradyn.results import reports
 
 LIMITS = {"balance": 0.01, "hourglass": 0.10, "penetration": 0.20, "momentum": 1e-10}
 CRITERIA = ("finishes", "finite", "balance", "hourglass", "penetration", "momentum")

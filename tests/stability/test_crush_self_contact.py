@@ -22,7 +22,7 @@ import pytest
 from stability_scenes import Case, Variant, build_model, crush_100, mid_ring_heights
 
 import paradyn
-from paradyn import reports
+from paradyn.results import reports
 
 
 def _case(self_contact: bool, end_time: float) -> Case:

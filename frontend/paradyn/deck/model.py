@@ -1,0 +1,253 @@
+"""The deck model: every array of ``deck.h5`` as numpy arrays, and the ``/control`` values.
+
+:class:`Model` holds the deck's arrays with the deck's shapes (0-based indices), the control values
+(:class:`Control`) and the names the frontend uses in its outputs; missing optional arrays get the
+schema's defaults. Writing and reading are in :mod:`paradyn.deck.files`,
+validating in :mod:`paradyn.deck.validation`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from paradyn._schema import CONTROL, DATASETS, EFFECT_SWITCHES, ENUM_TRAITS, ENUMS
+
+CONTROL_BY_NAME = {a.name: a for a in CONTROL}
+DATASET_BY_ATTRIBUTE = {d.python: d for d in DATASETS}
+
+ELASTIC = ENUMS["material_model"]["elastic"]
+J2_PLASTICITY = ENUMS["material_model"]["j2_plasticity"]
+HOURGLASS_VISCOUS = ENUMS["hourglass_form"]["viscous"]
+HOURGLASS_STIFFNESS = ENUMS["hourglass_form"]["stiffness"]
+# /control partition: how elements are given to MPI ranks (docs/formats.md); codes as the engine's
+PARTITIONS = dict(ENUMS["partition"])
+DEFAULT_PARTITION = str(CONTROL_BY_NAME["partition"].default)   # what the engine uses when the attribute is absent
+# /control effect_<switch> = "on" | "off": the scene's [effects] switches (schema/effects.toml)
+SWITCH_ATTRIBUTES = {f"effect_{switch}": switch for switch in EFFECT_SWITCHES}
+
+
+def control_default(name: str) -> float | str | None:
+    """The deck's default of a /control attribute (None where it has none or derives it)."""
+    return CONTROL_BY_NAME[name].default
+
+
+def _number_default(name: str) -> float:
+    value = control_default(name)
+    if not isinstance(value, (int, float)):
+        raise TypeError(f"schema/deck.toml gives /control attribute {name} no numeric default")
+    return float(value)
+
+
+@dataclass
+class Control:
+    """Attributes of the ``/control`` group; ``None`` leaves an optional attribute out (engine default)."""
+
+    end_time: float
+    output_interval: float
+    history_interval: float | None = None   # None: the engine uses output_interval / 10
+    time_step: float = _number_default("time_step")
+    time_step_safety: float = _number_default("time_step_safety")
+    mass_damping: float = _number_default("mass_damping")
+    progress_interval: float = _number_default("progress_interval")
+    contact_sort_interval: float = _number_default("contact_sort_interval")
+    checkpoint_interval: float = _number_default("checkpoint_interval")
+    partition: str | None = None   # "blocks" or "rcb"; None leaves it to the engine (DEFAULT_PARTITION)
+    contact_gather: str | None = None   # "near" or "all"; None leaves it to the engine ("near")
+    precision: str | None = None   # "double" or "mixed" (the engine that runs it); None: double, attribute left out
+    # [effects] switches, switch name -> "on" or "off" (/control effect_<switch>); absent = "on"
+    effect_switches: dict[str, str] = field(default_factory=dict)
+    gravity_x: float = _number_default("gravity_x")   # body acceleration m/s^2 (scene [run] gravity)
+    gravity_y: float = _number_default("gravity_y")
+    gravity_z: float = _number_default("gravity_z")
+    energy_error_limit: float = _number_default("energy_error_limit")   # stop past this balance error, 0 = never
+    time_step_floor: float = _number_default("time_step_floor")   # stop below this fraction of the first step
+    contact_travel_limit: float = _number_default("contact_travel_limit")   # most travel per step / wall, 0 = off
+    mass_scaling_step: float = _number_default("mass_scaling_step")   # least step wanted (s), 0 = no mass scaling
+    mass_scaling_limit: float = _number_default("mass_scaling_limit")   # most added mass, fraction of the model's
+
+    REQUIRED = tuple(a.name for a in CONTROL if a.required)
+    OPTIONAL = tuple(a.name for a in CONTROL if not a.required and a.type == "float")
+    STRINGS = tuple(a.name for a in CONTROL if a.type == "string" and a.name not in SWITCH_ATTRIBUTES)
+
+    def value(self, name: str) -> float | str | None:
+        """The value of /control attribute ``name`` (an effect switch from ``effect_switches``)."""
+        if name in SWITCH_ATTRIBUTES:
+            return self.effect_switches.get(SWITCH_ATTRIBUTES[name])
+        return getattr(self, name)
+
+
+def _empty_int() -> np.ndarray:
+    return np.zeros(0, dtype=np.int32)
+
+
+def _empty_float() -> np.ndarray:
+    return np.zeros(0, dtype=np.float64)
+
+
+@dataclass
+class Model:
+    """Everything a deck holds. Array shapes follow docs/formats.md; indices are 0-based.
+
+    Optional node arrays left as ``None`` are filled with the format's defaults (zeros) when the
+    coordinates are known; ``yield_stress``, ``tangent_modulus`` and ``hardening_mixing`` may stay
+    ``None`` when no material uses model 2. Loads, tracked nodes, contacts and rigid walls default to none.
+    """
+
+    coordinates: np.ndarray                     # /nodes/coordinates (n_nodes, 3) m
+    connectivity: np.ndarray                    # /elements/connectivity (n_elements, 4)
+    element_part: np.ndarray                    # /elements/part (n_elements,)
+    thickness: np.ndarray                       # /parts/thickness (n_parts,) m
+    part_material: np.ndarray                   # /parts/material (n_parts,)
+    material_model: np.ndarray                  # /materials/model (n_materials,) 1 elastic, 2 J2
+    density: np.ndarray                         # /materials/density kg/m^3
+    youngs_modulus: np.ndarray                  # /materials/youngs_modulus Pa
+    poisson_ratio: np.ndarray                   # /materials/poisson_ratio
+    control: Control
+    initial_velocity: np.ndarray | None = None            # /nodes/initial_velocity (n_nodes, 3)
+    initial_angular_velocity: np.ndarray | None = None    # /nodes/initial_angular_velocity (n_nodes, 3)
+    fixed_dofs: np.ndarray | None = None                  # /nodes/fixed_dofs (n_nodes, 6) 0/1
+    node_ids: np.ndarray | None = None                    # /nodes/id: the mesh file's ids (outputs only)
+    element_ids: np.ndarray | None = None                 # /elements/id
+    part_ids: np.ndarray | None = None                    # /parts/id
+    integration_points: np.ndarray | None = None          # /parts/integration_points, default 5
+    hourglass_coefficient: np.ndarray | None = None       # /parts/hourglass_coefficient, default 0.1
+    hourglass_form: np.ndarray | None = None              # /parts/hourglass_form, 1 viscous, 2 stiffness (default)
+    warping_correction: np.ndarray | None = None          # /parts/warping_correction, 1 on (default), 0 off
+    yield_stress: np.ndarray | None = None                # /materials/yield_stress Pa
+    tangent_modulus: np.ndarray | None = None             # /materials/tangent_modulus Pa
+    hardening_mixing: np.ndarray | None = None            # /materials/hardening_mixing
+    load_node: np.ndarray = field(default_factory=_empty_int)       # /loads/node
+    load_dof: np.ndarray = field(default_factory=_empty_int)        # /loads/dof, 1..6
+    load_value: np.ndarray = field(default_factory=_empty_float)    # /loads/value N or N m
+    load_ramp_time: np.ndarray = field(default_factory=_empty_float)  # /loads/ramp_time s
+    tracked_nodes: np.ndarray = field(default_factory=_empty_int)   # /output/tracked_nodes
+    contact_pairs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int32))  # /contact/pairs
+    contact_penalty_scale: np.ndarray | None = None     # /contact/penalty_scale
+    contact_static_friction: np.ndarray | None = None   # /contact/static_friction
+    contact_dynamic_friction: np.ndarray | None = None  # /contact/dynamic_friction
+    contact_friction_decay: np.ndarray | None = None    # /contact/friction_decay s/m
+    contact_passes: np.ndarray | None = None  # /contact/passes: 2 both, 1 alternate
+    contact_kind: np.ndarray | None = None    # /contact/kind: 1 node_to_segment, 2 single_surface
+    contact_initial_penetration: np.ndarray | None = None   # /contact/initial_penetration: 1 move, 2 gap
+    rigid_wall_point: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))   # /rigid_walls/point m
+    rigid_wall_normal: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # /rigid_walls/normal
+    rigid_wall_velocity: np.ndarray | None = None       # /rigid_walls/velocity m/s, default 0 (stationary)
+    rigid_wall_penalty_scale: np.ndarray | None = None  # /rigid_walls/penalty_scale, default 0.1
+    curve_first_point: np.ndarray = field(default_factory=_empty_int)   # /curves/first_point (n_curves,)
+    curve_time: np.ndarray = field(default_factory=_empty_float)        # /curves/time (n_curve_points,) s
+    curve_value: np.ndarray = field(default_factory=_empty_float)       # /curves/value (n_curve_points,)
+    pressure_part: np.ndarray = field(default_factory=_empty_int)       # /pressure/part (n_pressures,)
+    pressure_value: np.ndarray = field(default_factory=_empty_float)    # /pressure/value Pa
+    pressure_curve: np.ndarray = field(default_factory=_empty_int)      # /pressure/curve
+    prescribed_node: np.ndarray = field(default_factory=_empty_int)     # /prescribed/node (n_prescribed,)
+    prescribed_dof: np.ndarray = field(default_factory=_empty_int)      # /prescribed/dof, 1..6
+    prescribed_value: np.ndarray = field(default_factory=_empty_float)  # /prescribed/value m/s or rad/s
+    prescribed_curve: np.ndarray = field(default_factory=_empty_int)    # /prescribed/curve
+    title: str = ""
+    part_names: list[str] = field(default_factory=list)
+    material_names: list[str] = field(default_factory=list)
+    tracked_names: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.normalise()
+
+    def normalise(self) -> None:
+        """Turn array-likes into numpy arrays (ints to float64 for real fields) and fill defaults."""
+        for spec in DATASETS:
+            value = getattr(self, spec.python)
+            if value is not None:
+                setattr(self, spec.python, _as_array(value, spec.type))
+        self._fill_defaults()
+
+    def _fill_defaults(self) -> None:
+        """Absent optional arrays get the schema's default once their row count is known.
+
+        Arrays required under a condition (the J2 data) stay ``None`` so that validation can
+        tell whether they were given."""
+        for spec in DATASETS:
+            if spec.required or spec.default is None or spec.required_when is not None:
+                continue
+            rows = getattr(self, spec.shape[0])
+            value = getattr(self, spec.python)
+            if rows is not None and value is None:
+                dtype = np.int32 if spec.type == "int" else np.float64
+                setattr(self, spec.python, np.full((rows, *spec.shape[1:]), spec.default, dtype=dtype))
+
+    @property
+    def n_nodes(self) -> int | None:
+        c = self.coordinates
+        return int(c.shape[0]) if c.ndim == 2 else None
+
+    @property
+    def n_elements(self) -> int | None:
+        c = self.connectivity
+        return int(c.shape[0]) if c.ndim >= 1 else None
+
+    @property
+    def n_parts(self) -> int | None:
+        t = self.thickness
+        return int(t.shape[0]) if t.ndim == 1 else None
+
+    @property
+    def n_materials(self) -> int | None:
+        m = self.material_model
+        return int(m.shape[0]) if m.ndim == 1 else None
+
+    @property
+    def n_loads(self) -> int:
+        return int(np.size(self.load_node))
+
+    @property
+    def n_tracked(self) -> int:
+        return int(np.size(self.tracked_nodes))
+
+    @property
+    def n_contacts(self) -> int:
+        pairs = np.asarray(self.contact_pairs)
+        return int(pairs.shape[0]) if pairs.ndim == 2 else int(pairs.size)
+
+    @property
+    def n_rigid_walls(self) -> int:
+        points = np.asarray(self.rigid_wall_point)
+        return int(points.shape[0]) if points.ndim == 2 else int(points.size)
+
+    @property
+    def n_curves(self) -> int:
+        return int(np.size(self.curve_first_point))
+
+    @property
+    def n_curve_points(self) -> int:
+        return int(np.size(self.curve_time))
+
+    @property
+    def n_pressures(self) -> int:
+        return int(np.size(self.pressure_part))
+
+    @property
+    def n_prescribed(self) -> int:
+        return int(np.size(self.prescribed_node))
+
+    @property
+    def gravity(self) -> tuple[float, float, float]:
+        c = self.control
+        return (float(c.gravity_x), float(c.gravity_y), float(c.gravity_z))
+
+    @property
+    def uses_plasticity(self) -> bool:
+        plastic = [ENUMS["material_model"][name] for name in ENUM_TRAITS["material_model"]["plastic"]]
+        return bool(np.any(np.isin(np.asarray(self.material_model), plastic)))
+
+
+def _as_array(value: object, kind: str) -> np.ndarray:
+    """numpy array; integers and booleans become float64 for real fields, booleans int32 for integer ones.
+
+    Floats are never rounded into integer fields: validation rejects them instead.
+    """
+    array = np.asarray(value)
+    if kind == "float" and array.dtype.kind in "biu":
+        return array.astype(np.float64)
+    if kind == "int" and array.dtype.kind == "b":
+        return array.astype(np.int32)
+    return array

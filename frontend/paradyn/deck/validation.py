@@ -1,0 +1,333 @@
+"""Validation of a deck model against the schema (docs/formats.md): every dataset's and /control
+attribute's rules from :mod:`paradyn._schema`, then the relations between fields, which are
+written out by hand here and in the engine (model_deck's check_deck_relations).
+
+Used through :func:`paradyn.deck.validate_model` and the deck reader and writer.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from paradyn._schema import (
+    CONDITIONS,
+    CONTROL,
+    DATASETS,
+    ENUM_TRAITS,
+    ENUMS,
+    NAME_ATTRIBUTES,
+    SIZES,
+    AttributeSpec,
+    DatasetSpec,
+)
+
+if TYPE_CHECKING:
+    from .model import Model
+
+
+
+def trait_codes(enum: str, trait: str) -> list[int]:
+    """The codes of the members of ``enum`` that carry ``trait`` (schema/deck.toml ``traits``)."""
+    return [ENUMS[enum][name] for name in ENUM_TRAITS[enum][trait]]
+
+
+_BY_ATTRIBUTE = {d.python: d for d in DATASETS}
+_BY_PATH = {d.path: d for d in DATASETS}
+_SYMBOL_OF = {s.entity: s.symbol for s in SIZES.values()}
+
+
+class DeckError(ValueError):
+    """A deck (file or in-memory model) that breaks the format of docs/formats.md."""
+
+
+
+
+class _Checker:
+    """Checks a model and raises DeckError with messages prefixed by the source (file or 'model')."""
+
+    def __init__(self, model: Model, source: str) -> None:
+        self.model = model
+        self.source = source
+
+    def fail(self, message: str) -> None:
+        raise DeckError(f"{self.source}: {message}")
+
+    def array(self, attribute: str) -> np.ndarray:
+        return np.asarray(getattr(self.model, attribute))
+
+    def sizes(self) -> dict[str, int]:
+        """Row count of every symbol; the datasets that define a symbol with a minimum must have it."""
+        for spec in DATASETS:
+            size = SIZES[spec.shape[0]]
+            if not spec.defines_rows or size.min_rows == 0:
+                continue
+            a = self.array(spec.python)
+            if a.ndim != len(spec.shape) or a.shape[1:] != tuple(spec.shape[1:]) or a.shape[0] < size.min_rows:
+                self.fail(f"{spec.path} has shape {a.shape}, expected {_symbolic(spec.shape)} with at least "
+                          f"one {size.entity}")
+        return {symbol: int(getattr(self.model, symbol) or 0) for symbol in SIZES}
+
+    def dtype(self, spec: DatasetSpec) -> None:
+        dtype = self.array(spec.python).dtype
+        if spec.type == "int" and dtype.kind not in "iu":
+            self.fail(f"{spec.path} has dtype {dtype}, must be an integer type; write it with an integer "
+                      f"dtype such as int32")
+        if spec.type == "float" and dtype.kind != "f":
+            self.fail(f"{spec.path} has dtype {dtype}, must be floating point; write it with dtype float64")
+
+    def shape(self, spec: DatasetSpec, sizes: dict[str, int]) -> None:
+        actual = self.array(spec.python).shape
+        expected = tuple(sizes[d] if isinstance(d, str) else d for d in spec.shape)
+        if actual != expected:
+            entity = SIZES[spec.shape[0]].entity
+            setter = next(d for d in DATASETS if d.shape[0] == spec.shape[0] and d.defines_rows)
+            if actual[1:] == expected[1:] and setter.path != spec.path:
+                self.fail(f"{spec.path} has {actual[0]} rows but {setter.path}, which sets the number of {entity}s, "
+                          f"has {expected[0]}; give both one row per {entity} (expected {_symbolic(spec.shape)})")
+            self.fail(f"{spec.path} has shape {actual}, expected {_symbolic(spec.shape)} = {expected}; "
+                      f"every array must have one row per {entity}")
+
+    def entries(self, spec: DatasetSpec, bad: np.ndarray, rule: str, fix: str) -> None:
+        """Fail on the first entry where ``bad`` is true, naming index, value and count."""
+        if not np.any(bad):
+            return
+        index = tuple(int(i) for i in np.argwhere(bad)[0])
+        value = self.array(spec.python)[index]
+        more = int(np.count_nonzero(bad)) - 1
+        extra = f" ({more} more entries too)" if more > 0 else ""
+        self.fail(f"{spec.path}[{', '.join(str(i) for i in index)}] = {_fmt(value)} {rule}{extra}; {fix}")
+
+    def values(self, spec: DatasetSpec, sizes: dict[str, int]) -> None:
+        """The schema's per-entry rules: finite, bounds, enum codes, index range."""
+        a = self.array(spec.python)
+        if a.size == 0:
+            return
+        rows, where = self.selected_rows(spec, a)
+        if spec.type == "float":
+            self.entries(spec, rows & ~np.isfinite(a), f"must be finite{where}", spec.fix)
+        if spec.lower is not None or spec.upper is not None:
+            self.entries(spec, rows & ~_within(a, spec), f"{spec.rule}{where}", spec.fix)
+        if spec.enum is not None:
+            self.entries(spec, ~np.isin(a, list(ENUMS[spec.enum].values())), spec.enum_rule, spec.fix)
+        if spec.reference is not None:
+            upper = sizes[_SYMBOL_OF[spec.reference]]
+            self.entries(spec, (a < 0) | (a >= upper), f"is out of range 0..{upper - 1}",
+                         f"{spec.reference} indices are 0-based and must be below the number of "
+                         f"{spec.reference}s ({upper})")
+
+    def selected_rows(self, spec: DatasetSpec, a: np.ndarray) -> tuple[np.ndarray, str]:
+        """Rows the rules apply to (broadcast to ``a``), and words for them in messages."""
+        if spec.checked_when is None:
+            return np.ones(a.shape, dtype=bool), ""
+        condition = CONDITIONS[spec.checked_when]
+        selected = np.isin(self.array(_BY_PATH[condition.dataset].python), condition.codes)
+        return selected.reshape(selected.shape + (1,) * (a.ndim - 1)) & np.ones(a.shape, dtype=bool), \
+            f" {condition.rows}"
+
+
+def _within(a: np.ndarray, spec: DatasetSpec | AttributeSpec) -> np.ndarray:
+    ok = np.ones(np.shape(a), dtype=bool)
+    with np.errstate(invalid="ignore"):
+        if spec.lower is not None:
+            ok &= (a >= spec.lower.value) if spec.lower.inclusive else (a > spec.lower.value)
+        if spec.upper is not None:
+            ok &= (a <= spec.upper.value) if spec.upper.inclusive else (a < spec.upper.value)
+    return ok
+
+
+def _symbolic(shape: tuple[str | int, ...]) -> str:
+    return "(" + ", ".join(str(d) for d in shape) + ("," if len(shape) == 1 else "") + ")"
+
+
+def _fmt(value: object) -> str:
+    if isinstance(value, (float, np.floating)):
+        return f"{float(value):.6g}"
+    if isinstance(value, np.ndarray):
+        return np.array2string(value, precision=6)
+    return str(value)
+
+
+def validate_model(model: Model, source: str = "model") -> None:
+    """Check a model against every rule of docs/formats.md; raise DeckError on the first problem."""
+    model.normalise()
+    check = _Checker(model, source)
+    sizes = check.sizes()
+    _check_presence(check)
+    present = [spec for spec in DATASETS if getattr(model, spec.python) is not None]
+    for spec in present:
+        check.dtype(spec)
+        check.shape(spec, sizes)
+    for spec in present:
+        check.values(spec, sizes)
+    _check_relations(check, sizes)
+    _check_names(check, sizes)
+    _check_control(check)
+
+
+def _check_presence(check: _Checker) -> None:
+    """Datasets required when a dataset condition holds (the J2 data when a material is J2)."""
+    for spec in DATASETS:
+        condition = CONDITIONS.get(spec.required_when or "")
+        if condition is None or condition.dataset is None or getattr(check.model, spec.python) is not None:
+            continue
+        values = check.array(_BY_PATH[condition.dataset].python)
+        holds = np.flatnonzero(np.isin(values, condition.codes))
+        if holds.size:
+            check.fail(f"{spec.path} is missing but {condition.dataset}[{int(holds[0])}] = {values[holds[0]]}; it is "
+                       f"required when {condition.meaning}: give it for every {SIZES[spec.shape[0]].entity}")
+
+
+def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
+    """The schema's [relations], which need more than one field (model_deck's check_deck_relations)."""
+    conn = check.array("connectivity")
+    ordered = np.sort(conn, axis=1)
+    repeated = np.any(ordered[:, 1:] == ordered[:, :-1], axis=1)
+    if np.any(repeated):
+        element = int(np.flatnonzero(repeated)[0])
+        check.fail(f"/elements/connectivity[{element}] = {conn[element].tolist()} repeats a node; every "
+                   f"quadrilateral needs four distinct nodes (remesh without collapsed elements)")
+    _check_distinct_elements(check, conn)
+    _check_element_shapes(check, conn)
+    plastic = np.isin(check.array("material_model"), trait_codes("material_model", "plastic"))
+    if np.any(plastic):
+        tangent, young = check.array("tangent_modulus"), check.array("youngs_modulus")
+        bad = np.flatnonzero(plastic & ~(tangent < young))
+        if bad.size:
+            i = int(bad[0])
+            check.fail(f"/materials/tangent_modulus[{i}] = {_fmt(tangent[i])} must be below "
+                       f"/materials/youngs_modulus[{i}] = {_fmt(young[i])} for a plastic material; give "
+                       f"the plastic tangent modulus in Pa below Young's modulus")
+    pairs = check.array("contact_pairs")
+    if sizes["n_contacts"] > 0:
+        single = np.isin(check.array("contact_kind"), trait_codes("contact_kind", "self_contact"))
+        same = pairs[:, 0] == pairs[:, 1]
+        check.entries(_BY_ATTRIBUTE["contact_pairs"], same & ~single, "pairs a part with itself",
+                      "name two different parts, or make the contact single_surface")
+        check.entries(_BY_ATTRIBUTE["contact_pairs"], single & ~same, "names two parts for a single_surface contact",
+                      "name its one part twice")
+    used = np.zeros(sizes["n_nodes"], dtype=bool)
+    used[conn.ravel()] = True
+    if not np.all(used):
+        unused = np.flatnonzero(~used)
+        check.fail(f"/nodes/coordinates[{int(unused[0])}] belongs to no element ({unused.size} such nodes); "
+                   f"a node without elements has no mass, remove unused nodes")
+    _check_rigid_walls(check, sizes)
+    _check_curve_relations(check, sizes)
+
+
+def _check_rigid_walls(check: _Checker, sizes: dict[str, int]) -> None:
+    """rigid_wall_normal_nonzero and rigid_wall_nodes_in_front (model_deck's check_rigid_walls): a
+    node counts as behind a wall below 1e-9 of the model's size, so nodes on the plane pass."""
+    coordinates = check.array("coordinates")
+    tolerance = 1e-9 * float(np.max(np.abs(coordinates)))
+    for w in range(sizes["n_rigid_walls"]):
+        normal = check.array("rigid_wall_normal")[w]
+        length = float(np.linalg.norm(normal))
+        if not length > 0.0:
+            check.fail(f"/rigid_walls/normal[{w}] is the zero vector; give a nonzero normal pointing from the "
+                       f"wall towards the model")
+        distance = (coordinates - check.array("rigid_wall_point")[w]) @ normal / length
+        k = int(np.argmin(distance))
+        if distance[k] < -tolerance:
+            check.fail(f"/rigid_walls/point[{w}] puts node {k} behind the wall at the start (signed distance "
+                       f"{_fmt(distance[k])} m along /rigid_walls/normal); move the point or flip the normal so "
+                       f"that the model starts on the side the normal points to")
+
+
+def _check_curve_relations(check: _Checker, sizes: dict[str, int]) -> None:
+    """curve_first_points and curve_times_increase (model_deck's check_curve_relations)."""
+    first, points = check.array("curve_first_point"), sizes["n_curve_points"]
+    previous = np.concatenate([[-1], first[:-1]])
+    ok = (first > previous) & (first < points)
+    if first.size:
+        ok[0] = first[0] == 0 and points >= 1
+    if not np.all(ok):
+        i = int(np.flatnonzero(~ok)[0])
+        check.fail(f"/curves/first_point[{i}] = {int(first[i])} breaks the order of the curves; the first curve "
+                   f"starts at point 0 and each next one later, below the number of curve points ({points})")
+    time = check.array("curve_time")
+    stops = [*first[1:], points] if first.size else []
+    for c, (start, stop) in enumerate(zip(first, stops, strict=True)):
+        steps = np.flatnonzero(~(np.diff(time[start:stop]) > 0))
+        if steps.size:
+            k = int(start + steps[0] + 1)
+            check.fail(f"/curves/time[{k}] = {_fmt(time[k])} does not follow /curves/time[{k - 1}] = "
+                       f"{_fmt(time[k - 1])} of curve {c}; give the times of each curve strictly increasing")
+
+
+def _check_distinct_elements(check: _Checker, conn: np.ndarray) -> None:
+    """No two elements have the same four nodes (in any order): the second of the first such pair is named."""
+    if conn.shape[0] < 2:
+        return
+    ordered = np.sort(conn, axis=1)
+    _, first, inverse = np.unique(ordered, axis=0, return_index=True, return_inverse=True)
+    twins = np.flatnonzero(first[inverse.ravel()] != np.arange(conn.shape[0]))
+    if twins.size:
+        element = int(twins[0])
+        original = int(first[inverse.ravel()[element]])
+        check.fail(f"/elements/connectivity[{element}] = {conn[element].tolist()} has the same nodes as element "
+                   f"{original}; a duplicated element doubles its mass and stiffness, remove it")
+
+
+def _check_element_shapes(check: _Checker, conn: np.ndarray) -> None:
+    """Every element convex without coincident or collinear corners (the engine's quad_shape): at each
+    corner the turn from the incoming to the outgoing side points along the normal of the diagonals."""
+    x = check.array("coordinates")[conn]                       # (elements, 4, 3)
+    normal = np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1])
+    incoming = x - np.roll(x, 1, axis=1)
+    outgoing = np.roll(x, -1, axis=1) - x
+    turn = np.einsum("eki,ei->ek", np.cross(incoming, outgoing), normal)
+    floor = 1e-10 * np.einsum("ei,ei->e", normal, normal)[:, None]
+    bad = (np.abs(turn) <= floor) | (floor == 0.0) | (turn < 0.0)
+    if not np.any(bad):
+        return
+    element = int(np.flatnonzero(bad.any(axis=1))[0])
+    corner = int(np.flatnonzero(bad[element])[0])
+    node, part = int(conn[element, corner]), int(check.array("element_part")[element])
+    if abs(turn[element, corner]) <= floor[element, 0] or floor[element, 0] == 0.0:
+        check.fail(f"/nodes/coordinates: element {element} (part {part}, nodes {conn[element].tolist()}) is "
+                   f"collapsed or crossed at node {node} (coincident or collinear corners, or sides that cross); "
+                   f"remesh it")
+    check.fail(f"/nodes/coordinates: element {element} (part {part}, nodes {conn[element].tolist()}) is concave or "
+               f"twisted at node {node}; remesh it (a concave quadrilateral turns inside out at the first step)")
+
+
+def _check_names(check: _Checker, sizes: dict[str, int]) -> None:
+    for spec in NAME_ATTRIBUTES:
+        names = getattr(check.model, spec.python)
+        if names and len(names) != sizes[spec.one_per]:
+            check.fail(f"attribute {spec.name} on {spec.group} has {len(names)} names but there are "
+                       f"{sizes[spec.one_per]} {SIZES[spec.one_per].entity}s; give one name each")
+        for name in names or ():
+            if "\0" in str(name):
+                check.fail(f"attribute {spec.name} on {spec.group}: the name {str(name)!r} holds a NUL character, "
+                           f"which HDF5 strings cannot; remove it")
+    if "\0" in (check.model.title or ""):
+        check.fail(f"the title {check.model.title!r} holds a NUL character, which HDF5 strings cannot; remove it")
+
+
+def _check_control(check: _Checker) -> None:
+    control = check.model.control
+    for spec in CONTROL:
+        value = control.value(spec.name)
+        label = f"/control attribute {spec.name}"
+        if value is None:
+            if spec.required:
+                check.fail(f"{label} is missing; {spec.fix}")
+            continue
+        if spec.type == "string":
+            choices = ENUMS[spec.enum or ""]
+            if value not in choices:
+                check.fail(f"{label} = {value!r} is unknown; use {' or '.join(repr(p) for p in choices)}, or "
+                           f"leave it out for the default ({spec.default!r})")
+            continue
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            check.fail(f"{label} = {value!r} is not a number; give a real value")
+        if not np.isfinite(number):
+            check.fail(f"{label} = {_fmt(number)} must be finite; {spec.fix}")
+        if not _within(np.asarray(number), spec):
+            check.fail(f"{label} = {_fmt(number)} {spec.rule}; {spec.fix}")

@@ -1,0 +1,309 @@
+"""Runners: how the engine is started on some ranks and threads.
+
+A :class:`Runner` turns (deck, results, ranks, threads, restart) into an argument list and an
+environment; :meth:`Runner.run` starts the engine with them and follows it
+(:func:`paradyn.running.engine_process.follow_engine`), or goes on with the engine that :meth:`Runner.start`
+started before the deck was written. The members:
+
+========== ===============================================================================
+``direct`` the engine alone: one rank, no MPI launcher
+``mpirun`` Open MPI's ``mpirun``, with every rank and thread pinned to cores of its own when
+           the layout fits the machine, ``--oversubscribe`` when it does not
+``srun``   Slurm's ``srun``, inside an allocation
+``sbatch`` writes a Slurm job script (srun, then the post-processing) instead of running
+========== ===============================================================================
+
+:func:`create_runner` builds one by name; without a name it picks what ParaDyn always did:
+``srun`` inside a Slurm allocation, else ``direct`` for one rank, else ``mpirun``. A runner only
+knows the :class:`Machine` it is given (the engine, the cores, whether to pin), so it decides
+nothing from hidden state; :func:`paradyn.running.launch.make_runner` gives it this machine's.
+"""
+
+from __future__ import annotations
+
+import os
+import shlex
+import shutil
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import ClassVar
+
+from paradyn._schema import STATUS_BAD_INPUT, STATUS_FAILURE, STATUS_STOPPED
+from paradyn.atomic_write import write_text_atomic
+
+from .engine_process import AwaitingEngine, EngineError, EngineRun, Progress, follow_engine, start_awaiting
+
+
+@dataclass(frozen=True)
+class Machine:
+    """What a runner needs to know about where the engine runs."""
+
+    engine: Path  # the paradyn-engine executable
+    cores: int  # the cores this process may run on
+    pinning: bool = True  # pin ranks and threads to cores when they fit ($PARADYN_BIND != none)
+
+    def binds_to_cores(self, ranks: int, threads: int) -> bool:
+        """Pin every rank and thread to a core of its own when the layout fits (a rank or thread
+        that migrates loses its cache and can land on a busy core, which the others then wait
+        for)."""
+        return self.pinning and ranks * threads <= self.cores
+
+    def oversubscribed(self, ranks: int, threads: int) -> bool:
+        return ranks * threads > self.cores
+
+
+def engine_environment(threads: int, bind_threads: bool) -> dict[str, str]:
+    """The engine's environment: this process's, with ``threads`` OpenMP threads (on neighbouring
+    cores of the rank's own set when ``bind_threads``; the user's own placement wins)."""
+    env = dict(os.environ)
+    env["OMP_NUM_THREADS"] = str(threads)
+    if threads > 1 and bind_threads:
+        env.setdefault("OMP_PROC_BIND", "close")
+        env.setdefault("OMP_PLACES", "cores")
+    env["SRUN_CPUS_PER_TASK"] = str(threads)
+    env.setdefault("OMP_STACKSIZE", "64M")  # threads with large private arrays need more than the default
+    env.setdefault("OMPI_MCA_btl_vader_single_copy_mechanism", "none")  # containers without CMA
+    if hasattr(os, "geteuid") and os.geteuid() == 0:
+        env["OMPI_ALLOW_RUN_AS_ROOT"] = "1"
+        env["OMPI_ALLOW_RUN_AS_ROOT_CONFIRM"] = "1"
+    return env
+
+
+# A batch system's host list: mpirun may then start ranks on other machines, where the network's
+# own transport (UCX on InfiniBand) should be left to choose.
+HOST_LIST_VARIABLES = ("PBS_NODEFILE", "LSB_HOSTS", "LSB_MCPU_HOSTS", "PE_HOSTFILE", "OAR_NODEFILE",
+                       "OMPI_MCA_orte_default_hostfile")
+HWLOC_WITHOUT_IO = "-pci,-linuxio"   # hwloc's topology without the PCI devices (one machine)
+
+
+def one_machine_mpi(env: dict[str, str]) -> dict[str, str]:
+    """Open MPI's ob1 messaging layer (shared memory between the ranks of one machine) instead of
+    probing the network libraries, which costs mpirun 0.16 s at start-up, and hwloc's topology
+    without its I/O devices (reading every PCI device's configuration costs each process of the
+    launch 13 ms; on one machine no network card is chosen by locality) (docs/performance.md,
+    "Fixed costs"); the user's own settings win. (The engine alone, on one rank, settles its own
+    start-up: fortran/src/app/singleton_start.f90.)"""
+    return {**env, "OMPI_MCA_pml": env.get("OMPI_MCA_pml", "ob1"),
+            "HWLOC_COMPONENTS": env.get("HWLOC_COMPONENTS", HWLOC_WITHOUT_IO)}
+
+
+def _engine_arguments(deck: Path, results: Path, restart: bool, ranks: int | None = None) -> list[str]:
+    """The engine's arguments; under a launcher, ``--expect-ranks`` makes it refuse to run on another
+    number of ranks than it was asked for (an mpirun of another MPI starts N singletons of one rank)."""
+    expect = [f"--expect-ranks={ranks}"] if ranks is not None else []
+    return [str(deck), str(results), *(["--restart"] if restart else []), *expect]
+
+
+@dataclass
+class Runner(ABC):
+    """Starts the engine on a deck; members differ in the command that launches it."""
+
+    machine: Machine
+    name: ClassVar[str] = ""
+
+    @abstractmethod
+    def command(self, deck: Path, results: Path, ranks: int, threads: int,
+                restart: bool = False) -> list[str]:
+        """The argument list that runs the engine on ``deck``, writing ``results``; ``restart``
+        continues from the checkpoint beside the results (docs/outputs.md)."""
+
+    def environment(self, ranks: int, threads: int) -> dict[str, str]:
+        """The environment the engine runs in."""
+        return engine_environment(threads, self.machine.binds_to_cores(ranks, threads))
+
+    def run(
+        self,
+        deck: Path,
+        results: Path,
+        ranks: int = 1,
+        threads: int = 1,
+        on_progress: Callable[[Progress], None] | None = None,
+        log_path: Path | None = None,
+        restart: bool = False,
+        on_warning: Callable[[str], None] | None = None,
+        on_done: Callable[[EngineRun], None] | None = None,
+        started: AwaitingEngine | None = None,
+    ) -> EngineRun:
+        """Run the engine to completion in the deck's folder; raise EngineError if it fails.
+        ``on_done`` runs as the engine reports its end, before it has exited
+        (:func:`~paradyn.running.engine_process.follow_engine`); ``started`` is the engine that
+        :meth:`start` started for these arguments, told now to go on."""
+        if ranks < 1 or threads < 1:
+            raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
+        # the engine runs in the deck's folder, so relative paths would point elsewhere
+        deck, results = Path(deck).resolve(), Path(results).resolve()
+        command = started.command if started is not None else self.command(deck, results, ranks, threads, restart)
+        return follow_engine(command, self.environment(ranks, threads), deck.parent, on_progress, log_path,
+                             on_warning=on_warning, on_done=on_done, started=started)
+
+    def start(self, deck: Path, results: Path, ranks: int = 1, threads: int = 1,
+              restart: bool = False) -> AwaitingEngine:
+        """Start the engine before ``deck`` exists: it starts MPI and HDF5 and waits
+        (``--await-deck``, docs/performance.md "Fixed costs"); pass it to :meth:`run` once the deck
+        is written, or call its ``cancel``."""
+        if ranks < 1 or threads < 1:
+            raise EngineError(f"ranks ({ranks}) and threads ({threads}) must be at least 1", STATUS_BAD_INPUT)
+        deck, results = Path(deck).resolve(), Path(results).resolve()
+        command = self.command(deck, results, ranks, threads, restart)
+        return start_awaiting(command, self.environment(ranks, threads), deck.parent)
+
+
+@dataclass
+class DirectRunner(Runner):
+    """The engine alone, on one rank (an MPI program runs as a singleton without a launcher)."""
+
+    name: ClassVar[str] = "direct"
+
+    def command(self, deck: Path, results: Path, ranks: int, threads: int,
+                restart: bool = False) -> list[str]:
+        if ranks != 1:
+            raise EngineError(f"the direct runner starts one rank, not {ranks}; use runner='mpirun' "
+                              f"(or 'srun' inside Slurm) for several ranks", STATUS_BAD_INPUT)
+        return [str(self.machine.engine), *_engine_arguments(deck, results, restart)]
+
+
+@dataclass
+class MpirunRunner(Runner):
+    """``mpirun -n RANKS``: ranks pinned to ``threads`` cores each when the layout fits the
+    machine, floating otherwise; ``--oversubscribe`` when ranks x threads exceed the cores."""
+
+    name: ClassVar[str] = "mpirun"
+
+    def command(self, deck: Path, results: Path, ranks: int, threads: int,
+                restart: bool = False) -> list[str]:
+        mpirun = shutil.which("mpirun") or shutil.which("mpiexec")
+        if mpirun is None:
+            raise EngineError("mpirun is not on PATH; install Open MPI (apt-get install openmpi-bin)", STATUS_FAILURE)
+        command = [mpirun, "-n", str(ranks), "-x", "OMP_NUM_THREADS"]
+        if self.machine.binds_to_cores(ranks, threads):
+            # each rank on `threads` cores of its own; the environment places the threads on them
+            command += ["--map-by", f"slot:PE={threads}", "--bind-to", "core"]
+            if threads > 1:
+                command += ["-x", "OMP_PROC_BIND", "-x", "OMP_PLACES"]
+        else:
+            command += ["--bind-to", "none"]
+        if self.machine.oversubscribed(ranks, threads):
+            command.append("--oversubscribe")
+        return [*command, str(self.machine.engine), *_engine_arguments(deck, results, restart, ranks)]
+
+    def environment(self, ranks: int, threads: int) -> dict[str, str]:
+        env = super().environment(ranks, threads)
+        if any(name in env for name in HOST_LIST_VARIABLES):
+            return env
+        return one_machine_mpi(env)
+
+
+@dataclass
+class SrunRunner(Runner):
+    """Slurm's ``srun`` inside an allocation (Slurm places the ranks and threads)."""
+
+    name: ClassVar[str] = "srun"
+
+    def command(self, deck: Path, results: Path, ranks: int, threads: int,
+                restart: bool = False) -> list[str]:
+        # Slurm 22.05 and later: srun does not inherit --cpus-per-task, so it is passed explicitly;
+        # standard input goes to rank 0 alone, the one that reads it (--await-deck's deck stream:
+        # by default srun copies it to every task, and the others would never drain theirs)
+        return ["srun", "-n", str(ranks), f"--cpus-per-task={threads}", "--export=ALL", "--input=0",
+                str(self.machine.engine), *_engine_arguments(deck, results, restart, ranks)]
+
+
+@dataclass
+class SbatchRunner(SrunRunner):
+    """Writes a Slurm job script that runs the engine with srun, then ``post_command``; it runs
+    nothing itself (submit the script with ``sbatch``).
+
+    ``time``, ``account`` and ``partition`` become ``#SBATCH`` lines, as does every entry of
+    ``extra_lines`` (``"--mem=8G"`` or ``"#SBATCH --mem=8G"``). Slurm is asked for SIGUSR1
+    ``signal_lead_s`` seconds before the time limit (``--signal``, sent to the engine's ranks): the
+    engine writes its checkpoint and stops with status 4, and the script then submits itself again
+    with ``PARADYN_CONTINUE=1``, which runs the engine with ``--restart`` (docs/scene.md, "Slurm")."""
+
+    name: ClassVar[str] = "sbatch"
+    post_command: list[str] | None = None
+    time: str | None = None          # --time, Slurm's formats (MM, HH:MM:SS, D-HH:MM)
+    account: str | None = None
+    partition: str | None = None
+    extra_lines: tuple[str, ...] = ()
+    signal_lead_s: int = 300
+
+    def directives(self, folder: Path, ranks: int, threads: int, job_name: str) -> list[str]:
+        """The ``#SBATCH`` lines."""
+        options = [f"--job-name={job_name}", f"--ntasks={ranks}", f"--cpus-per-task={threads}",
+                   f"--output={folder}/slurm-%j.out", f"--signal=USR1@{self.signal_lead_s}"]
+        options += [f"--{key}={value}" for key, value in
+                    (("time", self.time), ("account", self.account), ("partition", self.partition)) if value]
+        lines = [f"#SBATCH {option}" for option in options]
+        for line in self.extra_lines:
+            text = line.strip().removeprefix("#SBATCH").strip()
+            if not text.startswith("-") or "\n" in text:
+                raise ValueError(f"--sbatch-line {line!r} is not an sbatch option; give one like --mem=8G")
+            lines.append(f"#SBATCH {text}")
+        return lines
+
+    def script(self, deck: Path, results: Path, ranks: int, threads: int, job_name: str) -> str:
+        """The job script's text: the engine under srun (continuing from the checkpoint when the job
+        is a continuation), a new job when the engine stopped at the time limit (status 4), else
+        the post-processing."""
+        folder = results.parent
+        script_path = folder / "job.sbatch"
+        lines = [
+            "#!/bin/bash",
+            *self.directives(folder, ranks, threads, job_name),
+            "set -uo pipefail",
+            f"export OMP_NUM_THREADS={threads}",
+            f"export SRUN_CPUS_PER_TASK={threads}",
+            "export OMP_STACKSIZE=${OMP_STACKSIZE:-64M}",
+            'restart=""   # a continuation (PARADYN_CONTINUE set) goes on from the checkpoint',
+            'if [ -n "${PARADYN_CONTINUE:-}" ]; then restart=--restart; fi',
+            "status=0",
+            shlex.join(self.command(deck, results, ranks, threads)) + " $restart || status=$?",
+            f"if [ \"$status\" -eq {STATUS_STOPPED} ]; then",
+            '  echo "paradyn: the engine stopped with its checkpoint (time limit); continuing in a new job"',
+            f"  sbatch --export=ALL,PARADYN_CONTINUE=1 {shlex.quote(str(script_path))}",
+            "  exit $?",
+            "fi",
+            'if [ "$status" -ne 0 ]; then exit "$status"; fi',
+        ]
+        if self.post_command:
+            lines.append(shlex.join(self.post_command))
+        return "\n".join(lines) + "\n"
+
+    def write_job(self, deck: Path, results: Path, ranks: int, threads: int,
+                  job_name: str | None = None) -> Path:
+        """Write ``job.sbatch`` beside ``results``; return its path."""
+        folder = results.parent
+        text = self.script(deck, results, ranks, threads, job_name or f"paradyn-{folder.name}")
+        return write_text_atomic(folder / "job.sbatch", text)
+
+    def run(self, deck: Path, results: Path, ranks: int = 1, threads: int = 1,
+            on_progress: Callable[[Progress], None] | None = None, log_path: Path | None = None,
+            restart: bool = False, on_warning: Callable[[str], None] | None = None,
+            on_done: Callable[[EngineRun], None] | None = None, started: AwaitingEngine | None = None) -> EngineRun:
+        raise EngineError("the sbatch runner writes a job script and runs nothing; call "
+                          "write_job(...), or paradyn.run(..., runner='sbatch'), then submit the "
+                          "script with sbatch", STATUS_BAD_INPUT)
+
+
+RUNNERS: dict[str, type[Runner]] = {
+    cls.name: cls for cls in (DirectRunner, MpirunRunner, SrunRunner, SbatchRunner)
+}
+
+
+def automatic_runner_name(ranks: int, inside_slurm: bool) -> str:
+    """srun inside a Slurm allocation, else the engine alone for one rank, else mpirun."""
+    if inside_slurm:
+        return SrunRunner.name
+    return DirectRunner.name if ranks == 1 else MpirunRunner.name
+
+
+def create_runner(name: str | None, machine: Machine, ranks: int = 1, inside_slurm: bool = False) -> Runner:
+    """The runner called ``name`` (one of :data:`RUNNERS`) on ``machine``; ``None`` or ``"auto"``
+    picks :func:`automatic_runner_name`."""
+    if name is None or name == "auto":
+        name = automatic_runner_name(ranks, inside_slurm)
+    if name not in RUNNERS:
+        raise ValueError(f"unknown runner {name!r}; choose one of {', '.join(RUNNERS)} or 'auto'")
+    return RUNNERS[name](machine)

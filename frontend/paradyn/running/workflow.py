@@ -1,0 +1,346 @@
+"""``paradyn.run``: a scene, a model or a deck in; the engine run; a results object out.
+
+The one sequence every caller used to write by hand (``paradyn-run``, ``paradyn-scaling``, the
+test models, the studies): write the deck into the output folder, run the engine through a runner
+(:mod:`paradyn.running.runners`), read ``results.h5``, post-process as asked.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+from contextlib import AbstractContextManager, nullcontext
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+from paradyn import deck, scene
+from paradyn.deck import stream as deck_stream
+from paradyn.results.postprocess import post_process
+from paradyn.results.reading import Results, read
+from paradyn.scene.builder import Scene as SceneBuilder
+
+from . import launch, preflight
+from .engine_process import Progress
+from .folders import output_folder
+from .progress import RunProgress
+from .restart import restart_deck
+from .runners import Runner, SbatchRunner
+
+Source = str | Path | scene.Scene | SceneBuilder | deck.Model  # what paradyn.run accepts
+DECK_SUFFIXES = (".h5", ".hdf5")
+KEYWORD_SUFFIXES = (".k", ".key", ".dyn")   # LS-DYNA keyword decks (docs/keyword.md)
+
+
+@dataclass(frozen=True)
+class BatchJob:
+    """A Slurm job script written by the ``sbatch`` runner instead of a run."""
+
+    script: Path
+    deck: Path
+
+    @property
+    def submit_command(self) -> list[str]:
+        return ["sbatch", str(self.script)]
+
+
+def run(
+    source: Source,
+    out: str | Path,
+    ranks: int | None = None,
+    threads: int | None = None,
+    runner: str | Runner | None = None,
+    *,
+    post: bool = True,
+    vtk: bool = True,
+    history: bool = True,
+    summary: bool = True,
+    plots: bool = False,
+    vtk_series: bool = False,
+    restart: bool = False,
+    progress: bool | RunProgress | Callable[[Progress], None] = False,
+    extra: dict[str, Any] | None = None,
+    results_name: str = "results.h5",
+    log_name: str | None = "engine.log",
+    started: launch.AwaitingEngine | None = None,
+) -> Results | BatchJob:
+    """Write the deck of ``source`` into ``out``, run the engine, post-process, return the results.
+
+    Parameters
+    ----------
+    source : str, Path, paradyn.Scene, paradyn.scene.Scene or paradyn.deck.Model
+        A scene file (``.toml``), a deck file (``.h5``, read and checked), an LS-DYNA keyword
+        deck (``.k``, ``.key``, ``.dyn``: docs/keyword.md), a scene built in Python
+        (:class:`paradyn.Scene`) or loaded with :func:`paradyn.scene.load_scene`, or a model.
+    out : str or Path
+        The output folder (created): ``deck.h5``, ``results.h5``, ``engine.log`` and the
+        post-processing outputs go there (docs/outputs.md).
+    ranks, threads : int, optional
+        MPI ranks and OpenMP threads per rank; by default one rank with a thread per core this
+        process may use (:func:`paradyn.running.launch.default_layout`).
+    runner : str or Runner, optional
+        ``"direct"``, ``"mpirun"``, ``"srun"``, ``"sbatch"`` or a :class:`~paradyn.running.runners.Runner`;
+        by default srun inside a Slurm allocation, the engine alone on one rank, mpirun otherwise.
+        ``"sbatch"`` writes ``out/job.sbatch`` (the engine under srun, then
+        ``paradyn-run --post``) and returns a :class:`BatchJob` instead of running.
+    post : bool
+        False skips all post-processing (the flags below then do nothing).
+    vtk, history, summary, plots, vtk_series : bool
+        ``results.vtkhdf``, ``history.csv`` and ``summary.json`` (on by default); the PNG pictures
+        and a ``.pvd`` series per part (off by default; ``--plots``, ``--vtk-series``).
+    restart : bool
+        Continue the run in ``out`` from its checkpoint, with the deck already there (the
+        checkpoint belongs to it; ``source`` is not written again).
+    progress : bool, RunProgress or callable
+        True shows the run on standard error (:class:`paradyn.running.progress.RunProgress`: meshing, the
+        check's lines of :mod:`paradyn.running.preflight`, the engine's cycles, its warnings as they come,
+        post-processing), as does a RunProgress of your own (``RunProgress(quiet=True)``: only the
+        check's warnings); a callable receives every :class:`~paradyn.running.launch.Progress`.
+    extra : dict, optional
+        Entries added to ``summary.json`` (after ``scene`` and ``command``).
+    results_name, log_name : str
+        File names of the results and of the engine's log in ``out`` (``log_name=None``: no log).
+    started : AwaitingEngine, optional
+        An engine :func:`paradyn.running.launch.start_engine` started for this run, waiting for its deck
+        (``paradyn-run`` starts it before its imports: :mod:`paradyn.running.early_engine`). It is used
+        if its command is the one this run needs, else cancelled; it is cancelled if the run
+        fails before its deck is written.
+
+    Returns
+    -------
+    Results or BatchJob
+        The results (frames read on demand), with ``engine_run`` (the command, the engine's
+        START and DONE fields, the time it took) and ``outputs`` (label -> path of each file
+        post-processing wrote); a :class:`BatchJob` for the ``sbatch`` runner.
+
+    Raises
+    ------
+    paradyn.scene.SceneError, paradyn.deck.DeckError
+        A bad scene or deck (nothing was run).
+    ValueError
+        ``restart`` without a checkpoint in ``out``, or an unknown runner name.
+    paradyn.running.launch.EngineError
+        The engine failed or was stopped; ``exit_code`` is its status (4: stopped after writing
+        its checkpoint, continue with ``restart=True``).
+
+    Examples
+    --------
+    >>> import paradyn
+    >>> res = paradyn.run("cases/small_plate/scene.toml", "runs/small_plate", ranks=1, threads=2)
+    >>> res.run["cycles"], res.outputs["summary"]                   # doctest: +SKIP
+    (48, PosixPath('runs/small_plate/summary.json'))
+    >>> quick = paradyn.run(model, "runs/try", runner="mpirun", ranks=2, post=False)  # doctest: +SKIP
+    >>> quick.displacement[-1].max()                                # doctest: +SKIP
+    """
+    batch = runner == SbatchRunner.name or isinstance(runner, SbatchRunner)
+    if started is not None and (restart or batch):   # these start their own engine, or none
+        started.cancel()
+        started = None
+    default_ranks, default_threads = launch.default_layout()
+    ranks = default_ranks if ranks is None else ranks
+    threads = default_threads if threads is None else threads
+    display = progress if isinstance(progress, RunProgress) else (RunProgress() if progress is True else None)
+    out, deck_path, started = _prepare(source, out, ranks, threads, runner, restart, batch, display, results_name,
+                                       started)
+    if batch:
+        post_command = _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None
+        return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
+    on_progress = display if display is not None else (progress if callable(progress) else None)
+    if started is not None:
+        started.on_go = _load_readers
+    finish = _Finish(out / results_name, deck_path, display, post, _source_name(source), extra or {},
+                     {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series})
+    try:
+        engine_run = launch.run_engine(deck_path, out / results_name, ranks, threads,
+                                       on_progress=on_progress,
+                                       log_path=out / log_name if log_name else None,
+                                       restart=restart, runner=runner,
+                                       on_warning=display.warning if display is not None else None,
+                                       on_done=finish, started=started)
+    finally:
+        if started is not None:   # a failure before the engine was told to go must not leave it waiting
+            started.cancel()
+        if display is not None:
+            display.close()
+    return finish.results if finish.results is not None else finish(engine_run)
+
+
+def _prepare(source: Source, out: str | Path, ranks: int, threads: int, runner: str | Runner | None, restart: bool,
+             batch: bool, display: RunProgress | None, results_name: str,
+             started: launch.AwaitingEngine | None) -> tuple[Path, Path, launch.AwaitingEngine | None]:
+    """The output folder, the run's deck (written, or the folder's for a restart) and the engine
+    started while the scene was meshed (``started`` when it fits); a failure ends that engine."""
+    try:
+        _check_source(source)
+        out = output_folder(out)
+        if restart:
+            return out, restart_deck(out, _restart_model(source)), None
+        loaded = _loaded(source)
+        if not batch and (precision := _precision(loaded)) is not None:
+            # the engine starts MPI while the scene is meshed and its deck written
+            started = _engine_for(started, out / "deck.h5", out / results_name, ranks, threads, runner, precision)
+        return out, _write_deck(source, loaded, out, ranks, threads, display, started), started
+    except BaseException:
+        if started is not None:
+            started.cancel()
+        raise
+
+
+def _engine_for(started: launch.AwaitingEngine | None, deck_path: Path, results: Path, ranks: int, threads: int,
+                runner: str | Runner | None, precision: str) -> launch.AwaitingEngine:
+    """``started`` if it is the engine this run needs (the same command and environment: the
+    threads are in the environment), else a new one started."""
+    if started is not None:
+        chosen = launch.make_runner(runner, ranks, precision)
+        if (started.command == chosen.command(deck_path.resolve(), results.resolve(), ranks, threads)
+                and started.environment == chosen.environment(ranks, threads)):
+            return started
+        started.cancel()
+    return launch.start_engine(deck_path, results, ranks, threads, runner, precision)
+
+
+@dataclass
+class _Finish:
+    """Reads the results and post-processes them when the engine prints its DONE line: its
+    results file is complete then, and this overlaps the engine's own exit."""
+
+    results_path: Path
+    deck_path: Path
+    display: RunProgress | None
+    post: bool
+    scene: str | None
+    extra: dict[str, Any]
+    options: dict[str, bool]
+    results: Results | None = None
+
+    def __call__(self, engine_run: launch.EngineRun) -> Results:
+        if self.display is not None:
+            self.display.finish_engine(engine_run.done)
+        results = read(self.results_path, deck=self.deck_path)
+        results.engine_run = engine_run
+        if self.post:
+            details = {"scene": self.scene, "command": engine_run.command, **self.extra}
+            with _stage(self.display, "post-processing"):
+                results.outputs = post_process(results, self.results_path.parent, details, **self.options)
+        self.results = results
+        return results
+
+
+def _load_readers() -> None:
+    """h5py, which reading the results needs, loaded while the engine reads its deck and runs:
+    up to here a run loads none (docs/performance.md, "Fixed costs")."""
+    import h5py  # noqa: F401
+
+
+def _stage(display: RunProgress | None, name: str) -> AbstractContextManager[None]:
+    return display.stage(name) if display is not None else nullcontext()
+
+
+def _is_scene(source: Source) -> bool:
+    return isinstance(source, (scene.Scene, SceneBuilder)) or (isinstance(source, (str, Path)) and
+                                                Path(source).suffix not in DECK_SUFFIXES)
+
+
+def _check_source(source: Source) -> None:
+    if isinstance(source, (str, Path)):
+        path = Path(source)
+        if not path.is_file():
+            raise scene.SceneError(f"{path}: no such file; give the path of a scene .toml, a keyword deck .k "
+                                   "or a deck .h5")
+    elif not isinstance(source, (scene.Scene, SceneBuilder, deck.Model)):
+        raise TypeError(f"cannot run a {type(source).__name__}; give a scene .toml or deck .h5 path, "
+                        f"a paradyn.Scene, a paradyn.scene.Scene or a paradyn.deck.Model")
+
+
+def _source_name(source: Source) -> str | None:
+    """The file a run came from, for the summary (None for a scene or model built in Python)."""
+    if isinstance(source, (str, Path)):
+        return str(Path(source).resolve())
+    if isinstance(source, scene.Scene):
+        return str(Path(source.path).resolve())
+    return None
+
+
+def model_of(source: Source) -> deck.Model:
+    """The deck model of a scene file, a deck file, a loaded scene or a model."""
+    if isinstance(source, deck.Model):
+        return source
+    if isinstance(source, SceneBuilder):
+        return source.build()
+    if isinstance(source, scene.Scene):
+        return scene.build_model(source)
+    path = Path(source)
+    if path.suffix in DECK_SUFFIXES:
+        return deck.read_deck(path)
+    if path.suffix.lower() in KEYWORD_SUFFIXES:
+        from paradyn.keyword.scene import read_keyword  # loaded only for a keyword deck
+
+        return read_keyword(path)
+    return scene.build_model(scene.load_scene(path))
+
+
+def _write_deck(source: Source, loaded: Source, out: Path, ranks: int, threads: int, display: RunProgress | None,
+                started: launch.AwaitingEngine | None) -> Path:
+    """Mesh (or read) ``loaded``, write its deck and show the check; a failure ends ``started``."""
+    try:
+        with _stage(display, "meshing" if _is_scene(source) else "reading the model"):
+            model = model_of(loaded)
+        deck_path = out / "deck.h5"
+        if started is None:
+            deck.write_deck(model, deck_path)
+        else:   # the waiting engine writes deck.h5 from the stream (docs/formats.md, "Deck stream")
+            deck.validate_model(model, source=f"{deck_path} (not written)")
+            started.send_deck(deck_stream.encode(model))
+        if display is not None:
+            display.report(preflight.check_model(model, ranks, threads).lines())
+    except BaseException:
+        if started is not None:
+            started.cancel()
+        raise
+    return deck_path
+
+
+def _loaded(source: Source) -> Source:
+    """A scene file loaded (its ``[run]`` says which engine runs it); any other source as it is."""
+    if isinstance(source, (str, Path)) and _is_scene(source) and Path(source).suffix.lower() not in KEYWORD_SUFFIXES:
+        return scene.load_scene(source)
+    return source
+
+
+def _precision(source: Source) -> str | None:
+    """The precision a loaded scene or a model asks for ("double" when it names none); None for a
+    source that says so only once it is built or read."""
+    if isinstance(source, scene.Scene):
+        return source.run.precision or "double"
+    if isinstance(source, deck.Model):
+        return source.control.precision or "double"
+    return None
+
+
+def prepare_deck(source: Source, out_dir: Path) -> Path:
+    """Write (or check and copy) the deck of ``source`` into ``out_dir``; return its path."""
+    return deck.write_deck(model_of(source), out_dir / "deck.h5")
+
+
+def _restart_model(source: Source) -> deck.Model | None:
+    """The model a restart compares with the run's deck: the scene or model as it is now (a deck
+    file given as the source is the run's own deck or another one, and the engine checks it)."""
+    if isinstance(source, (str, Path)) and Path(source).suffix in DECK_SUFFIXES:
+        return None
+    return model_of(source)
+
+
+def _post_command(out_dir: Path, vtk: bool, plots: bool, vtk_series: bool = False) -> list[str]:
+    """``paradyn-run --post OUT`` as a batch job runs it, with this Python."""
+    command = [sys.executable, "-m", "paradyn.cli", "--post", str(out_dir.resolve())]
+    return command + ["--plots"] * plots + ["--vtk-series"] * (vtk and vtk_series) + ["--no-vtk"] * (not vtk)
+
+
+def _write_batch_job(runner: str | Runner, deck_path: Path, results: Path, ranks: int, threads: int,
+                     post_command: list[str] | None) -> BatchJob:
+    batch = launch.make_runner(runner, ranks, launch.deck_precision(deck_path))
+    assert isinstance(batch, SbatchRunner)
+    if batch.post_command is None:
+        batch = replace(batch, post_command=post_command)
+    script = batch.write_job(deck_path.resolve(), results.resolve(), ranks, threads)
+    return BatchJob(script=script, deck=deck_path)

@@ -1,0 +1,247 @@
+"""Building the deck model from a scene: :func:`build_model` meshes the parts and assembles a deck.Model.
+
+Parts do not share nodes; fixes and prescribed velocities select nodes in a box, loads and tracked
+points take the nearest node of their part, contacts become part pairs, curves are numbered in
+scene order with one constant curve added for the pressures and prescribed velocities without one.
+(The engine alone decides which effects a model declares: results.h5 /effects.)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from paradyn import _schema, deck
+from paradyn.mesh import geometry
+
+from .specs import HOURGLASS_FORMS, ContactSpec, PartSpec, Scene, SceneError
+from .tables import _Reader
+
+# ----------------------------------------------------------------------------------------------
+# building the model
+
+
+@dataclass
+class _PartMesh:
+    spec: PartSpec
+    mesh: geometry.Mesh
+    first_node: int
+
+    @property
+    def nodes(self) -> np.ndarray:
+        return np.arange(self.first_node, self.first_node + self.mesh.n_nodes)
+
+    @property
+    def tolerance(self) -> float:
+        """Largest element edge: how far a load or track point may lie from the part's nodes."""
+        return float(self.mesh.edge_lengths().max())
+
+    @property
+    def size(self) -> float:
+        c = self.mesh.coordinates
+        return float(np.linalg.norm(c.max(axis=0) - c.min(axis=0)))
+
+
+def build_model(scene: Scene) -> deck.Model:
+    """Mesh every part and assemble the deck model (parts do not share nodes)."""
+    r = _Reader(scene.path)
+    meshes = _mesh_parts(r, scene)
+    coordinates = np.concatenate([m.mesh.coordinates for m in meshes])
+    connectivity = np.concatenate([m.mesh.quads + m.first_node for m in meshes])
+    element_part = np.concatenate([np.full(m.mesh.n_elements, i) for i, m in enumerate(meshes)])
+    velocity = np.concatenate([np.tile(m.spec.initial_velocity, (m.mesh.n_nodes, 1)) for m in meshes])
+    by_name = {m.spec.name: m for m in meshes}
+    fixed = _fixed_dofs(r, scene, by_name, len(coordinates))
+    velocity[fixed[:, :3] == 1] = 0.0  # a fixed translation cannot start moving
+    material_index = {m.name: i for i, m in enumerate(scene.materials)}
+    model = deck.Model(
+        coordinates=coordinates,
+        connectivity=connectivity.astype(np.int32),
+        element_part=element_part.astype(np.int32),
+        thickness=np.array([p.thickness for p in scene.parts]),
+        part_material=np.array([material_index[p.material] for p in scene.parts], dtype=np.int32),
+        integration_points=np.array([p.integration_points for p in scene.parts], dtype=np.int32),
+        hourglass_coefficient=np.array([p.hourglass_coefficient for p in scene.parts]),
+        hourglass_form=np.array([HOURGLASS_FORMS[p.hourglass_form] for p in scene.parts], dtype=np.int32),
+        warping_correction=np.array([int(p.warping_correction) for p in scene.parts], dtype=np.int32),
+        material_model=np.array([m.model_code for m in scene.materials], dtype=np.int32),
+        density=np.array([m.density for m in scene.materials]),
+        youngs_modulus=np.array([m.youngs_modulus for m in scene.materials]),
+        poisson_ratio=np.array([m.poisson_ratio for m in scene.materials]),
+        yield_stress=np.array([m.yield_stress for m in scene.materials]),
+        tangent_modulus=np.array([m.tangent_modulus for m in scene.materials]),
+        hardening_mixing=np.array([m.hardening_mixing for m in scene.materials]),
+        initial_velocity=velocity,
+        fixed_dofs=fixed,
+        control=deck.Control(**vars(scene.run)),
+        title=scene.title,
+        part_names=[p.name for p in scene.parts],
+        material_names=[m.name for m in scene.materials],
+    )
+    _apply_loads(r, scene, by_name, model)
+    _apply_tracks(r, scene, by_name, model)
+    _apply_contacts(scene, model)
+    _apply_rigid_walls(scene, model)
+    _apply_curve_loads(r, scene, by_name, model)
+    _apply_file_ids(meshes, model)
+    try:
+        deck.validate_model(model, source=f"{scene.path} (built model)")
+    except deck.DeckError as exc:
+        raise SceneError(str(exc)) from exc
+    return model
+
+
+def _mesh_parts(r: _Reader, scene: Scene) -> list[_PartMesh]:
+    meshes: list[_PartMesh] = []
+    first = 0
+    for part in scene.parts:
+        try:
+            mesh = part.geometry.mesh()
+        except geometry.GeometryError as exc:
+            raise r.error(f"[part.geometry] of part '{part.name}': {exc}") from exc
+        meshes.append(_PartMesh(spec=part, mesh=mesh, first_node=first))
+        first += mesh.n_nodes
+    return meshes
+
+
+def _fixed_dofs(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], n_nodes: int) -> np.ndarray:
+    fixed = np.zeros((n_nodes, 6), dtype=np.int32)
+    columns_of = {name: i for i, name in enumerate(deck.DOF_NAMES)}
+    for index, fix in enumerate(scene.fixes):
+        nodes = _nodes_in_box(r, by_name[fix.part], fix.box, f"[[fix]] #{index + 1}")
+        columns = [columns_of[d] for d in fix.dofs]
+        fixed[np.ix_(nodes, columns)] = 1
+    return fixed
+
+
+def _nodes_in_box(r: _Reader, part: _PartMesh, box: tuple[tuple[float, ...], tuple[float, ...]],
+                  label: str) -> np.ndarray:
+    """Global indices of the part's nodes inside the box; an empty box is an error."""
+    local = geometry.nodes_in_box(part.mesh.coordinates, box[0], box[1], tol=1e-9 * max(part.size, 1.0))
+    if local.size == 0:
+        c = part.mesh.coordinates
+        raise r.error(f"{label}: the box {[list(box[0]), list(box[1])]} contains "
+                      f"no node of part '{part.spec.name}' (its nodes span {c.min(axis=0).tolist()} to "
+                      f"{c.max(axis=0).tolist()}); enlarge or move the box")
+    return local + part.first_node
+
+
+def _located_node(r: _Reader, part: _PartMesh, point: tuple[float, float, float], label: str) -> int:
+    local = geometry.nearest_node(part.mesh.coordinates, point)
+    distance = float(np.linalg.norm(part.mesh.coordinates[local] - np.asarray(point)))
+    if distance > part.tolerance:
+        raise r.error(f"{label}: point {list(point)} is {distance:.4g} m from the nearest node of part "
+                      f"'{part.spec.name}' (at {part.mesh.coordinates[local].tolist()}), more than one "
+                      f"element size ({part.tolerance:.4g} m); put the point on the part's mid-surface")
+    return local + part.first_node
+
+
+def _apply_loads(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model: deck.Model) -> None:
+    nodes = [_located_node(r, by_name[load.part], load.point, f"[[load]] #{i + 1}")
+             for i, load in enumerate(scene.loads)]
+    model.load_node = np.array(nodes, dtype=np.int32)
+    model.load_dof = np.array([deck.DOF_NAMES.index(load.dof) + 1 for load in scene.loads], dtype=np.int32)
+    model.load_value = np.array([load.value for load in scene.loads], dtype=np.float64)
+    model.load_ramp_time = np.array([load.ramp_time for load in scene.loads], dtype=np.float64)
+
+
+def _apply_tracks(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model: deck.Model) -> None:
+    nodes = [_located_node(r, by_name[track.part], track.point, f"[[track]] '{track.name}'")
+             for track in scene.tracks]
+    model.tracked_nodes = np.array(nodes, dtype=np.int32)
+    model.tracked_names = [track.name for track in scene.tracks]
+
+
+def _deck_contacts(scene: Scene) -> list[tuple[int, int, str, ContactSpec]]:
+    """The deck's contact definitions (part, part, kind, spec). A single_surface contact over
+    several parts is one surface: each part against itself, and each two parts a symmetric
+    node_to_segment pair (docs/scene.md)."""
+    index = {p.name: i for i, p in enumerate(scene.parts)}
+    rows: list[tuple[int, int, str, ContactSpec]] = []
+    for c in scene.contacts:
+        if c.kind != "single_surface":
+            rows.append((index[c.parts[0]], index[c.parts[1]], c.kind, c))
+            continue
+        members = [index[name] for name in (c.parts or [p.name for p in scene.parts])]
+        rows += [(a, a, "single_surface", c) for a in members]
+        pair = dataclasses.replace(c, symmetric=True)
+        rows += [(a, b, "node_to_segment", pair) for i, a in enumerate(members) for b in members[i + 1:]]
+    return rows
+
+
+def _apply_contacts(scene: Scene, model: deck.Model) -> None:
+    rows = _deck_contacts(scene)
+    contacts = [c for _, _, _, c in rows]
+    model.contact_pairs = np.array([[a, b] for a, b, _, _ in rows], dtype=np.int32).reshape(-1, 2)
+    model.contact_penalty_scale = np.array([c.penalty_scale for c in contacts])
+    model.contact_static_friction = np.array([c.static_friction for c in contacts])
+    model.contact_dynamic_friction = np.array([c.dynamic_friction for c in contacts])
+    model.contact_friction_decay = np.array([c.friction_decay for c in contacts])
+    passes = _schema.ENUMS["contact_passes"]
+    model.contact_passes = np.array([passes["both"] if c.symmetric else passes["alternate"] for c in contacts],
+                                    dtype=np.int32)
+    model.contact_kind = np.array([_schema.ENUMS["contact_kind"][kind] for _, _, kind, _ in rows], dtype=np.int32)
+    model.contact_initial_penetration = np.array([_schema.ENUMS["initial_penetration"][c.initial_penetration]
+                                                  for c in contacts], dtype=np.int32)
+
+
+def _apply_file_ids(meshes: list[_PartMesh], model: deck.Model) -> None:
+    """The ids of meshes read from files (gmsh tags, the physical group's tag); 0 where a part has none."""
+    if all(m.mesh.node_ids is None for m in meshes):
+        return
+
+    def ids(values: np.ndarray | None, count: int) -> np.ndarray:
+        return np.zeros(count, dtype=np.int64) if values is None else values
+
+    model.node_ids = np.concatenate([ids(m.mesh.node_ids, m.mesh.n_nodes) for m in meshes])
+    model.element_ids = np.concatenate([ids(m.mesh.element_ids, m.mesh.n_elements) for m in meshes])
+    model.part_ids = np.array([m.mesh.part_id or 0 for m in meshes], dtype=np.int64)
+
+
+def _apply_rigid_walls(scene: Scene, model: deck.Model) -> None:
+    walls = scene.rigid_walls
+    model.rigid_wall_point = np.array([w.point for w in walls], dtype=np.float64).reshape(-1, 3)
+    model.rigid_wall_normal = np.array([w.normal for w in walls], dtype=np.float64).reshape(-1, 3)
+    model.rigid_wall_velocity = np.array([w.velocity for w in walls], dtype=np.float64).reshape(-1, 3)
+    model.rigid_wall_penalty_scale = np.array([w.penalty_scale for w in walls], dtype=np.float64)
+
+
+def _apply_curve_loads(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model: deck.Model) -> None:
+    """Curves in scene order, then one constant curve (factor 1) if a pressure or prescribed
+    velocity has none, so that every load of the deck names a curve."""
+    curve_index = {c.name: i for i, c in enumerate(scene.curves)}
+    times = [list(c.time) for c in scene.curves]
+    values = [list(c.value) for c in scene.curves]
+    if any(load.curve is None for load in [*scene.pressures, *scene.prescribed]):
+        times.append([0.0])
+        values.append([1.0])
+    constant = len(scene.curves)
+    model.curve_first_point = np.cumsum([0] + [len(t) for t in times])[:-1].astype(np.int32)
+    model.curve_time = np.array([t for curve in times for t in curve], dtype=np.float64)
+    model.curve_value = np.array([v for curve in values for v in curve], dtype=np.float64)
+    part_index = {p.name: i for i, p in enumerate(scene.parts)}
+    model.pressure_part = np.array([part_index[p.part] for p in scene.pressures], dtype=np.int32)
+    model.pressure_value = np.array([p.value for p in scene.pressures], dtype=np.float64)
+    model.pressure_curve = np.array([constant if p.curve is None else curve_index[p.curve] for p in scene.pressures],
+                                    dtype=np.int32)
+    rows: dict[tuple[int, int], int] = {}   # (node, dof) -> [[prescribe]] entry
+    nodes, dofs, scales, curves = [], [], [], []
+    for index, motion in enumerate(scene.prescribed):
+        label = f"[[prescribe]] #{index + 1}"
+        dof = deck.DOF_NAMES.index(motion.dof) + 1
+        for node in _nodes_in_box(r, by_name[motion.part], motion.box, label):
+            if (int(node), dof) in rows:
+                raise r.error(f"{label}: node {int(node)} already has its {motion.dof} velocity prescribed by "
+                              f"[[prescribe]] #{rows[(int(node), dof)] + 1}; make the boxes or dofs distinct")
+            rows[(int(node), dof)] = index
+            nodes.append(int(node))
+            dofs.append(dof)
+            scales.append(motion.value)
+            curves.append(constant if motion.curve is None else curve_index[motion.curve])
+    model.prescribed_node = np.array(nodes, dtype=np.int32)
+    model.prescribed_dof = np.array(dofs, dtype=np.int32)
+    model.prescribed_value = np.array(scales, dtype=np.float64)
+    model.prescribed_curve = np.array(curves, dtype=np.int32)
+

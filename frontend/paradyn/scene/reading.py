@@ -1,0 +1,499 @@
+"""Reading and checking a scene file: :func:`load_scene` turns the TOML text into a :class:`Scene`.
+
+The reader rejects unknown keys, missing keys, wrong types and out-of-range values, then checks that
+names are unique and that every reference (a part's material, the part of a fix, load, track or
+contact) is defined; every problem raises :class:`SceneError` naming the file, the table and the key.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from paradyn import _schema, deck
+from paradyn.scene.specs import (
+    DOF_GROUPS,
+    HOURGLASS_FORMS,
+    MATERIAL_MODELS,
+    ContactSpec,
+    CurveSpec,
+    CylinderGeometry,
+    FileGeometry,
+    FixSpec,
+    Geometry,
+    LoadSpec,
+    MaterialSpec,
+    PartSpec,
+    PlateGeometry,
+    PrescribeSpec,
+    PressureSpec,
+    RigidWallSpec,
+    RunSettings,
+    Scene,
+    SceneError,
+    TrackSpec,
+)
+from paradyn.scene.tables import _REQUIRED, _Reader
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+    import tomli as tomllib  # type: ignore[no-redef]
+
+
+def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
+    name = table.get("name")
+    suffix = f" '{name}'" if isinstance(name, str) else ""
+    return f"[[{kind}]] #{index + 1}{suffix}"
+
+
+# ----------------------------------------------------------------------------------------------
+# parsing
+
+_TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "track", "contact", "rigid_wall",
+             "curve", "pressure", "prescribe", "study")
+_RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
+             "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
+             "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "contact_travel_limit",
+             "mass_scaling_step", "mass_scaling_limit", "precision")
+_MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
+                  "tangent_modulus", "hardening_mixing")
+_J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
+_PART_KEYS = ("name", "material", "thickness", "integration_points", "hourglass_coefficient",
+              "hourglass_form", "warping_correction", "initial_velocity", "geometry")
+_GEOMETRY_KEYS = {
+    "cylinder": ("kind", "radius", "length", "axis", "center", "elements_around", "elements_along"),
+    "plate": ("kind", "size", "elements", "origin", "u_axis", "v_axis"),
+    "file": ("kind", "path", "group"),
+}
+_FIX_KEYS = ("part", "box", "dofs")
+_LOAD_KEYS = ("part", "point", "dof", "value", "ramp_time")
+_TRACK_KEYS = ("name", "part", "point")
+_CURVE_KEYS = ("name", "time", "value")
+_PRESSURE_KEYS = ("part", "value", "curve")
+_PRESCRIBE_KEYS = ("part", "box", "dof", "value", "curve")
+_CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "static_friction", "dynamic_friction",
+                 "friction_decay", "symmetric")
+_RIGID_WALL_KEYS = ("point", "normal", "velocity", "penalty_scale")
+_RIGID_WALL_SCALE_MAX = next(d.upper.value for d in _schema.DATASETS if d.path == "/rigid_walls/penalty_scale")
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Parse and check a scene file; raise SceneError naming the file, table and key on any problem."""
+    path = Path(path)
+    return scene_from_tables(_parse_toml(path), path)
+
+
+def scene_from_tables(data: Mapping[str, Any], path: Path) -> Scene:
+    """Check the tables of a scene (a parsed TOML file, or :class:`paradyn.Scene`'s) and return the
+    :class:`Scene`; messages start with ``path``, and mesh file paths are relative to its folder."""
+    reader = _Reader(path)
+    reader.keys(data, "the top level of the scene", _TOP_KEYS)
+    title = data.get("title", path.stem)
+    if not isinstance(title, str):
+        raise reader.error(f"'title' must be a string, got {title!r}")
+    run = _parse_run(reader, reader.table(data, "run", "the scene"))
+    run.effect_switches = _parse_effects(reader, reader.table(data, "effects", "the scene", required=False))
+    reader.table(data, "study", "the scene", required=False)   # paradyn-study's, docs/accuracy-cost.md
+    materials = [_parse_material(reader, t, i) for i, t in enumerate(reader.tables(data, "material"))]
+    parts = [_parse_part(reader, t, i) for i, t in enumerate(reader.tables(data, "part"))]
+    _check_mesh_size(reader, parts)
+    fixes = [_parse_fix(reader, t, i) for i, t in enumerate(reader.tables(data, "fix"))]
+    loads = [_parse_load(reader, t, i) for i, t in enumerate(reader.tables(data, "load"))]
+    tracks = [_parse_track(reader, t, i) for i, t in enumerate(reader.tables(data, "track"))]
+    contacts = [_parse_contact(reader, t, i) for i, t in enumerate(reader.tables(data, "contact"))]
+    walls = [_parse_rigid_wall(reader, t, i) for i, t in enumerate(reader.tables(data, "rigid_wall"))]
+    curves = [_parse_curve(reader, t, i) for i, t in enumerate(reader.tables(data, "curve"))]
+    pressures = [_parse_pressure(reader, t, i) for i, t in enumerate(reader.tables(data, "pressure"))]
+    prescribed = [_parse_prescribe(reader, t, i) for i, t in enumerate(reader.tables(data, "prescribe"))]
+    scene = Scene(path=path, title=title, run=run, materials=materials, parts=parts,
+                  fixes=fixes, loads=loads, tracks=tracks, contacts=contacts, rigid_walls=walls, curves=curves,
+                  pressures=pressures, prescribed=prescribed)
+    _check_references(reader, scene)
+    _check_load_references(reader, scene)
+    return scene
+
+
+def _parse_toml(path: Path) -> dict[str, Any]:
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError as exc:
+        raise SceneError(f"{path}: scene file not found; check the path") from exc
+    except OSError as exc:
+        raise SceneError(f"{path}: cannot read the scene file ({exc})") from exc
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"{path}: not a text file in UTF-8 ({exc.reason} at byte {exc.start}); save the scene "
+                         f"as UTF-8 TOML") from exc
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path}: not valid TOML ({exc}); fix the syntax at that line") from exc
+
+
+def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
+    label = "[run]"
+    r.keys(t, label, _RUN_KEYS)
+    run = RunSettings(
+        end_time=r.number(t, "end_time", label, positive=True),
+        output_interval=r.number(t, "output_interval", label, positive=True),
+        history_interval=r.number(t, "history_interval", label, default=None, positive=True),
+        time_step=r.number(t, "time_step", label, default=RunSettings.time_step, minimum=0.0),
+        time_step_safety=r.number(t, "time_step_safety", label, default=RunSettings.time_step_safety,
+                                  positive=True),
+        mass_damping=r.number(t, "mass_damping", label, default=RunSettings.mass_damping, minimum=0.0),
+        progress_interval=r.number(t, "progress_interval", label, default=RunSettings.progress_interval,
+                                   positive=True),
+        contact_sort_interval=r.integer(t, "contact_sort_interval", label,
+                                        default=int(RunSettings.contact_sort_interval), minimum=0),
+        checkpoint_interval=r.number(t, "checkpoint_interval", label, default=RunSettings.checkpoint_interval,
+                                     minimum=0.0),
+        energy_error_limit=r.number(t, "energy_error_limit", label, default=RunSettings.energy_error_limit,
+                                    minimum=0.0),
+        time_step_floor=r.number(t, "time_step_floor", label, default=RunSettings.time_step_floor, positive=True),
+        contact_travel_limit=r.number(t, "contact_travel_limit", label, default=RunSettings.contact_travel_limit,
+                                      minimum=0.0),
+        mass_scaling_step=r.number(t, "mass_scaling_step", label, default=RunSettings.mass_scaling_step,
+                                   minimum=0.0),
+        mass_scaling_limit=r.number(t, "mass_scaling_limit", label, default=RunSettings.mass_scaling_limit,
+                                    minimum=0.0),
+    )
+    for key in ("partition", "contact_gather", "precision"):   # /control strings: members of their enums
+        if key in t:
+            setattr(run, key, r.string(t, key, label, choices=tuple(_schema.ENUMS[key])))
+    if run.time_step_safety > 1.0:
+        raise r.error(f"'time_step_safety' in {label} must be in (0, 1], got {run.time_step_safety}")
+    if run.contact_travel_limit >= 1.0:
+        raise r.error(f"'contact_travel_limit' in {label} must be in [0, 1), a fraction of the wall thickness "
+                      f"(0.1 keeps the penetration near a fifth of it; 0 = no limit), got {run.contact_travel_limit}")
+    if run.time_step_floor >= 1.0:
+        raise r.error(f"'time_step_floor' in {label} must be in (0, 1), a fraction of the first step, "
+                      f"got {run.time_step_floor}")
+    run.gravity_x, run.gravity_y, run.gravity_z = r.vector(t, "gravity", label, default=(0.0, 0.0, 0.0))
+    return run
+
+
+def _parse_effects(r: _Reader, t: dict[str, Any]) -> dict[str, str]:
+    """[effects] <switch> = true | false: an effect the scene declares but wants off for a study
+    or a check (schema/effects.toml names the switches)."""
+    r.keys(t, "[effects]", _schema.EFFECT_SWITCHES)
+    switches = {}
+    for name, value in t.items():
+        if not isinstance(value, bool):
+            raise r.error(f"'{name}' in [effects] must be true or false, got {value!r}")
+        switches[name] = "on" if value else "off"
+    return switches
+
+
+def _parse_material(r: _Reader, t: dict[str, Any], index: int) -> MaterialSpec:
+    label = _label("material", index, t)
+    r.keys(t, label, _MATERIAL_KEYS)
+    model = r.string(t, "model", label, choices=tuple(MATERIAL_MODELS))
+    if model == "elastic":
+        extra = [k for k in _J2_KEYS if k in t]
+        if extra:
+            raise r.error(f"'{extra[0]}' in {label} only applies to model = \"j2_plasticity\"; remove it "
+                          f"or change the model")
+    material = MaterialSpec(
+        name=r.string(t, "name", label),
+        model=model,
+        density=r.number(t, "density", label, positive=True),
+        youngs_modulus=r.number(t, "youngs_modulus", label, positive=True),
+        poisson_ratio=r.number(t, "poisson_ratio", label),
+    )
+    if not -1.0 < material.poisson_ratio < 0.5:
+        raise r.error(f"'poisson_ratio' in {label} must satisfy -1 < nu < 0.5, got {material.poisson_ratio}")
+    if model == "j2_plasticity":
+        material.yield_stress = r.number(t, "yield_stress", label, positive=True)
+        material.tangent_modulus = r.number(t, "tangent_modulus", label, default=MaterialSpec.tangent_modulus,
+                                            minimum=0.0)
+        material.hardening_mixing = r.number(t, "hardening_mixing", label, default=MaterialSpec.hardening_mixing,
+                                             minimum=0.0)
+        if material.tangent_modulus >= material.youngs_modulus:
+            raise r.error(f"'tangent_modulus' in {label} must be below youngs_modulus "
+                          f"({material.youngs_modulus:g} Pa), got {material.tangent_modulus:g}")
+        if material.hardening_mixing > 1.0:
+            raise r.error(f"'hardening_mixing' in {label} must be in [0, 1] (1 isotropic, 0 kinematic), "
+                          f"got {material.hardening_mixing}")
+    return material
+
+
+def _parse_part(r: _Reader, t: dict[str, Any], index: int) -> PartSpec:
+    label = _label("part", index, t)
+    r.keys(t, label, _PART_KEYS)
+    name = r.string(t, "name", label)
+    return PartSpec(
+        name=name,
+        material=r.string(t, "material", label),
+        thickness=r.number(t, "thickness", label, positive=True),
+        geometry=_parse_geometry(r, r.table(t, "geometry", label), f"[part.geometry] of part '{name}'"),
+        integration_points=r.integer(t, "integration_points", label, default=PartSpec.integration_points,
+                                     minimum=1, maximum=9),
+        hourglass_coefficient=r.number(t, "hourglass_coefficient", label, default=PartSpec.hourglass_coefficient,
+                                       minimum=0.0),
+        hourglass_form=r.string(t, "hourglass_form", label, default=PartSpec.hourglass_form,
+                                choices=tuple(HOURGLASS_FORMS)),
+        warping_correction=r.flag(t, "warping_correction", label, default=PartSpec.warping_correction),
+        initial_velocity=r.vector(t, "initial_velocity", label, default=(0.0, 0.0, 0.0)),
+    )
+
+
+def _parse_geometry(r: _Reader, t: dict[str, Any], label: str) -> Geometry:
+    kind = r.string(t, "kind", label, choices=tuple(_GEOMETRY_KEYS))
+    r.keys(t, f"{label} (kind = \"{kind}\")", _GEOMETRY_KEYS[kind])
+    if kind == "cylinder":
+        around = r.integer(t, "elements_around", label, default=16, minimum=4)
+        if around % 4:
+            raise r.error(f"'elements_around' in {label} must be a multiple of 4, got {around}")
+        return CylinderGeometry(
+            radius=r.number(t, "radius", label, positive=True),
+            length=r.number(t, "length", label, positive=True),
+            axis=r.vector(t, "axis", label, default=(1.0, 0.0, 0.0)),
+            center=r.vector(t, "center", label, default=(0.0, 0.0, 0.0)),
+            elements_around=around,
+            elements_along=r.integer(t, "elements_along", label, default=32),
+        )
+    if kind == "plate":
+        size = r.vector(t, "size", label, length=2)
+        if min(size) <= 0:
+            raise r.error(f"'size' in {label} must be two positive lengths [lx, ly], got {list(size)}")
+        return PlateGeometry(
+            size=(size[0], size[1]),
+            elements=r.int_pair(t, "elements", label),
+            origin=r.vector(t, "origin", label, default=(0.0, 0.0, 0.0)),
+            u_axis=r.vector(t, "u_axis", label, default=(1.0, 0.0, 0.0)),
+            v_axis=r.vector(t, "v_axis", label, default=(0.0, 1.0, 0.0)),
+        )
+    file = (r.path.parent / r.string(t, "path", label)).resolve()
+    if not file.is_file():
+        raise r.error(f"'path' in {label}: mesh file {file} not found; paths are relative to the "
+                      f"scene file's folder")
+    return FileGeometry(path=file, group=r.string(t, "group", label) if "group" in t else None)
+
+
+# Memory of one element through meshing, the deck and the engine (bytes, measured order of magnitude:
+# gmsh's mesh, the deck's arrays, the engine's state and results buffers); docs/scene.md.
+BYTES_PER_ELEMENT = 4000
+
+
+def _machine_memory() -> int:
+    """Physical memory of this machine in bytes (0 where the system does not say)."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):
+        return 0
+
+
+def _requested_elements(geometry: Geometry) -> int:
+    """The elements a generated geometry asks for (0 for a mesh file, which is already made)."""
+    if isinstance(geometry, CylinderGeometry):
+        return geometry.elements_around * geometry.elements_along
+    if isinstance(geometry, PlateGeometry):
+        return geometry.elements[0] * geometry.elements[1]
+    return 0
+
+
+def _check_mesh_size(r: _Reader, parts: list[PartSpec]) -> None:
+    """A mesh request beyond this machine's memory is refused before meshing starts (issue 17)."""
+    counts = {p.name: _requested_elements(p.geometry) for p in parts}
+    total, memory = sum(counts.values()), _machine_memory()
+    if memory and total * BYTES_PER_ELEMENT > memory:
+        largest = max(counts, key=counts.__getitem__)
+        raise r.error(f"the parts ask for {total:.3g} elements (part '{largest}': {counts[largest]:.3g}), about "
+                      f"{total * BYTES_PER_ELEMENT / 2**30:.0f} GiB to mesh and run, more than this machine's "
+                      f"{memory / 2**30:.0f} GiB; use fewer elements")
+
+
+def _parse_dofs(r: _Reader, t: dict[str, Any], label: str) -> tuple[str, ...]:
+    value = r.raw(t, "dofs", label, ["all"])
+    items = [value] if isinstance(value, str) else value
+    allowed = deck.DOF_NAMES + tuple(DOF_GROUPS)
+    if not isinstance(items, list) or not items or not all(isinstance(v, str) for v in items):
+        raise r.error(f"'dofs' in {label} must be a list of dof names from: {', '.join(allowed)}")
+    chosen: set[str] = set()
+    for item in items:
+        if item not in allowed:
+            raise r.error(f"'dofs' in {label} contains '{item}', which is not one of: {', '.join(allowed)}")
+        chosen.update(DOF_GROUPS.get(item, (item,)))
+    return tuple(d for d in deck.DOF_NAMES if d in chosen)
+
+
+def _parse_fix(r: _Reader, t: dict[str, Any], index: int) -> FixSpec:
+    label = _label("fix", index, t)
+    r.keys(t, label, _FIX_KEYS)
+    return FixSpec(part=r.string(t, "part", label), box=_parse_box(r, t, label), dofs=_parse_dofs(r, t, label))
+
+
+def _parse_box(r: _Reader, t: dict[str, Any], label: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    box = r.raw(t, "box", label, _REQUIRED)
+    if not isinstance(box, list) or len(box) != 2:
+        raise r.error(f"'box' in {label} must be two corners [[xmin, ymin, zmin], [xmax, ymax, zmax]], "
+                      f"got {box!r}")
+    corners = {"lo": box[0], "hi": box[1]}
+    lo = r.vector(corners, "lo", f"'box' of {label}")
+    hi = r.vector(corners, "hi", f"'box' of {label}")
+    if any(a > b for a, b in zip(lo, hi, strict=True)):
+        raise r.error(f"'box' in {label}: the first corner {list(lo)} must not exceed the second {list(hi)} "
+                      f"in any coordinate; write [[xmin, ymin, zmin], [xmax, ymax, zmax]]")
+    return (lo, hi)
+
+
+def _parse_load(r: _Reader, t: dict[str, Any], index: int) -> LoadSpec:
+    label = _label("load", index, t)
+    r.keys(t, label, _LOAD_KEYS)
+    return LoadSpec(
+        part=r.string(t, "part", label),
+        point=r.vector(t, "point", label),
+        dof=r.string(t, "dof", label, choices=deck.DOF_NAMES),
+        value=r.number(t, "value", label),
+        ramp_time=r.number(t, "ramp_time", label, default=0.0, minimum=0.0),
+    )
+
+
+def _parse_track(r: _Reader, t: dict[str, Any], index: int) -> TrackSpec:
+    label = _label("track", index, t)
+    r.keys(t, label, _TRACK_KEYS)
+    return TrackSpec(name=r.string(t, "name", label), part=r.string(t, "part", label),
+                     point=r.vector(t, "point", label))
+
+
+def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
+    label = f"[[contact]] #{index + 1}"
+    r.keys(t, label, _CONTACT_KEYS)
+    kind = (r.string(t, "kind", label, choices=tuple(_schema.ENUMS["contact_kind"])) if "kind" in t
+            else ContactSpec.kind)
+    parts = _contact_parts(r, t, label, kind)
+    symmetric = r.raw(t, "symmetric", label, ContactSpec.symmetric)
+    if not isinstance(symmetric, bool):
+        raise r.error(f"'symmetric' in {label} must be true (both passes every step) or false "
+                      f"(slave and master swap every step, as in the paper); got {symmetric!r}")
+    static = r.number(t, "static_friction", label, default=ContactSpec.static_friction, minimum=0.0)
+    return ContactSpec(
+        parts=parts,
+        penalty_scale=r.number(t, "penalty_scale", label, default=ContactSpec.penalty_scale, positive=True),
+        static_friction=static,
+        dynamic_friction=r.number(t, "dynamic_friction", label, default=static, minimum=0.0),
+        friction_decay=r.number(t, "friction_decay", label, default=ContactSpec.friction_decay, minimum=0.0),
+        symmetric=symmetric,
+        kind=kind,
+        initial_penetration=r.string(t, "initial_penetration", label, default=ContactSpec.initial_penetration,
+                                     choices=tuple(_schema.ENUMS["initial_penetration"])),
+    )
+
+
+def _contact_parts(r: _Reader, t: dict[str, Any], label: str, kind: str) -> tuple[str, ...]:
+    """Two different parts for a node_to_segment pair; one or more different parts for a
+    single_surface contact, or none (every part of the scene)."""
+    if kind == "single_surface":
+        parts = r.raw(t, "parts", label, [])
+        if (not isinstance(parts, list) or not all(isinstance(p, str) for p in parts)
+                or len(set(parts)) != len(parts)):
+            raise r.error(f"'parts' in {label} must list different parts that form the single surface, e.g. "
+                          f"parts = [\"pipe\"] (leave it out for every part of the scene); got {parts!r}")
+        return tuple(parts)
+    parts = r.raw(t, "parts", label, _REQUIRED)
+    if (not isinstance(parts, list) or len(parts) != 2 or not all(isinstance(p, str) for p in parts)
+            or parts[0] == parts[1]):
+        raise r.error(f"'parts' in {label} must name two different parts, e.g. parts = [\"a\", \"b\"] "
+                      f"(for a part against itself use kind = \"single_surface\"); got {parts!r}")
+    return (parts[0], parts[1])
+
+
+def _parse_rigid_wall(r: _Reader, t: dict[str, Any], index: int) -> RigidWallSpec:
+    label = f"[[rigid_wall]] #{index + 1}"
+    r.keys(t, label, _RIGID_WALL_KEYS)
+    normal = r.vector(t, "normal", label)
+    if not any(normal):
+        raise r.error(f"'normal' in {label} is the zero vector; give a normal pointing from the wall towards "
+                      f"the model, e.g. normal = [0.0, 0.0, 1.0]")
+    scale = r.number(t, "penalty_scale", label, default=RigidWallSpec.penalty_scale, positive=True)
+    if scale > _RIGID_WALL_SCALE_MAX:
+        raise r.error(f"'penalty_scale' in {label} = {scale!r} is above {_RIGID_WALL_SCALE_MAX}, where a node "
+                      f"pressed into the wall may become unstable; use a value such as 0.1 (the default)")
+    return RigidWallSpec(point=r.vector(t, "point", label), normal=normal,
+                         velocity=r.vector(t, "velocity", label, default=RigidWallSpec.velocity),
+                         penalty_scale=scale)
+
+
+def _parse_curve(r: _Reader, t: dict[str, Any], index: int) -> CurveSpec:
+    label = _label("curve", index, t)
+    r.keys(t, label, _CURVE_KEYS)
+    name = r.string(t, "name", label)
+    points = {key: r.raw(t, key, label, _REQUIRED) for key in ("time", "value")}
+    for key, items in points.items():
+        if not isinstance(items, list) or not items:
+            raise r.error(f"'{key}' in {label} must be a non-empty list of numbers, got {items!r}")
+    if len(points["time"]) != len(points["value"]):
+        raise r.error(f"{label} has {len(points['time'])} times and {len(points['value'])} values; give one "
+                      f"value per time")
+    time = r.vector(points, "time", label, length=len(points["time"]))
+    value = r.vector(points, "value", label, length=len(points["value"]))
+    if any(b <= a for a, b in itertools.pairwise(time)):
+        raise r.error(f"'time' in {label} must increase strictly, got {list(time)}")
+    return CurveSpec(name=name, time=time, value=value)
+
+
+def _parse_pressure(r: _Reader, t: dict[str, Any], index: int) -> PressureSpec:
+    label = _label("pressure", index, t)
+    r.keys(t, label, _PRESSURE_KEYS)
+    return PressureSpec(part=r.string(t, "part", label), value=r.number(t, "value", label),
+                        curve=r.string(t, "curve", label) if "curve" in t else None)
+
+
+def _parse_prescribe(r: _Reader, t: dict[str, Any], index: int) -> PrescribeSpec:
+    label = _label("prescribe", index, t)
+    r.keys(t, label, _PRESCRIBE_KEYS)
+    return PrescribeSpec(part=r.string(t, "part", label), box=_parse_box(r, t, label),
+                         dof=r.string(t, "dof", label, choices=deck.DOF_NAMES), value=r.number(t, "value", label),
+                         curve=r.string(t, "curve", label) if "curve" in t else None)
+
+
+def _check_load_references(r: _Reader, scene: Scene) -> None:
+    """Curves are uniquely named; pressures and prescribed velocities name defined parts and curves."""
+    _unique(r, [c.name for c in scene.curves], "curve")
+    parts, curves = [p.name for p in scene.parts], [c.name for c in scene.curves]
+    for kind, items in (("pressure", scene.pressures), ("prescribe", scene.prescribed)):
+        for index, item in enumerate(items):
+            if item.part not in parts:
+                raise r.error(f"[[{kind}]] #{index + 1} refers to part '{item.part}', which is not "
+                              f"defined (parts: {', '.join(parts)})")
+            if item.curve is not None and item.curve not in curves:
+                known = ", ".join(curves) or "none defined"
+                raise r.error(f"[[{kind}]] #{index + 1} refers to curve '{item.curve}', which is not defined "
+                              f"(curves: {known}); add a [[curve]] with that name or leave 'curve' out for a "
+                              f"constant load")
+
+
+def _check_references(r: _Reader, scene: Scene) -> None:
+    _unique(r, [m.name for m in scene.materials], "material")
+    _unique(r, [p.name for p in scene.parts], "part")
+    _unique(r, [t.name for t in scene.tracks], "track")
+    if not scene.parts:
+        raise r.error("the scene has no [[part]]; add at least one part with a geometry")
+    materials = [m.name for m in scene.materials]
+    for part in scene.parts:
+        if part.material not in materials:
+            known = ", ".join(materials) or "none defined"
+            raise r.error(f"part '{part.name}' uses material '{part.material}', which is not defined "
+                          f"(materials: {known}); add a [[material]] with that name")
+    parts = [p.name for p in scene.parts]
+    for kind, items in (("fix", scene.fixes), ("load", scene.loads), ("track", scene.tracks)):
+        for index, item in enumerate(items):
+            if item.part not in parts:
+                raise r.error(f"[[{kind}]] #{index + 1} refers to part '{item.part}', which is not "
+                              f"defined (parts: {', '.join(parts)})")
+    for index, contact in enumerate(scene.contacts):
+        for name in contact.parts:
+            if name not in parts:
+                raise r.error(f"[[contact]] #{index + 1} names part '{name}', which is not defined "
+                              f"(parts: {', '.join(parts)})")
+
+
+def _unique(r: _Reader, names: list[str], kind: str) -> None:
+    seen: set[str] = set()
+    for name in names:
+        if name in seen:
+            raise r.error(f"two [[{kind}]] entries are named '{name}'; names must be unique")
+        seen.add(name)

@@ -1,0 +1,208 @@
+"""The scene's data types: what :func:`paradyn.scene.load_scene` returns and :func:`paradyn.scene.build_model` reads.
+
+:class:`Scene` holds the run settings (:data:`RunSettings`, the deck's :class:`deck.Control`), the
+materials, the parts with their geometry specs, and the fixes, loads, tracked points, contacts, rigid
+walls, load curves, pressures and prescribed velocities; where a key fills a deck dataset its
+default is the deck's (schema/deck.toml). :class:`SceneError` is the error of every scene problem.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from paradyn import _schema, deck
+from paradyn.mesh import files as mesh_files
+from paradyn.mesh import geometry
+
+
+class SceneError(ValueError):
+    """A scene file that cannot be turned into a model; the message names the file, table and key."""
+
+
+MATERIAL_MODELS = dict(_schema.ENUMS["material_model"])
+HOURGLASS_FORMS = dict(_schema.ENUMS["hourglass_form"])
+DOF_GROUPS = {
+    "all": deck.DOF_NAMES,
+    "translations": deck.DOF_NAMES[:3],
+    "rotations": deck.DOF_NAMES[3:],
+}
+# Where a scene key fills a deck dataset, its default is the deck's (schema/deck.toml); the [run]
+# defaults are those of deck.Control, which come from the same schema.
+_DECK_DEFAULT = {d.path: d.default for d in _schema.DATASETS}
+
+
+def _enum_name(enum: str, code: object) -> str:
+    """The scene's name of an enum code (the scene says "stiffness" where the deck holds 2)."""
+    return next(name for name, value in _schema.ENUMS[enum].items() if value == code)
+
+# ----------------------------------------------------------------------------------------------
+# scene dataclasses
+
+
+# The [run] table maps one to one onto the deck's /control attributes.
+RunSettings = deck.Control
+
+
+@dataclass
+class MaterialSpec:
+    name: str
+    model: str                      # "elastic" or "j2_plasticity"
+    density: float
+    youngs_modulus: float
+    poisson_ratio: float
+    yield_stress: float = _DECK_DEFAULT["/materials/yield_stress"]          # j2 only
+    tangent_modulus: float = _DECK_DEFAULT["/materials/tangent_modulus"]    # j2 only
+    hardening_mixing: float = _DECK_DEFAULT["/materials/hardening_mixing"]  # j2 only
+
+    @property
+    def model_code(self) -> int:
+        return MATERIAL_MODELS[self.model]
+
+
+@dataclass
+class CylinderGeometry:
+    radius: float
+    length: float
+    axis: tuple[float, float, float] = (1.0, 0.0, 0.0)
+    center: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    elements_around: int = 16
+    elements_along: int = 32
+
+    def mesh(self) -> geometry.Mesh:
+        return geometry.cylinder(self.radius, self.length, self.axis, self.center,
+                                 self.elements_around, self.elements_along)
+
+
+@dataclass
+class PlateGeometry:
+    size: tuple[float, float]
+    elements: tuple[int, int]
+    origin: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    u_axis: tuple[float, float, float] = (1.0, 0.0, 0.0)
+    v_axis: tuple[float, float, float] = (0.0, 1.0, 0.0)
+
+    def mesh(self) -> geometry.Mesh:
+        return geometry.plate(self.size, self.elements, self.origin, self.u_axis, self.v_axis)
+
+
+@dataclass
+class FileGeometry:
+    path: Path  # absolute (resolved against the scene file's folder)
+    group: str | None = None   # a physical group or cell set of the file; None: every quadrilateral
+
+    def mesh(self) -> geometry.Mesh:
+        return mesh_files.load_mesh(self.path, self.group)
+
+
+Geometry = CylinderGeometry | PlateGeometry | FileGeometry
+
+
+@dataclass
+class PartSpec:
+    name: str
+    material: str
+    thickness: float
+    geometry: Geometry
+    integration_points: int = _DECK_DEFAULT["/parts/integration_points"]
+    hourglass_coefficient: float = _DECK_DEFAULT["/parts/hourglass_coefficient"]
+    hourglass_form: str = _enum_name("hourglass_form", _DECK_DEFAULT["/parts/hourglass_form"])
+    warping_correction: bool = bool(_DECK_DEFAULT["/parts/warping_correction"])
+    initial_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+@dataclass
+class FixSpec:
+    part: str
+    box: tuple[tuple[float, float, float], tuple[float, float, float]]
+    dofs: tuple[str, ...] = deck.DOF_NAMES
+
+
+@dataclass
+class LoadSpec:
+    part: str
+    point: tuple[float, float, float]
+    dof: str
+    value: float
+    ramp_time: float = 0.0
+
+
+@dataclass
+class TrackSpec:
+    name: str
+    part: str
+    point: tuple[float, float, float]
+
+
+@dataclass
+class ContactSpec:
+    """Parts that may touch (docs/scene.md, [[contact]]): two different parts for a node_to_segment
+    pair; for a single_surface contact the parts that form one surface, every part when empty."""
+
+    parts: tuple[str, ...]
+    penalty_scale: float = _DECK_DEFAULT["/contact/penalty_scale"]
+    static_friction: float = _DECK_DEFAULT["/contact/static_friction"]
+    dynamic_friction: float = _DECK_DEFAULT["/contact/dynamic_friction"]
+    friction_decay: float = _DECK_DEFAULT["/contact/friction_decay"]
+    symmetric: bool = _DECK_DEFAULT["/contact/passes"] == _schema.ENUMS["contact_passes"]["both"]
+    kind: str = _enum_name("contact_kind", _DECK_DEFAULT["/contact/kind"])
+    initial_penetration: str = _enum_name("initial_penetration", _DECK_DEFAULT["/contact/initial_penetration"])
+
+
+@dataclass
+class RigidWallSpec:
+    """An infinite plane through ``point`` that every node of the model stays in front of (the side
+    ``normal`` points to), moving at ``velocity`` (docs/scene.md, [[rigid_wall]])."""
+
+    point: tuple[float, float, float]
+    normal: tuple[float, float, float]
+    velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    penalty_scale: float = _DECK_DEFAULT["/rigid_walls/penalty_scale"]
+
+
+@dataclass
+class CurveSpec:
+    """A load curve: piecewise linear, first value before the first time, last value after the last."""
+
+    name: str
+    time: tuple[float, ...]
+    value: tuple[float, ...]
+
+
+@dataclass
+class PressureSpec:
+    part: str
+    value: float                    # Pa; positive pushes along the element normal
+    curve: str | None = None        # None: a constant factor 1
+
+
+@dataclass
+class PrescribeSpec:
+    part: str
+    box: tuple[tuple[float, float, float], tuple[float, float, float]]
+    dof: str
+    value: float                    # m/s or rad/s
+    curve: str | None = None        # None: a constant factor 1
+
+
+@dataclass
+class Scene:
+    path: Path
+    title: str
+    run: RunSettings
+    materials: list[MaterialSpec]
+    parts: list[PartSpec]
+    fixes: list[FixSpec] = field(default_factory=list)
+    loads: list[LoadSpec] = field(default_factory=list)
+    tracks: list[TrackSpec] = field(default_factory=list)
+    contacts: list[ContactSpec] = field(default_factory=list)
+    rigid_walls: list[RigidWallSpec] = field(default_factory=list)
+    curves: list[CurveSpec] = field(default_factory=list)
+    pressures: list[PressureSpec] = field(default_factory=list)
+    prescribed: list[PrescribeSpec] = field(default_factory=list)
+
+    def part(self, name: str) -> PartSpec:
+        for p in self.parts:
+            if p.name == name:
+                return p
+        raise KeyError(name)
