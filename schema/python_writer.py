@@ -64,6 +64,7 @@ class SizeSpec(NamedTuple):
     symbol: str
     entity: str
     min_rows: int
+    scene_table: str | None           # the scene's [[table]] whose entries are these rows (paradyn.scene.row_tables)
 
 
 class ConditionSpec(NamedTuple):
@@ -193,7 +194,8 @@ def write(schema: Schema, header: str) -> str:
         traits = {t: tuple(schema.trait_members(enum, t)) for e, t in schema.traits() if e == enum}
         out.append(f"    {enum!r}: {traits!r},")
     out += ["}", "", "SIZES: dict[str, SizeSpec] = {"]
-    out += [f"    {k!r}: SizeSpec({k!r}, {v['entity']!r}, {v['min_rows']!r})," for k, v in schema.sizes.items()]
+    out += [f"    {k!r}: SizeSpec({k!r}, {v['entity']!r}, {v['min_rows']!r}, {v.get('scene_table')!r}),"
+            for k, v in schema.sizes.items()]
     out += ["}", "", "CONDITIONS: dict[str, ConditionSpec] = {"]
     for name, c in schema.conditions.items():
         out.append(_call("ConditionSpec", [("name", name), ("group", c.get("group")), ("dataset", c.get("dataset")),
@@ -248,4 +250,46 @@ def write(schema: Schema, header: str) -> str:
     out += ["EXIT_STATUSES: dict[int, str] = {"]
     out += [f"    {s['code']}: {s['name']!r}," for s in results["exit_status"]]
     out += ["}", ""]
+    return "\n".join(out)
+
+
+def _field_default(schema: Schema, d: Entry) -> str:
+    """A dataset's default in the deck model: required ones have none; the datasets of an optional
+    table (those that define its rows or are required when its group exists) start empty; the rest
+    are None (filled from the schema's default once their rows are known, or left out)."""
+    if d.required:
+        return ""
+    condition = schema.conditions.get(d.get("required_when") or "", {})
+    if "group" in condition or d.defines_rows:
+        columns = d.get("shape")[1:]
+        dtype = "np.int32" if d.get("type") == "int" else "np.float64"
+        shape = f"(0, {columns[0]})" if columns else "0"
+        return f" = field(default_factory=lambda: np.zeros({shape}, dtype={dtype}))"
+    return " = None"
+
+
+def write_fields(schema: Schema, header: str) -> str:
+    """paradyn/deck/fields.py: one dataclass field per dataset and a row count per row symbol."""
+    out = [f'"""{header}\n\nThe deck model\'s arrays, one field per dataset of schema/deck.toml (its ``python``\n'
+           'name), and the row count of every row symbol. :class:`paradyn.deck.Model` extends it."""', "",
+           "from __future__ import annotations", "", "from dataclasses import dataclass, field", "",
+           "import numpy as np", "", "", "@dataclass(kw_only=True)", "class DeckFields:",
+           '    """The datasets of a deck (shapes as docs/formats.md, indices 0-based)."""', ""]
+    for d in sorted(schema.datasets, key=lambda d: not d.required):
+        default = _field_default(schema, d)
+        kind = "np.ndarray | None" if default == " = None" else "np.ndarray"
+        line = f"    {d.get('python')}: {kind}{default}"
+        note = f"   # {d.name} {tuple(d.get('shape'))} {d.get('units')}".replace("'", "")
+        out.append(line + note if len(line + note) <= 120 else line)
+    required = {d.get("shape")[0] for d in schema.datasets if d.defines_rows and d.required}
+    for symbol in schema.sizes:
+        if symbol in required:
+            continue   # the model's own properties (None while the array is not yet a table)
+        first = next(d for d in schema.datasets if d.get("shape")[0] == symbol)
+        out += ["", "    @property", f"    def {symbol}(self) -> int:",
+                f'        """Rows of {first.name}."""',
+                f"        return _rows(self.{first.get('python')}, {len(first.get('shape'))})"]
+    out += ["", "", "def _rows(value: object, rank: int) -> int:",
+            '    """Rows of a table: its first dimension, or its size when it is not yet a table of that rank."""',
+            "    a = np.asarray(value)", "    return int(a.shape[0]) if a.ndim == rank else int(a.size)", ""]
     return "\n".join(out)

@@ -269,10 +269,12 @@ def test_tilted_plate_bounce_is_bitwise_the_same_on_2_ranks_x_2_threads(tmp_path
 
 
 @pytest.mark.parametrize("wall, words", [
-    ({"point": (0.0, 0.0, 0.0), "normal": (0.0, 0.0, 0.0)}, "'normal' in [[rigid_wall]] #1 is the zero vector"),
+    ({"point": (0.0, 0.0, 0.0), "normal": (0.0, 0.0, 0.0)},
+     "/rigid_walls/normal[0] ([[rigid_wall]] #1 'normal') is the zero vector"),
     ({"point": (0.0, 0.0, 0.0), "normal": (0.0, 0.0, 1.0), "penalty_scale": 0.8},
      "'penalty_scale' in [[rigid_wall]] #1"),
-    ({"point": (0.0, 0.0, 0.01), "normal": (0.0, 0.0, 1.0)}, "/rigid_walls/point[0] puts node 0 behind the wall"),
+    ({"point": (0.0, 0.0, 0.01), "normal": (0.0, 0.0, 1.0)},
+     "/rigid_walls/point[0] ([[rigid_wall]] #1 'point') puts node 0 behind"),
 ])
 def test_scene_refuses_a_bad_wall(tmp_path: Path, wall: dict, words: str) -> None:
     """A zero normal, a penalty scale above the stable 0.5, and a model that starts behind its wall

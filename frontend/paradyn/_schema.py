@@ -64,6 +64,7 @@ class SizeSpec(NamedTuple):
     symbol: str
     entity: str
     min_rows: int
+    scene_table: str | None           # the scene's [[table]] whose entries are these rows (paradyn.scene.row_tables)
 
 
 class ConditionSpec(NamedTuple):
@@ -120,18 +121,18 @@ ENUM_TRAITS: dict[str, dict[str, tuple[str, ...]]] = {
 }
 
 SIZES: dict[str, SizeSpec] = {
-    'n_nodes': SizeSpec('n_nodes', 'node', 1),
-    'n_elements': SizeSpec('n_elements', 'element', 1),
-    'n_parts': SizeSpec('n_parts', 'part', 1),
-    'n_materials': SizeSpec('n_materials', 'material', 1),
-    'n_loads': SizeSpec('n_loads', 'load', 0),
-    'n_tracked': SizeSpec('n_tracked', 'tracked node', 0),
-    'n_contacts': SizeSpec('n_contacts', 'contact pair', 0),
-    'n_rigid_walls': SizeSpec('n_rigid_walls', 'rigid wall', 0),
-    'n_curves': SizeSpec('n_curves', 'curve', 0),
-    'n_curve_points': SizeSpec('n_curve_points', 'curve point', 0),
-    'n_pressures': SizeSpec('n_pressures', 'pressure load', 0),
-    'n_prescribed': SizeSpec('n_prescribed', 'prescribed motion', 0),
+    'n_nodes': SizeSpec('n_nodes', 'node', 1, None),
+    'n_elements': SizeSpec('n_elements', 'element', 1, None),
+    'n_parts': SizeSpec('n_parts', 'part', 1, None),
+    'n_materials': SizeSpec('n_materials', 'material', 1, None),
+    'n_loads': SizeSpec('n_loads', 'load', 0, None),
+    'n_tracked': SizeSpec('n_tracked', 'tracked node', 0, None),
+    'n_contacts': SizeSpec('n_contacts', 'contact pair', 0, None),
+    'n_rigid_walls': SizeSpec('n_rigid_walls', 'rigid wall', 0, 'rigid_wall'),
+    'n_curves': SizeSpec('n_curves', 'curve', 0, None),
+    'n_curve_points': SizeSpec('n_curve_points', 'curve point', 0, None),
+    'n_pressures': SizeSpec('n_pressures', 'pressure load', 0, None),
+    'n_prescribed': SizeSpec('n_prescribed', 'prescribed motion', 0, None),
 }
 
 CONDITIONS: dict[str, ConditionSpec] = {

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from paradyn._schema import CONTROL, DATASETS, EFFECT_SWITCHES, ENUM_TRAITS, ENUMS
+from paradyn.deck.fields import DeckFields
 
 CONTROL_BY_NAME = {a.name: a for a in CONTROL}
 DATASET_BY_ATTRIBUTE = {d.python: d for d in DATASETS}
@@ -78,73 +79,18 @@ class Control:
         return getattr(self, name)
 
 
-def _empty_int() -> np.ndarray:
-    return np.zeros(0, dtype=np.int32)
-
-
-def _empty_float() -> np.ndarray:
-    return np.zeros(0, dtype=np.float64)
-
-
-@dataclass
-class Model:
-    """Everything a deck holds. Array shapes follow docs/formats.md; indices are 0-based.
+@dataclass(kw_only=True)
+class Model(DeckFields):
+    """Everything a deck holds: the datasets (:class:`paradyn.deck.fields.DeckFields`, one field
+    per dataset of the schema, generated), the ``/control`` values and the names of things.
+    Array shapes follow docs/formats.md; indices are 0-based.
 
     Optional node arrays left as ``None`` are filled with the format's defaults (zeros) when the
-    coordinates are known; ``yield_stress``, ``tangent_modulus`` and ``hardening_mixing`` may stay
-    ``None`` when no material uses model 2. Loads, tracked nodes, contacts and rigid walls default to none.
+    coordinates are known; the plastic materials' data (``yield_stress``, ...) may stay ``None``
+    when no material is plastic. The optional tables (loads, contacts, walls, ...) default to none.
     """
 
-    coordinates: np.ndarray                     # /nodes/coordinates (n_nodes, 3) m
-    connectivity: np.ndarray                    # /elements/connectivity (n_elements, 4)
-    element_part: np.ndarray                    # /elements/part (n_elements,)
-    thickness: np.ndarray                       # /parts/thickness (n_parts,) m
-    part_material: np.ndarray                   # /parts/material (n_parts,)
-    material_model: np.ndarray                  # /materials/model (n_materials,) 1 elastic, 2 J2
-    density: np.ndarray                         # /materials/density kg/m^3
-    youngs_modulus: np.ndarray                  # /materials/youngs_modulus Pa
-    poisson_ratio: np.ndarray                   # /materials/poisson_ratio
     control: Control
-    initial_velocity: np.ndarray | None = None            # /nodes/initial_velocity (n_nodes, 3)
-    initial_angular_velocity: np.ndarray | None = None    # /nodes/initial_angular_velocity (n_nodes, 3)
-    fixed_dofs: np.ndarray | None = None                  # /nodes/fixed_dofs (n_nodes, 6) 0/1
-    node_ids: np.ndarray | None = None                    # /nodes/id: the mesh file's ids (outputs only)
-    element_ids: np.ndarray | None = None                 # /elements/id
-    part_ids: np.ndarray | None = None                    # /parts/id
-    integration_points: np.ndarray | None = None          # /parts/integration_points, default 5
-    hourglass_coefficient: np.ndarray | None = None       # /parts/hourglass_coefficient, default 0.1
-    hourglass_form: np.ndarray | None = None              # /parts/hourglass_form, 1 viscous, 2 stiffness (default)
-    warping_correction: np.ndarray | None = None          # /parts/warping_correction, 1 on (default), 0 off
-    yield_stress: np.ndarray | None = None                # /materials/yield_stress Pa
-    tangent_modulus: np.ndarray | None = None             # /materials/tangent_modulus Pa
-    hardening_mixing: np.ndarray | None = None            # /materials/hardening_mixing
-    load_node: np.ndarray = field(default_factory=_empty_int)       # /loads/node
-    load_dof: np.ndarray = field(default_factory=_empty_int)        # /loads/dof, 1..6
-    load_value: np.ndarray = field(default_factory=_empty_float)    # /loads/value N or N m
-    load_ramp_time: np.ndarray = field(default_factory=_empty_float)  # /loads/ramp_time s
-    tracked_nodes: np.ndarray = field(default_factory=_empty_int)   # /output/tracked_nodes
-    contact_pairs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int32))  # /contact/pairs
-    contact_penalty_scale: np.ndarray | None = None     # /contact/penalty_scale
-    contact_static_friction: np.ndarray | None = None   # /contact/static_friction
-    contact_dynamic_friction: np.ndarray | None = None  # /contact/dynamic_friction
-    contact_friction_decay: np.ndarray | None = None    # /contact/friction_decay s/m
-    contact_passes: np.ndarray | None = None  # /contact/passes: 2 both, 1 alternate
-    contact_kind: np.ndarray | None = None    # /contact/kind: 1 node_to_segment, 2 single_surface
-    contact_initial_penetration: np.ndarray | None = None   # /contact/initial_penetration: 1 move, 2 gap
-    rigid_wall_point: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))   # /rigid_walls/point m
-    rigid_wall_normal: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # /rigid_walls/normal
-    rigid_wall_velocity: np.ndarray | None = None       # /rigid_walls/velocity m/s, default 0 (stationary)
-    rigid_wall_penalty_scale: np.ndarray | None = None  # /rigid_walls/penalty_scale, default 0.1
-    curve_first_point: np.ndarray = field(default_factory=_empty_int)   # /curves/first_point (n_curves,)
-    curve_time: np.ndarray = field(default_factory=_empty_float)        # /curves/time (n_curve_points,) s
-    curve_value: np.ndarray = field(default_factory=_empty_float)       # /curves/value (n_curve_points,)
-    pressure_part: np.ndarray = field(default_factory=_empty_int)       # /pressure/part (n_pressures,)
-    pressure_value: np.ndarray = field(default_factory=_empty_float)    # /pressure/value Pa
-    pressure_curve: np.ndarray = field(default_factory=_empty_int)      # /pressure/curve
-    prescribed_node: np.ndarray = field(default_factory=_empty_int)     # /prescribed/node (n_prescribed,)
-    prescribed_dof: np.ndarray = field(default_factory=_empty_int)      # /prescribed/dof, 1..6
-    prescribed_value: np.ndarray = field(default_factory=_empty_float)  # /prescribed/value m/s or rad/s
-    prescribed_curve: np.ndarray = field(default_factory=_empty_int)    # /prescribed/curve
     title: str = ""
     part_names: list[str] = field(default_factory=list)
     material_names: list[str] = field(default_factory=list)
@@ -194,40 +140,6 @@ class Model:
     def n_materials(self) -> int | None:
         m = self.material_model
         return int(m.shape[0]) if m.ndim == 1 else None
-
-    @property
-    def n_loads(self) -> int:
-        return int(np.size(self.load_node))
-
-    @property
-    def n_tracked(self) -> int:
-        return int(np.size(self.tracked_nodes))
-
-    @property
-    def n_contacts(self) -> int:
-        pairs = np.asarray(self.contact_pairs)
-        return int(pairs.shape[0]) if pairs.ndim == 2 else int(pairs.size)
-
-    @property
-    def n_rigid_walls(self) -> int:
-        points = np.asarray(self.rigid_wall_point)
-        return int(points.shape[0]) if points.ndim == 2 else int(points.size)
-
-    @property
-    def n_curves(self) -> int:
-        return int(np.size(self.curve_first_point))
-
-    @property
-    def n_curve_points(self) -> int:
-        return int(np.size(self.curve_time))
-
-    @property
-    def n_pressures(self) -> int:
-        return int(np.size(self.pressure_part))
-
-    @property
-    def n_prescribed(self) -> int:
-        return int(np.size(self.prescribed_node))
 
     @property
     def gravity(self) -> tuple[float, float, float]:

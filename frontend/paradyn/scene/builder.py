@@ -20,6 +20,7 @@ import numpy as np
 from . import reading, specs
 from .building import build_model
 from .reading import _parse_toml, scene_from_tables
+from .row_tables import ROW_TABLES, parse_row
 from .tables import _Reader
 from .toml_writing import scene_toml
 
@@ -178,7 +179,15 @@ class Scene:
 
     def add_rigid_wall(self, *, point: Any, normal: Any, **options: Any) -> None:
         """A ``[[rigid_wall]]`` through ``point`` facing ``normal``; ``velocity``, ``penalty_scale``."""
-        self._add("rigid_wall", point=point, normal=normal, **options)
+        self.add("rigid_wall", point=point, normal=normal, **options)
+
+    def add(self, table: str, /, **keys: Any) -> None:
+        """An entry of the scene's row table ``[[table]]`` (one deck row per entry; its keys are
+        the datasets of schema/deck.toml whose ``scene`` names the table), checked at once."""
+        if table not in ROW_TABLES:
+            raise specs.SceneError(f"{self.origin}: no row table [[{table}]]; the row tables are: "
+                                   f"{', '.join(ROW_TABLES) or 'none'}")
+        self._add(table, **keys)
 
     def add_curve(self, name: str, *, time: Any, value: Any) -> None:
         """A ``[[curve]]``: a factor, linear between the points (``time`` in s, increasing)."""
@@ -243,15 +252,19 @@ class Scene:
 # the scene file reader's parser of each table: one entry is checked as load_scene checks it
 _PARSERS = {"run": reading._parse_run, "effects": reading._parse_effects, "material": reading._parse_material,
             "part": reading._parse_part, "fix": reading._parse_fix, "load": reading._parse_load,
-            "track": reading._parse_track, "contact": reading._parse_contact, "rigid_wall": reading._parse_rigid_wall,
-            "curve": reading._parse_curve, "pressure": reading._parse_pressure, "prescribe": reading._parse_prescribe}
+            "track": reading._parse_track, "contact": reading._parse_contact, "curve": reading._parse_curve,
+            "pressure": reading._parse_pressure, "prescribe": reading._parse_prescribe}
 
 
 def check_entry(kind: str, table: Mapping[str, Any], index: int, path: Path) -> None:
     """Check one entry alone (keys, types, ranges), as :func:`paradyn.scene.load_scene` does: ``kind``
     is ``"run"``, ``"effects"`` or an array of tables (``"part"``, ...) with the entry's 0-based ``index``;
     messages start with ``path``. References to other entries are checked by :meth:`Scene.validate`."""
-    parser, reader = _PARSERS[kind], _Reader(path)
+    reader = _Reader(path)
+    if kind in ROW_TABLES:
+        parse_row(reader, dict(table), kind, index)
+        return
+    parser = _PARSERS[kind]
     if kind in ("run", "effects"):
         parser(reader, dict(table))
     else:

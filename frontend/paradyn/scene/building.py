@@ -16,6 +16,7 @@ import numpy as np
 from paradyn import _schema, deck
 from paradyn.mesh import geometry
 
+from .row_tables import needs_constant_curve, rows_to_model, scene_words
 from .specs import HOURGLASS_FORMS, ContactSpec, PartSpec, Scene, SceneError
 from .tables import _Reader
 
@@ -80,16 +81,16 @@ def build_model(scene: Scene) -> deck.Model:
         part_names=[p.name for p in scene.parts],
         material_names=[m.name for m in scene.materials],
     )
+    _apply_material_extras(scene, model)
     _apply_loads(r, scene, by_name, model)
     _apply_tracks(r, scene, by_name, model)
     _apply_contacts(scene, model)
-    _apply_rigid_walls(scene, model)
     _apply_curve_loads(r, scene, by_name, model)
     _apply_file_ids(meshes, model)
     try:
         deck.validate_model(model, source=f"{scene.path} (built model)")
     except deck.DeckError as exc:
-        raise SceneError(str(exc)) from exc
+        raise SceneError(scene_words(str(exc))) from exc
     return model
 
 
@@ -200,21 +201,21 @@ def _apply_file_ids(meshes: list[_PartMesh], model: deck.Model) -> None:
     model.part_ids = np.array([m.mesh.part_id or 0 for m in meshes], dtype=np.int64)
 
 
-def _apply_rigid_walls(scene: Scene, model: deck.Model) -> None:
-    walls = scene.rigid_walls
-    model.rigid_wall_point = np.array([w.point for w in walls], dtype=np.float64).reshape(-1, 3)
-    model.rigid_wall_normal = np.array([w.normal for w in walls], dtype=np.float64).reshape(-1, 3)
-    model.rigid_wall_velocity = np.array([w.velocity for w in walls], dtype=np.float64).reshape(-1, 3)
-    model.rigid_wall_penalty_scale = np.array([w.penalty_scale for w in walls], dtype=np.float64)
+def _apply_material_extras(scene: Scene, model: deck.Model) -> None:
+    """The /materials datasets that MaterialSpec keeps in ``extra`` (a model's own parameters):
+    each material's value, or the dataset's default for a material of another model."""
+    for spec in _schema.DATASETS:
+        if spec.path.startswith("/materials/") and any(spec.python in m.extra for m in scene.materials):
+            setattr(model, spec.python, np.array([m.extra.get(spec.python, spec.default) for m in scene.materials]))
 
 
 def _apply_curve_loads(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model: deck.Model) -> None:
-    """Curves in scene order, then one constant curve (factor 1) if a pressure or prescribed
-    velocity has none, so that every load of the deck names a curve."""
+    """Curves in scene order, then one constant curve (factor 1) if a pressure, a prescribed
+    velocity or a row has none, so that every load of the deck names a curve; then the row tables."""
     curve_index = {c.name: i for i, c in enumerate(scene.curves)}
     times = [list(c.time) for c in scene.curves]
     values = [list(c.value) for c in scene.curves]
-    if any(load.curve is None for load in [*scene.pressures, *scene.prescribed]):
+    if any(load.curve is None for load in [*scene.pressures, *scene.prescribed]) or needs_constant_curve(scene):
         times.append([0.0])
         values.append([1.0])
     constant = len(scene.curves)
@@ -244,4 +245,5 @@ def _apply_curve_loads(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], 
     model.prescribed_dof = np.array(dofs, dtype=np.int32)
     model.prescribed_value = np.array(scales, dtype=np.float64)
     model.prescribed_curve = np.array(curves, dtype=np.int32)
+    rows_to_model(scene, model, constant)
 

@@ -7,6 +7,7 @@ contact) is defined; every problem raises :class:`SceneError` naming the file, t
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import os
 from collections.abc import Mapping
@@ -14,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from paradyn import _schema, deck
+from paradyn.scene.row_tables import ROW_TABLES, check_row_references, parse_rows, read_key
 from paradyn.scene.specs import (
     DOF_GROUPS,
     HOURGLASS_FORMS,
@@ -30,7 +32,6 @@ from paradyn.scene.specs import (
     PlateGeometry,
     PrescribeSpec,
     PressureSpec,
-    RigidWallSpec,
     RunSettings,
     Scene,
     SceneError,
@@ -53,15 +54,14 @@ def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
 # ----------------------------------------------------------------------------------------------
 # parsing
 
-_TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "track", "contact", "rigid_wall",
-             "curve", "pressure", "prescribe", "study")
+_TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "track", "contact", "curve", "pressure",
+             "prescribe", "study", *ROW_TABLES)
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
              "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "contact_travel_limit",
              "mass_scaling_step", "mass_scaling_limit", "precision")
-_MATERIAL_KEYS = ("name", "model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
-                  "tangent_modulus", "hardening_mixing")
-_J2_KEYS = ("yield_stress", "tangent_modulus", "hardening_mixing")
+# the keys of [[material]] besides its name: the /materials datasets', by their scene key
+_MATERIAL_KEYS = {d.scene.split()[1]: d for d in _schema.DATASETS if d.path.startswith("/materials/")}
 _PART_KEYS = ("name", "material", "thickness", "integration_points", "hourglass_coefficient",
               "hourglass_form", "warping_correction", "initial_velocity", "geometry")
 _GEOMETRY_KEYS = {
@@ -77,8 +77,6 @@ _PRESSURE_KEYS = ("part", "value", "curve")
 _PRESCRIBE_KEYS = ("part", "box", "dof", "value", "curve")
 _CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "static_friction", "dynamic_friction",
                  "friction_decay", "symmetric")
-_RIGID_WALL_KEYS = ("point", "normal", "velocity", "penalty_scale")
-_RIGID_WALL_SCALE_MAX = next(d.upper.value for d in _schema.DATASETS if d.path == "/rigid_walls/penalty_scale")
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -105,15 +103,15 @@ def scene_from_tables(data: Mapping[str, Any], path: Path) -> Scene:
     loads = [_parse_load(reader, t, i) for i, t in enumerate(reader.tables(data, "load"))]
     tracks = [_parse_track(reader, t, i) for i, t in enumerate(reader.tables(data, "track"))]
     contacts = [_parse_contact(reader, t, i) for i, t in enumerate(reader.tables(data, "contact"))]
-    walls = [_parse_rigid_wall(reader, t, i) for i, t in enumerate(reader.tables(data, "rigid_wall"))]
     curves = [_parse_curve(reader, t, i) for i, t in enumerate(reader.tables(data, "curve"))]
     pressures = [_parse_pressure(reader, t, i) for i, t in enumerate(reader.tables(data, "pressure"))]
     prescribed = [_parse_prescribe(reader, t, i) for i, t in enumerate(reader.tables(data, "prescribe"))]
     scene = Scene(path=path, title=title, run=run, materials=materials, parts=parts,
-                  fixes=fixes, loads=loads, tracks=tracks, contacts=contacts, rigid_walls=walls, curves=curves,
-                  pressures=pressures, prescribed=prescribed)
+                  fixes=fixes, loads=loads, tracks=tracks, contacts=contacts, curves=curves,
+                  pressures=pressures, prescribed=prescribed, rows=parse_rows(reader, data))
     _check_references(reader, scene)
     _check_load_references(reader, scene)
+    check_row_references(reader, scene)
     return scene
 
 
@@ -188,36 +186,38 @@ def _parse_effects(r: _Reader, t: dict[str, Any]) -> dict[str, str]:
 
 
 def _parse_material(r: _Reader, t: dict[str, Any], index: int) -> MaterialSpec:
+    """A [[material]]: its keys are the /materials datasets' (schema/deck.toml scene), each read with
+    its bounds; a key whose dataset is checked only for some models (checked_when) applies to those."""
     label = _label("material", index, t)
-    r.keys(t, label, _MATERIAL_KEYS)
+    r.keys(t, label, ("name", *_MATERIAL_KEYS))
     model = r.string(t, "model", label, choices=tuple(MATERIAL_MODELS))
-    if model == "elastic":
-        extra = [k for k in _J2_KEYS if k in t]
-        if extra:
-            raise r.error(f"'{extra[0]}' in {label} only applies to model = \"j2_plasticity\"; remove it "
-                          f"or change the model")
-    material = MaterialSpec(
-        name=r.string(t, "name", label),
-        model=model,
-        density=r.number(t, "density", label, positive=True),
-        youngs_modulus=r.number(t, "youngs_modulus", label, positive=True),
-        poisson_ratio=r.number(t, "poisson_ratio", label),
-    )
-    if not -1.0 < material.poisson_ratio < 0.5:
-        raise r.error(f"'poisson_ratio' in {label} must satisfy -1 < nu < 0.5, got {material.poisson_ratio}")
-    if model == "j2_plasticity":
-        material.yield_stress = r.number(t, "yield_stress", label, positive=True)
-        material.tangent_modulus = r.number(t, "tangent_modulus", label, default=MaterialSpec.tangent_modulus,
-                                            minimum=0.0)
-        material.hardening_mixing = r.number(t, "hardening_mixing", label, default=MaterialSpec.hardening_mixing,
-                                             minimum=0.0)
-        if material.tangent_modulus >= material.youngs_modulus:
-            raise r.error(f"'tangent_modulus' in {label} must be below youngs_modulus "
-                          f"({material.youngs_modulus:g} Pa), got {material.tangent_modulus:g}")
-        if material.hardening_mixing > 1.0:
-            raise r.error(f"'hardening_mixing' in {label} must be in [0, 1] (1 isotropic, 0 kinematic), "
-                          f"got {material.hardening_mixing}")
+    values: dict[str, Any] = {"model": model}
+    for key, spec in _MATERIAL_KEYS.items():
+        if key == "model":
+            continue
+        models = _models_of(spec)
+        if model not in models:
+            if key in t:
+                raise r.error(f"'{key}' in {label} only applies to model = " + " or ".join(f'"{m}"' for m in models)
+                              + "; remove it or change the model")
+            continue
+        values[spec.python] = read_key(r, t, key, spec, label)
+    fields = {f.name for f in dataclasses.fields(MaterialSpec)}
+    material = MaterialSpec(name=r.string(t, "name", label), **{k: v for k, v in values.items() if k in fields},
+                            extra={k: v for k, v in values.items() if k not in fields})
+    if material.model in _schema.ENUM_TRAITS["material_model"]["plastic"] \
+            and material.tangent_modulus >= material.youngs_modulus:
+        raise r.error(f"'tangent_modulus' in {label} must be below youngs_modulus "
+                      f"({material.youngs_modulus:g} Pa), got {material.tangent_modulus:g}")
     return material
+
+
+def _models_of(spec: _schema.DatasetSpec) -> list[str]:
+    """The material models a /materials dataset applies to (every model unless checked_when)."""
+    if spec.checked_when is None:
+        return list(MATERIAL_MODELS)
+    codes = _schema.CONDITIONS[spec.checked_when].codes
+    return [name for name, code in MATERIAL_MODELS.items() if code in codes]
 
 
 def _parse_part(r: _Reader, t: dict[str, Any], index: int) -> PartSpec:
@@ -399,22 +399,6 @@ def _contact_parts(r: _Reader, t: dict[str, Any], label: str, kind: str) -> tupl
         raise r.error(f"'parts' in {label} must name two different parts, e.g. parts = [\"a\", \"b\"] "
                       f"(for a part against itself use kind = \"single_surface\"); got {parts!r}")
     return (parts[0], parts[1])
-
-
-def _parse_rigid_wall(r: _Reader, t: dict[str, Any], index: int) -> RigidWallSpec:
-    label = f"[[rigid_wall]] #{index + 1}"
-    r.keys(t, label, _RIGID_WALL_KEYS)
-    normal = r.vector(t, "normal", label)
-    if not any(normal):
-        raise r.error(f"'normal' in {label} is the zero vector; give a normal pointing from the wall towards "
-                      f"the model, e.g. normal = [0.0, 0.0, 1.0]")
-    scale = r.number(t, "penalty_scale", label, default=RigidWallSpec.penalty_scale, positive=True)
-    if scale > _RIGID_WALL_SCALE_MAX:
-        raise r.error(f"'penalty_scale' in {label} = {scale!r} is above {_RIGID_WALL_SCALE_MAX}, where a node "
-                      f"pressed into the wall may become unstable; use a value such as 0.1 (the default)")
-    return RigidWallSpec(point=r.vector(t, "point", label), normal=normal,
-                         velocity=r.vector(t, "velocity", label, default=RigidWallSpec.velocity),
-                         penalty_scale=scale)
 
 
 def _parse_curve(r: _Reader, t: dict[str, Any], index: int) -> CurveSpec:

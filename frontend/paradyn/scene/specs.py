@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from paradyn import _schema, deck
 from paradyn.mesh import files as mesh_files
@@ -54,6 +55,8 @@ class MaterialSpec:
     yield_stress: float = _DECK_DEFAULT["/materials/yield_stress"]          # j2 only
     tangent_modulus: float = _DECK_DEFAULT["/materials/tangent_modulus"]    # j2 only
     hardening_mixing: float = _DECK_DEFAULT["/materials/hardening_mixing"]  # j2 only
+    # the other /materials datasets a model uses (schema/deck.toml), by their python names
+    extra: dict[str, float] = field(default_factory=dict)
 
     @property
     def model_code(self) -> int:
@@ -150,17 +153,6 @@ class ContactSpec:
 
 
 @dataclass
-class RigidWallSpec:
-    """An infinite plane through ``point`` that every node of the model stays in front of (the side
-    ``normal`` points to), moving at ``velocity`` (docs/scene.md, [[rigid_wall]])."""
-
-    point: tuple[float, float, float]
-    normal: tuple[float, float, float]
-    velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    penalty_scale: float = _DECK_DEFAULT["/rigid_walls/penalty_scale"]
-
-
-@dataclass
 class CurveSpec:
     """A load curve: piecewise linear, first value before the first time, last value after the last."""
 
@@ -196,10 +188,11 @@ class Scene:
     loads: list[LoadSpec] = field(default_factory=list)
     tracks: list[TrackSpec] = field(default_factory=list)
     contacts: list[ContactSpec] = field(default_factory=list)
-    rigid_walls: list[RigidWallSpec] = field(default_factory=list)
     curves: list[CurveSpec] = field(default_factory=list)
     pressures: list[PressureSpec] = field(default_factory=list)
     prescribed: list[PrescribeSpec] = field(default_factory=list)
+    # the row tables (paradyn.scene.row_tables: [[rigid_wall]], ...), table -> its entries as read
+    rows: dict[str, list[dict[str, Any]]] = field(default_factory=dict)
 
     def part(self, name: str) -> PartSpec:
         for p in self.parts:
