@@ -8,13 +8,22 @@ SOURCES := pyproject.toml $(shell find fortran frontend -type f -not -name '*.py
 # the deck and results schema: the Python tables, the Fortran module and the docs tables follow from it
 SCHEMA := $(wildcard schema/*.toml) schema/generate.py $(wildcard schema/*_writer.py) schema/schema_model.py
 
-.PHONY: demo test install engine bench clean stability
+.PHONY: demo test test-extra test-all install engine bench clean stability
 
 demo: $(STAMP)
 	$(VENV)/bin/paradyn-run cases/pipe_whip/scene.toml -o runs/pipe_whip --plots
 	$(PY) cases/pipe_whip/compare.py runs/pipe_whip
 
+# make test leaves out the tests that build the engine again (marked build) and the long runs that
+# have a quicker variant in it (marked slow); make test-extra runs just those, make test-all
+# everything. CI (.ci/run) runs make test, then make test-extra.
 test: $(STAMP)
+	$(PY) -m pytest -q -m "not build and not slow"
+
+test-extra: $(STAMP)
+	$(PY) -m pytest -q -m "build or slow"
+
+test-all: $(STAMP)
 	$(PY) -m pytest -q
 
 install: $(STAMP)

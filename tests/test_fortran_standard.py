@@ -4,6 +4,7 @@ Every later standard's feature or GNU extension would be a compile error here (t
 project's own flags, lines at most 132 characters). The build goes to a temporary folder with
 CMake, as a cluster user would build the engine alone (README), in both precisions (the mixed
 engine compiles every source again with the element kernel's kind single: docs/theory.md).
+Marked ``build`` (minutes on two cores): ``make test`` leaves it out, ``make test-extra`` and CI run it.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 
+@pytest.mark.build
 @pytest.mark.skipif(shutil.which("cmake") is None, reason="cmake is not installed")
 def test_engine_builds_as_standard_fortran_2008(tmp_path: Path) -> None:
     build = tmp_path / "f2008"

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import io
 import sys
-import time
+import threading
 import types
 
 import pytest
@@ -14,6 +14,7 @@ import pytest
 from paradyn import cli
 from paradyn.running import progress
 from paradyn.running.engine_process import Progress
+from paradyn.running.progress import clock
 
 
 def _frames(text: str) -> list[str]:
@@ -61,13 +62,27 @@ def test_warnings_print_above_the_bar() -> None:
 
 
 def test_a_stage_shows_its_running_seconds(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(progress, "REFRESH_S", 0.05)
+    """The stage's clock is redrawn while it runs and its last line says how long it took. The
+    stage reads a clock of the test's own, on which 62.34 s pass inside the stage, and the body
+    waits for the redraw that shows them (an event), so nothing depends on how busy the machine is."""
+    now = [1000.0]
+    monkeypatch.setattr(progress, "time", types.SimpleNamespace(monotonic=lambda: now[0]))
+    monkeypatch.setattr(progress, "REFRESH_S", 0.01)
+    shown = threading.Event()
+
+    def watched_clock(seconds: float | None) -> str:
+        if seconds is not None and seconds > 60:
+            shown.set()   # the ticker draws this text next, before the stage can end (it joins the ticker)
+        return clock(seconds)
+
+    monkeypatch.setattr(progress, "clock", watched_clock)
     stream = io.StringIO()
     with progress.RunProgress(stream=stream, live=True).stage("meshing"):
-        time.sleep(0.3)
+        now[0] += 62.34
+        assert shown.wait(timeout=120)   # a bound on a hang only: the stage ends once the ticker has drawn
     frames = _frames(stream.getvalue())
-    assert frames[0] == "meshing" and "meshing 0:00" in frames
-    assert frames[-1].startswith("meshing done in 0.3 s")
+    assert frames[0] == "meshing" and "meshing 1:02" in frames
+    assert frames[-1].startswith("meshing done in 62.3 s")
     quiet = io.StringIO()
     with progress.RunProgress(stream=quiet, live=False).stage("post-processing"):
         pass

@@ -76,6 +76,18 @@ def test_the_environment_places_threads_only_when_the_layout_is_pinned(monkeypat
     assert "OMP_PROC_BIND" not in runners.MpirunRunner(machine(cores=2)).environment(2, 2)
 
 
+def test_threads_of_an_oversubscribed_layout_wait_without_spinning(monkeypatch: pytest.MonkeyPatch) -> None:
+    """More ranks x threads than cores: the OpenMP threads sleep at a barrier (a spinning one holds
+    the core the others need); a layout that fits keeps the default, and the user's policy wins."""
+    for name in ("OMP_WAIT_POLICY", *runners.HOST_LIST_VARIABLES):
+        monkeypatch.delenv(name, raising=False)
+    assert runners.MpirunRunner(machine(cores=2)).environment(2, 2)["OMP_WAIT_POLICY"] == "passive"
+    assert "OMP_WAIT_POLICY" not in runners.MpirunRunner(machine(cores=4)).environment(2, 2)
+    assert "OMP_WAIT_POLICY" not in runners.MpirunRunner(machine(cores=2)).environment(4, 1)
+    monkeypatch.setenv("OMP_WAIT_POLICY", "active")
+    assert runners.MpirunRunner(machine(cores=2)).environment(2, 2)["OMP_WAIT_POLICY"] == "active"
+
+
 def test_mpirun_on_one_machine_asks_for_shared_memory_messaging(monkeypatch: pytest.MonkeyPatch) -> None:
     """docs/performance.md, "Fixed costs": mpirun's ranks use Open MPI's ob1 layer (no network
     probing at start-up) unless the user chose one, or a batch system's host list may put the
