@@ -3,7 +3,7 @@
 
 subroutine j2_update(stress, back, eps_p, dstrain, young, poisson, yield_stress, tangent, beta)
   use paradyn_kinds, only: wp
-  use material_j2, only: j2_plane_stress_update
+  use plane_stress_returns, only: j2_plane_stress_update
   implicit none
   real(wp), intent(inout) :: stress(3), back(3), eps_p
   real(wp), intent(in) :: dstrain(3), young, poisson, yield_stress, tangent, beta
@@ -13,7 +13,7 @@ end subroutine j2_update
 ! The array form used by the element kernel: m points, point index first.
 subroutine j2_update_points(m, stress, back, eps_p, dstrain, young, poisson, yield_stress, tangent, beta)
   use paradyn_kinds, only: wp
-  use material_j2, only: j2_plane_stress_update_points
+  use plane_stress_returns, only: j2_plane_stress_update_points
   implicit none
   integer, intent(in) :: m
   real(wp), intent(inout) :: stress(m, 3), back(m, 3), eps_p(m)
@@ -437,7 +437,7 @@ subroutine share_items(n_items, n_threads, hold_first, times, taken_by)
   !$omp end parallel
 end subroutine share_items
 
-! Load curves (loads/load_curves.f90): curve k (1-based) of the deck's curves at each of the times t.
+! Load curves (nodal_effects/load_curves.f90): curve k (1-based) of the deck's curves at each of the times t.
 subroutine load_curve_values(n_curves, n_points, first_point, time, value, k, n_t, t, y)
   use paradyn_kinds, only: wp
   use load_curves, only: load_curves_t, load_curves_from, curve_value
@@ -453,7 +453,7 @@ subroutine load_curve_values(n_curves, n_points, first_point, time, value, k, n_
   end do
 end subroutine load_curve_values
 
-! Pressure on one element (loads/pressure_kernels.f90): its four corner forces at x (internal-force
+! Pressure on one element (nodal_effects/pressure_kernels.f90): its four corner forces at x (internal-force
 ! sign) under p_end, and the work since the element was at x_start under p_start.
 subroutine pressure_element(x_start, x, p_start, p_end, corner, work)
   use paradyn_kinds, only: wp

@@ -5,7 +5,7 @@
 module shell_measures
   use paradyn_kinds, only: wp, ek
   use paradyn_schema, only: max_integration_points
-  use material_j2, only: von_mises_plane_stress
+  use plane_stress_returns, only: von_mises_plane_stress
   use shell_section, only: shell_properties_t, stress_components, local_frame, thickness_rule
   implicit none
   private

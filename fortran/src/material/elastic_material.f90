@@ -2,7 +2,7 @@
 module elastic_material
   use paradyn_kinds, only: wp, ek
   use material_model, only: material_t
-  use material_j2, only: elastic_plane_stress_update_points
+  use plane_stress_returns, only: elastic_plane_stress_update_points
   implicit none
   private
   public :: elastic_material_t

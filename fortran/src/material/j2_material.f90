@@ -1,9 +1,9 @@
 !> The J2 plasticity member of the material family (schema name "j2_plasticity"): plane stress,
-!> linear combined isotropic/kinematic hardening, radial return (material_j2).
+!> linear combined isotropic/kinematic hardening, radial return (plane_stress_returns).
 module j2_material
   use paradyn_kinds, only: wp, ek
   use material_model, only: material_t
-  use material_j2, only: j2_plane_stress_update_points, j2_kinematic_modulus
+  use plane_stress_returns, only: j2_plane_stress_update_points, j2_kinematic_modulus
   implicit none
   private
   public :: j2_material_t

@@ -5,7 +5,7 @@
 !> satisfies the plane-stress condition exactly (Simo & Taylor 1986; Simo & Hughes,
 !> Computational Inelasticity, 1998, sec. 3.4). Stress vectors are (sxx, syy, sxy).
 !> The laws compute in the element kernel's kind ek (core/kinds.f90): single in the mixed engine.
-module material_j2
+module plane_stress_returns
   use paradyn_kinds, only: wp, ek, i8
   implicit none
   private
@@ -332,4 +332,4 @@ contains
     end do
   end subroutine yield_functions
 
-end module material_j2
+end module plane_stress_returns
