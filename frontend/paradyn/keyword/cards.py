@@ -50,6 +50,9 @@ CONTROL_TIMESTEP = layout("DTINIT TSSFAC int:ISDO TSLIMT DT2MS int:LCTM int:EROD
 CONTROL_CONTACT = layout("SLSFAC RWPNAL int:ISLCHK int:SHLTHK int:PENOPT int:THKCHG int:ORIEN int:ENMASS",
                          slsfac=0.1, rwpnal=0.0, islchk=1, shlthk=0, penopt=1, thkchg=0, orien=1, enmass=0)
 CONTROL_HOURGLASS = layout("int:IHQ QH", ihq=1, qh=0.1)
+# only IMFLAG is read: a value other than 0 asks for an implicit analysis, which ParaDyn refuses
+CONTROL_IMPLICIT_GENERAL = layout("int:IMFLAG DT0 int:IMFORM int:NSBS int:IGS int:CNSTN int:FORM int:ZERO_V",
+                                  imflag=0, dt0=0.0, imform=2, nsbs=1, igs=2, cnstn=0, form=0, zero_v=0)
 CONTROL_UNITS = layout("text:LENGTH text:TIME text:MASS text:TEMP", length="m", time="sec", mass="kg", temp="k")
 HOURGLASS = layout("int:HGID int:IHQ QM int:IBQ Q1 Q2 QB/VDC QW", hgid=0, ihq=1, qm=0.1, ibq=0, q1=1.5, q2=0.06,
                    **{"qb/vdc": 0.1}, qw=0.1)
@@ -305,6 +308,7 @@ READERS: dict[str, Callable[[_Reading], None]] = {
     "CONTROL_CONTACT": _control(CONTROL_CONTACT, {"RWPNAL": 0.0, "ISLCHK": 1, "SHLTHK": 0, "PENOPT": 1,
                                                   "THKCHG": 0, "ORIEN": 1, "ENMASS": 0}),
     "CONTROL_HOURGLASS": _control(CONTROL_HOURGLASS),
+    "CONTROL_IMPLICIT_GENERAL": _control(CONTROL_IMPLICIT_GENERAL),
     "CONTROL_UNITS": _control(CONTROL_UNITS, {"TEMP": "k"}),
     "DATABASE_BINARY_D3PLOT": _control(DATABASE_DT, {"LCDT": 0, "BEAM": 0, "NPLTC": 0, "PSETID": 0}),
     "DATABASE_GLSTAT": _control(DATABASE_DT[:1]),
@@ -328,13 +332,37 @@ for _title in ("", "_TITLE"):
 
 
 def collect(deck: KeywordFile) -> KeywordData:
-    """Read every block of ``deck``; unsupported keywords are named in ``warnings`` and skipped."""
+    """Read every block of ``deck``; unsupported keywords are named in ``warnings`` and skipped. An
+    error carries the warnings collected before it (a skipped keyword is often its cause)."""
     data = KeywordData(title=deck.title, warnings=list(deck.warnings))
-    for block in deck.blocks:
-        reader = READERS.get(block.name)
-        if reader is None:
-            data.warn(f"{block.where}: *{block.name} is not supported by ParaDyn and is ignored "
-                      f"(docs/keyword.md lists the keywords read)")
-            continue
-        reader(_Reading(deck, block, data))
+    try:
+        for block in deck.blocks:
+            reader = READERS.get(block.name)
+            if reader is None:
+                data.warn(f"{block.where}: *{block.name} is not supported by ParaDyn and is ignored "
+                          f"(docs/keyword.md lists the keywords read)")
+                continue
+            reader(_Reading(deck, block, data))
+        _refuse_implicit(deck, data)
+    except KeywordError as exc:
+        raise with_warnings(exc, data.warnings) from exc
     return data
+
+
+def _refuse_implicit(deck: KeywordFile, data: KeywordData) -> None:
+    """An implicit analysis (*CONTROL_IMPLICIT_GENERAL IMFLAG not 0) is refused, naming what to drop."""
+    general = data.control.get("CONTROL_IMPLICIT_GENERAL")
+    if general is None or general["IMFLAG"] == 0:
+        return
+    cards = ", ".join(f"*{b.name} ({b.where})" for b in deck.blocks if b.name.startswith("CONTROL_IMPLICIT"))
+    raise KeywordError(f"{general.where}: *CONTROL_IMPLICIT_GENERAL IMFLAG = {general['IMFLAG']} asks for an implicit "
+                       f"analysis; ParaDyn is explicit (central differences). To run the deck explicitly, remove "
+                       f"{cards} or set IMFLAG = 0, with loads and an end time meant for an explicit run")
+
+
+def with_warnings(error: KeywordError, warnings: list[str]) -> KeywordError:
+    """The error with the warnings collected before it, which often say why it happened."""
+    if not warnings:
+        return error
+    listed = "\n".join(f"  warning: {w}" for w in warnings)
+    return KeywordError(f"{error}\nwarnings before this error ({len(warnings)}):\n{listed}")

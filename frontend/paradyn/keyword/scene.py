@@ -20,7 +20,7 @@ from paradyn import _schema, deck
 from paradyn.scene.building import _apply_contacts
 from paradyn.scene.specs import ContactSpec, MaterialSpec, PartSpec, RunSettings, Scene
 
-from .cards import KeywordData, Record, collect
+from .cards import KeywordData, Record, collect, with_warnings
 from .mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of
 from .reader import KeywordError, read_keyword_file
 from .units import Units, UnitsError
@@ -80,20 +80,26 @@ def keyword_scene(path: str | Path, units: str | None = None) -> Scene:
 
 def _read(path: Path, units: str | None) -> tuple[Scene, KeywordData, Units, KeywordMesh]:
     data = collect(read_keyword_file(path))
-    unit = _units(path, data, units)
-    mesh = mesh_of(data, unit)
-    return _scene(path, data, unit, mesh), data, unit, mesh
+    try:
+        unit = _units(path, data, units)
+        mesh = mesh_of(data, unit)
+        return _scene(path, data, unit, mesh), data, unit, mesh
+    except KeywordError as exc:
+        raise with_warnings(exc, data.warnings) from exc
 
 
 def load_keyword(path: str | Path, units: str | None = None) -> KeywordScene:
-    """Read a keyword file into a :class:`KeywordScene` (see :func:`read_keyword`)."""
+    """Read a keyword file into a :class:`KeywordScene` (see :func:`read_keyword`); an error
+    carries the warnings collected before it."""
     path = Path(path)
     scene, data, unit, mesh = _read(path, units)
-    model = _model(scene, data, unit, mesh)
     try:
+        model = _model(scene, data, unit, mesh)
         deck.validate_model(model, source=f"{path} (model read from the keyword deck)")
+    except KeywordError as exc:
+        raise with_warnings(exc, data.warnings) from exc
     except deck.DeckError as exc:
-        raise KeywordError(str(exc)) from exc
+        raise with_warnings(KeywordError(str(exc)), data.warnings) from exc
     return KeywordScene(scene=scene, model=model, mesh=mesh, units=unit, warnings=data.warnings)
 
 

@@ -216,8 +216,23 @@ def check_model(model: deck.Model, ranks: int = 1, threads: int = 1) -> Prefligh
                        end_time=model.control.end_time, n_elements=len(np.asarray(model.element_part)),
                        n_nodes=len(np.asarray(model.coordinates)), ranks=ranks, threads=threads,
                        rate=rate, rate_source=source)
-    result.warnings = unit_warnings(model, result)
+    result.warnings = unit_warnings(model, result) + idle_warnings(model)
     return result
+
+
+def idle_warnings(model: deck.Model) -> list[str]:
+    """A warning when nothing in the model moves or is loaded: no initial velocity, point load,
+    pressure, gravity, prescribed motion or moving rigid wall (every energy would stay zero)."""
+    velocities = (model.initial_velocity, model.initial_angular_velocity)
+    moving = [np.any(np.asarray(v, dtype=float) != 0.0) for v in velocities if v is not None]
+    walls = model.rigid_wall_velocity
+    acting = (any(moving) or model.n_loads > 0 or model.n_pressures > 0 or model.n_prescribed > 0
+              or any(g != 0.0 for g in model.gravity)
+              or (walls is not None and bool(np.any(np.asarray(walls, dtype=float) != 0.0))))
+    if acting:
+        return []
+    return ["nothing in this model moves or is loaded (no initial velocity, load, pressure, gravity, prescribed "
+            "motion or moving rigid wall): every energy will stay zero; give the loading the model was made for"]
 
 
 def unit_warnings(model: deck.Model, check: Preflight) -> list[str]:
