@@ -150,7 +150,8 @@ def test_file_geometry_relative_to_scene(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("old", "new", "pattern"),
     [
-        ("end_time = 1e-3", "end_tme = 1e-3", r"unknown key 'end_tme' in \[run\]; allowed keys are: end_time"),
+        ("end_time = 1e-3", "end_tme = 1e-3",
+         r"unknown key 'end_tme' in \[run\]; did you mean 'end_time'\? allowed keys are: end_time"),
         ("thickness = 0.002", "thicknes = 0.002", r"unknown key 'thicknes' in \[\[part\]\] #1 'strip'"),
         ('kind = "plate"', 'kind = "plate"\nradius = 1.0', r"unknown key 'radius' in \[part.geometry\]"),
         ("density = 7860.0", "", r"missing required key 'density' in \[\[material\]\] #1 'steel'"),

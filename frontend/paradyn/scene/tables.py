@@ -6,6 +6,7 @@ bounds; each problem becomes a :class:`SceneError` that names the scene file, th
 
 from __future__ import annotations
 
+import difflib
 import math
 from collections.abc import Iterable, Mapping
 from pathlib import Path
@@ -33,7 +34,9 @@ class _Reader:
         allowed = list(allowed)
         for key in table:
             if key not in allowed:
-                raise self.error(f"unknown key '{key}' in {label}; allowed keys are: {', '.join(allowed)}")
+                close = difflib.get_close_matches(str(key), allowed, n=1)
+                hint = f"did you mean '{close[0]}'? " if close else ""
+                raise self.error(f"unknown key '{key}' in {label}; {hint}allowed keys are: {', '.join(allowed)}")
 
     def table(self, parent: Mapping[str, Any], key: str, label: str, required: bool = True) -> dict[str, Any]:
         value = parent.get(key)
