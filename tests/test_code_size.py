@@ -18,8 +18,6 @@ LONG_ROUTINES = {
     "blt_internal_forces": "the element kernel: one pass over a group's stages (frame, strain rates, each "
                            "through-thickness point, hourglass, forces) on per-stage arrays that the stages share; "
                            "split into procedures, the vectorised stages lose their inlining across the group loop",
-    "store_dataset": "generated (model/deck_fields.f90): one case per dataset of the schema, never edited by hand",
-    "store_control": "generated (model/deck_fields.f90): one case per /control attribute of the schema",
 }
 # file -> why it may be longer
 LONG_FILES = {
@@ -73,12 +71,14 @@ def test_no_engine_folder_holds_over_20_files() -> None:
                if (n := sum(1 for f in d.iterdir() if f.is_file())) > MAX_FOLDER_FILES}
     assert crowded == {}, f"split these into rooms (docs/architecture.md): {crowded}"
 
+
 def test_no_routine_is_over_120_lines_but_the_named_exceptions() -> None:
     routines = [(p, name, n) for p in _sources(".f90") for name, n in _fortran_routines(p)]
     routines += [(p, name, n) for p in _sources(".py") for name, n in _python_routines(p)]
     assert len(routines) > 500   # the scan found the project's routines
+    generated = {f for f, why in LONG_FILES.items() if why.startswith("generated")}   # one line per schema entry
     long = {f"{p.relative_to(ROOT)}:{name}": n for p, name, n in routines
-            if n > MAX_ROUTINE_LINES and name not in LONG_ROUTINES}
+            if n > MAX_ROUTINE_LINES and name not in LONG_ROUTINES and str(p.relative_to(ROOT)) not in generated}
     assert long == {}, f"split these into named steps: {long}"
     assert all(any(name == exception and n > MAX_ROUTINE_LINES for _, name, n in routines)
                for exception in LONG_ROUTINES), "an exception that is no longer needed: remove it"
