@@ -134,6 +134,27 @@ contains
       indices = nint(values)
       if (deck_datasets(id)%reference /= size_none) indices = indices + 1
     end if
+    ! a routine per group of the deck, each short however many datasets the schema adds;
+    ! only the one of id's group stores it
+    call store_nodes(d, id, values, indices)
+    call store_elements(d, id, values, indices)
+    call store_parts(d, id, values, indices)
+    call store_materials(d, id, values, indices)
+    call store_loads(d, id, values, indices)
+    call store_output(d, id, values, indices)
+    call store_contact(d, id, values, indices)
+    call store_rigid_walls(d, id, values, indices)
+    call store_curves(d, id, values, indices)
+    call store_pressure(d, id, values, indices)
+    call store_prescribed(d, id, values, indices)
+  end subroutine store_dataset
+
+  !> Puts dataset id into its field if it is one of /nodes (store_dataset).
+  subroutine store_nodes(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
     select case (id)
     case (dataset_nodes_coordinates)
       d%coordinates = values
@@ -144,11 +165,31 @@ contains
       d%angular_velocity = values
     case (dataset_nodes_fixed_dofs)
       d%fixed = indices
+    end select
+  end subroutine store_nodes
+
+  !> Puts dataset id into its field if it is one of /elements (store_dataset).
+  subroutine store_elements(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_elements_connectivity)
       d%connectivity = indices
       d%n_elements = size(values, 2)
     case (dataset_elements_part)
       d%element_part = indices(1, :)
+    end select
+  end subroutine store_elements
+
+  !> Puts dataset id into its field if it is one of /parts (store_dataset).
+  subroutine store_parts(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_parts_thickness)
       d%thickness = values(1, :)
       d%n_parts = size(values, 2)
@@ -162,6 +203,16 @@ contains
       d%hourglass_form = indices(1, :)
     case (dataset_parts_warping_correction)
       d%warping_correction = indices(1, :)
+    end select
+  end subroutine store_parts
+
+  !> Puts dataset id into its field if it is one of /materials (store_dataset).
+  subroutine store_materials(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_materials_model)
       d%material_model = indices(1, :)
       d%n_materials = size(values, 2)
@@ -177,6 +228,16 @@ contains
       d%tangent_modulus = values(1, :)
     case (dataset_materials_hardening_mixing)
       d%hardening_mixing = values(1, :)
+    end select
+  end subroutine store_materials
+
+  !> Puts dataset id into its field if it is one of /loads (store_dataset).
+  subroutine store_loads(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_loads_node)
       d%load_node = indices(1, :)
       d%n_loads = size(values, 2)
@@ -186,9 +247,29 @@ contains
       d%load_value = values(1, :)
     case (dataset_loads_ramp_time)
       d%load_ramp_time = values(1, :)
+    end select
+  end subroutine store_loads
+
+  !> Puts dataset id into its field if it is one of /output (store_dataset).
+  subroutine store_output(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_output_tracked_nodes)
       d%tracked_nodes = indices(1, :)
       d%n_tracked = size(values, 2)
+    end select
+  end subroutine store_output
+
+  !> Puts dataset id into its field if it is one of /contact (store_dataset).
+  subroutine store_contact(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_contact_pairs)
       d%contact_pairs = indices
       d%n_contacts = size(values, 2)
@@ -206,6 +287,16 @@ contains
       d%contact_kind = indices(1, :)
     case (dataset_contact_initial_penetration)
       d%contact_initial_penetration = indices(1, :)
+    end select
+  end subroutine store_contact
+
+  !> Puts dataset id into its field if it is one of /rigid_walls (store_dataset).
+  subroutine store_rigid_walls(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_rigid_walls_point)
       d%rigid_wall_point = values
       d%n_rigid_walls = size(values, 2)
@@ -215,6 +306,16 @@ contains
       d%rigid_wall_velocity = values
     case (dataset_rigid_walls_penalty_scale)
       d%rigid_wall_penalty_scale = values(1, :)
+    end select
+  end subroutine store_rigid_walls
+
+  !> Puts dataset id into its field if it is one of /curves (store_dataset).
+  subroutine store_curves(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_curves_first_point)
       d%curve_first_point = indices(1, :) + 1
       d%n_curves = size(values, 2)
@@ -223,6 +324,16 @@ contains
       d%n_curve_points = size(values, 2)
     case (dataset_curves_value)
       d%curve_value = values(1, :)
+    end select
+  end subroutine store_curves
+
+  !> Puts dataset id into its field if it is one of /pressure (store_dataset).
+  subroutine store_pressure(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_pressure_part)
       d%pressure_part = indices(1, :)
       d%n_pressures = size(values, 2)
@@ -230,6 +341,16 @@ contains
       d%pressure_value = values(1, :)
     case (dataset_pressure_curve)
       d%pressure_curve = indices(1, :)
+    end select
+  end subroutine store_pressure
+
+  !> Puts dataset id into its field if it is one of /prescribed (store_dataset).
+  subroutine store_prescribed(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_prescribed_node)
       d%prescribed_node = indices(1, :)
       d%n_prescribed = size(values, 2)
@@ -240,7 +361,7 @@ contains
     case (dataset_prescribed_curve)
       d%prescribed_curve = indices(1, :)
     end select
-  end subroutine store_dataset
+  end subroutine store_prescribed
 
   !> Puts /control attribute id into its field (a string attribute arrives as its enum code).
   subroutine store_control(d, id, value)
