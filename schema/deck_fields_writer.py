@@ -1,5 +1,6 @@
 """Writes fortran/src/model/deck_fields.f90: one field of the engine's deck per dataset and /control
-attribute of the schema, and the two routines that store them as the reader reads them.
+attribute of the schema, and the routines that store them as the reader reads them (the datasets
+through a routine per HDF5 group, so that each stays short as the schema grows).
 
 A dataset's field is named by its ``fortran`` key, else by its ``python`` name; ``engine = false``
 keeps a dataset out (the frontend's ids). Shape (rows,) gives a rank-1 field, (rows, c) a (c, rows)
@@ -52,6 +53,11 @@ def _control_declaration(schema: Schema, a: Entry) -> str:
     return line + note if len(line + note) <= LINE else line
 
 
+def _group(d: Entry) -> str:
+    """The identifier of a dataset's HDF5 group (/materials/rate_c: materials)."""
+    return identifier(d.name.split("/")[1])
+
+
 def _store_case(d: Entry) -> list[str]:
     name = field_name(d)
     matrix = len(d.get("shape")) > 1
@@ -100,10 +106,21 @@ def write(schema: Schema, header: list[str]) -> str:
             "    if (deck_datasets(id)%class == class_int) then   ! checked: every entry is a small whole number",
             "      allocate (indices(size(values, 1), size(values, 2)))", "      indices = nint(values)",
             "      if (deck_datasets(id)%reference /= size_none) indices = indices + 1", "    end if",
-            "    select case (id)"]
+            "    ! a routine per group of the deck, each short however many datasets the schema adds;",
+            "    ! only the one of id's group stores it"]
+    groups: dict[str, list[Entry]] = {}
     for d in datasets:
-        out += _store_case(d)
-    out += ["    end select", "  end subroutine store_dataset", ""]
+        groups.setdefault(_group(d), []).append(d)
+    out += [f"    call store_{group}(d, id, values, indices)" for group in groups]
+    out += ["  end subroutine store_dataset", ""]
+    for group, members in groups.items():
+        out += [f"  !> Puts dataset id into its field if it is one of /{group} (store_dataset).",
+                f"  subroutine store_{group}(d, id, values, indices)", "    class(deck_fields_t), intent(inout) :: d",
+                "    integer, intent(in) :: id", "    real(wp), intent(in) :: values(:, :)",
+                "    integer, allocatable, intent(in) :: indices(:, :)", "    select case (id)"]
+        for d in members:
+            out += _store_case(d)
+        out += ["    end select", f"  end subroutine store_{group}", ""]
     out += ["  !> Puts /control attribute id into its field (a string attribute arrives as its enum code).",
             "  subroutine store_control(d, id, value)", "    class(deck_fields_t), intent(inout) :: d",
             "    integer, intent(in) :: id", "    real(wp), intent(in) :: value", "    select case (id)"]

@@ -126,7 +126,7 @@ def _set_entry(name: str, index: tuple[int, ...], value: float) -> Callable[[h5p
         (_set_entry("/parts/integration_points", (0,), 10), r"/parts/integration_points\[0\] = 10"),
         (_set_entry("/materials/poisson_ratio", (0,), 0.5), r"/materials/poisson_ratio\[0\] = 0.5"),
         (_set_entry("/materials/tangent_modulus", (1,), 80e9), r"/materials/tangent_modulus\[1\]"),
-        (_set_entry("/materials/model", (0,), 3), r"/materials/model\[0\] = 3 must be 1 or 2"),
+        (_set_entry("/materials/model", (0,), 9), r"/materials/model\[0\] = 9 must be 1 or 2"),
         (_set_entry("/loads/dof", (0,), 7), r"/loads/dof\[0\] = 7 must be between 1 and 6"),
         (_set_entry("/output/tracked_nodes", (1,), 99), r"/output/tracked_nodes\[1\] = 99 is out of range"),
         (lambda f: f["/control"].attrs.__delitem__("end_time"), r"/control attribute end_time is missing"),

@@ -38,7 +38,8 @@ _ENTITY_SYMBOL = {s.entity: s.symbol for s in SIZES.values()}
 
 
 def _base_model() -> deck.Model:
-    """Two 2 x 1 strips 1.5 mm apart: part 0 (J2 steel) below, part 1 (elastic aluminium) above,
+    """Two 2 x 1 strips 1.5 mm apart: part 0 (rate-dependent J2 steel, so that its row meets every
+    condition of the /materials datasets) below, part 1 (elastic aluminium) above,
     with gravity, a pressure on part 1 and a prescribed velocity, over two load curves."""
     lower = geometry.plate((0.02, 0.01), (2, 1))
     upper = geometry.plate((0.02, 0.01), (2, 1), origin=(0.0, 0.0, 0.0015))
@@ -55,13 +56,15 @@ def _base_model() -> deck.Model:
         integration_points=np.array([5, 3]),
         hourglass_coefficient=np.array([0.1, 0.05]),
         hourglass_form=np.array([2, 1]),
-        material_model=np.array([deck.J2_PLASTICITY, deck.ELASTIC]),
+        material_model=np.array([ENUMS["material_model"]["j2_rate"], deck.ELASTIC]),   # plastic, with a rate
         density=np.array([7860.0, 2700.0]),
         youngs_modulus=np.array([200e9, 70e9]),
         poisson_ratio=np.array([0.3, 0.33]),
         yield_stress=np.array([250e6, 0.0]),
         tangent_modulus=np.array([1e9, 0.0]),
         hardening_mixing=np.array([0.5, 1.0]),
+        rate_c=np.array([40.4, 0.0]),
+        rate_p=np.array([5.0, 0.0]),
         initial_velocity=np.tile([0.0, 0.0, -1.0], (2 * n, 1)) * (np.arange(2 * n) >= n)[:, None],
         initial_angular_velocity=np.zeros((2 * n, 3)),
         fixed_dofs=fixed,
@@ -117,7 +120,7 @@ def _rewrite(path: str, change: Callable[[np.ndarray], np.ndarray]) -> Damage:
 
 
 def _set_first(path: str, value: float) -> Damage:
-    """Entry [0] (or [0, 0]); row 0 is the J2 material, so conditioned rows are checked there."""
+    """Entry [0] (or [0, 0]); row 0 is the j2_rate material, so conditioned rows are checked there."""
     def change(data: np.ndarray) -> np.ndarray:
         data = data.astype(np.float64 if isinstance(value, float) and data.dtype.kind == "f" else data.dtype)
         data[(0,) * data.ndim] = value

@@ -102,7 +102,7 @@ RESTART_MAY_CHANGE = (
 )
 
 ENUMS: dict[str, dict[str, int]] = {
-    'material_model': {'elastic': 1, 'j2_plasticity': 2},
+    'material_model': {'elastic': 1, 'j2_plasticity': 2, 'j2_rate': 3},
     'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
     'contact_passes': {'alternate': 1, 'both': 2},
@@ -116,7 +116,7 @@ ENUMS: dict[str, dict[str, int]] = {
 
 # The members of an enum that carry a trait (schema/deck.toml traits): ask a trait, not a name
 ENUM_TRAITS: dict[str, dict[str, tuple[str, ...]]] = {
-    'material_model': {'plastic': ('j2_plasticity',)},
+    'material_model': {'plastic': ('j2_plasticity', 'j2_rate')},
     'contact_kind': {'self_contact': ('single_surface',)},
 }
 
@@ -159,8 +159,12 @@ CONDITIONS: dict[str, ConditionSpec] = {
         meaning='the group /prescribed exists', rows='',
     ),
     'plastic': ConditionSpec(
-        name='plastic', group=None, dataset='/materials/model', codes=(2,),
-        meaning='some /materials/model is plastic (j2_plasticity)', rows='for a plastic material',
+        name='plastic', group=None, dataset='/materials/model', codes=(2, 3),
+        meaning='some /materials/model is plastic (j2_plasticity, j2_rate)', rows='for a plastic material',
+    ),
+    'strain_rate': ConditionSpec(
+        name='strain_rate', group=None, dataset='/materials/model', codes=(3,),
+        meaning='some /materials/model is j2_rate', rows='for a j2_rate material',
     ),
 }
 
@@ -181,7 +185,7 @@ RELATIONS: dict[str, RelationSpec] = {
     ),
     'tangent_below_youngs': RelationSpec(
         'tangent_below_youngs', '/materials/tangent_modulus',
-        'tangent_modulus < youngs_modulus for a j2_plasticity material',
+        'tangent_modulus < youngs_modulus for a plastic material',
     ),
     'contact_parts_differ': RelationSpec(
         'contact_parts_differ', '/contact/pairs',
@@ -302,8 +306,9 @@ DATASETS: tuple[DatasetSpec, ...] = (
     ),
     DatasetSpec(
         '/materials/model', 'material_model', 'int', ('n_materials',), True, None, None, None, None, None, '',
-        'material_model', 'must be 1 or 2 (1 = elastic, 2 = j2_plasticity)', None, True, '-', 'material model',
-        '[[material]] model', 'use 1 for linear elastic or 2 for J2 plasticity',
+        'material_model', 'must be 1 or 2 or 3 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate)', None, True, '-',
+        'material model', '[[material]] model',
+        'use 1 for linear elastic, 2 for J2 plasticity or 3 for rate-dependent J2 plasticity',
     ),
     DatasetSpec(
         '/materials/density', 'density', 'float', ('n_materials',), True, None, None, None, Bound(0.0, False),
@@ -336,6 +341,18 @@ DATASETS: tuple[DatasetSpec, ...] = (
         1.0, Bound(0.0, True), Bound(1.0, True), 'must be in [0, 1]', None, '', None, False, '-',
         'beta: 1 isotropic, 0 kinematic hardening', '[[material]] hardening_mixing',
         'use 1 for isotropic, 0 for kinematic hardening or a mix in between',
+    ),
+    DatasetSpec(
+        '/materials/rate_c', 'rate_c', 'float', ('n_materials',), False, 'strain_rate', 'strain_rate', 0.0,
+        Bound(0.0, False), None, 'must be > 0', None, '', None, False, '1/s',
+        'Cowper-Symonds C: the yield radius is scaled by 1 + (rate / C)^(1/P) (LS-DYNA SRC)',
+        '[[material]] rate_c', 'give the Cowper-Symonds strain rate C in 1/s (40.4 for mild steel)',
+    ),
+    DatasetSpec(
+        '/materials/rate_p', 'rate_p', 'float', ('n_materials',), False, 'strain_rate', 'strain_rate', 0.0,
+        Bound(0.0, False), None, 'must be > 0', None, '', None, False, '-',
+        'Cowper-Symonds exponent P (LS-DYNA SRP)', '[[material]] rate_p',
+        'give the Cowper-Symonds exponent P (5 for mild steel)',
     ),
     DatasetSpec(
         '/loads/node', 'load_node', 'int', ('n_loads',), False, 'loads_group', None, None, None, None, '', None,
@@ -686,8 +703,8 @@ CONTROL: tuple[AttributeSpec, ...] = (
         'effect_plasticity', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
         '-',
         (
-            '"off" switches off plastic_shells: shell forces of the parts with a J2 material (switched off: the '
-            'same parts elastic)'
+            '"off" switches off plastic_shells: shell forces of the parts with a plastic material (switched off: '
+            'the same parts elastic)'
         ), '[effects] plasticity', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
     ),
     AttributeSpec(
@@ -740,6 +757,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/materials/tangent_modulus'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/materials/hardening_mixing'):
         ('required_when', 'class', 'shape', 'rows', 'lower', 'upper', 'finite'),
+    ('dataset', '/materials/rate_c'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/materials/rate_p'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/loads/node'): ('required_when', 'class', 'shape', 'reference'),
     ('dataset', '/loads/dof'): ('required_when', 'class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/loads/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),

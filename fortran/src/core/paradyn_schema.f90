@@ -6,7 +6,7 @@ module paradyn_schema
   use paradyn_kinds, only: wp
   implicit none
   private
-  public :: deck_version, deck_version_attribute, material_elastic, material_j2_plasticity, &
+  public :: deck_version, deck_version_attribute, material_elastic, material_j2_plasticity, material_j2_rate, &
       hourglass_viscous, hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, &
       contact_passes_alternate, contact_passes_both, contact_kind_node_to_segment, &
       contact_kind_single_surface, initial_penetration_move, initial_penetration_gap, contact_gather_near, &
@@ -19,45 +19,47 @@ module paradyn_schema
       size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
       size_n_pressures, size_n_prescribed, n_sizes, condition_none, condition_loads_group, &
       condition_contact_group, condition_rigid_walls_group, condition_curves_group, condition_pressure_group, &
-      condition_prescribed_group, condition_plastic, n_conditions, enum_none, enum_material_model, &
-      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_initial_penetration, &
-      enum_contact_gather, enum_switch, enum_partition, enum_precision, n_enums, dataset_nodes_coordinates, &
-      dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
-      dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, dataset_elements_id, &
-      dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
+      condition_prescribed_group, condition_plastic, condition_strain_rate, n_conditions, enum_none, &
+      enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, &
+      enum_initial_penetration, enum_contact_gather, enum_switch, enum_partition, enum_precision, n_enums, &
+      dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
+      dataset_nodes_fixed_dofs, dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, &
+      dataset_elements_id, dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
       dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_warping_correction, &
       dataset_parts_id, dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
       dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
-      dataset_materials_hardening_mixing, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
-      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
-      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
-      dataset_contact_initial_penetration, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
-      dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, dataset_curves_first_point, &
-      dataset_curves_time, dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
-      dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
-      dataset_prescribed_curve, n_deck_datasets, control_end_time, control_output_interval, &
-      control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
-      control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
-      control_partition, control_contact_gather, control_precision, control_gravity_x, control_gravity_y, &
-      control_gravity_z, control_energy_error_limit, control_time_step_floor, control_contact_travel_limit, &
-      control_mass_scaling_step, control_mass_scaling_limit, control_effect_point_loads, &
-      control_effect_gravity, control_effect_pressure, control_effect_rigid_wall, &
-      control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
-      control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
-      control_restart_may_change, max_enum_members, n_effects, effect_point_loads, effect_gravity, &
-      effect_pressure, effect_rigid_wall, effect_time_integration, effect_mass_damping, &
-      effect_fixed_boundaries, effect_prescribed_velocity, effect_elastic_shells, effect_plastic_shells, &
-      effect_hourglass, effect_contact, effect_friction, effect_names, effect_timed_with, &
-      effect_also_timed_with, effect_switch, size_symbol, size_entity, size_min_rows, enum_spec_t, &
-      condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, deck_conditions, deck_datasets, &
-      control_attributes, enum_name, enum_code, material_is_plastic, contact_kind_is_self_contact
+      dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
+      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
+      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
+      dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
+      dataset_contact_passes, dataset_contact_kind, dataset_contact_initial_penetration, &
+      dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
+      dataset_rigid_walls_penalty_scale, dataset_curves_first_point, dataset_curves_time, &
+      dataset_curves_value, dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
+      dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
+      n_deck_datasets, control_end_time, control_output_interval, control_history_interval, &
+      control_time_step, control_time_step_safety, control_mass_damping, control_progress_interval, &
+      control_contact_sort_interval, control_checkpoint_interval, control_partition, control_contact_gather, &
+      control_precision, control_gravity_x, control_gravity_y, control_gravity_z, control_energy_error_limit, &
+      control_time_step_floor, control_contact_travel_limit, control_mass_scaling_step, &
+      control_mass_scaling_limit, control_effect_point_loads, control_effect_gravity, &
+      control_effect_pressure, control_effect_rigid_wall, control_effect_mass_damping, &
+      control_effect_prescribed_velocity, control_effect_plasticity, control_effect_hourglass, &
+      control_effect_contact, control_effect_friction, n_control_attributes, control_restart_may_change, &
+      max_enum_members, n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
+      effect_time_integration, effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, &
+      effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, effect_friction, &
+      effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
+      size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
+      deck_conditions, deck_datasets, control_attributes, enum_name, enum_code, material_is_plastic, &
+      contact_kind_is_self_contact
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
 
   ! enum members (schema/deck.toml [enums]): the codes the deck holds
   integer, parameter :: material_elastic = 1   !< linear elastic
   integer, parameter :: material_j2_plasticity = 2   !< J2 plasticity (plane stress, linear combined hardening)
+  integer, parameter :: material_j2_rate = 3   !< J2 plasticity with Cowper-Symonds rate scaling of the yield stress (LS
   integer, parameter :: hourglass_viscous = 1   !< resultants proportional to the hourglass rates
   integer, parameter :: hourglass_stiffness = 2   !< resultants integrated from the rates (elastic)
   integer, parameter :: hourglass_physical = 3   !< assumed-strain stabilisation from the section's elastic stiffness, no 
@@ -130,7 +132,8 @@ module paradyn_schema
   integer, parameter :: condition_pressure_group = 5
   integer, parameter :: condition_prescribed_group = 6
   integer, parameter :: condition_plastic = 7
-  integer, parameter :: n_conditions = 7
+  integer, parameter :: condition_strain_rate = 8
+  integer, parameter :: n_conditions = 8
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
   integer, parameter :: enum_hourglass_form = 2
@@ -165,34 +168,36 @@ module paradyn_schema
   integer, parameter :: dataset_materials_yield_stress = 20
   integer, parameter :: dataset_materials_tangent_modulus = 21
   integer, parameter :: dataset_materials_hardening_mixing = 22
-  integer, parameter :: dataset_loads_node = 23
-  integer, parameter :: dataset_loads_dof = 24
-  integer, parameter :: dataset_loads_value = 25
-  integer, parameter :: dataset_loads_ramp_time = 26
-  integer, parameter :: dataset_output_tracked_nodes = 27
-  integer, parameter :: dataset_contact_pairs = 28
-  integer, parameter :: dataset_contact_penalty_scale = 29
-  integer, parameter :: dataset_contact_static_friction = 30
-  integer, parameter :: dataset_contact_dynamic_friction = 31
-  integer, parameter :: dataset_contact_friction_decay = 32
-  integer, parameter :: dataset_contact_passes = 33
-  integer, parameter :: dataset_contact_kind = 34
-  integer, parameter :: dataset_contact_initial_penetration = 35
-  integer, parameter :: dataset_rigid_walls_point = 36
-  integer, parameter :: dataset_rigid_walls_normal = 37
-  integer, parameter :: dataset_rigid_walls_velocity = 38
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 39
-  integer, parameter :: dataset_curves_first_point = 40
-  integer, parameter :: dataset_curves_time = 41
-  integer, parameter :: dataset_curves_value = 42
-  integer, parameter :: dataset_pressure_part = 43
-  integer, parameter :: dataset_pressure_value = 44
-  integer, parameter :: dataset_pressure_curve = 45
-  integer, parameter :: dataset_prescribed_node = 46
-  integer, parameter :: dataset_prescribed_dof = 47
-  integer, parameter :: dataset_prescribed_value = 48
-  integer, parameter :: dataset_prescribed_curve = 49
-  integer, parameter :: n_deck_datasets = 49
+  integer, parameter :: dataset_materials_rate_c = 23
+  integer, parameter :: dataset_materials_rate_p = 24
+  integer, parameter :: dataset_loads_node = 25
+  integer, parameter :: dataset_loads_dof = 26
+  integer, parameter :: dataset_loads_value = 27
+  integer, parameter :: dataset_loads_ramp_time = 28
+  integer, parameter :: dataset_output_tracked_nodes = 29
+  integer, parameter :: dataset_contact_pairs = 30
+  integer, parameter :: dataset_contact_penalty_scale = 31
+  integer, parameter :: dataset_contact_static_friction = 32
+  integer, parameter :: dataset_contact_dynamic_friction = 33
+  integer, parameter :: dataset_contact_friction_decay = 34
+  integer, parameter :: dataset_contact_passes = 35
+  integer, parameter :: dataset_contact_kind = 36
+  integer, parameter :: dataset_contact_initial_penetration = 37
+  integer, parameter :: dataset_rigid_walls_point = 38
+  integer, parameter :: dataset_rigid_walls_normal = 39
+  integer, parameter :: dataset_rigid_walls_velocity = 40
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 41
+  integer, parameter :: dataset_curves_first_point = 42
+  integer, parameter :: dataset_curves_time = 43
+  integer, parameter :: dataset_curves_value = 44
+  integer, parameter :: dataset_pressure_part = 45
+  integer, parameter :: dataset_pressure_value = 46
+  integer, parameter :: dataset_pressure_curve = 47
+  integer, parameter :: dataset_prescribed_node = 48
+  integer, parameter :: dataset_prescribed_dof = 49
+  integer, parameter :: dataset_prescribed_value = 50
+  integer, parameter :: dataset_prescribed_curve = 51
+  integer, parameter :: n_deck_datasets = 51
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -299,7 +304,7 @@ module paradyn_schema
     integer :: codes(max_enum_members)
     integer :: reference                !< size id of the entity indexed, size_none
     character(len=23) :: rule
-    character(len=62) :: enum_rule
+    character(len=65) :: enum_rule
     character(len=84) :: fix
   end type dataset_spec_t
 
@@ -315,12 +320,12 @@ module paradyn_schema
     real(wp) :: lower, upper
     integer :: enum
     character(len=23) :: rule
-    character(len=62) :: enum_rule
+    character(len=65) :: enum_rule
     character(len=84) :: fix
   end type attribute_spec_t
 
   type(enum_spec_t), parameter :: deck_enums(n_enums) = [ &
-    enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'elastic', 'j2_plasticity', '']), &
+    enum_spec_t(3, [1, 2, 3], [character(len=15) :: 'elastic', 'j2_plasticity', 'j2_rate']), &
     enum_spec_t(3, [1, 2, 3], [character(len=15) :: 'viscous', 'stiffness', 'physical']), &
     enum_spec_t(2, [0, 1, 0], [character(len=15) :: 'free', 'fixed', '']), &
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'alternate', 'both', '']), &
@@ -338,7 +343,8 @@ module paradyn_schema
     condition_spec_t('/curves', 0, 0, [0, 0, 0], ''), &
     condition_spec_t('/pressure', 0, 0, [0, 0, 0], ''), &
     condition_spec_t('/prescribed', 0, 0, [0, 0, 0], ''), &
-    condition_spec_t('', 16, 1, [2, 0, 0], 'for a plastic material') ]
+    condition_spec_t('', 16, 2, [2, 3, 0], 'for a plastic material'), &
+    condition_spec_t('', 16, 1, [3, 0, 0], 'for a j2_rate material') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
@@ -391,9 +397,9 @@ module paradyn_schema
         0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], size_none, &
         'must be >= 0', '', 'give every part a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/materials/model', class_int, 0, size_n_materials, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 2, &
-        [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = elastic, 2 = j2_plasticity)', &
-        'use 1 for linear elastic or 2 for J2 plasticity'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 3, &
+        [1, 2, 3], size_none, '', 'must be 1 or 2 or 3 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate)', &
+        'use 1 for linear elastic, 2 for J2 plasticity or 3 for rate-dependent J2 plasticity'), &
     dataset_spec_t('/materials/density', class_float, 0, size_n_materials, .false., .true., condition_none, &
         condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_none, 'must be > 0', '', 'give the density in kg/m^3'), &
@@ -414,6 +420,14 @@ module paradyn_schema
         condition_plastic, condition_plastic, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, &
         enum_none, 0, [0, 0, 0], size_none, 'must be in [0, 1]', '', &
         'use 1 for isotropic, 0 for kinematic hardening or a mix in between'), &
+    dataset_spec_t('/materials/rate_c', class_float, 0, size_n_materials, .false., .false., &
+        condition_strain_rate, condition_strain_rate, 0.0_wp, .true., .false., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0], size_none, 'must be > 0', '', &
+        'give the Cowper-Symonds strain rate C in 1/s (40.4 for mild steel)'), &
+    dataset_spec_t('/materials/rate_p', class_float, 0, size_n_materials, .false., .false., &
+        condition_strain_rate, condition_strain_rate, 0.0_wp, .true., .false., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0], size_none, 'must be > 0', '', &
+        'give the Cowper-Symonds exponent P (5 for mild steel)'), &
     dataset_spec_t('/loads/node', class_int, 0, size_n_loads, .true., .false., condition_loads_group, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], &
         size_n_nodes, '', '', 'give the index of the loaded node'), &
@@ -615,10 +629,10 @@ contains
     end do
   end function enum_code
 
-  !> Whether a code of enum material_model has the trait plastic (j2_plasticity)
+  !> Whether a code of enum material_model has the trait plastic (j2_plasticity, j2_rate)
   elemental logical function material_is_plastic(code) result(has)
     integer, intent(in) :: code
-    has = any(code == [2])
+    has = any(code == [2, 3])
   end function material_is_plastic
 
   !> Whether a code of enum contact_kind has the trait self_contact (single_surface)

@@ -8,6 +8,7 @@ module material_factory
   use material_model, only: material_t, max_state_words
   use elastic_material, only: elastic_material_t
   use j2_material, only: j2_material_t
+  use j2_rate_material, only: j2_rate_material_t
   implicit none
   private
   public :: material_from_deck
@@ -28,6 +29,12 @@ contains
                                                yield_stress=deck%yield_stress(m), &
                                                tangent_modulus=deck%tangent_modulus(m), &
                                                hardening_mixing=deck%hardening_mixing(m)))
+    case ('j2_rate')
+      allocate (material, source=j2_rate_material_t(young=deck%young(m), poisson=deck%poisson(m), &
+                                                    yield_stress=deck%yield_stress(m), &
+                                                    tangent_modulus=deck%tangent_modulus(m), &
+                                                    hardening_mixing=deck%hardening_mixing(m), &
+                                                    rate_c=deck%rate_c(m), rate_p=deck%rate_p(m)))
     end select
     if (allocated(material)) then
       if (material%state_width() > max_state_words) deallocate (material)

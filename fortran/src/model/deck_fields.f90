@@ -13,8 +13,9 @@ module deck_fields
                             dataset_materials_density, dataset_materials_youngs_modulus, &
                             dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
                             dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, &
-                            dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
-                            dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
+                            dataset_materials_rate_c, dataset_materials_rate_p, dataset_loads_node, &
+                            dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
+                            dataset_output_tracked_nodes, dataset_contact_pairs, &
                             dataset_contact_penalty_scale, dataset_contact_static_friction, &
                             dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
                             dataset_contact_passes, dataset_contact_kind, &
@@ -70,6 +71,8 @@ module deck_fields
     real(wp), allocatable :: yield_stress(:)   !< /materials/yield_stress (n_materials) Pa
     real(wp), allocatable :: tangent_modulus(:)   !< /materials/tangent_modulus (n_materials) Pa
     real(wp), allocatable :: hardening_mixing(:)   !< /materials/hardening_mixing (n_materials) -
+    real(wp), allocatable :: rate_c(:)   !< /materials/rate_c (n_materials) 1/s
+    real(wp), allocatable :: rate_p(:)   !< /materials/rate_p (n_materials) -
     integer, allocatable :: load_node(:)   !< /loads/node (n_loads) -
     integer, allocatable :: load_dof(:)   !< /loads/dof (n_loads) -
     real(wp), allocatable :: load_value(:)   !< /loads/value (n_loads) N or N m
@@ -134,6 +137,27 @@ contains
       indices = nint(values)
       if (deck_datasets(id)%reference /= size_none) indices = indices + 1
     end if
+    ! a routine per group of the deck, each short however many datasets the schema adds;
+    ! only the one of id's group stores it
+    call store_nodes(d, id, values, indices)
+    call store_elements(d, id, values, indices)
+    call store_parts(d, id, values, indices)
+    call store_materials(d, id, values, indices)
+    call store_loads(d, id, values, indices)
+    call store_output(d, id, values, indices)
+    call store_contact(d, id, values, indices)
+    call store_rigid_walls(d, id, values, indices)
+    call store_curves(d, id, values, indices)
+    call store_pressure(d, id, values, indices)
+    call store_prescribed(d, id, values, indices)
+  end subroutine store_dataset
+
+  !> Puts dataset id into its field if it is one of /nodes (store_dataset).
+  subroutine store_nodes(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
     select case (id)
     case (dataset_nodes_coordinates)
       d%coordinates = values
@@ -144,11 +168,31 @@ contains
       d%angular_velocity = values
     case (dataset_nodes_fixed_dofs)
       d%fixed = indices
+    end select
+  end subroutine store_nodes
+
+  !> Puts dataset id into its field if it is one of /elements (store_dataset).
+  subroutine store_elements(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_elements_connectivity)
       d%connectivity = indices
       d%n_elements = size(values, 2)
     case (dataset_elements_part)
       d%element_part = indices(1, :)
+    end select
+  end subroutine store_elements
+
+  !> Puts dataset id into its field if it is one of /parts (store_dataset).
+  subroutine store_parts(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_parts_thickness)
       d%thickness = values(1, :)
       d%n_parts = size(values, 2)
@@ -162,6 +206,16 @@ contains
       d%hourglass_form = indices(1, :)
     case (dataset_parts_warping_correction)
       d%warping_correction = indices(1, :)
+    end select
+  end subroutine store_parts
+
+  !> Puts dataset id into its field if it is one of /materials (store_dataset).
+  subroutine store_materials(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_materials_model)
       d%material_model = indices(1, :)
       d%n_materials = size(values, 2)
@@ -177,6 +231,20 @@ contains
       d%tangent_modulus = values(1, :)
     case (dataset_materials_hardening_mixing)
       d%hardening_mixing = values(1, :)
+    case (dataset_materials_rate_c)
+      d%rate_c = values(1, :)
+    case (dataset_materials_rate_p)
+      d%rate_p = values(1, :)
+    end select
+  end subroutine store_materials
+
+  !> Puts dataset id into its field if it is one of /loads (store_dataset).
+  subroutine store_loads(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_loads_node)
       d%load_node = indices(1, :)
       d%n_loads = size(values, 2)
@@ -186,9 +254,29 @@ contains
       d%load_value = values(1, :)
     case (dataset_loads_ramp_time)
       d%load_ramp_time = values(1, :)
+    end select
+  end subroutine store_loads
+
+  !> Puts dataset id into its field if it is one of /output (store_dataset).
+  subroutine store_output(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_output_tracked_nodes)
       d%tracked_nodes = indices(1, :)
       d%n_tracked = size(values, 2)
+    end select
+  end subroutine store_output
+
+  !> Puts dataset id into its field if it is one of /contact (store_dataset).
+  subroutine store_contact(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_contact_pairs)
       d%contact_pairs = indices
       d%n_contacts = size(values, 2)
@@ -206,6 +294,16 @@ contains
       d%contact_kind = indices(1, :)
     case (dataset_contact_initial_penetration)
       d%contact_initial_penetration = indices(1, :)
+    end select
+  end subroutine store_contact
+
+  !> Puts dataset id into its field if it is one of /rigid_walls (store_dataset).
+  subroutine store_rigid_walls(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_rigid_walls_point)
       d%rigid_wall_point = values
       d%n_rigid_walls = size(values, 2)
@@ -215,6 +313,16 @@ contains
       d%rigid_wall_velocity = values
     case (dataset_rigid_walls_penalty_scale)
       d%rigid_wall_penalty_scale = values(1, :)
+    end select
+  end subroutine store_rigid_walls
+
+  !> Puts dataset id into its field if it is one of /curves (store_dataset).
+  subroutine store_curves(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_curves_first_point)
       d%curve_first_point = indices(1, :) + 1
       d%n_curves = size(values, 2)
@@ -223,6 +331,16 @@ contains
       d%n_curve_points = size(values, 2)
     case (dataset_curves_value)
       d%curve_value = values(1, :)
+    end select
+  end subroutine store_curves
+
+  !> Puts dataset id into its field if it is one of /pressure (store_dataset).
+  subroutine store_pressure(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_pressure_part)
       d%pressure_part = indices(1, :)
       d%n_pressures = size(values, 2)
@@ -230,6 +348,16 @@ contains
       d%pressure_value = values(1, :)
     case (dataset_pressure_curve)
       d%pressure_curve = indices(1, :)
+    end select
+  end subroutine store_pressure
+
+  !> Puts dataset id into its field if it is one of /prescribed (store_dataset).
+  subroutine store_prescribed(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_prescribed_node)
       d%prescribed_node = indices(1, :)
       d%n_prescribed = size(values, 2)
@@ -240,7 +368,7 @@ contains
     case (dataset_prescribed_curve)
       d%prescribed_curve = indices(1, :)
     end select
-  end subroutine store_dataset
+  end subroutine store_prescribed
 
   !> Puts /control attribute id into its field (a string attribute arrives as its enum code).
   subroutine store_control(d, id, value)
