@@ -106,7 +106,7 @@ ENUMS: dict[str, dict[str, int]] = {
     'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
     'contact_passes': {'alternate': 1, 'both': 2},
-    'contact_kind': {'node_to_segment': 1, 'single_surface': 2},
+    'contact_kind': {'node_to_segment': 1, 'single_surface': 2, 'tied': 3},
     'initial_penetration': {'move': 1, 'gap': 2},
     'contact_gather': {'near': 1, 'all': 2},
     'switch': {'off': 0, 'on': 1},
@@ -117,7 +117,7 @@ ENUMS: dict[str, dict[str, int]] = {
 # The members of an enum that carry a trait (schema/deck.toml traits): ask a trait, not a name
 ENUM_TRAITS: dict[str, dict[str, tuple[str, ...]]] = {
     'material_model': {'plastic': ('j2_plasticity', 'j2_rate')},
-    'contact_kind': {'self_contact': ('single_surface',)},
+    'contact_kind': {'self_contact': ('single_surface',), 'tied': ('tied',)},
 }
 
 SIZES: dict[str, SizeSpec] = {
@@ -421,9 +421,9 @@ DATASETS: tuple[DatasetSpec, ...] = (
     ),
     DatasetSpec(
         '/contact/kind', 'contact_kind', 'int', ('n_contacts',), False, None, None, 1, None, None, '',
-        'contact_kind', 'must be 1 or 2 (1 = node_to_segment, 2 = single_surface)', None, False, '-',
-        "the kind of contact (a member of the engine's contact family; docs/architecture.md)", '[[contact]] kind',
-        'use 1 (node_to_segment) or 2 (single_surface)',
+        'contact_kind', 'must be 1 or 2 or 3 (1 = node_to_segment, 2 = single_surface, 3 = tied)', None, False,
+        '-', "the kind of contact (a member of the engine's contact family; docs/architecture.md)",
+        '[[contact]] kind', 'use 1 (node_to_segment), 2 (single_surface) or 3 (tied)',
     ),
     DatasetSpec(
         '/contact/initial_penetration', 'contact_initial_penetration', 'int', ('n_contacts',), False, None, None,

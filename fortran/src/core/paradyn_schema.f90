@@ -9,24 +9,25 @@ module paradyn_schema
   public :: deck_version, deck_version_attribute, material_elastic, material_j2_plasticity, material_j2_rate, &
       hourglass_viscous, hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, &
       contact_passes_alternate, contact_passes_both, contact_kind_node_to_segment, &
-      contact_kind_single_surface, initial_penetration_move, initial_penetration_gap, contact_gather_near, &
-      contact_gather_all, switch_off, switch_on, partition_blocks, partition_rcb, precision_double, &
-      precision_mixed, max_integration_points, status_ok, status_failure, status_bad_input, status_numerical, &
-      status_stopped, n_frame_fields, n_history_scalars, history_kinetic_energy, history_internal_energy, &
-      history_hourglass_energy, history_contact_energy, history_external_work, history_contact_penetration, &
-      history_dt, history_dt_stable, history_dt_element, frame_field_names, history_scalar_names, class_int, &
-      class_float, class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, &
-      size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
-      size_n_pressures, size_n_prescribed, n_sizes, condition_none, condition_loads_group, &
-      condition_contact_group, condition_rigid_walls_group, condition_curves_group, condition_pressure_group, &
-      condition_prescribed_group, condition_plastic, condition_strain_rate, n_conditions, enum_none, &
-      enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, &
-      enum_initial_penetration, enum_contact_gather, enum_switch, enum_partition, enum_precision, n_enums, &
-      dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
-      dataset_nodes_fixed_dofs, dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, &
-      dataset_elements_id, dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
-      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_warping_correction, &
-      dataset_parts_id, dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
+      contact_kind_single_surface, contact_kind_tied, initial_penetration_move, initial_penetration_gap, &
+      contact_gather_near, contact_gather_all, switch_off, switch_on, partition_blocks, partition_rcb, &
+      precision_double, precision_mixed, max_integration_points, status_ok, status_failure, status_bad_input, &
+      status_numerical, status_stopped, n_frame_fields, n_history_scalars, history_kinetic_energy, &
+      history_internal_energy, history_hourglass_energy, history_contact_energy, history_external_work, &
+      history_contact_penetration, history_dt, history_dt_stable, history_dt_element, frame_field_names, &
+      history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, size_n_elements, &
+      size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, &
+      size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, n_sizes, condition_none, &
+      condition_loads_group, condition_contact_group, condition_rigid_walls_group, condition_curves_group, &
+      condition_pressure_group, condition_prescribed_group, condition_plastic, condition_strain_rate, &
+      n_conditions, enum_none, enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
+      enum_contact_kind, enum_initial_penetration, enum_contact_gather, enum_switch, enum_partition, &
+      enum_precision, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
+      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_nodes_id, &
+      dataset_elements_connectivity, dataset_elements_part, dataset_elements_id, dataset_parts_thickness, &
+      dataset_parts_material, dataset_parts_integration_points, dataset_parts_hourglass_coefficient, &
+      dataset_parts_hourglass_form, dataset_parts_warping_correction, dataset_parts_id, &
+      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
       dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
       dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
       dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
@@ -52,7 +53,7 @@ module paradyn_schema
       effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
       size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
       deck_conditions, deck_datasets, control_attributes, enum_name, enum_code, material_is_plastic, &
-      contact_kind_is_self_contact
+      contact_kind_is_self_contact, contact_kind_is_tied
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
 
@@ -69,6 +70,7 @@ module paradyn_schema
   integer, parameter :: contact_passes_both = 2   !< both bodies are slave every step
   integer, parameter :: contact_kind_node_to_segment = 1   !< each part of the pair is slave to the other's shell segments
   integer, parameter :: contact_kind_single_surface = 2   !< the part is slave to its own shell segments (self-contact); the pair n
+  integer, parameter :: contact_kind_tied = 3   !< the first part's nodes within reach of the second's segments at the st
   integer, parameter :: initial_penetration_move = 1   !< slave nodes inside the contact thickness at the start are moved onto i
   integer, parameter :: initial_penetration_gap = 2   !< each slave node's overlap at the start is taken as its gap: contact pu
   integer, parameter :: contact_gather_near = 1   !< local contact: each rank holds only the contact nodes near its own sla
@@ -304,7 +306,7 @@ module paradyn_schema
     integer :: codes(max_enum_members)
     integer :: reference                !< size id of the entity indexed, size_none
     character(len=23) :: rule
-    character(len=65) :: enum_rule
+    character(len=71) :: enum_rule
     character(len=84) :: fix
   end type dataset_spec_t
 
@@ -320,7 +322,7 @@ module paradyn_schema
     real(wp) :: lower, upper
     integer :: enum
     character(len=23) :: rule
-    character(len=65) :: enum_rule
+    character(len=71) :: enum_rule
     character(len=84) :: fix
   end type attribute_spec_t
 
@@ -329,7 +331,7 @@ module paradyn_schema
     enum_spec_t(3, [1, 2, 3], [character(len=15) :: 'viscous', 'stiffness', 'physical']), &
     enum_spec_t(2, [0, 1, 0], [character(len=15) :: 'free', 'fixed', '']), &
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'alternate', 'both', '']), &
-    enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'node_to_segment', 'single_surface', '']), &
+    enum_spec_t(3, [1, 2, 3], [character(len=15) :: 'node_to_segment', 'single_surface', 'tied']), &
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'move', 'gap', '']), &
     enum_spec_t(2, [1, 2, 0], [character(len=15) :: 'near', 'all', '']), &
     enum_spec_t(2, [0, 1, 0], [character(len=15) :: 'off', 'on', '']), &
@@ -465,9 +467,9 @@ module paradyn_schema
         [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
         'use 2 (both bodies slave every step) or 1 (slave and master swap every step)'), &
     dataset_spec_t('/contact/kind', class_int, 0, size_n_contacts, .false., .false., condition_none, &
-        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 2, &
-        [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = node_to_segment, 2 = single_surface)', &
-        'use 1 (node_to_segment) or 2 (single_surface)'), &
+        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 3, &
+        [1, 2, 3], size_none, '', 'must be 1 or 2 or 3 (1 = node_to_segment, 2 = single_surface, 3 = tied)', &
+        'use 1 (node_to_segment), 2 (single_surface) or 3 (tied)'), &
     dataset_spec_t('/contact/initial_penetration', class_int, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_initial_penetration, 2, [1, 2, 0], size_none, '', 'must be 1 or 2 (1 = move, 2 = gap)', &
@@ -640,5 +642,11 @@ contains
     integer, intent(in) :: code
     has = any(code == [2])
   end function contact_kind_is_self_contact
+
+  !> Whether a code of enum contact_kind has the trait tied (tied)
+  elemental logical function contact_kind_is_tied(code) result(has)
+    integer, intent(in) :: code
+    has = any(code == [3])
+  end function contact_kind_is_tied
 
 end module paradyn_schema

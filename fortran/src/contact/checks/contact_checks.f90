@@ -8,11 +8,13 @@
 !> the lowest element pierced). A node that several ranks hold is tested by each of them with the
 !> same elements near it, so each moves it by the same push; a rank that holds it through another
 !> part's element only gets the moved position through its home in the node directory
-!> (block_owner), where it is also counted, once. Nothing here is sized by the global mesh.
+!> (block_owner), where it is also counted, once. Nothing here is sized by the global mesh. Tied
+!> definitions (trait "tied") are not checked: their parts start within reach on purpose.
 module contact_checks
   use mpi_f08
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: status_ok, status_bad_input, initial_penetration_move, contact_kind_is_self_contact
+  use paradyn_schema, only: status_ok, status_bad_input, initial_penetration_move, contact_kind_is_self_contact, &
+                           contact_kind_is_tied
   use model_deck, only: deck_t, node_row
   use integer_sort, only: distinct_ascending, sorted_position
   use domain_decomposition, only: block_owner
@@ -44,6 +46,7 @@ contains
     integer :: k
     x = deck%coordinates
     do k = 1, deck%n_contacts
+      if (contact_kind_is_tied(deck%contact_kind(k))) cycle   ! tied parts start within reach on purpose
       if (deck%contact_initial_penetration(k) == initial_penetration_move) then
         call check_definition(deck, comm, x, k, .true., speak, unit, 'moved onto the surface')
         call check_definition(deck, comm, x, k, .false., speak, unit, 'still inside after the move')
@@ -221,6 +224,7 @@ contains
     call MPI_Comm_rank(comm, rank)
     call MPI_Comm_size(comm, n_ranks)
     do k = 1, deck%n_contacts
+      if (contact_kind_is_tied(deck%contact_kind(k))) cycle   ! tied parts may meet as they like
       do side = 1, 2   ! a small element of one part may poke through the middle of a large one of the other
         part = deck%contact_pairs(:, k)
         if (side == 2) part = part([2, 1])

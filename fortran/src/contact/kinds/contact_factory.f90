@@ -4,6 +4,7 @@ module contact_factory
   use contact_kind, only: contact_kind_t
   use node_to_segment_contact, only: node_to_segment_t
   use single_surface_contact, only: single_surface_t
+  use tied_contact, only: tied_t
   implicit none
   private
   public :: contact_kind_from_name
@@ -19,6 +20,8 @@ contains
       allocate (node_to_segment_t :: kind)
     case ('single_surface')
       allocate (single_surface_t :: kind)
+    case ('tied')
+      allocate (tied_t :: kind)
     end select
   end subroutine contact_kind_from_name
 

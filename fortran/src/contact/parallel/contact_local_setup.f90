@@ -14,8 +14,9 @@
 !>     it owns, the segments of its elements with their stiffnesses (from the deck's coordinates,
 !>     the bits of one rank), the masters it owns (the activity extents), the bucket size (the
 !>     longest diagonal: a maximum over the ranks), a single-surface thickness cap (the shortest
-!>     edge: a minimum, contact_checks' held_thickness) and the gap mode's overlaps (its slaves
-!>     against the master elements near them from every rank, as the start checks measure them).
+!>     edge: a minimum, contact_checks' held_thickness), the gap mode's overlaps (its slaves
+!>     against the master elements near them from every rank, as the start checks measure them)
+!>     and a tied pass's ties (its slaves against the same, tied_contact).
 !> One rank and the replicated scheme keep contact_setup on the global layout (every contact node
 !> is held there). Collective.
 module contact_local_setup
@@ -33,6 +34,8 @@ module contact_local_setup
   use contact_checks, only: held_thickness, part_rows, corners
   use near_elements, only: near_set_t, gather_near, box_of
   use initial_penetration, only: slave_penetrations
+  use contact_pass, only: contact_pass_t
+  use tied_contact, only: tie_slaves, tie_reach
   implicit none
   private
   public :: local_contact_setup
@@ -149,6 +152,7 @@ contains
       allocate (pass%overlap(size(pass%slaves)), source=0.0_wp)
       if (deck%contact_initial_penetration(pass%pair) == initial_penetration_gap) &
         call gap_overlaps(deck, dom, comm, contact_of, c, p)
+      if (pass%tied) call own_ties(deck, dom, comm, contact_of, c, p)
       end associate
     end do
     call hold_ghost_segments(c, reshape([real(wp) ::], [segment_row_width, 0]))
@@ -214,21 +218,55 @@ contains
     integer, intent(in) :: contact_of(:)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: p
-    integer, allocatable :: rows(:), slaves(:)
-    real(wp), allocatable :: slave_x(:, :), push(:, :)
+    integer, allocatable :: at(:)
+    real(wp), allocatable :: push(:, :)
     type(near_set_t) :: near
-    integer :: i
     associate (pass => c%passes(p))
+    call own_slaves_near(deck, dom, comm, contact_of, pass, 0.5_wp * (pass%t_slave + pass%t_master), near, at)
+    allocate (push(3, size(at)))
+    call slave_penetrations(near%x, at, near%connectivity, pass%t_slave, pass%t_master, pass%overlap, push)
+    end associate
+  end subroutine gap_overlaps
+
+  !> A tied pass p's ties (tied_contact) of the slaves this rank owns, against the master part's
+  !> elements near them from every rank, at the deck's positions: those one rank holding the whole
+  !> deck finds (the elements come in id order, and a tie goes to the lowest id among the nearest).
+  subroutine own_ties(deck, dom, comm, contact_of, c, p)
+    type(deck_t), intent(in) :: deck
+    type(domain_t), intent(in) :: dom
+    type(MPI_Comm), intent(in) :: comm
+    integer, intent(in) :: contact_of(:)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: p
+    integer, allocatable :: at(:)
+    type(near_set_t) :: near
+    associate (pass => c%passes(p))
+    call own_slaves_near(deck, dom, comm, contact_of, pass, tie_reach(pass), near, at)
+    call tie_slaves(near%x, at, near%connectivity, near%element_ids, tie_reach(pass), pass%tie_element, pass%tie_point)
+    end associate
+  end subroutine own_ties
+
+  !> The master part's elements within margin of the pass's slaves that this rank owns, this rank's
+  !> and the other ranks' (near_elements), at the deck's positions; at(s): slave s's place in near.
+  subroutine own_slaves_near(deck, dom, comm, contact_of, pass, margin, near, at)
+    type(deck_t), intent(in) :: deck
+    type(domain_t), intent(in) :: dom
+    type(MPI_Comm), intent(in) :: comm
+    integer, intent(in) :: contact_of(:)
+    type(contact_pass_t), intent(in) :: pass
+    real(wp), intent(in) :: margin
+    type(near_set_t), intent(out) :: near
+    integer, allocatable, intent(out) :: at(:)
+    integer, allocatable :: rows(:), slaves(:)
+    real(wp), allocatable :: slave_x(:, :)
+    integer :: i
     slaves = pack(dom%nodes, contact_of > 0)
     slaves = slaves([(sorted_position(pack(contact_of, contact_of > 0), pass%slaves(i)), i = 1, size(pass%slaves))])
     slave_x = deck%coordinates(:, [(node_row(deck, slaves(i)), i = 1, size(slaves))])
     rows = part_rows(deck, pass%master_part)
-    call gather_near(comm, box_of(slave_x), 0.5_wp * (pass%t_slave + pass%t_master), deck%element_ids(rows), &
+    call gather_near(comm, box_of(slave_x), margin, deck%element_ids(rows), &
                      deck%connectivity(:, rows), corners(deck, deck%coordinates, rows), slaves, slave_x, near)
-    allocate (push(3, size(slaves)))
-    call slave_penetrations(near%x, [(sorted_position(near%node_ids, slaves(i)), i = 1, size(slaves))], &
-                            near%connectivity, pass%t_slave, pass%t_master, pass%overlap, push)
-    end associate
-  end subroutine gap_overlaps
+    at = [(sorted_position(near%node_ids, slaves(i)), i = 1, size(slaves))]
+  end subroutine own_slaves_near
 
 end module contact_local_setup

@@ -55,6 +55,12 @@ module contact_pass
     integer, allocatable :: excluded_start(:), excluded(:)
     !> each slave's overlap at the start, taken as its gap (/contact/initial_penetration = gap), else 0
     real(wp), allocatable :: overlap(:)
+    !> a tied pass (tied_contact): each slave's tie, kept for the run, replaces the search and the
+    !> penalty law: the master segment (its global element, 0: the slave is free), the point's
+    !> (xi, eta) on it and the slave's offset from it in the segment's frame there
+    logical :: tied = .false.
+    integer, allocatable :: tie_element(:)
+    real(wp), allocatable :: tie_point(:, :)   !< (5, slaves): xi, eta, offset (3)
     real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted
     integer, allocatable :: near_slaves(:)     !< slaves that can come near the master box before the next sort
     integer :: n_near = 0

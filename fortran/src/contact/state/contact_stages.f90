@@ -10,6 +10,7 @@ module contact_stages
   use contact_search, only: segment_candidates, candidate_block, candidates_in_slave_order
   use contact_penalty, only: penalty_force, edge_tolerance
   use contact_pass, only: contact_pass_t
+  use tied_contact, only: tied_segment, tied_force
   use contact_interface, only: contact_t, clock_seconds
   use contact_slots, only: slot_of
   use exact_sum, only: exact_add, exact_value
@@ -271,24 +272,28 @@ contains
       at = pass%slave_at(c%candidates(1, k))
       x = c%x(:, at)
       slot = c%candidates(1, k)
-      if (still_clear(pass, slot, pass%masters(c%candidates(2, k)), c%n_sorts, c%moved)) cycle
-      ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
-      reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(slot) + pass%t_master)
-      if (pass%shares_nodes) then
-        call segment_candidates(x, int(c%candidates(2, k), ip), int(size(pass%masters), ip), c%x, &
-                                int(size(pass%segments, 2), ip), pass%segment_at, pass%segment_start, &
-                                pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(at, ip), reach=reach, &
-                                clearance=clearance)
+      if (pass%tied) then   ! its tie names the segment and the point (tied_contact)
+        segment = tied_segment(pass, slot)
       else
-        call segment_candidates(x, int(c%candidates(2, k), ip), int(size(pass%masters), ip), c%x, &
-                                int(size(pass%segments, 2), ip), pass%segment_at, pass%segment_start, &
-                                pass%segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance)
-      end if
-      if (clearance > 0.0_wp .and. c%moved < huge(1.0_wp)) then   ! this slave's only: no other thread writes it
-        pass%clear_master(slot) = pass%masters(c%candidates(2, k))
-        pass%clear_sort(slot) = c%n_sorts
-        pass%clear_gap(slot) = clearance
-        pass%clear_moved(slot) = c%moved
+        if (still_clear(pass, slot, pass%masters(c%candidates(2, k)), c%n_sorts, c%moved)) cycle
+        ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
+        reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(slot) + pass%t_master)
+        if (pass%shares_nodes) then
+          call segment_candidates(x, int(c%candidates(2, k), ip), int(size(pass%masters), ip), c%x, &
+                                  int(size(pass%segments, 2), ip), pass%segment_at, pass%segment_start, &
+                                  pass%segment_list, segment, xi, eta, xc, normal, skip_node=int(at, ip), reach=reach, &
+                                  clearance=clearance)
+        else
+          call segment_candidates(x, int(c%candidates(2, k), ip), int(size(pass%masters), ip), c%x, &
+                                  int(size(pass%segments, 2), ip), pass%segment_at, pass%segment_start, &
+                                  pass%segment_list, segment, xi, eta, xc, normal, reach=reach, clearance=clearance)
+        end if
+        if (clearance > 0.0_wp .and. c%moved < huge(1.0_wp)) then   ! this slave's only: no other thread writes it
+          pass%clear_master(slot) = pass%masters(c%candidates(2, k))
+          pass%clear_sort(slot) = c%n_sorts
+          pass%clear_gap(slot) = clearance
+          pass%clear_moved(slot) = c%moved
+        end if
       end if
       if (segment > 0) then
         lightest = c%mass(at)
@@ -299,11 +304,17 @@ contains
           lightest = min(lightest, c%mass(seg_at(m)))
         end do
         stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 * lightest)
-        call penalty_force(x, pass%t_slave - 2.0_wp * pass%overlap(slot), xseg, pass%t_master, &
-                           stiffness, f_slave, &
-                           f_master, penetration, touching, v_slave=c%v(:, at), v_master=vseg, &
-                           mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
-                           v_slip=stick_speed, rounded_edges=.true., closest=[xi, eta, xc, normal])
+        if (pass%tied) then   ! the tie's spring (no penetration: a tie holds its offset)
+          call tied_force(x, xseg, pass%tie_point(:, slot), stiffness, f_slave, f_master)
+          penetration = 0.0_wp
+          touching = .true.
+        else
+          call penalty_force(x, pass%t_slave - 2.0_wp * pass%overlap(slot), xseg, pass%t_master, &
+                             stiffness, f_slave, &
+                             f_master, penetration, touching, v_slave=c%v(:, at), v_master=vseg, &
+                             mu_static=pass%mu_static, mu_dynamic=pass%mu_dynamic, decay=pass%decay, &
+                             v_slip=stick_speed, rounded_edges=.true., closest=[xi, eta, xc, normal])
+        end if
         if (touching) then
           c%record_penetration(k) = penetration
           c%record_nodes(1, k) = node
