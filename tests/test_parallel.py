@@ -232,6 +232,17 @@ def test_scaling_benchmark_partition_option(tmp_path: Path, capsys: pytest.Captu
     assert "partition rcb on 2 ranks: 5 shared nodes" in capsys.readouterr().out
 
 
+def test_scaling_benchmark_end_time_shortens_every_run(tmp_path: Path) -> None:
+    """paradyn-scaling --end-time runs each layout to that time (the deck it writes says so, and
+    the results end there), and refuses a time that is not positive."""
+    scene_path = ROOT / "cases" / "small_plate" / "scene.toml"
+    end = 0.25 * scene.load_scene(scene_path).run.end_time
+    assert benchmark.main([str(scene_path), "--layouts", "1x1", "--end-time", str(end), "-o", str(tmp_path)]) == 0
+    assert deck.read_deck(tmp_path / "deck.h5").control.end_time == end
+    with pytest.raises(SystemExit):
+        benchmark.main([str(scene_path), "--end-time", "0", "-o", str(tmp_path)])
+
+
 @pytest.mark.mpi
 def test_part_plastic_work_is_bitwise_the_same_on_two_threads(tmp_path: Path) -> None:
     """The per-element plastic work is computed on the threads and summed in element order

@@ -170,9 +170,14 @@ def main(argv: list[str] | None = None) -> int:
                         help="how elements are given to ranks: contiguous 'blocks' by element number or "
                              "'rcb' (recursive coordinate bisection); default: the scene's [run] partition, "
                              f"else {deck.DEFAULT_PARTITION}")
+    parser.add_argument("--end-time", type=float, default=None, metavar="SECONDS",
+                        help="simulated time of each run (default: the scene's end_time); a short one times "
+                             "the layouts in seconds")
     parser.add_argument("-o", "--output", type=Path, default=None,
                         help="output folder (default runs/scaling_<name of the scene's folder>)")
     args = parser.parse_args(argv)
+    if args.end_time is not None and not args.end_time > 0.0:
+        parser.error(f"--end-time must be > 0 seconds, got {args.end_time}")
     layouts = parse_layouts(args.layouts)
     name = args.scene.resolve().parent.name if args.scene.suffix == ".toml" else args.scene.stem
     out_dir = (args.output or Path.cwd() / "runs" / f"scaling_{name}").resolve()
@@ -181,6 +186,9 @@ def main(argv: list[str] | None = None) -> int:
         model = workflow.model_of(args.scene)
         if args.partition is not None:
             model.control.partition = args.partition
+        if args.end_time is not None:   # frames and records stay inside the shorter run
+            model.control.output_interval = min(model.control.output_interval, args.end_time)
+            model.control.end_time = args.end_time
         deck_path = deck.write_deck(model, out_dir / "deck.h5")
     except (scene.SceneError, deck.DeckError) as error:
         print(f"paradyn-scaling: error: {error}", file=sys.stderr)
