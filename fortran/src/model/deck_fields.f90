@@ -134,6 +134,20 @@ contains
       indices = nint(values)
       if (deck_datasets(id)%reference /= size_none) indices = indices + 1
     end if
+    select case (id)   ! ids in schema order: each part of the datasets has its routine
+    case (dataset_nodes_coordinates:dataset_contact_initial_penetration)
+      call store_datasets_1(d, id, values, indices)
+    case (dataset_rigid_walls_point:dataset_prescribed_curve)
+      call store_datasets_2(d, id, values, indices)
+    end select
+  end subroutine store_dataset
+
+  !> store_dataset for the datasets /nodes/coordinates to /contact/initial_penetration.
+  subroutine store_datasets_1(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
     select case (id)
     case (dataset_nodes_coordinates)
       d%coordinates = values
@@ -206,6 +220,16 @@ contains
       d%contact_kind = indices(1, :)
     case (dataset_contact_initial_penetration)
       d%contact_initial_penetration = indices(1, :)
+    end select
+  end subroutine store_datasets_1
+
+  !> store_dataset for the datasets /rigid_walls/point to /prescribed/curve.
+  subroutine store_datasets_2(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
     case (dataset_rigid_walls_point)
       d%rigid_wall_point = values
       d%n_rigid_walls = size(values, 2)
@@ -240,7 +264,7 @@ contains
     case (dataset_prescribed_curve)
       d%prescribed_curve = indices(1, :)
     end select
-  end subroutine store_dataset
+  end subroutine store_datasets_2
 
   !> Puts /control attribute id into its field (a string attribute arrives as its enum code).
   subroutine store_control(d, id, value)
