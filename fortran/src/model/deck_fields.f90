@@ -24,15 +24,16 @@ module deck_fields
                             dataset_curves_time, dataset_curves_value, dataset_pressure_part, &
                             dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, &
                             dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
-                            control_end_time, control_output_interval, control_history_interval, &
-                            control_time_step, control_time_step_safety, control_mass_damping, &
-                            control_progress_interval, control_contact_sort_interval, &
+                            dataset_base_accelerations_direction, dataset_base_accelerations_value, &
+                            dataset_base_accelerations_curve, control_end_time, control_output_interval, &
+                            control_history_interval, control_time_step, control_time_step_safety, &
+                            control_mass_damping, control_progress_interval, control_contact_sort_interval, &
                             control_checkpoint_interval, control_partition, control_contact_gather, &
                             control_precision, control_gravity_x, control_gravity_y, control_gravity_z, &
                             control_energy_error_limit, control_time_step_floor, &
                             control_contact_travel_limit, control_mass_scaling_step, &
-                            control_mass_scaling_limit, effect_point_loads, effect_pressure, &
-                            effect_rigid_wall, effect_prescribed_velocity, effect_contact
+                            control_mass_scaling_limit, effect_point_loads, effect_base_acceleration, &
+                            effect_pressure, effect_rigid_wall, effect_prescribed_velocity, effect_contact
   implicit none
   private
   public :: deck_fields_t, store_dataset, store_control, declare_by_rows, drop_rows
@@ -51,6 +52,7 @@ module deck_fields
     integer :: n_curve_points = 0
     integer :: n_pressures = 0
     integer :: n_prescribed = 0
+    integer :: n_base_accelerations = 0
     real(wp), allocatable :: coordinates(:, :)   !< /nodes/coordinates (3, n_nodes) m
     real(wp), allocatable :: velocity(:, :)   !< /nodes/initial_velocity (3, n_nodes) m/s
     real(wp), allocatable :: angular_velocity(:, :)   !< /nodes/initial_angular_velocity (3, n_nodes) rad/s
@@ -97,6 +99,9 @@ module deck_fields
     integer, allocatable :: prescribed_dof(:)   !< /prescribed/dof (n_prescribed) -
     real(wp), allocatable :: prescribed_value(:)   !< /prescribed/value (n_prescribed) m/s or rad/s
     integer, allocatable :: prescribed_curve(:)   !< /prescribed/curve (n_prescribed) -
+    real(wp), allocatable :: base_acceleration_direction(:, :)
+    real(wp), allocatable :: base_acceleration_value(:)
+    integer, allocatable :: base_acceleration_curve(:)   !< /base_accelerations/curve (n_base_accelerations) -
     real(wp) :: end_time = 0.0_wp   !< /control end_time (s)
     real(wp) :: output_interval = 0.0_wp   !< /control output_interval (s)
     real(wp) :: history_interval = 0.0_wp   !< /control history_interval (s)
@@ -137,7 +142,7 @@ contains
     select case (id)   ! ids in schema order: each part of the datasets has its routine
     case (dataset_nodes_coordinates:dataset_contact_initial_penetration)
       call store_datasets_1(d, id, values, indices)
-    case (dataset_rigid_walls_point:dataset_prescribed_curve)
+    case (dataset_rigid_walls_point:dataset_base_accelerations_curve)
       call store_datasets_2(d, id, values, indices)
     end select
   end subroutine store_dataset
@@ -223,7 +228,7 @@ contains
     end select
   end subroutine store_datasets_1
 
-  !> store_dataset for the datasets /rigid_walls/point to /prescribed/curve.
+  !> store_dataset for the datasets /rigid_walls/point to /base_accelerations/curve.
   subroutine store_datasets_2(d, id, values, indices)
     class(deck_fields_t), intent(inout) :: d
     integer, intent(in) :: id
@@ -263,6 +268,13 @@ contains
       d%prescribed_value = values(1, :)
     case (dataset_prescribed_curve)
       d%prescribed_curve = indices(1, :)
+    case (dataset_base_accelerations_direction)
+      d%base_acceleration_direction = values
+      d%n_base_accelerations = size(values, 2)
+    case (dataset_base_accelerations_value)
+      d%base_acceleration_value = values(1, :)
+    case (dataset_base_accelerations_curve)
+      d%base_acceleration_curve = indices(1, :)
     end select
   end subroutine store_datasets_2
 
@@ -322,6 +334,7 @@ contains
     class(deck_fields_t), intent(in) :: d
     logical, intent(inout) :: declared(n_effects)
     declared(effect_point_loads) = d%n_loads > 0
+    declared(effect_base_acceleration) = d%n_base_accelerations > 0
     declared(effect_pressure) = d%n_pressures > 0
     declared(effect_rigid_wall) = d%n_rigid_walls > 0
     declared(effect_prescribed_velocity) = d%n_prescribed > 0
@@ -333,6 +346,7 @@ contains
     class(deck_fields_t), intent(inout) :: d
     logical, intent(in) :: off(n_effects)
     if (off(effect_point_loads)) d%n_loads = 0
+    if (off(effect_base_acceleration)) d%n_base_accelerations = 0
     if (off(effect_pressure)) d%n_pressures = 0
     if (off(effect_rigid_wall)) d%n_rigid_walls = 0
     if (off(effect_prescribed_velocity)) d%n_prescribed = 0
