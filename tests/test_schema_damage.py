@@ -1,12 +1,13 @@
 """Every rule of the deck schema, broken one at a time, is refused by both validators.
 
 A small valid deck (two parts, a J2 and an elastic material, loads, a contact pair, tracked
-nodes, a rigid wall, every optional dataset and /control attribute present) is damaged once per rule that
-``schema/deck.toml`` declares (``paradyn._schema.RULES``): a required dataset or attribute
-removed, the wrong type class, the wrong shape or row count, each bound crossed, an unknown enum
-code, an index out of range, a non-finite value, each cross-field relation broken. The damages
-are derived from the schema tables, so a new dataset or bound is covered without editing this
-file; a new relation needs its damage in RELATION_DAMAGES (the coverage test says so).
+nodes, a rigid wall, a base acceleration, every optional dataset and /control attribute present)
+is damaged once per rule that ``schema/deck.toml`` declares (``paradyn._schema.RULES``): a required
+dataset or attribute removed, the wrong type class, the wrong shape or row count, each bound
+crossed, an unknown enum code, an index out of range, a non-finite value, each cross-field relation
+broken. The damages are derived from the schema tables, so a new dataset or bound is covered
+without editing this file; a new relation needs its damage in RELATION_DAMAGES (the coverage test
+says so).
 
 For each damaged deck, the frontend (``paradyn.deck.validate_deck``) must raise DeckError and the
 engine (run directly on one rank) must exit with status 2 (bad input) without creating a results
@@ -39,8 +40,8 @@ _ENTITY_SYMBOL = {s.entity: s.symbol for s in SIZES.values()}
 
 def _base_model() -> deck.Model:
     """Two 2 x 1 strips 1.5 mm apart: part 0 (rate-dependent J2 steel, so that its row meets every
-    condition of the /materials datasets) below, part 1 (elastic aluminium) above,
-    with gravity, a pressure on part 1 and a prescribed velocity, over two load curves."""
+    condition of the /materials datasets) below, part 1 (elastic aluminium) above, with gravity, a
+    pressure on part 1, a prescribed velocity and a base acceleration, over two load curves."""
     lower = geometry.plate((0.02, 0.01), (2, 1))
     upper = geometry.plate((0.02, 0.01), (2, 1), origin=(0.0, 0.0, 0.0015))
     n = lower.n_nodes
@@ -97,6 +98,9 @@ def _base_model() -> deck.Model:
         prescribed_dof=np.array([1]),
         prescribed_value=np.array([0.1]),
         prescribed_curve=np.array([1]),
+        base_acceleration_direction=np.array([[0.0, 3.0, 4.0]]),
+        base_acceleration_value=np.array([2.0]),
+        base_acceleration_curve=np.array([0]),
         control=deck.Control(end_time=2e-6, output_interval=1e-6, history_interval=5e-7, time_step=0.0,
                              time_step_safety=0.9, mass_damping=0.0, progress_interval=0.5,
                              contact_sort_interval=0, checkpoint_interval=0.0, partition="blocks",

@@ -133,6 +133,7 @@ SIZES: dict[str, SizeSpec] = {
     'n_curve_points': SizeSpec('n_curve_points', 'curve point', 0, None),
     'n_pressures': SizeSpec('n_pressures', 'pressure load', 0, None),
     'n_prescribed': SizeSpec('n_prescribed', 'prescribed motion', 0, None),
+    'n_base_accelerations': SizeSpec('n_base_accelerations', 'base acceleration', 0, 'base_acceleration'),
 }
 
 CONDITIONS: dict[str, ConditionSpec] = {
@@ -157,6 +158,10 @@ CONDITIONS: dict[str, ConditionSpec] = {
     'prescribed_group': ConditionSpec(
         name='prescribed_group', group='/prescribed', dataset=None, codes=(),
         meaning='the group /prescribed exists', rows='',
+    ),
+    'base_accelerations_group': ConditionSpec(
+        name='base_accelerations_group', group='/base_accelerations', dataset=None, codes=(),
+        meaning='the group /base_accelerations exists', rows='',
     ),
     'plastic': ConditionSpec(
         name='plastic', group=None, dataset='/materials/model', codes=(2, 3),
@@ -518,6 +523,28 @@ DATASETS: tuple[DatasetSpec, ...] = (
         None, None, '', None, '', 'curve', False, '-', 'curve of each prescribed velocity', '[[prescribe]] curve',
         'give the index of a curve of /curves/first_point',
     ),
+    DatasetSpec(
+        '/base_accelerations/direction', 'base_acceleration_direction', 'float', ('n_base_accelerations', 3),
+        False, 'base_accelerations_group', None, None, None, None, '', None, '', None, True, '-',
+        (
+            'direction of the acceleration (any length; the engine takes its unit vector, a zero vector gives no '
+            'acceleration)'
+        ), '[[base_acceleration]] direction', 'give a nonzero direction [x, y, z]',
+    ),
+    DatasetSpec(
+        '/base_accelerations/value', 'base_acceleration_value', 'float', ('n_base_accelerations',), False,
+        'base_accelerations_group', None, None, None, None, '', None, '', None, False, 'm/s^2',
+        (
+            "acceleration scale: a(t) = value x curve(t) along the direction, f_ext += m a(t) on every node's "
+            'translations (LS-DYNA *LOAD_BODY_X/Y/Z with a curve); rows add up'
+        ), '[[base_acceleration]] value', 'give the acceleration in m/s^2',
+    ),
+    DatasetSpec(
+        '/base_accelerations/curve', 'base_acceleration_curve', 'int', ('n_base_accelerations',), False,
+        'base_accelerations_group', None, None, None, None, '', None, '', 'curve', False, '-',
+        'curve of each base acceleration', '[[base_acceleration]] curve',
+        'give the index of a curve of /curves/first_point',
+    ),
 )
 
 CONTROL: tuple[AttributeSpec, ...] = (
@@ -678,6 +705,14 @@ CONTROL: tuple[AttributeSpec, ...] = (
         'use "on" or "off" (the scene\'s [effects] table takes true or false)',
     ),
     AttributeSpec(
+        'effect_base_acceleration', 'string', False, 'on', None, None, None, None, '', 'switch',
+        'must be "off" or "on"', '-',
+        (
+            '"off" switches off base_acceleration: prescribed body accelerations value x curve(t) along a '
+            "direction on every node (a shaken support's frame)"
+        ), '[effects] base_acceleration', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
+    ),
+    AttributeSpec(
         'effect_pressure', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
         '-', '"off" switches off pressure: a follower pressure with a load curve on the faces of a part\'s shells',
         '[effects] pressure', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
@@ -786,6 +821,9 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/prescribed/dof'): ('required_when', 'class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/prescribed/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
     ('dataset', '/prescribed/curve'): ('required_when', 'class', 'shape', 'rows', 'reference'),
+    ('dataset', '/base_accelerations/direction'): ('required_when', 'class', 'shape', 'finite'),
+    ('dataset', '/base_accelerations/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
+    ('dataset', '/base_accelerations/curve'): ('required_when', 'class', 'shape', 'rows', 'reference'),
     ('control', 'end_time'): ('missing', 'class', 'lower', 'finite'),
     ('control', 'output_interval'): ('missing', 'class', 'lower', 'finite'),
     ('control', 'history_interval'): ('class', 'lower', 'finite'),
@@ -808,6 +846,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('control', 'mass_scaling_limit'): ('class', 'lower', 'finite'),
     ('control', 'effect_point_loads'): ('class', 'enum'),
     ('control', 'effect_gravity'): ('class', 'enum'),
+    ('control', 'effect_base_acceleration'): ('class', 'enum'),
     ('control', 'effect_pressure'): ('class', 'enum'),
     ('control', 'effect_rigid_wall'): ('class', 'enum'),
     ('control', 'effect_mass_damping'): ('class', 'enum'),
@@ -872,12 +911,14 @@ CONTACT_PHASES = ('contact_sort', 'contact_search', 'contact_force')
 
 # The effects of a step (schema/effects.toml), in the order of the step
 EFFECTS = (
-    'point_loads', 'gravity', 'pressure', 'rigid_wall', 'time_integration', 'mass_damping', 'fixed_boundaries',
-    'prescribed_velocity', 'elastic_shells', 'plastic_shells', 'hourglass', 'contact', 'friction',
+    'point_loads', 'gravity', 'base_acceleration', 'pressure', 'rigid_wall', 'time_integration', 'mass_damping',
+    'fixed_boundaries', 'prescribed_velocity', 'elastic_shells', 'plastic_shells', 'hourglass', 'contact',
+    'friction',
 )
 EFFECT_SWITCHES: dict[str, str] = {
     'point_loads': 'point_loads',
     'gravity': 'gravity',
+    'base_acceleration': 'base_acceleration',
     'pressure': 'pressure',
     'rigid_wall': 'rigid_wall',
     'mass_damping': 'mass_damping',

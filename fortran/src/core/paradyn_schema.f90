@@ -17,17 +17,17 @@ module paradyn_schema
       history_contact_penetration, history_dt, history_dt_stable, history_dt_element, frame_field_names, &
       history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, size_n_elements, &
       size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, &
-      size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, n_sizes, condition_none, &
-      condition_loads_group, condition_contact_group, condition_rigid_walls_group, condition_curves_group, &
-      condition_pressure_group, condition_prescribed_group, condition_plastic, condition_strain_rate, &
-      n_conditions, enum_none, enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
-      enum_contact_kind, enum_initial_penetration, enum_contact_gather, enum_switch, enum_partition, &
-      enum_precision, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
-      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_nodes_id, &
-      dataset_elements_connectivity, dataset_elements_part, dataset_elements_id, dataset_parts_thickness, &
-      dataset_parts_material, dataset_parts_integration_points, dataset_parts_hourglass_coefficient, &
-      dataset_parts_hourglass_form, dataset_parts_warping_correction, dataset_parts_id, &
-      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
+      size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, size_n_base_accelerations, &
+      n_sizes, condition_none, condition_loads_group, condition_contact_group, condition_rigid_walls_group, &
+      condition_curves_group, condition_pressure_group, condition_prescribed_group, &
+      condition_base_accelerations_group, condition_plastic, condition_strain_rate, n_conditions, enum_none, &
+      enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, &
+      enum_initial_penetration, enum_contact_gather, enum_switch, enum_partition, enum_precision, n_enums, &
+      dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
+      dataset_nodes_fixed_dofs, dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, &
+      dataset_elements_id, dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
+      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_warping_correction, &
+      dataset_parts_id, dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
       dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
       dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
       dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
@@ -38,21 +38,23 @@ module paradyn_schema
       dataset_rigid_walls_penalty_scale, dataset_curves_first_point, dataset_curves_time, &
       dataset_curves_value, dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
       dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
-      n_deck_datasets, control_end_time, control_output_interval, control_history_interval, &
-      control_time_step, control_time_step_safety, control_mass_damping, control_progress_interval, &
-      control_contact_sort_interval, control_checkpoint_interval, control_partition, control_contact_gather, &
-      control_precision, control_gravity_x, control_gravity_y, control_gravity_z, control_energy_error_limit, &
-      control_time_step_floor, control_contact_travel_limit, control_mass_scaling_step, &
-      control_mass_scaling_limit, control_effect_point_loads, control_effect_gravity, &
-      control_effect_pressure, control_effect_rigid_wall, control_effect_mass_damping, &
-      control_effect_prescribed_velocity, control_effect_plasticity, control_effect_hourglass, &
-      control_effect_contact, control_effect_friction, n_control_attributes, control_restart_may_change, &
-      max_enum_members, n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
-      effect_time_integration, effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, &
-      effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, effect_friction, &
-      effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
-      size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
-      deck_conditions, deck_datasets, control_attributes, enum_name, enum_code, material_is_plastic, &
+      dataset_base_accelerations_direction, dataset_base_accelerations_value, &
+      dataset_base_accelerations_curve, n_deck_datasets, control_end_time, control_output_interval, &
+      control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
+      control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
+      control_partition, control_contact_gather, control_precision, control_gravity_x, control_gravity_y, &
+      control_gravity_z, control_energy_error_limit, control_time_step_floor, control_contact_travel_limit, &
+      control_mass_scaling_step, control_mass_scaling_limit, control_effect_point_loads, &
+      control_effect_gravity, control_effect_base_acceleration, control_effect_pressure, &
+      control_effect_rigid_wall, control_effect_mass_damping, control_effect_prescribed_velocity, &
+      control_effect_plasticity, control_effect_hourglass, control_effect_contact, control_effect_friction, &
+      n_control_attributes, control_restart_may_change, max_enum_members, n_effects, effect_point_loads, &
+      effect_gravity, effect_base_acceleration, effect_pressure, effect_rigid_wall, effect_time_integration, &
+      effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, effect_elastic_shells, &
+      effect_plastic_shells, effect_hourglass, effect_contact, effect_friction, effect_names, &
+      effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, size_min_rows, &
+      enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, deck_conditions, &
+      deck_datasets, control_attributes, enum_name, enum_code, material_is_plastic, &
       contact_kind_is_self_contact, contact_kind_is_tied
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
@@ -125,7 +127,8 @@ module paradyn_schema
   integer, parameter :: size_n_curve_points = 10
   integer, parameter :: size_n_pressures = 11
   integer, parameter :: size_n_prescribed = 12
-  integer, parameter :: n_sizes = 12
+  integer, parameter :: size_n_base_accelerations = 13
+  integer, parameter :: n_sizes = 13
   integer, parameter :: condition_none = 0
   integer, parameter :: condition_loads_group = 1
   integer, parameter :: condition_contact_group = 2
@@ -133,9 +136,10 @@ module paradyn_schema
   integer, parameter :: condition_curves_group = 4
   integer, parameter :: condition_pressure_group = 5
   integer, parameter :: condition_prescribed_group = 6
-  integer, parameter :: condition_plastic = 7
-  integer, parameter :: condition_strain_rate = 8
-  integer, parameter :: n_conditions = 8
+  integer, parameter :: condition_base_accelerations_group = 7
+  integer, parameter :: condition_plastic = 8
+  integer, parameter :: condition_strain_rate = 9
+  integer, parameter :: n_conditions = 9
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
   integer, parameter :: enum_hourglass_form = 2
@@ -199,7 +203,10 @@ module paradyn_schema
   integer, parameter :: dataset_prescribed_dof = 49
   integer, parameter :: dataset_prescribed_value = 50
   integer, parameter :: dataset_prescribed_curve = 51
-  integer, parameter :: n_deck_datasets = 51
+  integer, parameter :: dataset_base_accelerations_direction = 52
+  integer, parameter :: dataset_base_accelerations_value = 53
+  integer, parameter :: dataset_base_accelerations_curve = 54
+  integer, parameter :: n_deck_datasets = 54
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -222,55 +229,57 @@ module paradyn_schema
   integer, parameter :: control_mass_scaling_limit = 20
   integer, parameter :: control_effect_point_loads = 21
   integer, parameter :: control_effect_gravity = 22
-  integer, parameter :: control_effect_pressure = 23
-  integer, parameter :: control_effect_rigid_wall = 24
-  integer, parameter :: control_effect_mass_damping = 25
-  integer, parameter :: control_effect_prescribed_velocity = 26
-  integer, parameter :: control_effect_plasticity = 27
-  integer, parameter :: control_effect_hourglass = 28
-  integer, parameter :: control_effect_contact = 29
-  integer, parameter :: control_effect_friction = 30
-  integer, parameter :: n_control_attributes = 30
+  integer, parameter :: control_effect_base_acceleration = 23
+  integer, parameter :: control_effect_pressure = 24
+  integer, parameter :: control_effect_rigid_wall = 25
+  integer, parameter :: control_effect_mass_damping = 26
+  integer, parameter :: control_effect_prescribed_velocity = 27
+  integer, parameter :: control_effect_plasticity = 28
+  integer, parameter :: control_effect_hourglass = 29
+  integer, parameter :: control_effect_contact = 30
+  integer, parameter :: control_effect_friction = 31
+  integer, parameter :: n_control_attributes = 31
   logical, parameter :: control_restart_may_change(n_control_attributes) = [.false., .true., .true., .false., &
     .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .false., &
     .true., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., &
-    .false., .false., .false.]
+    .false., .false., .false., .false.]
   integer, parameter :: max_enum_members = 3
 
   ! effects of a step (schema/effects.toml), in the order of the step
-  integer, parameter :: n_effects = 13
+  integer, parameter :: n_effects = 14
   integer, parameter :: effect_point_loads = 1
   integer, parameter :: effect_gravity = 2
-  integer, parameter :: effect_pressure = 3
-  integer, parameter :: effect_rigid_wall = 4
-  integer, parameter :: effect_time_integration = 5
-  integer, parameter :: effect_mass_damping = 6
-  integer, parameter :: effect_fixed_boundaries = 7
-  integer, parameter :: effect_prescribed_velocity = 8
-  integer, parameter :: effect_elastic_shells = 9
-  integer, parameter :: effect_plastic_shells = 10
-  integer, parameter :: effect_hourglass = 11
-  integer, parameter :: effect_contact = 12
-  integer, parameter :: effect_friction = 13
+  integer, parameter :: effect_base_acceleration = 3
+  integer, parameter :: effect_pressure = 4
+  integer, parameter :: effect_rigid_wall = 5
+  integer, parameter :: effect_time_integration = 6
+  integer, parameter :: effect_mass_damping = 7
+  integer, parameter :: effect_fixed_boundaries = 8
+  integer, parameter :: effect_prescribed_velocity = 9
+  integer, parameter :: effect_elastic_shells = 10
+  integer, parameter :: effect_plastic_shells = 11
+  integer, parameter :: effect_hourglass = 12
+  integer, parameter :: effect_contact = 13
+  integer, parameter :: effect_friction = 14
   character(len=19), parameter :: effect_names(n_effects) = [character(len=19) :: 'point_loads', 'gravity', &
-    'pressure', 'rigid_wall', 'time_integration', 'mass_damping', 'fixed_boundaries', 'prescribed_velocity', &
-    'elastic_shells', 'plastic_shells', 'hourglass', 'contact', 'friction']
-  integer, parameter :: effect_timed_with(n_effects) = [0, 0, 0, 0, 0, effect_time_integration, &
+    'base_acceleration', 'pressure', 'rigid_wall', 'time_integration', 'mass_damping', 'fixed_boundaries', &
+    'prescribed_velocity', 'elastic_shells', 'plastic_shells', 'hourglass', 'contact', 'friction']
+  integer, parameter :: effect_timed_with(n_effects) = [0, 0, 0, 0, 0, 0, effect_time_integration, &
     effect_time_integration, 0, 0, 0, effect_elastic_shells, 0, effect_contact]
-  integer, parameter :: effect_also_timed_with(n_effects) = [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, &
+  integer, parameter :: effect_also_timed_with(n_effects) = [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, &
     effect_plastic_shells, 0, 0]
   integer, parameter :: effect_switch(n_effects) = [control_effect_point_loads, control_effect_gravity, &
-    control_effect_pressure, control_effect_rigid_wall, 0, control_effect_mass_damping, 0, &
-    control_effect_prescribed_velocity, 0, control_effect_plasticity, control_effect_hourglass, &
-    control_effect_contact, control_effect_friction]
+    control_effect_base_acceleration, control_effect_pressure, control_effect_rigid_wall, 0, &
+    control_effect_mass_damping, 0, control_effect_prescribed_velocity, 0, control_effect_plasticity, &
+    control_effect_hourglass, control_effect_contact, control_effect_friction]
 
-  character(len=14), parameter :: size_symbol(n_sizes) = [character(len=14) :: 'n_nodes', 'n_elements', &
+  character(len=20), parameter :: size_symbol(n_sizes) = [character(len=20) :: 'n_nodes', 'n_elements', &
     'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_rigid_walls', 'n_curves', &
-    'n_curve_points', 'n_pressures', 'n_prescribed']
+    'n_curve_points', 'n_pressures', 'n_prescribed', 'n_base_accelerations']
   character(len=17), parameter :: size_entity(n_sizes) = [character(len=17) :: 'node', 'element', 'part', &
     'material', 'load', 'tracked node', 'contact pair', 'rigid wall', 'curve', 'curve point', &
-    'pressure load', 'prescribed motion']
-  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0]
+    'pressure load', 'prescribed motion', 'base acceleration']
+  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0]
 
   !> Members of an enum: codes and the names a scene or a string attribute uses.
   type :: enum_spec_t
@@ -281,7 +290,7 @@ module paradyn_schema
 
   !> A group that exists (group), or a dataset with an entry equal to one of codes.
   type :: condition_spec_t
-    character(len=12) :: group
+    character(len=19) :: group
     integer :: dataset                  !< dataset id, 0 for a group condition
     integer :: n_codes                  !< the codes it selects: codes(1:n_codes)
     integer :: codes(max_enum_members)
@@ -345,6 +354,7 @@ module paradyn_schema
     condition_spec_t('/curves', 0, 0, [0, 0, 0], ''), &
     condition_spec_t('/pressure', 0, 0, [0, 0, 0], ''), &
     condition_spec_t('/prescribed', 0, 0, [0, 0, 0], ''), &
+    condition_spec_t('/base_accelerations', 0, 0, [0, 0, 0], ''), &
     condition_spec_t('', 16, 2, [2, 3, 0], 'for a plastic material'), &
     condition_spec_t('', 16, 1, [3, 0, 0], 'for a j2_rate material') ]
 
@@ -521,7 +531,18 @@ module paradyn_schema
         enum_none, 0, [0, 0, 0], size_none, '', '', 'give the velocity in m/s (rad/s for a rotation)'), &
     dataset_spec_t('/prescribed/curve', class_int, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point') ]
+        enum_none, 0, [0, 0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point'), &
+    dataset_spec_t('/base_accelerations/direction', class_float, 3, size_n_base_accelerations, .true., &
+        .false., condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., &
+        .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0], size_none, '', '', &
+        'give a nonzero direction [x, y, z]'), &
+    dataset_spec_t('/base_accelerations/value', class_float, 0, size_n_base_accelerations, .false., .false., &
+        condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0], size_none, '', '', 'give the acceleration in m/s^2'), &
+    dataset_spec_t('/base_accelerations/curve', class_int, 0, size_n_base_accelerations, .false., .false., &
+        condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0], size_n_curves, '', '', &
+        'give the index of a curve of /curves/first_point') ]
 
   type(attribute_spec_t), parameter :: control_attributes(n_control_attributes) = [ &
     attribute_spec_t('end_time', class_float, .true., 0.0_wp, 0, 0.0_wp, .true., .false., .false., .true., &
@@ -581,6 +602,9 @@ module paradyn_schema
         'use "on" or "off" (the scene''s [effects] table takes true or false)'), &
     attribute_spec_t('effect_gravity', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
+        'use "on" or "off" (the scene''s [effects] table takes true or false)'), &
+    attribute_spec_t('effect_base_acceleration', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., &
+        .false., .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &
         'use "on" or "off" (the scene''s [effects] table takes true or false)'), &
     attribute_spec_t('effect_pressure', class_string, .false., 1.0_wp, 0, 0.0_wp, .false., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_switch, '', 'must be "off" or "on"', &

@@ -25,15 +25,16 @@ module deck_fields
                             dataset_curves_time, dataset_curves_value, dataset_pressure_part, &
                             dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, &
                             dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
-                            control_end_time, control_output_interval, control_history_interval, &
-                            control_time_step, control_time_step_safety, control_mass_damping, &
-                            control_progress_interval, control_contact_sort_interval, &
+                            dataset_base_accelerations_direction, dataset_base_accelerations_value, &
+                            dataset_base_accelerations_curve, control_end_time, control_output_interval, &
+                            control_history_interval, control_time_step, control_time_step_safety, &
+                            control_mass_damping, control_progress_interval, control_contact_sort_interval, &
                             control_checkpoint_interval, control_partition, control_contact_gather, &
                             control_precision, control_gravity_x, control_gravity_y, control_gravity_z, &
                             control_energy_error_limit, control_time_step_floor, &
                             control_contact_travel_limit, control_mass_scaling_step, &
-                            control_mass_scaling_limit, effect_point_loads, effect_pressure, &
-                            effect_rigid_wall, effect_prescribed_velocity, effect_contact
+                            control_mass_scaling_limit, effect_point_loads, effect_base_acceleration, &
+                            effect_pressure, effect_rigid_wall, effect_prescribed_velocity, effect_contact
   implicit none
   private
   public :: deck_fields_t, store_dataset, store_control, declare_by_rows, drop_rows
@@ -52,6 +53,7 @@ module deck_fields
     integer :: n_curve_points = 0
     integer :: n_pressures = 0
     integer :: n_prescribed = 0
+    integer :: n_base_accelerations = 0
     real(wp), allocatable :: coordinates(:, :)   !< /nodes/coordinates (3, n_nodes) m
     real(wp), allocatable :: velocity(:, :)   !< /nodes/initial_velocity (3, n_nodes) m/s
     real(wp), allocatable :: angular_velocity(:, :)   !< /nodes/initial_angular_velocity (3, n_nodes) rad/s
@@ -100,6 +102,9 @@ module deck_fields
     integer, allocatable :: prescribed_dof(:)   !< /prescribed/dof (n_prescribed) -
     real(wp), allocatable :: prescribed_value(:)   !< /prescribed/value (n_prescribed) m/s or rad/s
     integer, allocatable :: prescribed_curve(:)   !< /prescribed/curve (n_prescribed) -
+    real(wp), allocatable :: base_acceleration_direction(:, :)
+    real(wp), allocatable :: base_acceleration_value(:)
+    integer, allocatable :: base_acceleration_curve(:)   !< /base_accelerations/curve (n_base_accelerations) -
     real(wp) :: end_time = 0.0_wp   !< /control end_time (s)
     real(wp) :: output_interval = 0.0_wp   !< /control output_interval (s)
     real(wp) :: history_interval = 0.0_wp   !< /control history_interval (s)
@@ -150,6 +155,7 @@ contains
     call store_curves(d, id, values, indices)
     call store_pressure(d, id, values, indices)
     call store_prescribed(d, id, values, indices)
+    call store_base_accelerations(d, id, values, indices)
   end subroutine store_dataset
 
   !> Puts dataset id into its field if it is one of /nodes (store_dataset).
@@ -370,6 +376,23 @@ contains
     end select
   end subroutine store_prescribed
 
+  !> Puts dataset id into its field if it is one of /base_accelerations (store_dataset).
+  subroutine store_base_accelerations(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
+    case (dataset_base_accelerations_direction)
+      d%base_acceleration_direction = values
+      d%n_base_accelerations = size(values, 2)
+    case (dataset_base_accelerations_value)
+      d%base_acceleration_value = values(1, :)
+    case (dataset_base_accelerations_curve)
+      d%base_acceleration_curve = indices(1, :)
+    end select
+  end subroutine store_base_accelerations
+
   !> Puts /control attribute id into its field (a string attribute arrives as its enum code).
   subroutine store_control(d, id, value)
     class(deck_fields_t), intent(inout) :: d
@@ -426,6 +449,7 @@ contains
     class(deck_fields_t), intent(in) :: d
     logical, intent(inout) :: declared(n_effects)
     declared(effect_point_loads) = d%n_loads > 0
+    declared(effect_base_acceleration) = d%n_base_accelerations > 0
     declared(effect_pressure) = d%n_pressures > 0
     declared(effect_rigid_wall) = d%n_rigid_walls > 0
     declared(effect_prescribed_velocity) = d%n_prescribed > 0
@@ -437,6 +461,7 @@ contains
     class(deck_fields_t), intent(inout) :: d
     logical, intent(in) :: off(n_effects)
     if (off(effect_point_loads)) d%n_loads = 0
+    if (off(effect_base_acceleration)) d%n_base_accelerations = 0
     if (off(effect_pressure)) d%n_pressures = 0
     if (off(effect_rigid_wall)) d%n_rigid_walls = 0
     if (off(effect_prescribed_velocity)) d%n_prescribed = 0

@@ -4,7 +4,7 @@
 module effect_factory
   use paradyn_kinds, only: wp
   use paradyn_schema, only: n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
-                            effect_prescribed_velocity
+                            effect_prescribed_velocity, effect_base_acceleration
   use model_deck, only: deck_t, node_row, deck_gravity
   use domain_decomposition, only: domain_t, local_node
   use effect_table, only: effect_table_t
@@ -15,6 +15,7 @@ module effect_factory
   use gravity_effect, only: gravity_effect_make
   use pressure_effect, only: pressure_effect_make
   use prescribed_velocity, only: prescribed_velocity_make
+  use base_acceleration_effect, only: base_acceleration_effect_make
   implicit none
   private
   public :: make_nodal_effects
@@ -45,6 +46,10 @@ contains
       case (effect_gravity)
         call append(effects)
         allocate (effects(size(effects))%effect, source=gravity_effect_make(deck_gravity(deck)))
+      case (effect_base_acceleration)
+        call append(effects)
+        allocate (effects(size(effects))%effect, source=base_acceleration_effect_make(curves, &
+          deck%base_acceleration_direction, deck%base_acceleration_value, deck%base_acceleration_curve))
       case (effect_pressure)
         call append(effects)
         allocate (effects(size(effects))%effect, source=pressure_effect_make(curves, deck%pressure_part, &

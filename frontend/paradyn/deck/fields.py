@@ -65,6 +65,9 @@ class DeckFields:
     prescribed_dof: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     prescribed_value: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))
     prescribed_curve: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
+    base_acceleration_direction: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.float64))
+    base_acceleration_value: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))
+    base_acceleration_curve: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
 
     @property
     def n_loads(self) -> int:
@@ -105,6 +108,11 @@ class DeckFields:
     def n_prescribed(self) -> int:
         """Rows of /prescribed/node."""
         return _rows(self.prescribed_node, 1)
+
+    @property
+    def n_base_accelerations(self) -> int:
+        """Rows of /base_accelerations/direction."""
+        return _rows(self.base_acceleration_direction, 2)
 
 
 def _rows(value: object, rank: int) -> int:

@@ -82,8 +82,8 @@ def read_key(r: _Reader, table: Mapping[str, Any], key: str, spec: DatasetSpec, 
     default = _REQUIRED if key_required(spec) else _scene_default(spec)
     if spec.enum is not None:
         return r.string(table, key, label, default=default, choices=list(ENUMS[spec.enum]))
-    if spec.reference in _NAMED_BY:
-        return r.string(table, key, label, default=default)
+    if spec.reference in _NAMED_BY:   # a name; an absent optional one is None (a curve: the constant 1)
+        return r.string(table, key, label) if key in table or default is _REQUIRED else default
     if len(spec.shape) > 1:
         value = r.vector(table, key, label, default=default, length=int(spec.shape[1]))
     elif spec.type == "int":
