@@ -6,7 +6,7 @@ Each round runs the scene three ways, in fresh processes so that imports count:
   time from summary.json (``wall_s``); the difference is the fixed cost;
 - the same stages one by one, each timed inside one process (interpreter and imports, meshing,
   h5py, deck, check, engine process against its loop, reading and post-processing; the command
-  itself sends its deck to a waiting engine and loads h5py while the engine runs);
+  itself writes its deck with h5py while its waiting engine starts MPI);
 - ``python -c pass``, the interpreter alone;
 - ``paradyn.run`` twice in one interpreter: the second call's wall time less its loop is what a
   Python session (a notebook, a script looping over runs) pays, with no imports left to make.
@@ -41,7 +41,7 @@ t1 = time.perf_counter()
 source, out, threads, plots = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4] == "1"
 model = scene.build_model(scene.load_scene(source))
 t2 = time.perf_counter()
-import h5py   # the command loads it while its engine runs (paradyn.deck.stream)
+import h5py   # the command loads it to write its deck
 t2h = time.perf_counter()
 path = deck.write_deck(model, out + "/deck.h5")
 t3 = time.perf_counter()

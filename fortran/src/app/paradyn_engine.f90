@@ -3,10 +3,9 @@
 !> --check sets the run up (the deck's checks, the initial penetrations, the stable step), prints
 !> PARADYN-CHECK and exits without writing anything; --expect-ranks=N refuses to run on another
 !> number of MPI ranks than the launcher was asked for (docs/errors.md); --await-deck starts MPI
-!> and HDF5, then waits for the line `go` on standard input before it reads the deck; before
-!> `go`, the line `deck` and the deck itself have it write DECK.h5 first (deck_stream): the
-!> frontend starts the engine while it still meshes; end of input or another line ends the
-!> engine with status 0 without running.
+!> and HDF5, then waits for the line `go` on standard input before it reads the deck: the
+!> frontend starts the engine while it still meshes and writes DECK.h5; end of input or another
+!> line ends the engine with status 0 without running.
 !> Runs one deck under MPI (element partitions across ranks) and OpenMP (groups across threads) and
 !> writes the results file, with a checkpoint beside it every /control checkpoint_interval and
 !> when stopped by SIGTERM, SIGINT or SIGUSR1. --restart continues a run from its checkpoint.
@@ -28,13 +27,12 @@ program paradyn_engine
   use singleton_start, only: prefer_light_singleton, remove_session_base
   use process_environment, only: default_environment
   use run_names, only: copy_run_names
-  use deck_stream, only: stream_reader_t, write_streamed_deck, bad_stream
   use deck_effects, only: effects_of_deck
   use contact_checks, only: resolve_initial_penetrations
   use contact_global_rows, only: replicated_contact_deck
   use contact_parallel, only: contact_is_local
   use model_deck, only: node_row, element_row
-  use, intrinsic :: iso_fortran_env, only: error_unit
+  use, intrinsic :: iso_fortran_env, only: error_unit, input_unit
   use effect_table, only: effect_table_t, effect_list
   use machine_memory, only: node_memory_mb, deck_memory_mb, proc_kib
   use phase_timers, only: wall_clock
@@ -106,8 +104,7 @@ program paradyn_engine
         '--restart continues an interrupted run from its checkpoint (default RESULTS.checkpoint.h5).', &
         '--check sets the run up, prints PARADYN-CHECK (the first step, the stable step, the steps) and writes nothing.', &
         '--expect-ranks=N stops with status 2 unless the launcher started N ranks.', &
-        '--await-deck waits for the line go on standard input before reading the deck; before it, the line deck '// &
-        'and the deck stream have DECK.h5 written first (docs/formats.md; end of input: exit 0).'
+        '--await-deck waits for the line go on standard input before reading the deck (end of input: exit 0).'
       call finish(status_ok)
     else if (argument == '--restart') then
       restart = .true.
@@ -335,28 +332,19 @@ contains
     call c_quick_exit(int(status_failure, c_int))
   end subroutine stop_on_full_disk
 
-  !> Rank 0 reads the frontend's lines: `go` runs the deck file. Before it, `deck` and the deck
-  !> itself (deck_stream) have the deck written to the deck path first. The end of input, or
-  !> another line, ends the engine with status 0 without running: the frontend gave up. Every
+  !> Rank 0 reads the frontend's line: `go` runs the deck file it has written. The end of input,
+  !> or another line, ends the engine with status 0 without running: the frontend gave up. Every
   !> rank learns the verdict.
   subroutine await_frontend()
-    type(stream_reader_t) :: input
-    character(len=:), allocatable :: line
-    integer :: verdict   ! 0: go on; -1: no run; else the status of a deck stream that failed
+    character(len=8) :: line
+    integer :: verdict, ios   ! verdict 0: go on; -1: no run
     verdict = -1
-    message = ''
     if (rank == 0) then
-      call input%line(line)
-      if (line == 'deck') then
-        call write_streamed_deck(input, trim(deck_path), err, message)
-        if (err /= 0) verdict = merge(status_bad_input, status_failure, err == bad_stream)
-        if (err == 0) call input%line(line)   ! the deck is written: now `go`, as after a deck file
-      end if
-      if (verdict < 0 .and. line == 'go') verdict = 0
+      read (input_unit, '(a)', iostat=ios) line
+      if (ios == 0 .and. line == 'go') verdict = 0
     end if
     call MPI_Bcast(verdict, 1, MPI_INTEGER, 0, comm)
     if (verdict < 0) call finish(status_ok)
-    if (verdict > 0) call fail(verdict, trim(message))
   end subroutine await_frontend
 
   function beside(path, name) result(other)

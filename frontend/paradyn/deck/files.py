@@ -26,8 +26,8 @@ from paradyn._schema import (
     DatasetSpec,
 )
 
+from .items import deck_items
 from .model import CONTROL_BY_NAME, DATASET_BY_ATTRIBUTE, SWITCH_ATTRIBUTES, Control, Model
-from .stream import deck_items
 from .validation import DeckError, validate_model
 
 if TYPE_CHECKING:
@@ -40,7 +40,7 @@ if TYPE_CHECKING:
 def write_deck(model: Model, path: str | Path) -> Path:
     """Validate ``model`` and write it to ``path`` atomically (temporary file, then rename)."""
     path = Path(path)
-    import h5py  # where a file is opened: a run sends its deck to the engine before h5py loads (paradyn.deck.stream)
+    import h5py  # where a file is opened
 
     validate_model(model, source=f"{path} (not written)")
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -54,7 +54,7 @@ class IncompleteResultsError(ResultsError):
 
 def open_results(path: Path) -> h5py.File:
     """Open ``path`` for reading; raise ResultsError saying why it cannot be opened."""
-    import h5py  # where a file is opened: paradyn-run loads it only once its engine runs (paradyn.deck.stream)
+    import h5py  # where a file is opened
 
     try:
         return h5py.File(path, "r")

@@ -17,7 +17,7 @@ import signal
 import subprocess
 import threading
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
@@ -148,31 +148,15 @@ class AwaitingEngine:
     process: subprocess.Popen
     command: list[str]
     environment: dict[str, str] = field(default_factory=dict)   #: the one it was started in
-    #: what the caller does while the engine reads its deck and runs (paradyn.run loads h5py)
-    on_go: Callable[[], None] | None = None
 
     def go(self) -> subprocess.Popen:
-        """The deck is written: the engine reads it and runs; then :attr:`on_go`, if set, runs here."""
+        """The deck is written: the engine reads it and runs."""
         self._tell("go\n")
-        if self.on_go is not None:
-            self.on_go()
         return self.process
 
-    def send_deck(self, stream: Iterable[bytes | memoryview]) -> None:
-        """Send the deck itself (:func:`paradyn.deck.stream.encode`): the engine writes it to its
-        deck path and waits for :meth:`go`."""
-        assert self.process.stdin is not None
-        with contextlib.suppress(BrokenPipeError):   # an engine that failed: its status tells
-            self.process.stdin.write("deck\n")
-            self.process.stdin.flush()
-            for chunk in stream:
-                self.process.stdin.buffer.write(chunk)
-            self.process.stdin.buffer.flush()
-
     def cancel(self) -> None:
-        """No run will come: the engine ends with status 0 without running (a deck it was sent
-        stays written, nothing else). Nothing once it was told to go (its run is followed, and
-        ended, elsewhere)."""
+        """No run will come: the engine ends with status 0 without running (the deck file, if written,
+        stays). Nothing once it was told to go (its run is followed, and ended, elsewhere)."""
         assert self.process.stdin is not None
         if self.process.stdin.closed:
             return

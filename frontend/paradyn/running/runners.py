@@ -209,8 +209,8 @@ class SrunRunner(Runner):
     def command(self, deck: Path, results: Path, ranks: int, threads: int,
                 restart: bool = False) -> list[str]:
         # Slurm 22.05 and later: srun does not inherit --cpus-per-task, so it is passed explicitly;
-        # standard input goes to rank 0 alone, the one that reads it (--await-deck's deck stream:
-        # by default srun copies it to every task, and the others would never drain theirs)
+        # standard input goes to rank 0 alone, the one that reads it (--await-deck's go: by default
+        # srun copies it to every task, and the others would never drain theirs)
         return ["srun", "-n", str(ranks), f"--cpus-per-task={threads}", "--export=ALL", "--input=0",
                 str(self.machine.engine), *_engine_arguments(deck, results, restart, ranks)]
 

@@ -15,7 +15,6 @@ from pathlib import Path
 from typing import Any
 
 from paradyn import deck, scene
-from paradyn.deck import stream as deck_stream
 from paradyn.results.postprocess import post_process
 from paradyn.results.reading import Results, read
 from paradyn.scene.builder import Scene as SceneBuilder
@@ -146,8 +145,6 @@ def run(
         post_command = _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None
         return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
     on_progress = display if display is not None else (progress if callable(progress) else None)
-    if started is not None:
-        started.on_go = _load_readers
     finish = _Finish(out / results_name, deck_path, display, post, _source_name(source), extra or {},
                      {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series})
     try:
@@ -226,12 +223,6 @@ class _Finish:
         return results
 
 
-def _load_readers() -> None:
-    """h5py, which reading the results needs, loaded while the engine reads its deck and runs:
-    up to here a run loads none (docs/performance.md, "Fixed costs")."""
-    import h5py  # noqa: F401
-
-
 def _stage(display: RunProgress | None, name: str) -> AbstractContextManager[None]:
     return display.stage(name) if display is not None else nullcontext()
 
@@ -285,12 +276,7 @@ def _write_deck(source: Source, loaded: Source, out: Path, ranks: int, threads: 
     try:
         with _stage(display, "meshing" if _is_scene(source) else "reading the model"):
             model = model_of(loaded)
-        deck_path = out / "deck.h5"
-        if started is None:
-            deck.write_deck(model, deck_path)
-        else:   # the waiting engine writes deck.h5 from the stream (docs/formats.md, "Deck stream")
-            deck.validate_model(model, source=f"{deck_path} (not written)")
-            started.send_deck(deck_stream.encode(model))
+        deck_path = deck.write_deck(model, out / "deck.h5")   # a waiting engine reads it once told to go
         if display is not None:
             display.report(preflight.check_model(model, ranks, threads).lines())
     except BaseException:
