@@ -205,3 +205,18 @@ def test_every_run_starts_with_the_check(tmp_path: Path, capsys: pytest.CaptureF
     quiet = capsys.readouterr().err
     assert "stable step" not in quiet and "meshing" not in quiet
     assert quiet.splitlines() == [next(line for line in err.splitlines() if "g/cm^3" in line)]   # the warning alone
+
+
+def test_settings_that_rarely_mean_what_was_meant_are_named() -> None:
+    """An output interval longer than the run, an hourglass coefficient of 1e6 and a contact
+    penalty scale of 1e6 run, but each gets a warning that names it and a usual value."""
+    model = _two_plates(Control(end_time=1e-4, output_interval=5e-4, history_interval=1e-5))
+    model.hourglass_coefficient = np.array([1e6, 0.1])
+    model.contact_pairs = np.array([[0, 1]], dtype=np.int32)
+    model.contact_penalty_scale = np.array([1e6])
+    warnings = preflight.check_model(model).warnings
+    assert any(w.startswith("output_interval 0.0005 s is longer than end_time 0.0001 s") for w in warnings)
+    assert not any(w.startswith("history_interval") for w in warnings)
+    assert any(w.startswith("part steel_plate: hourglass coefficient 1e+06 is far above") for w in warnings)
+    assert any(w.startswith("contact 0: penalty scale 1e+06 is far above") for w in warnings)
+    assert len(warnings) == 3

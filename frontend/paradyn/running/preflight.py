@@ -216,8 +216,36 @@ def check_model(model: deck.Model, ranks: int = 1, threads: int = 1) -> Prefligh
                        end_time=model.control.end_time, n_elements=len(np.asarray(model.element_part)),
                        n_nodes=len(np.asarray(model.coordinates)), ranks=ranks, threads=threads,
                        rate=rate, rate_source=source)
-    result.warnings = unit_warnings(model, result) + idle_warnings(model)
+    result.warnings = unit_warnings(model, result) + idle_warnings(model) + setting_warnings(model)
     return result
+
+
+# coefficients far outside any sensible range (the usual values are 0.05 to 0.15 and 0.1)
+HOURGLASS_COEFFICIENT_SUSPECT = 1.0
+PENALTY_SCALE_SUSPECT = 10.0
+
+
+def setting_warnings(model: deck.Model) -> list[str]:
+    """Settings that run but rarely mean what was meant: an output or history interval longer
+    than the run, and an hourglass coefficient or contact penalty scale far outside the usual."""
+    out: list[str] = []
+    c = model.control
+    for name in ("output_interval", "history_interval"):
+        value = getattr(c, name)
+        if value is not None and value > c.end_time:
+            out.append(f"{name} {value:g} s is longer than end_time {c.end_time:g} s: only the start and the end "
+                       f"are recorded; give an interval below end_time")
+    names = _part_names(model)
+    for part, coefficient in enumerate(np.asarray(model.hourglass_coefficient, dtype=float)):
+        if coefficient > HOURGLASS_COEFFICIENT_SUSPECT:
+            out.append(f"part {names[part]}: hourglass coefficient {coefficient:g} is far above the usual 0.05 to "
+                       f"0.15 (it stiffens the element against its own bending); use 0.1, or the physical form")
+    scales = model.contact_penalty_scale
+    for k, scale in enumerate(np.asarray(scales if scales is not None else [], dtype=float)):
+        if scale > PENALTY_SCALE_SUSPECT:
+            out.append(f"contact {k}: penalty scale {scale:g} is far above the usual 0.1 (1 for stiff contact): "
+                       f"the contact springs may set a step the run does not take; use 0.1 to 1")
+    return out
 
 
 def idle_warnings(model: deck.Model) -> list[str]:
