@@ -112,3 +112,7 @@ def test_version(capsys: pytest.CaptureFixture[str]) -> None:
     assert done.value.code == 0
     out = capsys.readouterr().out
     assert out.startswith("paradyn-run 0.1.0 (Python ") and "engine " in out
+    # the engine's own --version: its build
+    assert "\nparadyn-engine " in out and " precision, " in out
+    for line in ("compiler: ", "flags: ", "MPI: ", "HDF5: "):
+        assert f"\n{line}" in out

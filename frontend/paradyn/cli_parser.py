@@ -5,6 +5,7 @@ command can read its arguments and start the engine before the heavy imports
 from __future__ import annotations
 
 import argparse
+import subprocess
 import sys
 from pathlib import Path
 
@@ -71,7 +72,9 @@ def build_parser() -> argparse.ArgumentParser:
                              "unit warnings) and stop")
     parser.add_argument("--force", action="store_true",
                         help="write into an output folder that holds the run of another scene")
-    parser.add_argument("--version", action="version", version=version_text())
+    parser.add_argument("--version", action=_Version, nargs=0,
+                        help="the package's version and the engine's build (commit, precision, compiler and "
+                             "flags, MPI, HDF5), then exit")
     parser.add_argument("--sbatch", action="store_true",
                         help="write OUTDIR/job.sbatch for Slurm instead of running")
     batch = parser.add_argument_group("Slurm job script (with --sbatch)")
@@ -90,9 +93,25 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def version_text() -> str:
-    """``paradyn-run --version``: the package's version and the engine it runs."""
+    """``paradyn-run --version``: the package's version, the engine it runs and that engine's own
+    ``--version`` (its commit, precision, compiler and flags, MPI and HDF5)."""
     try:
-        engine = str(launch.engine_path())
+        engine = launch.engine_path()
     except launch.EngineError:
-        engine = "not built (make install)"
-    return f"paradyn-run {__version__} (Python {sys.version.split()[0]}; engine {engine})"
+        return f"paradyn-run {__version__} (Python {sys.version.split()[0]}; engine not built: make install)"
+    head = f"paradyn-run {__version__} (Python {sys.version.split()[0]}; engine {engine})"
+    try:
+        build = subprocess.run([str(engine), "--version"], capture_output=True, text=True, timeout=60,
+                               env=launch.engine_environment(1)).stdout.strip()
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        build = f"(the engine's --version failed: {exc})"
+    return f"{head}\n{build}"
+
+
+class _Version(argparse.Action):
+    """--version, computed only when asked for (it runs the engine once)."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: object,
+                 option_string: str | None = None) -> None:
+        print(version_text())
+        parser.exit()

@@ -1,4 +1,5 @@
 !> paradyn-engine DECK.h5 [RESULTS.h5] [--restart[=CHECKPOINT.h5]] [--check] [--expect-ranks=N] [--await-deck]
+!> paradyn-engine --version
 !>
 !> --check sets the run up (the deck's checks, the initial penetrations, the stable step), prints
 !> PARADYN-CHECK and exits without writing anything; --expect-ranks=N refuses to run on another
@@ -14,8 +15,9 @@
 program paradyn_engine
   use mpi_f08
   use, intrinsic :: iso_c_binding, only: c_int
-  use hdf5, only: h5open_f, h5close_f, h5eset_auto_f
-  use paradyn_kinds, only: wp, i8
+  use hdf5, only: h5open_f, h5close_f, h5eset_auto_f, h5get_libversion_f
+  use paradyn_kinds, only: wp, ek, i8
+  use build_info, only: build_commit, build_type, build_native
   use paradyn_schema, only: status_ok, status_failure, status_bad_input, status_stopped, contact_gather_all
   use model_deck, only: deck_t
   use deck_reader, only: read_deck
@@ -32,7 +34,7 @@ program paradyn_engine
   use contact_global_rows, only: replicated_contact_deck
   use contact_parallel, only: contact_is_local
   use model_deck, only: node_row, element_row
-  use, intrinsic :: iso_fortran_env, only: error_unit, input_unit
+  use, intrinsic :: iso_fortran_env, only: error_unit, input_unit, compiler_version, compiler_options
   use effect_table, only: effect_table_t, effect_list
   use machine_memory, only: node_memory_mb, deck_memory_mb, proc_kib
   use phase_timers, only: wall_clock
@@ -104,13 +106,17 @@ program paradyn_engine
         '--restart continues an interrupted run from its checkpoint (default RESULTS.checkpoint.h5).', &
         '--check sets the run up, prints PARADYN-CHECK (the first step, the stable step, the steps) and writes nothing.', &
         '--expect-ranks=N stops with status 2 unless the launcher started N ranks.', &
-        '--await-deck waits for the line go on standard input before reading the deck (end of input: exit 0).'
+        '--await-deck waits for the line go on standard input before reading the deck (end of input: exit 0).', &
+        '--version names the build: commit, precision, compiler and flags, MPI and HDF5.'
       call finish(status_ok)
     else if (argument == '--restart') then
       restart = .true.
     else if (argument(1:10) == '--restart=') then
       restart = .true.
       restart_path = argument(11:)
+    else if (argument == '--version') then
+      call print_version()
+      call finish(status_ok)
     else if (argument == '--check') then
       check_only = .true.
     else if (argument == '--await-deck') then
@@ -331,6 +337,25 @@ contains
     flush (6)
     call c_quick_exit(int(status_failure, c_int))
   end subroutine stop_on_full_disk
+
+  !> What this engine is (rank 0 prints it): its commit and precision, the compiler and its
+  !> flags, the MPI library and HDF5, one line each.
+  subroutine print_version()
+    character(len=MPI_MAX_LIBRARY_VERSION_STRING) :: library
+    integer :: length, major, minor, release, status, line_end
+    call MPI_Get_library_version(library, length)
+    call h5get_libversion_f(major, minor, release, status)
+    if (rank /= 0) return
+    line_end = index(library(1:length), achar(10)) - 1
+    if (line_end < 0) line_end = length
+    write (*, '(a)') 'paradyn-engine '//build_commit//' ('//trim(merge('double', 'mixed ', ek == wp))// &
+      ' precision, '//build_type//' build'//trim(merge(', -march=native', '               ', build_native == 'ON'))//')'
+    write (*, '(a)') 'compiler: '//compiler_version()
+    write (*, '(a)') 'flags: '//compiler_options()
+    write (*, '(a)') 'MPI: '//trim(library(1:line_end))
+    write (*, '(a,i0,a,i0,a,i0)') 'HDF5: ', major, '.', minor, '.', release
+    flush (6)
+  end subroutine print_version
 
   !> Rank 0 reads the frontend's line: `go` runs the deck file it has written. The end of input,
   !> or another line, ends the engine with status 0 without running: the frontend gave up. Every
