@@ -12,16 +12,16 @@
 !> come from the deck's positions, so a restart ties the same; the start-up checks skip tied
 !> definitions (trait "tied": they start inside the reach on purpose).
 !>
-!> The local search (contact_stages) takes a tied pass's segment from its tie, not from a search,
-!> and its force from tied_force; the global search, the records and their ordered sum are those
+!> The pass is bound (contact_pass: the trait tied): the local search (contact_stages) takes each
+!> slave's segment from its binding, not from a search, and its force from the law contact_laws
+!> names for this kind (tied_force); the global search, the records and their ordered sum are those
 !> of every pass, so the forces are the same on any layout. One rank and the replicated scheme tie
-!> every slave here (make_passes sees the whole deck); local contact ties each rank's own slaves
-!> against the master elements near them (contact_local_setup), with the same kernel, tie_slaves.
+!> every slave here (make_passes sees the whole deck); local contact binds each rank's own slaves
+!> against the master elements near them (contact_local_setup, through contact_laws' bind_slaves).
 module tied_contact
   use paradyn_kinds, only: wp
   use model_deck, only: deck_t
   use vector_algebra, only: cross
-  use integer_sort, only: sorted_position
   use contact_pass, only: contact_pass_t, pass_between_parts
   use contact_kind, only: contact_kind_t
   use contact_surfaces, only: part_nodes
@@ -29,7 +29,7 @@ module tied_contact
   use surface_overlap, only: bin_elements, cell_of, index_of
   implicit none
   private
-  public :: tied_t, tie_slaves, tie_reach, tied_segment, tied_force
+  public :: tied_t, tie_slaves, tie_reach, tied_force
 
   !> A slave is tied within (1 + tie_slack) (t_slave + t_master) / 2 of a segment: shells stacked
   !> at exactly their half thicknesses tie whatever the round-off of their coordinates.
@@ -60,11 +60,10 @@ contains
     call pass_between_parts(deck, definition, deck%contact_pairs(1, definition), deck%contact_pairs(2, definition), &
                             contact_id, pass)
     pass%every_cycle = .true.
-    pass%tied = .true.
     call part_nodes(deck, pass%slave_part, slave_nodes, slave_elements)
     call part_nodes(deck, pass%master_part, master_nodes, elements)
     call tie_slaves(deck%coordinates, slave_nodes, deck%connectivity(:, elements), elements, tie_reach(pass), &
-                    pass%tie_element, pass%tie_point)
+                    pass%bound_element, pass%bound_data)
     end associate
   end subroutine tied_passes
 
@@ -120,17 +119,6 @@ contains
       if (best < huge(1)) tie_element(s) = ids(best)
     end do
   end subroutine tie_slaves
-
-  !> The held segment of slave j's tie in the pass (its place in segment_element), 0 for a free slave.
-  pure integer function tied_segment(pass, j) result(segment)
-    type(contact_pass_t), intent(in) :: pass
-    integer, intent(in) :: j
-    integer :: i
-    segment = 0
-    if (pass%tie_element(j) == 0 .or. size(pass%segment_element) == 0) return
-    i = sorted_position(pass%segment_element, pass%tie_element(j))
-    if (pass%segment_element(i) == pass%tie_element(j)) segment = i
-  end function tied_segment
 
   !> The tie's spring on a slave at p, tied at tie (xi, eta, offset) to the segment xseg (3, 4), of
   !> stiffness k: f_slave = k (target - p), target the tied point plus the offset in the segment's

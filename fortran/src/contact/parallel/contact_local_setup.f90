@@ -16,7 +16,7 @@
 !>     longest diagonal: a maximum over the ranks), a single-surface thickness cap (the shortest
 !>     edge: a minimum, contact_checks' held_thickness), the gap mode's overlaps (its slaves
 !>     against the master elements near them from every rank, as the start checks measure them)
-!>     and a tied pass's ties (its slaves against the same, tied_contact).
+!>     and a bound pass's bindings (its slaves against the same, contact_laws).
 !> One rank and the replicated scheme keep contact_setup on the global layout (every contact node
 !> is held there). Collective.
 module contact_local_setup
@@ -35,7 +35,7 @@ module contact_local_setup
   use near_elements, only: near_set_t, gather_near, box_of
   use initial_penetration, only: slave_penetrations
   use contact_pass, only: contact_pass_t
-  use tied_contact, only: tie_slaves, tie_reach
+  use contact_laws, only: binding_reach, bind_slaves
   implicit none
   private
   public :: local_contact_setup
@@ -152,7 +152,7 @@ contains
       allocate (pass%overlap(size(pass%slaves)), source=0.0_wp)
       if (deck%contact_initial_penetration(pass%pair) == initial_penetration_gap) &
         call gap_overlaps(deck, dom, comm, contact_of, c, p)
-      if (pass%tied) call own_ties(deck, dom, comm, contact_of, c, p)
+      if (pass%bound) call own_bindings(deck, dom, comm, contact_of, c, p)
       end associate
     end do
     call hold_ghost_segments(c, reshape([real(wp) ::], [segment_row_width, 0]))
@@ -228,10 +228,11 @@ contains
     end associate
   end subroutine gap_overlaps
 
-  !> A tied pass p's ties (tied_contact) of the slaves this rank owns, against the master part's
-  !> elements near them from every rank, at the deck's positions: those one rank holding the whole
-  !> deck finds (the elements come in id order, and a tie goes to the lowest id among the nearest).
-  subroutine own_ties(deck, dom, comm, contact_of, c, p)
+  !> A bound pass p's bindings (contact_laws: a tied pass's ties) of the slaves this rank owns,
+  !> against the master part's elements near them from every rank, at the deck's positions: those
+  !> one rank holding the whole deck finds (the elements come in id order, and a tie goes to the
+  !> lowest id among the nearest).
+  subroutine own_bindings(deck, dom, comm, contact_of, c, p)
     type(deck_t), intent(in) :: deck
     type(domain_t), intent(in) :: dom
     type(MPI_Comm), intent(in) :: comm
@@ -241,10 +242,10 @@ contains
     integer, allocatable :: at(:)
     type(near_set_t) :: near
     associate (pass => c%passes(p))
-    call own_slaves_near(deck, dom, comm, contact_of, pass, tie_reach(pass), near, at)
-    call tie_slaves(near%x, at, near%connectivity, near%element_ids, tie_reach(pass), pass%tie_element, pass%tie_point)
+    call own_slaves_near(deck, dom, comm, contact_of, pass, binding_reach(pass), near, at)
+    call bind_slaves(pass, near%x, at, near%connectivity, near%element_ids)
     end associate
-  end subroutine own_ties
+  end subroutine own_bindings
 
   !> The master part's elements within margin of the pass's slaves that this rank owns, this rank's
   !> and the other ranks' (near_elements), at the deck's positions; at(s): slave s's place in near.

@@ -16,10 +16,10 @@ module contact_pass
   use initial_penetration, only: slave_penetrations
   use integer_sort, only: distinct_ascending, sorted_position
   use contact_surfaces, only: part_nodes, contact_thickness
-  use paradyn_schema, only: initial_penetration_gap
+  use paradyn_schema, only: initial_penetration_gap, contact_kind_is_tied
   implicit none
   private
-  public :: contact_pass_t, pass_between_parts, pass_near_lists, pass_hold_segments
+  public :: contact_pass_t, pass_between_parts, pass_near_lists, pass_hold_segments, bound_segment
 
   type :: contact_pass_t
     integer :: pair = 0                        !< the contact definition (deck entry) it comes from
@@ -55,12 +55,14 @@ module contact_pass
     integer, allocatable :: excluded_start(:), excluded(:)
     !> each slave's overlap at the start, taken as its gap (/contact/initial_penetration = gap), else 0
     real(wp), allocatable :: overlap(:)
-    !> a tied pass (tied_contact): each slave's tie, kept for the run, replaces the search and the
-    !> penalty law: the master segment (its global element, 0: the slave is free), the point's
-    !> (xi, eta) on it and the slave's offset from it in the segment's frame there
-    logical :: tied = .false.
-    integer, allocatable :: tie_element(:)
-    real(wp), allocatable :: tie_point(:, :)   !< (5, slaves): xi, eta, offset (3)
+    !> the definition's contact kind (schema enum contact_kind); a kind with the trait tied binds
+    !> each slave to a master segment at the start (contact_laws): the binding, kept for the run,
+    !> replaces the search and the penalty law: each slave's segment (its global element, 0: the
+    !> slave is free) and the law's data for it (a tie: the point's xi, eta and the slave's offset)
+    integer :: kind = 0
+    logical :: bound = .false.
+    integer, allocatable :: bound_element(:)
+    real(wp), allocatable :: bound_data(:, :)   !< (the law's width, slaves)
     real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted
     integer, allocatable :: near_slaves(:)     !< slaves that can come near the master box before the next sort
     integer :: n_near = 0
@@ -92,6 +94,8 @@ contains
     integer :: e, s
     real(wp) :: xseg(3, 4), young, poisson
     pass%pair = pair
+    pass%kind = deck%contact_kind(pair)
+    pass%bound = contact_kind_is_tied(pass%kind)
     pass%slave_part = slave_part
     pass%master_part = master_part
     if (slave_part /= master_part) pass%first_part_sign = merge(1.0_wp, -1.0_wp, slave_part == deck%contact_pairs(1, pair))
@@ -126,6 +130,18 @@ contains
                               pass%t_master, pass%overlap, push)
     end if
   end subroutine pass_between_parts
+
+  !> The held segment of slave j's binding in a bound pass (its place in segment_element), 0 for a
+  !> free slave or a segment this rank does not hold.
+  pure integer function bound_segment(pass, j) result(segment)
+    type(contact_pass_t), intent(in) :: pass
+    integer, intent(in) :: j
+    integer :: i
+    segment = 0
+    if (pass%bound_element(j) == 0 .or. size(pass%segment_element) == 0) return
+    i = sorted_position(pass%segment_element, pass%bound_element(j))
+    if (pass%segment_element(i) == pass%bound_element(j)) segment = i
+  end function bound_segment
 
   !> The lists of nearby master nodes and the clearances of the pass's slaves.
   subroutine pass_near_lists(pass)

@@ -9,8 +9,8 @@ module contact_stages
   use nearest_cache, only: nearest_master_listed
   use contact_search, only: segment_candidates, candidate_block, candidates_in_slave_order
   use contact_penalty, only: penalty_force, edge_tolerance
-  use contact_pass, only: contact_pass_t
-  use tied_contact, only: tied_segment, tied_force
+  use contact_pass, only: contact_pass_t, bound_segment
+  use contact_laws, only: bound_force
   use contact_interface, only: contact_t, clock_seconds
   use contact_slots, only: slot_of
   use exact_sum, only: exact_add, exact_value
@@ -272,8 +272,8 @@ contains
       at = pass%slave_at(c%candidates(1, k))
       x = c%x(:, at)
       slot = c%candidates(1, k)
-      if (pass%tied) then   ! its tie names the segment and the point (tied_contact)
-        segment = tied_segment(pass, slot)
+      if (pass%bound) then   ! its binding names the segment and the point (contact_laws)
+        segment = bound_segment(pass, slot)
       else
         if (still_clear(pass, slot, pass%masters(c%candidates(2, k)), c%n_sorts, c%moved)) cycle
         ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
@@ -304,8 +304,8 @@ contains
           lightest = min(lightest, c%mass(seg_at(m)))
         end do
         stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 * lightest)
-        if (pass%tied) then   ! the tie's spring (no penetration: a tie holds its offset)
-          call tied_force(x, xseg, pass%tie_point(:, slot), stiffness, f_slave, f_master)
+        if (pass%bound) then   ! the binding's law (no penetration: a tie holds its offset)
+          call bound_force(pass%kind, x, xseg, pass%bound_data(:, slot), stiffness, f_slave, f_master)
           penetration = 0.0_wp
           touching = .true.
         else
