@@ -313,3 +313,30 @@ def test_single_surface_deck_runs(tmp_path: Path) -> None:
     assert model.n_contacts >= 1
     res = paradyn.run(model, tmp_path / "run", ranks=1, threads=1, post=False)
     assert res.history["time"][-1] == pytest.approx(1e-5)
+
+
+def test_mat3_strain_rate_constants_make_the_rate_member(tmp_path: Path) -> None:
+    """*MAT_PLASTIC_KINEMATIC SRC, SRP (Cowper-Symonds C, P) make the material j2_rate with C in
+    1/s: mild steel's C = 40.4 1/s, P = 5 (Jones, Structural Impact) in an SI deck and in mm-kg-ms
+    (SRC = 0.0404 1/ms); SRC = 0 (blank) is plain J2, as in LS-DYNA."""
+    plastic = "*MAT_PLASTIC_KINEMATIC\n         1    7800.0     2e+11       0.3     2.5e8\n{}\n"
+    model = _model(tmp_path, head=HEAD.replace("*MAT_ELASTIC\n         1    7800.0     2e+11       0.3\n",
+                                               plastic.format("      40.4       5.0")))
+    assert model.material_model.tolist() == [_schema.ENUMS["material_model"]["j2_rate"]]
+    assert model.rate_c.tolist() == [40.4] and model.rate_p.tolist() == [5.0]
+    assert model.yield_stress.tolist() == [2.5e8]
+    plain = _model(tmp_path, head=HEAD.replace("*MAT_ELASTIC\n         1    7800.0     2e+11       0.3\n",
+                                               plastic.format("")))
+    assert plain.material_model.tolist() == [_schema.ENUMS["material_model"]["j2_plasticity"]]
+    with pytest.raises(KeywordError, match=r"SRC = 40\.4, SRP = 0: the Cowper-Symonds constants must both be > 0"):
+        _model(tmp_path, head=HEAD.replace("*MAT_ELASTIC\n         1    7800.0     2e+11       0.3\n",
+                                           plastic.format("      40.4")))
+    ms = (HEAD.replace("*MAT_ELASTIC\n         1    7800.0     2e+11       0.3\n",
+                       plastic.format("    0.0404       5.0").replace("    7800.0     2e+11       0.3     2.5e8",
+                                                                      "    7.8e-6     200.0       0.3      0.25"))
+          .replace("*CONTROL_TERMINATION\n     0.001", "*CONTROL_UNITS\n        mm        ms        kg\n"
+                                                      "*CONTROL_TERMINATION\n       1.0"))
+    mesh = MESH.replace("             1.0 ", "          1000.0 ").replace("             2.0 ", "          2000.0 ")
+    mesh = mesh.replace("             0.5 ", "           500.0 ")
+    model = _model(tmp_path, head=ms.replace("     0.002" * 4, "       2.0" * 4), mesh=mesh)
+    assert model.rate_c[0] == pytest.approx(40.4) and model.yield_stress[0] == pytest.approx(2.5e8)

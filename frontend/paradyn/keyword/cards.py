@@ -321,8 +321,7 @@ for _title in ("", "_TITLE"):
     for _name in ("MAT_ELASTIC", "MAT_001"):
         READERS[_name + _title] = _material("elastic", MAT_ELASTIC, {"DA": 0.0, "DB": 0.0, "K": 0.0})
     for _name in ("MAT_PLASTIC_KINEMATIC", "MAT_003"):
-        READERS[_name + _title] = _material("j2_plasticity", MAT_PLASTIC_KINEMATIC,
-                                            {"SRC": 0.0, "SRP": 0.0, "FS": 0.0, "VP": 0.0})
+        READERS[_name + _title] = _material("j2_plasticity", MAT_PLASTIC_KINEMATIC, {"FS": 0.0, "VP": 0.0})
     for _kind in ("SURFACE_TO_SURFACE", "SINGLE_SURFACE"):
         for _option in ("", "_ID"):
             READERS[f"CONTACT_AUTOMATIC_{_kind}{_option or _title}"] = _contact(_kind.lower())

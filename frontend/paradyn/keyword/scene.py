@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from paradyn import _schema, deck
-from paradyn.scene.building import _apply_contacts
+from paradyn.scene.building import _apply_contacts, _apply_material_extras
 from paradyn.scene.specs import ContactSpec, MaterialSpec, PartSpec, RunSettings, Scene
 
 from .cards import KeywordData, Record, collect, with_warnings
@@ -189,7 +189,21 @@ def _material(mid: int, model: str, cards: list[Record], unit: Units) -> Materia
         spec.yield_stress = float(first["SIGY"]) * unit.stress
         spec.tangent_modulus = float(first["ETAN"]) * unit.stress
         spec.hardening_mixing = float(first["BETA"])
+        _rates(mid, cards[1], unit, spec)
     return spec
+
+
+def _rates(mid: int, card: Record, unit: Units, spec: MaterialSpec) -> None:
+    """MAT 3's Cowper-Symonds rate scaling: SRC = C (1 / the deck's time) and SRP = P make the
+    material j2_rate; SRC = 0 means no rate effect, as in LS-DYNA."""
+    c, p = float(card["SRC"] or 0.0), float(card["SRP"] or 0.0)
+    if c == 0.0:
+        return
+    if c < 0.0 or p <= 0.0:
+        raise KeywordError(f"{card.where}: *MAT_PLASTIC_KINEMATIC {mid} SRC = {c:g}, SRP = {p:g}: the Cowper-Symonds "
+                           f"constants must both be > 0 (or SRC = 0 for no rate effect)")
+    spec.model = "j2_rate"
+    spec.extra = {"rate_c": c / unit.time, "rate_p": p}
 
 
 def _part(data: KeywordData, record: Record, name: str, material: str, unit: Units, mesh: KeywordMesh) -> PartSpec:
@@ -337,6 +351,7 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
         control=deck.Control(**vars(scene.run)), title=scene.title,
         part_names=[p.name for p in parts], material_names=[m.name for m in materials],
     )
+    _apply_material_extras(scene, model)
     _apply_contacts(scene, model)
     _apply_tracks(data, mesh, model)
     mesh.store_ids(model)
