@@ -13,6 +13,7 @@ import paradyn
 from paradyn import _schema
 from paradyn.keyword.reader import KeywordError
 from paradyn.keyword.scene import keyword_scene, load_keyword
+from paradyn.running import preflight
 from paradyn.scene.specs import ContactSpec
 
 HEAD = """*KEYWORD
@@ -167,19 +168,19 @@ def test_fortran_exponents_are_numbers(tmp_path: Path) -> None:
 
 
 def test_unsupported_keyword_and_field_are_named_with_their_line(tmp_path: Path) -> None:
-    extra = "*LOAD_BODY_Z\n         1\n*CONTROL_TIMESTEP\n   1.0e-07       0.8\n"
+    extra = "*CONTROL_ACCURACY\n         1\n*CONTROL_TIMESTEP\n   1.0e-07       0.8\n"
     read = load_keyword(_deck(tmp_path, HEAD + MESH + extra))
     text = "\n".join(read.warnings)
-    assert "model.k:22: *LOAD_BODY_Z is not supported by ParaDyn and is ignored" in text
+    assert "model.k:22: *CONTROL_ACCURACY is not supported by ParaDyn and is ignored" in text
     assert "model.k:25: *CONTROL_TIMESTEP DTINIT = 1e-07 is not supported and ignored" in text
     assert read.model.control.time_step_safety == 0.8
     assert "no *CONTROL_UNITS: the numbers are taken as SI" in text
 
 
 def test_read_keyword_prints_the_warnings(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    paradyn.read_keyword(_deck(tmp_path, HEAD + MESH + "*LOAD_BODY_Z\n         1\n"))
+    paradyn.read_keyword(_deck(tmp_path, HEAD + MESH + "*CONTROL_ACCURACY\n         1\n"))
     err = capsys.readouterr().err
-    assert "paradyn: warning:" in err and "*LOAD_BODY_Z" in err and "units SI" in err
+    assert "paradyn: warning:" in err and "*CONTROL_ACCURACY" in err and "units SI" in err
 
 
 @pytest.mark.parametrize("edit, message", [
@@ -340,3 +341,22 @@ def test_mat3_strain_rate_constants_make_the_rate_member(tmp_path: Path) -> None
     mesh = mesh.replace("             0.5 ", "           500.0 ")
     model = _model(tmp_path, head=ms.replace("     0.002" * 4, "       2.0" * 4), mesh=mesh)
     assert model.rate_c[0] == pytest.approx(40.4) and model.yield_stress[0] == pytest.approx(2.5e8)
+
+
+def test_load_body_is_a_base_acceleration_pulling_the_other_way(tmp_path: Path) -> None:
+    """*LOAD_BODY_Z with a curve of 9.81 is gravity along -z, as LS-DYNA reads it (a base
+    acceleration: the model is pushed against it): the deck's [[base_acceleration]] row points
+    along -z with SF as its value and the curve as written; run, the plate held at node 12 sags."""
+    extra = ("*LOAD_BODY_Z\n         7       2.0\n"
+             "*DEFINE_CURVE\n         7                           0.5\n"
+             "                 0.0            9.81\n                 1.0            9.81\n")
+    model = _model(tmp_path, extra=extra)
+    assert model.base_acceleration_direction.tolist() == [[0.0, 0.0, -1.0]]
+    assert model.base_acceleration_value.tolist() == [2.0] and model.base_acceleration_curve.tolist() == [0]
+    assert model.curve_time.tolist() == [0.0, 1.0] and model.curve_value.tolist() == [9.81 * 0.5, 9.81 * 0.5]
+    assert not any("nothing in this model" in w for w in preflight.check_model(model).warnings)
+    res = paradyn.run(model, tmp_path / "run", ranks=1, threads=1, post=False)
+    z = res.displacement[-1][:, 2]
+    assert z.max() <= 0.0 < -z.min()   # every free node went down, none up
+    with pytest.raises(KeywordError, match="LCID = 8 names no"):
+        _model(tmp_path, extra=extra.replace("*LOAD_BODY_Z\n         7", "*LOAD_BODY_Z\n         8"))

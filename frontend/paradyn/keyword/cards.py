@@ -60,6 +60,7 @@ DATABASE_DT = layout("DT int:LCDT int:BEAM int:NPLTC int:PSETID", dt=0.0, lcdt=0
 DEFINE_CURVE = layout("int:LCID int:SIDR SFA SFO OFFA OFFO int:DATTYP int:LCINT", sidr=0, sfa=1.0, sfo=1.0,
                       offa=0.0, offo=0.0, dattyp=0, lcint=0)
 CURVE_POINT = (Field("A", "float", 0.0, 20), Field("O", "float", 0.0, 20))
+LOAD_BODY = layout("int:LCID SF int:LCIDDR XC YC ZC int:CID", lcid=0, sf=1.0, lciddr=0, xc=0.0, yc=0.0, zc=0.0, cid=0)
 TITLE_CARD = (Field("TITLE", "text", "", 80),)
 ID_CARD = (Field("ID", "int", 0), Field("HEADING", "text", "", 70))
 
@@ -94,6 +95,7 @@ class KeywordData:
     control: dict[str, Record] = field(default_factory=dict)         # CONTROL_* and DATABASE_* by name
     curves: dict[int, tuple[Record, list[tuple[float, float]]]] = field(default_factory=dict)
     history_nodes: list[tuple[int, str, str]] = field(default_factory=list)   # (nid, name, where)
+    body_loads: list[tuple[str, Record]] = field(default_factory=list)        # ("X" | "Y" | "Z", record)
     title: str = ""
     warnings: list[str] = field(default_factory=list)
 
@@ -267,6 +269,11 @@ def _control(card: tuple[Field, ...], ignored: dict[str, Value] | None = None) -
     return read
 
 
+def _load_body(r: _Reading) -> None:
+    record = r.card(r.head_and_rest(False)[0], LOAD_BODY, {"LCIDDR": 0, "XC": 0.0, "YC": 0.0, "ZC": 0.0, "CID": 0})
+    r.data.body_loads.append((r.keyword[-1], record))
+
+
 def _history_node(r: _Reading) -> None:
     if r.keyword == "DATABASE_HISTORY_NODE_ID":
         for line in r.lines():
@@ -316,6 +323,7 @@ READERS: dict[str, Callable[[_Reading], None]] = {
     "DATABASE_HISTORY_NODE": _history_node, "DATABASE_HISTORY_NODE_ID": _history_node,
     "HOURGLASS": _hourglass, "HOURGLASS_TITLE": _hourglass,
     "DEFINE_CURVE": _define_curve, "DEFINE_CURVE_TITLE": _define_curve,
+    "LOAD_BODY_X": _load_body, "LOAD_BODY_Y": _load_body, "LOAD_BODY_Z": _load_body,
 }
 for _title in ("", "_TITLE"):
     for _name in ("MAT_ELASTIC", "MAT_001"):

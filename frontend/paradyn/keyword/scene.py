@@ -352,10 +352,40 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
         part_names=[p.name for p in parts], material_names=[m.name for m in materials],
     )
     _apply_material_extras(scene, model)
+    _apply_body_loads(data, unit, model)
     _apply_contacts(scene, model)
     _apply_tracks(data, mesh, model)
     mesh.store_ids(model)
     return model
+
+
+def _apply_body_loads(data: KeywordData, unit: Units, model: deck.Model) -> None:
+    """*LOAD_BODY_X/Y/Z as base accelerations (docs/keyword.md): SF times the curve LCID, an
+    acceleration of the base, so the model is pushed the other way: a curve of 9.81 in
+    *LOAD_BODY_Z is gravity along -z, as in LS-DYNA. Curves by *DEFINE_CURVE (SFA, SFO 0 meaning 1)."""
+    if not data.body_loads:
+        return
+    used: list[int] = []
+    for axis, record in data.body_loads:
+        lcid = int(record["LCID"] or 0)
+        if lcid not in data.curves:
+            raise KeywordError(f"{record.where}: *LOAD_BODY_{axis} LCID = {lcid} names no *DEFINE_CURVE; define the "
+                               f"curve of the acceleration")
+        if lcid not in used:
+            used.append(lcid)
+    times, values = [], []
+    for lcid in used:
+        head, points = data.curves[lcid]
+        sfa, sfo = float(head["SFA"]) or 1.0, float(head["SFO"]) or 1.0
+        times.append([(a * sfa + float(head["OFFA"])) * unit.time for a, _ in points])
+        values.append([o * sfo + float(head["OFFO"]) for _, o in points])
+    model.curve_first_point = np.cumsum([0] + [len(t) for t in times])[:-1].astype(np.int32)
+    model.curve_time = np.array([t for curve in times for t in curve], dtype=np.float64)
+    model.curve_value = np.array([v for curve in values for v in curve], dtype=np.float64)
+    acceleration = unit.length / unit.time**2
+    model.base_acceleration_direction = np.array([-np.eye(3)["XYZ".index(axis)] for axis, _ in data.body_loads])
+    model.base_acceleration_value = np.array([float(r["SF"]) * acceleration for _, r in data.body_loads])
+    model.base_acceleration_curve = np.array([used.index(int(r["LCID"])) for _, r in data.body_loads], dtype=np.int32)
 
 
 def _apply_tracks(data: KeywordData, mesh: KeywordMesh, model: deck.Model) -> None:

@@ -250,17 +250,20 @@ def setting_warnings(model: deck.Model) -> list[str]:
 
 def idle_warnings(model: deck.Model) -> list[str]:
     """A warning when nothing in the model moves or is loaded: no initial velocity, point load,
-    pressure, gravity, prescribed motion or moving rigid wall (every energy would stay zero)."""
+    pressure, gravity, base acceleration, prescribed motion or moving rigid wall (every energy
+    would stay zero)."""
     velocities = (model.initial_velocity, model.initial_angular_velocity)
     moving = [np.any(np.asarray(v, dtype=float) != 0.0) for v in velocities if v is not None]
     walls = model.rigid_wall_velocity
     acting = (any(moving) or model.n_loads > 0 or model.n_pressures > 0 or model.n_prescribed > 0
+              or model.n_base_accelerations > 0
               or any(g != 0.0 for g in model.gravity)
               or (walls is not None and bool(np.any(np.asarray(walls, dtype=float) != 0.0))))
     if acting:
         return []
-    return ["nothing in this model moves or is loaded (no initial velocity, load, pressure, gravity, prescribed "
-            "motion or moving rigid wall): every energy will stay zero; give the loading the model was made for"]
+    return ["nothing in this model moves or is loaded (no initial velocity, load, pressure, gravity, base "
+            "acceleration, prescribed motion or moving rigid wall): every energy will stay zero; give the loading "
+            "the model was made for"]
 
 
 def unit_warnings(model: deck.Model, check: Preflight) -> list[str]:
