@@ -59,8 +59,8 @@ def _type_checking_nodes(tree: ast.AST) -> set[ast.AST]:
 
 def _imports(name: str) -> dict[str, bool]:
     """The paradyn modules ``name`` imports anywhere in its text (lazy imports and imports for
-    annotations included), each as the module it names (``from paradyn.deck import stream``:
-    ``paradyn.deck.stream``; ``from paradyn.deck import Model``: ``paradyn.deck``), with whether
+    annotations included), each as the module it names (``from paradyn.deck import items``:
+    ``paradyn.deck.items``; ``from paradyn.deck import Model``: ``paradyn.deck``), with whether
     every import of it is for annotations only."""
     path = MODULES[name]
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]

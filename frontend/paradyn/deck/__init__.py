@@ -9,8 +9,8 @@ naming the file, the dataset, the offending entry and the fix.
 The datasets, attributes, defaults and rules come from the schema (``schema/deck.toml``, generated
 into :mod:`paradyn._schema`); the engine checks the same tables. The work is split by job: the
 model in :mod:`paradyn.deck.model`, its checks in :mod:`paradyn.deck.validation`, the file in
-:mod:`paradyn.deck.files`, the items in file order and the stream a waiting engine writes the
-file from in :mod:`paradyn.deck.stream`. The deck imports nothing of the frontend but the schema's
+:mod:`paradyn.deck.files`, the items in file order in :mod:`paradyn.deck.items`, the field per
+dataset in :mod:`paradyn.deck.fields` (generated). The deck imports nothing of the frontend but the schema's
 tables: the scene, the keyword reader, the runs and the results build on it.
 """
 
