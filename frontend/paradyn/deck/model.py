@@ -29,6 +29,11 @@ DEFAULT_PARTITION = str(CONTROL_BY_NAME["partition"].default)   # what the engin
 SWITCH_ATTRIBUTES = {f"effect_{switch}": switch for switch in EFFECT_SWITCHES}
 
 
+def trait_codes(enum: str, trait: str) -> list[int]:
+    """The codes of the members of ``enum`` that carry ``trait`` (schema/deck.toml ``traits``)."""
+    return [ENUMS[enum][name] for name in ENUM_TRAITS[enum][trait]]
+
+
 def control_default(name: str) -> float | str | None:
     """The deck's default of a /control attribute (None where it has none or derives it)."""
     return CONTROL_BY_NAME[name].default
@@ -148,8 +153,7 @@ class Model(DeckFields):
 
     @property
     def uses_plasticity(self) -> bool:
-        plastic = [ENUMS["material_model"][name] for name in ENUM_TRAITS["material_model"]["plastic"]]
-        return bool(np.any(np.isin(np.asarray(self.material_model), plastic)))
+        return bool(np.any(np.isin(np.asarray(self.material_model), trait_codes("material_model", "plastic"))))
 
 
 def _as_array(value: object, kind: str) -> np.ndarray:

@@ -15,22 +15,17 @@ from paradyn._schema import (
     CONDITIONS,
     CONTROL,
     DATASETS,
-    ENUM_TRAITS,
     ENUMS,
     NAME_ATTRIBUTES,
     SIZES,
     AttributeSpec,
     DatasetSpec,
 )
+from paradyn.deck.model import trait_codes
 
 if TYPE_CHECKING:
     from .model import Model
 
-
-
-def trait_codes(enum: str, trait: str) -> list[int]:
-    """The codes of the members of ``enum`` that carry ``trait`` (schema/deck.toml ``traits``)."""
-    return [ENUMS[enum][name] for name in ENUM_TRAITS[enum][trait]]
 
 
 _BY_ATTRIBUTE = {d.python: d for d in DATASETS}
@@ -108,7 +103,7 @@ class _Checker:
         if spec.type == "float":
             self.entries(spec, rows & ~np.isfinite(a), f"must be finite{where}", spec.fix)
         if spec.lower is not None or spec.upper is not None:
-            self.entries(spec, rows & ~_within(a, spec), f"{spec.rule}{where}", spec.fix)
+            self.entries(spec, rows & ~within_bounds(a, spec), f"{spec.rule}{where}", spec.fix)
         if spec.enum is not None:
             self.entries(spec, ~np.isin(a, list(ENUMS[spec.enum].values())), spec.enum_rule, spec.fix)
         if spec.reference is not None:
@@ -127,7 +122,8 @@ class _Checker:
             f" {condition.rows}"
 
 
-def _within(a: np.ndarray, spec: DatasetSpec | AttributeSpec) -> np.ndarray:
+def within_bounds(a: np.ndarray, spec: DatasetSpec | AttributeSpec) -> np.ndarray:
+    """Where the entries of ``a`` meet the spec's lower and upper bounds."""
     ok = np.ones(np.shape(a), dtype=bool)
     with np.errstate(invalid="ignore"):
         if spec.lower is not None:
@@ -329,5 +325,5 @@ def _check_control(check: _Checker) -> None:
             check.fail(f"{label} = {value!r} is not a number; give a real value")
         if not np.isfinite(number):
             check.fail(f"{label} = {_fmt(number)} must be finite; {spec.fix}")
-        if not _within(np.asarray(number), spec):
+        if not within_bounds(np.asarray(number), spec):
             check.fail(f"{label} = {_fmt(number)} {spec.rule}; {spec.fix}")

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from paradyn import _schema, deck
-from paradyn.scene.building import _apply_contacts, _apply_material_extras
+from paradyn.scene.building import _apply_contacts, _apply_material_extras, set_curves
 from paradyn.scene.specs import ContactSpec, MaterialSpec, PartSpec, RunSettings, Scene
 
 from .cards import KeywordData, Record, collect, with_warnings
@@ -379,9 +379,7 @@ def _apply_body_loads(data: KeywordData, unit: Units, model: deck.Model) -> None
         sfa, sfo = float(head["SFA"]) or 1.0, float(head["SFO"]) or 1.0
         times.append([(a * sfa + float(head["OFFA"])) * unit.time for a, _ in points])
         values.append([o * sfo + float(head["OFFO"]) for _, o in points])
-    model.curve_first_point = np.cumsum([0] + [len(t) for t in times])[:-1].astype(np.int32)
-    model.curve_time = np.array([t for curve in times for t in curve], dtype=np.float64)
-    model.curve_value = np.array([v for curve in values for v in curve], dtype=np.float64)
+    set_curves(model, times, values)
     acceleration = unit.length / unit.time**2
     model.base_acceleration_direction = np.array([-np.eye(3)["XYZ".index(axis)] for axis, _ in data.body_loads])
     model.base_acceleration_value = np.array([float(r["SF"]) * acceleration for _, r in data.body_loads])

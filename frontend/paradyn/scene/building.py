@@ -209,6 +209,13 @@ def _apply_material_extras(scene: Scene, model: deck.Model) -> None:
             setattr(model, spec.python, np.array([m.extra.get(spec.python, spec.default) for m in scene.materials]))
 
 
+def set_curves(model: deck.Model, times: list[list[float]], values: list[list[float]]) -> None:
+    """The deck's curves, one list of times and of values each, in order (/curves)."""
+    model.curve_first_point = np.cumsum([0] + [len(t) for t in times])[:-1].astype(np.int32)
+    model.curve_time = np.array([t for curve in times for t in curve], dtype=np.float64)
+    model.curve_value = np.array([v for curve in values for v in curve], dtype=np.float64)
+
+
 def _apply_curve_loads(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model: deck.Model) -> None:
     """Curves in scene order, then one constant curve (factor 1) if a pressure, a prescribed
     velocity or a row has none, so that every load of the deck names a curve; then the row tables."""
@@ -219,9 +226,7 @@ def _apply_curve_loads(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], 
         times.append([0.0])
         values.append([1.0])
     constant = len(scene.curves)
-    model.curve_first_point = np.cumsum([0] + [len(t) for t in times])[:-1].astype(np.int32)
-    model.curve_time = np.array([t for curve in times for t in curve], dtype=np.float64)
-    model.curve_value = np.array([v for curve in values for v in curve], dtype=np.float64)
+    set_curves(model, times, values)
     part_index = {p.name: i for i, p in enumerate(scene.parts)}
     model.pressure_part = np.array([part_index[p.part] for p in scene.pressures], dtype=np.int32)
     model.pressure_value = np.array([p.value for p in scene.pressures], dtype=np.float64)

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from paradyn._schema import DATASETS, ENUMS, SIZES, DatasetSpec
+from paradyn.deck.validation import within_bounds
 
 from .specs import SceneError
 from .tables import _REQUIRED, _Reader
@@ -49,7 +50,7 @@ def key_required(spec: DatasetSpec) -> bool:
     (an absent curve is the constant factor 1)."""
     if spec.reference == "curve":
         return False
-    return spec.default is None or not _within(float(spec.default), spec)
+    return spec.default is None or not within_bounds(np.asarray(float(spec.default)), spec)
 
 
 def _tables() -> dict[str, tuple[RowKey, ...]]:
@@ -90,9 +91,8 @@ def read_key(r: _Reader, table: Mapping[str, Any], key: str, spec: DatasetSpec, 
         value = r.integer(table, key, label, default=default, minimum=-(2**31))
     else:
         value = r.number(table, key, label, default=default)
-    for entry in np.atleast_1d(value):
-        if not _within(float(entry), spec):
-            raise r.error(f"'{key}' in {label} = {value!r} {spec.rule}; {spec.fix}")
+    if not np.all(within_bounds(np.asarray(value, dtype=float), spec)):
+        raise r.error(f"'{key}' in {label} = {value!r} {spec.rule}; {spec.fix}")
     return value
 
 
@@ -104,13 +104,6 @@ def _scene_default(spec: DatasetSpec) -> Any:
     if len(spec.shape) > 1:
         return (spec.default,) * int(spec.shape[1])
     return spec.default
-
-
-def _within(value: float, spec: DatasetSpec) -> bool:
-    low, high = spec.lower, spec.upper
-    if low is not None and not (value > low.value or (low.inclusive and value == low.value)):
-        return False
-    return high is None or value < high.value or (high.inclusive and value == high.value)
 
 
 def parse_rows(r: _Reader, data: Mapping[str, Any]) -> dict[str, list[dict[str, Any]]]:
