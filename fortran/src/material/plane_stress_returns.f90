@@ -178,6 +178,7 @@ contains
     real(ek) :: c, h, h_iso, h_kin, shear, c1, c2, s1, s2, a1, a2, a3, psi, x1, x2, x3
     real(ek) :: a1t(batch), a2t(batch), a3t(batch), ep(batch), dgamma(batch)
     real(ek) :: y0p(batch), hp(batch), y0t(batch), ht(batch)   !< each point's sigma_y0 and beta H
+    real(ek) :: effective(batch)   !< the trial's von Mises stress relative to the back stress
     logical :: yielding(batch)
     integer :: idx(batch), first, nb, i, j, np
 
@@ -191,14 +192,8 @@ contains
     ! loop bodies use scalars only: a small array such as xi(3) inside stops the vectoriser
     do first = 1, m, batch
       nb = min(batch, m - first + 1)
-      if (present(yield_scale)) then
-        y0p(1:nb) = yield0 * yield_scale(first:first + nb - 1)
-        hp(1:nb) = h_iso * yield_scale(first:first + nb - 1)
-      else
-        y0p(1:nb) = yield0
-        hp(1:nb) = h_iso
-      end if
-      ! elastic trial and yield test on every point (elastic_plane_stress_update, von_mises_plane_stress)
+      ! elastic trial and yield test on every point (elastic_plane_stress_update, von_mises_plane_stress);
+      ! the radius is sigma_y0 + beta H eps_p, times the point's factor where one is given
       do i = first, first + nb - 1
         stress(i, 1) = stress(i, 1) + c * (dstrain(i, 1) + poisson * dstrain(i, 2))
         stress(i, 2) = stress(i, 2) + c * (dstrain(i, 2) + poisson * dstrain(i, 1))
@@ -207,9 +202,15 @@ contains
         x2 = stress(i, 2) - back(i, 2)
         x3 = stress(i, 3) - back(i, 3)
         ! (a NaN does not yield here, where the scalar version would iterate on it)
-        yielding(i - first + 1) = sqrt(max(x1**2 - x1 * x2 + x2**2 + 3.0_ek * x3**2, 0.0_ek)) &
-                                  > y0p(i - first + 1) + hp(i - first + 1) * eps_p(i)
+        effective(i - first + 1) = sqrt(max(x1**2 - x1 * x2 + x2**2 + 3.0_ek * x3**2, 0.0_ek))
       end do
+      if (present(yield_scale)) then
+        y0p(1:nb) = yield0 * yield_scale(first:first + nb - 1)
+        hp(1:nb) = h_iso * yield_scale(first:first + nb - 1)
+        yielding(1:nb) = effective(1:nb) > y0p(1:nb) + hp(1:nb) * eps_p(first:first + nb - 1)
+      else
+        yielding(1:nb) = effective(1:nb) > yield0 + h_iso * eps_p(first:first + nb - 1)
+      end if
       if (.not. any(yielding(1:nb))) cycle   ! most batches stay elastic: no gather, no return
       ! gather the yielding points: trial relative stress in the eigenbasis of the projector P
       np = 0
@@ -227,9 +228,14 @@ contains
         a2t(j) = (x2 - x1) / root2
         a3t(j) = stress(idx(j), 3) - back(idx(j), 3)
         ep(j) = eps_p(idx(j))
-        y0t(j) = y0p(idx(j) - first + 1)
-        ht(j) = hp(idx(j) - first + 1)
       end do
+      if (present(yield_scale)) then
+        y0t(1:np) = y0p(idx(1:np) - first + 1)
+        ht(1:np) = hp(idx(1:np) - first + 1)
+      else
+        y0t(1:np) = yield0
+        ht(1:np) = h_iso
+      end if
       call return_points(np, a1t, a2t, a3t, ep, c1, c2, y0t, ht, dgamma)
       ! the returned state, in the compact arrays, then scattered back
       do j = 1, np
