@@ -102,7 +102,7 @@ RESTART_MAY_CHANGE = (
 )
 
 ENUMS: dict[str, dict[str, int]] = {
-    'material_model': {'elastic': 1, 'j2_plasticity': 2, 'j2_rate': 3},
+    'material_model': {'elastic': 1, 'j2_plasticity': 2, 'j2_rate': 3, 'rigid': 4},
     'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
     'contact_passes': {'alternate': 1, 'both': 2},
@@ -116,7 +116,7 @@ ENUMS: dict[str, dict[str, int]] = {
 
 # The members of an enum that carry a trait (schema/deck.toml traits): ask a trait, not a name
 ENUM_TRAITS: dict[str, dict[str, tuple[str, ...]]] = {
-    'material_model': {'plastic': ('j2_plasticity', 'j2_rate')},
+    'material_model': {'plastic': ('j2_plasticity', 'j2_rate'), 'rigid': ('rigid',)},
     'contact_kind': {'self_contact': ('single_surface',), 'tied': ('tied',)},
 }
 
@@ -134,6 +134,7 @@ SIZES: dict[str, SizeSpec] = {
     'n_pressures': SizeSpec('n_pressures', 'pressure load', 0, None),
     'n_prescribed': SizeSpec('n_prescribed', 'prescribed motion', 0, None),
     'n_base_accelerations': SizeSpec('n_base_accelerations', 'base acceleration', 0, 'base_acceleration'),
+    'n_rigid_bodies': SizeSpec('n_rigid_bodies', 'rigid body', 0, 'rigid_body'),
 }
 
 CONDITIONS: dict[str, ConditionSpec] = {
@@ -162,6 +163,10 @@ CONDITIONS: dict[str, ConditionSpec] = {
     'base_accelerations_group': ConditionSpec(
         name='base_accelerations_group', group='/base_accelerations', dataset=None, codes=(),
         meaning='the group /base_accelerations exists', rows='',
+    ),
+    'rigid_bodies_group': ConditionSpec(
+        name='rigid_bodies_group', group='/rigid_bodies', dataset=None, codes=(),
+        meaning='the group /rigid_bodies exists', rows='',
     ),
     'plastic': ConditionSpec(
         name='plastic', group=None, dataset='/materials/model', codes=(2, 3),
@@ -210,6 +215,13 @@ RELATIONS: dict[str, RelationSpec] = {
     'curve_times_increase': RelationSpec(
         'curve_times_increase', '/curves/time', 'the times of a curve increase strictly',
     ),
+    'rigid_bodies_whole': RelationSpec(
+        'rigid_bodies_whole', '/nodes/rigid_body',
+        (
+            'every node of an element of a part with a rigid material is in a rigid body, and every '
+            '/rigid_bodies/part has a rigid material'
+        ),
+    ),
 }
 
 # fields in the order of DatasetSpec and AttributeSpec above
@@ -234,6 +246,22 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'dof_state', 'must be 0 or 1 (0 = free, 1 = fixed)', None, False, '-',
         '1 fixes the dof (ux, uy, uz, rx, ry, rz), 0 leaves it free', '[[fix]]',
         'use 1 to fix a dof and 0 to leave it free',
+    ),
+    DatasetSpec(
+        '/nodes/rigid_body', 'node_rigid_body', 'int', ('n_nodes',), False, None, None, -1, Bound(-1, True), None,
+        'must be >= -1', None, '', None, False, '-',
+        (
+            "the rigid body (row of /rigid_bodies) the node moves with, -1 for none: every node of a rigid part's "
+            'elements, and extra nodes (LS-DYNA *CONSTRAINED_EXTRA_NODES, nodal rigid bodies)'
+        ), '[[rigid_body]]', 'give -1 for a deformable node or the 0-based row of its rigid body in /rigid_bodies',
+    ),
+    DatasetSpec(
+        '/nodes/added_mass', 'added_mass', 'float', ('n_nodes',), False, None, None, 0.0, Bound(0.0, True), None,
+        'must be >= 0', None, '', None, False, 'kg',
+        (
+            "mass added to the node besides its elements' (LS-DYNA *ELEMENT_MASS; the lumped mass of a rigid "
+            "solid's nodes)"
+        ), '-', 'give a non-negative mass in kg',
     ),
     DatasetSpec(
         '/nodes/id', 'node_ids', 'int', ('n_nodes',), False, None, None, None, Bound(0, True), None,
@@ -302,6 +330,14 @@ DATASETS: tuple[DatasetSpec, ...] = (
         ), '[[part]] warping_correction', 'use 1 (warping correction on) or 0 (off)',
     ),
     DatasetSpec(
+        '/parts/surface_only', 'surface_only', 'int', ('n_parts',), False, None, None, 0, Bound(0, True),
+        Bound(1, True), 'must be between 0 and 1', None, '', None, False, '-',
+        (
+            "1: the part's elements are the outer faces of a rigid solid, with no mass of their own (the solid's "
+            'is in /nodes/added_mass); their thickness is the contact thickness. 0: shells'
+        ), '-', 'use 0 for shells, 1 for the faces of a rigid solid (a rigid part only)',
+    ),
+    DatasetSpec(
         '/parts/id', 'part_ids', 'int', ('n_parts',), False, None, None, None, Bound(0, True), None,
         'must be >= 0', None, '', None, False, '-',
         (
@@ -311,8 +347,8 @@ DATASETS: tuple[DatasetSpec, ...] = (
     ),
     DatasetSpec(
         '/materials/model', 'material_model', 'int', ('n_materials',), True, None, None, None, None, None, '',
-        'material_model', 'must be 1 or 2 or 3 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate)', None, True, '-',
-        'material model', '[[material]] model',
+        'material_model', 'must be 1 or 2 or 3 or 4 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 4 = rigid)',
+        None, True, '-', 'material model', '[[material]] model',
         'use 1 for linear elastic, 2 for J2 plasticity or 3 for rate-dependent J2 plasticity',
     ),
     DatasetSpec(
@@ -460,6 +496,20 @@ DATASETS: tuple[DatasetSpec, ...] = (
         0.1, Bound(0.0, False), Bound(0.5, True), 'must be in (0, 0.5]', None, '', None, False, '-',
         'scale of the penalty stiffness k = scale m / dt^2 of a node of mass m behind the wall (docs/theory.md)',
         '[[rigid_wall]] penalty_scale', 'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)',
+    ),
+    DatasetSpec(
+        '/rigid_bodies/part', 'rigid_body_part', 'int', ('n_rigid_bodies',), False, 'rigid_bodies_group', None,
+        None, None, None, '', None, '', 'part', True, '-',
+        'the part with a rigid material that names the body (its nodes are those of /nodes/rigid_body)',
+        '[[rigid_body]] part', 'give the index of a part with a rigid material',
+    ),
+    DatasetSpec(
+        '/rigid_bodies/fixed_dofs', 'rigid_body_fixed_dofs', 'int', ('n_rigid_bodies', 6), False, None, None, 0,
+        Bound(0, True), Bound(1, True), 'must be between 0 and 1', None, '', None, False, '-',
+        (
+            "1 holds the body's translation along x, y, z of its centre of mass or its rotation about x, y, z at "
+            'zero velocity (LS-DYNA MAT_RIGID CMO = 1, CON1, CON2)'
+        ), '[[rigid_body]] fixed', 'use 1 to fix a dof of the body and 0 to leave it free',
     ),
     DatasetSpec(
         '/curves/first_point', 'curve_first_point', 'int', ('n_curves',), False, 'curves_group', None, None,
@@ -773,6 +823,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/nodes/initial_velocity'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/nodes/initial_angular_velocity'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/nodes/fixed_dofs'): ('class', 'shape', 'rows', 'enum'),
+    ('dataset', '/nodes/rigid_body'): ('class', 'shape', 'rows', 'lower'),
+    ('dataset', '/nodes/added_mass'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/nodes/id'): ('class', 'shape', 'rows', 'lower'),
     ('dataset', '/elements/connectivity'): ('missing', 'class', 'shape', 'empty', 'reference'),
     ('dataset', '/elements/part'): ('missing', 'class', 'shape', 'rows', 'reference'),
@@ -783,6 +835,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/parts/hourglass_coefficient'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/parts/hourglass_form'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/parts/warping_correction'): ('class', 'shape', 'rows', 'lower', 'upper'),
+    ('dataset', '/parts/surface_only'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/id'): ('class', 'shape', 'rows', 'lower'),
     ('dataset', '/materials/model'): ('missing', 'class', 'shape', 'empty', 'enum'),
     ('dataset', '/materials/density'): ('missing', 'class', 'shape', 'rows', 'lower', 'finite'),
@@ -811,6 +864,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/rigid_walls/normal'): ('required_when', 'class', 'shape', 'rows', 'finite'),
     ('dataset', '/rigid_walls/velocity'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/rigid_walls/penalty_scale'): ('class', 'shape', 'rows', 'lower', 'upper', 'finite'),
+    ('dataset', '/rigid_bodies/part'): ('required_when', 'class', 'shape', 'reference'),
+    ('dataset', '/rigid_bodies/fixed_dofs'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/curves/first_point'): ('required_when', 'class', 'shape', 'lower'),
     ('dataset', '/curves/time'): ('required_when', 'class', 'shape', 'finite'),
     ('dataset', '/curves/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
@@ -863,6 +918,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('relation', '/rigid_walls/point'): ('rigid_wall_nodes_in_front',),
     ('relation', '/curves/first_point'): ('curve_first_points',),
     ('relation', '/curves/time'): ('curve_times_increase',),
+    ('relation', '/nodes/rigid_body'): ('rigid_bodies_whole',),
 }
 
 # The results file and the engine's output
@@ -912,8 +968,8 @@ CONTACT_PHASES = ('contact_sort', 'contact_search', 'contact_force')
 # The effects of a step (schema/effects.toml), in the order of the step
 EFFECTS = (
     'point_loads', 'gravity', 'base_acceleration', 'pressure', 'rigid_wall', 'time_integration', 'mass_damping',
-    'fixed_boundaries', 'prescribed_velocity', 'elastic_shells', 'plastic_shells', 'hourglass', 'contact',
-    'friction',
+    'fixed_boundaries', 'prescribed_velocity', 'rigid_bodies', 'elastic_shells', 'plastic_shells', 'hourglass',
+    'contact', 'friction',
 )
 EFFECT_SWITCHES: dict[str, str] = {
     'point_loads': 'point_loads',

@@ -32,6 +32,8 @@ module shell_section
     !> the yield stress that caps the physical form's resultants (huge for an elastic material)
     real(wp) :: hourglass_yield = huge(1.0_wp)
     logical :: warping_correction = .true.   !< shell_warping (docs/theory.md)
+    logical :: rigid = .false.          !< a rigid part: no element forces, no step of its own
+    logical :: surface_only = .false.   !< the faces of a rigid solid: no mass of their own
     class(material_t), allocatable :: material   !< the stress update at the points (material family)
   end type shell_properties_t
 

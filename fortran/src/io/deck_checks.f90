@@ -12,7 +12,8 @@ module deck_checks
   use paradyn_schema, only: status_ok, status_bad_input
   use model_deck, only: deck_t, node_row
   use deck_relations, only: precision_message, repeated_node_message, duplicate_element_message, shape_message, &
-                            small_table_message, unused_node_message, wall_normal_message, wall_behind_message, &
+                            small_table_message, rigid_node_message, unused_node_message, wall_normal_message, &
+                            wall_behind_message, &
                             check_curve_relations
   use deck_directory, only: fetch_node_rows, first_duplicate_element, move_element_rows, node_values
   use deck_fingerprint, only: fingerprint_add
@@ -23,7 +24,7 @@ module deck_checks
   public :: agree_on_first, chain_fingerprint, distribute_and_check
 
   ! the element-row relations first_element_message checks
-  integer, parameter :: repeated_nodes = 1, element_shape = 2
+  integer, parameter :: repeated_nodes = 1, element_shape = 2, rigid_nodes = 3
 
 contains
 
@@ -50,7 +51,7 @@ contains
   subroutine first_element_message(d, comm, relation, message)
     type(deck_t), intent(in) :: d
     type(MPI_Comm), intent(in) :: comm
-    integer, intent(in) :: relation   !< repeated_nodes or element_shape
+    integer, intent(in) :: relation   !< repeated_nodes, element_shape or rigid_nodes
     character(len=*), intent(out) :: message
     integer :: key, row
     key = huge(1)
@@ -58,6 +59,8 @@ contains
     do row = 1, size(d%element_ids)
       if (relation == repeated_nodes) then
         message = repeated_node_message(d, row)
+      else if (relation == rigid_nodes) then
+        message = rigid_node_message(d, row)
       else
         message = shape_message(d, row)
       end if
@@ -114,12 +117,16 @@ contains
     home(4:6, :) = d%velocity
     home(7:9, :) = d%angular_velocity
     home(10:15, :) = real(d%fixed, wp)
+    home(16, :) = real(d%node_rigid_body, wp)
+    home(17, :) = d%added_mass
     fixed_here = any(d%fixed /= 0)
     call MPI_Allreduce(fixed_here, d%any_fixed, 1, MPI_LOGICAL, MPI_LOR, comm)
     call held_nodes(d, comm, home, used)
     call first_element_message(d, comm, element_shape, message)
     if (message /= '') return
     message = small_table_message(d)
+    if (message /= '') return
+    call first_element_message(d, comm, rigid_nodes, message)
     if (message /= '') return
     call check_used(comm, home_ids, used, message)
     if (message /= '') return
@@ -145,6 +152,8 @@ contains
     d%velocity = rows(4:6, :)
     d%angular_velocity = rows(7:9, :)
     d%fixed = nint(rows(10:15, :))
+    d%node_rigid_body = nint(rows(16, :))
+    d%added_mass = rows(17, :)
   end subroutine held_nodes
 
   !> The schema relation node_in_element: the lowest unused node and their count over all homes.

@@ -22,7 +22,7 @@ contains
     integer, intent(in) :: m
     class(material_t), allocatable, intent(out) :: material
     select case (enum_name(enum_material_model, deck%material_model(m)))
-    case ('elastic')
+    case ('elastic', 'rigid')   ! a rigid part has no stress: its elastic constants set the contact stiffness
       allocate (material, source=elastic_material_t(young=deck%young(m), poisson=deck%poisson(m)))
     case ('j2_plasticity')
       allocate (material, source=j2_material_t(young=deck%young(m), poisson=deck%poisson(m), &

@@ -6,25 +6,27 @@ module deck_fields
   use paradyn_schema, only: class_int, size_none, deck_datasets, n_effects, effect_switch, switch_off, &
                             dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
                             dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
+                            dataset_nodes_rigid_body, dataset_nodes_added_mass, &
                             dataset_elements_connectivity, dataset_elements_part, dataset_parts_thickness, &
                             dataset_parts_material, dataset_parts_integration_points, &
                             dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
-                            dataset_parts_warping_correction, dataset_materials_model, &
-                            dataset_materials_density, dataset_materials_youngs_modulus, &
-                            dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
-                            dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, &
-                            dataset_materials_rate_c, dataset_materials_rate_p, dataset_loads_node, &
-                            dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
-                            dataset_output_tracked_nodes, dataset_contact_pairs, &
-                            dataset_contact_penalty_scale, dataset_contact_static_friction, &
-                            dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
-                            dataset_contact_passes, dataset_contact_kind, &
+                            dataset_parts_warping_correction, dataset_parts_surface_only, &
+                            dataset_materials_model, dataset_materials_density, &
+                            dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, &
+                            dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
+                            dataset_materials_hardening_mixing, dataset_materials_rate_c, &
+                            dataset_materials_rate_p, dataset_loads_node, dataset_loads_dof, &
+                            dataset_loads_value, dataset_loads_ramp_time, dataset_output_tracked_nodes, &
+                            dataset_contact_pairs, dataset_contact_penalty_scale, &
+                            dataset_contact_static_friction, dataset_contact_dynamic_friction, &
+                            dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
                             dataset_contact_initial_penetration, dataset_rigid_walls_point, &
                             dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
-                            dataset_rigid_walls_penalty_scale, dataset_curves_first_point, &
-                            dataset_curves_time, dataset_curves_value, dataset_pressure_part, &
-                            dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, &
-                            dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
+                            dataset_rigid_walls_penalty_scale, dataset_rigid_bodies_part, &
+                            dataset_rigid_bodies_fixed_dofs, dataset_curves_first_point, dataset_curves_time, &
+                            dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
+                            dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, &
+                            dataset_prescribed_value, dataset_prescribed_curve, &
                             dataset_base_accelerations_direction, dataset_base_accelerations_value, &
                             dataset_base_accelerations_curve, control_end_time, control_output_interval, &
                             control_history_interval, control_time_step, control_time_step_safety, &
@@ -34,7 +36,8 @@ module deck_fields
                             control_energy_error_limit, control_time_step_floor, &
                             control_contact_travel_limit, control_mass_scaling_step, &
                             control_mass_scaling_limit, effect_point_loads, effect_base_acceleration, &
-                            effect_pressure, effect_rigid_wall, effect_prescribed_velocity, effect_contact
+                            effect_pressure, effect_rigid_wall, effect_prescribed_velocity, &
+                            effect_rigid_bodies, effect_contact
   implicit none
   private
   public :: deck_fields_t, store_dataset, store_control, declare_by_rows, drop_rows
@@ -54,10 +57,13 @@ module deck_fields
     integer :: n_pressures = 0
     integer :: n_prescribed = 0
     integer :: n_base_accelerations = 0
+    integer :: n_rigid_bodies = 0
     real(wp), allocatable :: coordinates(:, :)   !< /nodes/coordinates (3, n_nodes) m
     real(wp), allocatable :: velocity(:, :)   !< /nodes/initial_velocity (3, n_nodes) m/s
     real(wp), allocatable :: angular_velocity(:, :)   !< /nodes/initial_angular_velocity (3, n_nodes) rad/s
     integer, allocatable :: fixed(:, :)   !< /nodes/fixed_dofs (6, n_nodes) -
+    integer, allocatable :: node_rigid_body(:)   !< /nodes/rigid_body (n_nodes) -
+    real(wp), allocatable :: added_mass(:)   !< /nodes/added_mass (n_nodes) kg
     integer, allocatable :: connectivity(:, :)   !< /elements/connectivity (4, n_elements) -
     integer, allocatable :: element_part(:)   !< /elements/part (n_elements) -
     real(wp), allocatable :: thickness(:)   !< /parts/thickness (n_parts) m
@@ -66,6 +72,7 @@ module deck_fields
     real(wp), allocatable :: hourglass_coefficient(:)   !< /parts/hourglass_coefficient (n_parts) -
     integer, allocatable :: hourglass_form(:)   !< /parts/hourglass_form (n_parts) -
     integer, allocatable :: warping_correction(:)   !< /parts/warping_correction (n_parts) -
+    integer, allocatable :: surface_only(:)   !< /parts/surface_only (n_parts) -
     integer, allocatable :: material_model(:)   !< /materials/model (n_materials) -
     real(wp), allocatable :: density(:)   !< /materials/density (n_materials) kg/m^3
     real(wp), allocatable :: young(:)   !< /materials/youngs_modulus (n_materials) Pa
@@ -92,6 +99,8 @@ module deck_fields
     real(wp), allocatable :: rigid_wall_normal(:, :)   !< /rigid_walls/normal (3, n_rigid_walls) -
     real(wp), allocatable :: rigid_wall_velocity(:, :)   !< /rigid_walls/velocity (3, n_rigid_walls) m/s
     real(wp), allocatable :: rigid_wall_penalty_scale(:)   !< /rigid_walls/penalty_scale (n_rigid_walls) -
+    integer, allocatable :: rigid_body_part(:)   !< /rigid_bodies/part (n_rigid_bodies) -
+    integer, allocatable :: rigid_body_fixed_dofs(:, :)   !< /rigid_bodies/fixed_dofs (6, n_rigid_bodies) -
     integer, allocatable :: curve_first_point(:)   !< /curves/first_point (n_curves) -
     real(wp), allocatable :: curve_time(:)   !< /curves/time (n_curve_points) s
     real(wp), allocatable :: curve_value(:)   !< /curves/value (n_curve_points) -
@@ -152,6 +161,7 @@ contains
     call store_output(d, id, values, indices)
     call store_contact(d, id, values, indices)
     call store_rigid_walls(d, id, values, indices)
+    call store_rigid_bodies(d, id, values, indices)
     call store_curves(d, id, values, indices)
     call store_pressure(d, id, values, indices)
     call store_prescribed(d, id, values, indices)
@@ -174,6 +184,10 @@ contains
       d%angular_velocity = values
     case (dataset_nodes_fixed_dofs)
       d%fixed = indices
+    case (dataset_nodes_rigid_body)
+      d%node_rigid_body = indices(1, :) + 1
+    case (dataset_nodes_added_mass)
+      d%added_mass = values(1, :)
     end select
   end subroutine store_nodes
 
@@ -212,6 +226,8 @@ contains
       d%hourglass_form = indices(1, :)
     case (dataset_parts_warping_correction)
       d%warping_correction = indices(1, :)
+    case (dataset_parts_surface_only)
+      d%surface_only = indices(1, :)
     end select
   end subroutine store_parts
 
@@ -321,6 +337,21 @@ contains
       d%rigid_wall_penalty_scale = values(1, :)
     end select
   end subroutine store_rigid_walls
+
+  !> Puts dataset id into its field if it is one of /rigid_bodies (store_dataset).
+  subroutine store_rigid_bodies(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
+    case (dataset_rigid_bodies_part)
+      d%rigid_body_part = indices(1, :)
+      d%n_rigid_bodies = size(values, 2)
+    case (dataset_rigid_bodies_fixed_dofs)
+      d%rigid_body_fixed_dofs = indices
+    end select
+  end subroutine store_rigid_bodies
 
   !> Puts dataset id into its field if it is one of /curves (store_dataset).
   subroutine store_curves(d, id, values, indices)
@@ -453,6 +484,7 @@ contains
     declared(effect_pressure) = d%n_pressures > 0
     declared(effect_rigid_wall) = d%n_rigid_walls > 0
     declared(effect_prescribed_velocity) = d%n_prescribed > 0
+    declared(effect_rigid_bodies) = d%n_rigid_bodies > 0
     declared(effect_contact) = d%n_contacts > 0
   end subroutine declare_by_rows
 
@@ -465,6 +497,7 @@ contains
     if (off(effect_pressure)) d%n_pressures = 0
     if (off(effect_rigid_wall)) d%n_rigid_walls = 0
     if (off(effect_prescribed_velocity)) d%n_prescribed = 0
+    if (off(effect_rigid_bodies)) d%n_rigid_bodies = 0
     if (off(effect_contact)) d%n_contacts = 0
   end subroutine drop_rows
 

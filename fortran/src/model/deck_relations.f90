@@ -4,7 +4,7 @@
 !> deck would. Pure: no MPI.
 module deck_relations
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: material_is_plastic, contact_kind_is_self_contact, class_float, enum_name, &
+  use paradyn_schema, only: material_is_plastic, material_is_rigid, contact_kind_is_self_contact, class_float, enum_name, &
                             enum_precision, precision_mixed
   use deck_rules, only: integer_text, number_text, index_list
   use quad_shape, only: quad_shape_fault, shape_sound, shape_concave
@@ -12,7 +12,8 @@ module deck_relations
   implicit none
   private
   public :: precision_message, repeated_node_message, duplicate_element_message, shape_message, &
-            small_table_message, unused_node_message, wall_normal_message, wall_behind_message, check_curve_relations
+            small_table_message, rigid_node_message, unused_node_message, wall_normal_message, wall_behind_message, &
+            check_curve_relations
 
 contains
 
@@ -115,7 +116,33 @@ contains
         return
       end if
     end do
+    do i = 1, d%n_rigid_bodies
+      if (material_is_rigid(d%material_model(d%part_material(d%rigid_body_part(i))))) cycle
+      message = '/rigid_bodies/part['//integer_text(i - 1)//'] = '//integer_text(d%rigid_body_part(i) - 1)// &
+                ' names a part whose material is not rigid; give the part a rigid material, or remove the body'
+      return
+    end do
   end function small_table_message
+
+  !> The schema relation rigid_bodies_whole on held element row `row`: if its part is rigid, each
+  !> of its nodes is in a rigid body.
+  function rigid_node_message(d, row) result(message)
+    type(deck_t), intent(in) :: d
+    integer, intent(in) :: row
+    character(len=:), allocatable :: message
+    integer :: k, node
+    message = ''
+    if (.not. material_is_rigid(d%material_model(d%part_material(d%element_part(row))))) return
+    do k = 1, 4
+      node = d%connectivity(k, row)
+      if (d%node_rigid_body(node_row(d, node)) > 0) cycle
+      message = '/nodes/rigid_body['//integer_text(node - 1)//'] = -1 but the node is on element '// &
+                integer_text(d%element_ids(row) - 1)//' of part '//integer_text(d%element_part(row) - 1)// &
+                ', whose material is rigid; give every node of a rigid part''s elements the row of its body '// &
+                'in /rigid_bodies'
+      return
+    end do
+  end function rigid_node_message
 
   !> Node `first` (1-based), the lowest of `unused` nodes, belongs to no element.
   function unused_node_message(first, unused) result(message)

@@ -12,7 +12,7 @@
 module model_deck
   use paradyn_kinds, only: wp, ek
   use shell_section, only: shell_properties_t
-  use paradyn_schema, only: material_is_plastic, control_attributes, control_partition, &
+  use paradyn_schema, only: material_is_plastic, material_is_rigid, control_attributes, control_partition, &
                             precision_double, precision_mixed
   use deck_fields, only: deck_fields_t, store_dataset, store_control
   use material_factory, only: material_from_deck
@@ -52,6 +52,8 @@ contains
     props%integration_points = deck%integration_points(part)
     props%hourglass_form = deck%hourglass_form(part)
     props%warping_correction = deck%warping_correction(part) /= 0
+    props%rigid = material_is_rigid(deck%material_model(m))
+    props%surface_only = deck%surface_only(part) /= 0
     props%density = deck%density(m)
     props%young = deck%young(m)
     props%poisson = deck%poisson(m)

@@ -4,7 +4,8 @@
 module effect_factory
   use paradyn_kinds, only: wp
   use paradyn_schema, only: n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
-                            effect_prescribed_velocity, effect_base_acceleration
+                            effect_prescribed_velocity, effect_base_acceleration, effect_rigid_bodies
+  use mpi_f08, only: MPI_Comm
   use model_deck, only: deck_t, node_row, deck_gravity
   use domain_decomposition, only: domain_t, local_node
   use effect_table, only: effect_table_t
@@ -16,6 +17,8 @@ module effect_factory
   use pressure_effect, only: pressure_effect_make
   use prescribed_velocity, only: prescribed_velocity_make
   use base_acceleration_effect, only: base_acceleration_effect_make
+  use rigid_body_effect, only: rigid_body_effect_make
+  use nodal_state, only: nodal_state_t
   implicit none
   private
   public :: make_nodal_effects
@@ -23,12 +26,15 @@ module effect_factory
 contains
 
   !> The running nodal effects of the table, built from the deck for this rank's domain and a
-  !> run of step dt (the rigid walls' penalty stiffness is scaled to it).
-  subroutine make_nodal_effects(deck, dom, table, dt, effects)
+  !> run of step dt (the rigid walls' penalty stiffness is scaled to it). Collective over comm (the
+  !> rigid bodies sum their masses over the ranks, and set their nodes' initial velocities in ns).
+  subroutine make_nodal_effects(deck, dom, table, dt, ns, comm, effects)
     type(deck_t), intent(in) :: deck
     type(domain_t), intent(in) :: dom
     type(effect_table_t), intent(in) :: table
     real(wp), intent(in) :: dt
+    type(nodal_state_t), intent(inout) :: ns
+    type(MPI_Comm), intent(in) :: comm
     type(nodal_effect_holder_t), allocatable, intent(out) :: effects(:)
     type(load_curves_t) :: curves
     integer :: k, id
@@ -63,6 +69,11 @@ contains
         allocate (effects(size(effects))%effect, source=prescribed_velocity_make(curves, &
           [(local_node(dom, deck%prescribed_node(k)), k = 1, deck%n_prescribed)], deck%prescribed_dof, &
           deck%prescribed_value, deck%prescribed_curve, [(initial_velocity(deck, k), k = 1, deck%n_prescribed)]))
+      case (effect_rigid_bodies)
+        call append(effects)
+        allocate (effects(size(effects))%effect, source=rigid_body_effect_make( &
+          [(deck%node_rigid_body(node_row(deck, dom%nodes(k))), k = 1, dom%n_nodes)], deck%rigid_body_fixed_dofs, &
+          ns, comm))
       end select   ! effects that are not nodal (elements, contact, integration) are built elsewhere
     end do
   end subroutine make_nodal_effects

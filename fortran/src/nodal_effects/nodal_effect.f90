@@ -2,7 +2,8 @@
 !> start of a step, constraints on the velocities after their update, and loads on element
 !> corners before the corner exchange. A member overrides the hooks it uses and says so in
 !> acts_at; the solver's pipeline calls only those, and only for the members the deck declares
-!> (effect_factory), so an effect the scene does not call for costs nothing.
+!> (effect_factory), so an effect the scene does not call for costs nothing. A member with a state
+!> of its own (the rigid bodies' motion) gives it to checkpoints through state_words.
 module nodal_effect
   use paradyn_kinds, only: wp
   use nodal_state, only: nodal_state_t
@@ -25,6 +26,8 @@ module nodal_effect
     procedure :: constrain => no_constraint
     procedure :: add_corner_forces => no_corner_forces
     procedure :: idle => never_idle
+    procedure :: state_words => no_state
+    procedure :: restore_state => no_restore
   end type nodal_effect_t
 
   !> A member in a list (a Fortran array cannot hold different members directly).
@@ -76,5 +79,18 @@ contains
     real(wp), intent(in) :: time
     idle = .false.
   end function never_idle
+
+  !> The member's own state that a checkpoint keeps (the same on every rank), none by default.
+  function no_state(e) result(words)
+    class(nodal_effect_t), intent(in) :: e
+    real(wp), allocatable :: words(:)
+    allocate (words(0))
+  end function no_state
+
+  !> The member's state from a checkpoint's words (as state_words gave them).
+  subroutine no_restore(e, words)
+    class(nodal_effect_t), intent(inout) :: e
+    real(wp), intent(in) :: words(:)
+  end subroutine no_restore
 
 end module nodal_effect

@@ -17,9 +17,10 @@ module deck_directory
   implicit none
   private
   public :: block_range, fetch_node_rows, first_duplicate_element, move_element_rows
-  public :: node_values   ! values per node row: coordinates 3, velocity 3, angular velocity 3, fixed 6
+  public :: node_values   ! values per node row: coordinates 3, velocity 3, angular velocity 3, fixed 6,
+                          ! rigid body 1, added mass 1
 
-  integer, parameter :: node_values = 15
+  integer, parameter :: node_values = 17
 
 contains
 

@@ -67,6 +67,8 @@ contains
     ms%added = sum(ms%added_part)
     call MPI_Allreduce(ms%dt_element_min, dt_min, 1, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
     ms%dt_element_min = dt_min
+    call MPI_Allreduce(ms%dt_rigid_min, dt_min, 1, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
+    ms%dt_rigid_min = dt_min
     call MPI_Allreduce(MPI_IN_PLACE, ms%scaled, 1, MPI_INTEGER, MPI_SUM, comm)
   end subroutine mass_scaling_totals
 

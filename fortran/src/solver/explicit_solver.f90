@@ -93,6 +93,7 @@ contains
     s%mass_scaling_step = scaling%target
     s%scaled_elements = scaling%scaled
     call lumped_masses(s)
+    s%nodes%mass = s%nodes%mass + deck%added_mass([(node_row(deck, s%dom%nodes(p)), p = 1, s%dom%n_nodes)])
     if (any(.not. (s%nodes%mass > 0.0_wp))) then
       status = status_bad_input
       message = 'a node has no mass (zero-area element?); check /elements/connectivity and the coordinates'
@@ -101,7 +102,9 @@ contains
       status = status_bad_input
       message = mass_scaling_message(scaling)
     end if
-    call clock_setup(s%clock, scaling%dt_element_min, deck%time_step_safety, deck%time_step, deck%end_time, too_large)
+    if (scaling%dt_element_min == huge(1.0_wp)) s%dt_rigid_only = scaling%dt_rigid_min   ! rigid bodies alone
+    call clock_setup(s%clock, min(scaling%dt_element_min, s%dt_rigid_only), deck%time_step_safety, deck%time_step, &
+                     deck%end_time, too_large)
     ! a wall's spring k = scale m / dt0^2 (made with this first step) is stable below 2 dt0 / sqrt(scale):
     ! the step stays at half that, so a wall never sets it unless the mesh grows the step 1.4 times or more
     if (deck%n_rigid_walls > 0) s%control%dt_cap = s%clock%dt / sqrt(maxval(deck%rigid_wall_penalty_scale))
@@ -113,7 +116,7 @@ contains
       write (0, '(a,es11.4,a,es11.4,a)') 'paradyn-engine: warning: the requested time step ', &
         deck%time_step, ' s is above the stable step ', s%clock%dt_stable, ' s; using the stable step'
     end if
-    call make_nodal_effects(deck, s%dom, effects, s%clock%dt, s%nodal_effects)   ! after the step: walls need it
+    call make_nodal_effects(deck, s%dom, effects, s%clock%dt, s%nodes, comm, s%nodal_effects)   ! after the step: walls need it
     call pipeline_setup(s)
 
     s%has_contact = deck%n_contacts > 0

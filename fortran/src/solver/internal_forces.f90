@@ -85,6 +85,10 @@ contains
       n = s%dom%group_count(g)
       first = s%dom%group_first(g)
       p = s%dom%group_part(g)
+      if (s%props(p)%rigid) then   ! a rigid body's elements: no forces (a corner load may have added some)
+        s%corner(:, 4 * first - 3:4 * (first + n - 1)) = 0.0_wp
+        cycle
+      end if
       t0 = wall_clock()
       call gather_group(n, first, s%dom%connectivity, s%nodes%x, s%workspace(ox, tid))
       call gather_group(n, first, s%dom%connectivity, s%nodes%v, s%workspace(ov, tid))
@@ -134,6 +138,12 @@ contains
       p = s%dom%group_part(g)
       call gather_group(n, first, s%dom%connectivity, s%nodes%x, xg)
       call blt_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, node_mass, node_inertia)
+      if (s%props(p)%surface_only) then   ! a rigid solid's faces: its mass is on the nodes (added_mass)
+        node_mass = 0.0_wp
+        node_inertia = 0.0_wp
+      else if (s%props(p)%rigid) then   ! no rotations to keep stable: the section's own rotary inertia
+        node_inertia = node_mass * s%props(p)%thickness**2 / 12.0_wp
+      end if
       do j = 1, n
         factor = s%elements%step_scale(first + j - 1)**2
         s%corner(1:3, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_mass(j) * factor

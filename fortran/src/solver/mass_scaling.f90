@@ -25,6 +25,8 @@ module mass_scaling
     real(wp) :: added = 0           !< added mass in all (kg)
     real(wp) :: model_mass = 0      !< the model's mass before scaling (kg)
     real(wp) :: dt_element_min = 0  !< the smallest element step after scaling, no safety factor (s)
+    !> the smallest step of a rigid part's elements as if elastic: the step of a model of rigid bodies alone
+    real(wp) :: dt_rigid_min = 0
     integer :: scaled = 0           !< elements whose density was raised
   end type mass_scaling_t
 
@@ -44,13 +46,18 @@ contains
     allocate (ms%element_mass(size(deck%element_ids)), ms%element_added(size(deck%element_ids)), source=0.0_wp)
     allocate (ms%added_part(deck%n_parts), source=0.0_wp)
     ms%dt_element_min = huge(1.0_wp)
+    ms%dt_rigid_min = huge(1.0_wp)
     do k = 1, size(deck%element_ids)
       p = deck%element_part(k)
       x(1, :, :) = deck%coordinates(:, [(node_row(deck, deck%connectivity(j, k)), j = 1, 4)])
-      call blt_stable_time_step(1, x, props(p), dt)
       call local_frame(x(1, :, :), e, xl, yl, area)
-      mass = props(p)%density * props(p)%thickness * abs(area)
+      mass = merge(0.0_wp, props(p)%density * props(p)%thickness * abs(area), props(p)%surface_only)
       ms%element_mass(k) = mass
+      call blt_stable_time_step(1, x, props(p), dt)
+      if (props(p)%rigid) then   ! a rigid body's element sets no step (unless all are rigid), is not scaled
+        ms%dt_rigid_min = min(ms%dt_rigid_min, dt(1))
+        cycle
+      end if
       wanted = ms%target / deck%time_step_safety   ! the element step that gives the target
       if (ms%target > 0.0_wp .and. dt(1) < wanted) then
         ms%step_scale(k) = wanted / dt(1)

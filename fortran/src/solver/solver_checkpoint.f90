@@ -104,6 +104,7 @@ contains
     call write_real_attribute(file, 'contact_energy', contact_sums(1))
     call write_real_attribute(file, 'contact_max_penetration', contact_sums(2))
     if (s%has_contact) call write_real_array_attribute(file, 'contact_definition_force', contact_sums(3:))
+    call write_effect_states(s, file)
 
     allocate (nodes(node_width, size(s%halo%owned_local)))
     do k = 1, size(s%halo%owned_local)
@@ -291,10 +292,46 @@ contains
       s%damping_work = merge(sum(work(2, :)), 0.0_wp, s%rank == 0)
     end if
     if (s%has_contact) call read_contact_state(s, file, transfer, last_sort, energy, penetration)
+    call read_effect_states(s, file)
     call phdf5_close(file, transfer)
     status = status_ok
     message = ''
   end subroutine checkpoint_read
+
+  !> The states of the nodal effects that keep one (the same on every rank): effect_<id>_state.
+  subroutine write_effect_states(s, file)
+    type(solver_t), intent(in) :: s
+    integer(hid_t), intent(in) :: file
+    real(wp), allocatable :: words(:)
+    integer :: k
+    do k = 1, size(s%nodal_effects)
+      words = s%nodal_effects(k)%effect%state_words()
+      if (size(words) > 0) call write_real_array_attribute(file, effect_state_name(s%nodal_effects(k)%effect%id), words)
+    end do
+  end subroutine write_effect_states
+
+  subroutine read_effect_states(s, file)
+    type(solver_t), intent(inout) :: s
+    integer(hid_t), intent(in) :: file
+    real(wp), allocatable :: words(:)
+    integer :: k, err
+    do k = 1, size(s%nodal_effects)
+      associate (e => s%nodal_effects(k)%effect)
+        words = e%state_words()
+        if (size(words) == 0) cycle
+        call read_real_array_attribute(file, effect_state_name(e%id), words, err)
+        call e%restore_state(words)
+      end associate
+    end do
+  end subroutine read_effect_states
+
+  function effect_state_name(id) result(name)
+    integer, intent(in) :: id
+    character(len=:), allocatable :: name
+    character(len=12) :: text
+    write (text, '(i0)') id
+    name = 'effect_'//trim(text)//'_state'
+  end function effect_state_name
 
   !> The contact's rows and its last step's force per definition.
   subroutine read_contact_state(s, file, transfer, last_sort, energy, penetration)

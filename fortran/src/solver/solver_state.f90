@@ -54,6 +54,7 @@ module solver_state
     logical :: floor_stop = .false.   !< the step fell below the floor (the state is that of a good step)
     logical :: energy_stop = .false.  !< the energy balance error passed its limit (the state is finite)
     real(wp) :: dt_min = huge(1.0_wp), dt_max = 0   !< the smallest and largest stable step (safety included)
+    real(wp) :: dt_rigid_only = huge(1.0_wp)   !< the step of a model of rigid bodies alone (else huge)
     ! mass scaling at set-up (mass_scaling): the added mass per part and in all, the model's mass
     real(wp), allocatable :: added_mass_part(:)
     real(wp) :: added_mass = 0, model_mass = 0, mass_scaling_step = 0

@@ -37,6 +37,7 @@ contains
       d = contact_travel_step(s%contact, s%nodes%v, s%control%contact_travel_limit) / s%clock%safety
       if (d < mine(1)) mine = [d, -2.0_wp]
     end if
+    if (mine(1) == huge(1.0_wp)) mine = [s%dt_rigid_only, -1.0_wp]   ! no deformable element: the rigid ones' step
     call MPI_Allreduce(mine, least, 1, MPI_2DOUBLE_PRECISION, MPI_MINLOC, s%halo%comm)
     call count_allreduce(s%halo%traffic, 16_i8, s%n_ranks)
     call clock_choose_step(s%clock, least(1), int(least(2), i8), s%control%dt_cap)

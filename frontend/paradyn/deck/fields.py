@@ -26,12 +26,15 @@ class DeckFields:
     initial_velocity: np.ndarray | None = None   # /nodes/initial_velocity (n_nodes, 3) m/s
     initial_angular_velocity: np.ndarray | None = None   # /nodes/initial_angular_velocity (n_nodes, 3) rad/s
     fixed_dofs: np.ndarray | None = None   # /nodes/fixed_dofs (n_nodes, 6) -
+    node_rigid_body: np.ndarray | None = None   # /nodes/rigid_body (n_nodes,) -
+    added_mass: np.ndarray | None = None   # /nodes/added_mass (n_nodes,) kg
     node_ids: np.ndarray | None = None   # /nodes/id (n_nodes,) -
     element_ids: np.ndarray | None = None   # /elements/id (n_elements,) -
     integration_points: np.ndarray | None = None   # /parts/integration_points (n_parts,) -
     hourglass_coefficient: np.ndarray | None = None   # /parts/hourglass_coefficient (n_parts,) -
     hourglass_form: np.ndarray | None = None   # /parts/hourglass_form (n_parts,) -
     warping_correction: np.ndarray | None = None   # /parts/warping_correction (n_parts,) -
+    surface_only: np.ndarray | None = None   # /parts/surface_only (n_parts,) -
     part_ids: np.ndarray | None = None   # /parts/id (n_parts,) -
     yield_stress: np.ndarray | None = None   # /materials/yield_stress (n_materials,) Pa
     tangent_modulus: np.ndarray | None = None   # /materials/tangent_modulus (n_materials,) Pa
@@ -55,6 +58,8 @@ class DeckFields:
     rigid_wall_normal: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.float64))
     rigid_wall_velocity: np.ndarray | None = None   # /rigid_walls/velocity (n_rigid_walls, 3) m/s
     rigid_wall_penalty_scale: np.ndarray | None = None   # /rigid_walls/penalty_scale (n_rigid_walls,) -
+    rigid_body_part: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
+    rigid_body_fixed_dofs: np.ndarray | None = None   # /rigid_bodies/fixed_dofs (n_rigid_bodies, 6) -
     curve_first_point: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     curve_time: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))
     curve_value: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))
@@ -113,6 +118,11 @@ class DeckFields:
     def n_base_accelerations(self) -> int:
         """Rows of /base_accelerations/direction."""
         return _rows(self.base_acceleration_direction, 2)
+
+    @property
+    def n_rigid_bodies(self) -> int:
+        """Rows of /rigid_bodies/part."""
+        return _rows(self.rigid_body_part, 1)
 
 
 def _rows(value: object, rank: int) -> int:

@@ -211,6 +211,7 @@ def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
                    f"a node without elements has no mass, remove unused nodes")
     _check_rigid_walls(check, sizes)
     _check_curve_relations(check, sizes)
+    _check_rigid_bodies(check, sizes)
 
 
 def _check_rigid_walls(check: _Checker, sizes: dict[str, int]) -> None:
@@ -230,6 +231,26 @@ def _check_rigid_walls(check: _Checker, sizes: dict[str, int]) -> None:
             check.fail(f"/rigid_walls/point[{w}] puts node {k} behind the wall at the start (signed distance "
                        f"{_fmt(distance[k])} m along /rigid_walls/normal); move the point or flip the normal so "
                        f"that the model starts on the side the normal points to")
+
+
+def _check_rigid_bodies(check: _Checker, sizes: dict[str, int]) -> None:
+    """rigid_bodies_whole (the engine's check_rigid_bodies): the nodes of a rigid part's elements
+    are in a body, and a body's part is rigid."""
+    rigid = np.isin(check.array("material_model"), trait_codes("material_model", "rigid"))
+    part_rigid = rigid[check.array("part_material")]
+    body_part = check.array("rigid_body_part")
+    for row in range(sizes["n_rigid_bodies"]):
+        if not part_rigid[body_part[row]]:
+            check.fail(f"/rigid_bodies/part[{row}] = {int(body_part[row])} names a part whose material is not rigid; "
+                       f"give the part a rigid material, or remove the body")
+    in_body = check.array("node_rigid_body") >= 0
+    conn = check.array("connectivity")
+    loose = part_rigid[check.array("element_part")][:, None] & ~in_body[conn]
+    if np.any(loose):
+        element, corner = (int(i) for i in np.argwhere(loose)[0])
+        check.fail(f"/nodes/rigid_body[{int(conn[element, corner])}] = -1 but the node is on element {element} of "
+                   f"part {int(check.array('element_part')[element])}, whose material is rigid; give every node of "
+                   f"a rigid part's elements the row of its body in /rigid_bodies")
 
 
 def _check_curve_relations(check: _Checker, sizes: dict[str, int]) -> None:

@@ -16,6 +16,8 @@ import numpy as np
 from paradyn import _schema, deck
 from paradyn.mesh import geometry
 
+from paradyn.deck.rigid_bodies import RigidBodyError, complete_rigid_bodies
+
 from .row_tables import needs_constant_curve, rows_to_model, scene_words
 from .specs import HOURGLASS_FORMS, ContactSpec, PartSpec, Scene, SceneError
 from .tables import _Reader
@@ -87,6 +89,10 @@ def build_model(scene: Scene) -> deck.Model:
     _apply_contacts(scene, model)
     _apply_curve_loads(r, scene, by_name, model)
     _apply_file_ids(meshes, model)
+    try:
+        complete_rigid_bodies(model)
+    except RigidBodyError as exc:
+        raise SceneError(f"{scene.path}: {exc}") from exc
     try:
         deck.validate_model(model, source=f"{scene.path} (built model)")
     except deck.DeckError as exc:

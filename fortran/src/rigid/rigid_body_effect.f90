@@ -1,0 +1,240 @@
+!> Rigid bodies as a member of the nodal effect family (docs/architecture.md): after each velocity
+!> update, the force and torque on each body are summed over its nodes, its Newton-Euler update
+!> runs (rigid_body_motion), and its nodes get the velocities that carry them with it. The sums are
+!> exact (core/exact_sum) and reduced over the ranks, so every rank moves every body the same way
+!> and the positions are bitwise the same on any layout. Each rank carries the nodes it holds; a
+!> body costs time in proportion to its nodes, and a model without bodies never builds this member.
+module rigid_body_effect
+  use mpi_f08
+  use paradyn_kinds, only: wp, i8
+  use paradyn_schema, only: effect_rigid_bodies
+  use exact_sum, only: exact_width, exact_add, exact_normalise, exact_value
+  use nodal_state, only: nodal_state_t
+  use nodal_effect, only: nodal_effect_t, stage_constraints
+  use rigid_body_motion, only: rigid_body_t, body_from_sums, body_advance, body_omega, &
+                               carry_nodes, n_mass_sums
+  implicit none
+  private
+  public :: rigid_body_effect_t, rigid_body_effect_make
+
+  integer, parameter :: state_per_body = 21   !< centre, rotation, velocity, momentum, omega
+
+  type, extends(nodal_effect_t) :: rigid_body_effect_t
+    type(MPI_Comm) :: comm
+    type(rigid_body_t), allocatable :: bodies(:)
+    integer, allocatable :: first(:)          !< entries of body b: first(b) .. first(b + 1) - 1
+    integer, allocatable :: node(:)           !< local node of each entry (every node held)
+    real(wp), allocatable :: offset(:, :)     !< x at t = 0 less the body's centre at t = 0
+    integer(i8), allocatable :: sums(:, :, :) !< workspace: exact accumulators (width, 6, bodies)
+  contains
+    procedure :: acts_at
+    procedure :: constrain
+    procedure :: state_words
+    procedure :: restore_state
+  end type rigid_body_effect_t
+
+contains
+
+  !> The member for the bodies of the deck: body(j) is local node j's body (1-based, 0 for none),
+  !> fixed(:, b) the held dofs of body b. Collective over comm. Mass, centre and inertia come from
+  !> the nodes' masses (ns%mass, ns%inertia, set before); the initial velocity and angular momentum
+  !> from the nodes' initial velocities, which are then made those of the rigid motion.
+  function rigid_body_effect_make(body, fixed, ns, comm) result(e)
+    integer, intent(in) :: body(:), fixed(:, :)
+    type(nodal_state_t), intent(inout) :: ns
+    type(MPI_Comm), intent(in) :: comm
+    type(rigid_body_effect_t) :: e
+    integer :: nb, b, k
+    real(wp), allocatable :: terms(:, :), totals(:, :), origin(:, :)
+    e%id = effect_rigid_bodies
+    e%comm = comm
+    nb = size(fixed, 2)
+    call sort_entries(body, nb, e%first, e%node)
+    allocate (e%bodies(nb), origin(3, nb), totals(n_mass_sums, nb))
+    allocate (e%sums(exact_width, n_mass_sums, nb))
+    origin = 0.0_wp
+    ! pass 1: mass and first moment about the world's origin give a centre to take moments about
+    allocate (terms(n_mass_sums, size(e%node)), source=0.0_wp)
+    call mass_terms(e, ns, origin, terms)
+    call reduce(e, terms(1:4, :), totals(1:4, :))
+    do b = 1, nb
+      if (.not. totals(1, b) > 0.0_wp) error stop 'paradyn-engine: a rigid body has no mass'
+      origin(:, b) = totals(2:4, b) / totals(1, b)
+    end do
+    call mass_terms(e, ns, origin, terms)
+    call reduce(e, terms, totals)
+    do b = 1, nb
+      e%bodies(b) = body_from_sums(totals(:, b), origin(:, b), fixed(:, b))
+    end do
+    ! the momenta of the nodes' initial velocities: translation, then rotation about the centre
+    allocate (e%offset(3, size(e%node)))
+    do b = 1, nb
+      do k = e%first(b), e%first(b + 1) - 1
+        e%offset(:, k) = ns%x(:, e%node(k)) - e%bodies(b)%centre
+      end do
+    end do
+    call momentum_terms(e, ns, terms(1:6, :))
+    call reduce(e, terms(1:6, :), totals(1:6, :))
+    do b = 1, nb
+      e%bodies(b)%velocity = totals(1:3, b) / e%bodies(b)%mass
+      where (e%bodies(b)%fixed(1:3) /= 0) e%bodies(b)%velocity = 0.0_wp
+      e%bodies(b)%momentum = totals(4:6, b)
+      call body_omega(e%bodies(b), e%bodies(b)%rotation)
+      do k = e%first(b), e%first(b + 1) - 1
+        ns%v(:, e%node(k)) = e%bodies(b)%velocity + cross(e%bodies(b)%omega, e%offset(:, k))
+        ns%w(:, e%node(k)) = e%bodies(b)%omega
+      end do
+    end do
+    e%sums = 0
+  end function rigid_body_effect_make
+
+  !> The local nodes of each body in ascending order: first (nb + 1) and node.
+  pure subroutine sort_entries(body, nb, first, node)
+    integer, intent(in) :: body(:), nb
+    integer, allocatable, intent(out) :: first(:), node(:)
+    integer :: b, j, k
+    allocate (first(nb + 1), node(count(body > 0)))
+    k = 0
+    do b = 1, nb
+      first(b) = k + 1
+      do j = 1, size(body)
+        if (body(j) /= b) cycle
+        k = k + 1
+        node(k) = j
+      end do
+    end do
+    first(nb + 1) = k + 1
+  end subroutine sort_entries
+
+  !> Per entry of an owned node: m, m d (3), m d d^T (xx, yy, zz, xy, yz, zx) and the rotary
+  !> inertia, d = x - origin of its body; 0 for a node another rank owns.
+  pure subroutine mass_terms(e, ns, origin, terms)
+    type(rigid_body_effect_t), intent(in) :: e
+    type(nodal_state_t), intent(in) :: ns
+    real(wp), intent(in) :: origin(:, :)
+    real(wp), intent(out) :: terms(:, :)
+    integer :: b, k, j
+    real(wp) :: d(3), m
+    terms = 0.0_wp
+    do b = 1, size(e%bodies)
+      do k = e%first(b), e%first(b + 1) - 1
+        j = e%node(k)
+        if (ns%weight(j) == 0.0_wp) cycle
+        m = ns%mass(j)
+        d = ns%x(:, j) - origin(:, b)
+        terms(:, k) = [m, m * d, m * d * d, m * d(1) * d(2), m * d(2) * d(3), m * d(3) * d(1), ns%inertia(j)]
+      end do
+    end do
+  end subroutine mass_terms
+
+  !> Per entry of an owned node: its momentum m v and its angular momentum about the body's
+  !> centre, offset x m v + I w.
+  pure subroutine momentum_terms(e, ns, terms)
+    type(rigid_body_effect_t), intent(in) :: e
+    type(nodal_state_t), intent(in) :: ns
+    real(wp), intent(out) :: terms(:, :)
+    integer :: k, j
+    terms = 0.0_wp
+    do k = 1, size(e%node)
+      j = e%node(k)
+      if (ns%weight(j) == 0.0_wp) cycle
+      terms(1:3, k) = ns%mass(j) * ns%v(:, j)
+      terms(4:6, k) = cross(e%offset(:, k), ns%mass(j) * ns%v(:, j)) + ns%inertia(j) * ns%w(:, j)
+    end do
+  end subroutine momentum_terms
+
+  !> totals(q, b) = the sum of terms(q, k) over the entries of body b on every rank, exactly.
+  subroutine reduce(e, terms, totals)
+    type(rigid_body_effect_t), intent(inout) :: e
+    real(wp), intent(in) :: terms(:, :)
+    real(wp), intent(out) :: totals(:, :)
+    integer :: b, k, q, nq, n_ranks
+    nq = size(terms, 1)
+    e%sums(:, 1:nq, :) = 0
+    do b = 1, size(e%bodies)
+      do k = e%first(b), e%first(b + 1) - 1
+        do q = 1, nq
+          call exact_add(e%sums(:, q, b), terms(q, k))
+        end do
+      end do
+      do q = 1, nq
+        call exact_normalise(e%sums(:, q, b))
+      end do
+    end do
+    call MPI_Comm_size(e%comm, n_ranks)
+    if (n_ranks > 1) call MPI_Allreduce(MPI_IN_PLACE, e%sums(:, 1:nq, :), exact_width * nq * size(e%bodies), &
+                                        MPI_INTEGER8, MPI_SUM, e%comm)
+    do b = 1, size(e%bodies)
+      do q = 1, nq
+        totals(q, b) = exact_value(e%sums(:, q, b))
+      end do
+    end do
+  end subroutine reduce
+
+  !> Force and torque from the nodes' forces at the step's start, each body's update, and the
+  !> half-step velocities of its nodes.
+  subroutine constrain(e, ns, time, dt, dt_previous)
+    class(rigid_body_effect_t), intent(inout) :: e
+    type(nodal_state_t), intent(inout) :: ns
+    real(wp), intent(in) :: time, dt, dt_previous
+    real(wp) :: terms(6, size(e%node)), totals(6, size(e%bodies)), f(6)
+    integer :: b, k, j
+    terms = 0.0_wp
+    do b = 1, size(e%bodies)
+      do k = e%first(b), e%first(b + 1) - 1
+        j = e%node(k)
+        if (ns%weight(j) == 0.0_wp) cycle
+        f = ns%f_ext(:, j) - ns%f_int(:, j)
+        terms(1:3, k) = f(1:3)
+        terms(4:6, k) = cross(ns%x(:, j) - e%bodies(b)%centre, f(1:3)) + f(4:6)
+      end do
+    end do
+    call reduce(e, terms, totals)
+    do b = 1, size(e%bodies)
+      call body_advance(e%bodies(b), totals(1:3, b), totals(4:6, b), 0.5_wp * (dt_previous + dt), dt)
+      call carry_nodes(e%bodies(b), e%offset(:, e%first(b):e%first(b + 1) - 1), e%node(e%first(b):e%first(b + 1) - 1), &
+                       dt, ns%x, ns%v, ns%w)
+    end do
+  end subroutine constrain
+
+  !> The bodies' motion, the same on every rank, for a checkpoint.
+  function state_words(e) result(words)
+    class(rigid_body_effect_t), intent(in) :: e
+    real(wp), allocatable :: words(:)
+    integer :: b
+    allocate (words(0))
+    do b = 1, size(e%bodies)
+      associate (x => e%bodies(b))
+        words = [words, x%centre, reshape(x%rotation, [9]), x%velocity, x%momentum, x%omega]
+      end associate
+    end do
+  end function state_words
+
+  !> The bodies' motion from a checkpoint's words (state_words).
+  subroutine restore_state(e, words)
+    class(rigid_body_effect_t), intent(inout) :: e
+    real(wp), intent(in) :: words(:)
+    integer :: b, o
+    do b = 1, size(e%bodies)
+      o = (b - 1) * state_per_body
+      e%bodies(b)%centre = words(o + 1:o + 3)
+      e%bodies(b)%rotation = reshape(words(o + 4:o + 12), [3, 3])
+      e%bodies(b)%velocity = words(o + 13:o + 15)
+      e%bodies(b)%momentum = words(o + 16:o + 18)
+      e%bodies(b)%omega = words(o + 19:o + 21)
+    end do
+  end subroutine restore_state
+
+  pure logical function acts_at(e, stage)
+    class(rigid_body_effect_t), intent(in) :: e
+    integer, intent(in) :: stage
+    acts_at = stage == stage_constraints
+  end function acts_at
+
+  pure function cross(a, b) result(c)
+    real(wp), intent(in) :: a(3), b(3)
+    real(wp) :: c(3)
+    c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
+  end function cross
+
+end module rigid_body_effect
