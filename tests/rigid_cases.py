@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 
 import paradyn
-
 from models import lumped_masses
 
 STEEL = {"density": 7800.0, "youngs_modulus": 200e9, "poisson_ratio": 0.3}
@@ -89,7 +88,8 @@ def body_omega(displacement: np.ndarray, velocity: np.ndarray, start: np.ndarray
 def impact(end_time: float) -> paradyn.deck.Model:
     """A rigid plate (0.1 m square, 5 mm, the impactor) falling at 20 m/s onto a free steel plate
     (0.2 m square, 2 mm) 1 mm below it, node-to-segment contact; nothing holds either."""
-    scene = paradyn.Scene("rigid impact", end_time=end_time, output_interval=end_time / 4, history_interval=end_time / 40)
+    scene = paradyn.Scene("rigid impact", end_time=end_time, output_interval=end_time / 4,
+                          history_interval=end_time / 40)
     scene.add_material("steel", model="elastic", **STEEL)
     scene.add_material("rigid_steel", model="rigid", **STEEL)
     scene.add_part("target", material="steel", thickness=0.002,

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from paradyn import deck
+from paradyn._schema import DATASETS
 from paradyn.mesh import geometry
 
 
@@ -160,7 +161,9 @@ def test_validate_model_requires_plasticity_data_for_model_2() -> None:
 def test_validate_model_rejects_unused_nodes() -> None:
     model = _model()
     model.coordinates = np.vstack([model.coordinates, [[9.0, 9.0, 9.0]]])
-    model.initial_velocity = model.initial_angular_velocity = model.fixed_dofs = None
+    for spec in DATASETS:   # the per-node defaults follow the new row count
+        if spec.shape[0] == "n_nodes" and not spec.required:
+            setattr(model, spec.python, None)
     with pytest.raises(deck.DeckError, match=r"/nodes/coordinates\[15\] belongs to no element"):
         deck.validate_model(model)
 

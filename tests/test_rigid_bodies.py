@@ -137,6 +137,7 @@ def test_a_rigid_part_without_its_body_is_refused(tmp_path: Path) -> None:
     with pytest.raises(paradyn.scene.SceneError, match="not rigid"):
         scene = paradyn.Scene("wrong body", end_time=1e-3, output_interval=1e-4)
         scene.add_material("steel", model="elastic", density=7800.0, youngs_modulus=2e11, poisson_ratio=0.3)
-        scene.add_part("plate", material="steel", thickness=0.01, geometry=paradyn.Plate(size=(0.1, 0.1), elements=(2, 2)))
+        scene.add_part("plate", material="steel", thickness=0.01,
+                       geometry=paradyn.Plate(size=(0.1, 0.1), elements=(2, 2)))
         scene.add("rigid_body", part="plate")
         scene.build()

@@ -41,37 +41,46 @@ _ENTITY_SYMBOL = {s.entity: s.symbol for s in SIZES.values()}
 def _base_model() -> deck.Model:
     """Two 2 x 1 strips 1.5 mm apart: part 0 (rate-dependent J2 steel, so that its row meets every
     condition of the /materials datasets) below, part 1 (elastic aluminium) above, with gravity, a
-    pressure on part 1, a prescribed velocity and a base acceleration, over two load curves."""
+    pressure on part 1, a prescribed velocity and a base acceleration, over two load curves; and a
+    rigid lid above them (one face of a rigid solid: surface only, its mass on its nodes)."""
     lower = geometry.plate((0.02, 0.01), (2, 1))
     upper = geometry.plate((0.02, 0.01), (2, 1), origin=(0.0, 0.0, 0.0015))
+    lid = geometry.plate((0.02, 0.01), (1, 1), origin=(0.0, 0.0, 0.004))
     n = lower.n_nodes
-    coordinates = np.vstack([lower.coordinates, upper.coordinates])
-    fixed = np.zeros((2 * n, 6), dtype=np.int32)
+    coordinates = np.vstack([lower.coordinates, upper.coordinates, lid.coordinates])
+    n_all = len(coordinates)
+    fixed = np.zeros((n_all, 6), dtype=np.int32)
     fixed[[0, 3], :] = 1
     return deck.Model(
         coordinates=coordinates,
-        connectivity=np.vstack([lower.quads, upper.quads + n]),
-        element_part=np.array([0, 0, 1, 1]),
-        thickness=np.array([0.001, 0.0012]),
-        part_material=np.array([0, 1]),
-        integration_points=np.array([5, 3]),
-        hourglass_coefficient=np.array([0.1, 0.05]),
-        hourglass_form=np.array([2, 1]),
-        material_model=np.array([ENUMS["material_model"]["j2_rate"], deck.ELASTIC]),   # plastic, with a rate
-        density=np.array([7860.0, 2700.0]),
-        youngs_modulus=np.array([200e9, 70e9]),
-        poisson_ratio=np.array([0.3, 0.33]),
-        yield_stress=np.array([250e6, 0.0]),
-        tangent_modulus=np.array([1e9, 0.0]),
-        hardening_mixing=np.array([0.5, 1.0]),
-        rate_c=np.array([40.4, 0.0]),
-        rate_p=np.array([5.0, 0.0]),
-        initial_velocity=np.tile([0.0, 0.0, -1.0], (2 * n, 1)) * (np.arange(2 * n) >= n)[:, None],
-        initial_angular_velocity=np.zeros((2 * n, 3)),
+        connectivity=np.vstack([lower.quads, upper.quads + n, lid.quads + 2 * n]),
+        element_part=np.array([0, 0, 1, 1, 2]),
+        thickness=np.array([0.001, 0.0012, 0.002]),
+        part_material=np.array([0, 1, 2]),
+        integration_points=np.array([5, 3, 1]),
+        hourglass_coefficient=np.array([0.1, 0.05, 0.1]),
+        hourglass_form=np.array([2, 1, 3]),
+        surface_only=np.array([0, 0, 1]),
+        material_model=np.array([ENUMS["material_model"]["j2_rate"], deck.ELASTIC,   # plastic, with a rate
+                                 ENUMS["material_model"]["rigid"]]),
+        density=np.array([7860.0, 2700.0, 7860.0]),
+        youngs_modulus=np.array([200e9, 70e9, 200e9]),
+        poisson_ratio=np.array([0.3, 0.33, 0.3]),
+        yield_stress=np.array([250e6, 0.0, 0.0]),
+        tangent_modulus=np.array([1e9, 0.0, 0.0]),
+        hardening_mixing=np.array([0.5, 1.0, 1.0]),
+        rate_c=np.array([40.4, 0.0, 0.0]),
+        rate_p=np.array([5.0, 0.0, 0.0]),
+        initial_velocity=np.tile([0.0, 0.0, -1.0], (n_all, 1)) * (np.arange(n_all) >= n)[:, None],
+        initial_angular_velocity=np.zeros((n_all, 3)),
         fixed_dofs=fixed,
-        node_ids=np.arange(101, 101 + 2 * n),
-        element_ids=np.array([7, 9, 11, 13]),
-        part_ids=np.array([3, 4]),
+        node_rigid_body=np.where(np.arange(n_all) >= 2 * n, 0, -1),   # a rigid lid: the faces of a solid
+        added_mass=np.where(np.arange(n_all) >= 2 * n, 0.01, 0.0),
+        rigid_body_part=np.array([2]),
+        rigid_body_fixed_dofs=np.array([[0, 0, 1, 0, 0, 0]]),
+        node_ids=np.arange(101, 101 + n_all),
+        element_ids=np.array([7, 9, 11, 13, 15]),
+        part_ids=np.array([3, 4, 5]),
         load_node=np.array([2, 8]),
         load_dof=np.array([3, 6]),
         load_value=np.array([-5.0, 0.01]),
@@ -106,7 +115,8 @@ def _base_model() -> deck.Model:
                              contact_sort_interval=0, checkpoint_interval=0.0, partition="blocks",
                              contact_gather="near", precision="double", gravity_x=0.0, gravity_y=0.0, gravity_z=-9.81,
                              effect_switches={switch: "on" for switch in _schema.EFFECT_SWITCHES}),
-        title="damage base", part_names=["steel strip", "aluminium strip"], material_names=["steel", "aluminium"],
+        title="damage base", part_names=["steel strip", "aluminium strip", "rigid lid"],
+        material_names=["steel", "aluminium", "rigid steel"],
         tracked_names=["lower tip", "upper tip"],
     )
 
@@ -250,6 +260,10 @@ def _curve_time_repeated(f: h5py.File) -> None:
     f["/curves/time"][1] = f["/curves/time"][0]
 
 
+def _rigid_node_loose(f: h5py.File) -> None:
+    f["/nodes/rigid_body"][-1] = -1   # a node of the rigid lid's element outside its body
+
+
 # The schema's [relations]: hand-written on both sides, so each needs its own damage here.
 RELATION_DAMAGES: dict[str, Damage] = {
     "distinct_element_nodes": _repeat_first_node,
@@ -262,6 +276,7 @@ RELATION_DAMAGES: dict[str, Damage] = {
     "rigid_wall_nodes_in_front": _wall_above_the_model,
     "curve_first_points": _curves_out_of_order,
     "curve_times_increase": _curve_time_repeated,
+    "rigid_bodies_whole": _rigid_node_loose,
 }
 
 

@@ -1,9 +1,10 @@
 """The rigid bodies of a deck model (/rigid_bodies, /nodes/rigid_body), completed from its parts.
 
-A part whose material is rigid (a member with the trait ``rigid``) moves as one body. The scene and
-the keyword reader give the bodies they know about (their part and held dofs); :func:`complete_rigid_bodies`
-adds a free body for every other rigid part and marks every node of a body's elements with its
-row, which is what the engine reads (it never looks at the parts to find a body's nodes).
+A part whose material is rigid (a member with the trait ``rigid``) moves as one body, with the rigid
+parts it shares nodes with or is merged with. The scene and the keyword reader give the bodies they
+know about (their part and held dofs); :func:`complete_rigid_bodies` adds a free body for every
+other rigid part, merges, and marks every node of a body's elements with its row, which is what the
+engine reads (it never looks at the parts to find a body's nodes).
 """
 
 from __future__ import annotations
@@ -25,44 +26,74 @@ def rigid_parts(model: Model) -> np.ndarray:
     return np.flatnonzero(rigid[np.asarray(model.part_material)])
 
 
-def complete_rigid_bodies(model: Model) -> None:
-    """One /rigid_bodies row per rigid part (a free one where none is given) and /nodes/rigid_body
-    from the bodies' elements; nothing when the model has no rigid part and no row."""
-    parts = rigid_parts(model)
+def complete_rigid_bodies(model: Model, merge: list[tuple[int, int]] | None = None) -> list[str]:
+    """One /rigid_bodies row per rigid body and /nodes/rigid_body from the bodies' elements;
+    nothing when the model has no rigid part and no row. A body is a rigid part, or rigid parts
+    that share a node or that ``merge`` pairs (LS-DYNA *CONSTRAINED_RIGID_BODIES): the lowest part
+    leads it, its held dofs are those of any of its parts. Returns a line for each pair of rigid
+    parts merged because they share nodes (the caller warns with it)."""
+    parts = [int(p) for p in rigid_parts(model)]
     given = [] if model.rigid_body_part is None else [int(p) for p in model.rigid_body_part]
-    if not parts.size and not given:
-        return
+    if not parts and not given:
+        return []
     name = _part_namer(model)
+    held = {part: np.zeros(6, dtype=np.int32) for part in parts}
+    fixed = np.zeros((0, 6)) if model.rigid_body_fixed_dofs is None else np.asarray(model.rigid_body_fixed_dofs)
     for row, part in enumerate(given):
-        if part not in parts:
+        if part not in held:
             raise RigidBodyError(f"rigid body #{row + 1} names part {name(part)}, whose material is not rigid; give "
                                  f"the part a material with model = \"rigid\"")
         if given.count(part) > 1:
             raise RigidBodyError(f"part {name(part)} has {given.count(part)} rigid bodies; give each rigid part one")
-    fixed = np.zeros((0, 6), dtype=np.int32) if model.rigid_body_fixed_dofs is None else model.rigid_body_fixed_dofs
-    missing = [int(p) for p in parts if int(p) not in given]
-    model.rigid_body_part = np.array(given + missing, dtype=np.int32)
-    model.rigid_body_fixed_dofs = np.concatenate([np.asarray(fixed, dtype=np.int32).reshape(-1, 6),
-                                                  np.zeros((len(missing), 6), dtype=np.int32)])
-    model.node_rigid_body = node_bodies(model, name)
-
-
-def node_bodies(model: Model, name: Callable[[int], str] = str) -> np.ndarray:
-    """-1, or the row of /rigid_bodies whose part has an element on the node; a node on two
-    bodies' elements is refused (the bodies would have to be one)."""
-    n_nodes = len(model.coordinates)
-    body = np.full(n_nodes, -1, dtype=np.int32)
+        held[part] = np.asarray(fixed[row], dtype=np.int32)
+    lead, notes = _group_parts(model, parts, merge or [], name)
+    leads = sorted(set(lead.values()))
+    model.rigid_body_part = np.array(leads, dtype=np.int32)
+    model.rigid_body_fixed_dofs = np.array([np.max([held[p] for p in parts if lead[p] == head], axis=0)
+                                            for head in leads], dtype=np.int32).reshape(-1, 6)
+    row_of = {head: row for row, head in enumerate(leads)}
+    body = np.full(len(model.coordinates), -1, dtype=np.int32)
     connectivity, element_part = np.asarray(model.connectivity), np.asarray(model.element_part)
-    for row, part in enumerate(model.rigid_body_part):
+    for part in parts:
+        body[np.unique(connectivity[element_part == part])] = row_of[lead[part]]
+    model.node_rigid_body = body
+    return notes
+
+
+def _group_parts(model: Model, parts: list[int], merge: list[tuple[int, int]],
+                 name: Callable[[int], str]) -> tuple[dict[int, int], list[str]]:
+    """The lead part (the lowest) of every rigid part's body: parts joined by ``merge`` or by
+    shared nodes; and a line for each join by shared nodes."""
+    lead = {part: part for part in parts}
+
+    def head(part: int) -> int:
+        while lead[part] != part:
+            part = lead[part]
+        return part
+
+    def join(a: int, b: int) -> None:
+        ha, hb = head(a), head(b)
+        lead[max(ha, hb)] = min(ha, hb)
+
+    for a, b in merge:
+        for part in (a, b):
+            if part not in lead:
+                raise RigidBodyError(f"merging rigid bodies: part {name(part)} is not rigid; give it a rigid material")
+        join(a, b)
+    owner = np.full(len(model.coordinates), -1)
+    connectivity, element_part = np.asarray(model.connectivity), np.asarray(model.element_part)
+    notes = []
+    for part in parts:
         nodes = np.unique(connectivity[element_part == part])
-        taken = nodes[(body[nodes] >= 0) & (body[nodes] != row)]
-        if taken.size:
-            other = int(model.rigid_body_part[body[taken[0]]])
-            raise RigidBodyError(f"node {int(taken[0])} belongs to the rigid parts {name(other)} and {name(int(part))}; "
-                                 f"two rigid bodies cannot share a node: merge them into one part, or separate "
-                                 f"them (LS-DYNA *CONSTRAINED_RIGID_BODIES merges two bodies)")
-        body[nodes] = row
-    return body
+        shared = owner[nodes][owner[nodes] >= 0]
+        for other in sorted({int(o) for o in shared}):
+            if head(other) != head(part):
+                notes.append(f"rigid parts {name(other)} and {name(part)} share "
+                             f"{int(np.count_nonzero(shared == other))} node(s): they move as one rigid body "
+                             f"(as *CONSTRAINED_RIGID_BODIES would merge them)")
+                join(other, part)
+        owner[nodes] = part
+    return {part: head(part) for part in parts}, notes
 
 
 def _part_namer(model: Model) -> Callable[[int], str]:

@@ -49,6 +49,14 @@ CONTROL_TIMESTEP = layout("DTINIT TSSFAC int:ISDO TSLIMT DT2MS int:LCTM int:EROD
                           tssfac=0.9, isdo=0, tslimt=0.0, dt2ms=0.0, lctm=0, erode=0, ms1st=0)
 CONTROL_CONTACT = layout("SLSFAC RWPNAL int:ISLCHK int:SHLTHK int:PENOPT int:THKCHG int:ORIEN int:ENMASS",
                          slsfac=0.1, rwpnal=0.0, islchk=1, shlthk=0, penopt=1, thkchg=0, orien=1, enmass=0)
+ELEMENT_SOLID = tuple(Field(n, "int", None if n in ("EID", "PID", "N1", "N2", "N3", "N4") else 0, 8)
+                      for n in ("EID", "PID", "N1", "N2", "N3", "N4", "N5", "N6", "N7", "N8"))
+SECTION_SOLID = layout("int:SECID int:ELFORM int:AET", elform=1, aet=0)
+MAT_RIGID = (layout("int:MID RO E PR N COUPLE M ALIAS", n=0.0, couple=0.0, m=0.0, alias=0.0),
+             layout("CMO CON1 CON2", cmo=0.0, con1=0.0, con2=0.0),
+             layout("A1 A2 A3 V1 V2 V3", a1=0.0, a2=0.0, a3=0.0, v1=0.0, v2=0.0, v3=0.0))
+DEFORMABLE_TO_RIGID = layout("int:PID int:MRB text:PTYPE", mrb=0, ptype="PART")
+CONSTRAINED_RIGID_BODIES = layout("int:PIDL int:PIDC int:IFLAG", iflag=0)
 CONTROL_HOURGLASS = layout("int:IHQ QH", ihq=1, qh=0.1)
 # only IMFLAG is read: a value other than 0 asks for an implicit analysis, which ParaDyn refuses
 CONTROL_IMPLICIT_GENERAL = layout("int:IMFLAG DT0 int:IMFORM int:NSBS int:IGS int:CNSTN int:FORM int:ZERO_V",
@@ -96,6 +104,10 @@ class KeywordData:
     curves: dict[int, tuple[Record, list[tuple[float, float]]]] = field(default_factory=dict)
     history_nodes: list[tuple[int, str, str]] = field(default_factory=list)   # (nid, name, where)
     body_loads: list[tuple[str, Record]] = field(default_factory=list)        # ("X" | "Y" | "Z", record)
+    solids: list[Record] = field(default_factory=list)                       # *ELEMENT_SOLID (rigid geometry)
+    solid_sections: dict[int, Record] = field(default_factory=dict)
+    deformable_to_rigid: list[Record] = field(default_factory=list)
+    merged_bodies: list[Record] = field(default_factory=list)               # *CONSTRAINED_RIGID_BODIES
     title: str = ""
     warnings: list[str] = field(default_factory=list)
 
@@ -167,6 +179,32 @@ def _element_shell(r: _Reading) -> None:
             raise KeywordError(f"{line.where}: *ELEMENT_SHELL {record['EID']} has nodes N5..N8; ParaDyn reads "
                                f"4-node shells only")
         r.data.elements.append(record)
+
+
+def _element_solid(r: _Reading) -> None:
+    for line in r.lines():
+        r.data.solids.append(r.card(line, ELEMENT_SOLID))
+
+
+def _section_solid(r: _Reading) -> None:
+    for line in r.head_and_rest("TITLE" in _options(r.keyword, "SECTION_SOLID")):
+        if line.text.strip():
+            record = r.card(line, SECTION_SOLID, {"AET": 0})
+            r.data.solid_sections[int(record["SECID"])] = record
+
+
+def _deformable_to_rigid(r: _Reading) -> None:
+    for line in r.lines():
+        record = r.card(line, DEFORMABLE_TO_RIGID)
+        if str(record["PTYPE"] or "PART").strip().upper() not in ("PART", ""):
+            raise KeywordError(f"{line.where}: *DEFORMABLE_TO_RIGID PTYPE = {record['PTYPE']} is not read; name "
+                               f"a part (PTYPE PART)")
+        r.data.deformable_to_rigid.append(record)
+
+
+def _merged_bodies(r: _Reading) -> None:
+    for line in r.lines():
+        r.data.merged_bodies.append(r.card(line, CONSTRAINED_RIGID_BODIES, {"IFLAG": 0}))
 
 
 def _part(r: _Reading) -> None:
@@ -324,10 +362,18 @@ READERS: dict[str, Callable[[_Reading], None]] = {
     "HOURGLASS": _hourglass, "HOURGLASS_TITLE": _hourglass,
     "DEFINE_CURVE": _define_curve, "DEFINE_CURVE_TITLE": _define_curve,
     "LOAD_BODY_X": _load_body, "LOAD_BODY_Y": _load_body, "LOAD_BODY_Z": _load_body,
+    "ELEMENT_SOLID": _element_solid,
+    "SECTION_SOLID": _section_solid, "SECTION_SOLID_TITLE": _section_solid,
+    "DEFORMABLE_TO_RIGID": _deformable_to_rigid,
+    "CONSTRAINED_RIGID_BODIES": _merged_bodies,
 }
 for _title in ("", "_TITLE"):
     for _name in ("MAT_ELASTIC", "MAT_001"):
         READERS[_name + _title] = _material("elastic", MAT_ELASTIC, {"DA": 0.0, "DB": 0.0, "K": 0.0})
+    for _name in ("MAT_RIGID", "MAT_020"):
+        READERS[_name + _title] = _material("rigid", MAT_RIGID, {"N": 0.0, "COUPLE": 0.0, "M": 0.0, "ALIAS": 0.0,
+                                                                "A1": 0.0, "A2": 0.0, "A3": 0.0, "V1": 0.0,
+                                                                "V2": 0.0, "V3": 0.0})
     for _name in ("MAT_PLASTIC_KINEMATIC", "MAT_003"):
         READERS[_name + _title] = _material("j2_plasticity", MAT_PLASTIC_KINEMATIC, {"FS": 0.0, "VP": 0.0})
     for _kind in ("SURFACE_TO_SURFACE", "SINGLE_SURFACE"):

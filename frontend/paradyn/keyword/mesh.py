@@ -45,6 +45,8 @@ class KeywordMesh:
     element_ids: np.ndarray            # (n_elements,) the deck's EID
     part_ids: np.ndarray               # (n_parts,) the deck's PID, in order of first appearance
     node_index: dict[int, int] = field(default_factory=dict)   # NID -> row
+    added_mass: np.ndarray | None = None                       # (n_nodes,) kg: rigid solids' mass
+    face_thickness: dict[int, float] = field(default_factory=dict)   # PID -> m, of a rigid solid's faces
 
     def part_geometry(self, pid: int) -> PartMeshGeometry:
         part = int(np.flatnonzero(self.part_ids == pid)[0])

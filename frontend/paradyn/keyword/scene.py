@@ -17,12 +17,21 @@ from pathlib import Path
 import numpy as np
 
 from paradyn import _schema, deck
+from paradyn.deck.rigid_bodies import RigidBodyError, complete_rigid_bodies
 from paradyn.scene.building import _apply_contacts, _apply_material_extras, set_curves
 from paradyn.scene.specs import ContactSpec, MaterialSpec, PartSpec, RunSettings, Scene
 
 from .cards import KeywordData, Record, collect, with_warnings
 from .mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of
 from .reader import KeywordError, read_keyword_file
+from .rigid import (
+    SolidGeometry,
+    add_solid_faces,
+    merged_pairs,
+    rigid_body_rows,
+    rigid_material_key,
+    solid_face_thickness,
+)
 from .units import Units, UnitsError
 
 MAX_INTEGRATION_POINTS = int(next(d.upper.value for d in _schema.DATASETS if d.python == "integration_points"))
@@ -82,7 +91,9 @@ def _read(path: Path, units: str | None) -> tuple[Scene, KeywordData, Units, Key
     data = collect(read_keyword_file(path))
     try:
         unit = _units(path, data, units)
+        solids = add_solid_faces(data)
         mesh = mesh_of(data, unit)
+        _add_solid_masses(data, solids, unit, mesh)
         return _scene(path, data, unit, mesh), data, unit, mesh
     except KeywordError as exc:
         raise with_warnings(exc, data.warnings) from exc
@@ -154,24 +165,38 @@ def _part_name(record: Record, taken: set[str]) -> str:
     return name
 
 
+def _add_solid_masses(data: KeywordData, solids: SolidGeometry, unit: Units, mesh: KeywordMesh) -> None:
+    """The rigid solids' lumped mass on the mesh's nodes (SI) and their faces' contact thickness."""
+    mass = np.zeros(len(mesh.node_ids))
+    for nid, value in solids.node_mass.items():
+        if nid in mesh.node_index:
+            mass[mesh.node_index[nid]] += value * unit.mass
+    mesh.added_mass = mass
+    mesh.face_thickness = {pid: t * unit.length for pid, t in solid_face_thickness(data, solids).items()}
+
+
 def _parts_and_materials(data: KeywordData, unit: Units,
                          mesh: KeywordMesh) -> tuple[list[PartSpec], list[MaterialSpec]]:
     by_pid = {int(p["PID"]): p for p in data.parts}
     parts: list[PartSpec] = []
-    materials: dict[int, MaterialSpec] = {}
+    materials: dict[tuple[str, int], MaterialSpec] = {}
     taken: set[str] = set()
     for pid in mesh.part_ids.tolist():
         record = by_pid[pid]
         mid = int(record["MID"] or 0)
         if mid not in data.materials:
-            raise KeywordError(f"{record.where}: *PART {pid} names material {mid}, which no *MAT_ELASTIC or "
-                               f"*MAT_PLASTIC_KINEMATIC defines")
-        if mid not in materials:
-            materials[mid] = _material(mid, *data.materials[mid], unit)
-            title = str(data.materials[mid][1][0]["TITLE"])
+            raise KeywordError(f"{record.where}: *PART {pid} names material {mid}, which no *MAT_ELASTIC, "
+                               f"*MAT_PLASTIC_KINEMATIC or *MAT_RIGID defines")
+        key = rigid_material_key(data, pid, mid)
+        if key not in materials:
+            model, cards = data.materials[mid]
+            materials[key] = _material(mid, key[0] or model, cards, unit)
+            title = str(cards[0]["TITLE"])
             if title and title not in {m.name for m in materials.values()}:
-                materials[mid].name = title
-        parts.append(_part(data, record, _part_name(record, taken), materials[mid].name, unit, mesh))
+                materials[key].name = title
+            if key[0]:
+                materials[key].name += "_rigid"
+        parts.append(_part(data, record, _part_name(record, taken), materials[key].name, unit, mesh))
     return parts, list(materials.values())
 
 
@@ -208,6 +233,9 @@ def _rates(mid: int, card: Record, unit: Units, spec: MaterialSpec) -> None:
 
 def _part(data: KeywordData, record: Record, name: str, material: str, unit: Units, mesh: KeywordMesh) -> PartSpec:
     pid, secid = int(record["PID"]), int(record["SECID"] or 0)
+    if pid in mesh.face_thickness:   # a rigid solid: its faces, a contact surface (keyword/rigid.py)
+        return PartSpec(name=name, material=material, thickness=mesh.face_thickness[pid],
+                        geometry=mesh.part_geometry(pid), integration_points=1)
     if secid not in data.sections:
         raise KeywordError(f"{record.where}: *PART {pid} names section {secid}, which no *SECTION_SHELL defines")
     first, second = data.sections[secid]
@@ -355,8 +383,35 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
     _apply_body_loads(data, unit, model)
     _apply_contacts(scene, model)
     _apply_tracks(data, mesh, model)
+    _apply_rigid_bodies(data, mesh, model)
     mesh.store_ids(model)
     return model
+
+
+def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, model: deck.Model) -> None:
+    """The rigid parts' bodies, the solids' faces as surfaces without mass and their mass on the nodes."""
+    by_pid = {int(p["PID"]): p for p in data.parts}
+    mids = [int(by_pid[pid]["MID"] or 0) for pid in mesh.part_ids.tolist()]
+    parts, held = rigid_body_rows(data, mesh.part_ids, mids)
+    if not parts:
+        return
+    model.rigid_body_part = np.array(parts, dtype=np.int32)
+    model.rigid_body_fixed_dofs = np.array(held, dtype=np.int32).reshape(-1, 6)
+    model.surface_only = np.array([int(pid in mesh.face_thickness) for pid in mesh.part_ids.tolist()], dtype=np.int32)
+    if mesh.added_mass is not None and mesh.added_mass.any():
+        model.added_mass = mesh.added_mass
+    row = {pid: k for k, pid in enumerate(mesh.part_ids.tolist())}
+    merge = []
+    for a, b in merged_pairs(data):
+        if a not in row or b not in row:
+            raise KeywordError(f"merging rigid bodies: part {a if a not in row else b} has no elements; name parts "
+                               f"with elements in *CONSTRAINED_RIGID_BODIES and *DEFORMABLE_TO_RIGID MRB")
+        merge.append((row[a], row[b]))
+    try:
+        for note in complete_rigid_bodies(model, merge):
+            data.warn(note)
+    except RigidBodyError as exc:
+        raise KeywordError(str(exc)) from exc
 
 
 def _apply_body_loads(data: KeywordData, unit: Units, model: deck.Model) -> None:

@@ -14,9 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from paradyn import _schema, deck
-from paradyn.mesh import geometry
-
 from paradyn.deck.rigid_bodies import RigidBodyError, complete_rigid_bodies
+from paradyn.mesh import geometry
 
 from .row_tables import needs_constant_curve, rows_to_model, scene_words
 from .specs import HOURGLASS_FORMS, ContactSpec, PartSpec, Scene, SceneError

@@ -1,0 +1,184 @@
+"""Rigid bodies of a keyword deck (docs/keyword.md, "Rigid bodies"): ``*MAT_RIGID`` (MAT 20),
+``*DEFORMABLE_TO_RIGID`` at the start, ``*ELEMENT_SOLID`` of rigid parts as geometry.
+
+A part with a rigid material (or switched to rigid at the start) becomes one body of the deck's
+/rigid_bodies, its constraints from MAT_RIGID's CMO, CON1, CON2. The solid elements of a rigid part
+are geometry: their outer faces become the part's elements (a contact surface with no mass of its
+own, /parts/surface_only), and their mass, lumped to their nodes, goes to /nodes/added_mass.
+Solids of a deformable part are left out with a warning (ParaDyn has no deformable solids).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .cards import KeywordData, Record
+from .reader import KeywordError
+
+# MAT_RIGID CON1 / CON2 (CMO = 1): the held directions of each code (as *NODE's TC and RC)
+HELD_OF_CODE = {0: (), 1: (0,), 2: (1,), 3: (2,), 4: (0, 1), 5: (1, 2), 6: (2, 0), 7: (0, 1, 2)}
+# the faces of an 8-node hexahedron (LS-DYNA's numbering: N1-N4 one end, N5-N8 the other), outward
+HEX_FACES = ((0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
+# a solid part's faces are a contact surface this thick, as a fraction of their median edge: thin
+# enough that the surface is where the solid's is, thick enough for the shell contact's search
+FACE_THICKNESS = 0.01
+
+
+def rigid_part_ids(data: KeywordData) -> set[int]:
+    """The PIDs whose material is rigid or that *DEFORMABLE_TO_RIGID switches at the start."""
+    rigid = {int(p["PID"]) for p in data.parts
+             if data.materials.get(int(p["MID"] or 0), ("",))[0] == "rigid"}
+    return rigid | {int(r["PID"]) for r in data.deformable_to_rigid}
+
+
+def held_dofs(mid: int, cards: list[Record]) -> tuple[int, ...]:
+    """The six held dofs of a rigid body from MAT_RIGID's CMO, CON1, CON2 (global axes)."""
+    card = cards[1]
+    cmo = float(card["CMO"] or 0.0)
+    if cmo == 0.0:
+        return (0,) * 6
+    if cmo < 0.0:
+        raise KeywordError(f"{card.where}: *MAT_RIGID {mid} CMO = {cmo:g} (constraints in a local system) is not "
+                           f"read; give the constraints in global axes (CMO = 1)")
+    codes = []
+    for name in ("CON1", "CON2"):
+        code = int(float(card[name] or 0.0))
+        if code not in HELD_OF_CODE:
+            raise KeywordError(f"{card.where}: *MAT_RIGID {mid} {name} = {code}; give 0 to 7 (CMO = 1)")
+        codes.append(code)
+    held = [0] * 6
+    for offset, code in zip((0, 3), codes, strict=True):
+        for axis in HELD_OF_CODE[code]:
+            held[offset + axis] = 1
+    return tuple(held)
+
+
+@dataclass
+class SolidGeometry:
+    """The rigid solids of a deck as faces and nodal masses (deck ids, the deck's units)."""
+
+    faces: list[tuple[int, int, tuple[int, int, int, int]]]   # (EID of the solid, PID, 4 NIDs)
+    node_mass: dict[int, float]                                 # NID -> lumped mass of its solids
+
+
+def rigid_solids(data: KeywordData, rigid: set[int]) -> SolidGeometry:
+    """The outer faces of the solid elements of each rigid part and their mass lumped to the nodes
+    (density of the part's material); solids of other parts are left out with a warning."""
+    xyz = {int(n["NID"]): np.array([float(n[c]) for c in "XYZ"]) for n in data.nodes}
+    density = {int(p["PID"]): float(data.materials[int(p["MID"] or 0)][1][0]["RO"] or 0.0) for p in data.parts
+               if int(p["MID"] or 0) in data.materials}
+    faces: list[tuple[int, int, tuple[int, int, int, int]]] = []
+    node_mass: dict[int, float] = {}
+    by_part: dict[int, list[Record]] = {}
+    for record in data.solids:
+        by_part.setdefault(int(record["PID"]), []).append(record)
+    for pid, records in by_part.items():
+        if pid not in rigid:
+            data.warn(f"{records[0].where}: the {len(records)} *ELEMENT_SOLID of part {pid} are left out: ParaDyn "
+                      f"reads solids only as the geometry of a rigid part (*MAT_RIGID)")
+            continue
+        count: dict[tuple[int, ...], int] = {}
+        oriented: dict[tuple[int, ...], tuple[int, int, tuple[int, int, int, int]]] = {}
+        for record in records:
+            nids = [int(record[f"N{k}"]) for k in range(1, 9)]
+            missing = [n for n in nids if n not in xyz]
+            if missing:
+                raise KeywordError(f"{record.where}: *ELEMENT_SOLID {record['EID']} names node {missing[0]}, which "
+                                   f"no *NODE defines")
+            for nid, mass in zip(nids, hexahedron_masses(np.array([xyz[n] for n in nids])) * density[pid],
+                                 strict=True):
+                node_mass[nid] = node_mass.get(nid, 0.0) + mass
+            for face in HEX_FACES:
+                quad = tuple(nids[k] for k in face)
+                if len(set(quad)) < 3:
+                    continue   # a face that a degenerate (6- or 4-node) solid collapses to an edge
+                key = tuple(sorted(set(quad)))
+                count[key] = count.get(key, 0) + 1
+                oriented[key] = (int(record["EID"]), pid, _as_quad(quad))
+        faces += [oriented[key] for key, n in count.items() if n == 1]
+    return SolidGeometry(faces=faces, node_mass=node_mass)
+
+
+def _as_quad(quad: tuple[int, ...]) -> tuple[int, int, int, int]:
+    """A face of three distinct nodes as a triangle (N3 = N4), of four as it is."""
+    distinct = list(dict.fromkeys(quad))
+    if len(distinct) == 3:
+        raise KeywordError("a rigid solid has a triangular face (a 6- or 4-node solid): ParaDyn's faces are "
+                           "quadrilaterals until triangles are read; mesh the rigid solid with hexahedra")
+    return (distinct[0], distinct[1], distinct[2], distinct[3])
+
+
+def hexahedron_masses(x: np.ndarray) -> np.ndarray:
+    """The volume of an 8-node hexahedron lumped to its nodes (row sums of the consistent mass
+    with unit density: the integral of each shape function, 2 x 2 x 2 Gauss points)."""
+    signs = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                      [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
+    g = 1.0 / np.sqrt(3.0)
+    out = np.zeros(8)
+    for point in signs * g:
+        shape = np.prod(1.0 + signs * point, axis=1) / 8.0
+        derivative = np.empty((3, 8))
+        for axis in range(3):
+            others = [a for a in range(3) if a != axis]
+            derivative[axis] = signs[:, axis] * np.prod(1.0 + signs[:, others] * point[others], axis=1) / 8.0
+        out += shape * abs(np.linalg.det(derivative @ x))
+    return out
+
+
+def face_thickness(faces: list[tuple[int, int, tuple[int, int, int, int]]], xyz: dict[int, np.ndarray]) -> float:
+    """The contact thickness of a solid part's faces: FACE_THICKNESS of their median edge."""
+    edges = [np.linalg.norm(xyz[q[(k + 1) % 4]] - xyz[q[k]]) for _, _, q in faces for k in range(4)]
+    return FACE_THICKNESS * float(np.median(edges))
+
+
+def add_solid_faces(data: KeywordData) -> SolidGeometry:
+    """Append the outer faces of the rigid parts' solids to the deck's shells (ids after the deck's
+    largest element id, so the outputs name them apart) and return the solids' geometry."""
+    solids = rigid_solids(data, rigid_part_ids(data))
+    first = max([int(e["EID"]) for e in data.elements] + [int(e["EID"]) for e in data.solids] + [0]) + 1
+    for k, (eid, pid, quad) in enumerate(solids.faces):
+        values = {"EID": first + k, "PID": pid, **{f"N{j + 1}": n for j, n in enumerate(quad)},
+                  **{f"N{j}": 0 for j in range(5, 9)}}
+        data.elements.append(Record(values, f"a face of *ELEMENT_SOLID {eid}"))
+    return solids
+
+
+def solid_face_thickness(data: KeywordData, solids: SolidGeometry) -> dict[int, float]:
+    """PID -> the contact thickness of each rigid solid part's faces (the deck's length unit)."""
+    xyz = {int(n["NID"]): np.array([float(n[c]) for c in "XYZ"]) for n in data.nodes}
+    pids = {pid for _, pid, _ in solids.faces}
+    return {pid: face_thickness([f for f in solids.faces if f[1] == pid], xyz) for pid in pids}
+
+
+def rigid_material_key(data: KeywordData, pid: int, mid: int) -> tuple[str, int]:
+    """The material a part runs with: its own, or for a part *DEFORMABLE_TO_RIGID switches at the
+    start a rigid one with its density and elastic constants ("rigid", MID)."""
+    switched = {int(r["PID"]): r for r in data.deformable_to_rigid}
+    if pid not in switched:
+        return ("", mid)
+    return ("rigid", mid)
+
+
+def merged_pairs(data: KeywordData) -> list[tuple[int, int]]:
+    """PID pairs whose bodies are one: *CONSTRAINED_RIGID_BODIES (PIDL, PIDC) and a
+    *DEFORMABLE_TO_RIGID part's MRB."""
+    pairs = [(int(r["PIDL"]), int(r["PIDC"])) for r in data.merged_bodies]
+    return pairs + [(int(r["MRB"]), int(r["PID"])) for r in data.deformable_to_rigid if int(r["MRB"] or 0)]
+
+
+def rigid_body_rows(data: KeywordData, part_ids: np.ndarray,
+                    part_material_ids: list[int]) -> tuple[list[int], list[tuple[int, ...]]]:
+    """The /rigid_bodies rows of the rigid parts (0-based parts, held dofs from MAT_RIGID's CMO,
+    CON1, CON2; a switched part's body is free)."""
+    rigid = rigid_part_ids(data)
+    parts, held = [], []
+    for row, pid in enumerate(part_ids.tolist()):
+        if pid not in rigid:
+            continue
+        mid = part_material_ids[row]
+        model, cards = data.materials[mid]
+        parts.append(row)
+        held.append(held_dofs(mid, cards) if model == "rigid" else (0,) * 6)
+    return parts, held
