@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import paradyn
-from paradyn.keyword.cards import collect
+from paradyn.keyword.keywords import collect
 from paradyn.keyword.reader import read_keyword_file
 from paradyn.keyword.scene import load_keyword
 

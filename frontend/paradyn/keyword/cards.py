@@ -320,14 +320,16 @@ for _title in ("", "_TITLE"):
             READERS[f"SET_{_target}{_list}{_title}"] = _set(_target)
 
 
-def collect(deck: KeywordFile) -> KeywordData:
-    """Read every block of ``deck``; unsupported keywords are named in ``warnings`` and skipped. An
-    error carries the warnings collected before it (a skipped keyword is often its cause)."""
-    from . import contacts, loads, parts  # noqa: F401  (they add their keywords to READERS)
+def collect(deck: KeywordFile, readers: dict[str, Callable[[_Reading], None]] | None = None) -> KeywordData:
+    """Read every block of ``deck`` with ``readers`` (by keyword; this module's :data:`READERS` by
+    default, every keyword read with :func:`paradyn.keyword.keywords.collect`); unsupported
+    keywords are named in ``warnings`` and skipped. An error carries the warnings collected before
+    it (a skipped keyword is often its cause)."""
+    readers = READERS if readers is None else readers
     data = KeywordData(title=deck.title, warnings=list(deck.warnings))
     try:
         for block in deck.blocks:
-            reader = READERS.get(block.name)
+            reader = readers.get(block.name)
             if reader is None:
                 data.warn(f"{block.where}: *{block.name} is not supported by ParaDyn and is ignored "
                           f"(docs/keyword.md lists the keywords read)")

@@ -140,7 +140,6 @@ for _base, _variant in VARIANTS.items():
         for _id in ((), ("ID",), ("TITLE",)):
             _name = "_".join((_base, *_extra, *_id))
             READERS[_name] = _read_contact(_base, frozenset((*_extra, *_id)))
-cards.READERS.update(READERS)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -16,7 +16,6 @@ import numpy as np
 from paradyn import deck
 from paradyn.scene.building import set_curves
 
-from . import cards
 from .cards import KeywordData, Record, _Reading
 from .curves import curve_points, cut_at, ramps_of, velocity_of_acceleration, velocity_of_displacement
 from .mesh import KeywordMesh
@@ -84,7 +83,6 @@ READERS: dict[str, Callable[[_Reading], None]] = {
     "INITIAL_VELOCITY": _initial_velocity,
     "DEFINE_BOX": _define_box, "DEFINE_BOX_TITLE": _define_box,
 }
-cards.READERS.update(READERS)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -50,9 +50,6 @@ def _element_shell_thickness(r: _Reading) -> None:
         r.data.elements.append(record)
 
 
-cards.READERS["ELEMENT_SHELL_THICKNESS"] = _element_shell_thickness
-
-
 def _section_corners(data: KeywordData, part: Record, warned: set[int]) -> list[float]:
     """T1..T4 of the part's section (T2..T4 blank or 0: T1, as in LS-DYNA)."""
     pid, secid = int(part["PID"]), int(part["SECID"] or 0)

@@ -20,9 +20,10 @@ from paradyn import _schema, deck
 from paradyn.scene.building import _apply_contacts, _apply_material_extras
 from paradyn.scene.specs import MaterialSpec, PartSpec, RunSettings, Scene
 
-from .cards import KeywordData, Record, collect, with_warnings
+from .cards import KeywordData, Record, with_warnings
 from .contacts import contact_specs
 from .ids import in_deck_ids
+from .keywords import collect
 from .loads import apply_loads, set_velocities
 from .mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of
 from .parts import part_spec, split_by_thickness
