@@ -280,7 +280,8 @@ def test_single_surface_contact_maps_to_the_single_surface_kind(tmp_path: Path) 
 
 def test_hourglass_and_element_formulation(tmp_path: Path) -> None:
     """No hourglass card: LS-DYNA's default IHQ 1 (viscous), 0.1; *HOURGLASS IHQ 4 is the stiffness
-    form; ELFORM 2 has no warping correction, ELFORM 10 has it, ELFORM 16 warns."""
+    form; ELFORM 2 has no warping correction, ELFORM 10 has it, ELFORM 16 warns that it runs as the one-point
+    element."""
     plain = _model(tmp_path)
     assert plain.hourglass_form.tolist() == [_schema.ENUMS["hourglass_form"]["viscous"]]
     assert plain.warping_correction.tolist() == [0]
@@ -291,7 +292,7 @@ def test_hourglass_and_element_formulation(tmp_path: Path) -> None:
     assert model.hourglass_coefficient.tolist() == [0.05] and model.warping_correction.tolist() == [1]
     read = load_keyword(_deck(tmp_path, HEAD.replace("         1         2   ", "         1        16   ") + MESH,
                               "e16.k"))
-    assert any("ELFORM = 16 is not available" in w for w in read.warnings)
+    assert any("ELFORM = 16 (fully integrated) runs as ParaDyn's one-point" in w for w in read.warnings)
 
 
 def test_time_step_cap_mass_scaling_and_history_nodes(tmp_path: Path) -> None:

@@ -2,7 +2,10 @@
 
 The work is split by job: the file format (columns, long and free format, ``*INCLUDE``,
 ``*PARAMETER``) in :mod:`paradyn.keyword.reader`; the subset's card layouts and records in
-:mod:`paradyn.keyword.cards`; unit systems in :mod:`paradyn.keyword.units`; the mesh with its ids,
+:mod:`paradyn.keyword.cards` (0.0 meaning the default: :mod:`paradyn.keyword.defaults`), parts by
+thickness in :mod:`paradyn.keyword.parts`, contacts in :mod:`paradyn.keyword.contacts`, loads and
+motions in :mod:`paradyn.keyword.loads` with :mod:`paradyn.keyword.curves`, all of them gathered by
+:mod:`paradyn.keyword.keywords`; unit systems in :mod:`paradyn.keyword.units`; the mesh with its ids,
 fixed dofs and velocities in :mod:`paradyn.keyword.mesh`; the scene and deck model in
 :mod:`paradyn.keyword.scene` (``paradyn.read_keyword``). A keyword deck becomes the scene's specs
 (:mod:`paradyn.scene`) and a :mod:`paradyn.deck` model; nothing here imports the runs or the results.

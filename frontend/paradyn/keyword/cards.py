@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
+from .defaults import apply_zero_defaults
 from .reader import Block, Field, KeywordError, KeywordFile, Line, Value, fields, layout
 
 NODE = (Field("NID", "int", None, 8), Field("X", "float", 0.0, 16), Field("Y", "float", 0.0, 16),
@@ -27,12 +28,6 @@ SECTION_SHELL = (layout("int:SECID int:ELFORM SHRF int:NIP PROPT int:QR/IRID int
 MAT_ELASTIC = (layout("int:MID RO E PR DA DB K", da=0.0, db=0.0, k=0.0),)
 MAT_PLASTIC_KINEMATIC = (layout("int:MID RO E PR SIGY ETAN BETA", etan=0.0, beta=0.0),
                          layout("SRC SRP FS VP", src=0.0, srp=0.0, fs=0.0, vp=0.0))
-CONTACT = (layout("int:SSID int:MSID int:SSTYP int:MSTYP int:SBOXID int:MBOXID int:SPR int:MPR",
-                  ssid=0, msid=0, sstyp=0, mstyp=0, sboxid=0, mboxid=0, spr=0, mpr=0),
-           layout("FS FD DC VC VDC int:PENCHK BT DT", fs=0.0, fd=0.0, dc=0.0, vc=0.0, vdc=0.0, penchk=0,
-                  bt=0.0, dt=1e20),
-           layout("SFS SFM SST MST SFST SFMT FSF VSF", sfs=1.0, sfm=1.0, sst=0.0, mst=0.0, sfst=1.0, sfmt=1.0,
-                  fsf=1.0, vsf=1.0))
 SPC = layout("int:ID int:CID int:DOFX int:DOFY int:DOFZ int:DOFRX int:DOFRY int:DOFRZ", cid=0, dofx=0, dofy=0,
              dofz=0, dofrx=0, dofry=0, dofrz=0)
 VELOCITY_GENERATION = (layout("int:ID int:STYP OMEGA VX VY VZ int:IVATN int:ICID", id=0, styp=1, omega=0.0,
@@ -47,8 +42,6 @@ CONTROL_TERMINATION = layout("ENDTIM int:ENDCYC DTMIN ENDENG ENDMAS int:NOSOL", 
                              endeng=0.0, endmas=1e8, nosol=0)
 CONTROL_TIMESTEP = layout("DTINIT TSSFAC int:ISDO TSLIMT DT2MS int:LCTM int:ERODE int:MS1ST", dtinit=0.0,
                           tssfac=0.9, isdo=0, tslimt=0.0, dt2ms=0.0, lctm=0, erode=0, ms1st=0)
-CONTROL_CONTACT = layout("SLSFAC RWPNAL int:ISLCHK int:SHLTHK int:PENOPT int:THKCHG int:ORIEN int:ENMASS",
-                         slsfac=0.1, rwpnal=0.0, islchk=1, shlthk=0, penopt=1, thkchg=0, orien=1, enmass=0)
 ELEMENT_SOLID = tuple(Field(n, "int", None if n in ("EID", "PID", "N1", "N2", "N3", "N4") else 0, 8)
                       for n in ("EID", "PID", "N1", "N2", "N3", "N4", "N5", "N6", "N7", "N8"))
 SECTION_SOLID = layout("int:SECID int:ELFORM int:AET", elform=1, aet=0)
@@ -108,6 +101,12 @@ class KeywordData:
     solid_sections: dict[int, Record] = field(default_factory=dict)
     deformable_to_rigid: list[Record] = field(default_factory=list)
     merged_bodies: list[Record] = field(default_factory=list)               # *CONSTRAINED_RIGID_BODIES
+    # loads, motions and boxes (keyword/loads.py); parts with contact data (keyword/contacts.py)
+    point_loads: list[tuple[str, Record]] = field(default_factory=list)       # ("NODE" | "SET", record)
+    motions: list[tuple[str, Record]] = field(default_factory=list)           # ("NODE" | "SET", record)
+    set_velocities: list[list[Record]] = field(default_factory=list)          # *INITIAL_VELOCITY cards
+    boxes: dict[int, Record] = field(default_factory=dict)
+    part_contacts: dict[int, Record] = field(default_factory=dict)           # PID -> *PART_CONTACT card
     title: str = ""
     warnings: list[str] = field(default_factory=list)
 
@@ -128,6 +127,7 @@ class _Reading:
 
     def card(self, line: Line, card: tuple[Field, ...], ignored: dict[str, Value] | None = None) -> Record:
         values = fields(line, card, long=self.block.long, parameters=self.deck.parameters, keyword=self.keyword)
+        apply_zero_defaults(self.keyword, values)     # a 0 that means LS-DYNA's default (keyword/defaults.py)
         record = Record(values, line.where)
         for name, default in (ignored or {}).items():
             if values.get(name) is not None and values[name] != default:
@@ -238,29 +238,16 @@ def _material(model: str, cards: tuple[tuple[Field, ...], ...],
     return read
 
 
-def _contact(kind: str) -> Callable[[_Reading], None]:
-    def read(r: _Reading) -> None:
-        options = _options(r.keyword, f"CONTACT_AUTOMATIC_{kind.upper()}")
-        lines = r.head_and_rest(bool(options & {"ID", "TITLE"}))
-        ignored = [{"SBOXID": 0, "MBOXID": 0, "SPR": 0, "MPR": 0},
-                   {"VC": 0.0, "VDC": 0.0, "PENCHK": 0, "BT": 0.0, "DT": 1e20},
-                   {"SST": 0.0, "MST": 0.0, "SFST": 1.0, "SFMT": 1.0, "FSF": 1.0, "VSF": 1.0}]
-        records = [r.card(line, card, skip) for line, card, skip in zip(lines, CONTACT, ignored, strict=False)]
-        records += [Record({f.name: f.default for f in card}, lines[-1].where) for card in CONTACT[len(records):]]
-        if any(line.text.strip() for line in lines[3:]):
-            r.data.warn(f"{lines[3].where}: *{r.keyword}: the optional cards A and after are not read "
-                        f"(docs/keyword.md)")
-        r.data.contacts.append((kind, records))
-    return read
-
-
 def _spc(target: str) -> Callable[[_Reading], None]:
     def read(r: _Reading) -> None:
         options = _options(r.keyword, f"BOUNDARY_SPC_{target}")
-        lines = r.head_and_rest(bool(options & {"ID", "TITLE"}))
-        for line in lines:
-            if line.text.strip():
+        if not options & {"ID", "TITLE"}:
+            for line in r.lines():
                 r.data.spcs.append((target, r.card(line, SPC)))
+            return
+        for head, line in r.groups(2):     # _ID: each constraint is an ID card (ID, HEADING) and its card
+            r.card(head, ID_CARD)
+            r.data.spcs.append((target, r.card(line, SPC)))
     return read
 
 
@@ -350,8 +337,6 @@ READERS: dict[str, Callable[[_Reading], None]] = {
     "CONTROL_TERMINATION": _control(CONTROL_TERMINATION, {"ENDCYC": 0, "ENDENG": 0.0, "ENDMAS": 1e8, "NOSOL": 0}),
     "CONTROL_TIMESTEP": _control(CONTROL_TIMESTEP, {"DTINIT": 0.0, "ISDO": 0, "TSLIMT": 0.0, "ERODE": 0,
                                                     "MS1ST": 0}),
-    "CONTROL_CONTACT": _control(CONTROL_CONTACT, {"RWPNAL": 0.0, "ISLCHK": 1, "SHLTHK": 0, "PENOPT": 1,
-                                                  "THKCHG": 0, "ORIEN": 1, "ENMASS": 0}),
     "CONTROL_HOURGLASS": _control(CONTROL_HOURGLASS),
     "CONTROL_IMPLICIT_GENERAL": _control(CONTROL_IMPLICIT_GENERAL),
     "CONTROL_UNITS": _control(CONTROL_UNITS, {"TEMP": "k"}),
@@ -376,21 +361,21 @@ for _title in ("", "_TITLE"):
                                                                 "V2": 0.0, "V3": 0.0})
     for _name in ("MAT_PLASTIC_KINEMATIC", "MAT_003"):
         READERS[_name + _title] = _material("j2_plasticity", MAT_PLASTIC_KINEMATIC, {"FS": 0.0, "VP": 0.0})
-    for _kind in ("SURFACE_TO_SURFACE", "SINGLE_SURFACE"):
-        for _option in ("", "_ID"):
-            READERS[f"CONTACT_AUTOMATIC_{_kind}{_option or _title}"] = _contact(_kind.lower())
     for _target in ("NODE", "PART"):
         for _list in ("", "_LIST", "_LIST_GENERATE"):
             READERS[f"SET_{_target}{_list}{_title}"] = _set(_target)
 
 
-def collect(deck: KeywordFile) -> KeywordData:
-    """Read every block of ``deck``; unsupported keywords are named in ``warnings`` and skipped. An
-    error carries the warnings collected before it (a skipped keyword is often its cause)."""
+def collect(deck: KeywordFile, readers: dict[str, Callable[[_Reading], None]] | None = None) -> KeywordData:
+    """Read every block of ``deck`` with ``readers`` (by keyword; this module's :data:`READERS` by
+    default, every keyword read with :func:`paradyn.keyword.keywords.collect`); unsupported
+    keywords are named in ``warnings`` and skipped. An error carries the warnings collected before
+    it (a skipped keyword is often its cause)."""
+    readers = READERS if readers is None else readers
     data = KeywordData(title=deck.title, warnings=list(deck.warnings))
     try:
         for block in deck.blocks:
-            reader = READERS.get(block.name)
+            reader = readers.get(block.name)
             if reader is None:
                 data.warn(f"{block.where}: *{block.name} is not supported by ParaDyn and is ignored "
                           f"(docs/keyword.md lists the keywords read)")

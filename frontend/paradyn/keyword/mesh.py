@@ -47,12 +47,15 @@ class KeywordMesh:
     node_index: dict[int, int] = field(default_factory=dict)   # NID -> row
     added_mass: np.ndarray | None = None                       # (n_nodes,) kg: rigid solids' mass
     face_thickness: dict[int, float] = field(default_factory=dict)   # PID -> m, of a rigid solid's faces
+    # per engine part (keyword/parts.py): thickness in the deck's units, name suffix ('' or _t<thickness>)
+    part_thickness: list[float] = field(default_factory=list)
+    part_suffix: list[str] = field(default_factory=list)
 
-    def part_geometry(self, pid: int) -> PartMeshGeometry:
-        part = int(np.flatnonzero(self.part_ids == pid)[0])
+    def part_geometry(self, part: int) -> PartMeshGeometry:
+        """The elements of engine part ``part`` (0-based; a PID split by thickness has several)."""
         quads = self.connectivity[self.element_part == part]
         used, inverse = np.unique(quads, return_inverse=True)
-        return PartMeshGeometry(geometry.Mesh(self.coordinates[used], inverse.reshape(-1, 4)), pid)
+        return PartMeshGeometry(geometry.Mesh(self.coordinates[used], inverse.reshape(-1, 4)), int(self.part_ids[part]))
 
     def store_ids(self, model: deck.Model) -> None:
         """Give the model the deck's ids (written to the deck and to the outputs)."""
@@ -128,7 +131,7 @@ def _element_rows(record: Record, node_row: dict[int, int]) -> list[int]:
 
 def nodes_of_parts(mesh: KeywordMesh, pids: list[int]) -> np.ndarray:
     """Rows of the nodes of the elements of the parts ``pids`` (ids of parts without elements are skipped)."""
-    parts = [int(np.flatnonzero(mesh.part_ids == pid)[0]) for pid in pids if pid in mesh.part_ids]
+    parts = np.flatnonzero(np.isin(mesh.part_ids, pids))     # every engine part of each PID
     return np.unique(mesh.connectivity[np.isin(mesh.element_part, parts)])
 
 
@@ -178,10 +181,12 @@ def fixed_dofs(data: KeywordData, mesh: KeywordMesh) -> np.ndarray:
     return fixed
 
 
-def initial_velocities(data: KeywordData, mesh: KeywordMesh, unit: Units) -> tuple[np.ndarray, np.ndarray]:
-    """Velocities and angular velocities (SI) of *INITIAL_VELOCITY_GENERATION, then *INITIAL_VELOCITY_NODE."""
+def initial_velocities(data: KeywordData, mesh: KeywordMesh, unit: Units,
+                       start: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Velocities and angular velocities (SI) of *INITIAL_VELOCITY_GENERATION, then *INITIAL_VELOCITY_NODE,
+    over ``start`` (those of *INITIAL_VELOCITY, keyword/loads.py) where given."""
     n = len(mesh.coordinates)
-    velocity, angular = np.zeros((n, 3)), np.zeros((n, 3))
+    velocity, angular = (np.zeros((n, 3)), np.zeros((n, 3))) if start is None else start
     for first, second in data.velocity_generation:
         rows = _generation_rows(data, mesh, first)
         v = np.array([float(first[k]) for k in ("VX", "VY", "VZ")]) * unit.velocity

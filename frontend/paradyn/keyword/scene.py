@@ -18,11 +18,16 @@ import numpy as np
 
 from paradyn import _schema, deck
 from paradyn.deck.rigid_bodies import RigidBodyError, complete_rigid_bodies
-from paradyn.scene.building import _apply_contacts, _apply_material_extras, set_curves
-from paradyn.scene.specs import ContactSpec, MaterialSpec, PartSpec, RunSettings, Scene
+from paradyn.scene.building import _apply_contacts, _apply_material_extras
+from paradyn.scene.specs import MaterialSpec, PartSpec, RunSettings, Scene
 
-from .cards import KeywordData, Record, collect, with_warnings
+from .cards import KeywordData, Record, with_warnings
+from .contacts import contact_specs
+from .ids import in_deck_ids
+from .keywords import collect
+from .loads import apply_loads, set_velocities
 from .mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of
+from .parts import part_spec, split_by_thickness
 from .reader import KeywordError, read_keyword_file
 from .rigid import (
     SolidGeometry,
@@ -33,11 +38,6 @@ from .rigid import (
     solid_face_thickness,
 )
 from .units import Units, UnitsError
-
-MAX_INTEGRATION_POINTS = int(next(d.upper.value for d in _schema.DATASETS if d.python == "integration_points"))
-# LS-DYNA's IHQ for shells -> ParaDyn's hourglass form (docs/keyword.md)
-HOURGLASS_OF_IHQ = {0: "viscous", 1: "viscous", 2: "viscous", 3: "viscous", 4: "stiffness", 5: "stiffness"}
-WARPING_OF_ELFORM = {2: False, 10: True}   # Belytschko-Tsay; Belytschko-Wong-Chiang
 
 
 @dataclass
@@ -93,6 +93,7 @@ def _read(path: Path, units: str | None) -> tuple[Scene, KeywordData, Units, Key
         unit = _units(path, data, units)
         solids = add_solid_faces(data)
         mesh = mesh_of(data, unit)
+        split_by_thickness(data, mesh)
         _add_solid_masses(data, solids, unit, mesh)
         return _scene(path, data, unit, mesh), data, unit, mesh
     except KeywordError as exc:
@@ -110,7 +111,7 @@ def load_keyword(path: str | Path, units: str | None = None) -> KeywordScene:
     except KeywordError as exc:
         raise with_warnings(exc, data.warnings) from exc
     except deck.DeckError as exc:
-        raise with_warnings(KeywordError(str(exc)), data.warnings) from exc
+        raise with_warnings(KeywordError(in_deck_ids(str(exc), data, mesh)), data.warnings) from exc
     return KeywordScene(scene=scene, model=model, mesh=mesh, units=unit, warnings=data.warnings)
 
 
@@ -135,27 +136,15 @@ def _units(path: Path, data: KeywordData, units: str | None) -> Units:
     return chosen
 
 
-def _id_list(data: KeywordData, kind: int, ident: int, where: str, what: str) -> list[int]:
-    """Part ids of a contact side: ``kind`` is LS-DYNA's SSTYP/MSTYP (2 part set, 3 part, 5 all);
-    an id of 0 takes every part."""
-    every = [int(p["PID"]) for p in data.parts]
-    if kind == 5 or ident == 0:
-        return every
-    if kind == 3:
-        return [ident]
-    if kind == 2:
-        if ident not in data.part_sets:
-            raise KeywordError(f"{where}: {what} names part set {ident}, which no *SET_PART defines")
-        return data.part_sets[ident]
-    raise KeywordError(f"{where}: {what} type {kind} is not read; give parts (3), a part set (2) or all (5)")
-
-
 def _scene(path: Path, data: KeywordData, unit: Units, mesh: KeywordMesh) -> Scene:
+    run = _run(data, unit)
     parts, materials = _parts_and_materials(data, unit, mesh)
-    name_of = {pid: p.name for pid, p in zip(mesh.part_ids.tolist(), parts, strict=True)}
-    contacts = [c for kind, cards in data.contacts for c in _contacts(data, kind, cards, name_of, unit)]
-    return Scene(path=path, title=data.title or path.stem, run=_run(data, unit), materials=materials,
-                 parts=parts, contacts=contacts)
+    names_of: dict[int, list[str]] = {}
+    for pid, part in zip(mesh.part_ids.tolist(), parts, strict=True):
+        names_of.setdefault(pid, []).append(part.name)
+    contacts = contact_specs(data, names_of, unit, run.end_time / unit.time)
+    return Scene(path=path, title=data.title or path.stem, run=run, materials=materials, parts=parts,
+                 contacts=contacts)
 
 
 def _part_name(record: Record, taken: set[str]) -> str:
@@ -181,7 +170,8 @@ def _parts_and_materials(data: KeywordData, unit: Units,
     parts: list[PartSpec] = []
     materials: dict[tuple[str, int], MaterialSpec] = {}
     taken: set[str] = set()
-    for pid in mesh.part_ids.tolist():
+    base_names: dict[int, str] = {}
+    for index, pid in enumerate(mesh.part_ids.tolist()):
         record = by_pid[pid]
         mid = int(record["MID"] or 0)
         if mid not in data.materials:
@@ -196,7 +186,14 @@ def _parts_and_materials(data: KeywordData, unit: Units,
                 materials[key].name = title
             if key[0]:
                 materials[key].name += "_rigid"
-        parts.append(_part(data, record, _part_name(record, taken), materials[key].name, unit, mesh))
+        if pid not in base_names:
+            base_names[pid] = _part_name(record, taken)
+        name = base_names[pid] + mesh.part_suffix[index]
+        if pid in mesh.face_thickness:   # a rigid solid: its faces, a contact surface (keyword/rigid.py)
+            parts.append(PartSpec(name=name, material=materials[key].name, thickness=mesh.face_thickness[pid],
+                                  geometry=mesh.part_geometry(index), integration_points=1))
+        else:
+            parts.append(part_spec(data, record, name, materials[key].name, unit, mesh, index))
     return parts, list(materials.values())
 
 
@@ -229,86 +226,6 @@ def _rates(mid: int, card: Record, unit: Units, spec: MaterialSpec) -> None:
                            f"constants must both be > 0 (or SRC = 0 for no rate effect)")
     spec.model = "j2_rate"
     spec.extra = {"rate_c": c / unit.time, "rate_p": p}
-
-
-def _part(data: KeywordData, record: Record, name: str, material: str, unit: Units, mesh: KeywordMesh) -> PartSpec:
-    pid, secid = int(record["PID"]), int(record["SECID"] or 0)
-    if pid in mesh.face_thickness:   # a rigid solid: its faces, a contact surface (keyword/rigid.py)
-        return PartSpec(name=name, material=material, thickness=mesh.face_thickness[pid],
-                        geometry=mesh.part_geometry(pid), integration_points=1)
-    if secid not in data.sections:
-        raise KeywordError(f"{record.where}: *PART {pid} names section {secid}, which no *SECTION_SHELL defines")
-    first, second = data.sections[secid]
-    thicknesses = [float(second[f"T{k}"]) for k in range(1, 5) if second[f"T{k}"]]
-    if not thicknesses or thicknesses[0] <= 0.0:
-        raise KeywordError(f"{second.where}: *SECTION_SHELL {secid} has no positive thickness T1; give it")
-    if len(set(thicknesses)) > 1:
-        data.warn(f"{second.where}: *SECTION_SHELL {secid} T1..T4 differ; ParaDyn's parts have one thickness, "
-                  f"their mean {np.mean(thicknesses):g} is used")
-    elform = int(first["ELFORM"])
-    if elform not in WARPING_OF_ELFORM:
-        data.warn(f"{first.where}: *SECTION_SHELL {secid} ELFORM = {elform} is not available; ParaDyn's "
-                  f"Belytschko-Lin-Tsay shell (ELFORM 2) is used")
-    nip = int(first["NIP"]) or 2
-    if not 1 <= nip <= MAX_INTEGRATION_POINTS:
-        raise KeywordError(f"{first.where}: *SECTION_SHELL {secid} NIP = {nip}; ParaDyn takes 1 to "
-                           f"{MAX_INTEGRATION_POINTS} points through the thickness")
-    form, coefficient = _hourglass(data, record)
-    return PartSpec(name=name, material=material, thickness=float(np.mean(thicknesses)) * unit.length,
-                    geometry=mesh.part_geometry(pid), integration_points=nip,
-                    hourglass_coefficient=coefficient, hourglass_form=form,
-                    warping_correction=WARPING_OF_ELFORM.get(elform, False))
-
-
-def _hourglass(data: KeywordData, part: Record) -> tuple[str, float]:
-    """The part's hourglass form and coefficient: its *HOURGLASS, else *CONTROL_HOURGLASS, else IHQ 1, 0.1."""
-    hgid = int(part["HGID"] or 0)
-    if hgid:
-        if hgid not in data.hourglasses:
-            raise KeywordError(f"{part.where}: *PART {part['PID']} names hourglass {hgid}, which no "
-                               f"*HOURGLASS defines")
-        record = data.hourglasses[hgid]
-        ihq, coefficient = int(record["IHQ"]), float(record["QM"])
-    elif "CONTROL_HOURGLASS" in data.control:
-        record = data.control["CONTROL_HOURGLASS"]
-        ihq, coefficient = int(record["IHQ"]), float(record["QH"])
-    else:
-        return "viscous", 0.1
-    if ihq not in HOURGLASS_OF_IHQ:
-        data.warn(f"{record.where}: IHQ = {ihq} has no ParaDyn counterpart for shells; the physical form is used")
-        return "physical", coefficient
-    return HOURGLASS_OF_IHQ[ihq], coefficient
-
-
-def _contacts(data: KeywordData, kind: str, cards: list[Record], name_of: dict[int, str],
-              unit: Units) -> list[ContactSpec]:
-    first, second, third = cards
-    slave = _id_list(data, int(first["SSTYP"]), int(first["SSID"]), first.where, "SSTYP")
-    unknown = [pid for pid in slave if pid not in name_of]
-    if unknown:
-        raise KeywordError(f"{first.where}: the contact names part {unknown[0]}, which has no shell elements")
-    slave_scale = _scale(third, "SFS")
-    if _scale(third, "SFM") != slave_scale:
-        data.warn(f"{third.where}: SFM = {third['SFM']} differs from SFS = {third['SFS']}; ParaDyn has one "
-                  f"penalty scale per contact, SLSFAC x SFS is used")
-    penalty = float(data.control["CONTROL_CONTACT"]["SLSFAC"]) if "CONTROL_CONTACT" in data.control else 0.1
-    common = {"penalty_scale": penalty * slave_scale, "static_friction": float(second["FS"]),
-              "dynamic_friction": float(second["FD"]),
-              "friction_decay": float(second["DC"]) * unit.time / unit.length}
-    if kind == "single_surface":   # every part: no parts, as in a scene (docs/scene.md)
-        every = int(first["SSTYP"]) == 5 or int(first["SSID"]) == 0
-        return [ContactSpec(parts=() if every else tuple(name_of[p] for p in slave), kind="single_surface",
-                            **common)]
-    master = _id_list(data, int(first["MSTYP"]), int(first["MSID"]), first.where, "MSTYP")
-    pairs: dict[frozenset[int], tuple[int, int]] = {}   # symmetric: (a, b) and (b, a) are one contact
-    for s, m in ((s, m) for s in slave for m in master if s != m and m in name_of):
-        pairs.setdefault(frozenset((s, m)), (s, m))
-    return [ContactSpec(parts=(name_of[s], name_of[m]), symmetric=True, **common) for s, m in pairs.values()]
-
-
-def _scale(record: Record, name: str) -> float:
-    value = record[name]
-    return 1.0 if value is None else float(value)
 
 
 def _run(data: KeywordData, unit: Units) -> RunSettings:
@@ -355,7 +272,7 @@ def _time_step(data: KeywordData, step: Record, unit: Units, run: RunSettings) -
 
 def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> deck.Model:
     fixed = fixed_dofs(data, mesh)
-    velocity, angular = initial_velocities(data, mesh, unit)
+    velocity, angular = initial_velocities(data, mesh, unit, start=set_velocities(data, mesh, unit))
     velocity[fixed[:, :3] == 1] = 0.0
     angular[fixed[:, 3:] == 1] = 0.0
     material_index = {m.name: i for i, m in enumerate(scene.materials)}
@@ -380,7 +297,7 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
         part_names=[p.name for p in parts], material_names=[m.name for m in materials],
     )
     _apply_material_extras(scene, model)
-    _apply_body_loads(data, unit, model)
+    apply_loads(data, mesh, unit, model, scene.run.end_time)
     _apply_contacts(scene, model)
     _apply_tracks(data, mesh, model)
     _apply_rigid_bodies(data, mesh, model)
@@ -400,8 +317,11 @@ def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, model: deck.Model)
     model.surface_only = np.array([int(pid in mesh.face_thickness) for pid in mesh.part_ids.tolist()], dtype=np.int32)
     if mesh.added_mass is not None and mesh.added_mass.any():
         model.added_mass = mesh.added_mass
-    row = {pid: k for k, pid in enumerate(mesh.part_ids.tolist())}
-    merge = []
+    rows: dict[int, list[int]] = {}
+    for k, pid in enumerate(mesh.part_ids.tolist()):
+        rows.setdefault(pid, []).append(k)
+    row = {pid: k[0] for pid, k in rows.items()}
+    merge = [(k[0], other) for k in rows.values() for other in k[1:]]   # a PID split by thickness: one body
     for a, b in merged_pairs(data):
         if a not in row or b not in row:
             raise KeywordError(f"merging rigid bodies: part {a if a not in row else b} has no elements; name parts "
@@ -412,33 +332,6 @@ def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, model: deck.Model)
             data.warn(note)
     except RigidBodyError as exc:
         raise KeywordError(str(exc)) from exc
-
-
-def _apply_body_loads(data: KeywordData, unit: Units, model: deck.Model) -> None:
-    """*LOAD_BODY_X/Y/Z as base accelerations (docs/keyword.md): SF times the curve LCID, an
-    acceleration of the base, so the model is pushed the other way: a curve of 9.81 in
-    *LOAD_BODY_Z is gravity along -z, as in LS-DYNA. Curves by *DEFINE_CURVE (SFA, SFO 0 meaning 1)."""
-    if not data.body_loads:
-        return
-    used: list[int] = []
-    for axis, record in data.body_loads:
-        lcid = int(record["LCID"] or 0)
-        if lcid not in data.curves:
-            raise KeywordError(f"{record.where}: *LOAD_BODY_{axis} LCID = {lcid} names no *DEFINE_CURVE; define the "
-                               f"curve of the acceleration")
-        if lcid not in used:
-            used.append(lcid)
-    times, values = [], []
-    for lcid in used:
-        head, points = data.curves[lcid]
-        sfa, sfo = float(head["SFA"]) or 1.0, float(head["SFO"]) or 1.0
-        times.append([(a * sfa + float(head["OFFA"])) * unit.time for a, _ in points])
-        values.append([o * sfo + float(head["OFFO"]) for _, o in points])
-    set_curves(model, times, values)
-    acceleration = unit.length / unit.time**2
-    model.base_acceleration_direction = np.array([-np.eye(3)["XYZ".index(axis)] for axis, _ in data.body_loads])
-    model.base_acceleration_value = np.array([float(r["SF"]) * acceleration for _, r in data.body_loads])
-    model.base_acceleration_curve = np.array([used.index(int(r["LCID"])) for _, r in data.body_loads], dtype=np.int32)
 
 
 def _apply_tracks(data: KeywordData, mesh: KeywordMesh, model: deck.Model) -> None:
