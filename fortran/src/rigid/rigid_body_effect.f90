@@ -177,7 +177,7 @@ contains
     class(rigid_body_effect_t), intent(inout) :: e
     type(nodal_state_t), intent(inout) :: ns
     real(wp), intent(in) :: time, dt, dt_previous
-    real(wp) :: terms(6, size(e%node)), totals(6, size(e%bodies)), f(6)
+    real(wp) :: terms(6, size(e%node)), totals(6, size(e%bodies)), f(6), centre(3), rotation(3, 3)
     integer :: b, k, j
     terms = 0.0_wp
     do b = 1, size(e%bodies)
@@ -191,9 +191,11 @@ contains
     end do
     call reduce(e, terms, totals)
     do b = 1, size(e%bodies)
+      centre = e%bodies(b)%centre
+      rotation = e%bodies(b)%rotation
       call body_advance(e%bodies(b), totals(1:3, b), totals(4:6, b), 0.5_wp * (dt_previous + dt), dt)
-      call carry_nodes(e%bodies(b), e%offset(:, e%first(b):e%first(b + 1) - 1), e%node(e%first(b):e%first(b + 1) - 1), &
-                       dt, ns%x, ns%v, ns%w)
+      call carry_nodes(e%bodies(b), centre, rotation, e%offset(:, e%first(b):e%first(b + 1) - 1), &
+                       e%node(e%first(b):e%first(b + 1) - 1), dt, ns%v, ns%w)
     end do
   end subroutine constrain
 

@@ -94,18 +94,23 @@ contains
     if (.not. all(free)) b%momentum = matmul(inertia, b%omega)
   end subroutine body_omega
 
-  !> The half-step velocities that move each node(j) from x to its place on the body at the next
-  !> whole step (centre + R offset), so the body stays rigid to rounding; w is omega.
-  pure subroutine carry_nodes(b, offset, node, dt, x, v, w)
+  !> The half-step velocities that move each node(j) with the body from the last whole step
+  !> (centre_before, rotation_before) to this one: (X' - X + (R' - R) s) / dt, s its offset at t = 0,
+  !> so a body that does not move leaves its nodes exactly where they are; w is omega.
+  pure subroutine carry_nodes(b, centre_before, rotation_before, offset, node, dt, v, w)
     type(rigid_body_t), intent(in) :: b
+    real(wp), intent(in) :: centre_before(3), rotation_before(3, 3)
     real(wp), intent(in) :: offset(:, :)   !< per node(j): x at t = 0 less the centre at t = 0
     integer, intent(in) :: node(:)
-    real(wp), intent(in) :: dt, x(:, :)
+    real(wp), intent(in) :: dt
     real(wp), intent(inout) :: v(:, :), w(:, :)
+    real(wp) :: shift(3), turn(3, 3)
     integer :: j, k
+    shift = b%centre - centre_before
+    turn = b%rotation - rotation_before
     do j = 1, size(node)
       k = node(j)
-      v(:, k) = (b%centre + matmul(b%rotation, offset(:, j)) - x(:, k)) / dt
+      v(:, k) = (shift + matmul(turn, offset(:, j))) / dt
       w(:, k) = b%omega
     end do
   end subroutine carry_nodes

@@ -69,15 +69,19 @@ def _thickness(corners: list[float]) -> float:
     return corners[0] if len(set(corners)) == 1 else float(np.mean(corners))
 
 
-def split_by_thickness(data: KeywordData, mesh: KeywordMesh) -> None:
+def split_by_thickness(data: KeywordData, mesh: KeywordMesh, given: dict[int, float] | None = None) -> None:
     """Give every engine part one thickness (deck units, ``mesh.part_thickness``): a deck part whose
     shells have several becomes one engine part per thickness, in the order of their first shell,
-    each keeping the PID (``mesh.part_ids`` repeats it) with a name suffix (``mesh.part_suffix``)."""
+    each keeping the PID (``mesh.part_ids`` repeats it) with a name suffix (``mesh.part_suffix``).
+    ``given``: PID -> the thickness of a part that has no shell section (a rigid solid's faces)."""
     by_pid = {int(p["PID"]): p for p in data.parts}
     section_of = {}
     warned: set[int] = set()
     for pid in mesh.part_ids.tolist():
-        section_of[pid] = _section_corners(data, by_pid[pid], warned)
+        if given and pid in given:
+            section_of[pid] = [given[pid]] * 4
+        else:
+            section_of[pid] = _section_corners(data, by_pid[pid], warned)
     keys: dict[tuple[int, float], int] = {}
     element_part = np.empty_like(mesh.element_part)
     uneven: dict[int, Record] = {}

@@ -93,8 +93,8 @@ def _read(path: Path, units: str | None) -> tuple[Scene, KeywordData, Units, Key
         unit = _units(path, data, units)
         solids = add_solid_faces(data)
         mesh = mesh_of(data, unit)
-        split_by_thickness(data, mesh)
         _add_solid_masses(data, solids, unit, mesh)
+        split_by_thickness(data, mesh, {pid: t / unit.length for pid, t in mesh.face_thickness.items()})
         return _scene(path, data, unit, mesh), data, unit, mesh
     except KeywordError as exc:
         raise with_warnings(exc, data.warnings) from exc

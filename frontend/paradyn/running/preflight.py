@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from paradyn import deck
+from paradyn.deck.model import trait_codes
 
 from . import launch
 from .engine_process import EngineError, follow_engine
@@ -125,7 +126,11 @@ def element_steps(model: deck.Model) -> tuple[np.ndarray, np.ndarray, np.ndarray
     nu = np.asarray(model.poisson_ratio, float)
     c = np.sqrt(young / (rho * (1.0 - nu**2)))[material]
     length = area / longest
-    return length / c, length, area, c
+    dt = length / c
+    rigid = np.isin(np.asarray(model.material_model), trait_codes("material_model", "rigid"))[material]
+    if rigid.any() and not rigid.all():   # a rigid body's elements set no step (engine: mass_scaling_setup)
+        dt = np.where(rigid, np.inf, dt)
+    return dt, length, area, c
 
 
 def _part_names(model: deck.Model) -> list[str]:
@@ -145,8 +150,10 @@ def _parts(model: deck.Model, area: np.ndarray, added: np.ndarray) -> list[PartM
         nodes = np.flatnonzero(np.bincount(conn[mine].ravel(), minlength=len(coords)))  # np.unique: +20 ms
         extent = np.ptp(coords[nodes], axis=0) if nodes.size else np.zeros(3)
         nonzero = extent[extent > 0]
-        parts.append(PartMass(name=name, elements=int(mine.sum()),
-                              mass_kg=float(rho[p] * thickness[p] * area[mine].sum()),
+        surface_only = model.surface_only is not None and bool(np.asarray(model.surface_only)[p])
+        mass = (float(np.asarray(model.added_mass)[nodes].sum()) if surface_only   # a rigid solid's faces
+                else float(rho[p] * thickness[p] * area[mine].sum()))
+        parts.append(PartMass(name=name, elements=int(mine.sum()), mass_kg=mass,
                               added_kg=float(added[p]), thickness=float(thickness[p]),
                               smallest_extent=float(nonzero.min()) if nonzero.size else 0.0,
                               largest_extent=float(extent.max())))

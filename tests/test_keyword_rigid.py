@@ -1,0 +1,151 @@
+"""Rigid bodies read from keyword decks (docs/keyword.md, "Rigid bodies"): *MAT_RIGID with its
+constraints, rigid *ELEMENT_SOLID as geometry (outer faces, mass lumped to the nodes),
+*DEFORMABLE_TO_RIGID, *CONSTRAINED_RIGID_BODIES and rigid parts that share nodes; and the public
+pipe-whip deck of ../shared/realdecks run with its rigid pipe and bracket."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+import paradyn
+from paradyn.keyword.rigid import hexahedron_masses
+from paradyn.keyword.scene import load_keyword
+from paradyn.running import launch
+from test_keyword import HEAD, MESH
+
+REALDECKS = Path(__file__).resolve().parents[1].parent / "shared" / "realdecks"
+
+# two hexahedra 1 x 0.5 x 0.25 side by side above the plate (z from 1 to 1.25), part 2, rigid,
+# translations x and y and every rotation held (CMO 1, CON1 4, CON2 7)
+BLOCK = """*MAT_RIGID
+         2    7800.0     2e+11       0.3
+       1.0       4.0       7.0
+*SECTION_SOLID
+         2         1
+*PART
+block
+         2         2         2
+*NODE
+      21             0.0             0.0             1.0
+      22             1.0             0.0             1.0
+      23             2.0             0.0             1.0
+      24             0.0             0.5             1.0
+      25             1.0             0.5             1.0
+      26             2.0             0.5             1.0
+      31             0.0             0.0            1.25
+      32             1.0             0.0            1.25
+      33             2.0             0.0            1.25
+      34             0.0             0.5            1.25
+      35             1.0             0.5            1.25
+      36             2.0             0.5            1.25
+*ELEMENT_SOLID
+     201       2      21      22      25      24      31      32      35      34
+     202       2      22      23      26      25      32      33      36      35
+"""
+
+
+def _read(tmp_path: Path, extra: str, head: str = HEAD, mesh: str = MESH):
+    path = tmp_path / "model.k"
+    path.write_text(head + mesh + extra + "*END\n")
+    return load_keyword(path)
+
+
+def test_a_rigid_solid_becomes_its_faces_with_its_mass_on_the_nodes(tmp_path: Path) -> None:
+    """Two hexahedra sharing a face: 10 outer faces (12 less the shared pair) in part 2, ids after
+    the deck's largest (202), surface only; their mass rho V = 7800 x 0.25 on the 12 nodes, the
+    middle ones twice the corners'; one body with held dofs [1, 1, 0, 1, 1, 1]."""
+    read = _read(tmp_path, BLOCK)
+    model = read.model
+    faces = model.element_part == 1
+    assert np.count_nonzero(faces) == 10
+    assert model.element_ids[faces].min() > 202
+    assert model.surface_only.tolist() == [0, 1]
+    block = np.flatnonzero(model.node_rigid_body == 0)
+    assert len(block) == 12 and np.all(model.node_rigid_body[:6] == -1)
+    assert model.added_mass.sum() == pytest.approx(7800.0 * 0.25, rel=1e-12)
+    masses = sorted(set(np.round(model.added_mass[block], 9)))
+    assert masses == pytest.approx([7800 * 0.125 / 8, 7800 * 0.125 / 4])
+    assert model.rigid_body_part.tolist() == [1]
+    assert model.rigid_body_fixed_dofs.tolist() == [[1, 1, 0, 1, 1, 1]]
+
+
+def test_hexahedron_masses_sum_to_the_volume_of_a_sheared_brick() -> None:
+    """A parallelepiped (edges a, b, c sheared): the lumped masses sum to |a . (b x c)| and are
+    equal (each shape function integrates to V / 8 on an affine hexahedron)."""
+    a, b, c = np.array([2.0, 0, 0]), np.array([0.5, 1.0, 0]), np.array([0.3, 0.2, 0.7])
+    corners = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]])
+    x = corners @ np.stack([a, b, c])
+    masses = hexahedron_masses(x)
+    assert masses.sum() == pytest.approx(abs(a @ np.cross(b, c)), rel=1e-13)
+    assert np.ptp(masses) < 1e-14
+
+
+def test_deformable_to_rigid_and_merged_bodies(tmp_path: Path) -> None:
+    """*DEFORMABLE_TO_RIGID makes the plate rigid at the start with its own density (a rigid copy
+    of its material); *CONSTRAINED_RIGID_BODIES makes it and the block one body, without a
+    warning; a rigid part that only shares nodes with another is merged with a warning."""
+    read = _read(tmp_path, BLOCK + "*DEFORMABLE_TO_RIGID\n         1\n")
+    assert read.scene.materials[0].model == "rigid" and read.model.rigid_body_part.tolist() == [0, 1]
+    merge = "*CONSTRAINED_RIGID_BODIES\n         1         2\n"
+    merged = _read(tmp_path, BLOCK + "*DEFORMABLE_TO_RIGID\n         1\n" + merge)
+    assert merged.model.rigid_body_part.tolist() == [0]
+    assert set(merged.model.node_rigid_body.tolist()) == {0}
+    assert merged.model.rigid_body_fixed_dofs.tolist() == [[1, 1, 0, 1, 1, 1]]   # held by either part
+    assert not any("share" in w for w in merged.warnings)
+    touching = BLOCK.replace("      21             0.0             0.0             1.0\n", "").replace(
+        "     201       2      21", "     201       2      11")
+    shared = _read(tmp_path, touching + "*DEFORMABLE_TO_RIGID\n         1\n")
+    assert shared.model.rigid_body_part.tolist() == [0]
+    assert any("share 1 node(s): they move as one rigid body" in w for w in shared.warnings)
+
+
+def test_solids_of_a_deformable_part_are_left_out_with_a_warning(tmp_path: Path) -> None:
+    read = _read(tmp_path, BLOCK.replace("*MAT_RIGID\n         2    7800.0     2e+11       0.3\n       1.0       4.0"
+                                         "       7.0\n", "*MAT_ELASTIC\n         2    7800.0     2e+11       0.3\n"))
+    assert read.model.n_elements == 2
+    assert any("*ELEMENT_SOLID of part 2 are left out" in w for w in read.warnings)
+
+
+@pytest.mark.skipif(not (REALDECKS / "pydyna_pipe").is_dir(), reason="../shared/realdecks not present")
+def test_pipe_whip_deck_runs_with_its_rigid_pipe(tmp_path: Path) -> None:
+    """pydyna_pipe (mm, kg, ms) for 2 ms of its 20: parts 1 and 2, switched to rigid and sharing
+    nodes, are one body spinning at the deck's *INITIAL_VELOCITY_GENERATION omega = -0.082 rad/ms
+    about x through (-78.5, -610.13, 5.69); the rigid solid bracket is held (CON1 = CON2 = 7). The
+    body's nodes start with omega x r (to the half step's centripetal change), keep their distances
+    to 1e-9, the bracket does not
+    move, nothing is NaN and the energy balance holds within 1 % of the kinetic energy."""
+    read = load_keyword(REALDECKS / "pydyna_pipe" / "pipe.k", units="mm-kg-ms")
+    model = read.model
+    model.control.end_time = 2e-3
+    model.control.output_interval = 1e-3
+    model.control.history_interval = 1e-4
+    assert model.rigid_body_part.tolist() == [0, 3]
+    assert model.rigid_body_fixed_dofs.tolist() == [[0] * 6, [1] * 6]
+    folder = tmp_path / "pipe"
+    folder.mkdir()
+    paradyn.deck.write_deck(model, folder / "deck.h5")
+    launch.run_engine(folder / "deck.h5", folder / "results.h5", 1, 2)
+    with h5py.File(folder / "results.h5") as f:
+        displacement, velocity = f["frames/displacement"][:], f["frames/velocity"][:]
+        energy = {k: f[f"history/{k}"][:] for k in ("kinetic_energy", "internal_energy", "hourglass_energy",
+                                                     "contact_energy", "external_work")}
+    assert np.all(np.isfinite(displacement)) and np.all(np.isfinite(velocity))
+    spin = model.node_rigid_body == 0
+    axis_point = np.array([-78.5, -610.13, 5.69]) * 1e-3
+    omega = np.array([-0.082e3, 0.0, 0.0])
+    expected = np.cross(omega, model.coordinates[spin] - axis_point)
+    # the frame at t = 0 averages the initial and the first half-step velocity: the centripetal
+    # omega^2 r dt / 2, about 5e-5 of omega r here, is the difference
+    assert np.abs(velocity[0][spin] - expected).max() < 1e-4 * np.abs(expected).max()
+    x0, x1 = model.coordinates[spin], model.coordinates[spin] + displacement[-1][spin]
+    pairs = np.random.default_rng(1).integers(0, len(x0), (200, 2))
+    d0 = np.linalg.norm(x0[pairs[:, 0]] - x0[pairs[:, 1]], axis=1)
+    d1 = np.linalg.norm(x1[pairs[:, 0]] - x1[pairs[:, 1]], axis=1)
+    assert np.abs(d1 - d0).max() < 1e-9 * d0.max()
+    assert np.abs(displacement[-1][model.node_rigid_body == 1]).max() == 0.0
+    total = sum(energy[k] for k in ("kinetic_energy", "internal_energy", "hourglass_energy", "contact_energy"))
+    assert np.abs(total - energy["external_work"] - total[0]).max() < 0.01 * energy["kinetic_energy"][0]
