@@ -185,7 +185,6 @@ def test_read_keyword_prints_the_warnings(tmp_path: Path, capsys: pytest.Capture
 
 @pytest.mark.parametrize("edit, message", [
     (("      16      15", "      99      15"), "names node 99, which no \\*NODE defines"),
-    (("      16      15", "      16      16"), "is a triangle"),
     (("     0.001", "       0.0"), "ENDTIM must be given and positive"),
     (("         1         1         1\n", "         1         1         7\n"), "names material 7"),
     (("      13             2.0", "      12             2.0"), "\\*NODE 12 is defined twice"),
@@ -194,6 +193,19 @@ def test_deck_errors_name_the_problem(tmp_path: Path, edit: tuple[str, str], mes
     text = (HEAD + MESH).replace(*edit)
     with pytest.raises(KeywordError, match=message):
         load_keyword(_deck(tmp_path, text))
+
+
+@pytest.mark.parametrize("fourth", ["      15", "       0", ""])
+def test_triangles_are_read_as_degenerate_quads(tmp_path: Path, fourth: str) -> None:
+    """Reference: LS-DYNA's *ELEMENT_SHELL, where a triangle repeats N3 as N4 (or leaves N4 blank):
+    element 102 as 12, 13, 15 becomes a row whose third node is repeated as the fourth (issue 33)."""
+    text = (HEAD + MESH).replace("     102       1      12      13      16      15",
+                                 "     102       1      12      13      15" + fourth)
+    read = load_keyword(_deck(tmp_path, text))
+    conn = read.model.connectivity
+    assert conn.shape == (2, 4)
+    assert conn[1, 2] == conn[1, 3] and len(set(conn[1].tolist())) == 3
+    assert conn[0, 2] != conn[0, 3]
 
 
 # ------------------------------------------------------------------------------------------------

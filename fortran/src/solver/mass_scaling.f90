@@ -10,7 +10,7 @@ module mass_scaling
   use paradyn_kinds, only: wp
   use model_deck, only: deck_t, node_row
   use shell_section, only: shell_properties_t, local_frame
-  use shell_measures, only: blt_stable_time_step
+  use shell_measures, only: blt_stable_time_step, triangle_stable_time_step
   implicit none
   private
   public :: mass_scaling_t, mass_scaling_setup, mass_scaling_message
@@ -47,8 +47,12 @@ contains
     do k = 1, size(deck%element_ids)
       p = deck%element_part(k)
       x(1, :, :) = deck%coordinates(:, [(node_row(deck, deck%connectivity(j, k)), j = 1, 4)])
-      call blt_stable_time_step(1, x, props(p), dt)
-      call local_frame(x(1, :, :), e, xl, yl, area)
+      if (deck%connectivity(3, k) == deck%connectivity(4, k)) then
+        call triangle_stable_time_step(1, x, props(p), dt)
+      else
+        call blt_stable_time_step(1, x, props(p), dt)
+      end if
+      call local_frame(x(1, :, :), e, xl, yl, area)   ! a triangle's area too (its fourth corner is its third)
       mass = props(p)%density * props(p)%thickness * abs(area)
       ms%element_mass(k) = mass
       wanted = ms%target / deck%time_step_safety   ! the element step that gives the target

@@ -114,9 +114,8 @@ def _part_order(data: KeywordData) -> dict[int, int]:
 
 def _element_rows(record: Record, node_row: dict[int, int]) -> list[int]:
     nids = [int(record[f"N{k}"] or 0) for k in range(1, 5)]
-    if nids[3] == 0 or nids[3] == nids[2]:
-        raise KeywordError(f"{record.where}: *ELEMENT_SHELL {record['EID']} is a triangle; ParaDyn reads "
-                           f"4-node quadrilaterals only")
+    if nids[3] == 0:   # a triangle: N4 = N3, or N4 left blank
+        nids[3] = nids[2]
     for nid in nids:
         if nid not in node_row:
             raise KeywordError(f"{record.where}: *ELEMENT_SHELL {record['EID']} names node {nid}, which no "
