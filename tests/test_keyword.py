@@ -206,6 +206,18 @@ def test_triangles_are_read_as_degenerate_quads(tmp_path: Path, fourth: str) -> 
     assert conn.shape == (2, 4)
     assert conn[1, 2] == conn[1, 3] and len(set(conn[1].tolist())) == 3
     assert conn[0, 2] != conn[0, 3]
+    assert read.model.element_ids.tolist() == [101, 102]
+
+
+def test_triangles_follow_the_quads_of_their_part(tmp_path: Path) -> None:
+    """A part's triangles go after its quadrilaterals (geometry.shape_order), their ids with them, so
+    that the engine's groups of one part and one shape stay full: 101 as a triangle comes second."""
+    text = (HEAD + MESH).replace("     101       1      11      12      15      14",
+                                 "     101       1      11      12      15      15")
+    read = load_keyword(_deck(tmp_path, text))
+    assert read.model.element_ids.tolist() == [102, 101]
+    conn = read.model.connectivity
+    assert conn[1, 2] == conn[1, 3] and conn[0, 2] != conn[0, 3]
 
 
 # ------------------------------------------------------------------------------------------------

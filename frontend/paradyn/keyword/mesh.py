@@ -83,6 +83,9 @@ def mesh_of(data: KeywordData, unit: Units) -> KeywordMesh:
     if largest > np.iinfo(np.int32).max:
         raise KeywordError(f"id {largest} is larger than the deck format's ids ({np.iinfo(np.int32).max}); "
                            f"renumber the deck")
+    # the triangles of each run of one part's elements after its quads (geometry.shape_order), ids with them
+    order = geometry.shape_order(np.array(quads, dtype=np.int64), np.array(parts))
+    quads, parts = [quads[i] for i in order], [parts[i] for i in order]
     used, inverse = np.unique(np.array(quads, dtype=np.int64), return_inverse=True)
     unused = len(data.nodes) - used.size
     if unused:
@@ -91,7 +94,7 @@ def mesh_of(data: KeywordData, unit: Units) -> KeywordMesh:
     node_ids = np.array([int(data.nodes[r]["NID"]) for r in used.tolist()], dtype=np.int64)
     return KeywordMesh(coordinates=xyz, connectivity=inverse.reshape(-1, 4).astype(np.int32),
                        element_part=np.array(parts, dtype=np.int32),
-                       node_ids=node_ids, element_ids=np.array(list(seen), dtype=np.int64),
+                       node_ids=node_ids, element_ids=np.array(list(seen), dtype=np.int64)[order],
                        part_ids=np.array(list(part_order), dtype=np.int64),
                        node_index={int(n): i for i, n in enumerate(node_ids.tolist())})
 

@@ -240,6 +240,27 @@ def triangles_as_quads(triangles: np.ndarray) -> np.ndarray:
     return np.concatenate([t, t[:, 2:3]], axis=1)
 
 
+def shape_order(quads: np.ndarray, part: np.ndarray | None = None) -> np.ndarray:
+    """The element order that puts the triangles of each run of consecutive elements of one part after
+    its quadrilaterals, each shape in its own order (a stable sort): the engine groups elements of one
+    part and one shape in the deck's order, so scattered triangles would cut its groups short. The
+    identity for a mesh without triangles."""
+    q = np.asarray(quads)
+    runs = np.zeros(len(q), dtype=np.int64)
+    if part is not None and len(q):
+        runs[1:] = np.cumsum(np.asarray(part)[1:] != np.asarray(part)[:-1])
+    return np.lexsort((q[:, 2] == q[:, 3], runs))
+
+
+def shapes_in_runs(mesh: Mesh) -> Mesh:
+    """``mesh`` with its triangles after its quadrilaterals (:func:`shape_order`), ids kept with them."""
+    order = shape_order(mesh.quads)
+    if np.array_equal(order, np.arange(mesh.n_elements)):
+        return mesh
+    return Mesh(mesh.coordinates, mesh.quads[order], node_ids=mesh.node_ids,
+                element_ids=None if mesh.element_ids is None else mesh.element_ids[order], part_id=mesh.part_id)
+
+
 def repeated_node_rows(quads: np.ndarray) -> np.ndarray:
     """Rows that name a node twice, other than a triangle's third node as its fourth."""
     q = np.asarray(quads)
