@@ -125,11 +125,23 @@ def test_load_mesh_reads_quads_and_drops_unused_nodes(tmp_path: Path) -> None:
     np.testing.assert_allclose(mesh.normals(), [[0, 0, 1]])
 
 
-def test_load_mesh_rejects_triangles_with_count(tmp_path: Path) -> None:
-    points = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float)
+def test_load_mesh_reads_triangles_as_degenerate_quads(tmp_path: Path) -> None:
+    """Triangles (issue 33) become rows whose third node is repeated as the fourth, after the quads."""
+    points = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0]], dtype=float)
     path = tmp_path / "tri.vtu"
-    meshio.write(path, meshio.Mesh(points, [("triangle", np.array([[0, 1, 2], [0, 2, 3]]))]))
-    with pytest.raises(geometry.GeometryError, match=r"2 triangle cells.*quadrilaterals"):
+    meshio.write(path, meshio.Mesh(points, [("quad", np.array([[0, 1, 2, 3]])),
+                                            ("triangle", np.array([[1, 4, 5], [1, 5, 2]]))]))
+    mesh = mesh_files.load_mesh(path)
+    assert mesh.n_elements == 3
+    assert mesh.triangles.tolist() == [False, True, True]
+    np.testing.assert_allclose(mesh.normals(), [[0, 0, 1]] * 3)
+
+
+def test_load_mesh_rejects_quadratic_triangles_with_count(tmp_path: Path) -> None:
+    points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.5, 0, 0], [0.5, 0.5, 0], [0, 0.5, 0]], dtype=float)
+    path = tmp_path / "tri6.vtu"
+    meshio.write(path, meshio.Mesh(points, [("triangle6", np.array([[0, 1, 2, 3, 4, 5]]))]))
+    with pytest.raises(geometry.GeometryError, match=r"1 triangle6 cells.*triangles"):
         mesh_files.load_mesh(path)
 
 
@@ -137,7 +149,7 @@ def test_load_mesh_without_quads(tmp_path: Path) -> None:
     points = np.array([[0, 0, 0], [1, 0, 0]], dtype=float)
     path = tmp_path / "line.vtu"
     meshio.write(path, meshio.Mesh(points, [("line", np.array([[0, 1]]))]))
-    with pytest.raises(geometry.GeometryError, match="no quadrilateral cells"):
+    with pytest.raises(geometry.GeometryError, match="no quadrilateral or triangle cells"):
         mesh_files.load_mesh(path)
 
 

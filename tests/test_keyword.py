@@ -185,7 +185,6 @@ def test_read_keyword_prints_the_warnings(tmp_path: Path, capsys: pytest.Capture
 
 @pytest.mark.parametrize("edit, message", [
     (("      16      15", "      99      15"), "names node 99, which no \\*NODE defines"),
-    (("      16      15", "      16      16"), "is a triangle"),
     (("     0.001", "       0.0"), "ENDTIM must be given and positive"),
     (("         1         1         1\n", "         1         1         7\n"), "names material 7"),
     (("      13             2.0", "      12             2.0"), "\\*NODE 12 is defined twice"),
@@ -194,6 +193,31 @@ def test_deck_errors_name_the_problem(tmp_path: Path, edit: tuple[str, str], mes
     text = (HEAD + MESH).replace(*edit)
     with pytest.raises(KeywordError, match=message):
         load_keyword(_deck(tmp_path, text))
+
+
+@pytest.mark.parametrize("fourth", ["      15", "       0", ""])
+def test_triangles_are_read_as_degenerate_quads(tmp_path: Path, fourth: str) -> None:
+    """Reference: LS-DYNA's *ELEMENT_SHELL, where a triangle repeats N3 as N4 (or leaves N4 blank):
+    element 102 as 12, 13, 15 becomes a row whose third node is repeated as the fourth (issue 33)."""
+    text = (HEAD + MESH).replace("     102       1      12      13      16      15",
+                                 "     102       1      12      13      15" + fourth)
+    read = load_keyword(_deck(tmp_path, text))
+    conn = read.model.connectivity
+    assert conn.shape == (2, 4)
+    assert conn[1, 2] == conn[1, 3] and len(set(conn[1].tolist())) == 3
+    assert conn[0, 2] != conn[0, 3]
+    assert read.model.element_ids.tolist() == [101, 102]
+
+
+def test_triangles_follow_the_quads_of_their_part(tmp_path: Path) -> None:
+    """A part's triangles go after its quadrilaterals (geometry.shape_order), their ids with them, so
+    that the engine's groups of one part and one shape stay full: 101 as a triangle comes second."""
+    text = (HEAD + MESH).replace("     101       1      11      12      15      14",
+                                 "     101       1      11      12      15      15")
+    read = load_keyword(_deck(tmp_path, text))
+    assert read.model.element_ids.tolist() == [102, 101]
+    conn = read.model.connectivity
+    assert conn[1, 2] == conn[1, 3] and conn[0, 2] != conn[0, 3]
 
 
 # ------------------------------------------------------------------------------------------------

@@ -118,3 +118,33 @@ def test_meshio_cell_sets_select_parts(tmp_path: Path) -> None:
     assert lid.n_elements == 1 and lid.coordinates[:, 0].min() == 1.0 and lid.node_ids is None
     with pytest.raises(geometry.GeometryError, match=r"no cell set named 'top'; the file has \['base', 'lid'\]"):
         mesh_files.load_mesh(path, "top")
+
+
+@pytest.mark.parametrize("recombine", [0, 1])
+def test_gmsh_triangles_are_read(tmp_path: Path, recombine: int) -> None:
+    """Triangles of a gmsh mesh (issue 33): a disk meshed with triangles only, or recombined into
+    quads with the triangles gmsh leaves, reads as rows whose third node is repeated as the fourth,
+    with their element tags; every element's normal is the disk's (counter-clockwise kept)."""
+    import gmsh
+
+    gmsh.initialize(readConfigFiles=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("disk")
+        gmsh.model.occ.addDisk(0, 0, 0, 1.0, 1.0)
+        gmsh.model.occ.synchronize()
+        gmsh.option.setNumber("Mesh.RecombineAll", recombine)
+        gmsh.option.setNumber("Mesh.RecombinationAlgorithm", 0)   # simple: leaves triangles
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.3)
+        gmsh.model.mesh.generate(2)
+        counts = {int(k): len(t) for k, t in zip(*gmsh.model.mesh.getElements(2)[:2], strict=True)}
+        path = tmp_path / "disk.msh"
+        gmsh.write(str(path))
+    finally:
+        gmsh.finalize()
+    mesh = mesh_files.load_mesh(path)
+    assert int(mesh.triangles.sum()) == counts.get(2, 0) > 0
+    assert int((~mesh.triangles).sum()) == counts.get(3, 0)
+    assert (counts.get(3, 0) > 0) == bool(recombine)
+    assert len(set(mesh.element_ids.tolist())) == mesh.n_elements
+    np.testing.assert_allclose(mesh.normals()[:, 2], 1.0, atol=1e-12)

@@ -156,7 +156,8 @@ def test_the_mixed_kernel_benchmark_runs_in_single(tmp_path: Path) -> None:
     done = subprocess.run([str(bench), "512", "30"], capture_output=True, text=True, check=True)
     assert "element kernel in single precision" in done.stdout
     rates = [float(line.split(":")[1].split()[0]) for line in done.stdout.splitlines() if "us per" in line]
-    assert len(rates) == 4 and min(rates) > 0   # -1: a NaN or an inverted element; -2: never yielded
+    # 4 quadrilateral and 4 triangle lines; -1: a NaN or an inverted element; -2: never yielded
+    assert len(rates) == 8 and min(rates) > 0
 
 
 def test_the_mixed_engine_is_bitwise_independent_of_the_threads(pipe_whips: dict[str, Path], tmp_path: Path) -> None:

@@ -10,12 +10,14 @@ program kernel_benchmark
   use paradyn_kinds, only: wp, ek, i8
   use shell_section, only: shell_properties_t, stress_components, hourglass_components
   use shell_blt, only: blt_internal_forces
+  use shell_c0_triangle, only: c0_triangle_internal_forces
   use material_factory, only: material_from_deck
   use deck_fields, only: deck_fields_t
   use element_groups, only: group_size
   use paradyn_schema, only: hourglass_stiffness, hourglass_physical, material_elastic, material_j2_plasticity
   implicit none
   integer :: n_elements, n_cycles, n_groups
+  integer :: triangle_every = 0   !< every this many groups is one of triangles (0: none)
   character(len=32) :: arg
   type(shell_properties_t) :: props
   integer :: seed_size, s
@@ -54,6 +56,13 @@ program kernel_benchmark
   props%hourglass_form = hourglass_physical
   call material_from_deck(steel(material_j2_plasticity), 1, props%material)
   call report('plastic: ', props)
+  do s = 1, 2   ! the triangles: all groups, then every tenth
+    triangle_every = merge(1, 10, s == 1)
+    call material_from_deck(steel(material_elastic), 1, props%material)
+    call report(trim(merge('elastic, triangles:      ', 'elastic, 10 % triangles: ', s == 1))//' ', props)
+    call material_from_deck(steel(material_j2_plasticity), 1, props%material)
+    call report(trim(merge('plastic, triangles:      ', 'plastic, 10 % triangles: ', s == 1))//' ', props)
+  end do
 
 contains
 
@@ -117,8 +126,21 @@ contains
     inverted = 0
     call system_clock(t0, rate)
     call cpu_time(cpu0)
+    if (triangle_every > 0) then
+      do g = triangle_every, n_groups, triangle_every
+        x(:, :, 4, g) = x(:, :, 3, g)
+      end do
+    end if
     do c = 1, n_cycles
       do g = 1, n_groups
+        if (triangle_every > 0) then
+          if (modulo(g, triangle_every) == 0) then
+            call c0_triangle_internal_forces(group_size, x(:, :, :, g), v(:, :, :, g), w(:, :, :, g), p, 1.0e-7_wp, &
+                                             stress(:, :, :, g), back(:, :, :, g), eps_p(:, :, g), state(:, :, :, g), &
+                                             hg(:, :, g), force, e_int(:, g), e_hg(:, g), inverted, dt_element)
+            cycle
+          end if
+        end if
         call blt_internal_forces(group_size, x(:, :, :, g), v(:, :, :, g), w(:, :, :, g), p, 1.0e-7_wp, &
                                  stress(:, :, :, g), back(:, :, :, g), eps_p(:, :, g), state(:, :, :, g), hg(:, :, g), &
                                  force, &

@@ -180,11 +180,12 @@ CONDITIONS: dict[str, ConditionSpec] = {
 
 RELATIONS: dict[str, RelationSpec] = {
     'distinct_element_nodes': RelationSpec(
-        'distinct_element_nodes', '/elements/connectivity', 'the four nodes of an element are distinct',
+        'distinct_element_nodes', '/elements/connectivity',
+        "the four nodes of an element are distinct, but for a triangle's third node repeated as its fourth",
     ),
     'convex_elements': RelationSpec(
         'convex_elements', '/nodes/coordinates',
-        'every element is a convex quadrilateral without coincident or collinear corners',
+        'every element is a convex quadrilateral, or a triangle, without coincident or collinear corners',
     ),
     'distinct_elements': RelationSpec(
         'distinct_elements', '/elements/connectivity',
@@ -276,7 +277,7 @@ DATASETS: tuple[DatasetSpec, ...] = (
         None, '', 'node', True, '-',
         (
             'four distinct node indices per quadrilateral shell, counter-clockwise seen from the side the normal '
-            'points to'
+            'points to; a triangle repeats its third node as the fourth (N3 = N4, as LS-DYNA stores it)'
         ), '[part.geometry]', 'remesh',
     ),
     DatasetSpec(

@@ -1,12 +1,13 @@
 !> Whether a quadrilateral can be a shell element at all: convex, with no coincident or collinear
 !> corners. A concave or collapsed element turns inside out at the first step (issue 17); named
-!> before the run, the user can remesh it.
+!> before the run, the user can remesh it. A triangle (third node repeated as the fourth) only needs
+!> an area: its three corners neither coincident nor collinear.
 module quad_shape
   use paradyn_kinds, only: wp
   use vector_algebra, only: cross
   implicit none
   private
-  public :: quad_shape_fault, shape_sound, shape_degenerate, shape_concave
+  public :: quad_shape_fault, triangle_shape_fault, shape_sound, shape_degenerate, shape_concave
 
   integer, parameter :: shape_sound = 0
   integer, parameter :: shape_degenerate = 1   !< coincident or collinear corners, or crossed sides: no area
@@ -39,5 +40,21 @@ contains
       end if
     end do
   end subroutine quad_shape_fault
+
+  !> The fault of the triangle x(:, 1:3): shape_degenerate (at corner 1) when twice its area is at
+  !> most 1e-5 of its longest side squared (coincident or collinear corners), else shape_sound.
+  pure subroutine triangle_shape_fault(x, fault, corner)
+    real(wp), intent(in) :: x(3, 3)
+    integer, intent(out) :: fault, corner
+    real(wp) :: normal(3), longest
+    normal = cross(x(:, 2) - x(:, 1), x(:, 3) - x(:, 1))
+    longest = max(sum((x(:, 2) - x(:, 1))**2), sum((x(:, 3) - x(:, 2))**2), sum((x(:, 1) - x(:, 3))**2))
+    fault = shape_sound
+    corner = 0
+    if (dot_product(normal, normal) <= 1.0e-10_wp * longest**2) then
+      fault = shape_degenerate
+      corner = 1
+    end if
+  end subroutine triangle_shape_fault
 
 end module quad_shape

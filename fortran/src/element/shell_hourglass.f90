@@ -18,7 +18,7 @@ module shell_hourglass
   use shell_section, only: shell_properties_t, hourglass_components, shear_correction
   implicit none
   private
-  public :: hourglass_update, add_shear_hourglass_moments, tangent_work, tangent_share
+  public :: hourglass_update, add_shear_hourglass_moments, tangent_work, tangent_share, drilling_penalty
 
   !> drilling stiffness per node, as a fraction of E t A per radian (after the drilling penalty
   !> of Hughes & Brezzi 1989): small enough to leave membrane and bending response alone, large

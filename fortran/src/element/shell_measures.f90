@@ -10,6 +10,7 @@ module shell_measures
   implicit none
   private
   public :: blt_lumped_mass, blt_stable_time_step, blt_element_results, frame_time_steps, part_wave_speed
+  public :: triangle_lumped_mass, triangle_stable_time_step, triangle_frame_time_steps
 
 contains
 
@@ -104,5 +105,69 @@ contains
       plastic_strain(i) = maxval(eps_p(i, :))
     end do
   end subroutine blt_element_results
+
+  !> Lumped mass of C0 triangles (corners 1..3; corner 4 repeats corner 3 and gets none): a third
+  !> of the element mass at each node, and the rotational inertia of blt_lumped_mass,
+  !> I = m (t^2 + A) / 4 of the node's share m (docs/theory.md, "C0 triangle").
+  pure subroutine triangle_lumped_mass(n, x, thickness, density, node_mass, node_inertia)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: x(n, 3, 4), thickness, density
+    real(wp), intent(out) :: node_mass(n), node_inertia(n)
+    real(wp) :: area
+    integer :: i
+    do i = 1, n
+      area = triangle_area(x(i, :, 1:3))
+      node_mass(i) = density * thickness * area / 3.0_wp
+      node_inertia(i) = node_mass(i) * (thickness**2 + area) / 4.0_wp
+    end do
+  end subroutine triangle_lumped_mass
+
+  !> Stable time step of C0 triangles: L / c with L = 2 A / longest side, the smallest altitude
+  !> (LS-DYNA's characteristic length of a triangular shell), c as blt_stable_time_step's.
+  pure subroutine triangle_stable_time_step(n, x, props, dt_element)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: x(n, 3, 4)
+    type(shell_properties_t), intent(in) :: props
+    real(wp), intent(out) :: dt_element(n)
+    real(wp) :: longest, c
+    integer :: i, k
+    c = part_wave_speed(props)
+    do i = 1, n
+      longest = 0.0_wp
+      do k = 1, 3
+        longest = max(longest, norm2(x(i, :, modulo(k, 3) + 1) - x(i, :, k)))
+      end do
+      dt_element(i) = 2.0_wp * triangle_area(x(i, :, 1:3)) / longest / c
+    end do
+  end subroutine triangle_stable_time_step
+
+  !> The stable step 2 A / longest side / c of triangles 1..m from the force kernel's end-of-step
+  !> frame (local corners xl, yl of 3 nodes and area), as frame_time_steps for quadrilaterals.
+  pure subroutine triangle_frame_time_steps(m, xl, yl, area, props, dt_element)
+    integer, intent(in) :: m
+    real(ek), intent(in) :: xl(:, :), yl(:, :), area(:)
+    type(shell_properties_t), intent(in) :: props
+    real(wp), intent(out) :: dt_element(m)
+    real(wp) :: c
+    real(ek) :: longest
+    integer :: i
+    c = part_wave_speed(props)
+    do i = 1, m
+      longest = max((xl(i, 2) - xl(i, 1))**2 + (yl(i, 2) - yl(i, 1))**2, &
+                    (xl(i, 3) - xl(i, 2))**2 + (yl(i, 3) - yl(i, 2))**2, &
+                    (xl(i, 1) - xl(i, 3))**2 + (yl(i, 1) - yl(i, 3))**2)
+      dt_element(i) = 2.0_wp * abs(area(i)) / sqrt(longest) / c
+      if (.not. (dt_element(i) >= 0.0_wp)) dt_element(i) = huge(1.0_wp)
+    end do
+  end subroutine triangle_frame_time_steps
+
+  !> Area of the triangle x(:, 1:3).
+  pure real(wp) function triangle_area(x) result(area)
+    real(wp), intent(in) :: x(3, 3)
+    real(wp) :: a(3), b(3)
+    a = x(:, 2) - x(:, 1)
+    b = x(:, 3) - x(:, 1)
+    area = 0.5_wp * norm2([a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)])
+  end function triangle_area
 
 end module shell_measures

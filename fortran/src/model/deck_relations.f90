@@ -7,7 +7,7 @@ module deck_relations
   use paradyn_schema, only: material_is_plastic, material_is_rigid, contact_kind_is_self_contact, class_float, enum_name, &
                             enum_precision, precision_mixed
   use deck_rules, only: integer_text, number_text, index_list
-  use quad_shape, only: quad_shape_fault, shape_sound, shape_concave
+  use quad_shape, only: quad_shape_fault, triangle_shape_fault, shape_sound, shape_concave
   use model_deck, only: deck_t, node_row, engine_precision
   implicit none
   private
@@ -35,7 +35,7 @@ contains
               '      ', d%precision == precision_mixed))//' (paradyn-run picks it from the deck), or change [run] precision'
   end function precision_message
 
-  !> Held element row `row` names a node twice.
+  !> Held element row `row` names a node twice, other than a triangle's third node as its fourth.
   function repeated_node_message(d, row) result(message)
     type(deck_t), intent(in) :: d
     integer, intent(in) :: row
@@ -44,10 +44,10 @@ contains
     message = ''
     do k = 1, 4
       do j = k + 1, 4
-        if (d%connectivity(k, row) /= d%connectivity(j, row)) cycle
+        if (d%connectivity(k, row) /= d%connectivity(j, row) .or. (k == 3 .and. j == 4)) cycle
         message = '/elements/connectivity['//integer_text(d%element_ids(row) - 1)//'] = '// &
                   index_list(d%connectivity(:, row))//' repeats a node; every quadrilateral needs four distinct '// &
-                  'nodes (remesh without collapsed elements)'
+                  'nodes, a triangle three with the third repeated as the fourth (remesh without collapsed elements)'
         return
       end do
     end do
@@ -62,7 +62,8 @@ contains
               'mass and stiffness, remove it'
   end function duplicate_element_message
 
-  !> Held element row `row` convex, without coincident or collinear corners (quad_shape).
+  !> Held element row `row` convex, without coincident or collinear corners (quad_shape; a triangle:
+  !> with an area).
   function shape_message(d, row) result(message)
     type(deck_t), intent(in) :: d
     integer, intent(in) :: row
@@ -71,7 +72,11 @@ contains
     real(wp) :: x(3, 4)
     message = ''
     x = d%coordinates(:, [(node_row(d, d%connectivity(k, row)), k = 1, 4)])
-    call quad_shape_fault(x, fault, corner)
+    if (d%connectivity(3, row) == d%connectivity(4, row)) then
+      call triangle_shape_fault(x(:, 1:3), fault, corner)
+    else
+      call quad_shape_fault(x, fault, corner)
+    end if
     if (fault == shape_sound) return
     node = d%connectivity(corner, row)
     associate (i => d%element_ids(row))

@@ -35,6 +35,9 @@ module domain_decomposition
     integer, allocatable :: recv_start(:), recv_slot(:)   !< CSR over neighbours
     integer :: n_groups = 0
     integer, allocatable :: group_first(:), group_count(:), group_part(:)
+    !> the group's elements are triangles (third and fourth node the same: shell_c0_triangle), else
+    !> quadrilaterals (shell_blt)
+    logical, allocatable :: group_triangle(:)
   end type domain_t
 
   !> Which element corners and which ranks meet at each global node (CSR by node).
@@ -383,26 +386,32 @@ contains
     local_element = lo
   end function local_element
 
-  !> Groups of at most group_size consecutive local elements of one part (local_part: the part of
-  !> each local element).
+  !> Groups of at most group_size consecutive local elements of one part and one shape (local_part:
+  !> the part of each local element; a triangle is an element whose third and fourth nodes are the
+  !> same). The element order is kept: a group ends where the part or the shape changes, so a mesh
+  !> of quadrilaterals only has the groups it had before triangles were read.
   pure subroutine build_groups(dom, local_part)
     type(domain_t), intent(inout) :: dom
     integer, intent(in) :: local_part(:)
     integer :: le, first, part, n
-    allocate (dom%group_first(0), dom%group_count(0), dom%group_part(0))
+    logical :: triangle
+    allocate (dom%group_first(0), dom%group_count(0), dom%group_part(0), dom%group_triangle(0))
     le = 1
     do while (le <= dom%n_elements)
       first = le
       part = local_part(le)
+      triangle = dom%connectivity(3, le) == dom%connectivity(4, le)
       n = 0
       do while (le <= dom%n_elements .and. n < group_size)
         if (local_part(le) /= part) exit
+        if ((dom%connectivity(3, le) == dom%connectivity(4, le)) .neqv. triangle) exit
         n = n + 1
         le = le + 1
       end do
       dom%group_first = [dom%group_first, first]
       dom%group_count = [dom%group_count, n]
       dom%group_part = [dom%group_part, part]
+      dom%group_triangle = [dom%group_triangle, triangle]
     end do
     dom%n_groups = size(dom%group_first)
   end subroutine build_groups

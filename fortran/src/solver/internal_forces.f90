@@ -6,7 +6,8 @@ module internal_forces
   use paradyn_kinds, only: wp
   use element_groups, only: group_size
   use shell_blt, only: blt_internal_forces
-  use shell_measures, only: blt_lumped_mass
+  use shell_c0_triangle, only: c0_triangle_internal_forces
+  use shell_measures, only: blt_lumped_mass, triangle_lumped_mass
   use work_queues, only: queues_start, queues_take
   use halo_exchange, only: exchange_corners
   use nodal_assembly, only: gather_group, assemble_nodes
@@ -94,10 +95,17 @@ contains
       call gather_group(n, first, s%dom%connectivity, s%nodes%v, s%workspace(ov, tid))
       call gather_group(n, first, s%dom%connectivity, s%nodes%w, s%workspace(ow, tid))
       associate (gs => s%elements%groups(g))
-        call blt_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
-                                 s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%state, gs%hourglass, &
-                                 s%corner(1, 4 * first - 3), s%elements%e_internal(first), s%elements%e_hourglass(first), &
-                                 inverted, s%elements%dt_element(first))
+        if (s%dom%group_triangle(g)) then
+          call c0_triangle_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
+                                           s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%state, gs%hourglass, &
+                                           s%corner(1, 4 * first - 3), s%elements%e_internal(first), &
+                                           s%elements%e_hourglass(first), inverted, s%elements%dt_element(first))
+        else
+          call blt_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
+                                   s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%state, gs%hourglass, &
+                                   s%corner(1, 4 * first - 3), s%elements%e_internal(first), s%elements%e_hourglass(first), &
+                                   inverted, s%elements%dt_element(first))
+        end if
       end associate
       family = merge(2, 1, s%part_effect(p) == effect_plastic_shells)
       busy(family) = busy(family) + wall_clock() - t0
@@ -137,7 +145,11 @@ contains
       first = s%dom%group_first(g)
       p = s%dom%group_part(g)
       call gather_group(n, first, s%dom%connectivity, s%nodes%x, xg)
-      call blt_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, node_mass, node_inertia)
+      if (s%dom%group_triangle(g)) then
+        call triangle_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, node_mass, node_inertia)
+      else
+        call blt_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, node_mass, node_inertia)
+      end if
       if (s%props(p)%surface_only) then   ! a rigid solid's faces: its mass is on the nodes (added_mass)
         node_mass = 0.0_wp
         node_inertia = 0.0_wp
@@ -148,6 +160,8 @@ contains
         factor = s%elements%step_scale(first + j - 1)**2
         s%corner(1:3, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_mass(j) * factor
         s%corner(4:6, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_inertia(j) * factor
+        ! a triangle's fourth corner is its third node again: no second share
+        if (s%dom%group_triangle(g)) s%corner(:, 4 * (first + j - 1)) = 0.0_wp
       end do
     end do
     call exchange_corners(s%dom, s%halo, s%corner)

@@ -10,7 +10,7 @@ module mass_scaling
   use paradyn_kinds, only: wp
   use model_deck, only: deck_t, node_row
   use shell_section, only: shell_properties_t, local_frame
-  use shell_measures, only: blt_stable_time_step
+  use shell_measures, only: blt_stable_time_step, triangle_stable_time_step
   implicit none
   private
   public :: mass_scaling_t, mass_scaling_setup, mass_scaling_message
@@ -50,10 +50,14 @@ contains
     do k = 1, size(deck%element_ids)
       p = deck%element_part(k)
       x(1, :, :) = deck%coordinates(:, [(node_row(deck, deck%connectivity(j, k)), j = 1, 4)])
-      call local_frame(x(1, :, :), e, xl, yl, area)
+      if (deck%connectivity(3, k) == deck%connectivity(4, k)) then
+        call triangle_stable_time_step(1, x, props(p), dt)
+      else
+        call blt_stable_time_step(1, x, props(p), dt)
+      end if
+      call local_frame(x(1, :, :), e, xl, yl, area)   ! a triangle's area too (its fourth corner is its third)
       mass = merge(0.0_wp, props(p)%density * props(p)%thickness * abs(area), props(p)%surface_only)
       ms%element_mass(k) = mass
-      call blt_stable_time_step(1, x, props(p), dt)
       if (props(p)%rigid) then   ! a rigid body's element sets no step (unless all are rigid), is not scaled
         ms%dt_rigid_min = min(ms%dt_rigid_min, dt(1))
         cycle

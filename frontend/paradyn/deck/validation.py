@@ -178,12 +178,13 @@ def _check_presence(check: _Checker) -> None:
 def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
     """The schema's [relations], which need more than one field (model_deck's check_deck_relations)."""
     conn = check.array("connectivity")
-    ordered = np.sort(conn, axis=1)
-    repeated = np.any(ordered[:, 1:] == ordered[:, :-1], axis=1)
+    pairs = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3)]   # (2, 3) equal: a triangle
+    repeated = np.any([conn[:, a] == conn[:, b] for a, b in pairs], axis=0) if conn.size else np.zeros(0, bool)
     if np.any(repeated):
         element = int(np.flatnonzero(repeated)[0])
         check.fail(f"/elements/connectivity[{element}] = {conn[element].tolist()} repeats a node; every "
-                   f"quadrilateral needs four distinct nodes (remesh without collapsed elements)")
+                   f"quadrilateral needs four distinct nodes, a triangle three with the third repeated as the "
+                   f"fourth (remesh without collapsed elements)")
     _check_distinct_elements(check, conn)
     _check_element_shapes(check, conn)
     plastic = np.isin(check.array("material_model"), trait_codes("material_model", "plastic"))
@@ -298,6 +299,16 @@ def _check_element_shapes(check: _Checker, conn: np.ndarray) -> None:
     turn = np.einsum("eki,ei->ek", np.cross(incoming, outgoing), normal)
     floor = 1e-10 * np.einsum("ei,ei->e", normal, normal)[:, None]
     bad = (np.abs(turn) <= floor) | (floor == 0.0) | (turn < 0.0)
+    # a triangle (third node repeated as the fourth, quad_shape's triangle_shape_fault): collapsed when
+    # twice its area is at most 1e-5 of its longest side squared; flagged at its first corner
+    triangle = conn[:, 2] == conn[:, 3]
+    sides = np.stack([x[:, 1] - x[:, 0], x[:, 2] - x[:, 1], x[:, 0] - x[:, 2]], axis=1)
+    longest = np.max(np.einsum("eki,eki->ek", sides, sides), axis=1)
+    n_tri = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+    flat = np.einsum("ei,ei->e", n_tri, n_tri) <= 1e-10 * longest**2
+    bad[triangle] = False
+    bad[triangle & flat, 0] = True
+    turn[triangle & flat, 0] = 0.0
     if not np.any(bad):
         return
     element = int(np.flatnonzero(bad.any(axis=1))[0])

@@ -88,6 +88,9 @@ def mesh_of(data: KeywordData, unit: Units) -> KeywordMesh:
     if largest > np.iinfo(np.int32).max:
         raise KeywordError(f"id {largest} is larger than the deck format's ids ({np.iinfo(np.int32).max}); "
                            f"renumber the deck")
+    # the triangles of each run of one part's elements after its quads (geometry.shape_order), ids with them
+    order = geometry.shape_order(np.array(quads, dtype=np.int64), np.array(parts))
+    quads, parts = [quads[i] for i in order], [parts[i] for i in order]
     used, inverse = np.unique(np.array(quads, dtype=np.int64), return_inverse=True)
     unused = len(data.nodes) - used.size
     if unused:
@@ -96,7 +99,7 @@ def mesh_of(data: KeywordData, unit: Units) -> KeywordMesh:
     node_ids = np.array([int(data.nodes[r]["NID"]) for r in used.tolist()], dtype=np.int64)
     return KeywordMesh(coordinates=xyz, connectivity=inverse.reshape(-1, 4).astype(np.int32),
                        element_part=np.array(parts, dtype=np.int32),
-                       node_ids=node_ids, element_ids=np.array(list(seen), dtype=np.int64),
+                       node_ids=node_ids, element_ids=np.array(list(seen), dtype=np.int64)[order],
                        part_ids=np.array(list(part_order), dtype=np.int64),
                        node_index={int(n): i for i, n in enumerate(node_ids.tolist())})
 
@@ -119,9 +122,8 @@ def _part_order(data: KeywordData) -> dict[int, int]:
 
 def _element_rows(record: Record, node_row: dict[int, int]) -> list[int]:
     nids = [int(record[f"N{k}"] or 0) for k in range(1, 5)]
-    if nids[3] == 0 or nids[3] == nids[2]:
-        raise KeywordError(f"{record.where}: *ELEMENT_SHELL {record['EID']} is a triangle; ParaDyn reads "
-                           f"4-node quadrilaterals only")
+    if nids[3] == 0:   # a triangle: N4 = N3, or N4 left blank
+        nids[3] = nids[2]
     for nid in nids:
         if nid not in node_row:
             raise KeywordError(f"{record.where}: *ELEMENT_SHELL {record['EID']} names node {nid}, which no "

@@ -1,9 +1,10 @@
-"""Quadrilateral meshes read from files, with their groups and ids (docs/scene.md, ``kind = "file"``).
+"""Shell meshes (quadrilaterals and triangles) read from files, with their groups and ids (docs/scene.md,
+``kind = "file"``). A triangle becomes a row whose third node is repeated as the fourth.
 
 A gmsh ``.msh`` file is read with gmsh itself, which keeps the file's node and element tags and
 the names of its physical groups; every other format (and a ``.msh`` file gmsh cannot open) with
 meshio, which keeps named cell sets (gmsh physical groups, Abaqus ELSETs) but not the file's ids.
-``group`` selects the quadrilaterals of one physical group or cell set, so that a file's groups
+``group`` selects the cells of one physical group or cell set, so that a file's groups
 become the scene's parts.
 """
 
@@ -15,11 +16,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .geometry import GeometryError, Mesh, check_quads, reject_other_cells
+from .geometry import GeometryError, Mesh, check_quads, reject_other_cells, triangles_as_quads
 
 # gmsh element type codes of the cells ParaDyn cannot use, by meshio's names (for the messages)
-_GMSH_REJECTED = {2: "triangle", 9: "triangle6", 10: "quad9", 16: "quad8", 21: "triangle10"}
+_GMSH_REJECTED = {9: "triangle6", 10: "quad9", 16: "quad8", 21: "triangle10"}
 _GMSH_QUAD = 3
+_GMSH_TRIANGLE = 2
 
 
 @contextlib.contextmanager
@@ -47,7 +49,8 @@ def _gmsh_model(name: str) -> Iterator[object]:
 
 
 def read_gmsh(path: Path, group: str | None) -> Mesh:
-    """The 4-node quadrilaterals of a gmsh file (of one physical group), with the file's tags as ids."""
+    """The quadrilaterals and triangles of a gmsh file (of one physical group), with the file's tags as
+    ids, in the file's order (each surface's elements by type, as gmsh stores them)."""
     with _gmsh_model("paradyn_file") as gmsh:
         try:
             gmsh.merge(str(path))
@@ -56,7 +59,7 @@ def read_gmsh(path: Path, group: str | None) -> Mesh:
         model = gmsh.model
         if len(model.mesh.getElements(3)[0]):
             raise GeometryError(f"{path}: the file has volume cells; ParaDyn needs a surface mesh of 4-node "
-                                f"quadrilaterals")
+                                f"quadrilaterals and 3-node triangles")
         entities, part_id = _entities(gmsh, path, group)
         node_tags, xyz, _ = model.mesh.getNodes()
         quads, element_tags = [], []
@@ -68,9 +71,12 @@ def read_gmsh(path: Path, group: str | None) -> Mesh:
                 if kind == _GMSH_QUAD:
                     quads.append(np.asarray(corner, dtype=np.int64).reshape(-1, 4))
                     element_tags.append(np.asarray(element, dtype=np.int64))
+                elif kind == _GMSH_TRIANGLE:
+                    quads.append(triangles_as_quads(corner))
+                    element_tags.append(np.asarray(element, dtype=np.int64))
     if not quads:
-        raise GeometryError(f"{path}: no quadrilateral cells{f' in group {group!r}' if group else ''}; ParaDyn "
-                            f"needs a surface mesh of 4-node quadrilaterals (gmsh: Mesh.RecombineAll = 1)")
+        raise GeometryError(f"{path}: no quadrilateral or triangle cells{f' in group {group!r}' if group else ''}; "
+                            f"ParaDyn needs a surface mesh of 4-node quadrilaterals and 3-node triangles")
     tags = np.asarray(node_tags, dtype=np.int64)
     order = np.argsort(tags)
     corner_tags = np.concatenate(quads)
@@ -95,7 +101,7 @@ def _entities(gmsh: object, path: Path, group: str | None) -> tuple[list[int], i
 
 
 def read_meshio(path: Path, group: str | None) -> Mesh:
-    """The 4-node quadrilaterals of any file meshio reads (of one cell set); no file ids."""
+    """The quadrilaterals and triangles of any file meshio reads (of one cell set); no file ids."""
     import meshio
 
     try:
@@ -110,11 +116,13 @@ def read_meshio(path: Path, group: str | None) -> Mesh:
         counts[block.type] = counts.get(block.type, 0) + len(rows)
         if block.type == "quad":
             blocks.append(np.asarray(block.data, dtype=np.int64)[rows])
+        elif block.type == "triangle":
+            blocks.append(triangles_as_quads(np.asarray(block.data, dtype=np.int64)[rows]))
     reject_other_cells(path, counts)
     if not blocks or sum(len(b) for b in blocks) == 0:
         found = ", ".join(f"{n} {t}" for t, n in counts.items()) or "no cells"
-        raise GeometryError(f"{path}: the file has no quadrilateral cells ({found}); ParaDyn needs "
-                            f"a surface mesh of 4-node quadrilaterals")
+        raise GeometryError(f"{path}: the file has no quadrilateral or triangle cells ({found}); ParaDyn needs "
+                            f"a surface mesh of 4-node quadrilaterals and 3-node triangles")
     quads = np.concatenate(blocks)
     points = np.asarray(data.points, dtype=np.float64)
     if points.shape[1] == 2:

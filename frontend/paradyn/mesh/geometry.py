@@ -2,7 +2,8 @@
 are read by :mod:`paradyn.mesh.files` (gmsh or meshio).
 
 Every mesh is a :class:`Mesh` of 4-node quadrilaterals with 0-based node indices, counter-clockwise
-seen from the side the shell normal points to (the convention of ``docs/formats.md``).
+seen from the side the shell normal points to (the convention of ``docs/formats.md``); a triangle is
+a row whose third node is repeated as the fourth (a degenerate quadrilateral, as LS-DYNA stores it).
 """
 
 from __future__ import annotations
@@ -15,22 +16,23 @@ import numpy as np
 
 Vector = Sequence[float]
 
-# Quadrilateral cell types that meshio knows and that ParaDyn cannot use (higher order or other shapes).
-_SURFACE_CELL_TYPES_REJECTED = ("triangle", "triangle6", "triangle7", "quad8", "quad9", "polygon")
+# Surface cell types that meshio knows and that ParaDyn cannot use (higher order or other shapes).
+_SURFACE_CELL_TYPES_REJECTED = ("triangle6", "triangle7", "quad8", "quad9", "polygon")
 _VOLUME_CELL_TYPES = ("tetra", "tetra10", "hexahedron", "hexahedron20", "hexahedron27", "wedge",
                       "wedge15", "pyramid", "pyramid13")
 
 
 class GeometryError(ValueError):
-    """A geometry request or a mesh file that ParaDyn cannot turn into a quadrilateral shell mesh."""
+    """A geometry request or a mesh file that ParaDyn cannot turn into a shell mesh."""
 
 
 @dataclass
 class Mesh:
-    """Quadrilateral shell mesh.
+    """Shell mesh of quadrilaterals and triangles.
 
     coordinates: (n_nodes, 3) float64 node positions in metres.
-    quads: (n_elements, 4) int64 node indices, 0-based, counter-clockwise around the normal.
+    quads: (n_elements, 4) int64 node indices, 0-based, counter-clockwise around the normal; a
+    triangle repeats its third node as the fourth.
     """
 
     coordinates: np.ndarray
@@ -54,6 +56,11 @@ class Mesh:
     @property
     def n_elements(self) -> int:
         return int(self.quads.shape[0])
+
+    @property
+    def triangles(self) -> np.ndarray:
+        """Whether each element is a triangle (its third node repeated as the fourth), (n_elements,) bool."""
+        return self.quads[:, 2] == self.quads[:, 3]
 
     def normals(self) -> np.ndarray:
         """Unit normal of every quad (cross product of the diagonals), shape (n_elements, 3)."""
@@ -222,19 +229,52 @@ def reject_other_cells(path: Path, counts: dict[str, int]) -> None:
         n = counts.get(cell_type, 0)
         if n:
             raise GeometryError(
-                f"{path}: the file has {n} {cell_type} cells; ParaDyn needs 4-node quadrilaterals "
-                f"only (in gmsh: Mesh.RecombineAll = 1, Mesh.ElementOrder = 1, a surface mesh)"
+                f"{path}: the file has {n} {cell_type} cells; ParaDyn needs 4-node quadrilaterals and "
+                f"3-node triangles only (in gmsh: Mesh.ElementOrder = 1, a surface mesh)"
             )
+
+
+def triangles_as_quads(triangles: np.ndarray) -> np.ndarray:
+    """(n, 3) triangles -> (n, 4) rows with the third node repeated as the fourth (int64)."""
+    t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    return np.concatenate([t, t[:, 2:3]], axis=1)
+
+
+def shape_order(quads: np.ndarray, part: np.ndarray | None = None) -> np.ndarray:
+    """The element order that puts the triangles of each run of consecutive elements of one part after
+    its quadrilaterals, each shape in its own order (a stable sort): the engine groups elements of one
+    part and one shape in the deck's order, so scattered triangles would cut its groups short. The
+    identity for a mesh without triangles."""
+    q = np.asarray(quads)
+    runs = np.zeros(len(q), dtype=np.int64)
+    if part is not None and len(q):
+        runs[1:] = np.cumsum(np.asarray(part)[1:] != np.asarray(part)[:-1])
+    return np.lexsort((q[:, 2] == q[:, 3], runs))
+
+
+def shapes_in_runs(mesh: Mesh) -> Mesh:
+    """``mesh`` with its triangles after its quadrilaterals (:func:`shape_order`), ids kept with them."""
+    order = shape_order(mesh.quads)
+    if np.array_equal(order, np.arange(mesh.n_elements)):
+        return mesh
+    return Mesh(mesh.coordinates, mesh.quads[order], node_ids=mesh.node_ids,
+                element_ids=None if mesh.element_ids is None else mesh.element_ids[order], part_id=mesh.part_id)
+
+
+def repeated_node_rows(quads: np.ndarray) -> np.ndarray:
+    """Rows that name a node twice, other than a triangle's third node as its fourth."""
+    q = np.asarray(quads)
+    pairs = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3)]
+    return np.flatnonzero(np.any([q[:, a] == q[:, b] for a, b in pairs], axis=0))
 
 
 def check_quads(path: Path, mesh: Mesh) -> None:
     if not np.all(np.isfinite(mesh.coordinates)):
         raise GeometryError(f"{path}: the file has non-finite node coordinates")
-    q = np.sort(mesh.quads, axis=1)
-    repeated = np.flatnonzero(np.any(q[:, 1:] == q[:, :-1], axis=1))
+    repeated = repeated_node_rows(mesh.quads)
     if repeated.size:
-        raise GeometryError(f"{path}: quad {repeated[0]} (0-based, {repeated.size} in all) repeats a "
-                            f"node; collapsed quads are not allowed, remesh without degenerate cells")
+        raise GeometryError(f"{path}: element {repeated[0]} (0-based, {repeated.size} in all) repeats a "
+                            f"node; collapsed cells are not allowed, remesh without degenerate cells")
 
 
 # ----------------------------------------------------------------------------------------------

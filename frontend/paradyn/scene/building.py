@@ -104,7 +104,7 @@ def _mesh_parts(r: _Reader, scene: Scene) -> list[_PartMesh]:
     first = 0
     for part in scene.parts:
         try:
-            mesh = part.geometry.mesh()
+            mesh = geometry.shapes_in_runs(part.geometry.mesh())   # a part's triangles after its quads
         except geometry.GeometryError as exc:
             raise r.error(f"[part.geometry] of part '{part.name}': {exc}") from exc
         meshes.append(_PartMesh(spec=part, mesh=mesh, first_node=first))
