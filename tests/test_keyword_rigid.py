@@ -149,3 +149,20 @@ def test_pipe_whip_deck_runs_with_its_rigid_pipe(tmp_path: Path) -> None:
     assert np.abs(displacement[-1][model.node_rigid_body == 1]).max() == 0.0
     total = sum(energy[k] for k in ("kinetic_energy", "internal_energy", "hourglass_energy", "contact_energy"))
     assert np.abs(total - energy["external_work"] - total[0]).max() < 0.01 * energy["kinetic_energy"][0]
+
+
+def test_extra_nodes_and_the_initial_velocity_of_a_body(tmp_path: Path) -> None:
+    """*CONSTRAINED_EXTRA_NODES_NODE puts plate node 14 on the block's body; *INITIAL_VELOCITY_
+    RIGID_BODY (V = (0, 0, -2), omega = (0, 0, 3)) gives every node of the body V + omega x (x - c),
+    c the centre of the lumped masses (the block's, with node 14's plate share)."""
+    extra = "*CONSTRAINED_EXTRA_NODES_NODE\n         2        14\n*INITIAL_VELOCITY_RIGID_BODY\n         2" \
+            "       0.0       0.0      -2.0       0.0       0.0       3.0\n"
+    model = _read(tmp_path, BLOCK + extra).model
+    body = np.flatnonzero(model.node_rigid_body == 0)
+    assert len(body) == 13 and model.node_ids[body].tolist().count(14) == 1
+    mass = model.added_mass.copy()
+    mass[model.node_ids.tolist().index(14)] += 7800.0 * 0.002 * 0.5 / 4   # a corner of plate element 101
+    centre = mass[body] @ model.coordinates[body] / mass[body].sum()
+    expected = np.array([0.0, 0.0, -2.0]) + np.cross([0.0, 0.0, 3.0], model.coordinates[body] - centre)
+    np.testing.assert_allclose(model.initial_velocity[body], expected, rtol=0, atol=1e-12)
+    assert np.all(model.initial_angular_velocity[body] == [0.0, 0.0, 3.0])

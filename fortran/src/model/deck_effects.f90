@@ -4,7 +4,7 @@
 !> place that decides what a deck switches on; everything else reads the table in results.h5.
 module deck_effects
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: n_effects, material_is_plastic, material_elastic, &
+  use paradyn_schema, only: n_effects, material_is_plastic, material_is_rigid, material_elastic, &
                             effect_time_integration, effect_mass_damping, effect_fixed_boundaries, &
                             effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, &
                             effect_friction, effect_gravity
@@ -28,9 +28,11 @@ contains
     declared(effect_time_integration) = .true.
     declared(effect_mass_damping) = deck%mass_damping > 0.0_wp
     declared(effect_fixed_boundaries) = deck%any_fixed   ! over the whole mesh (deck_checks)
-    declared(effect_elastic_shells) = any(.not. material_is_plastic(part_model))
+    ! a rigid part's elements compute nothing (rigid/): neither shells nor hourglass forces
+    declared(effect_elastic_shells) = any(.not. material_is_plastic(part_model) .and. &
+                                          .not. material_is_rigid(part_model))
     declared(effect_plastic_shells) = any(material_is_plastic(part_model))
-    declared(effect_hourglass) = any(deck%hourglass_coefficient > 0.0_wp)
+    declared(effect_hourglass) = any(deck%hourglass_coefficient > 0.0_wp .and. .not. material_is_rigid(part_model))
     if (deck%n_contacts > 0) declared(effect_friction) = any(deck%contact_static_friction > 0.0_wp) .or. &
                                                           any(deck%contact_dynamic_friction > 0.0_wp)
     declared(effect_gravity) = any(deck_gravity(deck) /= 0.0_wp)

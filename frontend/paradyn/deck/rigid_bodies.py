@@ -26,12 +26,14 @@ def rigid_parts(model: Model) -> np.ndarray:
     return np.flatnonzero(rigid[np.asarray(model.part_material)])
 
 
-def complete_rigid_bodies(model: Model, merge: list[tuple[int, int]] | None = None) -> list[str]:
+def complete_rigid_bodies(model: Model, merge: list[tuple[int, int]] | None = None,
+                          extra: list[tuple[int, int]] | None = None) -> list[str]:
     """One /rigid_bodies row per rigid body and /nodes/rigid_body from the bodies' elements;
     nothing when the model has no rigid part and no row. A body is a rigid part, or rigid parts
     that share a node or that ``merge`` pairs (LS-DYNA *CONSTRAINED_RIGID_BODIES): the lowest part
-    leads it, its held dofs are those of any of its parts. Returns a line for each pair of rigid
-    parts merged because they share nodes (the caller warns with it)."""
+    leads it, its held dofs are those of any of its parts. ``extra``: (part, node) pairs, nodes that
+    move with the part's body besides its elements' (LS-DYNA *CONSTRAINED_EXTRA_NODES). Returns a
+    line for each pair of rigid parts merged because they share nodes (the caller warns with it)."""
     parts = [int(p) for p in rigid_parts(model)]
     given = [] if model.rigid_body_part is None else [int(p) for p in model.rigid_body_part]
     if not parts and not given:
@@ -56,8 +58,38 @@ def complete_rigid_bodies(model: Model, merge: list[tuple[int, int]] | None = No
     connectivity, element_part = np.asarray(model.connectivity), np.asarray(model.element_part)
     for part in parts:
         body[np.unique(connectivity[element_part == part])] = row_of[lead[part]]
+    for part, node in extra or []:
+        if part not in lead:
+            raise RigidBodyError(f"extra node {node} names part {name(part)}, which is not rigid; give a rigid part")
+        if body[node] >= 0 and body[node] != row_of[lead[part]]:
+            raise RigidBodyError(f"extra node {node} of part {name(part)} is already on the rigid body of part "
+                                 f"{name(int(model.rigid_body_part[body[node]]))}; merge the two bodies instead")
+        body[node] = row_of[lead[part]]
     model.node_rigid_body = body
     return notes
+
+
+def body_centres(model: Model) -> np.ndarray:
+    """The centre of mass of each body of /rigid_bodies, from its nodes' lumped masses (a quarter, or
+    a third for a triangle, of each element's rho t A, and /nodes/added_mass), as the engine takes it."""
+    x = np.asarray(model.coordinates, dtype=float)
+    conn, part = np.asarray(model.connectivity), np.asarray(model.element_part)
+    corners = x[conn]
+    area = 0.5 * np.linalg.norm(np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1]), axis=1)
+    rho_t = (np.asarray(model.density)[np.asarray(model.part_material)] * np.asarray(model.thickness))[part]
+    surface = np.zeros(len(np.asarray(model.thickness)), dtype=bool)
+    if model.surface_only is not None:
+        surface = np.asarray(model.surface_only) == 1
+    element_mass = np.where(surface[part], 0.0, rho_t * area)
+    triangle = conn[:, 2] == conn[:, 3]
+    mass = np.zeros(len(x))
+    for k in range(4):   # a triangle's fourth corner is its third node again: no second share
+        share = np.where(triangle, 1.0 / 3.0 if k < 3 else 0.0, 0.25)
+        np.add.at(mass, conn[:, k], share * element_mass)
+    if model.added_mass is not None:
+        mass += np.asarray(model.added_mass)
+    body = np.asarray(model.node_rigid_body)
+    return np.array([mass[body == b] @ x[body == b] / mass[body == b].sum() for b in range(len(model.rigid_body_part))])
 
 
 def _group_parts(model: Model, parts: list[int], merge: list[tuple[int, int]],

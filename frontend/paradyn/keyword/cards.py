@@ -50,6 +50,8 @@ MAT_RIGID = (layout("int:MID RO E PR N COUPLE M ALIAS", n=0.0, couple=0.0, m=0.0
              layout("A1 A2 A3 V1 V2 V3", a1=0.0, a2=0.0, a3=0.0, v1=0.0, v2=0.0, v3=0.0))
 DEFORMABLE_TO_RIGID = layout("int:PID int:MRB text:PTYPE", mrb=0, ptype="PART")
 CONSTRAINED_RIGID_BODIES = layout("int:PIDL int:PIDC int:IFLAG", iflag=0)
+EXTRA_NODES = layout("int:PID int:ID int:IFLAG", iflag=0)
+RIGID_BODY_VELOCITY = layout("int:PID VX VY VZ VXR VYR VZR", vx=0.0, vy=0.0, vz=0.0, vxr=0.0, vyr=0.0, vzr=0.0)
 CONTROL_HOURGLASS = layout("int:IHQ QH", ihq=1, qh=0.1)
 # only IMFLAG is read: a value other than 0 asks for an implicit analysis, which ParaDyn refuses
 CONTROL_IMPLICIT_GENERAL = layout("int:IMFLAG DT0 int:IMFORM int:NSBS int:IGS int:CNSTN int:FORM int:ZERO_V",
@@ -101,6 +103,8 @@ class KeywordData:
     solid_sections: dict[int, Record] = field(default_factory=dict)
     deformable_to_rigid: list[Record] = field(default_factory=list)
     merged_bodies: list[Record] = field(default_factory=list)               # *CONSTRAINED_RIGID_BODIES
+    extra_nodes: list[tuple[str, Record]] = field(default_factory=list)     # ("NODE" | "SET", record)
+    body_velocities: list[Record] = field(default_factory=list)             # *INITIAL_VELOCITY_RIGID_BODY
     # loads, motions and boxes (keyword/loads.py); parts with contact data (keyword/contacts.py)
     point_loads: list[tuple[str, Record]] = field(default_factory=list)       # ("NODE" | "SET", record)
     motions: list[tuple[str, Record]] = field(default_factory=list)           # ("NODE" | "SET", record)
@@ -205,6 +209,18 @@ def _deformable_to_rigid(r: _Reading) -> None:
 def _merged_bodies(r: _Reading) -> None:
     for line in r.lines():
         r.data.merged_bodies.append(r.card(line, CONSTRAINED_RIGID_BODIES, {"IFLAG": 0}))
+
+
+def _extra_nodes(target: str) -> Callable[[_Reading], None]:
+    def read(r: _Reading) -> None:
+        for line in r.lines():
+            r.data.extra_nodes.append((target, r.card(line, EXTRA_NODES, {"IFLAG": 0})))
+    return read
+
+
+def _body_velocity(r: _Reading) -> None:
+    for line in r.lines():
+        r.data.body_velocities.append(r.card(line, RIGID_BODY_VELOCITY))
 
 
 def _part(r: _Reading) -> None:
@@ -351,6 +367,8 @@ READERS: dict[str, Callable[[_Reading], None]] = {
     "SECTION_SOLID": _section_solid, "SECTION_SOLID_TITLE": _section_solid,
     "DEFORMABLE_TO_RIGID": _deformable_to_rigid,
     "CONSTRAINED_RIGID_BODIES": _merged_bodies,
+    "CONSTRAINED_EXTRA_NODES_NODE": _extra_nodes("NODE"), "CONSTRAINED_EXTRA_NODES_SET": _extra_nodes("SET"),
+    "INITIAL_VELOCITY_RIGID_BODY": _body_velocity,
 }
 for _title in ("", "_TITLE"):
     for _name in ("MAT_ELASTIC", "MAT_001"):

@@ -14,8 +14,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from paradyn import deck
+from paradyn.deck.rigid_bodies import body_centres
+
 from .cards import KeywordData, Record
+from .mesh import KeywordMesh
 from .reader import KeywordError
+from .units import Units
 
 # MAT_RIGID CON1 / CON2 (CMO = 1): the held directions of each code (as *NODE's TC and RC)
 HELD_OF_CODE = {0: (), 1: (0,), 2: (1,), 3: (2,), 4: (0, 1), 5: (1, 2), 6: (2, 0), 7: (0, 1, 2)}
@@ -182,3 +187,45 @@ def rigid_body_rows(data: KeywordData, part_ids: np.ndarray,
         parts.append(row)
         held.append(held_dofs(mid, cards) if model == "rigid" else (0,) * 6)
     return parts, held
+
+
+def extra_nodes(data: KeywordData, mesh: KeywordMesh, row: dict[int, int]) -> list[tuple[int, int]]:
+    """(engine part, node row) of every *CONSTRAINED_EXTRA_NODES_NODE / _SET node."""
+    pairs = []
+    for target, record in data.extra_nodes:
+        pid, ident = int(record["PID"]), int(record["ID"])
+        what = f"{record.where}: *CONSTRAINED_EXTRA_NODES_{target}"
+        if pid not in row:
+            raise KeywordError(f"{what} names part {pid}, which has no elements; name a rigid part")
+        if target == "SET" and ident not in data.node_sets:
+            raise KeywordError(f"{what} names node set {ident}, which no *SET_NODE defines")
+        for nid in [ident] if target == "NODE" else data.node_sets[ident]:
+            if nid not in mesh.node_index:
+                raise KeywordError(f"{what} names node {nid}, which no element uses; ParaDyn's nodes belong to "
+                                   f"elements (a node alone has no mass)")
+            pairs.append((row[pid], mesh.node_index[nid]))
+    return pairs
+
+
+def body_velocities(data: KeywordData, mesh: KeywordMesh, row: dict[int, int], unit: Units,
+                    model: deck.Model) -> None:
+    """*INITIAL_VELOCITY_RIGID_BODY: the nodes of the part's body start with V + omega x (x - centre)
+    and omega (the body then takes exactly that motion, docs/theory.md)."""
+    if not data.body_velocities:
+        return
+    centres = body_centres(model)
+    for record in data.body_velocities:
+        pid = int(record["PID"])
+        if pid not in row or model.node_rigid_body is None:
+            raise KeywordError(f"{record.where}: *INITIAL_VELOCITY_RIGID_BODY names part {pid}, which is not a "
+                               f"rigid part with elements")
+        nodes = np.flatnonzero(model.node_rigid_body == model.node_rigid_body[
+            np.asarray(model.connectivity)[np.asarray(model.element_part) == row[pid]][0, 0]])
+        body = int(model.node_rigid_body[nodes[0]])
+        if body < 0:
+            raise KeywordError(f"{record.where}: *INITIAL_VELOCITY_RIGID_BODY names part {pid}, which is not rigid")
+        velocity = np.array([float(record[k]) for k in ("VX", "VY", "VZ")]) * unit.velocity
+        omega = np.array([float(record[k]) for k in ("VXR", "VYR", "VZR")]) / unit.time
+        r = np.asarray(model.coordinates)[nodes] - centres[body]
+        model.initial_velocity[nodes] = velocity + np.cross(omega, r)
+        model.initial_angular_velocity[nodes] = omega

@@ -32,6 +32,8 @@ from .reader import KeywordError, read_keyword_file
 from .rigid import (
     SolidGeometry,
     add_solid_faces,
+    body_velocities,
+    extra_nodes,
     merged_pairs,
     rigid_body_rows,
     rigid_material_key,
@@ -300,12 +302,12 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
     apply_loads(data, mesh, unit, model, scene.run.end_time)
     _apply_contacts(scene, model)
     _apply_tracks(data, mesh, model)
-    _apply_rigid_bodies(data, mesh, model)
+    _apply_rigid_bodies(data, mesh, unit, model)
     mesh.store_ids(model)
     return model
 
 
-def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, model: deck.Model) -> None:
+def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, unit: Units, model: deck.Model) -> None:
     """The rigid parts' bodies, the solids' faces as surfaces without mass and their mass on the nodes."""
     by_pid = {int(p["PID"]): p for p in data.parts}
     mids = [int(by_pid[pid]["MID"] or 0) for pid in mesh.part_ids.tolist()]
@@ -328,10 +330,11 @@ def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, model: deck.Model)
                                f"with elements in *CONSTRAINED_RIGID_BODIES and *DEFORMABLE_TO_RIGID MRB")
         merge.append((row[a], row[b]))
     try:
-        for note in complete_rigid_bodies(model, merge):
+        for note in complete_rigid_bodies(model, merge, extra_nodes(data, mesh, row)):
             data.warn(note)
     except RigidBodyError as exc:
         raise KeywordError(str(exc)) from exc
+    body_velocities(data, mesh, row, unit, model)
 
 
 def _apply_tracks(data: KeywordData, mesh: KeywordMesh, model: deck.Model) -> None:
