@@ -203,10 +203,16 @@ def _apply_file_ids(meshes: list[_PartMesh], model: deck.Model) -> None:
 
 def _apply_material_extras(scene: Scene, model: deck.Model) -> None:
     """The /materials datasets that MaterialSpec keeps in ``extra`` (a model's own parameters):
-    each material's value, or the dataset's default for a material of another model."""
+    each material's value, or the dataset's default for a material of another model. A curve key
+    holds a [[curve]]'s name: its index in scene order (the deck's curves start with the scene's),
+    -1 where none is named."""
+    curve_index = {c.name: i for i, c in enumerate(scene.curves)}
     for spec in _schema.DATASETS:
         if spec.path.startswith("/materials/") and any(spec.python in m.extra for m in scene.materials):
-            setattr(model, spec.python, np.array([m.extra.get(spec.python, spec.default) for m in scene.materials]))
+            values = [m.extra.get(spec.python, spec.default) for m in scene.materials]
+            if spec.reference == "curve":
+                values = [spec.default if v is None or v == spec.default else curve_index[v] for v in values]
+            setattr(model, spec.python, np.array(values, dtype=np.int32 if spec.type == "int" else np.float64))
 
 
 def set_curves(model: deck.Model, times: list[list[float]], values: list[list[float]]) -> None:
