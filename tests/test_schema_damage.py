@@ -111,7 +111,8 @@ def _base_model() -> deck.Model:
                              contact_sort_interval=0, checkpoint_interval=0.0, partition="blocks",
                              contact_gather="near", precision="double", gravity_x=0.0, gravity_y=0.0, gravity_z=-9.81,
                              effect_switches={switch: "on" for switch in _schema.EFFECT_SWITCHES}),
-        title="damage base", part_names=["steel strip", "aluminium strip"], material_names=["steel", "aluminium", "curved steel"],
+        title="damage base", part_names=["steel strip", "aluminium strip"],
+        material_names=["steel", "aluminium", "curved steel"],
         tracked_names=["lower tip", "upper tip"],
     )
 
