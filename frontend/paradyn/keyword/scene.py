@@ -18,9 +18,10 @@ import numpy as np
 
 from paradyn import _schema, deck
 from paradyn.scene.building import _apply_contacts, _apply_material_extras, set_curves
-from paradyn.scene.specs import ContactSpec, MaterialSpec, PartSpec, RunSettings, Scene
+from paradyn.scene.specs import ContactSpec, CurveSpec, MaterialSpec, PartSpec, RunSettings, Scene
 
 from .cards import KeywordData, Record, collect, with_warnings
+from .materials import apply_material_curves, material_of
 from .mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of
 from .reader import KeywordError, read_keyword_file
 from .units import Units, UnitsError
@@ -140,11 +141,12 @@ def _id_list(data: KeywordData, kind: int, ident: int, where: str, what: str) ->
 
 
 def _scene(path: Path, data: KeywordData, unit: Units, mesh: KeywordMesh) -> Scene:
-    parts, materials = _parts_and_materials(data, unit, mesh)
+    curves: list[CurveSpec] = []   # the materials' curves (LCSS, EPS/ES, LCSR), in SI
+    parts, materials = _parts_and_materials(data, unit, mesh, curves)
     name_of = {pid: p.name for pid, p in zip(mesh.part_ids.tolist(), parts, strict=True)}
     contacts = [c for kind, cards in data.contacts for c in _contacts(data, kind, cards, name_of, unit)]
     return Scene(path=path, title=data.title or path.stem, run=_run(data, unit), materials=materials,
-                 parts=parts, contacts=contacts)
+                 parts=parts, contacts=contacts, curves=curves)
 
 
 def _part_name(record: Record, taken: set[str]) -> str:
@@ -154,8 +156,8 @@ def _part_name(record: Record, taken: set[str]) -> str:
     return name
 
 
-def _parts_and_materials(data: KeywordData, unit: Units,
-                         mesh: KeywordMesh) -> tuple[list[PartSpec], list[MaterialSpec]]:
+def _parts_and_materials(data: KeywordData, unit: Units, mesh: KeywordMesh,
+                         curves: list[CurveSpec]) -> tuple[list[PartSpec], list[MaterialSpec]]:
     by_pid = {int(p["PID"]): p for p in data.parts}
     parts: list[PartSpec] = []
     materials: dict[int, MaterialSpec] = {}
@@ -164,46 +166,15 @@ def _parts_and_materials(data: KeywordData, unit: Units,
         record = by_pid[pid]
         mid = int(record["MID"] or 0)
         if mid not in data.materials:
-            raise KeywordError(f"{record.where}: *PART {pid} names material {mid}, which no *MAT_ELASTIC or "
-                               f"*MAT_PLASTIC_KINEMATIC defines")
+            raise KeywordError(f"{record.where}: *PART {pid} names material {mid}, which no *MAT_ELASTIC, "
+                               f"*MAT_PLASTIC_KINEMATIC or *MAT_PIECEWISE_LINEAR_PLASTICITY defines")
         if mid not in materials:
-            materials[mid] = _material(mid, *data.materials[mid], unit)
+            materials[mid] = material_of(mid, data, unit, curves)
             title = str(data.materials[mid][1][0]["TITLE"])
             if title and title not in {m.name for m in materials.values()}:
                 materials[mid].name = title
         parts.append(_part(data, record, _part_name(record, taken), materials[mid].name, unit, mesh))
     return parts, list(materials.values())
-
-
-def _material(mid: int, model: str, cards: list[Record], unit: Units) -> MaterialSpec:
-    first = cards[0]
-    for name in ("RO", "E", "PR"):
-        if first[name] is None:
-            raise KeywordError(f"{first.where}: *MAT {mid} field {name} is blank; give its value")
-    spec = MaterialSpec(name=f"mat_{mid}", model=model, density=float(first["RO"]) * unit.density,
-                        youngs_modulus=float(first["E"]) * unit.stress, poisson_ratio=float(first["PR"]))
-    if model == "j2_plasticity":
-        if first["SIGY"] is None:
-            raise KeywordError(f"{first.where}: *MAT_PLASTIC_KINEMATIC {mid} field SIGY is blank; give the "
-                               f"yield stress")
-        spec.yield_stress = float(first["SIGY"]) * unit.stress
-        spec.tangent_modulus = float(first["ETAN"]) * unit.stress
-        spec.hardening_mixing = float(first["BETA"])
-        _rates(mid, cards[1], unit, spec)
-    return spec
-
-
-def _rates(mid: int, card: Record, unit: Units, spec: MaterialSpec) -> None:
-    """MAT 3's Cowper-Symonds rate scaling: SRC = C (1 / the deck's time) and SRP = P make the
-    material j2_rate; SRC = 0 means no rate effect, as in LS-DYNA."""
-    c, p = float(card["SRC"] or 0.0), float(card["SRP"] or 0.0)
-    if c == 0.0:
-        return
-    if c < 0.0 or p <= 0.0:
-        raise KeywordError(f"{card.where}: *MAT_PLASTIC_KINEMATIC {mid} SRC = {c:g}, SRP = {p:g}: the Cowper-Symonds "
-                           f"constants must both be > 0 (or SRC = 0 for no rate effect)")
-    spec.model = "j2_rate"
-    spec.extra = {"rate_c": c / unit.time, "rate_p": p}
 
 
 def _part(data: KeywordData, record: Record, name: str, material: str, unit: Units, mesh: KeywordMesh) -> PartSpec:
@@ -353,6 +324,7 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
     )
     _apply_material_extras(scene, model)
     _apply_body_loads(data, unit, model)
+    apply_material_curves(scene, model)
     _apply_contacts(scene, model)
     _apply_tracks(data, mesh, model)
     mesh.store_ids(model)

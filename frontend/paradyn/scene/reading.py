@@ -14,9 +14,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from paradyn import _schema, deck
+from paradyn.scene.building import check_material_curves
 from paradyn.scene.row_tables import ROW_TABLES, check_row_references, parse_rows, read_key
 from paradyn.scene.specs import (
     DOF_GROUPS,
@@ -113,7 +112,7 @@ def scene_from_tables(data: Mapping[str, Any], path: Path) -> Scene:
                   pressures=pressures, prescribed=prescribed, rows=parse_rows(reader, data))
     _check_references(reader, scene)
     _check_load_references(reader, scene)
-    _check_material_curves(reader, scene)
+    check_material_curves(reader, scene)
     check_row_references(reader, scene)
     return scene
 
@@ -451,28 +450,6 @@ def _check_load_references(r: _Reader, scene: Scene) -> None:
                 raise r.error(f"[[{kind}]] #{index + 1} refers to curve '{item.curve}', which is not defined "
                               f"(curves: {known}); add a [[curve]] with that name or leave 'curve' out for a "
                               f"constant load")
-
-
-def _check_material_curves(r: _Reader, scene: Scene) -> None:
-    """A material's curve keys (hardening_curve, rate_curve) name defined [[curve]]s that meet the
-    relation material_curves (docs/formats.md): a hardening curve from (0, yield_stress), never
-    decreasing; a rate curve of rates >= 0 and factors > 0."""
-    curves = {c.name: c for c in scene.curves}
-    for index, material in enumerate(scene.materials):
-        for key, kind in (("hardening_curve", "hardening"), ("rate_curve", "rate")):
-            name = material.extra.get(key)
-            if not isinstance(name, str):
-                continue
-            label = f"'{key}' = '{name}' in [[material]] #{index + 1} '{material.name}'"
-            if name not in curves:
-                raise r.error(f"{label} names no [[curve]]; defined: {', '.join(curves) or 'none'}")
-            curve = curves[name]
-            fault = deck.material_curve_fault(kind, np.asarray(curve.time), np.asarray(curve.value),
-                                              material.yield_stress)
-            if fault:
-                words = "time = plastic strain, value = yield stress (Pa)" if kind == "hardening" else \
-                    "time = strain rate (1/s), value = factor on the yield stress"
-                raise r.error(f"{label} ({words}): {fault.replace('/materials/yield_stress', 'yield_stress')}")
 
 
 def _check_references(r: _Reader, scene: Scene) -> None:
