@@ -92,10 +92,10 @@ contains
     real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:), state(:, :)
     real(ek), intent(in), contiguous :: dstrain(:, :)
     real(ek), parameter :: root2 = sqrt(2.0_ek)
-    real(ek) :: scale(m), young, poisson, c, shear, c1, c2, x1, x2, x3, s1, s2, a1, a2, a3
-    real(ek) :: a1t(return_batch), a2t(return_batch), a3t(return_batch), ep(return_batch), sc(return_batch)
-    real(ek) :: dgamma(return_batch), radius(return_batch), effective(return_batch)
+    real(ek) :: scale(m), young, poisson, c, shear, c1, c2, x1, x2, x3, a1, a2, a3
+    real(ek), dimension(return_batch) :: a1t, a2t, a3t, ep, rel, y0, h, dgamma, s1, s2, reached, radius, effective
     integer :: seg(return_batch), kp(return_batch), idx(return_batch), first, nb, i, j, k, np, last
+    logical :: crossed
     call rate_factors(self, m, dt, dstrain, scale)
     young = real(self%young, ek)
     poisson = real(self%poisson, ek)
@@ -104,93 +104,109 @@ contains
     c1 = young / (3.0_ek * (1.0_ek - poisson))   ! the J2 return's c1, c2 without kinematic hardening
     c2 = 2.0_ek * shear
     last = size(self%segment_start)
-    do first = 1, m, return_batch
-      nb = min(return_batch, m - first + 1)
-      ! elastic trial and the yield test against the segment the point is on
-      do i = first, first + nb - 1
-        stress(i, 1) = stress(i, 1) + c * (dstrain(i, 1) + poisson * dstrain(i, 2))
-        stress(i, 2) = stress(i, 2) + c * (dstrain(i, 2) + poisson * dstrain(i, 1))
-        stress(i, 3) = stress(i, 3) + c * 0.5_ek * (1.0_ek - poisson) * dstrain(i, 3)
-        x1 = stress(i, 1)
-        x2 = stress(i, 2)
-        x3 = stress(i, 3)
-        effective(i - first + 1) = sqrt(max(x1**2 - x1 * x2 + x2**2 + 3.0_ek * x3**2, 0.0_ek))
-        k = min(max(int(state(i, 1)) + 1, 1), last)
-        kp(i - first + 1) = k
-        radius(i - first + 1) = scale(i) * (self%segment_stress(k) &
-                                            + self%segment_slope(k) * (eps_p(i) - self%segment_start(k)))
+    associate (start => self%segment_start, finish => self%segment_end, sk => self%segment_stress, &
+               slope => self%segment_slope)
+      do first = 1, m, return_batch
+        nb = min(return_batch, m - first + 1)
+        ! elastic trial and the yield test against the segment the point is on
+        do i = first, first + nb - 1
+          stress(i, 1) = stress(i, 1) + c * (dstrain(i, 1) + poisson * dstrain(i, 2))
+          stress(i, 2) = stress(i, 2) + c * (dstrain(i, 2) + poisson * dstrain(i, 1))
+          stress(i, 3) = stress(i, 3) + c * 0.5_ek * (1.0_ek - poisson) * dstrain(i, 3)
+          x1 = stress(i, 1)
+          x2 = stress(i, 2)
+          x3 = stress(i, 3)
+          effective(i - first + 1) = sqrt(max(x1**2 - x1 * x2 + x2**2 + 3.0_ek * x3**2, 0.0_ek))
+          k = min(max(int(state(i, 1)) + 1, 1), last)
+          kp(i - first + 1) = k
+          radius(i - first + 1) = scale(i) * (sk(k) + slope(k) * (eps_p(i) - start(k)))
+        end do
+        if (.not. any(effective(1:nb) > radius(1:nb))) cycle
+        np = 0
+        do i = first, first + nb - 1
+          if (effective(i - first + 1) > radius(i - first + 1)) then
+            np = np + 1
+            idx(np) = i
+          end if
+        end do
+        ! the yielding points, in the projector's eigenbasis, on their segment's line through
+        ! (e_k, s_k): plastic strain relative to e_k, the line scaled by the rate factor
+        do j = 1, np
+          i = idx(j)
+          k = kp(i - first + 1)
+          seg(j) = k
+          a1t(j) = (stress(i, 1) + stress(i, 2)) / root2
+          a2t(j) = (stress(i, 2) - stress(i, 1)) / root2
+          a3t(j) = stress(i, 3)
+          ep(j) = eps_p(i)
+          rel(j) = eps_p(i) - start(k)
+          y0(j) = scale(i) * sk(k)
+          h(j) = scale(i) * slope(k)
+        end do
+        call return_points(np, a1t, a2t, a3t, rel, c1, c2, y0, h, dgamma)
+        crossed = .false.
+        do j = 1, np
+          s1(j) = 1.0_ek / (1.0_ek + dgamma(j) * c1)
+          s2(j) = 1.0_ek / (1.0_ek + dgamma(j) * c2)
+          reached(j) = ep(j) + dgamma(j) * sqrt(2.0_ek * ((a1t(j) * s1(j))**2 / 3.0_ek + (a2t(j) * s2(j))**2 &
+                                                         + 2.0_ek * (a3t(j) * s2(j))**2) / 3.0_ek)
+          crossed = crossed .or. reached(j) > finish(seg(j))
+        end do
+        if (crossed) call next_segments(self, np, a1t, a2t, a3t, ep, idx, scale, c1, c2, seg, s1, s2, reached)
+        do j = 1, np
+          i = idx(j)
+          a1 = a1t(j) * s1(j)
+          a2 = a2t(j) * s2(j)
+          a3 = a3t(j) * s2(j)
+          eps_p(i) = reached(j)
+          stress(i, 1) = (a1 - a2) / root2
+          stress(i, 2) = (a1 + a2) / root2
+          stress(i, 3) = a3
+          state(i, 1) = real(seg(j) - 1, ek)
+        end do
       end do
-      if (.not. any(effective(1:nb) > radius(1:nb))) cycle
-      np = 0
-      do i = first, first + nb - 1
-        if (effective(i - first + 1) > radius(i - first + 1)) then
-          np = np + 1
-          idx(np) = i
-        end if
-      end do
-      do j = 1, np
-        i = idx(j)
-        a1t(j) = (stress(i, 1) + stress(i, 2)) / root2
-        a2t(j) = (stress(i, 2) - stress(i, 1)) / root2
-        a3t(j) = stress(i, 3)
-        ep(j) = eps_p(i)
-        sc(j) = scale(i)
-        seg(j) = kp(i - first + 1)
-      end do
-      call segment_returns(self, np, a1t, a2t, a3t, ep, sc, c1, c2, seg, dgamma)
-      do j = 1, np
-        i = idx(j)
-        s1 = 1.0_ek / (1.0_ek + dgamma(j) * c1)
-        s2 = 1.0_ek / (1.0_ek + dgamma(j) * c2)
-        a1 = a1t(j) * s1
-        a2 = a2t(j) * s2
-        a3 = a3t(j) * s2
-        eps_p(i) = ep(j) + dgamma(j) * sqrt(2.0_ek * (a1**2 / 3.0_ek + a2**2 + 2.0_ek * a3**2) / 3.0_ek)
-        stress(i, 1) = (a1 - a2) / root2
-        stress(i, 2) = (a1 + a2) / root2
-        stress(i, 3) = a3
-        state(i, 1) = real(seg(j) - 1, ek)
-      end do
-    end do
+    end associate
   end subroutine piecewise_update_points
 
-  !> The consistency parameters of np yielding points (trial a1t, a2t, a3t in the projector's
-  !> eigenbasis, plastic strains ep, rate factors sc), each on its segment seg: a return on every
-  !> point's segment, then again on the next segment for the points whose new plastic strain
-  !> passed the end of theirs, until none does. seg ends as each point's final segment.
-  pure subroutine segment_returns(self, np, a1t, a2t, a3t, ep, sc, c1, c2, seg, dgamma)
+  !> The points of a return whose new plastic strain `reached` passed the end of their segment:
+  !> each returns again from the same trial on the next segment, until none passes (the rare case:
+  !> a step across a break point). seg, s1, s2 (the return's factors 1 / (1 + dgamma c)) and
+  !> reached end as each point's final ones.
+  pure subroutine next_segments(self, np, a1t, a2t, a3t, ep, idx, scale, c1, c2, seg, s1, s2, reached)
     class(piecewise_linear_material_t), intent(in) :: self
-    integer, intent(in) :: np
-    real(ek), intent(in) :: a1t(:), a2t(:), a3t(:), ep(:), sc(:), c1, c2
+    integer, intent(in) :: np, idx(:)
+    real(ek), intent(in) :: a1t(:), a2t(:), a3t(:), ep(:), scale(:), c1, c2
     integer, intent(inout) :: seg(:)
-    real(ek), intent(out) :: dgamma(:)
-    real(ek) :: qa1(return_batch), qa2(return_batch), qa3(return_batch), qep(return_batch)
-    real(ek) :: y0(return_batch), h(return_batch), dg(return_batch), s1, s2, psi, reached
+    real(ek), intent(inout) :: s1(:), s2(:), reached(:)
+    real(ek), dimension(return_batch) :: qa1, qa2, qa3, rel, y0, h, dg
     integer :: list(return_batch), nq, q, j, pass, kept
-    nq = np
-    list(1:np) = [(j, j = 1, np)]
+    nq = 0
+    do j = 1, np
+      if (reached(j) > self%segment_end(seg(j))) then
+        nq = nq + 1
+        list(nq) = j
+      end if
+    end do
     do pass = 1, size(self%segment_start)
-      ! the segment's line through (e_k, s_k): plastic strain relative to e_k, radius scaled
       do q = 1, nq
         j = list(q)
+        seg(j) = seg(j) + 1
         qa1(q) = a1t(j)
         qa2(q) = a2t(j)
         qa3(q) = a3t(j)
-        qep(q) = ep(j) - self%segment_start(seg(j))
-        y0(q) = sc(j) * self%segment_stress(seg(j))
-        h(q) = sc(j) * self%segment_slope(seg(j))
+        rel(q) = ep(j) - self%segment_start(seg(j))
+        y0(q) = scale(idx(j)) * self%segment_stress(seg(j))
+        h(q) = scale(idx(j)) * self%segment_slope(seg(j))
       end do
-      call return_points(nq, qa1, qa2, qa3, qep, c1, c2, y0, h, dg)
+      call return_points(nq, qa1, qa2, qa3, rel, c1, c2, y0, h, dg)
       kept = 0
       do q = 1, nq
         j = list(q)
-        dgamma(j) = dg(q)
-        s1 = 1.0_ek / (1.0_ek + dg(q) * c1)
-        s2 = 1.0_ek / (1.0_ek + dg(q) * c2)
-        psi = (qa1(q) * s1)**2 / 3.0_ek + (qa2(q) * s2)**2 + 2.0_ek * (qa3(q) * s2)**2
-        reached = ep(j) + dg(q) * sqrt(2.0_ek * psi / 3.0_ek)
-        if (reached > self%segment_end(seg(j))) then   ! past its segment: again on the next
-          seg(j) = seg(j) + 1
+        s1(j) = 1.0_ek / (1.0_ek + dg(q) * c1)
+        s2(j) = 1.0_ek / (1.0_ek + dg(q) * c2)
+        reached(j) = ep(j) + dg(q) * sqrt(2.0_ek * ((qa1(q) * s1(j))**2 / 3.0_ek + (qa2(q) * s2(j))**2 &
+                                                   + 2.0_ek * (qa3(q) * s2(j))**2) / 3.0_ek)
+        if (reached(j) > self%segment_end(seg(j))) then   ! past this one too: again on the next
           kept = kept + 1
           list(kept) = j
         end if
@@ -198,7 +214,7 @@ contains
       nq = kept
       if (nq == 0) exit
     end do
-  end subroutine segment_returns
+  end subroutine next_segments
 
   !> scale(1:m): each point's rate factor from its effective strain rate over the step (1 without
   !> a rate law, or without a step)
