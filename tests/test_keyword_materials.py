@@ -141,6 +141,6 @@ def test_the_ball_plate_deck_mat24_card_is_read() -> None:
     assert not any("MAT_PIECEWISE_LINEAR_PLASTICITY" in w for w in data.warnings)
     curves: list[object] = []
     spec = material_of(1, data, Units.named("mm-kg-ms"), curves)
-    assert (spec.model, curves, spec.extra) == ("piecewise_linear", [], {})
+    assert (spec.model, curves, spec.extra) == ("piecewise_linear", [], {"hardening_curve": None, "rate_curve": None})
     assert np.allclose([spec.density, spec.youngs_modulus, spec.poisson_ratio, spec.yield_stress,
                         spec.tangent_modulus], [7830.0, 207e9, 0.3, 2e8, 2e9], rtol=1e-12)

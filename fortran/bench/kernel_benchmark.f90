@@ -114,17 +114,21 @@ contains
     if (k == 2) deck%tangent_modulus = [2.0e9_wp]
   end function member_deck
 
-  !> Nanoseconds of CPU time per point update of the member of `deck` alone: 256 batches of 64
-  !> points, each point a fixed random strain increment of about 2e-4 per 1e-7 s step (a rate of
-  !> about 2000 1/s) for 200 steps, plastic from the third (negative if a point did not yield).
+  !> Nanoseconds of CPU time per point update of the member of `deck` alone: ELEMENTS / 64 batches
+  !> of 64 points (256 by default), each point a fixed random strain increment of about 2e-4 per
+  !> 1e-7 s step (a rate of about 2000 1/s) for CYCLES steps (200), plastic from the third
+  !> (negative if a point did not yield).
   function point_update(deck) result(ns)
     type(deck_fields_t), intent(in) :: deck
     real(wp) :: ns
-    integer, parameter :: m = 64, batches = 256, steps = 200
+    integer, parameter :: m = 64
+    integer :: batches, steps
     class(material_t), allocatable :: material
     real(ek), allocatable :: stress(:, :, :), back(:, :, :), eps_p(:, :), state(:, :, :), dstrain(:, :, :)
     real(wp) :: r(3), cpu0, cpu1
     integer :: b, i, step
+    batches = n_groups   ! the element lines' sizes: 256 batches of 64 points, 200 steps by default
+    steps = n_cycles
     call material_from_deck(deck, 1, material)
     allocate (stress(m, 3, batches), back(m, 3, batches), eps_p(m, batches), dstrain(m, 3, batches), source=0.0_ek)
     allocate (state(m, material%state_width(), batches), source=0.0_ek)

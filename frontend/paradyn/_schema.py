@@ -402,8 +402,8 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'give the Cowper-Symonds exponent P (5 for mild steel)',
     ),
     DatasetSpec(
-        '/materials/hardening_curve', 'hardening_curve', 'int', ('n_materials',), False, None, 'hardening_curve',
-        -1, Bound(-1, True), None, 'must be >= -1', None, '', 'curve', False, '-',
+        '/materials/hardening_curve', 'hardening_curve', 'int', ('n_materials',), False, 'hardening_curve',
+        'hardening_curve', -1, Bound(-1, True), None, 'must be >= -1', None, '', 'curve', False, '-',
         (
             "the curve of the yield stress (Pa, the curve's values) against the effective plastic strain (its "
             'times), from (0, yield_stress), linear between points and extrapolated along its last segment '
@@ -415,7 +415,7 @@ DATASETS: tuple[DatasetSpec, ...] = (
         ),
     ),
     DatasetSpec(
-        '/materials/rate_curve', 'rate_curve', 'int', ('n_materials',), False, None, 'rate_curve', -1,
+        '/materials/rate_curve', 'rate_curve', 'int', ('n_materials',), False, 'rate_curve', 'rate_curve', -1,
         Bound(-1, True), None, 'must be >= -1', None, '', 'curve', False, '-',
         (
             'the curve of the factor on the yield stress (its values) against the effective strain rate in 1/s '
@@ -860,8 +860,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
         ('required_when', 'class', 'shape', 'rows', 'lower', 'upper', 'finite'),
     ('dataset', '/materials/rate_c'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/materials/rate_p'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
-    ('dataset', '/materials/hardening_curve'): ('class', 'shape', 'rows', 'lower', 'reference'),
-    ('dataset', '/materials/rate_curve'): ('class', 'shape', 'rows', 'lower', 'reference'),
+    ('dataset', '/materials/hardening_curve'): ('required_when', 'class', 'shape', 'rows', 'lower', 'reference'),
+    ('dataset', '/materials/rate_curve'): ('required_when', 'class', 'shape', 'rows', 'lower', 'reference'),
     ('dataset', '/loads/node'): ('required_when', 'class', 'shape', 'reference'),
     ('dataset', '/loads/dof'): ('required_when', 'class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/loads/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),

@@ -458,12 +458,12 @@ module paradyn_schema
         0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
         'give the Cowper-Symonds exponent P (5 for mild steel)'), &
     dataset_spec_t('/materials/hardening_curve', class_int, 0, size_n_materials, .false., .false., &
-        condition_none, condition_hardening_curve, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
+        condition_hardening_curve, condition_hardening_curve, -1.0_wp, .true., .true., .false., .true., &
+        -1.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
         'give the index of a curve of /curves/first_point, or -1 for the bilinear law of yield_stress and tangent_modulus'), &
-    dataset_spec_t('/materials/rate_curve', class_int, 0, size_n_materials, .false., .false., condition_none, &
-        condition_rate_curve, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
+    dataset_spec_t('/materials/rate_curve', class_int, 0, size_n_materials, .false., .false., &
+        condition_rate_curve, condition_rate_curve, -1.0_wp, .true., .true., .false., .true., -1.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
         'give the index of a curve of /curves/first_point, or -1 for no rate effect'), &
     dataset_spec_t('/loads/node', class_int, 0, size_n_loads, .true., .false., condition_loads_group, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &

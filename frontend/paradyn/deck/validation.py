@@ -255,6 +255,8 @@ def _check_curve_relations(check: _Checker, sizes: dict[str, int]) -> None:
     for i, model in enumerate(check.array("material_model")):
         for python, kind in (("hardening_curve", "hardening"), ("rate_curve", "rate")):
             spec = _BY_ATTRIBUTE[python]
+            if getattr(check.model, python) is None:   # absent: no material of its models
+                continue
             c = int(check.array(python)[i])
             if c < 0 or model not in CONDITIONS[str(spec.checked_when)].codes:
                 continue

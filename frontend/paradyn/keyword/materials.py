@@ -66,6 +66,7 @@ def _piecewise(mid: int, data: KeywordData, unit: Units, spec: MaterialSpec, cur
     from LCSR (a curve of the factor against the strain rate), else Cowper-Symonds C, P (C = 0:
     none). A curve that starts past zero plastic strain is extrapolated back to it, as LS-DYNA does."""
     first, second, eps, es = data.materials[mid][1]
+    spec.extra.update({"hardening_curve": None, "rate_curve": None})   # none unless given below
     keyword = "*MAT_PIECEWISE_LINEAR_PLASTICITY"
     lcss, lcsr = int(second["LCSS"] or 0), int(second["LCSR"] or 0)
     ordinates = [float(es[f"ES{k}"] or 0.0) for k in range(1, 9)]
@@ -108,6 +109,7 @@ def _piecewise(mid: int, data: KeywordData, unit: Units, spec: MaterialSpec, cur
             raise KeywordError(f"{second.where}: {keyword} {mid} C = {c:g}, P = {p:g}: the Cowper-Symonds constants "
                                f"must both be > 0 (or C = 0 for no rate effect)")
         spec.model = "piecewise_linear_rate"
+        del spec.extra["rate_curve"]   # a key of piecewise_linear alone
         spec.extra.update({"rate_c": c / unit.time, "rate_p": p})
 
 
