@@ -106,8 +106,8 @@ ENUMS: dict[str, dict[str, int]] = {
         'elastic': 1,
         'j2_plasticity': 2,
         'j2_rate': 3,
-        'piecewise_linear': 4,
-        'piecewise_linear_rate': 5,
+        'piecewise_linear': 5,
+        'piecewise_linear_rate': 6,
     },
     'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
@@ -175,7 +175,7 @@ CONDITIONS: dict[str, ConditionSpec] = {
         meaning='the group /base_accelerations exists', rows='',
     ),
     'plastic': ConditionSpec(
-        name='plastic', group=None, dataset='/materials/model', codes=(2, 3, 4, 5),
+        name='plastic', group=None, dataset='/materials/model', codes=(2, 3, 5, 6),
         meaning=(
             'some /materials/model is plastic (j2_plasticity, j2_rate, piecewise_linear, piecewise_linear_rate)'
         ), rows='for a plastic material',
@@ -186,17 +186,17 @@ CONDITIONS: dict[str, ConditionSpec] = {
         rows='for a j2_plasticity or j2_rate material',
     ),
     'strain_rate': ConditionSpec(
-        name='strain_rate', group=None, dataset='/materials/model', codes=(3, 5),
+        name='strain_rate', group=None, dataset='/materials/model', codes=(3, 6),
         meaning='some /materials/model scales its yield stress by Cowper-Symonds (j2_rate, piecewise_linear_rate)',
         rows='for a j2_rate or piecewise_linear_rate material',
     ),
     'hardening_curve': ConditionSpec(
-        name='hardening_curve', group=None, dataset='/materials/model', codes=(4, 5),
+        name='hardening_curve', group=None, dataset='/materials/model', codes=(5, 6),
         meaning='some /materials/model takes a hardening curve (piecewise_linear, piecewise_linear_rate)',
         rows='for a piecewise_linear or piecewise_linear_rate material',
     ),
     'rate_curve': ConditionSpec(
-        name='rate_curve', group=None, dataset='/materials/model', codes=(4,),
+        name='rate_curve', group=None, dataset='/materials/model', codes=(5,),
         meaning='some /materials/model is piecewise_linear (which may take a rate curve)',
         rows='for a piecewise_linear material',
     ),
@@ -349,12 +349,12 @@ DATASETS: tuple[DatasetSpec, ...] = (
         '/materials/model', 'material_model', 'int', ('n_materials',), True, None, None, None, None, None, '',
         'material_model',
         (
-            'must be 1 or 2 or 3 or 4 or 5 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 4 = piecewise_linear, 5 '
+            'must be 1 or 2 or 3 or 5 or 6 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 5 = piecewise_linear, 6 '
             '= piecewise_linear_rate)'
         ), None, True, '-', 'material model', '[[material]] model',
         (
-            'use 1 for linear elastic, 2 for J2 plasticity, 3 for rate-dependent J2 plasticity, 4 for '
-            'piecewise-linear plasticity or 5 for it with Cowper-Symonds rates'
+            'use 1 for linear elastic, 2 for J2 plasticity, 3 for rate-dependent J2 plasticity, 5 for '
+            'piecewise-linear plasticity or 6 for it with Cowper-Symonds rates'
         ),
     ),
     DatasetSpec(

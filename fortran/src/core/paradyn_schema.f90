@@ -66,8 +66,8 @@ module paradyn_schema
   integer, parameter :: material_elastic = 1   !< linear elastic
   integer, parameter :: material_j2_plasticity = 2   !< J2 plasticity (plane stress, linear combined hardening)
   integer, parameter :: material_j2_rate = 3   !< J2 plasticity with Cowper-Symonds rate scaling of the yield stre
-  integer, parameter :: material_piecewise_linear = 4   !< J2 plasticity with isotropic hardening along a curve of
-  integer, parameter :: material_piecewise_linear_rate = 5   !< piecewise_linear with Cowper-Symonds rate scaling
+  integer, parameter :: material_piecewise_linear = 5   !< J2 plasticity with isotropic hardening along a curve of
+  integer, parameter :: material_piecewise_linear_rate = 6   !< piecewise_linear with Cowper-Symonds rate scaling
   integer, parameter :: hourglass_viscous = 1   !< resultants proportional to the hourglass rates
   integer, parameter :: hourglass_stiffness = 2   !< resultants integrated from the rates (elastic)
   integer, parameter :: hourglass_physical = 3   !< assumed-strain stabilisation from the section's elastic stiffn
@@ -346,7 +346,7 @@ module paradyn_schema
   end type attribute_spec_t
 
   type(enum_spec_t), parameter :: deck_enums(n_enums) = [ &
-    enum_spec_t(5, [1, 2, 3, 4, 5], &
+    enum_spec_t(5, [1, 2, 3, 5, 6], &
         [character(len=21) :: 'elastic', 'j2_plasticity', 'j2_rate', 'piecewise_linear', 'piecewise_linear_rate']), &
     enum_spec_t(3, [1, 2, 3, 0, 0], [character(len=21) :: 'viscous', 'stiffness', 'physical', '', '']), &
     enum_spec_t(2, [0, 1, 0, 0, 0], [character(len=21) :: 'free', 'fixed', '', '', '']), &
@@ -366,11 +366,11 @@ module paradyn_schema
     condition_spec_t('/pressure', 0, 0, [0, 0, 0, 0, 0], ''), &
     condition_spec_t('/prescribed', 0, 0, [0, 0, 0, 0, 0], ''), &
     condition_spec_t('/base_accelerations', 0, 0, [0, 0, 0, 0, 0], ''), &
-    condition_spec_t('', 16, 4, [2, 3, 4, 5, 0], 'for a plastic material'), &
+    condition_spec_t('', 16, 4, [2, 3, 5, 6, 0], 'for a plastic material'), &
     condition_spec_t('', 16, 2, [2, 3, 0, 0, 0], 'for a j2_plasticity or j2_rate material'), &
-    condition_spec_t('', 16, 2, [3, 5, 0, 0, 0], 'for a j2_rate or piecewise_linear_rate material'), &
-    condition_spec_t('', 16, 2, [4, 5, 0, 0, 0], 'for a piecewise_linear or piecewise_linear_rate material'), &
-    condition_spec_t('', 16, 1, [4, 0, 0, 0, 0], 'for a piecewise_linear material') ]
+    condition_spec_t('', 16, 2, [3, 6, 0, 0, 0], 'for a j2_rate or piecewise_linear_rate material'), &
+    condition_spec_t('', 16, 2, [5, 6, 0, 0, 0], 'for a piecewise_linear or piecewise_linear_rate material'), &
+    condition_spec_t('', 16, 1, [5, 0, 0, 0, 0], 'for a piecewise_linear material') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
@@ -424,11 +424,11 @@ module paradyn_schema
         'must be >= 0', '', 'give every part a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/materials/model', class_int, 0, size_n_materials, .true., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 5, &
-        [1, 2, 3, 4, 5], size_none, '', &
-        'must be 1 or 2 or 3 or 4 or 5 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 4 = piecewise_linear, 5 ' // &
+        [1, 2, 3, 5, 6], size_none, '', &
+        'must be 1 or 2 or 3 or 5 or 6 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 5 = piecewise_linear, 6 ' // &
           '= piecewise_linear_rate)', &
-        'use 1 for linear elastic, 2 for J2 plasticity, 3 for rate-dependent J2 plasticity, 4 for piecewise-l' // &
-          'inear plasticity or 5 for it with Cowper-Symonds rates'), &
+        'use 1 for linear elastic, 2 for J2 plasticity, 3 for rate-dependent J2 plasticity, 5 for piecewise-l' // &
+          'inear plasticity or 6 for it with Cowper-Symonds rates'), &
     dataset_spec_t('/materials/density', class_float, 0, size_n_materials, .false., .true., condition_none, &
         condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
         [0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give the density in kg/m^3'), &
@@ -690,7 +690,7 @@ contains
   !> Whether a code of enum material_model has the trait plastic (j2_plasticity, j2_rate, piecewise_linear, piecewise_linear_rate)
   elemental logical function material_is_plastic(code) result(has)
     integer, intent(in) :: code
-    has = any(code == [2, 3, 4, 5])
+    has = any(code == [2, 3, 5, 6])
   end function material_is_plastic
 
   !> Whether a code of enum material_model has the trait combined_hardening (j2_plasticity, j2_rate)
@@ -702,13 +702,13 @@ contains
   !> Whether a code of enum material_model has the trait cowper_symonds (j2_rate, piecewise_linear_rate)
   elemental logical function material_is_cowper_symonds(code) result(has)
     integer, intent(in) :: code
-    has = any(code == [3, 5])
+    has = any(code == [3, 6])
   end function material_is_cowper_symonds
 
   !> Whether a code of enum material_model has the trait hardening_curve (piecewise_linear, piecewise_linear_rate)
   elemental logical function material_is_hardening_curve(code) result(has)
     integer, intent(in) :: code
-    has = any(code == [4, 5])
+    has = any(code == [5, 6])
   end function material_is_hardening_curve
 
   !> Whether a code of enum contact_kind has the trait self_contact (single_surface)
