@@ -37,7 +37,8 @@ def _rules(schema: Schema, entry: Entry) -> str:
     if entry.get("enum"):
         words.append(_enum_words(schema, entry))
     if entry.get("reference"):
-        words.append(f"{entry.get('reference')} index, 0 <= i < number of {entry.get('reference')}s")
+        none = "-1 (none) or " if entry.get("lower") == -1 else ""
+        words.append(f"{none}{entry.get('reference')} index, 0 <= i < number of {entry.get('reference')}s")
     if entry.get("type") == "float":
         words.append("finite")
     return "; ".join(words)

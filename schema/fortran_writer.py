@@ -12,7 +12,18 @@ def identifier(path: str) -> str:
 
 
 def text(value: str) -> str:
-    return "'" + value.replace("'", "''") + "'"
+    """A Fortran string literal; a long one as a concatenation of pieces on continuation lines
+    (each of at most 100 characters, never splitting a doubled quote)."""
+    quoted = value.replace("'", "''")
+    pieces, start = [], 0
+    while len(quoted) - start > 116:
+        end = start + 100
+        if quoted[start:end].count("'") % 2:   # the cut would split a doubled quote
+            end -= 1
+        pieces.append(quoted[start:end])
+        start = end
+    pieces.append(quoted[start:])
+    return " // &\n          ".join("'" + p + "'" for p in pieces)
 
 
 def real(value: float | int | None) -> str:
@@ -53,7 +64,7 @@ class _Writer:
     def constant(self, name: str, value: str, kind: str = "integer", comment: str = "") -> None:
         self.public.append(name)
         note = f"   !< {comment}" if comment else ""
-        self.body.append(f"  {kind}, parameter :: {name} = {value}{note}")
+        self.body.append(f"  {kind}, parameter :: {name} = {value}{note}"[:LINE + 4].rstrip())
 
     def enums(self) -> None:
         self.body.append("")

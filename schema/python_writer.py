@@ -145,6 +145,14 @@ def _bound(entry: Entry, which: str) -> _Literal | None:
     return _Literal(f"Bound({entry.raw[which]!r}, {bool(entry.get(which + '_inclusive', True))!r})")
 
 
+def _mapping_lines(key: str, mapping: dict[str, Any]) -> list[str]:
+    """``    'key': {...},`` on one line, or with one item a line where that is too long for ruff."""
+    line = f"    {key!r}: {mapping!r},"
+    if len(line) <= 116:
+        return [line]
+    return [f"    {key!r}: {{", *[f"        {k!r}: {v!r}," for k, v in mapping.items()], "    },"]
+
+
 def _dataset(d: Entry) -> str:
     return _call("DatasetSpec", [
         ("path", d.name), ("python", d.get("python")), ("type", d.get("type")), ("shape", tuple(d.get("shape"))),
@@ -187,12 +195,13 @@ def write(schema: Schema, header: str) -> str:
             f"TITLE_ATTRIBUTE = {deck['title_attribute']!r}", f"DOF_NAMES = {tuple(deck['dof_names'])!r}",
             _names("RESTART_MAY_CHANGE", deck["restart_may_change"]), ""]
     out.append("ENUMS: dict[str, dict[str, int]] = {")
-    out += [f"    {name!r}: {schema.enum_codes(name)!r}," for name in schema.enums]
+    for name in schema.enums:
+        out += _mapping_lines(name, schema.enum_codes(name))
     out += ["}", "", "# The members of an enum that carry a trait (schema/deck.toml traits): ask a trait, not a name",
             "ENUM_TRAITS: dict[str, dict[str, tuple[str, ...]]] = {"]
     for enum in dict.fromkeys(e for e, _ in schema.traits()):
         traits = {t: tuple(schema.trait_members(enum, t)) for e, t in schema.traits() if e == enum}
-        out.append(f"    {enum!r}: {traits!r},")
+        out += _mapping_lines(enum, traits)
     out += ["}", "", "SIZES: dict[str, SizeSpec] = {"]
     out += [f"    {k!r}: SizeSpec({k!r}, {v['entity']!r}, {v['min_rows']!r}, {v.get('scene_table')!r}),"
             for k, v in schema.sizes.items()]

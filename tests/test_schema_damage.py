@@ -41,8 +41,10 @@ _ENTITY_SYMBOL = {s.entity: s.symbol for s in SIZES.values()}
 def _base_model() -> deck.Model:
     """Two 2 x 1 strips 1.5 mm apart: part 0 (rate-dependent J2 steel, so that its row meets every
     condition of the /materials datasets) below, part 1 (elastic aluminium) above, with gravity, a
-    pressure on part 1, a prescribed velocity and a base acceleration, over two load curves; and a
-    rigid lid above them (one face of a rigid solid: surface only, its mass on its nodes)."""
+    pressure on part 1, a prescribed velocity and a base acceleration, over two load curves; a third
+    material, piecewise_linear with a hardening curve and a rate curve (curves 2 and 3), used by no
+    part, meets the conditions of its own datasets; and a rigid lid above the strips (part 2, the
+    fourth material: one face of a rigid solid, surface only, its mass on its nodes)."""
     lower = geometry.plate((0.02, 0.01), (2, 1))
     upper = geometry.plate((0.02, 0.01), (2, 1), origin=(0.0, 0.0, 0.0015))
     lid = geometry.plate((0.02, 0.01), (1, 1), origin=(0.0, 0.0, 0.004))
@@ -56,21 +58,23 @@ def _base_model() -> deck.Model:
         connectivity=np.vstack([lower.quads, upper.quads + n, lid.quads + 2 * n]),
         element_part=np.array([0, 0, 1, 1, 2]),
         thickness=np.array([0.001, 0.0012, 0.002]),
-        part_material=np.array([0, 1, 2]),
+        part_material=np.array([0, 1, 3]),
         integration_points=np.array([5, 3, 1]),
         hourglass_coefficient=np.array([0.1, 0.05, 0.1]),
         hourglass_form=np.array([2, 1, 3]),
         surface_only=np.array([0, 0, 1]),
         material_model=np.array([ENUMS["material_model"]["j2_rate"], deck.ELASTIC,   # plastic, with a rate
-                                 ENUMS["material_model"]["rigid"]]),
-        density=np.array([7860.0, 2700.0, 7860.0]),
-        youngs_modulus=np.array([200e9, 70e9, 200e9]),
-        poisson_ratio=np.array([0.3, 0.33, 0.3]),
-        yield_stress=np.array([250e6, 0.0, 0.0]),
-        tangent_modulus=np.array([1e9, 0.0, 0.0]),
-        hardening_mixing=np.array([0.5, 1.0, 1.0]),
-        rate_c=np.array([40.4, 0.0, 0.0]),
-        rate_p=np.array([5.0, 0.0, 0.0]),
+                                 ENUMS["material_model"]["piecewise_linear"], ENUMS["material_model"]["rigid"]]),
+        density=np.array([7860.0, 2700.0, 7800.0, 7860.0]),
+        youngs_modulus=np.array([200e9, 70e9, 210e9, 200e9]),
+        poisson_ratio=np.array([0.3, 0.33, 0.3, 0.3]),
+        yield_stress=np.array([250e6, 0.0, 300e6, 0.0]),
+        tangent_modulus=np.array([1e9, 0.0, 0.0, 0.0]),
+        hardening_mixing=np.array([0.5, 1.0, 1.0, 1.0]),
+        rate_c=np.array([40.4, 0.0, 0.0, 0.0]),
+        rate_p=np.array([5.0, 0.0, 0.0, 0.0]),
+        hardening_curve=np.array([-1, -1, 2, -1]),
+        rate_curve=np.array([-1, -1, 3, -1]),
         initial_velocity=np.tile([0.0, 0.0, -1.0], (n_all, 1)) * (np.arange(n_all) >= n)[:, None],
         initial_angular_velocity=np.zeros((n_all, 3)),
         fixed_dofs=fixed,
@@ -97,9 +101,9 @@ def _base_model() -> deck.Model:
         rigid_wall_normal=np.array([[0.0, 0.0, 2.0]]),
         rigid_wall_velocity=np.array([[0.0, 0.0, 0.5]]),
         rigid_wall_penalty_scale=np.array([0.2]),
-        curve_first_point=np.array([0, 2]),
-        curve_time=np.array([0.0, 1e-6, 0.0]),
-        curve_value=np.array([0.0, 1.0, 1.0]),
+        curve_first_point=np.array([0, 2, 3, 5]),
+        curve_time=np.array([0.0, 1e-6, 0.0, 0.0, 0.1, 0.0, 100.0]),
+        curve_value=np.array([0.0, 1.0, 1.0, 300e6, 350e6, 1.0, 2.0]),
         pressure_part=np.array([1]),
         pressure_value=np.array([1e3]),
         pressure_curve=np.array([0]),
@@ -116,7 +120,7 @@ def _base_model() -> deck.Model:
                              contact_gather="near", precision="double", gravity_x=0.0, gravity_y=0.0, gravity_z=-9.81,
                              effect_switches={switch: "on" for switch in _schema.EFFECT_SWITCHES}),
         title="damage base", part_names=["steel strip", "aluminium strip", "rigid lid"],
-        material_names=["steel", "aluminium", "rigid steel"],
+        material_names=["steel", "aluminium", "curved steel", "rigid steel"],
         tracked_names=["lower tip", "upper tip"],
     )
 
@@ -134,10 +138,18 @@ def _rewrite(path: str, change: Callable[[np.ndarray], np.ndarray]) -> Damage:
 
 
 def _set_first(path: str, value: float) -> Damage:
-    """Entry [0] (or [0, 0]); row 0 is the j2_rate material, so conditioned rows are checked there."""
+    """Entry [0] (or [0, 0]) of the first row that the dataset's rules are checked on (row 0, the
+    j2_rate material, for most conditioned rows; the piecewise_linear material for its own)."""
+    spec = _DATASET[path]
+    row = 0
+    if spec.checked_when is not None:
+        condition = _schema.CONDITIONS[spec.checked_when]
+        selector = getattr(_base_model(), next(d.python for d in DATASETS if d.path == condition.dataset))
+        row = int(np.flatnonzero(np.isin(selector, condition.codes))[0])
+
     def change(data: np.ndarray) -> np.ndarray:
         data = data.astype(np.float64 if isinstance(value, float) and data.dtype.kind == "f" else data.dtype)
-        data[(0,) * data.ndim] = value
+        data[(row,) + (0,) * (data.ndim - 1)] = value
         return data
     return _rewrite(path, change)
 
@@ -264,6 +276,10 @@ def _rigid_node_loose(f: h5py.File) -> None:
     f["/nodes/rigid_body"][-1] = -1   # a node of the rigid lid's element outside its body
 
 
+def _hardening_curve_softens(f: h5py.File) -> None:
+    f["/curves/value"][4] = 0.9 * f["/curves/value"][3]   # curve 2: the yield stress falls
+
+
 # The schema's [relations]: hand-written on both sides, so each needs its own damage here.
 RELATION_DAMAGES: dict[str, Damage] = {
     "distinct_element_nodes": _repeat_first_node,
@@ -277,6 +293,7 @@ RELATION_DAMAGES: dict[str, Damage] = {
     "curve_first_points": _curves_out_of_order,
     "curve_times_increase": _curve_time_repeated,
     "rigid_bodies_whole": _rigid_node_loose,
+    "material_curves": _hardening_curve_softens,
 }
 
 

@@ -1,8 +1,11 @@
 !> paradyn-kernel-benchmark [ELEMENTS] [CYCLES]
 !>
 !> Times the BLT element kernel alone, single thread, on groups of the engine's size: an elastic
-!> section (with and without the warping correction) and a J2-plastic section that yields, all with
-!> 5 through-thickness points. Prints microseconds per element-cycle, of wall time and of the
+!> section (with and without the warping correction), a J2-plastic section that yields and a
+!> piecewise-linear one (MAT_024: a 4-point hardening curve, with and without Cowper-Symonds rates),
+!> all with 5 through-thickness points; then the plastic members' stress update alone, on batches
+!> of 64 points that stay plastic (nanoseconds of CPU time per point update, the least of 5 rounds,
+!> and each piecewise member's ratio to its J2 twin: J2 with hardening, j2_rate). Prints microseconds per element-cycle, of wall time and of the
 !> process's CPU time (the second is steadier on a shared machine, where another process can take
 !> the core away). Gathers and the nodal sum are not included (the engine's element-cycles per
 !> second include them).
@@ -14,13 +17,18 @@ program kernel_benchmark
   use material_factory, only: material_from_deck
   use deck_fields, only: deck_fields_t
   use element_groups, only: group_size
-  use paradyn_schema, only: hourglass_stiffness, hourglass_physical, material_elastic, material_j2_plasticity
+  use paradyn_schema, only: hourglass_stiffness, hourglass_physical, material_elastic, material_j2_plasticity, &
+                            material_j2_rate, material_piecewise_linear, material_piecewise_linear_rate
+  use material_model, only: material_t
   implicit none
   integer :: n_elements, n_cycles, n_groups
   integer :: triangle_every = 0   !< every this many groups is one of triangles (0: none)
   character(len=32) :: arg
   type(shell_properties_t) :: props
   integer :: seed_size, s
+  character(len=48) :: names(5)
+  integer :: twin(5), round, k
+  real(wp) :: best(5)
   integer, allocatable :: seed(:)
 
   n_elements = 16384
@@ -63,16 +71,95 @@ program kernel_benchmark
     call material_from_deck(steel(material_j2_plasticity), 1, props%material)
     call report(trim(merge('plastic, triangles:      ', 'plastic, 10 % triangles: ', s == 1))//' ', props)
   end do
+  triangle_every = 0   ! the materials below on quadrilaterals
+  call material_from_deck(steel(material_piecewise_linear), 1, props%material)
+  call report('plastic, piecewise_linear (4-point curve): ', props)
+  call material_from_deck(steel(material_piecewise_linear_rate), 1, props%material)
+  call report('plastic, piecewise_linear_rate (curve, Cowper-Symonds): ', props)
+  ! the stress update alone: the members in turn, 5 rounds; the least time of each (a shared
+  ! machine only ever adds time) and its ratio to its J2 twin's
+  names = [character(len=48) :: 'j2_plasticity (perfectly plastic)', 'j2_plasticity (Et = 2 GPa)', 'j2_rate', &
+           'piecewise_linear (4-point curve)', 'piecewise_linear_rate (curve, Cowper-Symonds)']
+  twin = [0, 0, 0, 2, 3]
+  best = huge(1.0_wp)
+  do round = 1, 5
+    do k = 1, size(names)
+      best(k) = min(best(k), point_update(member_deck(k)))
+    end do
+  end do
+  write (*, '(a)') 'stress update alone, 64-point batches, every point plastic: least of 5 rounds'
+  do k = 1, size(names)
+    if (twin(k) > 0) then
+      write (*, '(2x,a,f8.2,a,f6.3,2a)') names(k), best(k), ' ns per point update, ', best(k) / best(twin(k)), &
+        ' x ', trim(names(twin(k)))
+    else
+      write (*, '(2x,a,f8.2,a)') names(k), best(k), ' ns per point update'
+    end if
+  end do
 
 contains
 
-  !> A deck of one steel of the given material model (perfectly plastic at 250 MPa where plastic).
+  !> A deck of one steel of the given material model (J2: perfectly plastic at 250 MPa; the
+  !> piecewise members: the curve 250, 300, 330, 400 MPa at plastic strains 0, 0.01, 0.03, 0.08;
+  !> rates: mild steel's C = 40.4 1/s, P = 5).
   function steel(model) result(deck)
     integer, intent(in) :: model
     type(deck_fields_t) :: deck
     deck = deck_fields_t(material_model=[model], young=[props%young], poisson=[props%poisson], &
-                         yield_stress=[250.0e6_wp], tangent_modulus=[0.0_wp], hardening_mixing=[1.0_wp])
+                         yield_stress=[250.0e6_wp], tangent_modulus=[0.0_wp], hardening_mixing=[1.0_wp], &
+                         rate_c=[40.4_wp], rate_p=[5.0_wp], hardening_curve=[1], rate_curve=[0], &
+                         n_curves=1, n_curve_points=4, curve_first_point=[1], &
+                         curve_time=[0.0_wp, 0.01_wp, 0.03_wp, 0.08_wp], &
+                         curve_value=[250.0e6_wp, 300.0e6_wp, 330.0e6_wp, 400.0e6_wp])
   end function steel
+
+  !> The deck of benchmarked member k: J2 perfectly plastic, J2 with Et = 2 GPa (H = 2.02 GPa,
+  !> about the curve's mean slope), j2_rate, piecewise_linear, piecewise_linear_rate
+  function member_deck(k) result(deck)
+    integer, intent(in) :: k
+    type(deck_fields_t) :: deck
+    integer, parameter :: models(5) = [material_j2_plasticity, material_j2_plasticity, material_j2_rate, &
+                                       material_piecewise_linear, material_piecewise_linear_rate]
+    deck = steel(models(k))
+    if (k == 2) deck%tangent_modulus = [2.0e9_wp]
+  end function member_deck
+
+  !> Nanoseconds of CPU time per point update of the member of `deck` alone: ELEMENTS / 64 batches
+  !> of 64 points (256 by default), each point a fixed random strain increment of about 2e-4 per
+  !> 1e-7 s step (a rate of about 2000 1/s) for CYCLES steps (200), plastic from the third
+  !> (negative if a point did not yield).
+  function point_update(deck) result(ns)
+    type(deck_fields_t), intent(in) :: deck
+    real(wp) :: ns
+    integer, parameter :: m = 64
+    integer :: batches, steps
+    class(material_t), allocatable :: material
+    real(ek), allocatable :: stress(:, :, :), back(:, :, :), eps_p(:, :), state(:, :, :), dstrain(:, :, :)
+    real(wp) :: r(3), cpu0, cpu1
+    integer :: b, i, step
+    batches = n_groups   ! the element lines' sizes: 256 batches of 64 points, 200 steps by default
+    steps = n_cycles
+    call material_from_deck(deck, 1, material)
+    allocate (stress(m, 3, batches), back(m, 3, batches), eps_p(m, batches), dstrain(m, 3, batches), source=0.0_ek)
+    allocate (state(m, material%state_width(), batches), source=0.0_ek)
+    call random_seed(put=seed)   ! the same increments for every member
+    do b = 1, batches
+      do i = 1, m
+        call random_number(r)
+        dstrain(i, :, b) = real(2.0e-4_wp * [1.0_wp, r(2) - 0.8_wp, r(3) - 0.5_wp], ek)
+      end do
+    end do
+    call cpu_time(cpu0)
+    do step = 1, steps
+      do b = 1, batches
+        call material%update_points(m, 1.0e-7_ek, stress(:, :, b), back(:, :, b), eps_p(:, b), state(:, :, b), &
+                                    dstrain(:, :, b))
+      end do
+    end do
+    call cpu_time(cpu1)
+    ns = 1.0e9_wp * (cpu1 - cpu0) / (real(steps, wp) * batches * m)
+    if (minval(eps_p) <= 0.0_ek) ns = -1.0_wp
+  end function point_update
 
   subroutine report(label, p)
     character(len=*), intent(in) :: label

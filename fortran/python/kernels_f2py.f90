@@ -1,25 +1,6 @@
 ! Thin explicit-shape wrappers that expose the engine's pure kernels to Python through f2py
-! (module paradyn._kernels). f2py cannot pass derived types, so properties come as scalars.
-
-subroutine j2_update(stress, back, eps_p, dstrain, young, poisson, yield_stress, tangent, beta)
-  use paradyn_kinds, only: wp
-  use plane_stress_returns, only: j2_plane_stress_update
-  implicit none
-  real(wp), intent(inout) :: stress(3), back(3), eps_p
-  real(wp), intent(in) :: dstrain(3), young, poisson, yield_stress, tangent, beta
-  call j2_plane_stress_update(stress, back, eps_p, dstrain, young, poisson, yield_stress, tangent, beta)
-end subroutine j2_update
-
-! The array form used by the element kernel: m points, point index first.
-subroutine j2_update_points(m, stress, back, eps_p, dstrain, young, poisson, yield_stress, tangent, beta)
-  use paradyn_kinds, only: wp
-  use plane_stress_returns, only: j2_plane_stress_update_points
-  implicit none
-  integer, intent(in) :: m
-  real(wp), intent(inout) :: stress(m, 3), back(m, 3), eps_p(m)
-  real(wp), intent(in) :: dstrain(m, 3), young, poisson, yield_stress, tangent, beta
-  call j2_plane_stress_update_points(m, stress, back, eps_p, dstrain, young, poisson, yield_stress, tangent, beta)
-end subroutine j2_update_points
+! (module paradyn._kernels; the material kernels' are in material_f2py.f90). f2py cannot pass
+! derived types, so properties come as scalars.
 
 subroutine thickness_points(n, zeta, weight)
   use paradyn_kinds, only: wp

@@ -102,7 +102,14 @@ RESTART_MAY_CHANGE = (
 )
 
 ENUMS: dict[str, dict[str, int]] = {
-    'material_model': {'elastic': 1, 'j2_plasticity': 2, 'j2_rate': 3, 'rigid': 4},
+    'material_model': {
+        'elastic': 1,
+        'j2_plasticity': 2,
+        'j2_rate': 3,
+        'rigid': 4,
+        'piecewise_linear': 5,
+        'piecewise_linear_rate': 6,
+    },
     'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
     'contact_passes': {'alternate': 1, 'both': 2},
@@ -116,7 +123,13 @@ ENUMS: dict[str, dict[str, int]] = {
 
 # The members of an enum that carry a trait (schema/deck.toml traits): ask a trait, not a name
 ENUM_TRAITS: dict[str, dict[str, tuple[str, ...]]] = {
-    'material_model': {'plastic': ('j2_plasticity', 'j2_rate'), 'rigid': ('rigid',)},
+    'material_model': {
+        'plastic': ('j2_plasticity', 'j2_rate', 'piecewise_linear', 'piecewise_linear_rate'),
+        'combined_hardening': ('j2_plasticity', 'j2_rate'),
+        'cowper_symonds': ('j2_rate', 'piecewise_linear_rate'),
+        'rigid': ('rigid',),
+        'hardening_curve': ('piecewise_linear', 'piecewise_linear_rate'),
+    },
     'contact_kind': {'self_contact': ('single_surface',), 'tied': ('tied',)},
 }
 
@@ -169,12 +182,30 @@ CONDITIONS: dict[str, ConditionSpec] = {
         meaning='the group /rigid_bodies exists', rows='',
     ),
     'plastic': ConditionSpec(
-        name='plastic', group=None, dataset='/materials/model', codes=(2, 3),
-        meaning='some /materials/model is plastic (j2_plasticity, j2_rate)', rows='for a plastic material',
+        name='plastic', group=None, dataset='/materials/model', codes=(2, 3, 5, 6),
+        meaning=(
+            'some /materials/model is plastic (j2_plasticity, j2_rate, piecewise_linear, piecewise_linear_rate)'
+        ), rows='for a plastic material',
+    ),
+    'combined_hardening': ConditionSpec(
+        name='combined_hardening', group=None, dataset='/materials/model', codes=(2, 3),
+        meaning='some /materials/model has combined isotropic/kinematic hardening (j2_plasticity, j2_rate)',
+        rows='for a j2_plasticity or j2_rate material',
     ),
     'strain_rate': ConditionSpec(
-        name='strain_rate', group=None, dataset='/materials/model', codes=(3,),
-        meaning='some /materials/model is j2_rate', rows='for a j2_rate material',
+        name='strain_rate', group=None, dataset='/materials/model', codes=(3, 6),
+        meaning='some /materials/model scales its yield stress by Cowper-Symonds (j2_rate, piecewise_linear_rate)',
+        rows='for a j2_rate or piecewise_linear_rate material',
+    ),
+    'hardening_curve': ConditionSpec(
+        name='hardening_curve', group=None, dataset='/materials/model', codes=(5, 6),
+        meaning='some /materials/model takes a hardening curve (piecewise_linear, piecewise_linear_rate)',
+        rows='for a piecewise_linear or piecewise_linear_rate material',
+    ),
+    'rate_curve': ConditionSpec(
+        name='rate_curve', group=None, dataset='/materials/model', codes=(5,),
+        meaning='some /materials/model is piecewise_linear (which may take a rate curve)',
+        rows='for a piecewise_linear material',
     ),
 }
 
@@ -197,6 +228,13 @@ RELATIONS: dict[str, RelationSpec] = {
     'tangent_below_youngs': RelationSpec(
         'tangent_below_youngs', '/materials/tangent_modulus',
         'tangent_modulus < youngs_modulus for a plastic material',
+    ),
+    'material_curves': RelationSpec(
+        'material_curves', '/materials/hardening_curve',
+        (
+            "a hardening curve starts at zero plastic strain with the material's yield_stress and never "
+            "decreases; a rate curve's rates are >= 0 and its factors > 0"
+        ),
     ),
     'contact_parts_differ': RelationSpec(
         'contact_parts_differ', '/contact/pairs',
@@ -348,9 +386,15 @@ DATASETS: tuple[DatasetSpec, ...] = (
     ),
     DatasetSpec(
         '/materials/model', 'material_model', 'int', ('n_materials',), True, None, None, None, None, None, '',
-        'material_model', 'must be 1 or 2 or 3 or 4 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 4 = rigid)',
-        None, True, '-', 'material model', '[[material]] model',
-        'use 1 for linear elastic, 2 for J2 plasticity or 3 for rate-dependent J2 plasticity',
+        'material_model',
+        (
+            'must be 1 or 2 or 3 or 4 or 5 or 6 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 4 = rigid, 5 = '
+            'piecewise_linear, 6 = piecewise_linear_rate)'
+        ), None, True, '-', 'material model', '[[material]] model',
+        (
+            'use 1 for linear elastic, 2 for J2 plasticity, 3 for rate-dependent J2 plasticity, 5 for '
+            'piecewise-linear plasticity or 6 for it with Cowper-Symonds rates'
+        ),
     ),
     DatasetSpec(
         '/materials/density', 'density', 'float', ('n_materials',), True, None, None, None, Bound(0.0, False),
@@ -379,9 +423,9 @@ DATASETS: tuple[DatasetSpec, ...] = (
         "give the plastic tangent modulus in Pa below Young's modulus (0 = perfectly plastic)",
     ),
     DatasetSpec(
-        '/materials/hardening_mixing', 'hardening_mixing', 'float', ('n_materials',), False, 'plastic', 'plastic',
-        1.0, Bound(0.0, True), Bound(1.0, True), 'must be in [0, 1]', None, '', None, False, '-',
-        'beta: 1 isotropic, 0 kinematic hardening', '[[material]] hardening_mixing',
+        '/materials/hardening_mixing', 'hardening_mixing', 'float', ('n_materials',), False, 'combined_hardening',
+        'combined_hardening', 1.0, Bound(0.0, True), Bound(1.0, True), 'must be in [0, 1]', None, '', None, False,
+        '-', 'beta: 1 isotropic, 0 kinematic hardening', '[[material]] hardening_mixing',
         'use 1 for isotropic, 0 for kinematic hardening or a mix in between',
     ),
     DatasetSpec(
@@ -395,6 +439,27 @@ DATASETS: tuple[DatasetSpec, ...] = (
         Bound(0.0, False), None, 'must be > 0', None, '', None, False, '-',
         'Cowper-Symonds exponent P (LS-DYNA SRP)', '[[material]] rate_p',
         'give the Cowper-Symonds exponent P (5 for mild steel)',
+    ),
+    DatasetSpec(
+        '/materials/hardening_curve', 'hardening_curve', 'int', ('n_materials',), False, 'hardening_curve',
+        'hardening_curve', -1, Bound(-1, True), None, 'must be >= -1', None, '', 'curve', False, '-',
+        (
+            "the curve of the yield stress (Pa, the curve's values) against the effective plastic strain (its "
+            'times), from (0, yield_stress), linear between points and extrapolated along its last segment '
+            '(LS-DYNA LCSS); -1: none, the bilinear law of yield_stress and tangent_modulus'
+        ), '[[material]] hardening_curve',
+        (
+            'give the index of a curve of /curves/first_point, or -1 for the bilinear law of yield_stress and '
+            'tangent_modulus'
+        ),
+    ),
+    DatasetSpec(
+        '/materials/rate_curve', 'rate_curve', 'int', ('n_materials',), False, 'rate_curve', 'rate_curve', -1,
+        Bound(-1, True), None, 'must be >= -1', None, '', 'curve', False, '-',
+        (
+            'the curve of the factor on the yield stress (its values) against the effective strain rate in 1/s '
+            '(its times), held beyond its ends (LS-DYNA LCSR); -1: none, the static curve at every rate'
+        ), '[[material]] rate_curve', 'give the index of a curve of /curves/first_point, or -1 for no rate effect',
     ),
     DatasetSpec(
         '/loads/node', 'load_node', 'int', ('n_loads',), False, 'loads_group', None, None, None, None, '', None,
@@ -525,14 +590,17 @@ DATASETS: tuple[DatasetSpec, ...] = (
         '', None, '', None, True, 's',
         (
             'time of each curve point, strictly increasing within a curve; the first value holds before the first '
-            'time and the last after the last'
+            "time and the last after the last (a material's curve: its plastic strain or strain rate, "
+            '/materials/hardening_curve, rate_curve)'
         ), '[[curve]] time', 'give finite times in seconds, strictly increasing within each curve',
     ),
     DatasetSpec(
         '/curves/value', 'curve_value', 'float', ('n_curve_points',), False, 'curves_group', None, None, None,
         None, '', None, '', None, False, '-',
-        "value of each curve point: the factor on a load's value, linear between points", '[[curve]] value',
-        "give finite curve values (factors on the load's value)",
+        (
+            "value of each curve point: the factor on a load's value, linear between points (a material's curve: "
+            'its yield stress in Pa or rate factor)'
+        ), '[[curve]] value', "give finite curve values (factors on the load's value)",
     ),
     DatasetSpec(
         '/pressure/part', 'pressure_part', 'int', ('n_pressures',), False, 'pressure_group', None, None, None,
@@ -848,6 +916,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
         ('required_when', 'class', 'shape', 'rows', 'lower', 'upper', 'finite'),
     ('dataset', '/materials/rate_c'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/materials/rate_p'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/materials/hardening_curve'): ('required_when', 'class', 'shape', 'rows', 'lower', 'reference'),
+    ('dataset', '/materials/rate_curve'): ('required_when', 'class', 'shape', 'rows', 'lower', 'reference'),
     ('dataset', '/loads/node'): ('required_when', 'class', 'shape', 'reference'),
     ('dataset', '/loads/dof'): ('required_when', 'class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/loads/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
@@ -914,6 +984,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('relation', '/elements/connectivity'): ('distinct_element_nodes', 'distinct_elements'),
     ('relation', '/nodes/coordinates'): ('convex_elements', 'node_in_element'),
     ('relation', '/materials/tangent_modulus'): ('tangent_below_youngs',),
+    ('relation', '/materials/hardening_curve'): ('material_curves',),
     ('relation', '/contact/pairs'): ('contact_parts_differ',),
     ('relation', '/rigid_walls/normal'): ('rigid_wall_normal_nonzero',),
     ('relation', '/rigid_walls/point'): ('rigid_wall_nodes_in_front',),

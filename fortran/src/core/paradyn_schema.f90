@@ -7,31 +7,33 @@ module paradyn_schema
   implicit none
   private
   public :: deck_version, deck_version_attribute, material_elastic, material_j2_plasticity, material_j2_rate, &
-      material_rigid, hourglass_viscous, hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, &
-      contact_passes_alternate, contact_passes_both, contact_kind_node_to_segment, &
-      contact_kind_single_surface, contact_kind_tied, initial_penetration_move, initial_penetration_gap, &
-      contact_gather_near, contact_gather_all, switch_off, switch_on, partition_blocks, partition_rcb, &
-      precision_double, precision_mixed, max_integration_points, status_ok, status_failure, status_bad_input, &
-      status_numerical, status_stopped, n_frame_fields, n_history_scalars, history_kinetic_energy, &
-      history_internal_energy, history_hourglass_energy, history_contact_energy, history_external_work, &
-      history_contact_penetration, history_dt, history_dt_stable, history_dt_element, frame_field_names, &
-      history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, size_n_elements, &
-      size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, &
-      size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, size_n_base_accelerations, &
-      size_n_rigid_bodies, n_sizes, condition_none, condition_loads_group, condition_contact_group, &
-      condition_rigid_walls_group, condition_curves_group, condition_pressure_group, &
-      condition_prescribed_group, condition_base_accelerations_group, condition_rigid_bodies_group, &
-      condition_plastic, condition_strain_rate, n_conditions, enum_none, enum_material_model, &
-      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_initial_penetration, &
-      enum_contact_gather, enum_switch, enum_partition, enum_precision, n_enums, dataset_nodes_coordinates, &
-      dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
-      dataset_nodes_rigid_body, dataset_nodes_added_mass, dataset_nodes_id, dataset_elements_connectivity, &
-      dataset_elements_part, dataset_elements_id, dataset_parts_thickness, dataset_parts_material, &
-      dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
-      dataset_parts_warping_correction, dataset_parts_surface_only, dataset_parts_id, &
-      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
-      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
-      dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
+      material_rigid, material_piecewise_linear, material_piecewise_linear_rate, hourglass_viscous, &
+      hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, contact_passes_alternate, &
+      contact_passes_both, contact_kind_node_to_segment, contact_kind_single_surface, contact_kind_tied, &
+      initial_penetration_move, initial_penetration_gap, contact_gather_near, contact_gather_all, switch_off, &
+      switch_on, partition_blocks, partition_rcb, precision_double, precision_mixed, max_integration_points, &
+      status_ok, status_failure, status_bad_input, status_numerical, status_stopped, n_frame_fields, &
+      n_history_scalars, history_kinetic_energy, history_internal_energy, history_hourglass_energy, &
+      history_contact_energy, history_external_work, history_contact_penetration, history_dt, &
+      history_dt_stable, history_dt_element, frame_field_names, history_scalar_names, class_int, class_float, &
+      class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, size_n_loads, &
+      size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
+      size_n_pressures, size_n_prescribed, size_n_base_accelerations, size_n_rigid_bodies, n_sizes, &
+      condition_none, condition_loads_group, condition_contact_group, condition_rigid_walls_group, &
+      condition_curves_group, condition_pressure_group, condition_prescribed_group, &
+      condition_base_accelerations_group, condition_rigid_bodies_group, condition_plastic, &
+      condition_combined_hardening, condition_strain_rate, condition_hardening_curve, condition_rate_curve, &
+      n_conditions, enum_none, enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
+      enum_contact_kind, enum_initial_penetration, enum_contact_gather, enum_switch, enum_partition, &
+      enum_precision, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
+      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_nodes_rigid_body, &
+      dataset_nodes_added_mass, dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, &
+      dataset_elements_id, dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
+      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_warping_correction, &
+      dataset_parts_surface_only, dataset_parts_id, dataset_materials_model, dataset_materials_density, &
+      dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
+      dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, dataset_materials_rate_c, &
+      dataset_materials_rate_p, dataset_materials_hardening_curve, dataset_materials_rate_curve, &
       dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
       dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
       dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
@@ -58,43 +60,46 @@ module paradyn_schema
       effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
       size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
       deck_conditions, deck_datasets, control_attributes, enum_name, enum_code, material_is_plastic, &
-      material_is_rigid, contact_kind_is_self_contact, contact_kind_is_tied
+      material_is_combined_hardening, material_is_cowper_symonds, material_is_rigid, &
+      material_is_hardening_curve, contact_kind_is_self_contact, contact_kind_is_tied
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
 
   ! enum members (schema/deck.toml [enums]): the codes the deck holds
   integer, parameter :: material_elastic = 1   !< linear elastic
   integer, parameter :: material_j2_plasticity = 2   !< J2 plasticity (plane stress, linear combined hardening)
-  integer, parameter :: material_j2_rate = 3   !< J2 plasticity with Cowper-Symonds rate scaling of the yield stress (LS
-  integer, parameter :: material_rigid = 4   !< rigid: the part moves as one body of /rigid_bodies (LS-DYNA MAT_RIGID,
+  integer, parameter :: material_j2_rate = 3   !< J2 plasticity with Cowper-Symonds rate scaling of the yield stre
+  integer, parameter :: material_rigid = 4   !< rigid: the part moves as one body of /rigid_bodies (LS-DYNA MAT_RI
+  integer, parameter :: material_piecewise_linear = 5   !< J2 plasticity with isotropic hardening along a curve of
+  integer, parameter :: material_piecewise_linear_rate = 6   !< piecewise_linear with Cowper-Symonds rate scaling
   integer, parameter :: hourglass_viscous = 1   !< resultants proportional to the hourglass rates
   integer, parameter :: hourglass_stiffness = 2   !< resultants integrated from the rates (elastic)
-  integer, parameter :: hourglass_physical = 3   !< assumed-strain stabilisation from the section's elastic stiffness, no 
+  integer, parameter :: hourglass_physical = 3   !< assumed-strain stabilisation from the section's elastic stiffn
   integer, parameter :: dof_free = 0   !< the dof moves freely
   integer, parameter :: dof_fixed = 1   !< the dof is held at zero velocity
   integer, parameter :: contact_passes_alternate = 1   !< slave and master swap every step (the paper)
   integer, parameter :: contact_passes_both = 2   !< both bodies are slave every step
-  integer, parameter :: contact_kind_node_to_segment = 1   !< each part of the pair is slave to the other's shell segments
-  integer, parameter :: contact_kind_single_surface = 2   !< the part is slave to its own shell segments (self-contact); the pair n
-  integer, parameter :: contact_kind_tied = 3   !< the first part's nodes within reach of the second's segments at the st
-  integer, parameter :: initial_penetration_move = 1   !< slave nodes inside the contact thickness at the start are moved onto i
-  integer, parameter :: initial_penetration_gap = 2   !< each slave node's overlap at the start is taken as its gap: contact pu
-  integer, parameter :: contact_gather_near = 1   !< local contact: each rank holds only the contact nodes near its own sla
-  integer, parameter :: contact_gather_all = 2   !< the replicated scheme: every contact node on every rank every step (a 
+  integer, parameter :: contact_kind_node_to_segment = 1   !< each part of the pair is slave to the other's shell
+  integer, parameter :: contact_kind_single_surface = 2   !< the part is slave to its own shell segments (self-con
+  integer, parameter :: contact_kind_tied = 3   !< the first part's nodes within reach of the second's segments at
+  integer, parameter :: initial_penetration_move = 1   !< slave nodes inside the contact thickness at the start ar
+  integer, parameter :: initial_penetration_gap = 2   !< each slave node's overlap at the start is taken as its ga
+  integer, parameter :: contact_gather_near = 1   !< local contact: each rank holds only the contact nodes near it
+  integer, parameter :: contact_gather_all = 2   !< the replicated scheme: every contact node on every rank every
   integer, parameter :: switch_off = 0   !< the effect is switched off
   integer, parameter :: switch_on = 1   !< the effect runs where the deck declares it
   integer, parameter :: partition_blocks = 1   !< contiguous blocks by element number (the paper)
   integer, parameter :: partition_rcb = 2   !< recursive coordinate bisection of the element centroids
   integer, parameter :: precision_double = 1   !< every real in double precision (paradyn-engine, the reference)
-  integer, parameter :: precision_mixed = 2   !< the element kernel, the material return and the element state in singl
+  integer, parameter :: precision_mixed = 2   !< the element kernel, the material return and the element state in
   integer, parameter :: max_integration_points = 9   !< upper bound of /parts/integration_points
 
   ! exit statuses of paradyn-engine (schema/results.toml)
   integer, parameter :: status_ok = 0   !< the run finished; the results file is complete
   integer, parameter :: status_failure = 1   !< anything else (a file that cannot be written, an MPI error)
-  integer, parameter :: status_bad_input = 2   !< bad input: a bad deck or command line, or a checkpoint of another deck; no resul
-  integer, parameter :: status_numerical = 3   !< a numerical failure (NaN, inverted element, the energy error limit, a time step 
-  integer, parameter :: status_stopped = 4   !< a stop signal (SIGTERM, SIGINT, SIGUSR1) ended the run after writing its checkpo
+  integer, parameter :: status_bad_input = 2   !< bad input: a bad deck or command line, or a checkpoint of anothe
+  integer, parameter :: status_numerical = 3   !< a numerical failure (NaN, inverted element, the energy error lim
+  integer, parameter :: status_stopped = 4   !< a stop signal (SIGTERM, SIGINT, SIGUSR1) ended the run after writi
 
   ! results datasets (schema/results.toml): frame fields, scalar histories by id
   integer, parameter :: n_frame_fields = 6
@@ -144,8 +149,11 @@ module paradyn_schema
   integer, parameter :: condition_base_accelerations_group = 7
   integer, parameter :: condition_rigid_bodies_group = 8
   integer, parameter :: condition_plastic = 9
-  integer, parameter :: condition_strain_rate = 10
-  integer, parameter :: n_conditions = 10
+  integer, parameter :: condition_combined_hardening = 10
+  integer, parameter :: condition_strain_rate = 11
+  integer, parameter :: condition_hardening_curve = 12
+  integer, parameter :: condition_rate_curve = 13
+  integer, parameter :: n_conditions = 13
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
   integer, parameter :: enum_hourglass_form = 2
@@ -185,39 +193,41 @@ module paradyn_schema
   integer, parameter :: dataset_materials_hardening_mixing = 25
   integer, parameter :: dataset_materials_rate_c = 26
   integer, parameter :: dataset_materials_rate_p = 27
-  integer, parameter :: dataset_loads_node = 28
-  integer, parameter :: dataset_loads_dof = 29
-  integer, parameter :: dataset_loads_value = 30
-  integer, parameter :: dataset_loads_ramp_time = 31
-  integer, parameter :: dataset_output_tracked_nodes = 32
-  integer, parameter :: dataset_contact_pairs = 33
-  integer, parameter :: dataset_contact_penalty_scale = 34
-  integer, parameter :: dataset_contact_static_friction = 35
-  integer, parameter :: dataset_contact_dynamic_friction = 36
-  integer, parameter :: dataset_contact_friction_decay = 37
-  integer, parameter :: dataset_contact_passes = 38
-  integer, parameter :: dataset_contact_kind = 39
-  integer, parameter :: dataset_contact_initial_penetration = 40
-  integer, parameter :: dataset_rigid_walls_point = 41
-  integer, parameter :: dataset_rigid_walls_normal = 42
-  integer, parameter :: dataset_rigid_walls_velocity = 43
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 44
-  integer, parameter :: dataset_rigid_bodies_part = 45
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 46
-  integer, parameter :: dataset_curves_first_point = 47
-  integer, parameter :: dataset_curves_time = 48
-  integer, parameter :: dataset_curves_value = 49
-  integer, parameter :: dataset_pressure_part = 50
-  integer, parameter :: dataset_pressure_value = 51
-  integer, parameter :: dataset_pressure_curve = 52
-  integer, parameter :: dataset_prescribed_node = 53
-  integer, parameter :: dataset_prescribed_dof = 54
-  integer, parameter :: dataset_prescribed_value = 55
-  integer, parameter :: dataset_prescribed_curve = 56
-  integer, parameter :: dataset_base_accelerations_direction = 57
-  integer, parameter :: dataset_base_accelerations_value = 58
-  integer, parameter :: dataset_base_accelerations_curve = 59
-  integer, parameter :: n_deck_datasets = 59
+  integer, parameter :: dataset_materials_hardening_curve = 28
+  integer, parameter :: dataset_materials_rate_curve = 29
+  integer, parameter :: dataset_loads_node = 30
+  integer, parameter :: dataset_loads_dof = 31
+  integer, parameter :: dataset_loads_value = 32
+  integer, parameter :: dataset_loads_ramp_time = 33
+  integer, parameter :: dataset_output_tracked_nodes = 34
+  integer, parameter :: dataset_contact_pairs = 35
+  integer, parameter :: dataset_contact_penalty_scale = 36
+  integer, parameter :: dataset_contact_static_friction = 37
+  integer, parameter :: dataset_contact_dynamic_friction = 38
+  integer, parameter :: dataset_contact_friction_decay = 39
+  integer, parameter :: dataset_contact_passes = 40
+  integer, parameter :: dataset_contact_kind = 41
+  integer, parameter :: dataset_contact_initial_penetration = 42
+  integer, parameter :: dataset_rigid_walls_point = 43
+  integer, parameter :: dataset_rigid_walls_normal = 44
+  integer, parameter :: dataset_rigid_walls_velocity = 45
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 46
+  integer, parameter :: dataset_rigid_bodies_part = 47
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 48
+  integer, parameter :: dataset_curves_first_point = 49
+  integer, parameter :: dataset_curves_time = 50
+  integer, parameter :: dataset_curves_value = 51
+  integer, parameter :: dataset_pressure_part = 52
+  integer, parameter :: dataset_pressure_value = 53
+  integer, parameter :: dataset_pressure_curve = 54
+  integer, parameter :: dataset_prescribed_node = 55
+  integer, parameter :: dataset_prescribed_dof = 56
+  integer, parameter :: dataset_prescribed_value = 57
+  integer, parameter :: dataset_prescribed_curve = 58
+  integer, parameter :: dataset_base_accelerations_direction = 59
+  integer, parameter :: dataset_base_accelerations_value = 60
+  integer, parameter :: dataset_base_accelerations_curve = 61
+  integer, parameter :: n_deck_datasets = 61
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -254,7 +264,7 @@ module paradyn_schema
     .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .false., &
     .true., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., &
     .false., .false., .false., .false.]
-  integer, parameter :: max_enum_members = 4
+  integer, parameter :: max_enum_members = 6
 
   ! effects of a step (schema/effects.toml), in the order of the step
   integer, parameter :: n_effects = 15
@@ -298,7 +308,7 @@ module paradyn_schema
   type :: enum_spec_t
     integer :: n_members
     integer :: codes(max_enum_members)
-    character(len=15) :: names(max_enum_members)
+    character(len=21) :: names(max_enum_members)
   end type enum_spec_t
 
   !> A group that exists (group), or a dataset with an entry equal to one of codes.
@@ -307,7 +317,7 @@ module paradyn_schema
     integer :: dataset                  !< dataset id, 0 for a group condition
     integer :: n_codes                  !< the codes it selects: codes(1:n_codes)
     integer :: codes(max_enum_members)
-    character(len=22) :: rows   !< the rows it selects, in words
+    character(len=56) :: rows   !< the rows it selects, in words
   end type condition_spec_t
 
   !> One deck dataset (schema/deck.toml explains every field).
@@ -328,8 +338,8 @@ module paradyn_schema
     integer :: codes(max_enum_members)
     integer :: reference                !< size id of the entity indexed, size_none
     character(len=23) :: rule
-    character(len=81) :: enum_rule
-    character(len=84) :: fix
+    character(len=140) :: enum_rule
+    character(len=154) :: fix
   end type dataset_spec_t
 
   !> One attribute of /control; a string attribute holds an enum member's name.
@@ -344,240 +354,262 @@ module paradyn_schema
     real(wp) :: lower, upper
     integer :: enum
     character(len=23) :: rule
-    character(len=81) :: enum_rule
-    character(len=84) :: fix
+    character(len=140) :: enum_rule
+    character(len=154) :: fix
   end type attribute_spec_t
 
   type(enum_spec_t), parameter :: deck_enums(n_enums) = [ &
-    enum_spec_t(4, [1, 2, 3, 4], [character(len=15) :: 'elastic', 'j2_plasticity', 'j2_rate', 'rigid']), &
-    enum_spec_t(3, [1, 2, 3, 0], [character(len=15) :: 'viscous', 'stiffness', 'physical', '']), &
-    enum_spec_t(2, [0, 1, 0, 0], [character(len=15) :: 'free', 'fixed', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0], [character(len=15) :: 'alternate', 'both', '', '']), &
-    enum_spec_t(3, [1, 2, 3, 0], [character(len=15) :: 'node_to_segment', 'single_surface', 'tied', '']), &
-    enum_spec_t(2, [1, 2, 0, 0], [character(len=15) :: 'move', 'gap', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0], [character(len=15) :: 'near', 'all', '', '']), &
-    enum_spec_t(2, [0, 1, 0, 0], [character(len=15) :: 'off', 'on', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0], [character(len=15) :: 'blocks', 'rcb', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0], [character(len=15) :: 'double', 'mixed', '', '']) ]
+    enum_spec_t(6, [1, 2, 3, 4, 5, 6], &
+        [character(len=21) :: 'elastic', 'j2_plasticity', 'j2_rate', 'rigid', 'piecewise_linear', 'piecewise_linear_rate']), &
+    enum_spec_t(3, [1, 2, 3, 0, 0, 0], [character(len=21) :: 'viscous', 'stiffness', 'physical', '', '', '']), &
+    enum_spec_t(2, [0, 1, 0, 0, 0, 0], [character(len=21) :: 'free', 'fixed', '', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'alternate', 'both', '', '', '', '']), &
+    enum_spec_t(3, [1, 2, 3, 0, 0, 0], &
+        [character(len=21) :: 'node_to_segment', 'single_surface', 'tied', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'move', 'gap', '', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'near', 'all', '', '', '', '']), &
+    enum_spec_t(2, [0, 1, 0, 0, 0, 0], [character(len=21) :: 'off', 'on', '', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'blocks', 'rcb', '', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'double', 'mixed', '', '', '', '']) ]
 
   type(condition_spec_t), parameter :: deck_conditions(n_conditions) = [ &
-    condition_spec_t('/loads', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/contact', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/rigid_walls', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/curves', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/pressure', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/prescribed', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/base_accelerations', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/rigid_bodies', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('', 19, 2, [2, 3, 0, 0], 'for a plastic material'), &
-    condition_spec_t('', 19, 1, [3, 0, 0, 0], 'for a j2_rate material') ]
+    condition_spec_t('/loads', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/contact', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/rigid_walls', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/curves', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/pressure', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/prescribed', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/base_accelerations', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/rigid_bodies', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('', 19, 4, [2, 3, 5, 6, 0, 0], 'for a plastic material'), &
+    condition_spec_t('', 19, 2, [2, 3, 0, 0, 0, 0], 'for a j2_plasticity or j2_rate material'), &
+    condition_spec_t('', 19, 2, [3, 6, 0, 0, 0, 0], 'for a j2_rate or piecewise_linear_rate material'), &
+    condition_spec_t('', 19, 2, [5, 6, 0, 0, 0, 0], 'for a piecewise_linear or piecewise_linear_rate material'), &
+    condition_spec_t('', 19, 1, [5, 0, 0, 0, 0, 0], 'for a piecewise_linear material') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, '', '', 'give every node a finite position in metres'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, '', '', 'give every node a finite position in metres'), &
     dataset_spec_t('/nodes/initial_velocity', class_float, 3, size_n_nodes, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, '', '', 'give finite initial velocities in m/s'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, '', '', 'give finite initial velocities in m/s'), &
     dataset_spec_t('/nodes/initial_angular_velocity', class_float, 3, size_n_nodes, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, '', '', 'give finite initial angular velocities in rad/s'), &
+        0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give finite initial angular velocities in rad/s'), &
     dataset_spec_t('/nodes/fixed_dofs', class_int, 6, size_n_nodes, .false., .false., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_dof_state, 2, &
-        [0, 1, 0, 0], size_none, '', 'must be 0 or 1 (0 = free, 1 = fixed)', &
+        [0, 1, 0, 0, 0, 0], size_none, '', 'must be 0 or 1 (0 = free, 1 = fixed)', &
         'use 1 to fix a dof and 0 to leave it free'), &
     dataset_spec_t('/nodes/rigid_body', class_int, 0, size_n_nodes, .false., .false., condition_none, &
         condition_none, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0], size_none, 'must be >= -1', '', &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be >= -1', '', &
         'give -1 for a deformable node or the 0-based row of its rigid body in /rigid_bodies'), &
     dataset_spec_t('/nodes/added_mass', class_float, 0, size_n_nodes, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be >= 0', '', 'give a non-negative mass in kg'), &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a non-negative mass in kg'), &
     dataset_spec_t('/nodes/id', class_int, 0, size_n_nodes, .false., .false., condition_none, condition_none, &
-        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, &
+        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, &
         'must be >= 0', '', 'give every node a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/elements/connectivity', class_int, 4, size_n_elements, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_n_nodes, '', '', 'remesh'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'remesh'), &
     dataset_spec_t('/elements/part', class_int, 0, size_n_elements, .false., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_n_parts, '', '', 'give every element the index of its part'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_n_parts, '', '', 'give every element the index of its part'), &
     dataset_spec_t('/elements/id', class_int, 0, size_n_elements, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be >= 0', '', &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give every element a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/parts/thickness', class_float, 0, size_n_parts, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be > 0', '', 'set a positive shell thickness in metres'), &
+        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'set a positive shell thickness in metres'), &
     dataset_spec_t('/parts/material', class_int, 0, size_n_parts, .false., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_n_materials, '', '', 'give every part the index of its material'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_n_materials, '', '', 'give every part the index of its material'), &
     dataset_spec_t('/parts/integration_points', class_int, 0, size_n_parts, .false., .false., condition_none, &
-        condition_none, 5.0_wp, .true., .true., .true., .true., 1.0_wp, 9.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be between 1 and 9', '', &
+        condition_none, 5.0_wp, .true., .true., .true., .true., 1.0_wp, 9.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be between 1 and 9', '', &
         'choose 1 to 9 Gauss points through the thickness (5 is usual)'), &
     dataset_spec_t('/parts/hourglass_coefficient', class_float, 0, size_n_parts, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be >= 0', '', 'use a small non-negative coefficient such as 0.1'), &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'use a small non-negative coefficient such as 0.1'), &
     dataset_spec_t('/parts/hourglass_form', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 3.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_hourglass_form, 3, &
-        [1, 2, 3, 0], size_none, '', 'must be 1 or 2 or 3 (1 = viscous, 2 = stiffness, 3 = physical)', &
+        [1, 2, 3, 0, 0, 0], size_none, '', 'must be 1 or 2 or 3 (1 = viscous, 2 = stiffness, 3 = physical)', &
         'use 1 (viscous), 2 (stiffness) or 3 (physical)'), &
     dataset_spec_t('/parts/warping_correction', class_int, 0, size_n_parts, .false., .false., condition_none, &
-        condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be between 0 and 1', '', 'use 1 (warping correction on) or 0 (off)'), &
+        condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
+        'use 1 (warping correction on) or 0 (off)'), &
     dataset_spec_t('/parts/surface_only', class_int, 0, size_n_parts, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be between 0 and 1', '', &
+        condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
         'use 0 for shells, 1 for the faces of a rigid solid (a rigid part only)'), &
     dataset_spec_t('/parts/id', class_int, 0, size_n_parts, .false., .false., condition_none, condition_none, &
-        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, &
+        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, &
         'must be >= 0', '', 'give every part a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/materials/model', class_int, 0, size_n_materials, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 4, &
-        [1, 2, 3, 4], size_none, '', &
-        'must be 1 or 2 or 3 or 4 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 4 = rigid)', &
-        'use 1 for linear elastic, 2 for J2 plasticity or 3 for rate-dependent J2 plasticity'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 6, &
+        [1, 2, 3, 4, 5, 6], size_none, '', &
+        'must be 1 or 2 or 3 or 4 or 5 or 6 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 4 = rigid, 5 = piec' // &
+          'ewise_linear, 6 = piecewise_linear_rate)', &
+        'use 1 for linear elastic, 2 for J2 plasticity, 3 for rate-dependent J2 plasticity, 5 for piecewise-l' // &
+          'inear plasticity or 6 for it with Cowper-Symonds rates'), &
     dataset_spec_t('/materials/density', class_float, 0, size_n_materials, .false., .true., condition_none, &
-        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be > 0', '', 'give the density in kg/m^3'), &
+        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give the density in kg/m^3'), &
     dataset_spec_t('/materials/youngs_modulus', class_float, 0, size_n_materials, .false., .true., &
         condition_none, condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be > 0', '', 'give Young''s modulus in Pa (200e9 for steel)'), &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give Young''s modulus in Pa (200e9 for steel)'), &
     dataset_spec_t('/materials/poisson_ratio', class_float, 0, size_n_materials, .false., .true., &
         condition_none, condition_none, 0.0_wp, .true., .false., .true., .false., -1.0_wp, 0.5_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be in (-1, 0.5)', '', 'give a Poisson ratio such as 0.3'), &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be in (-1, 0.5)', '', 'give a Poisson ratio such as 0.3'), &
     dataset_spec_t('/materials/yield_stress', class_float, 0, size_n_materials, .false., .false., &
         condition_plastic, condition_plastic, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, 'must be > 0', '', 'give the initial yield stress in Pa'), &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give the initial yield stress in Pa'), &
     dataset_spec_t('/materials/tangent_modulus', class_float, 0, size_n_materials, .false., .false., &
         condition_plastic, condition_plastic, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the plastic tangent modulus in Pa below Young''s modulus (0 = perfectly plastic)'), &
     dataset_spec_t('/materials/hardening_mixing', class_float, 0, size_n_materials, .false., .false., &
-        condition_plastic, condition_plastic, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, 'must be in [0, 1]', '', &
+        condition_combined_hardening, condition_combined_hardening, 1.0_wp, .true., .true., .true., .true., &
+        0.0_wp, 1.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be in [0, 1]', '', &
         'use 1 for isotropic, 0 for kinematic hardening or a mix in between'), &
     dataset_spec_t('/materials/rate_c', class_float, 0, size_n_materials, .false., .false., &
         condition_strain_rate, condition_strain_rate, 0.0_wp, .true., .false., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, 'must be > 0', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
         'give the Cowper-Symonds strain rate C in 1/s (40.4 for mild steel)'), &
     dataset_spec_t('/materials/rate_p', class_float, 0, size_n_materials, .false., .false., &
         condition_strain_rate, condition_strain_rate, 0.0_wp, .true., .false., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, 'must be > 0', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
         'give the Cowper-Symonds exponent P (5 for mild steel)'), &
+    dataset_spec_t('/materials/hardening_curve', class_int, 0, size_n_materials, .false., .false., &
+        condition_hardening_curve, condition_hardening_curve, -1.0_wp, .true., .true., .false., .true., &
+        -1.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
+        'give the index of a curve of /curves/first_point, or -1 for the bilinear law of yield_stress and tangent_modulus'), &
+    dataset_spec_t('/materials/rate_curve', class_int, 0, size_n_materials, .false., .false., &
+        condition_rate_curve, condition_rate_curve, -1.0_wp, .true., .true., .false., .true., -1.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
+        'give the index of a curve of /curves/first_point, or -1 for no rate effect'), &
     dataset_spec_t('/loads/node', class_int, 0, size_n_loads, .true., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_n_nodes, '', '', 'give the index of the loaded node'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of the loaded node'), &
     dataset_spec_t('/loads/dof', class_int, 0, size_n_loads, .false., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be between 1 and 6', '', &
+        condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be between 1 and 6', '', &
         'use 1..3 for a force along x, y, z and 4..6 for a moment about x, y, z'), &
     dataset_spec_t('/loads/value', class_float, 0, size_n_loads, .false., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, '', '', 'give the final load value in N or N m'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, '', '', 'give the final load value in N or N m'), &
     dataset_spec_t('/loads/ramp_time', class_float, 0, size_n_loads, .false., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be >= 0', '', 'give the ramp time in seconds (0 applies the load at once)'), &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the ramp time in seconds (0 applies the load at once)'), &
     dataset_spec_t('/output/tracked_nodes', class_int, 0, size_n_tracked, .true., .false., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_n_nodes, '', '', 'give the index of each tracked node'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of each tracked node'), &
     dataset_spec_t('/contact/pairs', class_int, 2, size_n_contacts, .true., .false., condition_contact_group, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_n_parts, '', '', &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_n_parts, '', '', &
         'name two different parts for node_to_segment, or one part twice for single_surface'), &
     dataset_spec_t('/contact/penalty_scale', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be > 0', '', 'use a penalty scale factor such as 0.1 (the default)'), &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        'use a penalty scale factor such as 0.1 (the default)'), &
     dataset_spec_t('/contact/static_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
     dataset_spec_t('/contact/dynamic_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
     dataset_spec_t('/contact/friction_decay', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a decay coefficient >= 0 in s/m'), &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a decay coefficient >= 0 in s/m'), &
     dataset_spec_t('/contact/passes', class_int, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 2.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_passes, 2, &
-        [1, 2, 0, 0], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
+        [1, 2, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
         'use 2 (both bodies slave every step) or 1 (slave and master swap every step)'), &
     dataset_spec_t('/contact/kind', class_int, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 3, &
-        [1, 2, 3, 0], size_none, '', &
+        [1, 2, 3, 0, 0, 0], size_none, '', &
         'must be 1 or 2 or 3 (1 = node_to_segment, 2 = single_surface, 3 = tied)', &
         'use 1 (node_to_segment), 2 (single_surface) or 3 (tied)'), &
     dataset_spec_t('/contact/initial_penetration', class_int, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_initial_penetration, 2, [1, 2, 0, 0], size_none, '', 'must be 1 or 2 (1 = move, 2 = gap)', &
+        enum_initial_penetration, 2, [1, 2, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = move, 2 = gap)', &
         'use 1 (move the nodes onto the surface) or 2 (take the overlap as the gap)'), &
     dataset_spec_t('/rigid_walls/point', class_float, 3, size_n_rigid_walls, .true., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, '', '', 'give a point of the wall''s plane in metres'), &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
+        'give a point of the wall''s plane in metres'), &
     dataset_spec_t('/rigid_walls/normal', class_float, 3, size_n_rigid_walls, .false., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, '', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
         'give a nonzero normal pointing from the wall towards the model'), &
     dataset_spec_t('/rigid_walls/velocity', class_float, 3, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, '', '', 'give the wall''s velocity in m/s (0 for a stationary wall)'), &
+        0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give the wall''s velocity in m/s (0 for a stationary wall)'), &
     dataset_spec_t('/rigid_walls/penalty_scale', class_float, 0, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .false., .true., .true., 0.0_wp, 0.5_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be in (0, 0.5]', '', &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be in (0, 0.5]', '', &
         'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)'), &
     dataset_spec_t('/rigid_bodies/part', class_int, 0, size_n_rigid_bodies, .true., .false., &
         condition_rigid_bodies_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_n_parts, '', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_parts, '', '', &
         'give the index of a part with a rigid material'), &
     dataset_spec_t('/rigid_bodies/fixed_dofs', class_int, 6, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
-        [0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
         'use 1 to fix a dof of the body and 0 to leave it free'), &
     dataset_spec_t('/curves/first_point', class_int, 0, size_n_curves, .true., .false., &
         condition_curves_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the 0-based index of each curve''s first point, 0 first and strictly increasing'), &
     dataset_spec_t('/curves/time', class_float, 0, size_n_curve_points, .true., .false., &
         condition_curves_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, '', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
         'give finite times in seconds, strictly increasing within each curve'), &
     dataset_spec_t('/curves/value', class_float, 0, size_n_curve_points, .false., .false., &
         condition_curves_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, '', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
         'give finite curve values (factors on the load''s value)'), &
     dataset_spec_t('/pressure/part', class_int, 0, size_n_pressures, .true., .false., &
         condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_n_parts, '', '', 'give the index of the loaded part'), &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_parts, '', '', 'give the index of the loaded part'), &
     dataset_spec_t('/pressure/value', class_float, 0, size_n_pressures, .false., .false., &
         condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, '', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
         'give the pressure in Pa (positive pushes along the element normal)'), &
     dataset_spec_t('/pressure/curve', class_int, 0, size_n_pressures, .false., .false., &
         condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point'), &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_curves, '', '', &
+        'give the index of a curve of /curves/first_point'), &
     dataset_spec_t('/prescribed/node', class_int, 0, size_n_prescribed, .true., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_n_nodes, '', '', 'give the index of the node'), &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of the node'), &
     dataset_spec_t('/prescribed/dof', class_int, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, 'must be between 1 and 6', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be between 1 and 6', '', &
         'use 1..3 for a velocity along x, y, z and 4..6 for an angular velocity about x, y, z'), &
     dataset_spec_t('/prescribed/value', class_float, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, '', '', 'give the velocity in m/s (rad/s for a rotation)'), &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give the velocity in m/s (rad/s for a rotation)'), &
     dataset_spec_t('/prescribed/curve', class_int, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point'), &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_curves, '', '', &
+        'give the index of a curve of /curves/first_point'), &
     dataset_spec_t('/base_accelerations/direction', class_float, 3, size_n_base_accelerations, .true., &
         .false., condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., &
-        .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, '', '', &
+        .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
         'give a nonzero direction [x, y, z]'), &
     dataset_spec_t('/base_accelerations/value', class_float, 0, size_n_base_accelerations, .false., .false., &
         condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, '', '', 'give the acceleration in m/s^2'), &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give the acceleration in m/s^2'), &
     dataset_spec_t('/base_accelerations/curve', class_int, 0, size_n_base_accelerations, .false., .false., &
         condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_n_curves, '', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_curves, '', '', &
         'give the index of a curve of /curves/first_point') ]
 
   type(attribute_spec_t), parameter :: control_attributes(n_control_attributes) = [ &
@@ -691,17 +723,35 @@ contains
     end do
   end function enum_code
 
-  !> Whether a code of enum material_model has the trait plastic (j2_plasticity, j2_rate)
+  !> Whether a code of enum material_model has the trait plastic (j2_plasticity, j2_rate, piecewise_linear, piecewise_linear_rate)
   elemental logical function material_is_plastic(code) result(has)
     integer, intent(in) :: code
-    has = any(code == [2, 3])
+    has = any(code == [2, 3, 5, 6])
   end function material_is_plastic
+
+  !> Whether a code of enum material_model has the trait combined_hardening (j2_plasticity, j2_rate)
+  elemental logical function material_is_combined_hardening(code) result(has)
+    integer, intent(in) :: code
+    has = any(code == [2, 3])
+  end function material_is_combined_hardening
+
+  !> Whether a code of enum material_model has the trait cowper_symonds (j2_rate, piecewise_linear_rate)
+  elemental logical function material_is_cowper_symonds(code) result(has)
+    integer, intent(in) :: code
+    has = any(code == [3, 6])
+  end function material_is_cowper_symonds
 
   !> Whether a code of enum material_model has the trait rigid (rigid)
   elemental logical function material_is_rigid(code) result(has)
     integer, intent(in) :: code
     has = any(code == [4])
   end function material_is_rigid
+
+  !> Whether a code of enum material_model has the trait hardening_curve (piecewise_linear, piecewise_linear_rate)
+  elemental logical function material_is_hardening_curve(code) result(has)
+    integer, intent(in) :: code
+    has = any(code == [5, 6])
+  end function material_is_hardening_curve
 
   !> Whether a code of enum contact_kind has the trait self_contact (single_surface)
   elemental logical function contact_kind_is_self_contact(code) result(has)

@@ -1,7 +1,9 @@
 !> The material family: an abstract plane-stress law that updates the stresses of a batch of
 !> through-thickness points at once (one dispatch per batch, so the members' loops vectorise), and
 !> says how much state per point it keeps. Members: elastic_material (elastic), j2_material
-!> (J2 plasticity with combined hardening); material_factory makes one from its schema name.
+!> (J2 plasticity with combined hardening), j2_rate_material (with Cowper-Symonds rates),
+!> piecewise_linear_material (isotropic hardening along a curve, LS-DYNA MAT_024; one state word
+!> per point); material_factory makes one from its schema name.
 !> A member gets the step (a rate law's strain rate is dstrain / dt), may keep state_width()
 !> words of its own per point (stored, exchanged and checkpointed by the element state), and
 !> may bound the step through the wave speed it reports.

@@ -11,11 +11,12 @@ module plane_stress_returns
   private
   public :: elastic_plane_stress_update, j2_plane_stress_update, von_mises_plane_stress
   public :: elastic_plane_stress_update_points, j2_plane_stress_update_points
-  public :: j2_kinematic_modulus
+  public :: j2_kinematic_modulus, return_points, return_batch
 
   !> points per pass of j2_plane_stress_update_points (one element group's worth): fixed-size
   !> local arrays, no allocation
   integer, parameter :: batch = 64
+  integer, parameter :: return_batch = batch   !< the most points return_points takes per call
   !> the return's stopping tests: |f| below f_tolerance yield0^2, or a bracket closed to
   !> bracket_tolerance of its upper end. 1e-13 and 1e-15 in double; single precision (the mixed
   !> engine) cannot reach those, so there they are a few times the kind's epsilon (1.2e-7)

@@ -15,7 +15,8 @@ module deck_fields
                             dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, &
                             dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
                             dataset_materials_hardening_mixing, dataset_materials_rate_c, &
-                            dataset_materials_rate_p, dataset_loads_node, dataset_loads_dof, &
+                            dataset_materials_rate_p, dataset_materials_hardening_curve, &
+                            dataset_materials_rate_curve, dataset_loads_node, dataset_loads_dof, &
                             dataset_loads_value, dataset_loads_ramp_time, dataset_output_tracked_nodes, &
                             dataset_contact_pairs, dataset_contact_penalty_scale, &
                             dataset_contact_static_friction, dataset_contact_dynamic_friction, &
@@ -82,6 +83,8 @@ module deck_fields
     real(wp), allocatable :: hardening_mixing(:)   !< /materials/hardening_mixing (n_materials) -
     real(wp), allocatable :: rate_c(:)   !< /materials/rate_c (n_materials) 1/s
     real(wp), allocatable :: rate_p(:)   !< /materials/rate_p (n_materials) -
+    integer, allocatable :: hardening_curve(:)   !< /materials/hardening_curve (n_materials) -
+    integer, allocatable :: rate_curve(:)   !< /materials/rate_curve (n_materials) -
     integer, allocatable :: load_node(:)   !< /loads/node (n_loads) -
     integer, allocatable :: load_dof(:)   !< /loads/dof (n_loads) -
     real(wp), allocatable :: load_value(:)   !< /loads/value (n_loads) N or N m
@@ -257,6 +260,10 @@ contains
       d%rate_c = values(1, :)
     case (dataset_materials_rate_p)
       d%rate_p = values(1, :)
+    case (dataset_materials_hardening_curve)
+      d%hardening_curve = indices(1, :)
+    case (dataset_materials_rate_curve)
+      d%rate_curve = indices(1, :)
     end select
   end subroutine store_materials
 

@@ -4,8 +4,9 @@
 !> deck would. Pure: no MPI.
 module deck_relations
   use paradyn_kinds, only: wp
-  use paradyn_schema, only: material_is_plastic, material_is_rigid, contact_kind_is_self_contact, class_float, enum_name, &
-                            enum_precision, precision_mixed
+  use paradyn_schema, only: material_is_plastic, material_is_rigid, contact_kind_is_self_contact, class_float, &
+                            enum_name, enum_precision, precision_mixed, material_is_hardening_curve, &
+                            material_piecewise_linear
   use deck_rules, only: integer_text, number_text, index_list
   use quad_shape, only: quad_shape_fault, triangle_shape_fault, shape_sound, shape_concave
   use model_deck, only: deck_t, node_row, engine_precision
@@ -21,7 +22,7 @@ contains
   ! order io/deck_checks applies them (schema relations: precision, distinct_element_nodes,
   ! distinct_elements, element shapes, tangent_below_youngs, contact_parts_differ,
   ! node_in_element, the rigid walls' and the load curves' (curve_first_points,
-  ! curve_times_increase)). Each message names the dataset, the 0-based entry and the fix; ''
+  ! curve_times_increase, then the materials' curves: material_curves)). Each message names the dataset, the 0-based entry and the fix; ''
   ! when the relation holds.
 
   !> The deck's precision against this engine's.
@@ -208,6 +209,62 @@ contains
         return
       end do
     end do
+    do i = 1, d%n_materials
+      message = material_curve_message(d, i)
+      if (message /= '') return
+    end do
   end subroutine check_curve_relations
+
+  !> material_curves for material i: its hardening curve starts at (0, yield_stress) and never
+  !> decreases; its rate curve's rates are >= 0 and its factors > 0 (the curves' order and times
+  !> already checked).
+  function material_curve_message(d, i) result(message)
+    type(deck_t), intent(in) :: d
+    integer, intent(in) :: i
+    character(len=:), allocatable :: message
+    character(len=*), parameter :: hardening = '/materials/hardening_curve[', rate = '/materials/rate_curve['
+    integer :: c, first, last, k
+    message = ''
+    c = 0
+    if (material_is_hardening_curve(d%material_model(i))) c = d%hardening_curve(i)
+    if (c > 0) then
+      call curve_range(d, c, first, last)
+      if (d%curve_time(first) /= 0.0_wp .or. d%curve_value(first) /= d%yield_stress(i)) then
+        message = hardening//integer_text(i - 1)//'] = '//integer_text(c - 1)//': the curve starts at ('// &
+                  number_text(d%curve_time(first), class_float)//', '//number_text(d%curve_value(first), class_float)// &
+                  '), not at zero plastic strain with /materials/yield_stress = '// &
+                  number_text(d%yield_stress(i), class_float)//'; start the curve at (0, yield_stress)'
+        return
+      end if
+      do k = first + 1, last
+        if (d%curve_value(k) >= d%curve_value(k - 1)) cycle
+        message = hardening//integer_text(i - 1)//'] = '//integer_text(c - 1)//': the yield stress decreases to '// &
+                  number_text(d%curve_value(k), class_float)//' at plastic strain '// &
+                  number_text(d%curve_time(k), class_float)//'; give a curve that never decreases (no softening)'
+        return
+      end do
+    end if
+    c = 0
+    if (d%material_model(i) == material_piecewise_linear) c = d%rate_curve(i)
+    if (c > 0) then
+      call curve_range(d, c, first, last)
+      if (d%curve_time(first) < 0.0_wp .or. any(d%curve_value(first:last) <= 0.0_wp)) then
+        message = rate//integer_text(i - 1)//'] = '//integer_text(c - 1)//': a rate curve has strain rates '// &
+                  '>= 0 and factors > 0, this one starts at rate '//number_text(d%curve_time(first), class_float)// &
+                  ' with least factor '//number_text(minval(d%curve_value(first:last)), class_float)// &
+                  '; give rates >= 0 and factors > 0'
+      end if
+    end if
+  end function material_curve_message
+
+  !> First and last point of curve c (1-based)
+  pure subroutine curve_range(d, c, first, last)
+    type(deck_t), intent(in) :: d
+    integer, intent(in) :: c
+    integer, intent(out) :: first, last
+    first = d%curve_first_point(c)
+    last = d%n_curve_points
+    if (c < d%n_curves) last = d%curve_first_point(c + 1) - 1
+  end subroutine curve_range
 
 end module deck_relations

@@ -53,7 +53,7 @@ contains
     integer, intent(in), optional :: first_row
     integer, intent(out), optional :: bad_row
     type(dataset_spec_t) :: spec
-    integer :: row, column, upper, offset
+    integer :: row, column, upper, offset, lowest
     message = ''
     offset = 0
     if (present(first_row)) offset = first_row
@@ -74,8 +74,11 @@ contains
               message = entry_text(spec, offset + row, column, v)//' '//trim(spec%enum_rule)//'; '//trim(spec%fix)
           else if (spec%reference /= size_none) then
             upper = sizes(spec%reference)
-            if (v < 0.0_wp .or. v >= real(upper, wp)) message = entry_text(spec, offset + row, column, v)// &
-              ' is out of range 0..'//integer_text(upper - 1)//'; '//trim(size_entity(spec%reference))// &
+            lowest = 0
+            if (spec%has_lower .and. spec%lower == -1.0_wp) lowest = -1   ! -1 names none
+            if (v < real(lowest, wp) .or. v >= real(upper, wp)) message = entry_text(spec, offset + row, column, v)// &
+              ' is out of range '//integer_text(lowest)//'..'//integer_text(upper - 1)//'; '// &
+              trim(size_entity(spec%reference))// &
               ' indices are 0-based and must be below the number of '//trim(size_entity(spec%reference))// &
               's ('//integer_text(upper)//')'
           end if

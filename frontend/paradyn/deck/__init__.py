@@ -31,7 +31,7 @@ from .model import (
     Model,
     control_default,
 )
-from .validation import DeckError, validate_model
+from .validation import DeckError, material_curve_fault, validate_model
 
 __all__ = [
     "DATASETS",
@@ -49,6 +49,7 @@ __all__ = [
     "DeckError",
     "Model",
     "control_default",
+    "material_curve_fault",
     "read_deck",
     "read_deck_arrays",
     "validate_deck",

@@ -41,6 +41,8 @@ class DeckFields:
     hardening_mixing: np.ndarray | None = None   # /materials/hardening_mixing (n_materials,) -
     rate_c: np.ndarray | None = None   # /materials/rate_c (n_materials,) 1/s
     rate_p: np.ndarray | None = None   # /materials/rate_p (n_materials,) -
+    hardening_curve: np.ndarray | None = None   # /materials/hardening_curve (n_materials,) -
+    rate_curve: np.ndarray | None = None   # /materials/rate_curve (n_materials,) -
     load_node: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))   # /loads/node (n_loads,) -
     load_dof: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))   # /loads/dof (n_loads,) -
     load_value: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))

@@ -108,7 +108,8 @@ class _Checker:
             self.entries(spec, ~np.isin(a, list(ENUMS[spec.enum].values())), spec.enum_rule, spec.fix)
         if spec.reference is not None:
             upper = sizes[_SYMBOL_OF[spec.reference]]
-            self.entries(spec, (a < 0) | (a >= upper), f"is out of range 0..{upper - 1}",
+            lowest = -1 if spec.lower is not None and spec.lower.value == -1 else 0   # -1: names none
+            self.entries(spec, (a < lowest) | (a >= upper), f"is out of range {lowest}..{upper - 1}",
                          f"{spec.reference} indices are 0-based and must be below the number of "
                          f"{spec.reference}s ({upper})")
 
@@ -273,6 +274,39 @@ def _check_curve_relations(check: _Checker, sizes: dict[str, int]) -> None:
             k = int(start + steps[0] + 1)
             check.fail(f"/curves/time[{k}] = {_fmt(time[k])} does not follow /curves/time[{k - 1}] = "
                        f"{_fmt(time[k - 1])} of curve {c}; give the times of each curve strictly increasing")
+    for i, model in enumerate(check.array("material_model")):
+        for python, kind in (("hardening_curve", "hardening"), ("rate_curve", "rate")):
+            spec = _BY_ATTRIBUTE[python]
+            if getattr(check.model, python) is None:   # absent: no material of its models
+                continue
+            c = int(check.array(python)[i])
+            if c < 0 or model not in CONDITIONS[str(spec.checked_when)].codes:
+                continue
+            stop = first[c + 1] if c + 1 < first.size else points
+            fault = material_curve_fault(kind, time[first[c]:stop], check.array("curve_value")[first[c]:stop],
+                                         float(check.array("yield_stress")[i]))
+            if fault:
+                check.fail(f"{spec.path}[{i}] = {c}: {fault}")
+
+
+def material_curve_fault(kind: str, x: np.ndarray, y: np.ndarray, yield_stress: float) -> str:
+    """What breaks the relation material_curves for a material's curve (model_deck's
+    material_curve_message), in words with the fix; '' when it holds. ``kind``: "hardening" (x the
+    plastic strains, y the yield stresses) or "rate" (x the strain rates, y the factors)."""
+    if kind == "hardening":
+        if x[0] != 0.0 or y[0] != yield_stress:
+            return (f"the curve starts at ({_fmt(x[0])}, {_fmt(y[0])}), not at zero plastic strain with "
+                    f"/materials/yield_stress = {_fmt(yield_stress)}; start the curve at (0, yield_stress)")
+        drops = np.flatnonzero(np.diff(y) < 0)
+        if drops.size:
+            k = int(drops[0]) + 1
+            return (f"the yield stress decreases to {_fmt(y[k])} at plastic strain {_fmt(x[k])}; give a curve that "
+                    f"never decreases (no softening)")
+        return ""
+    if x[0] < 0.0 or np.any(y <= 0.0):
+        return (f"a rate curve has strain rates >= 0 and factors > 0, this one starts at rate {_fmt(x[0])} with "
+                f"least factor {_fmt(np.min(y))}; give rates >= 0 and factors > 0")
+    return ""
 
 
 def _check_distinct_elements(check: _Checker, conn: np.ndarray) -> None:

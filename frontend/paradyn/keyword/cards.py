@@ -28,6 +28,16 @@ SECTION_SHELL = (layout("int:SECID int:ELFORM SHRF int:NIP PROPT int:QR/IRID int
 MAT_ELASTIC = (layout("int:MID RO E PR DA DB K", da=0.0, db=0.0, k=0.0),)
 MAT_PLASTIC_KINEMATIC = (layout("int:MID RO E PR SIGY ETAN BETA", etan=0.0, beta=0.0),
                          layout("SRC SRP FS VP", src=0.0, srp=0.0, fs=0.0, vp=0.0))
+# MAT 24 and MAT 81 share cards 2 to 4 (C, P, LCSS, LCSR; EPS1..8; ES1..8); MAT 81's card 1 has the
+# damage's EPPF where MAT 24 has FAIL, its card 2 EPPFR, LCDM, NUMINT after LCSR
+_EPS_ES = (layout(" ".join(f"EPS{k}" for k in range(1, 9)), **{f"eps{k}": 0.0 for k in range(1, 9)}),
+           layout(" ".join(f"ES{k}" for k in range(1, 9)), **{f"es{k}": 0.0 for k in range(1, 9)}))
+MAT_PIECEWISE_LINEAR_PLASTICITY = (layout("int:MID RO E PR SIGY ETAN FAIL TDEL", sigy=0.0, etan=0.0, fail=1e21,
+                                          tdel=0.0),
+                                   layout("C P int:LCSS int:LCSR VP", c=0.0, p=0.0, lcss=0, lcsr=0, vp=0.0), *_EPS_ES)
+MAT_PLASTICITY_WITH_DAMAGE = (layout("int:MID RO E PR SIGY ETAN EPPF TDEL", sigy=0.0, etan=0.0, eppf=0.0, tdel=0.0),
+                              layout("C P int:LCSS int:LCSR EPPFR VP int:LCDM int:NUMINT", c=0.0, p=0.0, lcss=0,
+                                     lcsr=0, eppfr=0.0, vp=0.0, lcdm=0, numint=0), *_EPS_ES)
 SPC = layout("int:ID int:CID int:DOFX int:DOFY int:DOFZ int:DOFRX int:DOFRY int:DOFRZ", cid=0, dofx=0, dofy=0,
              dofz=0, dofrx=0, dofry=0, dofrz=0)
 VELOCITY_GENERATION = (layout("int:ID int:STYP OMEGA VX VY VZ int:IVATN int:ICID", id=0, styp=1, omega=0.0,
@@ -241,16 +251,44 @@ def _section_shell(r: _Reading) -> None:
 def _material(model: str, cards: tuple[tuple[Field, ...], ...],
               ignored: dict[str, Value]) -> Callable[[_Reading], None]:
     def read(r: _Reading) -> None:
-        titled = "TITLE" in r.keyword.split("_")
-        lines = r.head_and_rest(titled)
-        records = [r.card(line, card, ignored) for line, card in zip(lines, cards, strict=False)]
-        records[0].values["TITLE"] = r.block.lines[0].text.strip() if titled else ""
-        for line in lines[len(cards):]:
-            if line.text.strip():
-                r.data.warn(f"{line.where}: *{r.keyword}: this card is not read (docs/keyword.md)")
-        if len(records) < len(cards):
-            records += [Record({f.name: f.default for f in card}, lines[-1].where) for card in cards[len(records):]]
-        r.data.materials[int(records[0]["MID"])] = (model, records)
+        _read_material(r, model, cards, ignored)
+    return read
+
+
+def _read_material(r: _Reading, model: str, cards: tuple[tuple[Field, ...], ...],
+                   ignored: dict[str, Value]) -> list[Record]:
+    """A *MAT block's cards (missing trailing cards at their defaults) into ``materials``."""
+    titled = "TITLE" in r.keyword.split("_")
+    lines = r.head_and_rest(titled)
+    records = [r.card(line, card, ignored) for line, card in zip(lines, cards, strict=False)]
+    records[0].values["TITLE"] = r.block.lines[0].text.strip() if titled else ""
+    for line in lines[len(cards):]:
+        if line.text.strip():
+            r.data.warn(f"{line.where}: *{r.keyword}: this card is not read (docs/keyword.md)")
+    if len(records) < len(cards):
+        records += [Record({f.name: f.default for f in card}, lines[-1].where) for card in cards[len(records):]]
+    r.data.materials[int(records[0]["MID"])] = (model, records)
+    return records
+
+
+def _piecewise_material(cards: tuple[tuple[Field, ...], ...]) -> Callable[[_Reading], None]:
+    """MAT 24 (and MAT 81, read as MAT 24): the cards as _material reads them, with a warning for
+    what ParaDyn does not model, naming the material: failure (FAIL; erosion), VP other than 0,
+    and MAT 81's damage."""
+    def read(r: _Reading) -> None:
+        first, second = _read_material(r, "piecewise_linear", cards, {"TDEL": 0.0})[:2]
+        mid = int(first["MID"])
+        fail = first.values.get("FAIL")
+        if fail is not None and 0.0 != float(fail) < 1e20:
+            r.data.warn(f"{first.where}: *{r.keyword} {mid} FAIL = {fail}: element failure (erosion) is not "
+                        f"modelled by ParaDyn; material {mid}'s elements never fail")
+        if float(second["VP"] or 0.0) != 0.0:
+            r.data.warn(f"{second.where}: *{r.keyword} {mid} VP = {second['VP']} is not modelled; the yield stress "
+                        f"is scaled by the total strain rate as with VP = 0")
+        if "EPPF" in first.values:
+            r.data.warn(f"{first.where}: *{r.keyword} {mid} is read as *MAT_PIECEWISE_LINEAR_PLASTICITY: its damage "
+                        f"(EPPF, EPPFR, LCDM) is not modelled; material {mid} hardens along its curve and never "
+                        f"softens or fails")
     return read
 
 
@@ -379,6 +417,10 @@ for _title in ("", "_TITLE"):
                                                                 "V2": 0.0, "V3": 0.0})
     for _name in ("MAT_PLASTIC_KINEMATIC", "MAT_003"):
         READERS[_name + _title] = _material("j2_plasticity", MAT_PLASTIC_KINEMATIC, {"FS": 0.0, "VP": 0.0})
+    for _name in ("MAT_PIECEWISE_LINEAR_PLASTICITY", "MAT_024"):
+        READERS[_name + _title] = _piecewise_material(MAT_PIECEWISE_LINEAR_PLASTICITY)
+    for _name in ("MAT_PLASTICITY_WITH_DAMAGE", "MAT_081"):
+        READERS[_name + _title] = _piecewise_material(MAT_PLASTICITY_WITH_DAMAGE)
     for _target in ("NODE", "PART"):
         for _list in ("", "_LIST", "_LIST_GENERATE"):
             READERS[f"SET_{_target}{_list}{_title}"] = _set(_target)

@@ -19,13 +19,14 @@ import numpy as np
 from paradyn import _schema, deck
 from paradyn.deck.rigid_bodies import RigidBodyError, complete_rigid_bodies
 from paradyn.scene.building import _apply_contacts, _apply_material_extras
-from paradyn.scene.specs import MaterialSpec, PartSpec, RunSettings, Scene
+from paradyn.scene.specs import CurveSpec, MaterialSpec, PartSpec, RunSettings, Scene
 
 from .cards import KeywordData, Record, with_warnings
 from .contacts import contact_specs
 from .ids import in_deck_ids
 from .keywords import collect
 from .loads import apply_loads, set_velocities
+from .materials import apply_material_curves, material_of
 from .mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of
 from .parts import part_spec, split_by_thickness
 from .reader import KeywordError, read_keyword_file
@@ -140,13 +141,14 @@ def _units(path: Path, data: KeywordData, units: str | None) -> Units:
 
 def _scene(path: Path, data: KeywordData, unit: Units, mesh: KeywordMesh) -> Scene:
     run = _run(data, unit)
-    parts, materials = _parts_and_materials(data, unit, mesh)
+    curves: list[CurveSpec] = []   # the materials' curves (LCSS, EPS/ES, LCSR), in SI
+    parts, materials = _parts_and_materials(data, unit, mesh, curves)
     names_of: dict[int, list[str]] = {}
     for pid, part in zip(mesh.part_ids.tolist(), parts, strict=True):
         names_of.setdefault(pid, []).append(part.name)
     contacts = contact_specs(data, names_of, unit, run.end_time / unit.time)
     return Scene(path=path, title=data.title or path.stem, run=run, materials=materials, parts=parts,
-                 contacts=contacts)
+                 contacts=contacts, curves=curves)
 
 
 def _part_name(record: Record, taken: set[str]) -> str:
@@ -166,8 +168,8 @@ def _add_solid_masses(data: KeywordData, solids: SolidGeometry, unit: Units, mes
     mesh.face_thickness = {pid: t * unit.length for pid, t in solid_face_thickness(data, solids).items()}
 
 
-def _parts_and_materials(data: KeywordData, unit: Units,
-                         mesh: KeywordMesh) -> tuple[list[PartSpec], list[MaterialSpec]]:
+def _parts_and_materials(data: KeywordData, unit: Units, mesh: KeywordMesh,
+                         curves: list[CurveSpec]) -> tuple[list[PartSpec], list[MaterialSpec]]:
     by_pid = {int(p["PID"]): p for p in data.parts}
     parts: list[PartSpec] = []
     materials: dict[tuple[str, int], MaterialSpec] = {}
@@ -178,12 +180,11 @@ def _parts_and_materials(data: KeywordData, unit: Units,
         mid = int(record["MID"] or 0)
         if mid not in data.materials:
             raise KeywordError(f"{record.where}: *PART {pid} names material {mid}, which no *MAT_ELASTIC, "
-                               f"*MAT_PLASTIC_KINEMATIC or *MAT_RIGID defines")
+                               f"*MAT_PLASTIC_KINEMATIC, *MAT_PIECEWISE_LINEAR_PLASTICITY or *MAT_RIGID defines")
         key = rigid_material_key(data, pid, mid)
         if key not in materials:
-            model, cards = data.materials[mid]
-            materials[key] = _material(mid, key[0] or model, cards, unit)
-            title = str(cards[0]["TITLE"])
+            materials[key] = material_of(mid, data, unit, curves, rigid=bool(key[0]))
+            title = str(data.materials[mid][1][0]["TITLE"])
             if title and title not in {m.name for m in materials.values()}:
                 materials[key].name = title
             if key[0]:
@@ -199,35 +200,6 @@ def _parts_and_materials(data: KeywordData, unit: Units,
     return parts, list(materials.values())
 
 
-def _material(mid: int, model: str, cards: list[Record], unit: Units) -> MaterialSpec:
-    first = cards[0]
-    for name in ("RO", "E", "PR"):
-        if first[name] is None:
-            raise KeywordError(f"{first.where}: *MAT {mid} field {name} is blank; give its value")
-    spec = MaterialSpec(name=f"mat_{mid}", model=model, density=float(first["RO"]) * unit.density,
-                        youngs_modulus=float(first["E"]) * unit.stress, poisson_ratio=float(first["PR"]))
-    if model == "j2_plasticity":
-        if first["SIGY"] is None:
-            raise KeywordError(f"{first.where}: *MAT_PLASTIC_KINEMATIC {mid} field SIGY is blank; give the "
-                               f"yield stress")
-        spec.yield_stress = float(first["SIGY"]) * unit.stress
-        spec.tangent_modulus = float(first["ETAN"]) * unit.stress
-        spec.hardening_mixing = float(first["BETA"])
-        _rates(mid, cards[1], unit, spec)
-    return spec
-
-
-def _rates(mid: int, card: Record, unit: Units, spec: MaterialSpec) -> None:
-    """MAT 3's Cowper-Symonds rate scaling: SRC = C (1 / the deck's time) and SRP = P make the
-    material j2_rate; SRC = 0 means no rate effect, as in LS-DYNA."""
-    c, p = float(card["SRC"] or 0.0), float(card["SRP"] or 0.0)
-    if c == 0.0:
-        return
-    if c < 0.0 or p <= 0.0:
-        raise KeywordError(f"{card.where}: *MAT_PLASTIC_KINEMATIC {mid} SRC = {c:g}, SRP = {p:g}: the Cowper-Symonds "
-                           f"constants must both be > 0 (or SRC = 0 for no rate effect)")
-    spec.model = "j2_rate"
-    spec.extra = {"rate_c": c / unit.time, "rate_p": p}
 
 
 def _run(data: KeywordData, unit: Units) -> RunSettings:
@@ -300,6 +272,7 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
     )
     _apply_material_extras(scene, model)
     apply_loads(data, mesh, unit, model, scene.run.end_time)
+    apply_material_curves(scene, model)
     _apply_contacts(scene, model)
     _apply_tracks(data, mesh, model)
     _apply_rigid_bodies(data, mesh, unit, model)

@@ -208,10 +208,38 @@ def _apply_file_ids(meshes: list[_PartMesh], model: deck.Model) -> None:
 
 def _apply_material_extras(scene: Scene, model: deck.Model) -> None:
     """The /materials datasets that MaterialSpec keeps in ``extra`` (a model's own parameters):
-    each material's value, or the dataset's default for a material of another model."""
+    each material's value, or the dataset's default for a material of another model. A curve key
+    holds a [[curve]]'s name: its index in scene order (the deck's curves start with the scene's),
+    -1 where none is named."""
+    curve_index = {c.name: i for i, c in enumerate(scene.curves)}
     for spec in _schema.DATASETS:
         if spec.path.startswith("/materials/") and any(spec.python in m.extra for m in scene.materials):
-            setattr(model, spec.python, np.array([m.extra.get(spec.python, spec.default) for m in scene.materials]))
+            values = [m.extra.get(spec.python, spec.default) for m in scene.materials]
+            if spec.reference == "curve":
+                values = [spec.default if v is None or v == spec.default else curve_index[v] for v in values]
+            setattr(model, spec.python, np.array(values, dtype=np.int32 if spec.type == "int" else np.float64))
+
+
+def check_material_curves(r: _Reader, scene: Scene) -> None:
+    """A material's curve keys (hardening_curve, rate_curve) name defined [[curve]]s that meet the
+    relation material_curves (docs/formats.md): a hardening curve from (0, yield_stress), never
+    decreasing; a rate curve of rates >= 0 and factors > 0."""
+    curves = {c.name: c for c in scene.curves}
+    for index, material in enumerate(scene.materials):
+        for key, kind in (("hardening_curve", "hardening"), ("rate_curve", "rate")):
+            name = material.extra.get(key)
+            if not isinstance(name, str):
+                continue
+            label = f"'{key}' = '{name}' in [[material]] #{index + 1} '{material.name}'"
+            if name not in curves:
+                raise r.error(f"{label} names no [[curve]]; defined: {', '.join(curves) or 'none'}")
+            curve = curves[name]
+            fault = deck.material_curve_fault(kind, np.asarray(curve.time), np.asarray(curve.value),
+                                              material.yield_stress)
+            if fault:
+                words = "time = plastic strain, value = yield stress (Pa)" if kind == "hardening" else \
+                    "time = strain rate (1/s), value = factor on the yield stress"
+                raise r.error(f"{label} ({words}): {fault.replace('/materials/yield_stress', 'yield_stress')}")
 
 
 def set_curves(model: deck.Model, times: list[list[float]], values: list[list[float]]) -> None:

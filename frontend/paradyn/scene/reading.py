@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from paradyn import _schema, deck
+from paradyn.scene.building import check_material_curves
 from paradyn.scene.row_tables import ROW_TABLES, check_row_references, parse_rows, read_key
 from paradyn.scene.specs import (
     DOF_GROUPS,
@@ -111,6 +112,7 @@ def scene_from_tables(data: Mapping[str, Any], path: Path) -> Scene:
                   pressures=pressures, prescribed=prescribed, rows=parse_rows(reader, data))
     _check_references(reader, scene)
     _check_load_references(reader, scene)
+    check_material_curves(reader, scene)
     check_row_references(reader, scene)
     return scene
 

@@ -48,15 +48,16 @@ RunSettings = deck.Control
 @dataclass
 class MaterialSpec:
     name: str
-    model: str                      # "elastic" or "j2_plasticity"
+    model: str                      # a member of the schema's material_model: "elastic", "j2_plasticity", ...
     density: float
     youngs_modulus: float
     poisson_ratio: float
     yield_stress: float = _DECK_DEFAULT["/materials/yield_stress"]          # j2 only
     tangent_modulus: float = _DECK_DEFAULT["/materials/tangent_modulus"]    # j2 only
     hardening_mixing: float = _DECK_DEFAULT["/materials/hardening_mixing"]  # j2 only
-    # the other /materials datasets a model uses (schema/deck.toml), by their python names
-    extra: dict[str, float] = field(default_factory=dict)
+    # the other /materials datasets a model uses (schema/deck.toml), by their python names (a
+    # curve's: the [[curve]]'s name, None for none)
+    extra: dict[str, float | str | None] = field(default_factory=dict)
 
     @property
     def model_code(self) -> int:
