@@ -166,3 +166,35 @@ def test_extra_nodes_and_the_initial_velocity_of_a_body(tmp_path: Path) -> None:
     expected = np.array([0.0, 0.0, -2.0]) + np.cross([0.0, 0.0, 3.0], model.coordinates[body] - centre)
     np.testing.assert_allclose(model.initial_velocity[body], expected, rtol=0, atol=1e-12)
     assert np.all(model.initial_angular_velocity[body] == [0.0, 0.0, 3.0])
+
+
+@pytest.mark.skipif(not (REALDECKS / "pydyna_ball_plate").is_dir(), reason="../shared/realdecks not present")
+def test_ball_plate_deck_runs_as_published(tmp_path: Path) -> None:
+    """pydyna_ball_plate (mm, kg, ms) to its end time, 10 ms: the rigid solid ball (its faces a
+    surface, its hexahedra's mass on its nodes) at 10 m/s onto the clamped MAT 24 plate, through
+    the deck's single-surface contact over both parts. The ball's momentum change is the impulse
+    of the contact between the parts (RCFORC, on the plate, summed every step) to 1 % (measured:
+    1e-13), the ball bounces back, nothing is NaN and the energy balance holds within 1 %."""
+    read = load_keyword(REALDECKS / "pydyna_ball_plate" / "ball_plate.k", units="mm-kg-ms")
+    model = read.model
+    assert model.control.end_time == pytest.approx(0.01)
+    model.control.history_interval = 3e-6   # about every step, for the impulse
+    folder = tmp_path / "ball"
+    folder.mkdir()
+    paradyn.deck.write_deck(model, folder / "deck.h5")
+    launch.run_engine(folder / "deck.h5", folder / "results.h5", 1, 2)
+    ball = model.node_rigid_body >= 0
+    pair = [k for k, p in enumerate(model.contact_pairs.tolist()) if p[0] != p[1]]
+    assert len(pair) == 1
+    with h5py.File(folder / "results.h5") as f:
+        t, force = f["history/time"][:], f["history/contact_force"][:, pair[0], :]
+        velocity = f["frames/velocity"][:]
+        energy = {k: f[f"history/{k}"][:] for k in ("kinetic_energy", "internal_energy", "hourglass_energy",
+                                                     "contact_energy", "external_work")}
+    assert np.all(np.isfinite(velocity)) and np.all(np.isfinite(force))
+    momentum = np.einsum("i,fij->fj", model.added_mass[ball], velocity[:, ball])
+    impulse = np.trapezoid(force, t, axis=0)   # on the plate: the ball gets minus it
+    assert momentum[0, 2] < 0 < momentum[-1, 2]
+    np.testing.assert_allclose(momentum[-1] - momentum[0], -impulse, rtol=0, atol=0.01 * abs(momentum[0, 2]))
+    total = sum(energy[k] for k in ("kinetic_energy", "internal_energy", "hourglass_energy", "contact_energy"))
+    assert np.abs(total - energy["external_work"] - total[0]).max() < 0.01 * energy["kinetic_energy"][0]
