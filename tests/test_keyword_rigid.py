@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import paradyn
+from paradyn.keyword.reader import KeywordError
 from paradyn.keyword.rigid import hexahedron_masses
 from paradyn.keyword.scene import load_keyword
 from paradyn.running import launch
@@ -198,3 +199,23 @@ def test_ball_plate_deck_runs_as_published(tmp_path: Path) -> None:
     np.testing.assert_allclose(momentum[-1] - momentum[0], -impulse, rtol=0, atol=0.01 * abs(momentum[0, 2]))
     total = sum(energy[k] for k in ("kinetic_energy", "internal_energy", "hourglass_energy", "contact_energy"))
     assert np.abs(total - energy["external_work"] - total[0]).max() < 0.01 * energy["kinetic_energy"][0]
+
+
+def test_prescribed_motion_of_a_rigid_part(tmp_path: Path) -> None:
+    """*BOUNDARY_PRESCRIBED_MOTION_RIGID on the block, DOF 3 and 7 (z, about z), VAD 0, one curve,
+    SF -2 and 10: the body's prescribed dofs, its velocities in SI and its curve (the loads' curve
+    table); a second curve on the same body is refused, and so is a motion of a deformable part."""
+    curve = "*DEFINE_CURVE\n         1\n                 0.0             0.0\n               0.001             1.0\n"
+    motion = "*BOUNDARY_PRESCRIBED_MOTION_RIGID\n         2         3         0         1      -2.0\n" \
+             "         2         7         0         1      10.0\n"
+    model = _read(tmp_path, BLOCK + curve + motion).model
+    assert model.rigid_body_prescribed.tolist() == [[0, 0, 1, 0, 0, 1]]
+    assert model.rigid_body_velocity.tolist() == [[0.0, 0.0, -2.0, 0.0, 0.0, 10.0]]
+    first = model.curve_first_point[model.rigid_body_curve[0]]
+    assert model.curve_value[first:first + 2].tolist() == [0.0, 1.0]
+    other = "*DEFINE_CURVE\n         2\n                 0.0             1.0\n               0.001             1.0\n"
+    with pytest.raises(KeywordError, match="share one curve"):
+        _read(tmp_path, BLOCK + curve + other + motion.replace("         7         0         1",
+                                                                "         7         0         2"))
+    with pytest.raises(KeywordError, match="part 1 is not a rigid part"):
+        _read(tmp_path, BLOCK + curve + motion.replace("         2         3", "         1         3"))

@@ -578,6 +578,27 @@ DATASETS: tuple[DatasetSpec, ...] = (
         ), '[[rigid_body]] fixed', 'use 1 to fix a dof of the body and 0 to leave it free',
     ),
     DatasetSpec(
+        '/rigid_bodies/prescribed', 'rigid_body_prescribed', 'int', ('n_rigid_bodies', 6), False, None, None, 0,
+        Bound(0, True), Bound(1, True), 'must be between 0 and 1', None, '', None, False, '-',
+        (
+            "1: the body's velocity along x, y, z (of its centre of mass) or about x, y, z is "
+            '/rigid_bodies/velocity x its curve (LS-DYNA *BOUNDARY_PRESCRIBED_MOTION_RIGID, VAD = 0); a '
+            'prescribed dof overrides a held one'
+        ), '[[rigid_body]] prescribed', "use 1 to prescribe a dof's velocity and 0 to leave it to the forces",
+    ),
+    DatasetSpec(
+        '/rigid_bodies/velocity', 'rigid_body_velocity', 'float', ('n_rigid_bodies', 6), False, None, None, 0.0,
+        None, None, '', None, '', None, False, 'm/s, rad/s',
+        "the prescribed velocities (translations in m/s, rotations in rad/s), times the body's curve",
+        '[[rigid_body]] velocity', 'give finite velocities in m/s and rad/s',
+    ),
+    DatasetSpec(
+        '/rigid_bodies/curve', 'rigid_body_curve', 'int', ('n_rigid_bodies',), False, None, None, -1,
+        Bound(-1, True), None, 'must be >= -1', None, '', 'curve', False, '-',
+        "the curve of the body's prescribed velocities (-1: the constant factor 1)", '[[rigid_body]] curve',
+        'give the index of a curve of /curves/first_point, or -1 for a constant velocity',
+    ),
+    DatasetSpec(
         '/curves/first_point', 'curve_first_point', 'int', ('n_curves',), False, 'curves_group', None, None,
         Bound(0, True), None, 'must be >= 0', None, '', None, True, '-',
         (
@@ -937,6 +958,9 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/rigid_walls/penalty_scale'): ('class', 'shape', 'rows', 'lower', 'upper', 'finite'),
     ('dataset', '/rigid_bodies/part'): ('required_when', 'class', 'shape', 'reference'),
     ('dataset', '/rigid_bodies/fixed_dofs'): ('class', 'shape', 'rows', 'lower', 'upper'),
+    ('dataset', '/rigid_bodies/prescribed'): ('class', 'shape', 'rows', 'lower', 'upper'),
+    ('dataset', '/rigid_bodies/velocity'): ('class', 'shape', 'rows', 'finite'),
+    ('dataset', '/rigid_bodies/curve'): ('class', 'shape', 'rows', 'lower', 'reference'),
     ('dataset', '/curves/first_point'): ('required_when', 'class', 'shape', 'lower'),
     ('dataset', '/curves/time'): ('required_when', 'class', 'shape', 'finite'),
     ('dataset', '/curves/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),

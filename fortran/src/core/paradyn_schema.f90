@@ -40,6 +40,7 @@ module paradyn_schema
       dataset_contact_passes, dataset_contact_kind, dataset_contact_initial_penetration, &
       dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
       dataset_rigid_walls_penalty_scale, dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, &
+      dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
       dataset_curves_first_point, dataset_curves_time, dataset_curves_value, dataset_pressure_part, &
       dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, &
       dataset_prescribed_value, dataset_prescribed_curve, dataset_base_accelerations_direction, &
@@ -214,20 +215,23 @@ module paradyn_schema
   integer, parameter :: dataset_rigid_walls_penalty_scale = 46
   integer, parameter :: dataset_rigid_bodies_part = 47
   integer, parameter :: dataset_rigid_bodies_fixed_dofs = 48
-  integer, parameter :: dataset_curves_first_point = 49
-  integer, parameter :: dataset_curves_time = 50
-  integer, parameter :: dataset_curves_value = 51
-  integer, parameter :: dataset_pressure_part = 52
-  integer, parameter :: dataset_pressure_value = 53
-  integer, parameter :: dataset_pressure_curve = 54
-  integer, parameter :: dataset_prescribed_node = 55
-  integer, parameter :: dataset_prescribed_dof = 56
-  integer, parameter :: dataset_prescribed_value = 57
-  integer, parameter :: dataset_prescribed_curve = 58
-  integer, parameter :: dataset_base_accelerations_direction = 59
-  integer, parameter :: dataset_base_accelerations_value = 60
-  integer, parameter :: dataset_base_accelerations_curve = 61
-  integer, parameter :: n_deck_datasets = 61
+  integer, parameter :: dataset_rigid_bodies_prescribed = 49
+  integer, parameter :: dataset_rigid_bodies_velocity = 50
+  integer, parameter :: dataset_rigid_bodies_curve = 51
+  integer, parameter :: dataset_curves_first_point = 52
+  integer, parameter :: dataset_curves_time = 53
+  integer, parameter :: dataset_curves_value = 54
+  integer, parameter :: dataset_pressure_part = 55
+  integer, parameter :: dataset_pressure_value = 56
+  integer, parameter :: dataset_pressure_curve = 57
+  integer, parameter :: dataset_prescribed_node = 58
+  integer, parameter :: dataset_prescribed_dof = 59
+  integer, parameter :: dataset_prescribed_value = 60
+  integer, parameter :: dataset_prescribed_curve = 61
+  integer, parameter :: dataset_base_accelerations_direction = 62
+  integer, parameter :: dataset_base_accelerations_value = 63
+  integer, parameter :: dataset_base_accelerations_curve = 64
+  integer, parameter :: n_deck_datasets = 64
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -563,6 +567,17 @@ module paradyn_schema
         condition_none, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
         [0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
         'use 1 to fix a dof of the body and 0 to leave it free'), &
+    dataset_spec_t('/rigid_bodies/prescribed', class_int, 6, size_n_rigid_bodies, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
+        'use 1 to prescribe a dof''s velocity and 0 to leave it to the forces'), &
+    dataset_spec_t('/rigid_bodies/velocity', class_float, 6, size_n_rigid_bodies, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give finite velocities in m/s and rad/s'), &
+    dataset_spec_t('/rigid_bodies/curve', class_int, 0, size_n_rigid_bodies, .false., .false., &
+        condition_none, condition_none, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
+        'give the index of a curve of /curves/first_point, or -1 for a constant velocity'), &
     dataset_spec_t('/curves/first_point', class_int, 0, size_n_curves, .true., .false., &
         condition_curves_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &

@@ -24,14 +24,16 @@ module deck_fields
                             dataset_contact_initial_penetration, dataset_rigid_walls_point, &
                             dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
                             dataset_rigid_walls_penalty_scale, dataset_rigid_bodies_part, &
-                            dataset_rigid_bodies_fixed_dofs, dataset_curves_first_point, dataset_curves_time, &
-                            dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
-                            dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, &
-                            dataset_prescribed_value, dataset_prescribed_curve, &
-                            dataset_base_accelerations_direction, dataset_base_accelerations_value, &
-                            dataset_base_accelerations_curve, control_end_time, control_output_interval, &
-                            control_history_interval, control_time_step, control_time_step_safety, &
-                            control_mass_damping, control_progress_interval, control_contact_sort_interval, &
+                            dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, &
+                            dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
+                            dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
+                            dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
+                            dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
+                            dataset_prescribed_curve, dataset_base_accelerations_direction, &
+                            dataset_base_accelerations_value, dataset_base_accelerations_curve, &
+                            control_end_time, control_output_interval, control_history_interval, &
+                            control_time_step, control_time_step_safety, control_mass_damping, &
+                            control_progress_interval, control_contact_sort_interval, &
                             control_checkpoint_interval, control_partition, control_contact_gather, &
                             control_precision, control_gravity_x, control_gravity_y, control_gravity_z, &
                             control_energy_error_limit, control_time_step_floor, &
@@ -104,6 +106,9 @@ module deck_fields
     real(wp), allocatable :: rigid_wall_penalty_scale(:)   !< /rigid_walls/penalty_scale (n_rigid_walls) -
     integer, allocatable :: rigid_body_part(:)   !< /rigid_bodies/part (n_rigid_bodies) -
     integer, allocatable :: rigid_body_fixed_dofs(:, :)   !< /rigid_bodies/fixed_dofs (6, n_rigid_bodies) -
+    integer, allocatable :: rigid_body_prescribed(:, :)   !< /rigid_bodies/prescribed (6, n_rigid_bodies) -
+    real(wp), allocatable :: rigid_body_velocity(:, :)
+    integer, allocatable :: rigid_body_curve(:)   !< /rigid_bodies/curve (n_rigid_bodies) -
     integer, allocatable :: curve_first_point(:)   !< /curves/first_point (n_curves) -
     real(wp), allocatable :: curve_time(:)   !< /curves/time (n_curve_points) s
     real(wp), allocatable :: curve_value(:)   !< /curves/value (n_curve_points) -
@@ -357,6 +362,12 @@ contains
       d%n_rigid_bodies = size(values, 2)
     case (dataset_rigid_bodies_fixed_dofs)
       d%rigid_body_fixed_dofs = indices
+    case (dataset_rigid_bodies_prescribed)
+      d%rigid_body_prescribed = indices
+    case (dataset_rigid_bodies_velocity)
+      d%rigid_body_velocity = values
+    case (dataset_rigid_bodies_curve)
+      d%rigid_body_curve = indices(1, :)
     end select
   end subroutine store_rigid_bodies
 

@@ -73,7 +73,7 @@ contains
         call append(effects)
         allocate (effects(size(effects))%effect, source=rigid_body_effect_make( &
           [(deck%node_rigid_body(node_row(deck, dom%nodes(k))), k = 1, dom%n_nodes)], deck%rigid_body_fixed_dofs, &
-          ns, comm))
+          deck%rigid_body_prescribed, deck%rigid_body_velocity, deck%rigid_body_curve, curves, ns, comm))
       end select   ! effects that are not nodal (elements, contact, integration) are built elsewhere
     end do
   end subroutine make_nodal_effects

@@ -10,6 +10,7 @@ module rigid_body_effect
   use paradyn_schema, only: effect_rigid_bodies
   use exact_sum, only: exact_width, exact_add, exact_normalise, exact_value
   use nodal_state, only: nodal_state_t
+  use load_curves, only: load_curves_t, curve_value
   use nodal_effect, only: nodal_effect_t, stage_constraints
   use rigid_body_motion, only: rigid_body_t, body_from_sums, body_advance, body_omega, &
                                carry_nodes, n_mass_sums
@@ -26,6 +27,11 @@ module rigid_body_effect
     integer, allocatable :: node(:)           !< local node of each entry (every node held)
     real(wp), allocatable :: offset(:, :)     !< x at t = 0 less the body's centre at t = 0
     integer(i8), allocatable :: sums(:, :, :) !< workspace: exact accumulators (width, 6, bodies)
+    integer, allocatable :: prescribed(:, :)  !< (6, bodies) 1: the dof's velocity follows velocity x curve
+    real(wp), allocatable :: velocity(:, :)   !< (6, bodies) m/s, rad/s
+    integer, allocatable :: curve(:)          !< per body, 1-based, 0: the factor 1
+    type(load_curves_t) :: curves
+    integer :: rank = 0                       !< the constraint work is counted once, on rank 0
   contains
     procedure :: acts_at
     procedure :: constrain
@@ -36,11 +42,14 @@ module rigid_body_effect
 contains
 
   !> The member for the bodies of the deck: body(j) is local node j's body (1-based, 0 for none),
-  !> fixed(:, b) the held dofs of body b. Collective over comm. Mass, centre and inertia come from
+  !> fixed(:, b) the held dofs of body b, prescribed(:, b) those whose velocity is velocity(:, b) x
+  !> curve(b) of curves (0: the factor 1). Collective over comm. Mass, centre and inertia come from
   !> the nodes' masses (ns%mass, ns%inertia, set before); the initial velocity and angular momentum
   !> from the nodes' initial velocities, which are then made those of the rigid motion.
-  function rigid_body_effect_make(body, fixed, ns, comm) result(e)
-    integer, intent(in) :: body(:), fixed(:, :)
+  function rigid_body_effect_make(body, fixed, prescribed, velocity, curve, curves, ns, comm) result(e)
+    integer, intent(in) :: body(:), fixed(:, :), prescribed(:, :), curve(:)
+    real(wp), intent(in) :: velocity(:, :)
+    type(load_curves_t), intent(in) :: curves
     type(nodal_state_t), intent(inout) :: ns
     type(MPI_Comm), intent(in) :: comm
     type(rigid_body_effect_t) :: e
@@ -48,7 +57,12 @@ contains
     real(wp), allocatable :: terms(:, :), totals(:, :), origin(:, :)
     e%id = effect_rigid_bodies
     e%comm = comm
+    call MPI_Comm_rank(comm, e%rank)
     nb = size(fixed, 2)
+    e%prescribed = prescribed
+    e%velocity = velocity
+    e%curve = curve
+    e%curves = curves
     call sort_entries(body, nb, e%first, e%node)
     allocate (e%bodies(nb), origin(3, nb), totals(n_mass_sums, nb))
     allocate (e%sums(exact_width, n_mass_sums, nb))
@@ -64,7 +78,7 @@ contains
     call mass_terms(e, ns, origin, terms)
     call reduce(e, terms, totals)
     do b = 1, nb
-      e%bodies(b) = body_from_sums(totals(:, b), origin(:, b), fixed(:, b))
+      e%bodies(b) = body_from_sums(totals(:, b), origin(:, b), merge(1, 0, fixed(:, b) /= 0 .or. prescribed(:, b) /= 0))
     end do
     ! the momenta of the nodes' initial velocities: translation, then rotation about the centre
     allocate (e%offset(3, size(e%node)))
@@ -76,8 +90,9 @@ contains
     call momentum_terms(e, ns, terms(1:6, :))
     call reduce(e, terms(1:6, :), totals(1:6, :))
     do b = 1, nb
-      e%bodies(b)%velocity = totals(1:3, b) / e%bodies(b)%mass
-      where (e%bodies(b)%fixed(1:3) /= 0) e%bodies(b)%velocity = 0.0_wp
+      e%bodies(b)%target = merge(velocity(:, b) * start_factor(e, b), 0.0_wp, prescribed(:, b) /= 0)
+      e%bodies(b)%velocity = merge(e%bodies(b)%target(1:3), totals(1:3, b) / e%bodies(b)%mass, &
+                                   e%bodies(b)%given(1:3) /= 0)
       e%bodies(b)%momentum = totals(4:6, b)
       call body_omega(e%bodies(b), e%bodies(b)%rotation)
       do k = e%first(b), e%first(b + 1) - 1
@@ -87,6 +102,14 @@ contains
     end do
     e%sums = 0
   end function rigid_body_effect_make
+
+  !> The factor of body b's prescribed velocities at time 0.
+  pure real(wp) function start_factor(e, b) result(factor)
+    type(rigid_body_effect_t), intent(in) :: e
+    integer, intent(in) :: b
+    factor = 1.0_wp
+    if (e%curve(b) > 0) factor = curve_value(e%curves, e%curve(b), 0.0_wp)
+  end function start_factor
 
   !> The local nodes of each body in ascending order: first (nb + 1) and node.
   pure subroutine sort_entries(body, nb, first, node)
@@ -177,7 +200,7 @@ contains
     class(rigid_body_effect_t), intent(inout) :: e
     type(nodal_state_t), intent(inout) :: ns
     real(wp), intent(in) :: time, dt, dt_previous
-    real(wp) :: terms(6, size(e%node)), totals(6, size(e%bodies)), f(6), centre(3), rotation(3, 3)
+    real(wp) :: terms(6, size(e%node)), totals(6, size(e%bodies)), f(6), centre(3), rotation(3, 3), factor, work
     integer :: b, k, j
     terms = 0.0_wp
     do b = 1, size(e%bodies)
@@ -193,7 +216,11 @@ contains
     do b = 1, size(e%bodies)
       centre = e%bodies(b)%centre
       rotation = e%bodies(b)%rotation
-      call body_advance(e%bodies(b), totals(1:3, b), totals(4:6, b), 0.5_wp * (dt_previous + dt), dt)
+      factor = 1.0_wp
+      if (e%curve(b) > 0) factor = curve_value(e%curves, e%curve(b), time + 0.5_wp * dt)
+      e%bodies(b)%target = merge(e%velocity(:, b) * factor, 0.0_wp, e%prescribed(:, b) /= 0)
+      call body_advance(e%bodies(b), totals(1:3, b), totals(4:6, b), 0.5_wp * (dt_previous + dt), dt, work)
+      if (e%rank == 0) e%work = e%work + work
       call carry_nodes(e%bodies(b), centre, rotation, e%offset(:, e%first(b):e%first(b + 1) - 1), &
                        e%node(e%first(b):e%first(b + 1) - 1), dt, ns%v, ns%w)
     end do

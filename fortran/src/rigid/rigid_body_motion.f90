@@ -28,16 +28,18 @@ module rigid_body_motion
     real(wp) :: velocity(3) = 0        !< V at the half step
     real(wp) :: momentum(3) = 0        !< L about the centre at the half step (world axes)
     real(wp) :: omega(3) = 0           !< the angular velocity that L gives (world axes)
-    integer :: fixed(6) = 0            !< 1: translation along x, y, z or rotation about them held at 0
+    integer :: given(6) = 0            !< 1: the velocity of the translation along x, y, z or of the
+                                       !< rotation about them is given (held at 0, or prescribed)
+    real(wp) :: target(6) = 0          !< the given velocities at this half step (0 where held)
   end type rigid_body_t
 
 contains
 
   !> A body at rest at time 0 from its sums (the second moments taken about `origin`, the
   !> centre of a first pass, so that a body far from the world's origin keeps its digits).
-  pure function body_from_sums(sums, origin, fixed) result(b)
+  pure function body_from_sums(sums, origin, given) result(b)
     real(wp), intent(in) :: sums(n_mass_sums), origin(3)
-    integer, intent(in) :: fixed(6)
+    integer, intent(in) :: given(6)
     type(rigid_body_t) :: b
     real(wp) :: d(3), second(3, 3)
     integer :: k
@@ -51,47 +53,58 @@ contains
       b%inertia0(k, k) = second(1, 1) + second(2, 2) + second(3, 3) - second(k, k) + sums(11)
     end do
     b%rotation = identity()
-    b%fixed = fixed
+    b%given = given
   end function body_from_sums
 
   !> The half-step velocities from the force and torque (about the centre) at the whole step
-  !> over h = (dt_previous + dt) / 2, then the centre and rotation at the next whole step.
-  !> A held translation keeps V at 0; a held rotation keeps that component of omega at 0 and
-  !> its constraint torque takes the rest of L.
-  pure subroutine body_advance(b, force, torque, h, dt)
+  !> over h = (dt_previous + dt) / 2, then the centre and rotation at the next whole step. A dof with
+  !> a given velocity (held: 0; prescribed: b%target) takes it: a translation's V directly; a
+  !> rotation's omega component, the others solving the free rows of I omega = L, whose constraint
+  !> torque takes the rest of L. work: what the constraint impulses do over the step (the impulse
+  !> times the mean of the velocities before and after it), 0 for a held dof.
+  pure subroutine body_advance(b, force, torque, h, dt, work)
     type(rigid_body_t), intent(inout) :: b
     real(wp), intent(in) :: force(3), torque(3), h, dt
+    real(wp), intent(out) :: work
+    real(wp) :: before(6), free_momentum(3), free_velocity(3)
     integer :: k
-    b%velocity = b%velocity + h * force / b%mass
-    where (b%fixed(1:3) /= 0) b%velocity = 0.0_wp
+    before = [b%velocity, b%omega]
+    free_velocity = b%velocity + h * force / b%mass
+    b%velocity = merge(b%target(1:3), free_velocity, b%given(1:3) /= 0)
     b%momentum = b%momentum + h * torque
+    free_momentum = b%momentum
     do k = 1, midpoint_passes   ! omega with the inertia of the rotation half a step on (implicit midpoint)
+      b%momentum = free_momentum
       call body_omega(b, matmul(rotation_step(0.5_wp * dt * b%omega), b%rotation))
     end do
+    work = 0.5_wp * (sum(b%mass * (b%velocity - free_velocity) * (before(1:3) + b%velocity)) &
+                     + sum((b%momentum - free_momentum) * (before(4:6) + b%omega)))
     b%centre = b%centre + dt * b%velocity
     b%rotation = matmul(rotation_step(dt * b%omega), b%rotation)
   end subroutine body_advance
 
-  !> omega from L and the inertia in the world at rotation, with the held rotations at 0 (L follows).
+  !> omega from L and the inertia in the world at rotation: a rotation with a given velocity takes
+  !> it (b%target, 0 when held), the others solve their rows of I omega = L; L becomes I omega.
   pure subroutine body_omega(b, rotation)
     type(rigid_body_t), intent(inout) :: b
     real(wp), intent(in) :: rotation(3, 3)
-    real(wp) :: inertia(3, 3), a(3, 3), rhs(3)
-    logical :: free(3)
+    real(wp) :: inertia(3, 3), a(3, 3), rhs(3), known(3)
+    logical :: given(3)
     integer :: k
     inertia = matmul(rotation, matmul(b%inertia0, transpose(rotation)))
-    free = b%fixed(4:6) == 0
+    given = b%given(4:6) /= 0
+    known = merge(b%target(4:6), 0.0_wp, given)
     a = inertia
-    rhs = b%momentum
-    do k = 1, 3   ! a held rotation: the equation omega_k = 0 instead of row k
-      if (free(k)) cycle
+    rhs = b%momentum - matmul(inertia, known)   ! the known components moved to the right
+    do k = 1, 3   ! a given rotation: the equation omega_k = 0 (then + known) instead of row k
+      if (.not. given(k)) cycle
       a(k, :) = 0.0_wp
       a(:, k) = 0.0_wp
       a(k, k) = 1.0_wp
       rhs(k) = 0.0_wp
     end do
-    b%omega = solve3(a, rhs)
-    if (.not. all(free)) b%momentum = matmul(inertia, b%omega)
+    b%omega = solve3(a, rhs) + known
+    if (any(given)) b%momentum = matmul(inertia, b%omega)
   end subroutine body_omega
 
   !> The half-step velocities that move each node(j) with the body from the last whole step

@@ -62,6 +62,9 @@ class DeckFields:
     rigid_wall_penalty_scale: np.ndarray | None = None   # /rigid_walls/penalty_scale (n_rigid_walls,) -
     rigid_body_part: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     rigid_body_fixed_dofs: np.ndarray | None = None   # /rigid_bodies/fixed_dofs (n_rigid_bodies, 6) -
+    rigid_body_prescribed: np.ndarray | None = None   # /rigid_bodies/prescribed (n_rigid_bodies, 6) -
+    rigid_body_velocity: np.ndarray | None = None   # /rigid_bodies/velocity (n_rigid_bodies, 6) m/s, rad/s
+    rigid_body_curve: np.ndarray | None = None   # /rigid_bodies/curve (n_rigid_bodies,) -
     curve_first_point: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     curve_time: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))
     curve_value: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))

@@ -13,6 +13,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+from paradyn._schema import DATASETS
+
 from .model import Model, trait_codes
 
 
@@ -50,6 +52,7 @@ def complete_rigid_bodies(model: Model, merge: list[tuple[int, int]] | None = No
         held[part] = np.asarray(fixed[row], dtype=np.int32)
     lead, notes = _group_parts(model, parts, merge or [], name)
     leads = sorted(set(lead.values()))
+    _rows_of_leads(model, given, leads)
     model.rigid_body_part = np.array(leads, dtype=np.int32)
     model.rigid_body_fixed_dofs = np.array([np.max([held[p] for p in parts if lead[p] == head], axis=0)
                                             for head in leads], dtype=np.int32).reshape(-1, 6)
@@ -90,6 +93,21 @@ def body_centres(model: Model) -> np.ndarray:
         mass += np.asarray(model.added_mass)
     body = np.asarray(model.node_rigid_body)
     return np.array([mass[body == b] @ x[body == b] / mass[body == b].sum() for b in range(len(model.rigid_body_part))])
+
+
+def _rows_of_leads(model: Model, given: list[int], leads: list[int]) -> None:
+    """The other /rigid_bodies columns (prescribed motion, ...) row by row of the new bodies: a body
+    whose lead part had a row keeps that row's values, the others take the defaults."""
+    for spec in DATASETS:
+        if spec.shape[0] != "n_rigid_bodies" or spec.python in ("rigid_body_part", "rigid_body_fixed_dofs"):
+            continue
+        values = getattr(model, spec.python)
+        if values is None or len(values) != len(given) or not given:
+            setattr(model, spec.python, None)
+            continue
+        values = np.asarray(values)
+        default = np.full(values.shape[1:], spec.default, dtype=values.dtype)
+        setattr(model, spec.python, np.array([values[given.index(p)] if p in given else default for p in leads]))
 
 
 def _group_parts(model: Model, parts: list[int], merge: list[tuple[int, int]],

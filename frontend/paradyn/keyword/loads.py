@@ -80,6 +80,7 @@ READERS: dict[str, Callable[[_Reading], None]] = {
     "LOAD_NODE_POINT": _load_node("NODE"), "LOAD_NODE_SET": _load_node("SET"),
     "BOUNDARY_PRESCRIBED_MOTION_NODE": _motion("NODE"), "BOUNDARY_PRESCRIBED_MOTION_SET": _motion("SET"),
     "BOUNDARY_PRESCRIBED_MOTION_NODE_ID": _motion("NODE"), "BOUNDARY_PRESCRIBED_MOTION_SET_ID": _motion("SET"),
+    "BOUNDARY_PRESCRIBED_MOTION_RIGID": _motion("RIGID"), "BOUNDARY_PRESCRIBED_MOTION_RIGID_ID": _motion("RIGID"),
     "INITIAL_VELOCITY": _initial_velocity,
     "DEFINE_BOX": _define_box, "DEFINE_BOX_TITLE": _define_box,
 }
@@ -169,8 +170,17 @@ def _motions(data: KeywordData, mesh: KeywordMesh, unit: Units, model: deck.Mode
     """*BOUNDARY_PRESCRIBED_MOTION_NODE / _SET as prescribed velocities: SF x a velocity curve."""
     seen: dict[tuple[int, int], str] = {}
     nodes, dofs, values, curves = [], [], [], []
+    rigid_curves: dict[tuple[int, int, float], int] = {}
     for target, record in data.motions:
         what = f"*BOUNDARY_PRESCRIBED_MOTION_{target}"
+        if target == "RIGID":   # a body's motion: its rows once the bodies are known (keyword/rigid.py)
+            dof = _dof(record, what, {4: "along the vector VID", 8: "about the vector VID"})
+            key = (int(record["LCID"]), int(record["VAD"]), float(record["DEATH"]))   # one curve per such key
+            if key not in rigid_curves:
+                rigid_curves[key] = table.add(*_motion_curve(data, record, unit, end_time, what))
+            scale = float(record["SF"]) * (unit.velocity if dof <= 3 else 1.0 / unit.time)
+            data.rigid_motions.append((int(record["ID"]), dof, scale, rigid_curves[key], record.where))
+            continue
         dof = _dof(record, what, {4: "along the vector VID", -4: "along the vector VID", 8: "about the vector VID",
                                   -8: "about the vector VID"})
         times, velocity = _motion_curve(data, record, unit, end_time, what)

@@ -215,17 +215,37 @@ def body_velocities(data: KeywordData, mesh: KeywordMesh, row: dict[int, int], u
         return
     centres = body_centres(model)
     for record in data.body_velocities:
-        pid = int(record["PID"])
-        if pid not in row or model.node_rigid_body is None:
-            raise KeywordError(f"{record.where}: *INITIAL_VELOCITY_RIGID_BODY names part {pid}, which is not a "
-                               f"rigid part with elements")
-        nodes = np.flatnonzero(model.node_rigid_body == model.node_rigid_body[
-            np.asarray(model.connectivity)[np.asarray(model.element_part) == row[pid]][0, 0]])
-        body = int(model.node_rigid_body[nodes[0]])
-        if body < 0:
-            raise KeywordError(f"{record.where}: *INITIAL_VELOCITY_RIGID_BODY names part {pid}, which is not rigid")
+        body = _body_of_part(model, row, int(record["PID"]), f"{record.where}: *INITIAL_VELOCITY_RIGID_BODY")
+        nodes = np.flatnonzero(model.node_rigid_body == body)
         velocity = np.array([float(record[k]) for k in ("VX", "VY", "VZ")]) * unit.velocity
         omega = np.array([float(record[k]) for k in ("VXR", "VYR", "VZR")]) / unit.time
         r = np.asarray(model.coordinates)[nodes] - centres[body]
         model.initial_velocity[nodes] = velocity + np.cross(omega, r)
         model.initial_angular_velocity[nodes] = omega
+
+
+def body_motions(data: KeywordData, row: dict[int, int], model: deck.Model) -> None:
+    """*BOUNDARY_PRESCRIBED_MOTION_RIGID rows on their bodies: the dof prescribed, its SF (SI) and the
+    body's one velocity curve (dofs of one body with two different curves are refused)."""
+    if not data.rigid_motions:
+        return
+    n = len(model.rigid_body_part)
+    prescribed, velocity = np.zeros((n, 6), dtype=np.int32), np.zeros((n, 6))
+    curve = np.full(n, -1, dtype=np.int32)
+    for pid, dof, scale, index, where in data.rigid_motions:
+        body = _body_of_part(model, row, pid, where)
+        if curve[body] not in (-1, index):
+            raise KeywordError(f"{where}: *BOUNDARY_PRESCRIBED_MOTION_RIGID part {pid}: a body's prescribed dofs "
+                               f"share one curve in ParaDyn, and this one's differs from the body's others; give them "
+                               f"the same LCID (scale them by SF)")
+        prescribed[body, dof - 1], velocity[body, dof - 1], curve[body] = 1, scale, index
+    model.rigid_body_prescribed, model.rigid_body_velocity, model.rigid_body_curve = prescribed, velocity, curve
+
+
+def _body_of_part(model: deck.Model, row: dict[int, int], pid: int, where: str) -> int:
+    part = row.get(pid)
+    nodes = [] if part is None else np.asarray(model.connectivity)[np.asarray(model.element_part) == part].ravel()
+    bodies = set() if model.node_rigid_body is None else {int(b) for b in np.asarray(model.node_rigid_body)[nodes]}
+    if len(bodies) != 1 or -1 in bodies:
+        raise KeywordError(f"{where}: part {pid} is not a rigid part with elements; prescribe a rigid part's motion")
+    return bodies.pop()

@@ -33,6 +33,7 @@ from .reader import KeywordError, read_keyword_file
 from .rigid import (
     SolidGeometry,
     add_solid_faces,
+    body_motions,
     body_velocities,
     extra_nodes,
     merged_pairs,
@@ -286,6 +287,9 @@ def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, unit: Units, model
     mids = [int(by_pid[pid]["MID"] or 0) for pid in mesh.part_ids.tolist()]
     parts, held = rigid_body_rows(data, mesh.part_ids, mids)
     if not parts:
+        if data.rigid_motions:
+            raise KeywordError(f"{data.rigid_motions[0][4]}: *BOUNDARY_PRESCRIBED_MOTION_RIGID names part "
+                               f"{data.rigid_motions[0][0]}, but the deck has no rigid part; give it *MAT_RIGID")
         return
     model.rigid_body_part = np.array(parts, dtype=np.int32)
     model.rigid_body_fixed_dofs = np.array(held, dtype=np.int32).reshape(-1, 6)
@@ -308,6 +312,7 @@ def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, unit: Units, model
     except RigidBodyError as exc:
         raise KeywordError(str(exc)) from exc
     body_velocities(data, mesh, row, unit, model)
+    body_motions(data, row, model)
 
 
 def _apply_tracks(data: KeywordData, mesh: KeywordMesh, model: deck.Model) -> None:
