@@ -219,3 +219,18 @@ def test_prescribed_motion_of_a_rigid_part(tmp_path: Path) -> None:
                                                                 "         7         0         2"))
     with pytest.raises(KeywordError, match="part 1 is not a rigid part"):
         _read(tmp_path, BLOCK + curve + motion.replace("         2         3", "         1         3"))
+
+
+def test_added_masses(tmp_path: Path) -> None:
+    """*ELEMENT_MASS 0.5 kg on node 13, *ELEMENT_MASS_NODE_SET 0.3 kg over nodes 11 and 14, and
+    *ELEMENT_MASS_PART ADDMASS 2 kg over the plate in proportion to its nodes' own masses (the two
+    elements' corners: the middle nodes 12 and 15 have twice the others'); with the block's solids
+    they add up on /nodes/added_mass."""
+    extra = ("*ELEMENT_MASS\n       1      13             0.5\n*SET_NODE_LIST\n         7\n        11        14\n"
+             "*ELEMENT_MASS_NODE_SET\n       2       7             0.3\n*ELEMENT_MASS_PART\n         1       2.0\n")
+    model = _read(tmp_path, BLOCK + extra).model
+    plate = {nid: model.added_mass[model.node_ids.tolist().index(nid)] for nid in range(11, 17)}
+    share = 2.0 / 8   # 8 corner shares: 11, 13, 14, 16 one each, 12 and 15 two each
+    assert plate == pytest.approx({11: 0.15 + share, 12: 2 * share, 13: 0.5 + share, 14: 0.15 + share,
+                                   15: 2 * share, 16: share}, rel=1e-12)
+    assert model.added_mass.sum() == pytest.approx(0.5 + 0.3 + 2.0 + 7800.0 * 0.25, rel=1e-12)

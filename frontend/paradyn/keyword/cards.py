@@ -116,6 +116,7 @@ class KeywordData:
     extra_nodes: list[tuple[str, Record]] = field(default_factory=list)     # ("NODE" | "SET", record)
     body_velocities: list[Record] = field(default_factory=list)             # *INITIAL_VELOCITY_RIGID_BODY
     rigid_motions: list[tuple[int, int, float, int, str]] = field(default_factory=list)  # PID, dof, SI scale, curve
+    added_masses: list[tuple[str, Record]] = field(default_factory=list)    # *ELEMENT_MASS(_PART): (target, card)
     # loads, motions and boxes (keyword/loads.py); parts with contact data (keyword/contacts.py)
     point_loads: list[tuple[str, Record]] = field(default_factory=list)       # ("NODE" | "SET", record)
     motions: list[tuple[str, Record]] = field(default_factory=list)           # ("NODE" | "SET", record)

@@ -26,6 +26,7 @@ from .contacts import contact_specs
 from .ids import in_deck_ids
 from .keywords import collect
 from .loads import apply_loads, set_velocities
+from .masses import apply_masses
 from .materials import apply_material_curves, material_of
 from .mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of
 from .parts import part_spec, split_by_thickness
@@ -276,6 +277,7 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
     apply_material_curves(scene, model)
     _apply_contacts(scene, model)
     _apply_tracks(data, mesh, model)
+    apply_masses(data, mesh, unit, model)
     _apply_rigid_bodies(data, mesh, unit, model)
     mesh.store_ids(model)
     return model
@@ -294,8 +296,8 @@ def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, unit: Units, model
     model.rigid_body_part = np.array(parts, dtype=np.int32)
     model.rigid_body_fixed_dofs = np.array(held, dtype=np.int32).reshape(-1, 6)
     model.surface_only = np.array([int(pid in mesh.face_thickness) for pid in mesh.part_ids.tolist()], dtype=np.int32)
-    if mesh.added_mass is not None and mesh.added_mass.any():
-        model.added_mass = mesh.added_mass
+    if mesh.added_mass is not None and mesh.added_mass.any():   # the rigid solids' mass, besides *ELEMENT_MASS
+        model.added_mass = mesh.added_mass + (0.0 if model.added_mass is None else np.asarray(model.added_mass))
     rows: dict[int, list[int]] = {}
     for k, pid in enumerate(mesh.part_ids.tolist()):
         rows.setdefault(pid, []).append(k)
