@@ -225,8 +225,11 @@ def test_negative_checkpoint_interval_is_refused(tmp_path: Path) -> None:
 def _start_and_stop(command: list[str], cwd: Path, stop: signal.Signals) -> tuple[int, str]:
     """Start a command in its own session, send `stop` once the engine reports progress."""
     env = launch.engine_environment(1)
+    # a test suite started in the background (`make test &`) ignores SIGINT, and a Python started
+    # with SIGINT ignored keeps it ignored: give the command the default, as a terminal's has
     process = subprocess.Popen(command, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                               text=True, start_new_session=True)
+                               text=True, start_new_session=True,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     assert process.stdout is not None
     output = []
     for line in process.stdout:
