@@ -10,34 +10,38 @@ module paradyn_schema
       material_rigid, hourglass_viscous, hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, &
       contact_passes_alternate, contact_passes_both, contact_kind_node_to_segment, &
       contact_kind_single_surface, contact_kind_tied, initial_penetration_move, initial_penetration_gap, &
-      contact_gather_near, contact_gather_all, switch_off, switch_on, partition_blocks, partition_rcb, &
-      precision_double, precision_mixed, max_integration_points, status_ok, status_failure, status_bad_input, &
-      status_numerical, status_stopped, n_frame_fields, n_history_scalars, history_kinetic_energy, &
-      history_internal_energy, history_hourglass_energy, history_contact_energy, history_external_work, &
-      history_contact_penetration, history_dt, history_dt_stable, history_dt_element, frame_field_names, &
-      history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, size_n_elements, &
-      size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, &
+      contact_gather_near, contact_gather_all, wall_plane, wall_finite_plane, wall_cylinder, wall_sphere, &
+      wall_box, switch_off, switch_on, partition_blocks, partition_rcb, precision_double, precision_mixed, &
+      max_integration_points, status_ok, status_failure, status_bad_input, status_numerical, status_stopped, &
+      n_frame_fields, n_history_scalars, history_kinetic_energy, history_internal_energy, &
+      history_hourglass_energy, history_contact_energy, history_external_work, history_contact_penetration, &
+      history_dt, history_dt_stable, history_dt_element, frame_field_names, history_scalar_names, class_int, &
+      class_float, class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, &
+      size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_rigid_wall_nodes, &
       size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, size_n_base_accelerations, &
       size_n_rigid_bodies, n_sizes, condition_none, condition_loads_group, condition_contact_group, &
-      condition_rigid_walls_group, condition_curves_group, condition_pressure_group, &
-      condition_prescribed_group, condition_base_accelerations_group, condition_rigid_bodies_group, &
-      condition_plastic, condition_strain_rate, n_conditions, enum_none, enum_material_model, &
-      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_initial_penetration, &
-      enum_contact_gather, enum_switch, enum_partition, enum_precision, n_enums, dataset_nodes_coordinates, &
-      dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
-      dataset_nodes_rigid_body, dataset_nodes_added_mass, dataset_nodes_id, dataset_elements_connectivity, &
-      dataset_elements_part, dataset_elements_id, dataset_parts_thickness, dataset_parts_material, &
-      dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
-      dataset_parts_warping_correction, dataset_parts_surface_only, dataset_parts_id, &
-      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
-      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
-      dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
-      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
-      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
-      dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
-      dataset_contact_passes, dataset_contact_kind, dataset_contact_initial_penetration, &
-      dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
-      dataset_rigid_walls_penalty_scale, dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, &
+      condition_rigid_walls_group, condition_rigid_wall_nodes_group, condition_curves_group, &
+      condition_pressure_group, condition_prescribed_group, condition_base_accelerations_group, &
+      condition_rigid_bodies_group, condition_plastic, condition_strain_rate, n_conditions, enum_none, &
+      enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, &
+      enum_initial_penetration, enum_contact_gather, enum_rigid_wall_shape, enum_switch, enum_partition, &
+      enum_precision, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
+      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_nodes_rigid_body, &
+      dataset_nodes_added_mass, dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, &
+      dataset_elements_id, dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
+      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_warping_correction, &
+      dataset_parts_surface_only, dataset_parts_id, dataset_materials_model, dataset_materials_density, &
+      dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
+      dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, dataset_materials_rate_c, &
+      dataset_materials_rate_p, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
+      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
+      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
+      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+      dataset_contact_initial_penetration, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
+      dataset_rigid_walls_shape, dataset_rigid_walls_edge, dataset_rigid_walls_size, &
+      dataset_rigid_walls_radius, dataset_rigid_walls_length, dataset_rigid_walls_velocity, &
+      dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, dataset_rigid_wall_nodes_wall, &
+      dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, &
       dataset_curves_first_point, dataset_curves_time, dataset_curves_value, dataset_pressure_part, &
       dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, &
       dataset_prescribed_value, dataset_prescribed_curve, dataset_base_accelerations_direction, &
@@ -81,6 +85,11 @@ module paradyn_schema
   integer, parameter :: initial_penetration_gap = 2   !< each slave node's overlap at the start is taken as its gap: contact pu
   integer, parameter :: contact_gather_near = 1   !< local contact: each rank holds only the contact nodes near its own sla
   integer, parameter :: contact_gather_all = 2   !< the replicated scheme: every contact node on every rank every step (a 
+  integer, parameter :: wall_plane = 1   !< an infinite plane through point with normal (LS-DYNA *RIGIDWALL_PLANAR
+  integer, parameter :: wall_finite_plane = 2   !< a rectangle of the plane: corner point, sides size[0] along edge and s
+  integer, parameter :: wall_cylinder = 3   !< the outside of a cylinder of radius about the axis through point along
+  integer, parameter :: wall_sphere = 4   !< the outside of a sphere of radius about point (LS-DYNA *RIGIDWALL_GEOM
+  integer, parameter :: wall_box = 5   !< the outside of a box: the finite plane's rectangle as its top face, de
   integer, parameter :: switch_off = 0   !< the effect is switched off
   integer, parameter :: switch_on = 1   !< the effect runs where the deck declares it
   integer, parameter :: partition_blocks = 1   !< contiguous blocks by element number (the paper)
@@ -127,25 +136,27 @@ module paradyn_schema
   integer, parameter :: size_n_tracked = 6
   integer, parameter :: size_n_contacts = 7
   integer, parameter :: size_n_rigid_walls = 8
-  integer, parameter :: size_n_curves = 9
-  integer, parameter :: size_n_curve_points = 10
-  integer, parameter :: size_n_pressures = 11
-  integer, parameter :: size_n_prescribed = 12
-  integer, parameter :: size_n_base_accelerations = 13
-  integer, parameter :: size_n_rigid_bodies = 14
-  integer, parameter :: n_sizes = 14
+  integer, parameter :: size_n_rigid_wall_nodes = 9
+  integer, parameter :: size_n_curves = 10
+  integer, parameter :: size_n_curve_points = 11
+  integer, parameter :: size_n_pressures = 12
+  integer, parameter :: size_n_prescribed = 13
+  integer, parameter :: size_n_base_accelerations = 14
+  integer, parameter :: size_n_rigid_bodies = 15
+  integer, parameter :: n_sizes = 15
   integer, parameter :: condition_none = 0
   integer, parameter :: condition_loads_group = 1
   integer, parameter :: condition_contact_group = 2
   integer, parameter :: condition_rigid_walls_group = 3
-  integer, parameter :: condition_curves_group = 4
-  integer, parameter :: condition_pressure_group = 5
-  integer, parameter :: condition_prescribed_group = 6
-  integer, parameter :: condition_base_accelerations_group = 7
-  integer, parameter :: condition_rigid_bodies_group = 8
-  integer, parameter :: condition_plastic = 9
-  integer, parameter :: condition_strain_rate = 10
-  integer, parameter :: n_conditions = 10
+  integer, parameter :: condition_rigid_wall_nodes_group = 4
+  integer, parameter :: condition_curves_group = 5
+  integer, parameter :: condition_pressure_group = 6
+  integer, parameter :: condition_prescribed_group = 7
+  integer, parameter :: condition_base_accelerations_group = 8
+  integer, parameter :: condition_rigid_bodies_group = 9
+  integer, parameter :: condition_plastic = 10
+  integer, parameter :: condition_strain_rate = 11
+  integer, parameter :: n_conditions = 11
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
   integer, parameter :: enum_hourglass_form = 2
@@ -154,10 +165,11 @@ module paradyn_schema
   integer, parameter :: enum_contact_kind = 5
   integer, parameter :: enum_initial_penetration = 6
   integer, parameter :: enum_contact_gather = 7
-  integer, parameter :: enum_switch = 8
-  integer, parameter :: enum_partition = 9
-  integer, parameter :: enum_precision = 10
-  integer, parameter :: n_enums = 10
+  integer, parameter :: enum_rigid_wall_shape = 8
+  integer, parameter :: enum_switch = 9
+  integer, parameter :: enum_partition = 10
+  integer, parameter :: enum_precision = 11
+  integer, parameter :: n_enums = 11
   integer, parameter :: dataset_nodes_coordinates = 1
   integer, parameter :: dataset_nodes_initial_velocity = 2
   integer, parameter :: dataset_nodes_initial_angular_velocity = 3
@@ -200,24 +212,32 @@ module paradyn_schema
   integer, parameter :: dataset_contact_initial_penetration = 40
   integer, parameter :: dataset_rigid_walls_point = 41
   integer, parameter :: dataset_rigid_walls_normal = 42
-  integer, parameter :: dataset_rigid_walls_velocity = 43
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 44
-  integer, parameter :: dataset_rigid_bodies_part = 45
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 46
-  integer, parameter :: dataset_curves_first_point = 47
-  integer, parameter :: dataset_curves_time = 48
-  integer, parameter :: dataset_curves_value = 49
-  integer, parameter :: dataset_pressure_part = 50
-  integer, parameter :: dataset_pressure_value = 51
-  integer, parameter :: dataset_pressure_curve = 52
-  integer, parameter :: dataset_prescribed_node = 53
-  integer, parameter :: dataset_prescribed_dof = 54
-  integer, parameter :: dataset_prescribed_value = 55
-  integer, parameter :: dataset_prescribed_curve = 56
-  integer, parameter :: dataset_base_accelerations_direction = 57
-  integer, parameter :: dataset_base_accelerations_value = 58
-  integer, parameter :: dataset_base_accelerations_curve = 59
-  integer, parameter :: n_deck_datasets = 59
+  integer, parameter :: dataset_rigid_walls_shape = 43
+  integer, parameter :: dataset_rigid_walls_edge = 44
+  integer, parameter :: dataset_rigid_walls_size = 45
+  integer, parameter :: dataset_rigid_walls_radius = 46
+  integer, parameter :: dataset_rigid_walls_length = 47
+  integer, parameter :: dataset_rigid_walls_velocity = 48
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 49
+  integer, parameter :: dataset_rigid_walls_friction = 50
+  integer, parameter :: dataset_rigid_wall_nodes_wall = 51
+  integer, parameter :: dataset_rigid_wall_nodes_node = 52
+  integer, parameter :: dataset_rigid_bodies_part = 53
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 54
+  integer, parameter :: dataset_curves_first_point = 55
+  integer, parameter :: dataset_curves_time = 56
+  integer, parameter :: dataset_curves_value = 57
+  integer, parameter :: dataset_pressure_part = 58
+  integer, parameter :: dataset_pressure_value = 59
+  integer, parameter :: dataset_pressure_curve = 60
+  integer, parameter :: dataset_prescribed_node = 61
+  integer, parameter :: dataset_prescribed_dof = 62
+  integer, parameter :: dataset_prescribed_value = 63
+  integer, parameter :: dataset_prescribed_curve = 64
+  integer, parameter :: dataset_base_accelerations_direction = 65
+  integer, parameter :: dataset_base_accelerations_value = 66
+  integer, parameter :: dataset_base_accelerations_curve = 67
+  integer, parameter :: n_deck_datasets = 67
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -254,7 +274,7 @@ module paradyn_schema
     .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .false., &
     .true., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., &
     .false., .false., .false., .false.]
-  integer, parameter :: max_enum_members = 4
+  integer, parameter :: max_enum_members = 5
 
   ! effects of a step (schema/effects.toml), in the order of the step
   integer, parameter :: n_effects = 15
@@ -287,12 +307,12 @@ module paradyn_schema
     control_effect_hourglass, control_effect_contact, control_effect_friction]
 
   character(len=20), parameter :: size_symbol(n_sizes) = [character(len=20) :: 'n_nodes', 'n_elements', &
-    'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_rigid_walls', 'n_curves', &
-    'n_curve_points', 'n_pressures', 'n_prescribed', 'n_base_accelerations', 'n_rigid_bodies']
+    'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_rigid_walls', 'n_rigid_wall_nodes', &
+    'n_curves', 'n_curve_points', 'n_pressures', 'n_prescribed', 'n_base_accelerations', 'n_rigid_bodies']
   character(len=17), parameter :: size_entity(n_sizes) = [character(len=17) :: 'node', 'element', 'part', &
-    'material', 'load', 'tracked node', 'contact pair', 'rigid wall', 'curve', 'curve point', &
-    'pressure load', 'prescribed motion', 'base acceleration', 'rigid body']
-  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+    'material', 'load', 'tracked node', 'contact pair', 'rigid wall', 'rigid wall node', 'curve', &
+    'curve point', 'pressure load', 'prescribed motion', 'base acceleration', 'rigid body']
+  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
 
   !> Members of an enum: codes and the names a scene or a string attribute uses.
   type :: enum_spec_t
@@ -328,8 +348,8 @@ module paradyn_schema
     integer :: codes(max_enum_members)
     integer :: reference                !< size id of the entity indexed, size_none
     character(len=23) :: rule
-    character(len=81) :: enum_rule
-    character(len=84) :: fix
+    character(len=94) :: enum_rule
+    character(len=87) :: fix
   end type dataset_spec_t
 
   !> One attribute of /control; a string attribute holds an enum member's name.
@@ -344,240 +364,279 @@ module paradyn_schema
     real(wp) :: lower, upper
     integer :: enum
     character(len=23) :: rule
-    character(len=81) :: enum_rule
-    character(len=84) :: fix
+    character(len=94) :: enum_rule
+    character(len=87) :: fix
   end type attribute_spec_t
 
   type(enum_spec_t), parameter :: deck_enums(n_enums) = [ &
-    enum_spec_t(4, [1, 2, 3, 4], [character(len=15) :: 'elastic', 'j2_plasticity', 'j2_rate', 'rigid']), &
-    enum_spec_t(3, [1, 2, 3, 0], [character(len=15) :: 'viscous', 'stiffness', 'physical', '']), &
-    enum_spec_t(2, [0, 1, 0, 0], [character(len=15) :: 'free', 'fixed', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0], [character(len=15) :: 'alternate', 'both', '', '']), &
-    enum_spec_t(3, [1, 2, 3, 0], [character(len=15) :: 'node_to_segment', 'single_surface', 'tied', '']), &
-    enum_spec_t(2, [1, 2, 0, 0], [character(len=15) :: 'move', 'gap', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0], [character(len=15) :: 'near', 'all', '', '']), &
-    enum_spec_t(2, [0, 1, 0, 0], [character(len=15) :: 'off', 'on', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0], [character(len=15) :: 'blocks', 'rcb', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0], [character(len=15) :: 'double', 'mixed', '', '']) ]
+    enum_spec_t(4, [1, 2, 3, 4, 0], [character(len=15) :: 'elastic', 'j2_plasticity', 'j2_rate', 'rigid', '']), &
+    enum_spec_t(3, [1, 2, 3, 0, 0], [character(len=15) :: 'viscous', 'stiffness', 'physical', '', '']), &
+    enum_spec_t(2, [0, 1, 0, 0, 0], [character(len=15) :: 'free', 'fixed', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0], [character(len=15) :: 'alternate', 'both', '', '', '']), &
+    enum_spec_t(3, [1, 2, 3, 0, 0], [character(len=15) :: 'node_to_segment', 'single_surface', 'tied', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0], [character(len=15) :: 'move', 'gap', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0], [character(len=15) :: 'near', 'all', '', '', '']), &
+    enum_spec_t(5, [1, 2, 3, 4, 5], &
+        [character(len=15) :: 'plane', 'finite_plane', 'cylinder', 'sphere', 'box']), &
+    enum_spec_t(2, [0, 1, 0, 0, 0], [character(len=15) :: 'off', 'on', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0], [character(len=15) :: 'blocks', 'rcb', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0], [character(len=15) :: 'double', 'mixed', '', '', '']) ]
 
   type(condition_spec_t), parameter :: deck_conditions(n_conditions) = [ &
-    condition_spec_t('/loads', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/contact', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/rigid_walls', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/curves', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/pressure', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/prescribed', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/base_accelerations', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('/rigid_bodies', 0, 0, [0, 0, 0, 0], ''), &
-    condition_spec_t('', 19, 2, [2, 3, 0, 0], 'for a plastic material'), &
-    condition_spec_t('', 19, 1, [3, 0, 0, 0], 'for a j2_rate material') ]
+    condition_spec_t('/loads', 0, 0, [0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/contact', 0, 0, [0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/rigid_walls', 0, 0, [0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/rigid_wall_nodes', 0, 0, [0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/curves', 0, 0, [0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/pressure', 0, 0, [0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/prescribed', 0, 0, [0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/base_accelerations', 0, 0, [0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/rigid_bodies', 0, 0, [0, 0, 0, 0, 0], ''), &
+    condition_spec_t('', 19, 2, [2, 3, 0, 0, 0], 'for a plastic material'), &
+    condition_spec_t('', 19, 1, [3, 0, 0, 0, 0], 'for a j2_rate material') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, '', '', 'give every node a finite position in metres'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, '', '', 'give every node a finite position in metres'), &
     dataset_spec_t('/nodes/initial_velocity', class_float, 3, size_n_nodes, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, '', '', 'give finite initial velocities in m/s'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, '', '', 'give finite initial velocities in m/s'), &
     dataset_spec_t('/nodes/initial_angular_velocity', class_float, 3, size_n_nodes, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, '', '', 'give finite initial angular velocities in rad/s'), &
+        0, [0, 0, 0, 0, 0], size_none, '', '', 'give finite initial angular velocities in rad/s'), &
     dataset_spec_t('/nodes/fixed_dofs', class_int, 6, size_n_nodes, .false., .false., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_dof_state, 2, &
-        [0, 1, 0, 0], size_none, '', 'must be 0 or 1 (0 = free, 1 = fixed)', &
+        [0, 1, 0, 0, 0], size_none, '', 'must be 0 or 1 (0 = free, 1 = fixed)', &
         'use 1 to fix a dof and 0 to leave it free'), &
     dataset_spec_t('/nodes/rigid_body', class_int, 0, size_n_nodes, .false., .false., condition_none, &
         condition_none, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0], size_none, 'must be >= -1', '', &
+        [0, 0, 0, 0, 0], size_none, 'must be >= -1', '', &
         'give -1 for a deformable node or the 0-based row of its rigid body in /rigid_bodies'), &
     dataset_spec_t('/nodes/added_mass', class_float, 0, size_n_nodes, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be >= 0', '', 'give a non-negative mass in kg'), &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a non-negative mass in kg'), &
     dataset_spec_t('/nodes/id', class_int, 0, size_n_nodes, .false., .false., condition_none, condition_none, &
-        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, &
+        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_none, &
         'must be >= 0', '', 'give every node a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/elements/connectivity', class_int, 4, size_n_elements, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_n_nodes, '', '', 'remesh'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_n_nodes, '', '', 'remesh'), &
     dataset_spec_t('/elements/part', class_int, 0, size_n_elements, .false., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_n_parts, '', '', 'give every element the index of its part'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_n_parts, '', '', 'give every element the index of its part'), &
     dataset_spec_t('/elements/id', class_int, 0, size_n_elements, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be >= 0', '', &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give every element a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/parts/thickness', class_float, 0, size_n_parts, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be > 0', '', 'set a positive shell thickness in metres'), &
+        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'set a positive shell thickness in metres'), &
     dataset_spec_t('/parts/material', class_int, 0, size_n_parts, .false., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_n_materials, '', '', 'give every part the index of its material'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_n_materials, '', '', 'give every part the index of its material'), &
     dataset_spec_t('/parts/integration_points', class_int, 0, size_n_parts, .false., .false., condition_none, &
-        condition_none, 5.0_wp, .true., .true., .true., .true., 1.0_wp, 9.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be between 1 and 9', '', &
+        condition_none, 5.0_wp, .true., .true., .true., .true., 1.0_wp, 9.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, 'must be between 1 and 9', '', &
         'choose 1 to 9 Gauss points through the thickness (5 is usual)'), &
     dataset_spec_t('/parts/hourglass_coefficient', class_float, 0, size_n_parts, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be >= 0', '', 'use a small non-negative coefficient such as 0.1'), &
+        0, [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'use a small non-negative coefficient such as 0.1'), &
     dataset_spec_t('/parts/hourglass_form', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 3.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_hourglass_form, 3, &
-        [1, 2, 3, 0], size_none, '', 'must be 1 or 2 or 3 (1 = viscous, 2 = stiffness, 3 = physical)', &
+        [1, 2, 3, 0, 0], size_none, '', 'must be 1 or 2 or 3 (1 = viscous, 2 = stiffness, 3 = physical)', &
         'use 1 (viscous), 2 (stiffness) or 3 (physical)'), &
     dataset_spec_t('/parts/warping_correction', class_int, 0, size_n_parts, .false., .false., condition_none, &
-        condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be between 0 and 1', '', 'use 1 (warping correction on) or 0 (off)'), &
+        condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', 'use 1 (warping correction on) or 0 (off)'), &
     dataset_spec_t('/parts/surface_only', class_int, 0, size_n_parts, .false., .false., condition_none, &
-        condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be between 0 and 1', '', &
+        condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
         'use 0 for shells, 1 for the faces of a rigid solid (a rigid part only)'), &
     dataset_spec_t('/parts/id', class_int, 0, size_n_parts, .false., .false., condition_none, condition_none, &
-        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, &
+        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_none, &
         'must be >= 0', '', 'give every part a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/materials/model', class_int, 0, size_n_materials, .true., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 4, &
-        [1, 2, 3, 4], size_none, '', &
+        [1, 2, 3, 4, 0], size_none, '', &
         'must be 1 or 2 or 3 or 4 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 4 = rigid)', &
         'use 1 for linear elastic, 2 for J2 plasticity or 3 for rate-dependent J2 plasticity'), &
     dataset_spec_t('/materials/density', class_float, 0, size_n_materials, .false., .true., condition_none, &
-        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be > 0', '', 'give the density in kg/m^3'), &
+        condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give the density in kg/m^3'), &
     dataset_spec_t('/materials/youngs_modulus', class_float, 0, size_n_materials, .false., .true., &
         condition_none, condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be > 0', '', 'give Young''s modulus in Pa (200e9 for steel)'), &
+        0, [0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give Young''s modulus in Pa (200e9 for steel)'), &
     dataset_spec_t('/materials/poisson_ratio', class_float, 0, size_n_materials, .false., .true., &
         condition_none, condition_none, 0.0_wp, .true., .false., .true., .false., -1.0_wp, 0.5_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be in (-1, 0.5)', '', 'give a Poisson ratio such as 0.3'), &
+        0, [0, 0, 0, 0, 0], size_none, 'must be in (-1, 0.5)', '', 'give a Poisson ratio such as 0.3'), &
     dataset_spec_t('/materials/yield_stress', class_float, 0, size_n_materials, .false., .false., &
         condition_plastic, condition_plastic, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, 'must be > 0', '', 'give the initial yield stress in Pa'), &
+        enum_none, 0, [0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give the initial yield stress in Pa'), &
     dataset_spec_t('/materials/tangent_modulus', class_float, 0, size_n_materials, .false., .false., &
         condition_plastic, condition_plastic, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        enum_none, 0, [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the plastic tangent modulus in Pa below Young''s modulus (0 = perfectly plastic)'), &
     dataset_spec_t('/materials/hardening_mixing', class_float, 0, size_n_materials, .false., .false., &
         condition_plastic, condition_plastic, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, 'must be in [0, 1]', '', &
+        enum_none, 0, [0, 0, 0, 0, 0], size_none, 'must be in [0, 1]', '', &
         'use 1 for isotropic, 0 for kinematic hardening or a mix in between'), &
     dataset_spec_t('/materials/rate_c', class_float, 0, size_n_materials, .false., .false., &
         condition_strain_rate, condition_strain_rate, 0.0_wp, .true., .false., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, 'must be > 0', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
         'give the Cowper-Symonds strain rate C in 1/s (40.4 for mild steel)'), &
     dataset_spec_t('/materials/rate_p', class_float, 0, size_n_materials, .false., .false., &
         condition_strain_rate, condition_strain_rate, 0.0_wp, .true., .false., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, 'must be > 0', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
         'give the Cowper-Symonds exponent P (5 for mild steel)'), &
     dataset_spec_t('/loads/node', class_int, 0, size_n_loads, .true., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_n_nodes, '', '', 'give the index of the loaded node'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of the loaded node'), &
     dataset_spec_t('/loads/dof', class_int, 0, size_n_loads, .false., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be between 1 and 6', '', &
+        condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, 'must be between 1 and 6', '', &
         'use 1..3 for a force along x, y, z and 4..6 for a moment about x, y, z'), &
     dataset_spec_t('/loads/value', class_float, 0, size_n_loads, .false., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, '', '', 'give the final load value in N or N m'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, '', '', 'give the final load value in N or N m'), &
     dataset_spec_t('/loads/ramp_time', class_float, 0, size_n_loads, .false., .false., condition_loads_group, &
-        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_none, 'must be >= 0', '', 'give the ramp time in seconds (0 applies the load at once)'), &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the ramp time in seconds (0 applies the load at once)'), &
     dataset_spec_t('/output/tracked_nodes', class_int, 0, size_n_tracked, .true., .false., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_n_nodes, '', '', 'give the index of each tracked node'), &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of each tracked node'), &
     dataset_spec_t('/contact/pairs', class_int, 2, size_n_contacts, .true., .false., condition_contact_group, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], &
-        size_n_parts, '', '', &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_n_parts, '', '', &
         'name two different parts for node_to_segment, or one part twice for single_surface'), &
     dataset_spec_t('/contact/penalty_scale', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be > 0', '', 'use a penalty scale factor such as 0.1 (the default)'), &
+        0, [0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        'use a penalty scale factor such as 0.1 (the default)'), &
     dataset_spec_t('/contact/static_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
+        0, [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
     dataset_spec_t('/contact/dynamic_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
+        0, [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
     dataset_spec_t('/contact/friction_decay', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a decay coefficient >= 0 in s/m'), &
+        0, [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a decay coefficient >= 0 in s/m'), &
     dataset_spec_t('/contact/passes', class_int, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 2.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_passes, 2, &
-        [1, 2, 0, 0], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
+        [1, 2, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
         'use 2 (both bodies slave every step) or 1 (slave and master swap every step)'), &
     dataset_spec_t('/contact/kind', class_int, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 3, &
-        [1, 2, 3, 0], size_none, '', &
+        [1, 2, 3, 0, 0], size_none, '', &
         'must be 1 or 2 or 3 (1 = node_to_segment, 2 = single_surface, 3 = tied)', &
         'use 1 (node_to_segment), 2 (single_surface) or 3 (tied)'), &
     dataset_spec_t('/contact/initial_penetration', class_int, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_initial_penetration, 2, [1, 2, 0, 0], size_none, '', 'must be 1 or 2 (1 = move, 2 = gap)', &
+        enum_initial_penetration, 2, [1, 2, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = move, 2 = gap)', &
         'use 1 (move the nodes onto the surface) or 2 (take the overlap as the gap)'), &
     dataset_spec_t('/rigid_walls/point', class_float, 3, size_n_rigid_walls, .true., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, '', '', 'give a point of the wall''s plane in metres'), &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_none, '', '', 'give the wall''s point in metres'), &
     dataset_spec_t('/rigid_walls/normal', class_float, 3, size_n_rigid_walls, .false., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, '', '', &
-        'give a nonzero normal pointing from the wall towards the model'), &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_none, '', '', &
+        'give a nonzero normal pointing from the wall towards the model (a cylinder: its axis)'), &
+    dataset_spec_t('/rigid_walls/shape', class_int, 0, size_n_rigid_walls, .false., .false., condition_none, &
+        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_rigid_wall_shape, 5, &
+        [1, 2, 3, 4, 5], size_none, '', &
+        'must be 1 or 2 or 3 or 4 or 5 (1 = plane, 2 = finite_plane, 3 = cylinder, 4 = sphere, 5 = box)', &
+        'use 1 (plane), 2 (finite_plane), 3 (cylinder), 4 (sphere) or 5 (box)'), &
+    dataset_spec_t('/rigid_walls/edge', class_float, 3, size_n_rigid_walls, .false., .false., condition_none, &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, '', '', &
+        'give a direction of the wall''s first side, not parallel to its normal'), &
+    dataset_spec_t('/rigid_walls/size', class_float, 3, size_n_rigid_walls, .false., .false., condition_none, &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give lengths >= 0 in metres (> 0 for the sides of a finite plane or box, and its depth)'), &
+    dataset_spec_t('/rigid_walls/radius', class_float, 0, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the radius in metres (> 0 for a cylinder or sphere)'), &
+    dataset_spec_t('/rigid_walls/length', class_float, 0, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the cylinder''s length in metres, or 0 for an infinite one'), &
     dataset_spec_t('/rigid_walls/velocity', class_float, 3, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, '', '', 'give the wall''s velocity in m/s (0 for a stationary wall)'), &
+        0, [0, 0, 0, 0, 0], size_none, '', '', 'give the wall''s velocity in m/s (0 for a stationary wall)'), &
     dataset_spec_t('/rigid_walls/penalty_scale', class_float, 0, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .false., .true., .true., 0.0_wp, 0.5_wp, enum_none, &
-        0, [0, 0, 0, 0], size_none, 'must be in (0, 0.5]', '', &
+        0, [0, 0, 0, 0, 0], size_none, 'must be in (0, 0.5]', '', &
         'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)'), &
+    dataset_spec_t('/rigid_walls/friction', class_float, 0, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give a friction coefficient >= 0 (0 for a frictionless wall)'), &
+    dataset_spec_t('/rigid_wall_nodes/wall', class_int, 0, size_n_rigid_wall_nodes, .true., .false., &
+        condition_rigid_wall_nodes_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the 0-based index of a rigid wall of /rigid_walls'), &
+    dataset_spec_t('/rigid_wall_nodes/node', class_int, 0, size_n_rigid_wall_nodes, .false., .false., &
+        condition_rigid_wall_nodes_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of a node'), &
     dataset_spec_t('/rigid_bodies/part', class_int, 0, size_n_rigid_bodies, .true., .false., &
         condition_rigid_bodies_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_n_parts, '', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_n_parts, '', '', &
         'give the index of a part with a rigid material'), &
     dataset_spec_t('/rigid_bodies/fixed_dofs', class_int, 6, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
-        [0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
+        [0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
         'use 1 to fix a dof of the body and 0 to leave it free'), &
     dataset_spec_t('/curves/first_point', class_int, 0, size_n_curves, .true., .false., &
         condition_curves_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        enum_none, 0, [0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the 0-based index of each curve''s first point, 0 first and strictly increasing'), &
     dataset_spec_t('/curves/time', class_float, 0, size_n_curve_points, .true., .false., &
         condition_curves_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, '', '', &
+        enum_none, 0, [0, 0, 0, 0, 0], size_none, '', '', &
         'give finite times in seconds, strictly increasing within each curve'), &
     dataset_spec_t('/curves/value', class_float, 0, size_n_curve_points, .false., .false., &
         condition_curves_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, '', '', &
+        enum_none, 0, [0, 0, 0, 0, 0], size_none, '', '', &
         'give finite curve values (factors on the load''s value)'), &
     dataset_spec_t('/pressure/part', class_int, 0, size_n_pressures, .true., .false., &
         condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_n_parts, '', '', 'give the index of the loaded part'), &
+        enum_none, 0, [0, 0, 0, 0, 0], size_n_parts, '', '', 'give the index of the loaded part'), &
     dataset_spec_t('/pressure/value', class_float, 0, size_n_pressures, .false., .false., &
         condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, '', '', &
+        enum_none, 0, [0, 0, 0, 0, 0], size_none, '', '', &
         'give the pressure in Pa (positive pushes along the element normal)'), &
     dataset_spec_t('/pressure/curve', class_int, 0, size_n_pressures, .false., .false., &
         condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point'), &
+        enum_none, 0, [0, 0, 0, 0, 0], size_n_curves, '', '', &
+        'give the index of a curve of /curves/first_point'), &
     dataset_spec_t('/prescribed/node', class_int, 0, size_n_prescribed, .true., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_n_nodes, '', '', 'give the index of the node'), &
+        enum_none, 0, [0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of the node'), &
     dataset_spec_t('/prescribed/dof', class_int, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, 'must be between 1 and 6', '', &
+        enum_none, 0, [0, 0, 0, 0, 0], size_none, 'must be between 1 and 6', '', &
         'use 1..3 for a velocity along x, y, z and 4..6 for an angular velocity about x, y, z'), &
     dataset_spec_t('/prescribed/value', class_float, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_none, '', '', 'give the velocity in m/s (rad/s for a rotation)'), &
+        enum_none, 0, [0, 0, 0, 0, 0], size_none, '', '', 'give the velocity in m/s (rad/s for a rotation)'), &
     dataset_spec_t('/prescribed/curve', class_int, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0], size_n_curves, '', '', 'give the index of a curve of /curves/first_point'), &
+        enum_none, 0, [0, 0, 0, 0, 0], size_n_curves, '', '', &
+        'give the index of a curve of /curves/first_point'), &
     dataset_spec_t('/base_accelerations/direction', class_float, 3, size_n_base_accelerations, .true., &
         .false., condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., &
-        .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, '', '', &
+        .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_none, '', '', &
         'give a nonzero direction [x, y, z]'), &
     dataset_spec_t('/base_accelerations/value', class_float, 0, size_n_base_accelerations, .false., .false., &
         condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_none, '', '', 'give the acceleration in m/s^2'), &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_none, '', '', 'give the acceleration in m/s^2'), &
     dataset_spec_t('/base_accelerations/curve', class_int, 0, size_n_base_accelerations, .false., .false., &
         condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0], size_n_curves, '', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0], size_n_curves, '', '', &
         'give the index of a curve of /curves/first_point') ]
 
   type(attribute_spec_t), parameter :: control_attributes(n_control_attributes) = [ &

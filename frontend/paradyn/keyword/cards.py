@@ -13,6 +13,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
 from .reader import Block, Field, KeywordError, KeywordFile, Line, Value, fields, layout
+from .walls import WALL_READERS
 
 NODE = (Field("NID", "int", None, 8), Field("X", "float", 0.0, 16), Field("Y", "float", 0.0, 16),
         Field("Z", "float", 0.0, 16), Field("TC", "int", 0, 8), Field("RC", "int", 0, 8))
@@ -336,6 +337,7 @@ for _title in ("", "_TITLE"):
     for _target in ("NODE", "PART"):
         for _list in ("", "_LIST", "_LIST_GENERATE"):
             READERS[f"SET_{_target}{_list}{_title}"] = _set(_target)
+READERS.update(WALL_READERS)   # *RIGIDWALL_PLANAR and _GEOMETRIC (keyword/walls.py)
 
 
 def collect(deck: KeywordFile) -> KeywordData:

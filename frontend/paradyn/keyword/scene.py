@@ -24,6 +24,7 @@ from .cards import KeywordData, Record, collect, with_warnings
 from .mesh import KeywordMesh, fixed_dofs, initial_velocities, mesh_of
 from .reader import KeywordError, read_keyword_file
 from .units import Units, UnitsError
+from .walls import apply_rigid_walls
 
 MAX_INTEGRATION_POINTS = int(next(d.upper.value for d in _schema.DATASETS if d.python == "integration_points"))
 # LS-DYNA's IHQ for shells -> ParaDyn's hourglass form (docs/keyword.md)
@@ -354,6 +355,7 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
     _apply_material_extras(scene, model)
     _apply_body_loads(data, unit, model)
     _apply_contacts(scene, model)
+    apply_rigid_walls(data, unit, mesh, model)
     _apply_tracks(data, mesh, model)
     mesh.store_ids(model)
     return model
