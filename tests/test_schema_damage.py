@@ -101,6 +101,9 @@ def _base_model() -> deck.Model:
         rigid_wall_normal=np.array([[0.0, 0.0, 2.0]]),
         rigid_wall_velocity=np.array([[0.0, 0.0, 0.5]]),
         rigid_wall_penalty_scale=np.array([0.2]),
+        rigid_wall_friction=np.array([0.1]),
+        rigid_wall_node_wall=np.array([0]),
+        rigid_wall_node=np.array([0]),
         curve_first_point=np.array([0, 2, 3, 5]),
         curve_time=np.array([0.0, 1e-6, 0.0, 0.0, 0.1, 0.0, 100.0]),
         curve_value=np.array([0.0, 1.0, 1.0, 300e6, 350e6, 1.0, 2.0]),
@@ -264,6 +267,14 @@ def _wall_above_the_model(f: h5py.File) -> None:
     f["/rigid_walls/point"][0, 2] = 0.001   # between the strips: the lower one starts behind the wall
 
 
+def _sphere_without_radius(f: h5py.File) -> None:
+    f["/rigid_walls/shape"][0] = 4   # a sphere: the radius stays 0
+
+
+def _node_row_of_no_wall(f: h5py.File) -> None:
+    f["/rigid_wall_nodes/wall"][0] = 1   # the deck has one wall
+
+
 def _curves_out_of_order(f: h5py.File) -> None:
     f["/curves/first_point"][1] = f["/curves/first_point"][0]
 
@@ -290,6 +301,8 @@ RELATION_DAMAGES: dict[str, Damage] = {
     "contact_parts_differ": _pair_with_itself,
     "rigid_wall_normal_nonzero": _zero_wall_normal,
     "rigid_wall_nodes_in_front": _wall_above_the_model,
+    "rigid_wall_geometry": _sphere_without_radius,
+    "rigid_wall_nodes_wall": _node_row_of_no_wall,
     "curve_first_points": _curves_out_of_order,
     "curve_times_increase": _curve_time_repeated,
     "rigid_bodies_whole": _rigid_node_loose,

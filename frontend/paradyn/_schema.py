@@ -116,6 +116,7 @@ ENUMS: dict[str, dict[str, int]] = {
     'contact_kind': {'node_to_segment': 1, 'single_surface': 2, 'tied': 3},
     'initial_penetration': {'move': 1, 'gap': 2},
     'contact_gather': {'near': 1, 'all': 2},
+    'rigid_wall_shape': {'plane': 1, 'finite_plane': 2, 'cylinder': 3, 'sphere': 4, 'box': 5},
     'switch': {'off': 0, 'on': 1},
     'partition': {'blocks': 1, 'rcb': 2},
     'precision': {'double': 1, 'mixed': 2},
@@ -142,6 +143,7 @@ SIZES: dict[str, SizeSpec] = {
     'n_tracked': SizeSpec('n_tracked', 'tracked node', 0, None),
     'n_contacts': SizeSpec('n_contacts', 'contact pair', 0, None),
     'n_rigid_walls': SizeSpec('n_rigid_walls', 'rigid wall', 0, 'rigid_wall'),
+    'n_rigid_wall_nodes': SizeSpec('n_rigid_wall_nodes', 'rigid wall node', 0, None),
     'n_curves': SizeSpec('n_curves', 'curve', 0, None),
     'n_curve_points': SizeSpec('n_curve_points', 'curve point', 0, None),
     'n_pressures': SizeSpec('n_pressures', 'pressure load', 0, None),
@@ -161,6 +163,10 @@ CONDITIONS: dict[str, ConditionSpec] = {
     'rigid_walls_group': ConditionSpec(
         name='rigid_walls_group', group='/rigid_walls', dataset=None, codes=(),
         meaning='the group /rigid_walls exists', rows='',
+    ),
+    'rigid_wall_nodes_group': ConditionSpec(
+        name='rigid_wall_nodes_group', group='/rigid_wall_nodes', dataset=None, codes=(),
+        meaning='the group /rigid_wall_nodes exists', rows='',
     ),
     'curves_group': ConditionSpec(
         name='curves_group', group='/curves', dataset=None, codes=(), meaning='the group /curves exists', rows='',
@@ -241,11 +247,26 @@ RELATIONS: dict[str, RelationSpec] = {
         'a node_to_segment pair names two different parts, a single_surface definition its one part twice',
     ),
     'rigid_wall_normal_nonzero': RelationSpec(
-        'rigid_wall_normal_nonzero', '/rigid_walls/normal', 'the normal of a rigid wall is not the zero vector',
+        'rigid_wall_normal_nonzero', '/rigid_walls/normal',
+        "the normal of a rigid wall (a cylinder's axis) is not the zero vector",
+    ),
+    'rigid_wall_geometry': RelationSpec(
+        'rigid_wall_geometry', '/rigid_walls/shape',
+        (
+            'a finite plane or box has an edge not parallel to its normal and sizes > 0 (its depth too), a '
+            'cylinder or sphere a radius > 0'
+        ),
     ),
     'rigid_wall_nodes_in_front': RelationSpec(
         'rigid_wall_nodes_in_front', '/rigid_walls/point',
-        'at the start every node lies on the side of every rigid wall its normal points to (or on it)',
+        (
+            'at the start every node a rigid wall acts on lies on its outer side (or on it): in front of a plane, '
+            'outside a cylinder, sphere or box'
+        ),
+    ),
+    'rigid_wall_nodes_wall': RelationSpec(
+        'rigid_wall_nodes_wall', '/rigid_wall_nodes/wall',
+        'every /rigid_wall_nodes/wall names a rigid wall (below n_rigid_walls)',
     ),
     'curve_first_points': RelationSpec(
         'curve_first_points', '/curves/first_point',
@@ -542,26 +563,89 @@ DATASETS: tuple[DatasetSpec, ...] = (
     DatasetSpec(
         '/rigid_walls/point', 'rigid_wall_point', 'float', ('n_rigid_walls', 3), False, 'rigid_walls_group', None,
         None, None, None, '', None, '', None, True, 'm',
-        "a point of the wall's plane at time 0; the plane moves with /rigid_walls/velocity",
-        '[[rigid_wall]] point', "give a point of the wall's plane in metres",
+        (
+            "the wall's point at time 0 (it moves with /rigid_walls/velocity): a point of a plane, the corner of "
+            "a finite plane or box, the start of a cylinder's axis, a sphere's centre"
+        ), '[[rigid_wall]] point', "give the wall's point in metres",
     ),
     DatasetSpec(
         '/rigid_walls/normal', 'rigid_wall_normal', 'float', ('n_rigid_walls', 3), False, 'rigid_walls_group',
         None, None, None, None, '', None, '', None, False, '-',
-        "the wall's normal, pointing to the side where the nodes stay (any length but zero)",
-        '[[rigid_wall]] normal', 'give a nonzero normal pointing from the wall towards the model',
+        (
+            "the wall's normal, pointing to the side where the nodes stay (a plane, finite plane, box), or a "
+            "cylinder's axis; any length but zero (any direction for a sphere)"
+        ), '[[rigid_wall]] normal',
+        'give a nonzero normal pointing from the wall towards the model (a cylinder: its axis)',
+    ),
+    DatasetSpec(
+        '/rigid_walls/shape', 'rigid_wall_shape', 'int', ('n_rigid_walls',), False, None, None, 1, None, None, '',
+        'rigid_wall_shape',
+        'must be 1 or 2 or 3 or 4 or 5 (1 = plane, 2 = finite_plane, 3 = cylinder, 4 = sphere, 5 = box)', None,
+        False, '-', 'the wall\'s surface (docs/theory.md, "Rigid walls")', '[[rigid_wall]] shape',
+        'use 1 (plane), 2 (finite_plane), 3 (cylinder), 4 (sphere) or 5 (box)',
+    ),
+    DatasetSpec(
+        '/rigid_walls/edge', 'rigid_wall_edge', 'float', ('n_rigid_walls', 3), False, None, None, 0.0, None, None,
+        '', None, '', None, False, '-',
+        (
+            "a finite plane's or box's first side direction l (any length, not parallel to the normal; its part "
+            'along the normal is dropped); the second side is m = normal x l'
+        ), '[[rigid_wall]] edge', "give a direction of the wall's first side, not parallel to its normal",
+    ),
+    DatasetSpec(
+        '/rigid_walls/size', 'rigid_wall_size', 'float', ('n_rigid_walls', 3), False, None, None, 0.0,
+        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 'm',
+        (
+            "a finite plane's or box's side lengths along l and m from the corner point, and a box's depth along "
+            '-normal (the third unused for a finite plane)'
+        ), '[[rigid_wall]] size',
+        'give lengths >= 0 in metres (> 0 for the sides of a finite plane or box, and its depth)',
+    ),
+    DatasetSpec(
+        '/rigid_walls/radius', 'rigid_wall_radius', 'float', ('n_rigid_walls',), False, None, None, 0.0,
+        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 'm', "a cylinder's or sphere's radius",
+        '[[rigid_wall]] radius', 'give the radius in metres (> 0 for a cylinder or sphere)',
+    ),
+    DatasetSpec(
+        '/rigid_walls/length', 'rigid_wall_length', 'float', ('n_rigid_walls',), False, None, None, 0.0,
+        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 'm',
+        "a cylinder's length along its axis from the point (0 = infinite)", '[[rigid_wall]] length',
+        "give the cylinder's length in metres, or 0 for an infinite one",
     ),
     DatasetSpec(
         '/rigid_walls/velocity', 'rigid_wall_velocity', 'float', ('n_rigid_walls', 3), False, None, None, 0.0,
         None, None, '', None, '', None, False, 'm/s',
-        "constant velocity of the wall (0 = stationary; LS-DYNA's *RIGIDWALL_PLANAR_MOVING)",
-        '[[rigid_wall]] velocity', "give the wall's velocity in m/s (0 for a stationary wall)",
+        (
+            "constant velocity of the wall (0 = stationary; LS-DYNA's *RIGIDWALL_PLANAR_MOVING, "
+            '*RIGIDWALL_GEOMETRIC_..._MOTION)'
+        ), '[[rigid_wall]] velocity', "give the wall's velocity in m/s (0 for a stationary wall)",
     ),
     DatasetSpec(
         '/rigid_walls/penalty_scale', 'rigid_wall_penalty_scale', 'float', ('n_rigid_walls',), False, None, None,
         0.1, Bound(0.0, False), Bound(0.5, True), 'must be in (0, 0.5]', None, '', None, False, '-',
         'scale of the penalty stiffness k = scale m / dt^2 of a node of mass m behind the wall (docs/theory.md)',
         '[[rigid_wall]] penalty_scale', 'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)',
+    ),
+    DatasetSpec(
+        '/rigid_walls/friction', 'rigid_wall_friction', 'float', ('n_rigid_walls',), False, None, None, 0.0,
+        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, '-',
+        (
+            "Coulomb friction coefficient between the wall and a node in contact (0 = frictionless; LS-DYNA's "
+            'FRIC): sticking below mu times the normal force, sliding at it (docs/theory.md)'
+        ), '[[rigid_wall]] friction', 'give a friction coefficient >= 0 (0 for a frictionless wall)',
+    ),
+    DatasetSpec(
+        '/rigid_wall_nodes/wall', 'rigid_wall_node_wall', 'int', ('n_rigid_wall_nodes',), False,
+        'rigid_wall_nodes_group', None, None, Bound(0, True), None, 'must be >= 0', None, '', None, True, '-',
+        (
+            'the rigid wall of each row: a wall with rows acts on their nodes only, a wall without rows on every '
+            "node (LS-DYNA's NSID, 0 = all)"
+        ), '-', 'give the 0-based index of a rigid wall of /rigid_walls',
+    ),
+    DatasetSpec(
+        '/rigid_wall_nodes/node', 'rigid_wall_node', 'int', ('n_rigid_wall_nodes',), False,
+        'rigid_wall_nodes_group', None, None, None, None, '', None, '', 'node', False, '-',
+        "a node the row's wall acts on", '-', 'give the index of a node',
     ),
     DatasetSpec(
         '/rigid_bodies/part', 'rigid_body_part', 'int', ('n_rigid_bodies',), False, 'rigid_bodies_group', None,
@@ -859,8 +943,11 @@ CONTROL: tuple[AttributeSpec, ...] = (
     ),
     AttributeSpec(
         'effect_rigid_wall', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
-        '-', '"off" switches off rigid_wall: planar rigid walls, stationary or moving (penalty)',
-        '[effects] rigid_wall', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
+        '-',
+        (
+            '"off" switches off rigid_wall: rigid walls (planes, finite planes, cylinders, spheres, boxes), '
+            'stationary or moving, with friction (penalty)'
+        ), '[effects] rigid_wall', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
     ),
     AttributeSpec(
         'effect_mass_damping', 'string', False, 'on', None, None, None, None, '', 'switch',
@@ -954,8 +1041,16 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/contact/initial_penetration'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/rigid_walls/point'): ('required_when', 'class', 'shape', 'finite'),
     ('dataset', '/rigid_walls/normal'): ('required_when', 'class', 'shape', 'rows', 'finite'),
+    ('dataset', '/rigid_walls/shape'): ('class', 'shape', 'rows', 'enum'),
+    ('dataset', '/rigid_walls/edge'): ('class', 'shape', 'rows', 'finite'),
+    ('dataset', '/rigid_walls/size'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/rigid_walls/radius'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/rigid_walls/length'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/rigid_walls/velocity'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/rigid_walls/penalty_scale'): ('class', 'shape', 'rows', 'lower', 'upper', 'finite'),
+    ('dataset', '/rigid_walls/friction'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/rigid_wall_nodes/wall'): ('required_when', 'class', 'shape', 'lower'),
+    ('dataset', '/rigid_wall_nodes/node'): ('required_when', 'class', 'shape', 'rows', 'reference'),
     ('dataset', '/rigid_bodies/part'): ('required_when', 'class', 'shape', 'reference'),
     ('dataset', '/rigid_bodies/fixed_dofs'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/rigid_bodies/prescribed'): ('class', 'shape', 'rows', 'lower', 'upper'),
@@ -1011,7 +1106,9 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('relation', '/materials/hardening_curve'): ('material_curves',),
     ('relation', '/contact/pairs'): ('contact_parts_differ',),
     ('relation', '/rigid_walls/normal'): ('rigid_wall_normal_nonzero',),
+    ('relation', '/rigid_walls/shape'): ('rigid_wall_geometry',),
     ('relation', '/rigid_walls/point'): ('rigid_wall_nodes_in_front',),
+    ('relation', '/rigid_wall_nodes/wall'): ('rigid_wall_nodes_wall',),
     ('relation', '/curves/first_point'): ('curve_first_points',),
     ('relation', '/curves/time'): ('curve_times_increase',),
     ('relation', '/nodes/rigid_body'): ('rigid_bodies_whole',),
@@ -1028,7 +1125,8 @@ FRAME_FIELDS = (
 HISTORY_NAMES = (
     'time', 'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work',
     'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'part_kinetic_energy', 'part_internal_energy',
-    'part_hourglass_energy', 'part_plastic_work', 'contact_force', 'tracked_displacement', 'tracked_velocity',
+    'part_hourglass_energy', 'part_plastic_work', 'contact_force', 'rigid_wall_force', 'tracked_displacement',
+    'tracked_velocity',
 )
 ENERGY_NAMES = ('kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work')
 HISTORY_UNITS: dict[str, str] = {
@@ -1047,6 +1145,7 @@ HISTORY_UNITS: dict[str, str] = {
     'part_hourglass_energy': 'J',
     'part_plastic_work': 'J',
     'contact_force': 'N',
+    'rigid_wall_force': 'N',
     'tracked_displacement': 'm',
     'tracked_velocity': 'm/s',
 }

@@ -182,13 +182,14 @@ program paradyn_engine
       call checkpoint_read(solver, trim(restart_path), frames, records, status, message)
       if (status /= status_ok) call fail(status, trim(message))
       call results_reopen(trim(results_path), comm, deck%n_nodes, deck%n_elements, owned, elements, &
-                          deck%n_tracked, deck%n_parts, deck%n_contacts, frames, records, results, status, message)
+                          deck%n_tracked, deck%n_parts, deck%n_contacts, deck%n_rigid_walls, frames, records, results, status, &
+                          message)
     else
       call results_create(trim(results_path), comm, deck%n_nodes, deck%n_elements, owned, elements, &
                           deck%coordinates(:, [(node_row(deck, owned(k)), k = 1, size(owned))]), &
                           deck%connectivity(:, [(element_row(deck, elements(k)), k = 1, size(elements))]), &
                           deck%element_part([(element_row(deck, elements(k)), k = 1, size(elements))]), &
-                          deck%n_tracked, deck%n_parts, deck%n_contacts, results, status, message)
+                          deck%n_tracked, deck%n_parts, deck%n_contacts, deck%n_rigid_walls, results, status, message)
       if (status == status_ok) call copy_run_names(trim(deck_path), results%file)
     end if
   end associate

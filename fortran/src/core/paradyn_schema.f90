@@ -10,36 +10,40 @@ module paradyn_schema
       material_rigid, material_piecewise_linear, material_piecewise_linear_rate, hourglass_viscous, &
       hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, contact_passes_alternate, &
       contact_passes_both, contact_kind_node_to_segment, contact_kind_single_surface, contact_kind_tied, &
-      initial_penetration_move, initial_penetration_gap, contact_gather_near, contact_gather_all, switch_off, &
-      switch_on, partition_blocks, partition_rcb, precision_double, precision_mixed, max_integration_points, &
-      status_ok, status_failure, status_bad_input, status_numerical, status_stopped, n_frame_fields, &
-      n_history_scalars, history_kinetic_energy, history_internal_energy, history_hourglass_energy, &
-      history_contact_energy, history_external_work, history_contact_penetration, history_dt, &
-      history_dt_stable, history_dt_element, frame_field_names, history_scalar_names, class_int, class_float, &
-      class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, size_n_loads, &
-      size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_curves, size_n_curve_points, &
-      size_n_pressures, size_n_prescribed, size_n_base_accelerations, size_n_rigid_bodies, n_sizes, &
-      condition_none, condition_loads_group, condition_contact_group, condition_rigid_walls_group, &
-      condition_curves_group, condition_pressure_group, condition_prescribed_group, &
-      condition_base_accelerations_group, condition_rigid_bodies_group, condition_plastic, &
-      condition_combined_hardening, condition_strain_rate, condition_hardening_curve, condition_rate_curve, &
-      n_conditions, enum_none, enum_material_model, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
-      enum_contact_kind, enum_initial_penetration, enum_contact_gather, enum_switch, enum_partition, &
-      enum_precision, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
-      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_nodes_rigid_body, &
-      dataset_nodes_added_mass, dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, &
-      dataset_elements_id, dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
-      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_warping_correction, &
-      dataset_parts_surface_only, dataset_parts_id, dataset_materials_model, dataset_materials_density, &
-      dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
-      dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, dataset_materials_rate_c, &
-      dataset_materials_rate_p, dataset_materials_hardening_curve, dataset_materials_rate_curve, &
-      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
-      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
-      dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
-      dataset_contact_passes, dataset_contact_kind, dataset_contact_initial_penetration, &
-      dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
-      dataset_rigid_walls_penalty_scale, dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, &
+      initial_penetration_move, initial_penetration_gap, contact_gather_near, contact_gather_all, wall_plane, &
+      wall_finite_plane, wall_cylinder, wall_sphere, wall_box, switch_off, switch_on, partition_blocks, &
+      partition_rcb, precision_double, precision_mixed, max_integration_points, status_ok, status_failure, &
+      status_bad_input, status_numerical, status_stopped, n_frame_fields, n_history_scalars, &
+      history_kinetic_energy, history_internal_energy, history_hourglass_energy, history_contact_energy, &
+      history_external_work, history_contact_penetration, history_dt, history_dt_stable, history_dt_element, &
+      frame_field_names, history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, &
+      size_n_elements, size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, &
+      size_n_rigid_walls, size_n_rigid_wall_nodes, size_n_curves, size_n_curve_points, size_n_pressures, &
+      size_n_prescribed, size_n_base_accelerations, size_n_rigid_bodies, n_sizes, condition_none, &
+      condition_loads_group, condition_contact_group, condition_rigid_walls_group, &
+      condition_rigid_wall_nodes_group, condition_curves_group, condition_pressure_group, &
+      condition_prescribed_group, condition_base_accelerations_group, condition_rigid_bodies_group, &
+      condition_plastic, condition_combined_hardening, condition_strain_rate, condition_hardening_curve, &
+      condition_rate_curve, n_conditions, enum_none, enum_material_model, enum_hourglass_form, &
+      enum_dof_state, enum_contact_passes, enum_contact_kind, enum_initial_penetration, enum_contact_gather, &
+      enum_rigid_wall_shape, enum_switch, enum_partition, enum_precision, n_enums, dataset_nodes_coordinates, &
+      dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
+      dataset_nodes_rigid_body, dataset_nodes_added_mass, dataset_nodes_id, dataset_elements_connectivity, &
+      dataset_elements_part, dataset_elements_id, dataset_parts_thickness, dataset_parts_material, &
+      dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
+      dataset_parts_warping_correction, dataset_parts_surface_only, dataset_parts_id, &
+      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
+      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
+      dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
+      dataset_materials_hardening_curve, dataset_materials_rate_curve, dataset_loads_node, dataset_loads_dof, &
+      dataset_loads_value, dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
+      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
+      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+      dataset_contact_initial_penetration, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
+      dataset_rigid_walls_shape, dataset_rigid_walls_edge, dataset_rigid_walls_size, &
+      dataset_rigid_walls_radius, dataset_rigid_walls_length, dataset_rigid_walls_velocity, &
+      dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, dataset_rigid_wall_nodes_wall, &
+      dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, &
       dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
       dataset_curves_first_point, dataset_curves_time, dataset_curves_value, dataset_pressure_part, &
       dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, &
@@ -87,6 +91,11 @@ module paradyn_schema
   integer, parameter :: initial_penetration_gap = 2   !< each slave node's overlap at the start is taken as its ga
   integer, parameter :: contact_gather_near = 1   !< local contact: each rank holds only the contact nodes near it
   integer, parameter :: contact_gather_all = 2   !< the replicated scheme: every contact node on every rank every
+  integer, parameter :: wall_plane = 1   !< an infinite plane through point with normal (LS-DYNA *RIGIDWALL_PLANAR
+  integer, parameter :: wall_finite_plane = 2   !< a rectangle of the plane: corner point, sides size[0] along edg
+  integer, parameter :: wall_cylinder = 3   !< the outside of a cylinder of radius about the axis through point al
+  integer, parameter :: wall_sphere = 4   !< the outside of a sphere of radius about point (LS-DYNA *RIGIDWALL_GEO
+  integer, parameter :: wall_box = 5   !< the outside of a box: the finite plane's rectangle as its top face, de
   integer, parameter :: switch_off = 0   !< the effect is switched off
   integer, parameter :: switch_on = 1   !< the effect runs where the deck declares it
   integer, parameter :: partition_blocks = 1   !< contiguous blocks by element number (the paper)
@@ -133,28 +142,30 @@ module paradyn_schema
   integer, parameter :: size_n_tracked = 6
   integer, parameter :: size_n_contacts = 7
   integer, parameter :: size_n_rigid_walls = 8
-  integer, parameter :: size_n_curves = 9
-  integer, parameter :: size_n_curve_points = 10
-  integer, parameter :: size_n_pressures = 11
-  integer, parameter :: size_n_prescribed = 12
-  integer, parameter :: size_n_base_accelerations = 13
-  integer, parameter :: size_n_rigid_bodies = 14
-  integer, parameter :: n_sizes = 14
+  integer, parameter :: size_n_rigid_wall_nodes = 9
+  integer, parameter :: size_n_curves = 10
+  integer, parameter :: size_n_curve_points = 11
+  integer, parameter :: size_n_pressures = 12
+  integer, parameter :: size_n_prescribed = 13
+  integer, parameter :: size_n_base_accelerations = 14
+  integer, parameter :: size_n_rigid_bodies = 15
+  integer, parameter :: n_sizes = 15
   integer, parameter :: condition_none = 0
   integer, parameter :: condition_loads_group = 1
   integer, parameter :: condition_contact_group = 2
   integer, parameter :: condition_rigid_walls_group = 3
-  integer, parameter :: condition_curves_group = 4
-  integer, parameter :: condition_pressure_group = 5
-  integer, parameter :: condition_prescribed_group = 6
-  integer, parameter :: condition_base_accelerations_group = 7
-  integer, parameter :: condition_rigid_bodies_group = 8
-  integer, parameter :: condition_plastic = 9
-  integer, parameter :: condition_combined_hardening = 10
-  integer, parameter :: condition_strain_rate = 11
-  integer, parameter :: condition_hardening_curve = 12
-  integer, parameter :: condition_rate_curve = 13
-  integer, parameter :: n_conditions = 13
+  integer, parameter :: condition_rigid_wall_nodes_group = 4
+  integer, parameter :: condition_curves_group = 5
+  integer, parameter :: condition_pressure_group = 6
+  integer, parameter :: condition_prescribed_group = 7
+  integer, parameter :: condition_base_accelerations_group = 8
+  integer, parameter :: condition_rigid_bodies_group = 9
+  integer, parameter :: condition_plastic = 10
+  integer, parameter :: condition_combined_hardening = 11
+  integer, parameter :: condition_strain_rate = 12
+  integer, parameter :: condition_hardening_curve = 13
+  integer, parameter :: condition_rate_curve = 14
+  integer, parameter :: n_conditions = 14
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
   integer, parameter :: enum_hourglass_form = 2
@@ -163,10 +174,11 @@ module paradyn_schema
   integer, parameter :: enum_contact_kind = 5
   integer, parameter :: enum_initial_penetration = 6
   integer, parameter :: enum_contact_gather = 7
-  integer, parameter :: enum_switch = 8
-  integer, parameter :: enum_partition = 9
-  integer, parameter :: enum_precision = 10
-  integer, parameter :: n_enums = 10
+  integer, parameter :: enum_rigid_wall_shape = 8
+  integer, parameter :: enum_switch = 9
+  integer, parameter :: enum_partition = 10
+  integer, parameter :: enum_precision = 11
+  integer, parameter :: n_enums = 11
   integer, parameter :: dataset_nodes_coordinates = 1
   integer, parameter :: dataset_nodes_initial_velocity = 2
   integer, parameter :: dataset_nodes_initial_angular_velocity = 3
@@ -211,27 +223,35 @@ module paradyn_schema
   integer, parameter :: dataset_contact_initial_penetration = 42
   integer, parameter :: dataset_rigid_walls_point = 43
   integer, parameter :: dataset_rigid_walls_normal = 44
-  integer, parameter :: dataset_rigid_walls_velocity = 45
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 46
-  integer, parameter :: dataset_rigid_bodies_part = 47
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 48
-  integer, parameter :: dataset_rigid_bodies_prescribed = 49
-  integer, parameter :: dataset_rigid_bodies_velocity = 50
-  integer, parameter :: dataset_rigid_bodies_curve = 51
-  integer, parameter :: dataset_curves_first_point = 52
-  integer, parameter :: dataset_curves_time = 53
-  integer, parameter :: dataset_curves_value = 54
-  integer, parameter :: dataset_pressure_part = 55
-  integer, parameter :: dataset_pressure_value = 56
-  integer, parameter :: dataset_pressure_curve = 57
-  integer, parameter :: dataset_prescribed_node = 58
-  integer, parameter :: dataset_prescribed_dof = 59
-  integer, parameter :: dataset_prescribed_value = 60
-  integer, parameter :: dataset_prescribed_curve = 61
-  integer, parameter :: dataset_base_accelerations_direction = 62
-  integer, parameter :: dataset_base_accelerations_value = 63
-  integer, parameter :: dataset_base_accelerations_curve = 64
-  integer, parameter :: n_deck_datasets = 64
+  integer, parameter :: dataset_rigid_walls_shape = 45
+  integer, parameter :: dataset_rigid_walls_edge = 46
+  integer, parameter :: dataset_rigid_walls_size = 47
+  integer, parameter :: dataset_rigid_walls_radius = 48
+  integer, parameter :: dataset_rigid_walls_length = 49
+  integer, parameter :: dataset_rigid_walls_velocity = 50
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 51
+  integer, parameter :: dataset_rigid_walls_friction = 52
+  integer, parameter :: dataset_rigid_wall_nodes_wall = 53
+  integer, parameter :: dataset_rigid_wall_nodes_node = 54
+  integer, parameter :: dataset_rigid_bodies_part = 55
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 56
+  integer, parameter :: dataset_rigid_bodies_prescribed = 57
+  integer, parameter :: dataset_rigid_bodies_velocity = 58
+  integer, parameter :: dataset_rigid_bodies_curve = 59
+  integer, parameter :: dataset_curves_first_point = 60
+  integer, parameter :: dataset_curves_time = 61
+  integer, parameter :: dataset_curves_value = 62
+  integer, parameter :: dataset_pressure_part = 63
+  integer, parameter :: dataset_pressure_value = 64
+  integer, parameter :: dataset_pressure_curve = 65
+  integer, parameter :: dataset_prescribed_node = 66
+  integer, parameter :: dataset_prescribed_dof = 67
+  integer, parameter :: dataset_prescribed_value = 68
+  integer, parameter :: dataset_prescribed_curve = 69
+  integer, parameter :: dataset_base_accelerations_direction = 70
+  integer, parameter :: dataset_base_accelerations_value = 71
+  integer, parameter :: dataset_base_accelerations_curve = 72
+  integer, parameter :: n_deck_datasets = 72
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -301,12 +321,12 @@ module paradyn_schema
     control_effect_hourglass, control_effect_contact, control_effect_friction]
 
   character(len=20), parameter :: size_symbol(n_sizes) = [character(len=20) :: 'n_nodes', 'n_elements', &
-    'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_rigid_walls', 'n_curves', &
-    'n_curve_points', 'n_pressures', 'n_prescribed', 'n_base_accelerations', 'n_rigid_bodies']
+    'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_rigid_walls', 'n_rigid_wall_nodes', &
+    'n_curves', 'n_curve_points', 'n_pressures', 'n_prescribed', 'n_base_accelerations', 'n_rigid_bodies']
   character(len=17), parameter :: size_entity(n_sizes) = [character(len=17) :: 'node', 'element', 'part', &
-    'material', 'load', 'tracked node', 'contact pair', 'rigid wall', 'curve', 'curve point', &
-    'pressure load', 'prescribed motion', 'base acceleration', 'rigid body']
-  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+    'material', 'load', 'tracked node', 'contact pair', 'rigid wall', 'rigid wall node', 'curve', &
+    'curve point', 'pressure load', 'prescribed motion', 'base acceleration', 'rigid body']
+  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
 
   !> Members of an enum: codes and the names a scene or a string attribute uses.
   type :: enum_spec_t
@@ -372,6 +392,8 @@ module paradyn_schema
         [character(len=21) :: 'node_to_segment', 'single_surface', 'tied', '', '', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'move', 'gap', '', '', '', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'near', 'all', '', '', '', '']), &
+    enum_spec_t(5, [1, 2, 3, 4, 5, 0], &
+        [character(len=21) :: 'plane', 'finite_plane', 'cylinder', 'sphere', 'box', '']), &
     enum_spec_t(2, [0, 1, 0, 0, 0, 0], [character(len=21) :: 'off', 'on', '', '', '', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'blocks', 'rcb', '', '', '', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'double', 'mixed', '', '', '', '']) ]
@@ -380,6 +402,7 @@ module paradyn_schema
     condition_spec_t('/loads', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/contact', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/rigid_walls', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/rigid_wall_nodes', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/curves', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/pressure', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/prescribed', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
@@ -546,12 +569,32 @@ module paradyn_schema
         'use 1 (move the nodes onto the surface) or 2 (take the overlap as the gap)'), &
     dataset_spec_t('/rigid_walls/point', class_float, 3, size_n_rigid_walls, .true., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
-        'give a point of the wall''s plane in metres'), &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give the wall''s point in metres'), &
     dataset_spec_t('/rigid_walls/normal', class_float, 3, size_n_rigid_walls, .false., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
         0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
-        'give a nonzero normal pointing from the wall towards the model'), &
+        'give a nonzero normal pointing from the wall towards the model (a cylinder: its axis)'), &
+    dataset_spec_t('/rigid_walls/shape', class_int, 0, size_n_rigid_walls, .false., .false., condition_none, &
+        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_rigid_wall_shape, 5, &
+        [1, 2, 3, 4, 5, 0], size_none, '', &
+        'must be 1 or 2 or 3 or 4 or 5 (1 = plane, 2 = finite_plane, 3 = cylinder, 4 = sphere, 5 = box)', &
+        'use 1 (plane), 2 (finite_plane), 3 (cylinder), 4 (sphere) or 5 (box)'), &
+    dataset_spec_t('/rigid_walls/edge', class_float, 3, size_n_rigid_walls, .false., .false., condition_none, &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, '', '', &
+        'give a direction of the wall''s first side, not parallel to its normal'), &
+    dataset_spec_t('/rigid_walls/size', class_float, 3, size_n_rigid_walls, .false., .false., condition_none, &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give lengths >= 0 in metres (> 0 for the sides of a finite plane or box, and its depth)'), &
+    dataset_spec_t('/rigid_walls/radius', class_float, 0, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the radius in metres (> 0 for a cylinder or sphere)'), &
+    dataset_spec_t('/rigid_walls/length', class_float, 0, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the cylinder''s length in metres, or 0 for an infinite one'), &
     dataset_spec_t('/rigid_walls/velocity', class_float, 3, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give the wall''s velocity in m/s (0 for a stationary wall)'), &
@@ -559,6 +602,17 @@ module paradyn_schema
         condition_none, condition_none, 0.1_wp, .true., .false., .true., .true., 0.0_wp, 0.5_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0], size_none, 'must be in (0, 0.5]', '', &
         'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)'), &
+    dataset_spec_t('/rigid_walls/friction', class_float, 0, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give a friction coefficient >= 0 (0 for a frictionless wall)'), &
+    dataset_spec_t('/rigid_wall_nodes/wall', class_int, 0, size_n_rigid_wall_nodes, .true., .false., &
+        condition_rigid_wall_nodes_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the 0-based index of a rigid wall of /rigid_walls'), &
+    dataset_spec_t('/rigid_wall_nodes/node', class_int, 0, size_n_rigid_wall_nodes, .false., .false., &
+        condition_rigid_wall_nodes_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of a node'), &
     dataset_spec_t('/rigid_bodies/part', class_int, 0, size_n_rigid_bodies, .true., .false., &
         condition_rigid_bodies_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
         0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_parts, '', '', &

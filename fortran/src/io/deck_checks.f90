@@ -13,8 +13,9 @@ module deck_checks
   use model_deck, only: deck_t, node_row
   use deck_relations, only: precision_message, repeated_node_message, duplicate_element_message, shape_message, &
                             small_table_message, rigid_node_message, unused_node_message, wall_normal_message, &
-                            wall_behind_message, &
-                            check_curve_relations
+                            wall_behind_message, wall_rows_message, check_curve_relations
+  use rigid_wall, only: wall_t, wall_make, wall_gap
+  use integer_sort, only: sorted_position
   use deck_directory, only: fetch_node_rows, first_duplicate_element, move_element_rows, node_values
   use deck_fingerprint, only: fingerprint_add
   use domain_decomposition, only: element_centroids, partition_rcb
@@ -171,20 +172,23 @@ contains
     if (unused > 0) message = unused_node_message(first, unused)
   end subroutine check_used
 
-  !> The schema relations rigid_wall_normal_nonzero and rigid_wall_nodes_in_front, wall by wall:
-  !> the node of the lowest signed distance (lowest id on a tie) over the homes' blocks. A node
-  !> counts as behind a wall below a distance of 1e-9 of the model's size, so that nodes placed
-  !> on the plane are not refused for a rounding error.
+  !> The schema relations rigid_wall_nodes_wall, rigid_wall_normal_nonzero, rigid_wall_geometry
+  !> and rigid_wall_nodes_in_front, wall by wall: the node the wall acts on of the lowest signed gap
+  !> (lowest id on a tie) over the homes' blocks (home_ids ascending). A node counts as inside below
+  !> a gap of 1e-9 of the model's size, so that nodes placed on the surface are not refused for a
+  !> rounding error.
   subroutine check_rigid_walls(d, comm, home_ids, x, message)
     type(deck_t), intent(in) :: d
     type(MPI_Comm), intent(in) :: comm
     integer, intent(in) :: home_ids(:)
     real(wp), intent(in) :: x(:, :)
     character(len=*), intent(out) :: message
-    real(wp) :: length, tolerance, size_here, mine(2), lowest(2), distance
-    integer :: w, j
-    message = ''
-    if (d%n_rigid_walls == 0) return
+    real(wp) :: tolerance, size_here, mine(2), lowest(2), gap, normal(3)
+    logical :: acts(size(home_ids))
+    type(wall_t) :: wall
+    integer :: w, j, k
+    message = wall_rows_message(d, size(d%rigid_wall_shape))
+    if (message /= '' .or. d%n_rigid_walls == 0) return
     size_here = 0.0_wp
     if (size(x) > 0) size_here = maxval(abs(x))
     call MPI_Allreduce(size_here, tolerance, 1, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
@@ -192,11 +196,20 @@ contains
     do w = 1, d%n_rigid_walls
       message = wall_normal_message(d, w)
       if (message /= '') return
-      length = norm2(d%rigid_wall_normal(:, w))
+      wall = wall_make(d%rigid_wall_shape(w), d%rigid_wall_point(:, w), d%rigid_wall_normal(:, w), &
+                       d%rigid_wall_edge(:, w), d%rigid_wall_size(:, w), d%rigid_wall_radius(w), &
+                       d%rigid_wall_length(w), d%rigid_wall_velocity(:, w), 0.0_wp, 0.0_wp, 1.0_wp)
+      acts = .not. any(d%rigid_wall_node_wall(1:d%n_rigid_wall_nodes) == w)
+      do k = 1, d%n_rigid_wall_nodes
+        if (d%rigid_wall_node_wall(k) /= w .or. size(home_ids) == 0) cycle
+        j = sorted_position(home_ids, d%rigid_wall_node(k))
+        if (home_ids(j) == d%rigid_wall_node(k)) acts(j) = .true.
+      end do
       mine = [huge(1.0_wp), huge(1.0_wp)]
       do j = 1, size(home_ids)
-        distance = dot_product(x(:, j) - d%rigid_wall_point(:, w), d%rigid_wall_normal(:, w)) / length
-        if (distance < mine(1)) mine = [distance, real(home_ids(j), wp)]
+        if (.not. acts(j)) cycle
+        call wall_gap(wall, x(:, j) - wall%point, gap, normal)
+        if (gap < mine(1)) mine = [gap, real(home_ids(j), wp)]
       end do
       call MPI_Allreduce(mine, lowest, 1, MPI_2DOUBLE_PRECISION, MPI_MINLOC, comm)
       if (lowest(1) < -tolerance) then

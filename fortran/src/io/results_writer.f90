@@ -25,7 +25,8 @@ module results_writer
 
   integer, parameter :: history_batch = 64   !< history records written in one collective write
   !> The histories with a value per part (rank 0 writes them), in the order of the block of values
-  !> results_write_history takes; then contact_force, 3 values per contact definition
+  !> results_write_history takes; then contact_force, 3 values per contact definition, and
+  !> rigid_wall_force, 3 values per rigid wall
   character(len=*), parameter :: part_histories(4) = [character(len=21) :: 'part_kinetic_energy', &
                                                       'part_internal_energy', 'part_hourglass_energy', &
                                                       'part_plastic_work']
@@ -35,14 +36,14 @@ module results_writer
 
   type :: results_file_t
     integer(hid_t) :: file = -1, transfer = -1
-    integer :: n_nodes = 0, n_elements = 0, n_tracked = 0, n_parts = 0, n_contacts = 0
+    integer :: n_nodes = 0, n_elements = 0, n_tracked = 0, n_parts = 0, n_contacts = 0, n_walls = 0
     integer :: frames = 0, records = 0   !< written or pending
     ! history records wait here and are written together (many small collective writes cost more
     ! than the run's frames): when the buffer is full and at every flush (checkpoint, finish)
     integer :: pending = 0
     real(wp), allocatable :: pending_values(:, :)      !< (1 + history names, history_batch)
     real(wp), allocatable :: pending_tracked(:, :, :)  !< (6, n_tracked, history_batch)
-    real(wp), allocatable :: pending_parts(:, :)       !< (4 n_parts + 3 n_contacts, history_batch)
+    real(wp), allocatable :: pending_parts(:, :)       !< (4 n_parts + 3 n_contacts + 3 n_walls, history_batch)
     logical :: root = .false.                   !< this rank writes the history
     type(MPI_Comm) :: comm
     real(wp) :: last_flush = 0                  !< MPI_Wtime of the last flush (rank 0's decides)
@@ -77,19 +78,19 @@ contains
   !> (each node written by exactly one rank), ascending; element_ids: this rank's elements,
   !> ascending. coordinates, connectivity (global 1-based ids) and element_part are those rows.
   subroutine results_create(path, comm, n_nodes, n_elements, node_ids, element_ids, coordinates, &
-                            connectivity, element_part, n_tracked, n_parts, n_contacts, rf, status, message)
+                            connectivity, element_part, n_tracked, n_parts, n_contacts, n_walls, rf, status, message)
     character(len=*), intent(in) :: path
     type(MPI_Comm), intent(in) :: comm
     integer, intent(in) :: n_nodes, n_elements, node_ids(:), element_ids(:)
     real(wp), intent(in) :: coordinates(:, :)
-    integer, intent(in) :: connectivity(:, :), element_part(:), n_tracked, n_parts, n_contacts
+    integer, intent(in) :: connectivity(:, :), element_part(:), n_tracked, n_parts, n_contacts, n_walls
     type(results_file_t), intent(out) :: rf
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
     integer :: err, k
     integer(hid_t) :: group
     integer(hsize_t) :: nn, ne
-    call set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, n_parts, n_contacts)
+    call set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, n_parts, n_contacts, n_walls)
     nn = int(n_nodes, hsize_t)
     ne = int(n_elements, hsize_t)
     call phdf5_open(path, comm, 'create', rf%file, rf%transfer, err)
@@ -130,6 +131,7 @@ contains
     end do
     ! no contact definition, no contact_force (a growing dataset of no columns would keep no count of records)
     if (n_contacts > 0) call create_growing(group, 'contact_force', [3_hsize_t, int(n_contacts, hsize_t)])
+    if (n_walls > 0) call create_growing(group, 'rigid_wall_force', [3_hsize_t, int(n_walls, hsize_t)])
     call h5gclose_f(group, err)
     call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
     status = status_ok
@@ -140,17 +142,18 @@ contains
   !> history records (those written before the checkpoint), drops the rest and the /run and
   !> /effects groups.
   subroutine results_reopen(path, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, n_parts, &
-                            n_contacts, frames, records, rf, status, message)
+                            n_contacts, n_walls, frames, records, rf, status, message)
     character(len=*), intent(in) :: path
     type(MPI_Comm), intent(in) :: comm
     integer, intent(in) :: n_nodes, n_elements, node_ids(:), element_ids(:), n_tracked, n_parts, n_contacts
+    integer, intent(in) :: n_walls
     integer, intent(in) :: frames, records
     type(results_file_t), intent(out) :: rf
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
     integer :: err, k, complete
     logical :: exists
-    call set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, n_parts, n_contacts)
+    call set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, n_parts, n_contacts, n_walls)
     call phdf5_open(path, comm, 'append', rf%file, rf%transfer, err)
     if (err /= 0) then
       status = status_failure
@@ -185,6 +188,7 @@ contains
       call truncate_growing(rf%file, '/history/'//trim(part_histories(k)), records)
     end do
     if (n_contacts > 0) call truncate_growing(rf%file, '/history/contact_force', records)
+    if (n_walls > 0) call truncate_growing(rf%file, '/history/rigid_wall_force', records)
     rf%frames = frames
     rf%records = records
     status = status_ok
@@ -222,11 +226,11 @@ contains
     type(results_file_t), intent(inout) :: rf
     real(wp), intent(in) :: time, values(n_history_scalars)
     real(wp), intent(in) :: tracked_displacement(:, :), tracked_velocity(:, :)
-    real(wp), intent(in) :: part_values(:)   !< the part_histories in turn, then contact_force
+    real(wp), intent(in) :: part_values(:)   !< the part_histories in turn, then contact_force, rigid_wall_force
     if (.not. allocated(rf%pending_values)) then
       allocate (rf%pending_values(1 + n_history_scalars, history_batch))
       allocate (rf%pending_tracked(6, rf%n_tracked, history_batch))
-      allocate (rf%pending_parts(size(part_histories) * rf%n_parts + 3 * rf%n_contacts, history_batch))
+      allocate (rf%pending_parts(size(part_histories) * rf%n_parts + 3 * rf%n_contacts + 3 * rf%n_walls, history_batch))
     end if
     rf%records = rf%records + 1
     rf%pending = rf%pending + 1
@@ -293,22 +297,27 @@ contains
     end if
   end subroutine write_pending
 
-  !> The pending per-part histories and contact forces (rank 0's values; none when the model has
-  !> no part or contact definition).
+  !> The pending per-part histories, contact and wall forces (rank 0's values; none when the model
+  !> has no part, contact definition or wall).
   subroutine write_pending_parts(rf, first, n)
     type(results_file_t), intent(inout) :: rf
     integer, intent(in) :: first, n
-    integer :: k, np
+    integer :: k, np, at
     np = rf%n_parts
     do k = 1, size(part_histories)
       if (np > 0) call append_root(rf, '/history/'//trim(part_histories(k)), &
                                    reshape(rf%pending_parts((k - 1) * np + 1:k * np, 1:n), [np * n]), &
                                    [int(np, hsize_t)], first, n)
     end do
+    at = size(part_histories) * np
     if (rf%n_contacts > 0) call append_root(rf, '/history/contact_force', &
-                                            reshape(rf%pending_parts(size(part_histories) * np + 1:, 1:n), &
+                                            reshape(rf%pending_parts(at + 1:at + 3 * rf%n_contacts, 1:n), &
                                                     [3 * rf%n_contacts * n]), &
                                             [3_hsize_t, int(rf%n_contacts, hsize_t)], first, n)
+    at = at + 3 * rf%n_contacts
+    if (rf%n_walls > 0) call append_root(rf, '/history/rigid_wall_force', &
+                                         reshape(rf%pending_parts(at + 1:, 1:n), [3 * rf%n_walls * n]), &
+                                         [3_hsize_t, int(rf%n_walls, hsize_t)], first, n)
   end subroutine write_pending_parts
 
   !> Writes the /run attributes (the same record on every rank), marks the file complete when
@@ -414,10 +423,10 @@ contains
   ! ---------------------------------------------------------------- plumbing
 
   !> The rows this rank writes: its owned nodes and its elements; rank 0 the tracked nodes.
-  subroutine set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, n_parts, n_contacts)
+  subroutine set_rows(rf, comm, n_nodes, n_elements, node_ids, element_ids, n_tracked, n_parts, n_contacts, n_walls)
     type(results_file_t), intent(inout) :: rf
     type(MPI_Comm), intent(in) :: comm
-    integer, intent(in) :: n_nodes, n_elements, node_ids(:), element_ids(:), n_tracked, n_parts, n_contacts
+    integer, intent(in) :: n_nodes, n_elements, node_ids(:), element_ids(:), n_tracked, n_parts, n_contacts, n_walls
     integer :: rank, k
     call MPI_Comm_rank(comm, rank)
     rf%root = rank == 0
@@ -428,6 +437,7 @@ contains
     rf%n_tracked = n_tracked
     rf%n_parts = n_parts
     rf%n_contacts = n_contacts
+    rf%n_walls = n_walls
     rf%nodes = row_runs(node_ids)
     rf%elements = row_runs(element_ids)
     rf%tracked = row_runs(pack([(k, k = 1, n_tracked)], rf%root))

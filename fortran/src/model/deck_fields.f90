@@ -22,8 +22,11 @@ module deck_fields
                             dataset_contact_static_friction, dataset_contact_dynamic_friction, &
                             dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
                             dataset_contact_initial_penetration, dataset_rigid_walls_point, &
-                            dataset_rigid_walls_normal, dataset_rigid_walls_velocity, &
-                            dataset_rigid_walls_penalty_scale, dataset_rigid_bodies_part, &
+                            dataset_rigid_walls_normal, dataset_rigid_walls_shape, dataset_rigid_walls_edge, &
+                            dataset_rigid_walls_size, dataset_rigid_walls_radius, dataset_rigid_walls_length, &
+                            dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, &
+                            dataset_rigid_walls_friction, dataset_rigid_wall_nodes_wall, &
+                            dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, &
                             dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, &
                             dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
                             dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
@@ -55,6 +58,7 @@ module deck_fields
     integer :: n_tracked = 0
     integer :: n_contacts = 0
     integer :: n_rigid_walls = 0
+    integer :: n_rigid_wall_nodes = 0
     integer :: n_curves = 0
     integer :: n_curve_points = 0
     integer :: n_pressures = 0
@@ -102,8 +106,16 @@ module deck_fields
     integer, allocatable :: contact_initial_penetration(:)   !< /contact/initial_penetration (n_contacts) -
     real(wp), allocatable :: rigid_wall_point(:, :)   !< /rigid_walls/point (3, n_rigid_walls) m
     real(wp), allocatable :: rigid_wall_normal(:, :)   !< /rigid_walls/normal (3, n_rigid_walls) -
+    integer, allocatable :: rigid_wall_shape(:)   !< /rigid_walls/shape (n_rigid_walls) -
+    real(wp), allocatable :: rigid_wall_edge(:, :)   !< /rigid_walls/edge (3, n_rigid_walls) -
+    real(wp), allocatable :: rigid_wall_size(:, :)   !< /rigid_walls/size (3, n_rigid_walls) m
+    real(wp), allocatable :: rigid_wall_radius(:)   !< /rigid_walls/radius (n_rigid_walls) m
+    real(wp), allocatable :: rigid_wall_length(:)   !< /rigid_walls/length (n_rigid_walls) m
     real(wp), allocatable :: rigid_wall_velocity(:, :)   !< /rigid_walls/velocity (3, n_rigid_walls) m/s
     real(wp), allocatable :: rigid_wall_penalty_scale(:)   !< /rigid_walls/penalty_scale (n_rigid_walls) -
+    real(wp), allocatable :: rigid_wall_friction(:)   !< /rigid_walls/friction (n_rigid_walls) -
+    integer, allocatable :: rigid_wall_node_wall(:)   !< /rigid_wall_nodes/wall (n_rigid_wall_nodes) -
+    integer, allocatable :: rigid_wall_node(:)   !< /rigid_wall_nodes/node (n_rigid_wall_nodes) -
     integer, allocatable :: rigid_body_part(:)   !< /rigid_bodies/part (n_rigid_bodies) -
     integer, allocatable :: rigid_body_fixed_dofs(:, :)   !< /rigid_bodies/fixed_dofs (6, n_rigid_bodies) -
     integer, allocatable :: rigid_body_prescribed(:, :)   !< /rigid_bodies/prescribed (6, n_rigid_bodies) -
@@ -169,6 +181,7 @@ contains
     call store_output(d, id, values, indices)
     call store_contact(d, id, values, indices)
     call store_rigid_walls(d, id, values, indices)
+    call store_rigid_wall_nodes(d, id, values, indices)
     call store_rigid_bodies(d, id, values, indices)
     call store_curves(d, id, values, indices)
     call store_pressure(d, id, values, indices)
@@ -343,12 +356,39 @@ contains
       d%n_rigid_walls = size(values, 2)
     case (dataset_rigid_walls_normal)
       d%rigid_wall_normal = values
+    case (dataset_rigid_walls_shape)
+      d%rigid_wall_shape = indices(1, :)
+    case (dataset_rigid_walls_edge)
+      d%rigid_wall_edge = values
+    case (dataset_rigid_walls_size)
+      d%rigid_wall_size = values
+    case (dataset_rigid_walls_radius)
+      d%rigid_wall_radius = values(1, :)
+    case (dataset_rigid_walls_length)
+      d%rigid_wall_length = values(1, :)
     case (dataset_rigid_walls_velocity)
       d%rigid_wall_velocity = values
     case (dataset_rigid_walls_penalty_scale)
       d%rigid_wall_penalty_scale = values(1, :)
+    case (dataset_rigid_walls_friction)
+      d%rigid_wall_friction = values(1, :)
     end select
   end subroutine store_rigid_walls
+
+  !> Puts dataset id into its field if it is one of /rigid_wall_nodes (store_dataset).
+  subroutine store_rigid_wall_nodes(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
+    case (dataset_rigid_wall_nodes_wall)
+      d%rigid_wall_node_wall = indices(1, :) + 1
+      d%n_rigid_wall_nodes = size(values, 2)
+    case (dataset_rigid_wall_nodes_node)
+      d%rigid_wall_node = indices(1, :)
+    end select
+  end subroutine store_rigid_wall_nodes
 
   !> Puts dataset id into its field if it is one of /rigid_bodies (store_dataset).
   subroutine store_rigid_bodies(d, id, values, indices)

@@ -10,11 +10,12 @@ module deck_relations
   use deck_rules, only: integer_text, number_text, index_list
   use quad_shape, only: quad_shape_fault, triangle_shape_fault, shape_sound, shape_concave
   use model_deck, only: deck_t, node_row, engine_precision
+  use rigid_wall, only: wall_requirement
   implicit none
   private
   public :: precision_message, repeated_node_message, duplicate_element_message, shape_message, &
             small_table_message, rigid_node_message, unused_node_message, wall_normal_message, wall_behind_message, &
-            check_curve_relations
+            wall_rows_message, check_curve_relations
 
 contains
 
@@ -158,27 +159,47 @@ contains
               integer_text(unused)//' such nodes); a node without elements has no mass, remove unused nodes'
   end function unused_node_message
 
-  !> The schema relation rigid_wall_normal_nonzero for wall w.
+  !> The schema relations rigid_wall_normal_nonzero and rigid_wall_geometry for wall w.
   function wall_normal_message(d, w) result(message)
     type(deck_t), intent(in) :: d
     integer, intent(in) :: w
     character(len=:), allocatable :: message
     message = ''
-    if (norm2(d%rigid_wall_normal(:, w)) > 0.0_wp) return
-    message = '/rigid_walls/normal['//integer_text(w - 1)//'] is the zero vector; give a nonzero normal '// &
-              'pointing from the wall towards the model'
+    if (.not. norm2(d%rigid_wall_normal(:, w)) > 0.0_wp) then
+      message = '/rigid_walls/normal['//integer_text(w - 1)//'] is the zero vector; give a nonzero normal '// &
+                'pointing from the wall towards the model (a cylinder: its axis)'
+      return
+    end if
+    message = wall_requirement(d%rigid_wall_shape(w), d%rigid_wall_normal(:, w), d%rigid_wall_edge(:, w), &
+                               d%rigid_wall_size(:, w), d%rigid_wall_radius(w))
+    if (message /= '') message = '/rigid_walls/shape['//integer_text(w - 1)//'] = '//message// &
+                                 '; give the wall its /rigid_walls/edge, size or radius'
   end function wall_normal_message
 
-  !> The schema relation rigid_wall_nodes_in_front broken: node (1-based) is `distance` behind wall w.
+  !> The schema relation rigid_wall_nodes_in_front broken: node (1-based) is `distance` inside wall w.
   function wall_behind_message(w, node, distance) result(message)
     integer, intent(in) :: w, node
     real(wp), intent(in) :: distance
     character(len=:), allocatable :: message
     message = '/rigid_walls/point['//integer_text(w - 1)//'] puts node '//integer_text(node - 1)// &
               ' behind the wall at the start (signed distance '//number_text(distance, class_float)// &
-              ' m along /rigid_walls/normal); move the point or flip the normal so that the model starts '// &
-              'on the side the normal points to'
+              ' m to its surface, inside it); move the wall or flip its normal so that the model starts on its outer side'
   end function wall_behind_message
+
+  !> The schema relation rigid_wall_nodes_wall: every row names a wall (1-based, n_walls of them).
+  function wall_rows_message(d, n_walls) result(message)
+    type(deck_t), intent(in) :: d
+    integer, intent(in) :: n_walls
+    character(len=:), allocatable :: message
+    integer :: k
+    message = ''
+    do k = 1, d%n_rigid_wall_nodes
+      if (d%rigid_wall_node_wall(k) <= n_walls) cycle
+      message = '/rigid_wall_nodes/wall['//integer_text(k - 1)//'] = '//integer_text(d%rigid_wall_node_wall(k) - 1)// &
+                ' names no rigid wall (the deck has '//integer_text(n_walls)//'); give the 0-based index of a wall'
+      return
+    end do
+  end function wall_rows_message
 
   !> The load curves' relations (curve_first_points, curve_times_increase); message '' when they hold.
   subroutine check_curve_relations(d, message)

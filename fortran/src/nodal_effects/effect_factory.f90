@@ -62,8 +62,11 @@ contains
           deck%pressure_value, deck%pressure_curve, deck%element_part))   ! the held elements: the domain's
       case (effect_rigid_wall)
         call append(effects)
-        allocate (effects(size(effects))%effect, source=rigid_wall_effect_make(deck%rigid_wall_point, &
-          deck%rigid_wall_normal, deck%rigid_wall_velocity, deck%rigid_wall_penalty_scale, dt))
+        allocate (effects(size(effects))%effect, source=rigid_wall_effect_make(deck%rigid_wall_shape, &
+          deck%rigid_wall_point, deck%rigid_wall_normal, deck%rigid_wall_edge, deck%rigid_wall_size, &
+          deck%rigid_wall_radius, deck%rigid_wall_length, deck%rigid_wall_velocity, deck%rigid_wall_penalty_scale, &
+          deck%rigid_wall_friction, deck%rigid_wall_node_wall(1:deck%n_rigid_wall_nodes), &
+          [(local_node(dom, deck%rigid_wall_node(k)), k = 1, deck%n_rigid_wall_nodes)], dom%n_nodes, dt))
       case (effect_prescribed_velocity)
         call append(effects)
         allocate (effects(size(effects))%effect, source=prescribed_velocity_make(curves, &

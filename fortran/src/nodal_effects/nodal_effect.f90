@@ -3,9 +3,10 @@
 !> corners before the corner exchange. A member overrides the hooks it uses and says so in
 !> acts_at; the solver's pipeline calls only those, and only for the members the deck declares
 !> (effect_factory), so an effect the scene does not call for costs nothing. A member with a state
-!> of its own (the rigid bodies' motion) gives it to checkpoints through state_words.
+!> of its own (the rigid bodies' motion) gives it to checkpoints through state_words; a member
+!> whose forces the history reports (the rigid walls' RWFORC) gives their exact sums through history_sums.
 module nodal_effect
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
   use nodal_state, only: nodal_state_t
   implicit none
   private
@@ -28,6 +29,7 @@ module nodal_effect
     procedure :: idle => never_idle
     procedure :: state_words => no_state
     procedure :: restore_state => no_restore
+    procedure :: history_sums => no_history_sums
   end type nodal_effect_t
 
   !> A member in a list (a Fortran array cannot hold different members directly).
@@ -92,5 +94,13 @@ contains
     class(nodal_effect_t), intent(inout) :: e
     real(wp), intent(in) :: words(:)
   end subroutine no_restore
+
+  !> The exact accumulators (core/exact_sum) of the force vectors the member reports in the
+  !> history, (exact_width, 3, rows), summed over this rank's owned nodes in the last step; none by default.
+  function no_history_sums(e) result(sums)
+    class(nodal_effect_t), intent(in) :: e
+    integer(i8), allocatable :: sums(:, :, :)
+    allocate (sums(0, 3, 0))
+  end function no_history_sums
 
 end module nodal_effect

@@ -1,43 +1,62 @@
-!> Planar rigid walls as a member of the nodal effect family: at the start of a step, the penalty
-!> force on every node behind a wall goes into the nodes' external forces (kernel: rigid_wall), so
-!> its work, the springs' stored energy and a moving wall's work, counts as external work.
+!> Rigid walls as a member of the nodal effect family: at the start of a step, each wall's force on
+!> its nodes inside it goes into the nodes' external forces (kernel: rigid_wall), so its work, the
+!> springs' stored energy, friction and a moving wall's work, counts as external work. Each wall
+!> keeps the exact sum of its forces on the nodes this rank owns, which the history reduces over
+!> the ranks (history_sums: LS-DYNA's RWFORC, the same bits on any layout).
 module rigid_wall_effect
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: effect_rigid_wall
+  use exact_sum, only: exact_width
   use nodal_state, only: nodal_state_t
   use nodal_effect, only: nodal_effect_t, stage_loads
-  use rigid_wall, only: rigid_wall_forces
+  use rigid_wall, only: wall_t, wall_make, rigid_wall_forces
   implicit none
   private
   public :: rigid_wall_effect_t, rigid_wall_effect_make
 
   type, extends(nodal_effect_t) :: rigid_wall_effect_t
-    integer :: n_walls = 0
-    real(wp), allocatable :: point(:, :)           !< (3, n_walls), a point of each plane at time 0
-    real(wp), allocatable :: normal(:, :)          !< (3, n_walls), unit, towards the model
-    real(wp), allocatable :: velocity(:, :)        !< (3, n_walls)
-    real(wp), allocatable :: stiffness_per_mass(:) !< penalty_scale / dt^2: k = this times the node's mass
+    type(wall_t), allocatable :: walls(:)
+    integer, allocatable :: first(:)          !< nodes of wall w: node(first(w) : first(w + 1) - 1)
+    integer, allocatable :: node(:)           !< local nodes, ascending per wall
+    integer(i8), allocatable :: sums(:, :, :) !< (exact_width, 3, walls): this step's forces on owned nodes
   contains
     procedure :: acts_at
     procedure :: add_forces
+    procedure :: history_sums
   end type rigid_wall_effect_t
 
 contains
 
-  !> The member from the deck's walls ((3, n_walls) and (n_walls)) for a run of step dt.
-  function rigid_wall_effect_make(point, normal, velocity, penalty_scale, dt) result(e)
-    real(wp), intent(in) :: point(:, :), normal(:, :), velocity(:, :), penalty_scale(:), dt
+  !> The member from the deck's walls ((3, n_walls) and (n_walls)) for a run of first step dt.
+  !> listed(k) is the wall (1-based) of the k-th row of /rigid_wall_nodes and local(k) its node in
+  !> this rank's numbering (0 where the rank does not hold it); a wall without rows acts on all n nodes.
+  function rigid_wall_effect_make(shape, point, normal, edge, sides, radius, length, velocity, penalty_scale, &
+                                  friction, listed, local, n, dt) result(e)
+    integer, intent(in) :: shape(:), listed(:), local(:), n
+    real(wp), intent(in) :: point(:, :), normal(:, :), edge(:, :), sides(:, :), radius(:), length(:)
+    real(wp), intent(in) :: velocity(:, :), penalty_scale(:), friction(:), dt
     type(rigid_wall_effect_t) :: e
-    integer :: w
+    integer :: w, j, k, nw
+    logical, allocatable :: mine(:)
     e%id = effect_rigid_wall
-    e%n_walls = size(point, 2)
-    e%point = point
-    e%velocity = velocity
-    allocate (e%normal(3, e%n_walls))
-    do w = 1, e%n_walls   ! the deck checks that no normal is zero
-      e%normal(:, w) = normal(:, w) / norm2(normal(:, w))
+    nw = size(point, 2)
+    allocate (e%walls(nw), e%first(nw + 1), e%node(0), mine(n))
+    do w = 1, nw
+      e%walls(w) = wall_make(shape(w), point(:, w), normal(:, w), edge(:, w), sides(:, w), radius(w), length(w), &
+                             velocity(:, w), penalty_scale(w), friction(w), dt)
+      e%first(w) = size(e%node) + 1
+      if (any(listed == w)) then
+        mine = .false.
+        do k = 1, size(listed)
+          if (listed(k) == w .and. local(k) > 0) mine(local(k)) = .true.
+        end do
+        e%node = [e%node, pack([(j, j = 1, n)], mine)]
+      else
+        e%node = [e%node, [(j, j = 1, n)]]
+      end if
     end do
-    e%stiffness_per_mass = penalty_scale / dt**2
+    e%first(nw + 1) = size(e%node) + 1
+    allocate (e%sums(exact_width, 3, nw), source=0_i8)
   end function rigid_wall_effect_make
 
   pure logical function acts_at(e, stage)
@@ -51,10 +70,18 @@ contains
     type(nodal_state_t), intent(inout) :: ns
     real(wp), intent(in) :: time
     integer :: w
-    do w = 1, e%n_walls
-      call rigid_wall_forces(ns%n, ns%x, ns%mass, e%point(:, w), e%normal(:, w), e%velocity(:, w), time, &
-                             e%stiffness_per_mass(w), ns%f_ext)
+    e%sums = 0
+    do w = 1, size(e%walls)
+      call rigid_wall_forces(e%walls(w), e%node(e%first(w):e%first(w + 1) - 1), ns%x, ns%v, ns%mass, ns%weight, &
+                             time, ns%f_ext, e%sums(:, :, w))
     end do
   end subroutine add_forces
+
+  !> The exact sums of each wall's force on this rank's owned nodes in the last step.
+  function history_sums(e) result(sums)
+    class(rigid_wall_effect_t), intent(in) :: e
+    integer(i8), allocatable :: sums(:, :, :)
+    sums = e%sums
+  end function history_sums
 
 end module rigid_wall_effect

@@ -127,6 +127,7 @@ contains
     allocate (s%element_work(s%dom%n_elements))
     s%n_parts = deck%n_parts
     s%n_contacts = deck%n_contacts
+    s%n_walls = deck%n_rigid_walls
     s%node_part = deck%node_part([(node_row(deck, s%dom%nodes(p)), p = 1, s%dom%n_nodes)])
   end subroutine solver_setup
 

@@ -17,6 +17,7 @@ module solver_output
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
   use solver_state, only: solver_t
   use phase_timers, only: wall_clock
+  use exact_sum, only: exact_width, exact_normalise, exact_value
   implicit none
   private
   public :: write_record, write_frame, write_progress, run_record, write_phase_line
@@ -32,10 +33,12 @@ contains
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
     ! the scalar histories by their schema ids, two checks, the tracked nodes' values, then the
-    ! per-part energies (kinetic, internal, hourglass, plastic work) and each contact definition's force
+    ! per-part energies (kinetic, internal, hourglass, plastic work), each contact definition's force
+    ! and each rigid wall's
     integer, parameter :: inverted_at = n_history_scalars + 1, nan_at = n_history_scalars + 2
-    real(wp) :: sums(nan_at + 6 * s%control%n_tracked + 4 * s%n_parts + 3 * s%n_contacts)
-    integer :: bad, bad_total, k, j, parts_at
+    real(wp) :: sums(nan_at + 6 * s%control%n_tracked + 4 * s%n_parts + 3 * s%n_contacts + 3 * s%n_walls)
+    integer :: bad, bad_total, k, j, parts_at, walls_at
+    real(wp) :: walls(3, s%n_walls)
     associate (ns => s%nodes)
       sums(history_kinetic_energy) = kinetic_energy(ns%n, ns%mass, ns%inertia, ns%v_old, ns%w_old, ns%v, ns%w, &
                                                     ns%weight)
@@ -56,8 +59,11 @@ contains
                                                   ns%w_old, ns%v, ns%w, ns%weight, s%node_part, s%n_parts)
       call part_energies(s, sums(parts_at + s%n_parts + 1:parts_at + 4 * s%n_parts))
       sums(parts_at + 4 * s%n_parts + 1:) = 0.0_wp
+      walls_at = parts_at + 4 * s%n_parts + 3 * s%n_contacts
       if (s%has_contact .and. s%rank == 0) &
-        sums(parts_at + 4 * s%n_parts + 1:) = reshape(s%contact%c%definition_force, [3 * s%n_contacts])
+        sums(parts_at + 4 * s%n_parts + 1:walls_at) = reshape(s%contact%c%definition_force, [3 * s%n_contacts])
+      call wall_forces(s, walls)   ! the same on every rank: rank 0 reports them
+      if (s%rank == 0) sums(walls_at + 1:) = reshape(walls, [3 * s%n_walls])
       s%tracked_out = 0.0_wp
       do k = 1, s%control%n_tracked
         j = s%control%tracked_local(k)
@@ -97,6 +103,36 @@ contains
         s%clock%time, ' s; the run is unstable (time step too large or a bad material constant)'
     end if
   end subroutine write_record
+
+  !> Each rigid wall's force on the model in the last step, (3, n_walls): the exact sums of the
+  !> members that report forces (history_sums) added over the ranks as integers, so the value is
+  !> the same on every rank and on any layout. Collective when the model has walls.
+  subroutine wall_forces(s, forces)
+    type(solver_t), intent(inout) :: s
+    real(wp), intent(out) :: forces(:, :)
+    integer(i8), allocatable :: sums(:, :, :)
+    integer :: k, w, i, n_ranks
+    forces = 0.0_wp
+    if (s%n_walls == 0) return
+    allocate (sums(exact_width, 3, 0))
+    do k = 1, size(s%nodal_effects)
+      sums = s%nodal_effects(k)%effect%history_sums()
+      if (size(sums, 3) > 0) exit
+    end do
+    if (size(sums, 3) /= s%n_walls) return   ! the walls were switched off
+    do w = 1, s%n_walls
+      do i = 1, 3
+        call exact_normalise(sums(:, i, w))
+      end do
+    end do
+    call MPI_Comm_size(s%halo%comm, n_ranks)
+    if (n_ranks > 1) call MPI_Allreduce(MPI_IN_PLACE, sums, size(sums), MPI_INTEGER8, MPI_SUM, s%halo%comm)
+    do w = 1, s%n_walls
+      do i = 1, 3
+        forces(i, w) = exact_value(sums(:, i, w))
+      end do
+    end do
+  end subroutine wall_forces
 
   !> This rank's internal energy, hourglass energy and plastic work of each part, in turn (n_parts
   !> each). The plastic work of an element: its current area times thickness times the

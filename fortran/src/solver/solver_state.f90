@@ -44,7 +44,7 @@ module solver_state
     real(wp), allocatable :: element_work(:)   !< each element's plastic work at a history record
     real(wp), allocatable :: tracked_out(:, :)   !< (6, n_tracked): this rank's share, summed to rank 0
     integer, allocatable :: node_part(:)         !< per local node: the part of its lowest-numbered element
-    integer :: n_parts = 0, n_contacts = 0
+    integer :: n_parts = 0, n_contacts = 0, n_walls = 0
     real(wp) :: external_work = 0, damping_work = 0   !< summed over this rank's owned nodes
     ! rank 0: the total energy of the first record of this process and the largest energy since,
     ! for the energy balance error that /control energy_error_limit watches

@@ -58,8 +58,16 @@ class DeckFields:
     contact_initial_penetration: np.ndarray | None = None   # /contact/initial_penetration (n_contacts,) -
     rigid_wall_point: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.float64))
     rigid_wall_normal: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.float64))
+    rigid_wall_shape: np.ndarray | None = None   # /rigid_walls/shape (n_rigid_walls,) -
+    rigid_wall_edge: np.ndarray | None = None   # /rigid_walls/edge (n_rigid_walls, 3) -
+    rigid_wall_size: np.ndarray | None = None   # /rigid_walls/size (n_rigid_walls, 3) m
+    rigid_wall_radius: np.ndarray | None = None   # /rigid_walls/radius (n_rigid_walls,) m
+    rigid_wall_length: np.ndarray | None = None   # /rigid_walls/length (n_rigid_walls,) m
     rigid_wall_velocity: np.ndarray | None = None   # /rigid_walls/velocity (n_rigid_walls, 3) m/s
     rigid_wall_penalty_scale: np.ndarray | None = None   # /rigid_walls/penalty_scale (n_rigid_walls,) -
+    rigid_wall_friction: np.ndarray | None = None   # /rigid_walls/friction (n_rigid_walls,) -
+    rigid_wall_node_wall: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
+    rigid_wall_node: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     rigid_body_part: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     rigid_body_fixed_dofs: np.ndarray | None = None   # /rigid_bodies/fixed_dofs (n_rigid_bodies, 6) -
     rigid_body_prescribed: np.ndarray | None = None   # /rigid_bodies/prescribed (n_rigid_bodies, 6) -
@@ -98,6 +106,11 @@ class DeckFields:
     def n_rigid_walls(self) -> int:
         """Rows of /rigid_walls/point."""
         return _rows(self.rigid_wall_point, 2)
+
+    @property
+    def n_rigid_wall_nodes(self) -> int:
+        """Rows of /rigid_wall_nodes/wall."""
+        return _rows(self.rigid_wall_node_wall, 1)
 
     @property
     def n_curves(self) -> int:

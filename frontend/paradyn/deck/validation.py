@@ -22,6 +22,7 @@ from paradyn._schema import (
     DatasetSpec,
 )
 from paradyn.deck.model import trait_codes
+from paradyn.deck.walls import walls_of
 
 if TYPE_CHECKING:
     from .model import Model
@@ -217,22 +218,44 @@ def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
 
 
 def _check_rigid_walls(check: _Checker, sizes: dict[str, int]) -> None:
-    """rigid_wall_normal_nonzero and rigid_wall_nodes_in_front (model_deck's check_rigid_walls): a
-    node counts as behind a wall below 1e-9 of the model's size, so nodes on the plane pass."""
+    """rigid_wall_nodes_wall, rigid_wall_normal_nonzero, rigid_wall_geometry and
+    rigid_wall_nodes_in_front (the engine's check_rigid_walls): a node counts as inside a wall below
+    1e-9 of the model's size, so nodes on its surface pass; a wall with rows of /rigid_wall_nodes
+    is checked on those nodes only."""
+    listed = _optional(check, "rigid_wall_node_wall")
+    nodes = _optional(check, "rigid_wall_node")
+    n_walls = len(check.array("rigid_wall_point"))
+    bad = np.flatnonzero(listed >= n_walls)
+    if bad.size:
+        k = int(bad[0])
+        check.fail(f"/rigid_wall_nodes/wall[{k}] = {int(listed[k])} names no rigid wall (the deck has {n_walls}); "
+                   f"give the 0-based index of a wall")
+    if sizes["n_rigid_walls"] == 0:
+        return
     coordinates = check.array("coordinates")
     tolerance = 1e-9 * float(np.max(np.abs(coordinates)))
-    for w in range(sizes["n_rigid_walls"]):
-        normal = check.array("rigid_wall_normal")[w]
-        length = float(np.linalg.norm(normal))
-        if not length > 0.0:
+    walls = walls_of(*(check.array(f"rigid_wall_{key}") for key in
+                       ("shape", "point", "normal", "edge", "size", "radius", "length")))
+    for w, wall in enumerate(walls):
+        if not float(np.linalg.norm(wall.normal)) > 0.0:
             check.fail(f"/rigid_walls/normal[{w}] is the zero vector; give a nonzero normal pointing from the "
-                       f"wall towards the model")
-        distance = (coordinates - check.array("rigid_wall_point")[w]) @ normal / length
-        k = int(np.argmin(distance))
-        if distance[k] < -tolerance:
+                       f"wall towards the model (a cylinder: its axis)")
+        if wall.requirement():
+            check.fail(f"/rigid_walls/shape[{w}] = {wall.requirement()}; give the wall its /rigid_walls/edge, "
+                       f"size or radius")
+        acts = np.unique(nodes[listed == w]) if np.any(listed == w) else np.arange(len(coordinates))
+        gaps = wall.gaps(coordinates[acts])
+        if gaps.size and gaps.min() < -tolerance:
+            k = int(acts[np.argmin(gaps)])
             check.fail(f"/rigid_walls/point[{w}] puts node {k} behind the wall at the start (signed distance "
-                       f"{_fmt(distance[k])} m along /rigid_walls/normal); move the point or flip the normal so "
-                       f"that the model starts on the side the normal points to")
+                       f"{_fmt(float(gaps.min()))} m to its surface, inside it); move the wall or flip its normal so "
+                       f"that the model starts on its outer side")
+
+
+def _optional(check: _Checker, attribute: str) -> np.ndarray:
+    """A table's integer column, empty when the table is absent."""
+    value = getattr(check.model, attribute)
+    return np.zeros(0, dtype=np.int64) if value is None else np.asarray(value, dtype=np.int64)
 
 
 def _check_rigid_bodies(check: _Checker, sizes: dict[str, int]) -> None:

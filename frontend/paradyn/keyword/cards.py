@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 from .defaults import apply_zero_defaults
 from .reader import Block, Field, KeywordError, KeywordFile, Line, Value, fields, layout
+from .walls import WALL_READERS
 
 NODE = (Field("NID", "int", None, 8), Field("X", "float", 0.0, 16), Field("Y", "float", 0.0, 16),
         Field("Z", "float", 0.0, 16), Field("TC", "int", 0, 8), Field("RC", "int", 0, 8))
@@ -426,6 +427,7 @@ for _title in ("", "_TITLE"):
     for _target in ("NODE", "PART"):
         for _list in ("", "_LIST", "_LIST_GENERATE"):
             READERS[f"SET_{_target}{_list}{_title}"] = _set(_target)
+READERS.update(WALL_READERS)   # *RIGIDWALL_PLANAR and _GEOMETRIC (keyword/walls.py)
 
 
 def collect(deck: KeywordFile, readers: dict[str, Callable[[_Reading], None]] | None = None) -> KeywordData:

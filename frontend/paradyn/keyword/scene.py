@@ -43,6 +43,7 @@ from .rigid import (
     solid_face_thickness,
 )
 from .units import Units, UnitsError
+from .walls import apply_rigid_walls
 
 
 @dataclass
@@ -276,6 +277,7 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
     apply_loads(data, mesh, unit, model, scene.run.end_time)
     apply_material_curves(scene, model)
     _apply_contacts(scene, model)
+    apply_rigid_walls(data, unit, mesh, model)
     _apply_tracks(data, mesh, model)
     apply_masses(data, mesh, unit, model)
     _apply_rigid_bodies(data, mesh, unit, model)

@@ -214,10 +214,10 @@ def read_history(h5: h5py.File, path: Path, complete: bool) -> dict[str, np.ndar
     n_tracked = data[tracked["tracked_displacement"]].shape[1] if present_tracked else 0
     for name, ds in tracked.items():
         out[name] = read_rows(data, ds, n, (n_tracked, 3), path)
-    # per part (n_records, n_parts) and per contact definition (n_records, n_contacts, 3); files
-    # written before the engine had them read as no columns
+    # per part (n_records, n_parts), per contact definition (n_records, n_contacts, 3) and per rigid
+    # wall (n_records, n_walls, 3); files written before the engine had them read as no columns
     for name, tail in (("part_kinetic_energy", ()), ("part_internal_energy", ()), ("part_hourglass_energy", ()),
-                       ("part_plastic_work", ()), ("contact_force", (3,))):
+                       ("part_plastic_work", ()), ("contact_force", (3,)), ("rigid_wall_force", (3,))):
         width = data[f"/history/{name}"].shape[1] if f"/history/{name}" in data else 0
         out[name] = read_rows(data, f"/history/{name}", n, (width, *tail), path) if width else np.zeros((n, 0, *tail))
     return out

@@ -382,7 +382,7 @@ class Results:
         return frame
 
     def _part_columns(self) -> dict[str, tuple[str, np.ndarray]]:
-        """The per-part and per-contact columns: column -> (its /history dataset, values)."""
+        """The per-part, per-contact and per-wall columns: column -> (its /history dataset, values)."""
         h = self.history
         columns: dict[str, tuple[str, np.ndarray]] = {}
         parts = run_names.unique_safe_names(self.part_names, "part")
@@ -390,9 +390,10 @@ class Results:
             name = f"part_{quantity}"
             for i, part in enumerate(parts[:h[name].shape[1]]):
                 columns[f"{part}_{quantity}"] = (name, h[name][:, i])
-        for k in range(h["contact_force"].shape[1]):
-            for c, axis in enumerate("xyz"):
-                columns[f"contact{k}_f{axis}"] = ("contact_force", h["contact_force"][:, k, c])
+        for name, label in (("contact_force", "contact"), ("rigid_wall_force", "wall")):
+            for k in range(h[name].shape[1]):
+                for c, axis in enumerate("xyz"):
+                    columns[f"{label}{k}_f{axis}"] = (name, h[name][:, k, c])
         return columns
 
     def history_table(self) -> dict[str, np.ndarray]:

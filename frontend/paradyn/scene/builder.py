@@ -178,7 +178,10 @@ class Scene:
         self._add("contact", **({"parts": list(parts)} if parts else {}), **options)
 
     def add_rigid_wall(self, *, point: Any, normal: Any, **options: Any) -> None:
-        """A ``[[rigid_wall]]`` through ``point`` facing ``normal``; ``velocity``, ``penalty_scale``."""
+        """A ``[[rigid_wall]]``: by default the plane through ``point`` facing ``normal`` (a cylinder's
+        axis; any direction for a sphere); ``shape``
+        (``"plane"``, ``"finite_plane"``, ``"cylinder"``, ``"sphere"``, ``"box"``) with its ``edge``,
+        ``size``, ``radius``, ``length``; ``velocity``, ``penalty_scale``, ``friction`` (docs/scene.md)."""
         self.add("rigid_wall", point=point, normal=normal, **options)
 
     def add(self, table: str, /, **keys: Any) -> None:
