@@ -278,8 +278,8 @@ RELATIONS: dict[str, RelationSpec] = {
     'rigid_bodies_whole': RelationSpec(
         'rigid_bodies_whole', '/nodes/rigid_body',
         (
-            'every node of an element of a part with a rigid material is in a rigid body, and every '
-            '/rigid_bodies/part has a rigid material'
+            'every node of an element of a part with a rigid material is in a rigid body, every '
+            '/rigid_bodies/part has a rigid material (or is -1), and every body has a node'
         ),
     ),
 }
@@ -649,9 +649,12 @@ DATASETS: tuple[DatasetSpec, ...] = (
     ),
     DatasetSpec(
         '/rigid_bodies/part', 'rigid_body_part', 'int', ('n_rigid_bodies',), False, 'rigid_bodies_group', None,
-        None, None, None, '', None, '', 'part', True, '-',
-        'the part with a rigid material that names the body (its nodes are those of /nodes/rigid_body)',
-        '[[rigid_body]] part', 'give the index of a part with a rigid material',
+        None, Bound(-1, True), None, 'must be >= -1', None, '', 'part', True, '-',
+        (
+            'the part with a rigid material that names the body, or -1 for a body of nodes alone (LS-DYNA '
+            '*CONSTRAINED_NODAL_RIGID_BODY, a spot weld); its nodes are those of /nodes/rigid_body'
+        ), '[[rigid_body]] part',
+        'give the index of a part with a rigid material (or -1 for a body of nodes alone)',
     ),
     DatasetSpec(
         '/rigid_bodies/fixed_dofs', 'rigid_body_fixed_dofs', 'int', ('n_rigid_bodies', 6), False, None, None, 0,
@@ -1051,7 +1054,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/rigid_walls/friction'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/rigid_wall_nodes/wall'): ('required_when', 'class', 'shape', 'lower'),
     ('dataset', '/rigid_wall_nodes/node'): ('required_when', 'class', 'shape', 'rows', 'reference'),
-    ('dataset', '/rigid_bodies/part'): ('required_when', 'class', 'shape', 'reference'),
+    ('dataset', '/rigid_bodies/part'): ('required_when', 'class', 'shape', 'lower', 'reference'),
     ('dataset', '/rigid_bodies/fixed_dofs'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/rigid_bodies/prescribed'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/rigid_bodies/velocity'): ('class', 'shape', 'rows', 'finite'),

@@ -614,9 +614,9 @@ module paradyn_schema
         condition_rigid_wall_nodes_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
         0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of a node'), &
     dataset_spec_t('/rigid_bodies/part', class_int, 0, size_n_rigid_bodies, .true., .false., &
-        condition_rigid_bodies_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_parts, '', '', &
-        'give the index of a part with a rigid material'), &
+        condition_rigid_bodies_group, condition_none, 0.0_wp, .true., .true., .false., .true., -1.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_parts, 'must be >= -1', '', &
+        'give the index of a part with a rigid material (or -1 for a body of nodes alone)'), &
     dataset_spec_t('/rigid_bodies/fixed_dofs', class_int, 6, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
         [0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &

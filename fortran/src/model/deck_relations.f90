@@ -124,6 +124,7 @@ contains
       end if
     end do
     do i = 1, d%n_rigid_bodies
+      if (d%rigid_body_part(i) == 0) cycle   ! a body of nodes alone
       if (material_is_rigid(d%material_model(d%part_material(d%rigid_body_part(i))))) cycle
       message = '/rigid_bodies/part['//integer_text(i - 1)//'] = '//integer_text(d%rigid_body_part(i) - 1)// &
                 ' names a part whose material is not rigid; give the part a rigid material, or remove the body'

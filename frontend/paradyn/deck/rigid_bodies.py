@@ -29,16 +29,19 @@ def rigid_parts(model: Model) -> np.ndarray:
 
 
 def complete_rigid_bodies(model: Model, merge: list[tuple[int, int]] | None = None,
-                          extra: list[tuple[int, int]] | None = None) -> list[str]:
+                          extra: list[tuple[int, int]] | None = None,
+                          nodal: list[list[int]] | None = None) -> list[str]:
     """One /rigid_bodies row per rigid body and /nodes/rigid_body from the bodies' elements;
     nothing when the model has no rigid part and no row. A body is a rigid part, or rigid parts
     that share a node or that ``merge`` pairs (LS-DYNA *CONSTRAINED_RIGID_BODIES): the lowest part
     leads it, its held dofs are those of any of its parts. ``extra``: (part, node) pairs, nodes that
-    move with the part's body besides its elements' (LS-DYNA *CONSTRAINED_EXTRA_NODES). Returns a
-    line for each pair of rigid parts merged because they share nodes (the caller warns with it)."""
+    move with the part's body besides its elements' (LS-DYNA *CONSTRAINED_EXTRA_NODES); ``nodal``:
+    bodies of nodes alone (part -1: LS-DYNA *CONSTRAINED_NODAL_RIGID_BODY, spot welds), after the
+    parts' bodies. Returns a line for each pair of rigid parts merged because they share nodes (the
+    caller warns with it)."""
     parts = [int(p) for p in rigid_parts(model)]
-    given = [] if model.rigid_body_part is None else [int(p) for p in model.rigid_body_part]
-    if not parts and not given:
+    given = [] if model.rigid_body_part is None else [int(p) for p in model.rigid_body_part if p >= 0]
+    if not parts and not given and not nodal:
         return []
     name = _part_namer(model)
     held = {part: np.zeros(6, dtype=np.int32) for part in parts}
@@ -68,8 +71,30 @@ def complete_rigid_bodies(model: Model, merge: list[tuple[int, int]] | None = No
             raise RigidBodyError(f"extra node {node} of part {name(part)} is already on the rigid body of part "
                                  f"{name(int(model.rigid_body_part[body[node]]))}; merge the two bodies instead")
         body[node] = row_of[lead[part]]
+    for nodes in nodal or []:
+        row = len(model.rigid_body_part)
+        taken = [int(n) for n in nodes if body[n] >= 0]
+        if taken:
+            raise RigidBodyError(f"node {taken[0]} of a nodal rigid body (a spot weld) is already on rigid body "
+                                 f"{int(body[taken[0]])}; a node moves with one body (merge them instead)")
+        body[np.asarray(nodes, dtype=int)] = row
+        model.rigid_body_part = np.append(model.rigid_body_part, -1).astype(np.int32)
+        model.rigid_body_fixed_dofs = np.vstack([model.rigid_body_fixed_dofs, np.zeros((1, 6), dtype=np.int32)])
+        _pad_rows(model)
     model.node_rigid_body = body
     return notes
+
+
+def _pad_rows(model: Model) -> None:
+    """The other /rigid_bodies columns one row longer (the defaults), where they are given."""
+    for spec in DATASETS:
+        if spec.shape[0] != "n_rigid_bodies" or spec.python in ("rigid_body_part", "rigid_body_fixed_dofs"):
+            continue
+        values = getattr(model, spec.python)
+        if values is not None:
+            values = np.asarray(values)
+            setattr(model, spec.python, np.concatenate([values, np.full((1, *values.shape[1:]), spec.default,
+                                                                        dtype=values.dtype)]))
 
 
 def body_centres(model: Model) -> np.ndarray:

@@ -264,8 +264,12 @@ def _check_rigid_bodies(check: _Checker, sizes: dict[str, int]) -> None:
     rigid = np.isin(check.array("material_model"), trait_codes("material_model", "rigid"))
     part_rigid = rigid[check.array("part_material")]
     body_part = check.array("rigid_body_part")
+    counts = np.bincount(check.array("node_rigid_body") + 1, minlength=sizes["n_rigid_bodies"] + 1)[1:]
     for row in range(sizes["n_rigid_bodies"]):
-        if not part_rigid[body_part[row]]:
+        if counts[row] == 0:
+            check.fail(f"/rigid_bodies/part[{row}]: rigid body {row} has no node in /nodes/rigid_body; give every "
+                       f"body its nodes, or remove it")
+        if body_part[row] >= 0 and not part_rigid[body_part[row]]:
             check.fail(f"/rigid_bodies/part[{row}] = {int(body_part[row])} names a part whose material is not rigid; "
                        f"give the part a rigid material, or remove the body")
     in_body = check.array("node_rigid_body") >= 0

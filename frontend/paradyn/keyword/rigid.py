@@ -249,3 +249,30 @@ def _body_of_part(model: deck.Model, row: dict[int, int], pid: int, where: str) 
     if len(bodies) != 1 or -1 in bodies:
         raise KeywordError(f"{where}: part {pid} is not a rigid part with elements; prescribe a rigid part's motion")
     return bodies.pop()
+
+
+def nodal_bodies(data: KeywordData, mesh: KeywordMesh) -> list[list[int]]:
+    """The node rows of each body of nodes alone: *CONSTRAINED_NODAL_RIGID_BODY (its NSID),
+    *CONSTRAINED_SPOTWELD (N1, N2) and *CONSTRAINED_GENERALIZED_WELD_SPOT (its NSID). A weld's
+    failure (SN, SS, TF, TFAIL, EPSF) is not modelled: warned, the weld holds for the run."""
+    bodies = []
+    for kind, record in data.welds:
+        what = {"NODAL": "*CONSTRAINED_NODAL_RIGID_BODY", "SPOTWELD": "*CONSTRAINED_SPOTWELD",
+                "GENERALIZED": "*CONSTRAINED_GENERALIZED_WELD_SPOT"}[kind]
+        if kind == "SPOTWELD":
+            nids = [int(record["N1"]), int(record["N2"])]
+        else:
+            if int(record["NSID"]) not in data.node_sets:
+                raise KeywordError(f"{record.where}: {what} names node set {record['NSID']}, which no *SET_NODE "
+                                   f"defines")
+            nids = data.node_sets[int(record["NSID"])]
+        missing = [n for n in nids if n not in mesh.node_index]
+        if missing:
+            raise KeywordError(f"{record.where}: {what} names node {missing[0]}, which no element uses; a weld joins "
+                               f"nodes of elements")
+        failure = [k for k in ("SN", "SS", "TF", "TFAIL", "EPSF") if record.values.get(k) not in (None, 0.0, 1e20)]
+        if failure:
+            data.warn(f"{record.where}: {what}: the weld's failure ({', '.join(failure)}) is not modelled; it "
+                      f"holds for the whole run")
+        bodies.append(sorted({mesh.node_index[n] for n in nids}))
+    return bodies

@@ -38,6 +38,7 @@ from .rigid import (
     body_velocities,
     extra_nodes,
     merged_pairs,
+    nodal_bodies,
     rigid_body_rows,
     rigid_material_key,
     solid_face_thickness,
@@ -290,7 +291,7 @@ def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, unit: Units, model
     by_pid = {int(p["PID"]): p for p in data.parts}
     mids = [int(by_pid[pid]["MID"] or 0) for pid in mesh.part_ids.tolist()]
     parts, held = rigid_body_rows(data, mesh.part_ids, mids)
-    if not parts:
+    if not parts and not data.welds:
         if data.rigid_motions:
             raise KeywordError(f"{data.rigid_motions[0][4]}: *BOUNDARY_PRESCRIBED_MOTION_RIGID names part "
                                f"{data.rigid_motions[0][0]}, but the deck has no rigid part; give it *MAT_RIGID")
@@ -311,7 +312,7 @@ def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, unit: Units, model
                                f"with elements in *CONSTRAINED_RIGID_BODIES and *DEFORMABLE_TO_RIGID MRB")
         merge.append((row[a], row[b]))
     try:
-        for note in complete_rigid_bodies(model, merge, extra_nodes(data, mesh, row)):
+        for note in complete_rigid_bodies(model, merge, extra_nodes(data, mesh, row), nodal_bodies(data, mesh)):
             data.warn(note)
     except RigidBodyError as exc:
         raise KeywordError(str(exc)) from exc
