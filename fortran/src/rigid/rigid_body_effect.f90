@@ -9,6 +9,7 @@ module rigid_body_effect
   use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: effect_rigid_bodies
   use exact_sum, only: exact_width, exact_add, exact_normalise, exact_value
+  use vector_algebra, only: cross
   use nodal_state, only: nodal_state_t
   use load_curves, only: load_curves_t, curve_value
   use nodal_effect, only: nodal_effect_t, stage_constraints
@@ -72,7 +73,8 @@ contains
     call mass_terms(e, ns, origin, terms)
     call reduce(e, terms(1:4, :), totals(1:4, :))
     do b = 1, nb
-      if (.not. totals(1, b) > 0.0_wp) error stop 'paradyn-engine: a rigid body has no mass'
+      if (.not. totals(1, b) > 0.0_wp) error stop 'paradyn-engine: a rigid body has no mass; give every row of '// &
+        '/rigid_bodies nodes with mass in /nodes/rigid_body (the frontend checks this: paradyn.deck.validate_model)'
       origin(:, b) = totals(2:4, b) / totals(1, b)
     end do
     call mass_terms(e, ns, origin, terms)
@@ -259,11 +261,5 @@ contains
     integer, intent(in) :: stage
     acts_at = stage == stage_constraints
   end function acts_at
-
-  pure function cross(a, b) result(c)
-    real(wp), intent(in) :: a(3), b(3)
-    real(wp) :: c(3)
-    c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
-  end function cross
 
 end module rigid_body_effect

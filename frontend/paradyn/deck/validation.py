@@ -259,16 +259,13 @@ def _optional(check: _Checker, attribute: str) -> np.ndarray:
 
 
 def _check_rigid_bodies(check: _Checker, sizes: dict[str, int]) -> None:
-    """rigid_bodies_whole (the engine's check_rigid_bodies): the nodes of a rigid part's elements
-    are in a body, and a body's part is rigid."""
+    """rigid_bodies_whole (the engine's small_table_message and rigid_node_message, in that order):
+    a body's part is rigid (or -1, a body of nodes alone), the nodes of a rigid part's elements are
+    in a body, and every body has a node."""
     rigid = np.isin(check.array("material_model"), trait_codes("material_model", "rigid"))
     part_rigid = rigid[check.array("part_material")]
     body_part = check.array("rigid_body_part")
-    counts = np.bincount(check.array("node_rigid_body") + 1, minlength=sizes["n_rigid_bodies"] + 1)[1:]
     for row in range(sizes["n_rigid_bodies"]):
-        if counts[row] == 0:
-            check.fail(f"/rigid_bodies/part[{row}]: rigid body {row} has no node in /nodes/rigid_body; give every "
-                       f"body its nodes, or remove it")
         if body_part[row] >= 0 and not part_rigid[body_part[row]]:
             check.fail(f"/rigid_bodies/part[{row}] = {int(body_part[row])} names a part whose material is not rigid; "
                        f"give the part a rigid material, or remove the body")
@@ -280,6 +277,10 @@ def _check_rigid_bodies(check: _Checker, sizes: dict[str, int]) -> None:
         check.fail(f"/nodes/rigid_body[{int(conn[element, corner])}] = -1 but the node is on element {element} of "
                    f"part {int(check.array('element_part')[element])}, whose material is rigid; give every node of "
                    f"a rigid part's elements the row of its body in /rigid_bodies")
+    counts = np.bincount(check.array("node_rigid_body") + 1, minlength=sizes["n_rigid_bodies"] + 1)[1:]
+    for row in np.flatnonzero(counts[:sizes["n_rigid_bodies"]] == 0):
+        check.fail(f"/nodes/rigid_body: rigid body {int(row)} (/rigid_bodies/part[{int(row)}]) has no node; give "
+                   f"every body its nodes, or remove it")
 
 
 def _check_curve_relations(check: _Checker, sizes: dict[str, int]) -> None:

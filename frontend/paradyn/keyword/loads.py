@@ -116,7 +116,7 @@ def apply_loads(data: KeywordData, mesh: KeywordMesh, unit: Units, model: deck.M
     table.write(model)
 
 
-def _node_rows(data: KeywordData, mesh: KeywordMesh, target: str, ident: int, where: str, what: str) -> list[int]:
+def node_rows(data: KeywordData, mesh: KeywordMesh, target: str, ident: int, where: str, what: str) -> list[int]:
     """Rows of a node (``target`` NODE) or of a node set's nodes (SET); a node no shell uses is an error."""
     if target == "SET" and ident not in data.node_sets:
         raise KeywordError(f"{where}: {what} names node set {ident}, which no *SET_NODE defines")
@@ -152,7 +152,7 @@ def _point_loads(data: KeywordData, mesh: KeywordMesh, unit: Units, model: deck.
                                f"read; give the load in global axes (CID 0)")
         scale = float(record["SF"]) * force * (unit.length if dof > 3 else 1.0)
         times, curve = curve_points(data, int(record["LCID"]), unit, end_time, f"{record.where}: {what}")
-        for row in _node_rows(data, mesh, target, int(record["ID"]), record.where, what):
+        for row in node_rows(data, mesh, target, int(record["ID"]), record.where, what):
             for ramp, value in ramps_of(times, curve):
                 nodes.append(row)
                 dofs.append(dof)
@@ -186,7 +186,7 @@ def _motions(data: KeywordData, mesh: KeywordMesh, unit: Units, model: deck.Mode
         times, velocity = _motion_curve(data, record, unit, end_time, what)
         curve = table.add(times, velocity)
         scale = float(record["SF"]) * (unit.velocity if dof <= 3 else 1.0 / unit.time)
-        for row in _node_rows(data, mesh, target, int(record["ID"]), record.where, what):
+        for row in node_rows(data, mesh, target, int(record["ID"]), record.where, what):
             if (row, dof) in seen:
                 raise KeywordError(f"{record.where}: {what} prescribes node {int(mesh.node_ids[row])} DOF "
                                    f"{record['DOF']} again (first at {seen[(row, dof)]}); prescribe each dof once")

@@ -13,6 +13,7 @@ import numpy as np
 from paradyn import deck
 
 from .cards import KeywordData, _Reading
+from .loads import node_rows
 from .mesh import KeywordMesh
 from .reader import Field, KeywordError, layout
 from .units import Units
@@ -49,16 +50,17 @@ def apply_masses(data: KeywordData, mesh: KeywordMesh, unit: Units, model: deck.
     added = np.zeros(len(mesh.node_ids)) if model.added_mass is None else np.asarray(model.added_mass, float).copy()
     own = _own_masses(model)
     for target, record in data.added_masses:
-        what = f"{record.where}: *ELEMENT_MASS{'' if target == 'NODE' else '_' + target}"
+        what = f"*ELEMENT_MASS{'' if target == 'NODE' else '_' + target}"
         if target in ("NODE", "SET"):
-            rows = _node_rows(data, mesh, target, int(record["ID"]), what)
+            rows = node_rows(data, mesh, target, int(record["ID"]), record.where, what)
             added[rows] += float(record["MASS"]) * unit.mass / len(rows)
             continue
         pids = [int(record["ID"])] if target == "PART" else data.part_sets.get(int(record["ID"]), [])
         nodes = np.unique(np.asarray(model.connectivity)[np.isin(mesh.part_ids[np.asarray(model.element_part)], pids)])
         if not nodes.size:
-            raise KeywordError(f"{what} names {target.lower().replace('_', ' ')} {record['ID']}, which has no "
-                               f"elements; name a part with shells")
+            kind = target.lower().replace("_", " ")
+            raise KeywordError(f"{record.where}: {what} names {kind} {record['ID']}, which has no elements; name a "
+                               f"part with shells")
         final, extra = float(record["FINMASS"]) * unit.mass, float(record["ADDMASS"]) * unit.mass
         share = own[nodes] / own[nodes].sum()
         added[nodes] += share * (final - (own[nodes] + added[nodes]).sum() if final > 0 else extra)
@@ -79,17 +81,6 @@ def _own_masses(model: deck.Model) -> np.ndarray:
     for k in range(4):
         np.add.at(out, conn[:, k], mass * np.where(triangle, 1.0 / 3.0 if k < 3 else 0.0, 0.25))
     return out
-
-
-def _node_rows(data: KeywordData, mesh: KeywordMesh, target: str, ident: int, what: str) -> list[int]:
-    if target == "SET" and ident not in data.node_sets:
-        raise KeywordError(f"{what} names node set {ident}, which no *SET_NODE defines")
-    nids = [ident] if target == "NODE" else data.node_sets[ident]
-    missing = [n for n in nids if n not in mesh.node_index]
-    if missing:
-        raise KeywordError(f"{what} names node {missing[0]}, which no element uses; a mass goes on a node of an "
-                           f"element")
-    return [mesh.node_index[n] for n in nids]
 
 
 __all__ = ["READERS", "apply_masses"]
