@@ -20,7 +20,7 @@ import pytest
 
 import paradyn
 from models import lumped_masses
-from paradyn.running import launch
+from paradyn.running import launch, preflight
 from rigid_cases import SIDES, body_omega, euler_free_spin, impact, lumped_inertia, spinning_plate
 
 OMEGA0 = np.array([0.01, 50.0, 0.0])   # rad/s: about the intermediate (y) axis, a little off it
@@ -175,3 +175,13 @@ def test_prescribed_motion_of_a_body(tmp_path: Path) -> None:
     balance = np.abs(kinetic - kinetic[0] - work)
     assert balance.max() < 1e-3 * kinetic.max()   # while the ramp drives it: half a step of its power
     assert balance[-1] < 1e-4 * kinetic.max()
+
+
+def test_a_body_driven_alone_is_not_an_idle_model() -> None:
+    """The check's "nothing in this model moves or is loaded" (docs/outputs.md) knows a rigid body
+    with a prescribed velocity as loading; held dofs alone are not."""
+    model = spinning_plate(0.01, (0.0, 0.0, 0.0))
+    assert any("nothing in this model moves" in w for w in preflight.idle_warnings(model))
+    model.rigid_body_prescribed = np.array([[0, 0, 1, 0, 0, 0]])
+    model.rigid_body_velocity = np.array([[0.0, 0.0, -2.0, 0.0, 0.0, 0.0]])
+    assert preflight.idle_warnings(model) == []

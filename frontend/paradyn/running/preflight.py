@@ -257,12 +257,14 @@ def setting_warnings(model: deck.Model) -> list[str]:
 
 def idle_warnings(model: deck.Model) -> list[str]:
     """A warning when nothing in the model moves or is loaded: no initial velocity, point load,
-    pressure, gravity, base acceleration, prescribed motion or moving rigid wall (every energy
-    would stay zero)."""
+    pressure, gravity, base acceleration, prescribed motion (of nodes or of a rigid body) or moving
+    rigid wall (every energy would stay zero)."""
     velocities = (model.initial_velocity, model.initial_angular_velocity)
     moving = [np.any(np.asarray(v, dtype=float) != 0.0) for v in velocities if v is not None]
     walls = model.rigid_wall_velocity
-    acting = (any(moving) or model.n_loads > 0 or model.n_pressures > 0 or model.n_prescribed > 0
+    driven = model.rigid_body_prescribed is not None and model.rigid_body_velocity is not None and bool(
+        np.any((np.asarray(model.rigid_body_prescribed) != 0) & (np.asarray(model.rigid_body_velocity) != 0.0)))
+    acting = (any(moving) or driven or model.n_loads > 0 or model.n_pressures > 0 or model.n_prescribed > 0
               or model.n_base_accelerations > 0
               or any(g != 0.0 for g in model.gravity)
               or (walls is not None and bool(np.any(np.asarray(walls, dtype=float) != 0.0))))
