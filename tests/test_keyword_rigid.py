@@ -13,13 +13,15 @@ import pytest
 
 import paradyn
 from models import lumped_masses
+from paradyn import cli
 from paradyn.keyword.reader import KeywordError
 from paradyn.keyword.rigid import hexahedron_masses
 from paradyn.keyword.scene import load_keyword
 from paradyn.running import launch
 from test_keyword import HEAD, MESH
 
-REALDECKS = Path(__file__).resolve().parents[1].parent / "shared" / "realdecks"
+ROOT = Path(__file__).resolve().parents[1]
+REALDECKS = ROOT.parent / "shared" / "realdecks"
 
 # two hexahedra 1 x 0.5 x 0.25 side by side above the plate (z from 1 to 1.25), part 2, rigid,
 # translations x and y and every rotation held (CMO 1, CON1 4, CON2 7)
@@ -326,3 +328,18 @@ def test_a_strip_welded_at_its_seam_bends_as_one_strip(tmp_path: Path) -> None:
     assert scale > 1e-4
     np.testing.assert_allclose(tips["welded"], tips["one"], rtol=0, atol=0.02 * scale)
     assert np.abs(tips["apart"]).max() > 1.5 * scale
+
+
+def test_paradyn_run_reads_a_keyword_deck_in_the_units_given(tmp_path: Path, capsys: pytest.CaptureFixture[str]
+                                                              ) -> None:
+    """``paradyn-run DECK.k --units mm-kg-ms --check``: the block's numbers taken as mm, kg, ms (the
+    solid's mass 7800 x 0.25: kg/mm^3 x mm^3, so kg, unchanged; its 1 x 0.5 mm faces' thickness 1 %
+    of their 0.5 mm median edge, in m), where *CONTROL_UNITS is absent; a scene with --units is refused."""
+    path = tmp_path / "block.k"
+    path.write_text(HEAD + MESH + BLOCK + "*END\n")
+    assert cli.main([str(path), "--units", "mm-kg-ms", "--check", "-q"]) == 0
+    out = capsys.readouterr().out
+    assert "part block: 10 elements, mass 1950 kg, thickness 5e-06 m" in out
+    scene_path = ROOT / "cases" / "small_plate" / "scene.toml"
+    assert cli.main([str(scene_path), "--units", "mm-kg-ms", "--check", "-q"]) == 2
+    assert "--units mm-kg-ms applies to an LS-DYNA keyword deck" in capsys.readouterr().err

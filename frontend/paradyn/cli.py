@@ -42,7 +42,19 @@ def post_only(out_dir: Path, plots: bool, vtk: bool, vtk_series: bool = False) -
     return STATUS_OK
 
 
-def check_only(source: Path, ranks: int, threads: int, quiet: bool) -> int:
+def _with_units(source: Path, units: str | None) -> Path | deck.Model:
+    """The source as given, or with ``--units`` the model of a keyword deck read in those units."""
+    if units is None:
+        return source
+    if source.suffix.lower() not in workflow.KEYWORD_SUFFIXES:
+        raise ValueError(f"--units {units} applies to an LS-DYNA keyword deck (.k, .key, .dyn), not to {source}; "
+                         f"a scene and a deck are in SI")
+    from paradyn.keyword.scene import read_keyword  # loaded only for a keyword deck
+
+    return read_keyword(source, units=units)
+
+
+def check_only(source: Path, ranks: int, threads: int, quiet: bool, units: str | None = None) -> int:
     """``paradyn-run --check``: the check's lines, then the engine's own set-up of the deck."""
     try:
         if not source.is_file():
@@ -50,10 +62,10 @@ def check_only(source: Path, ranks: int, threads: int, quiet: bool) -> int:
                                    "or a deck .h5")
         display = None if quiet else RunProgress()
         if display is None:
-            model = workflow.model_of(source)
+            model = workflow.model_of(_with_units(source, units))
         else:
             with display.stage("reading the deck" if source.suffix in workflow.DECK_SUFFIXES else "meshing"):
-                model = workflow.model_of(source)
+                model = workflow.model_of(_with_units(source, units))
         check = preflight.check_model(model, ranks, threads)
         engine = preflight.engine_check(model)
     except launch.EngineError as error:
@@ -117,13 +129,13 @@ def _run_parsed(args: argparse.Namespace, started: AwaitingEngine | None) -> int
     if args.post:
         return post_only(args.scene.resolve(), plots=_plots(args), vtk=not args.no_vtk, vtk_series=args.vtk_series)
     if args.check:
-        return check_only(args.scene, args.ranks, args.threads, args.quiet)
+        return check_only(args.scene, args.ranks, args.threads, args.quiet, args.units)
     out_dir = (args.output or default_output(args.scene)).resolve()
     try:
         runner = batch_runner(args)
         if args.scene.is_file():
             claim_output(out_dir, args.scene, force=args.force or args.restart)
-        outcome = workflow.run(args.scene, out_dir, args.ranks, args.threads,
+        outcome = workflow.run(_with_units(args.scene, args.units), out_dir, args.ranks, args.threads,
                                runner=runner, restart=args.restart,
                                progress=RunProgress(quiet=args.quiet), vtk=not args.no_vtk,
                                plots=_plots(args), vtk_series=args.vtk_series, started=started)

@@ -67,6 +67,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-plots", action="store_true", help="no pictures (the default; undoes --plots)")
     parser.add_argument("-q", "--quiet", action="store_true",
                         help="no check report and no progress display (the check's warnings still)")
+    parser.add_argument("--units", metavar="SYSTEM",
+                        help="the unit system of a keyword deck without *CONTROL_UNITS: SI, mm-t-s, mm-kg-ms or "
+                             "mm-g-ms (docs/keyword.md, Units); its numbers are converted to SI")
     parser.add_argument("--check", action="store_true",
                         help="check SCENE (mass, stable step, cycles, wall time, memory, initial penetrations, "
                              "unit warnings) and stop")
