@@ -19,6 +19,7 @@ import pytest
 
 import paradyn
 from paradyn import scene as scene_package
+from test_material_rate import run_strip, stretch
 
 SIZE, YOUNG, STRAIN = 0.01, 210e9, 0.03
 CURVE = {"time": [0.0, 0.01, 0.03], "value": [250e6, 300e6, 330e6]}
@@ -40,26 +41,7 @@ def _strip(rate: float, model: str, **material: object) -> paradyn.Scene:
     s.add_curve("rates", **RATE_CURVE)
     s.add_material("steel", model=model, density=7850.0, youngs_modulus=YOUNG, poisson_ratio=0.3,
                    yield_stress=250e6, **material)
-    s.add_part("strip", material="steel", thickness=0.001, integration_points=3,
-               geometry=paradyn.Plate((SIZE, SIZE), (1, 1)))
-    lo, hi = -1e-6, SIZE + 1e-6
-    s.add_fix("strip", box=[[lo, lo, -1.0], [hi, hi, 1.0]], dofs=["uz", "rotations"])
-    s.add_fix("strip", box=[[lo, lo, -1.0], [1e-6, hi, 1.0]], dofs=["ux"])
-    s.add_fix("strip", box=[[lo, lo, -1.0], [hi, 1e-6, 1.0]], dofs=["uy"])
-    times = np.linspace(0.0, end, 11)
-    s.add_curve("stretch", time=times.tolist(), value=np.exp(rate * times).tolist())
-    s.add_curve("narrow", time=times.tolist(), value=np.exp(-0.5 * rate * times).tolist())
-    s.add_prescribe("strip", box=[[SIZE - 1e-6, lo, -1.0], [hi, hi, 1.0]], dof="ux", value=rate * SIZE,
-                    curve="stretch")
-    s.add_prescribe("strip", box=[[lo, SIZE - 1e-6, -1.0], [hi, hi, 1.0]], dof="uy", value=-0.5 * rate * SIZE,
-                    curve="narrow")
-    return s
-
-
-def _run(s: paradyn.Scene, out: Path) -> tuple[np.ndarray, np.ndarray]:
-    res = paradyn.run(s, out, ranks=1, threads=1, post=False)
-    assert isinstance(res, paradyn.Results)
-    return np.asarray(res.membrane_stress.read_all())[:, 0, :], np.asarray(res.plastic_strain.read_all())[:, 0]
+    return stretch(s, rate, end)
 
 
 @pytest.mark.parametrize(("model", "options", "factor"), [
@@ -72,7 +54,7 @@ def test_the_flow_stress_follows_the_curve_and_the_rate(tmp_path: Path, model: s
     """At 1000 1/s the flow stress is k(eps_p) times the static (1), Cowper-Symonds (2.90) or
     rate-curve (1.59) factor within 1 %, with eps_p on the curve's second segment; the rate
     changes the answer by the factor."""
-    stress, eps_p = _run(_strip(1000.0, model, **options), tmp_path)
+    stress, eps_p = run_strip(_strip(1000.0, model, **options), tmp_path)
     assert 0.01 < eps_p[-1] < 0.03
     expected = factor * _hardening(float(eps_p[-1]))
     assert stress[-1, 0] == pytest.approx(expected, rel=0.01)
@@ -83,8 +65,8 @@ def test_the_bilinear_law_without_a_curve_is_j2_isotropic(tmp_path: Path) -> Non
     """No hardening curve: yield_stress and tangent_modulus (LS-DYNA's SIGY, ETAN) make the member
     j2_plasticity with beta = 1; every frame's stress within 1e-6 of the flow stress."""
     tangent = 2e9
-    plain, plain_eps = _run(_strip(100.0, "j2_plasticity", tangent_modulus=tangent), tmp_path / "j2")
-    curve, curve_eps = _run(_strip(100.0, "piecewise_linear", tangent_modulus=tangent), tmp_path / "pl")
+    plain, plain_eps = run_strip(_strip(100.0, "j2_plasticity", tangent_modulus=tangent), tmp_path / "j2")
+    curve, curve_eps = run_strip(_strip(100.0, "piecewise_linear", tangent_modulus=tangent), tmp_path / "pl")
     assert plain_eps[-1] > 0.02
     np.testing.assert_allclose(curve, plain, rtol=0.0, atol=1e-6 * 250e6)
     np.testing.assert_allclose(curve_eps, plain_eps, rtol=1e-6, atol=1e-9)

@@ -33,6 +33,13 @@ def _strip(rate: float, model: str, **material: float) -> paradyn.Scene:
     s = paradyn.Scene(f"{model} at {rate:g}/s", end_time=end, output_interval=end / 10)
     s.add_material("steel", model=model, density=7850.0, youngs_modulus=YOUNG, poisson_ratio=0.3,
                    yield_stress=YIELD, **material)
+    return stretch(s, rate, end)
+
+
+def stretch(s: paradyn.Scene, rate: float, end: float) -> paradyn.Scene:
+    """A one-element strip of the scene's "steel" stretched along x at a constant logarithmic
+    strain rate (prescribed edge velocities on exponential curves), free to narrow as plasticity
+    wants (the edge y = SIZE at half the rate): a uniaxial stress path to the end time."""
     s.add_part("strip", material="steel", thickness=0.001, integration_points=3,
                geometry=paradyn.Plate((SIZE, SIZE), (1, 1)))
     lo, hi = -1e-6, SIZE + 1e-6
@@ -49,7 +56,7 @@ def _strip(rate: float, model: str, **material: float) -> paradyn.Scene:
     return s
 
 
-def _run(s: paradyn.Scene, out: Path) -> tuple[np.ndarray, np.ndarray]:
+def run_strip(s: paradyn.Scene, out: Path) -> tuple[np.ndarray, np.ndarray]:
     """The element's membrane stress (sxx, syy, sxy) and its plastic strain, frame by frame."""
     res = paradyn.run(s, out, ranks=1, threads=1, post=False)
     assert isinstance(res, paradyn.Results)
@@ -64,7 +71,7 @@ def _scale(rate: float, rate_c: float, rate_p: float) -> float:
 def test_flow_stress_is_the_cowper_symonds_stress(tmp_path: Path, rate: float) -> None:
     """Perfect plasticity: the flow stress is sigma_y (1 + (D / C)^(1/P)) within 1 % (factors
     1.48, 2.20, 2.90 at 1, 100, 1000 1/s), the stress uniaxial."""
-    stress, eps_p = _run(_strip(rate, "j2_rate", **MILD_STEEL), tmp_path)
+    stress, eps_p = run_strip(_strip(rate, "j2_rate", **MILD_STEEL), tmp_path)
     expected = YIELD * _scale(rate, **MILD_STEEL)
     assert eps_p[-1] > 0.02
     assert stress[-1, 0] == pytest.approx(expected, rel=0.01)
@@ -74,7 +81,7 @@ def test_flow_stress_is_the_cowper_symonds_stress(tmp_path: Path, rate: float) -
 def test_hardening_yield_radius_is_scaled(tmp_path: Path) -> None:
     """Linear isotropic hardening: the whole radius sigma_y0 + H eps_p is scaled, H = E Et / (E - Et)."""
     tangent, rate = 2e9, 100.0
-    stress, eps_p = _run(_strip(rate, "j2_rate", tangent_modulus=tangent, **MILD_STEEL), tmp_path)
+    stress, eps_p = run_strip(_strip(rate, "j2_rate", tangent_modulus=tangent, **MILD_STEEL), tmp_path)
     h = YOUNG * tangent / (YOUNG - tangent)
     expected = (YIELD + h * eps_p[-1]) * _scale(rate, **MILD_STEEL)
     assert stress[-1, 0] == pytest.approx(expected, rel=0.01)
@@ -86,8 +93,8 @@ def test_far_below_c_it_is_j2_plasticity(tmp_path: Path) -> None:
     and plastic strain are those of j2_plasticity within 1e-3 (of the flow stress)."""
     rate = 100.0
     options = {"tangent_modulus": 1e9, "hardening_mixing": 0.5}
-    slow, slow_eps = _run(_strip(rate, "j2_rate", rate_c=1e22, rate_p=5.0, **options), tmp_path / "rate")
-    plain, plain_eps = _run(_strip(rate, "j2_plasticity", **options), tmp_path / "plain")
+    slow, slow_eps = run_strip(_strip(rate, "j2_rate", rate_c=1e22, rate_p=5.0, **options), tmp_path / "rate")
+    plain, plain_eps = run_strip(_strip(rate, "j2_plasticity", **options), tmp_path / "plain")
     assert plain_eps[-1] > 0.02
     np.testing.assert_allclose(slow, plain, rtol=0.0, atol=1e-3 * YIELD)
     np.testing.assert_allclose(slow_eps, plain_eps, rtol=1e-3, atol=1e-6)
