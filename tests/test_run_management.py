@@ -16,7 +16,7 @@ import pytest
 from paradyn import cli, deck, scene
 from paradyn.running import folders as run_folders
 from paradyn.running import launch, runners
-from paradyn.running.launch import EngineError
+from paradyn.running.launch import EngineError, Progress
 
 SMALL_PLATE = Path(__file__).resolve().parents[1] / "cases" / "small_plate" / "scene.toml"
 QUICK = ["-n", "1", "-t", "1", "-q", "--no-plots", "--no-vtk"]
@@ -69,15 +69,16 @@ def test_post_of_an_interrupted_run(tmp_path: Path, capsys: pytest.CaptureFixtur
     model.control.end_time, model.control.output_interval = 0.2, 2e-3
     model.control.history_interval, model.control.progress_interval = 2e-4, 1e-3
     deck_path = deck.write_deck(model, tmp_path / "deck.h5")
-    seen: list[object] = []
+    stops: list[float] = []
 
-    def interrupt_at_the_third(progress: object) -> None:
-        seen.append(progress)
-        if len(seen) == 3:
+    def interrupt_past_two_ms(progress: Progress) -> None:
+        # progress lines come by wall time, so the stop waits for simulated time: records exist then
+        if not stops and progress.time >= 2e-3:
+            stops.append(progress.time)
             raise KeyboardInterrupt
 
     with pytest.raises(EngineError) as error:
-        launch.run_engine(deck_path, tmp_path / "results.h5", 1, 1, on_progress=interrupt_at_the_third)
+        launch.run_engine(deck_path, tmp_path / "results.h5", 1, 1, on_progress=interrupt_past_two_ms)
     assert error.value.exit_code == 4
     with h5py.File(tmp_path / "results.h5") as h5:
         assert int(h5.attrs["complete"]) == 0
