@@ -27,7 +27,9 @@ ROOT = Path(__file__).resolve().parents[1]
 LAYOUTS = [(2, 1), (4, 1), (1, 2)]
 EXACT_HISTORY = ("time", "external_work", "contact_energy", "tracked_displacement", "tracked_velocity")
 SUMMED_HISTORY = ("kinetic_energy", "internal_energy", "hourglass_energy")
-FRAME_FIELDS = ("displacement", "velocity", "element_membrane_stress", "element_von_mises", "element_plastic_strain")
+FRAME_FIELDS = ("displacement", "velocity", "element_membrane_stress", "element_von_mises", "element_plastic_strain",
+                "acceleration", "nodal_contact_force", "element_layer_stress", "element_membrane_strain",
+                "element_internal_energy_density")
 
 
 def _read(path: Path) -> dict[str, np.ndarray]:
@@ -69,7 +71,7 @@ def test_frames_are_bitwise_equal(runs: dict, layout: tuple[int, int]) -> None:
     Every rank writes its own rows of each frame and of /mesh (parallel HDF5), so equality with
     the 1-rank file also shows that every row was written once, in its place."""
     reference, data = runs[(1, 1)], runs[layout]
-    for key in ("frame_time", *FRAME_FIELDS, "mesh/coordinates", "mesh/connectivity", "mesh/part"):
+    for key in ("frame_time", *FRAME_FIELDS, "mesh/coordinates", "mesh/connectivity", "mesh/part", "mesh/thickness"):
         assert data[key].shape == reference[key].shape, key
         assert np.array_equal(data[key], reference[key]), key
     assert np.any(reference["displacement"] != 0.0)

@@ -22,6 +22,7 @@ import pytest
 import models as M
 from contact_cases import PLATE, STEEL, T, _control, _momentum, _plate_pair
 from paradyn.deck import Control
+from paradyn.results.names import unique_safe_names
 
 
 def _run(tmp_path: Path, pairs: tuple[tuple[int, int], ...] = ((0, 1),)):
@@ -75,7 +76,10 @@ def test_history_csv_has_the_part_and_contact_columns(plates) -> None:
     names = results.part_names
     assert all(f"{n}_kinetic_energy" in table for n in names) or all(
         f"part_{i}_kinetic_energy" in table for i in range(2))
-    assert np.array_equal(table["contact0_fz"], results.history["contact_force"][:, 0, 2])
+    first, second = results.contact_sides()[0]
+    assert (first, second) == tuple(unique_safe_names(results.part_names, "part"))   # the pair (0, 1)
+    assert np.array_equal(table[f"contact0_on_{first}_fz"], results.history["contact_force"][:, 0, 2])
+    assert np.array_equal(table[f"contact0_on_{second}_fz"], -results.history["contact_force"][:, 0, 2])
 
 
 def test_parts_plot_is_written(plates, tmp_path: Path) -> None:

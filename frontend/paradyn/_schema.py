@@ -1121,15 +1121,17 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
 
 RESULTS_VERSION = 1
 RESULTS_VERSION_ATTRIBUTE = 'paradyn_results_version'
-MESH_DATASETS = ('/mesh/coordinates', '/mesh/connectivity', '/mesh/part')
+MESH_DATASETS = ('/mesh/coordinates', '/mesh/connectivity', '/mesh/part', '/mesh/thickness')
 FRAME_FIELDS = (
     'time', 'displacement', 'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain',
+    'acceleration', 'nodal_contact_force', 'element_layer_stress', 'element_membrane_strain',
+    'element_internal_energy_density',
 )
 HISTORY_NAMES = (
     'time', 'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work',
     'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'part_kinetic_energy', 'part_internal_energy',
-    'part_hourglass_energy', 'part_plastic_work', 'contact_force', 'rigid_wall_force', 'tracked_displacement',
-    'tracked_velocity',
+    'part_hourglass_energy', 'part_plastic_work', 'contact_force', 'rigid_wall_force', 'reaction_force',
+    'tracked_displacement', 'tracked_velocity',
 )
 ENERGY_NAMES = ('kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work')
 HISTORY_UNITS: dict[str, str] = {
@@ -1149,6 +1151,7 @@ HISTORY_UNITS: dict[str, str] = {
     'part_plastic_work': 'J',
     'contact_force': 'N',
     'rigid_wall_force': 'N',
+    'reaction_force': 'N',
     'tracked_displacement': 'm',
     'tracked_velocity': 'm/s',
 }

@@ -189,6 +189,7 @@ program paradyn_engine
                           deck%coordinates(:, [(node_row(deck, owned(k)), k = 1, size(owned))]), &
                           deck%connectivity(:, [(element_row(deck, elements(k)), k = 1, size(elements))]), &
                           deck%element_part([(element_row(deck, elements(k)), k = 1, size(elements))]), &
+                          solver%props(deck%element_part([(element_row(deck, elements(k)), k = 1, size(elements))]))%thickness, &
                           deck%n_tracked, deck%n_parts, deck%n_contacts, deck%n_rigid_walls, results, status, message)
       if (status == status_ok) call copy_run_names(trim(deck_path), results%file)
     end if

@@ -22,11 +22,15 @@ module results_writer
   private
   public :: results_file_t, results_create, results_reopen, results_write_frame, results_write_history
   public :: results_finish, results_flush, run_record_t, results_failed
+  public :: node_field_width, element_field_width
+
+  integer, parameter :: node_field_width = 12       !< results_write_frame's values per node
+  integer, parameter :: element_field_width = 24    !< and per element
 
   integer, parameter :: history_batch = 64   !< history records written in one collective write
   !> The histories with a value per part (rank 0 writes them), in the order of the block of values
-  !> results_write_history takes; then contact_force, 3 values per contact definition, and
-  !> rigid_wall_force, 3 values per rigid wall
+  !> results_write_history takes; then contact_force, 3 values per contact definition,
+  !> rigid_wall_force, 3 values per rigid wall, and reaction_force, 3 values
   character(len=*), parameter :: part_histories(4) = [character(len=21) :: 'part_kinetic_energy', &
                                                       'part_internal_energy', 'part_hourglass_energy', &
                                                       'part_plastic_work']
@@ -43,7 +47,7 @@ module results_writer
     integer :: pending = 0
     real(wp), allocatable :: pending_values(:, :)      !< (1 + history names, history_batch)
     real(wp), allocatable :: pending_tracked(:, :, :)  !< (6, n_tracked, history_batch)
-    real(wp), allocatable :: pending_parts(:, :)       !< (4 n_parts + 3 n_contacts + 3 n_walls, history_batch)
+    real(wp), allocatable :: pending_parts(:, :)       !< (4 n_parts + 3 n_contacts + 3 n_walls + 3, history_batch)
     logical :: root = .false.                   !< this rank writes the history
     type(MPI_Comm) :: comm
     real(wp) :: last_flush = 0                  !< MPI_Wtime of the last flush (rank 0's decides)
@@ -78,11 +82,12 @@ contains
   !> (each node written by exactly one rank), ascending; element_ids: this rank's elements,
   !> ascending. coordinates, connectivity (global 1-based ids) and element_part are those rows.
   subroutine results_create(path, comm, n_nodes, n_elements, node_ids, element_ids, coordinates, &
-                            connectivity, element_part, n_tracked, n_parts, n_contacts, n_walls, rf, status, message)
+                            connectivity, element_part, element_thickness, n_tracked, n_parts, n_contacts, n_walls, &
+                            rf, status, message)
     character(len=*), intent(in) :: path
     type(MPI_Comm), intent(in) :: comm
     integer, intent(in) :: n_nodes, n_elements, node_ids(:), element_ids(:)
-    real(wp), intent(in) :: coordinates(:, :)
+    real(wp), intent(in) :: coordinates(:, :), element_thickness(:)
     integer, intent(in) :: connectivity(:, :), element_part(:), n_tracked, n_parts, n_contacts, n_walls
     type(results_file_t), intent(out) :: rf
     integer, intent(out) :: status
@@ -105,12 +110,14 @@ contains
     call create_dataset(group, 'coordinates', H5T_NATIVE_DOUBLE, [3_hsize_t, nn])
     call create_dataset(group, 'connectivity', H5T_STD_I32LE, [4_hsize_t, ne])
     call create_dataset(group, 'part', H5T_STD_I32LE, [ne])
+    call create_dataset(group, 'thickness', H5T_NATIVE_DOUBLE, [ne])
     call h5gclose_f(group, err)
     call write_rows(rf%file, rf%transfer, '/mesh/coordinates', [3_hsize_t, nn], rf%nodes, 0, &
                     real_values=reshape(coordinates, [size(coordinates)]))
     call write_rows(rf%file, rf%transfer, '/mesh/connectivity', [4_hsize_t, ne], rf%elements, 0, &
                     int_values=reshape(connectivity - 1, [size(connectivity)]))
     call write_rows(rf%file, rf%transfer, '/mesh/part', [ne], rf%elements, 0, int_values=element_part - 1)
+    call write_rows(rf%file, rf%transfer, '/mesh/thickness', [ne], rf%elements, 0, real_values=element_thickness)
     call h5gcreate_f(rf%file, 'frames', group, err)
     call create_growing(group, 'time', [integer(hsize_t) ::])
     call create_growing(group, 'displacement', [3_hsize_t, nn])
@@ -118,6 +125,11 @@ contains
     call create_growing(group, 'element_membrane_stress', [3_hsize_t, ne])
     call create_growing(group, 'element_von_mises', [ne])
     call create_growing(group, 'element_plastic_strain', [ne])
+    call create_growing(group, 'acceleration', [3_hsize_t, nn])
+    call create_growing(group, 'nodal_contact_force', [3_hsize_t, nn])
+    call create_growing(group, 'element_layer_stress', [5_hsize_t, 3_hsize_t, ne])
+    call create_growing(group, 'element_membrane_strain', [3_hsize_t, ne])
+    call create_growing(group, 'element_internal_energy_density', [ne])
     call h5gclose_f(group, err)
     call h5gcreate_f(rf%file, 'history', group, err)
     call create_growing(group, 'time', [integer(hsize_t) ::])
@@ -132,6 +144,7 @@ contains
     ! no contact definition, no contact_force (a growing dataset of no columns would keep no count of records)
     if (n_contacts > 0) call create_growing(group, 'contact_force', [3_hsize_t, int(n_contacts, hsize_t)])
     if (n_walls > 0) call create_growing(group, 'rigid_wall_force', [3_hsize_t, int(n_walls, hsize_t)])
+    call create_growing(group, 'reaction_force', [3_hsize_t])
     call h5gclose_f(group, err)
     call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
     status = status_ok
@@ -189,35 +202,47 @@ contains
     end do
     if (n_contacts > 0) call truncate_growing(rf%file, '/history/contact_force', records)
     if (n_walls > 0) call truncate_growing(rf%file, '/history/rigid_wall_force', records)
+    call truncate_growing(rf%file, '/history/reaction_force', records)
     rf%frames = frames
     rf%records = records
     status = status_ok
     message = ''
   end subroutine results_reopen
 
-  !> One frame: this rank's owned nodes (3, n) and elements (membrane (3, n), von Mises, plastic
-  !> strain), in the order of the ids given to results_create.
-  subroutine results_write_frame(rf, time, displacement, velocity, membrane, von_mises, plastic_strain)
+  !> One frame: this rank's owned nodes and elements, in the order of the ids given to
+  !> results_create. node_fields (node_field_width, nodes): displacement, velocity, acceleration
+  !> and contact force, 3 each; element_fields (element_field_width, elements): membrane stress
+  !> (3), von Mises, plastic strain, the layer stresses (5 components x 3 layers), the membrane
+  !> strain (3) and the internal energy density.
+  subroutine results_write_frame(rf, time, node_fields, element_fields)
     type(results_file_t), intent(inout) :: rf
-    real(wp), intent(in) :: time, displacement(:, :), velocity(:, :), membrane(:, :)
-    real(wp), intent(in) :: von_mises(:), plastic_strain(:)
+    real(wp), intent(in) :: time, node_fields(:, :), element_fields(:, :)
     integer(hsize_t) :: nn, ne
     nn = int(rf%n_nodes, hsize_t)
     ne = int(rf%n_elements, hsize_t)
     rf%frames = rf%frames + 1
     call append_root(rf, '/frames/time', [time], [integer(hsize_t) ::], rf%frames)
-    call write_rows(rf%file, rf%transfer, '/frames/displacement', [3_hsize_t, nn], rf%nodes, rf%frames, &
-                    real_values=reshape(displacement, [size(displacement)]), failed=rf%failed)
-    call write_rows(rf%file, rf%transfer, '/frames/velocity', [3_hsize_t, nn], rf%nodes, rf%frames, &
-                    real_values=reshape(velocity, [size(velocity)]), failed=rf%failed)
-    call write_rows(rf%file, rf%transfer, '/frames/element_membrane_stress', [3_hsize_t, ne], rf%elements, &
-                    rf%frames, real_values=reshape(membrane, [size(membrane)]), failed=rf%failed)
-    call write_rows(rf%file, rf%transfer, '/frames/element_von_mises', [ne], rf%elements, rf%frames, &
-                    real_values=von_mises, failed=rf%failed)
-    call write_rows(rf%file, rf%transfer, '/frames/element_plastic_strain', [ne], rf%elements, rf%frames, &
-                    real_values=plastic_strain, failed=rf%failed)
+    call frame_rows('/frames/displacement', [3_hsize_t, nn], rf%nodes, node_fields(1:3, :))
+    call frame_rows('/frames/velocity', [3_hsize_t, nn], rf%nodes, node_fields(4:6, :))
+    call frame_rows('/frames/acceleration', [3_hsize_t, nn], rf%nodes, node_fields(7:9, :))
+    call frame_rows('/frames/nodal_contact_force', [3_hsize_t, nn], rf%nodes, node_fields(10:12, :))
+    call frame_rows('/frames/element_membrane_stress', [3_hsize_t, ne], rf%elements, element_fields(1:3, :))
+    call frame_rows('/frames/element_von_mises', [ne], rf%elements, element_fields(4:4, :))
+    call frame_rows('/frames/element_plastic_strain', [ne], rf%elements, element_fields(5:5, :))
+    call frame_rows('/frames/element_layer_stress', [5_hsize_t, 3_hsize_t, ne], rf%elements, element_fields(6:20, :))
+    call frame_rows('/frames/element_membrane_strain', [3_hsize_t, ne], rf%elements, element_fields(21:23, :))
+    call frame_rows('/frames/element_internal_energy_density', [ne], rf%elements, element_fields(24:24, :))
     ! the history waits for a full batch or a flush: a write per frame cost more than the frame
     if (flush_due(rf)) call results_flush(rf)
+  contains
+    subroutine frame_rows(name, fixed, runs, values)
+      character(len=*), intent(in) :: name
+      integer(hsize_t), intent(in) :: fixed(:)
+      type(row_runs_t), intent(in) :: runs
+      real(wp), intent(in) :: values(:, :)
+      call write_rows(rf%file, rf%transfer, name, fixed, runs, rf%frames, real_values=reshape(values, [size(values)]), &
+                      failed=rf%failed)
+    end subroutine frame_rows
   end subroutine results_write_frame
 
   !> values: kinetic, internal, hourglass and contact energy, external work, deepest contact
@@ -226,11 +251,12 @@ contains
     type(results_file_t), intent(inout) :: rf
     real(wp), intent(in) :: time, values(n_history_scalars)
     real(wp), intent(in) :: tracked_displacement(:, :), tracked_velocity(:, :)
-    real(wp), intent(in) :: part_values(:)   !< the part_histories in turn, then contact_force, rigid_wall_force
+    real(wp), intent(in) :: part_values(:)   !< the part_histories in turn, contact_force, rigid_wall_force, reaction_force
     if (.not. allocated(rf%pending_values)) then
       allocate (rf%pending_values(1 + n_history_scalars, history_batch))
       allocate (rf%pending_tracked(6, rf%n_tracked, history_batch))
-      allocate (rf%pending_parts(size(part_histories) * rf%n_parts + 3 * rf%n_contacts + 3 * rf%n_walls, history_batch))
+      allocate (rf%pending_parts(size(part_histories) * rf%n_parts + 3 * rf%n_contacts + 3 * rf%n_walls + 3, &
+                                 history_batch))
     end if
     rf%records = rf%records + 1
     rf%pending = rf%pending + 1
@@ -297,8 +323,8 @@ contains
     end if
   end subroutine write_pending
 
-  !> The pending per-part histories, contact and wall forces (rank 0's values; none when the model
-  !> has no part, contact definition or wall).
+  !> The pending per-part histories, contact, wall and reaction forces (rank 0's values; none when
+  !> the model has no part, contact definition or wall).
   subroutine write_pending_parts(rf, first, n)
     type(results_file_t), intent(inout) :: rf
     integer, intent(in) :: first, n
@@ -316,8 +342,12 @@ contains
                                             [3_hsize_t, int(rf%n_contacts, hsize_t)], first, n)
     at = at + 3 * rf%n_contacts
     if (rf%n_walls > 0) call append_root(rf, '/history/rigid_wall_force', &
-                                         reshape(rf%pending_parts(at + 1:, 1:n), [3 * rf%n_walls * n]), &
+                                         reshape(rf%pending_parts(at + 1:at + 3 * rf%n_walls, 1:n), &
+                                                 [3 * rf%n_walls * n]), &
                                          [3_hsize_t, int(rf%n_walls, hsize_t)], first, n)
+    at = at + 3 * rf%n_walls
+    call append_root(rf, '/history/reaction_force', reshape(rf%pending_parts(at + 1:at + 3, 1:n), [3 * n]), &
+                     [3_hsize_t], first, n)
   end subroutine write_pending_parts
 
   !> Writes the /run attributes (the same record on every rank), marks the file complete when

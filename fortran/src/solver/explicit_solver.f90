@@ -35,7 +35,7 @@ module explicit_solver
   use stop_signals, only: stop_signal_received
   use status_agreement, only: agree_on_status
   use contact_checks, only: check_contact_overlap
-  use results_writer, only: results_file_t, run_record_t, results_failed
+  use results_writer, only: results_file_t, run_record_t, results_failed, node_field_width, element_field_width
   implicit none
   private
   public :: solver_t, solver_setup, solver_run, record_at_stop
@@ -122,8 +122,8 @@ contains
     s%has_contact = deck%n_contacts > 0
     if (s%has_contact) call parallel_contact_setup(s%contact, contact, deck, s%dom, comm, s%nodes%mass, s%nodes%v, &
                                                    s%clock%dt, s%control%contact_gather_all)
-    allocate (s%node_out_a(3, size(s%halo%owned_local)), s%node_out_b(3, size(s%halo%owned_local)))
-    allocate (s%element_out(5, s%dom%n_elements), s%tracked_out(6, deck%n_tracked))
+    allocate (s%node_out(node_field_width, size(s%halo%owned_local)), s%v_free(3, s%nodes%n))
+    allocate (s%element_out(element_field_width, s%dom%n_elements), s%tracked_out(6, deck%n_tracked))
     allocate (s%element_work(s%dom%n_elements))
     s%n_parts = deck%n_parts
     s%n_contacts = deck%n_contacts
@@ -253,6 +253,7 @@ contains
     if (s%has_loads) call apply_loads(s)
     call keep_velocities(s%nodes)
     call advance_velocities(s%nodes, half_step(s%clock), s%control%mass_damping, s%threads, s%damping_work)
+    s%v_free = s%nodes%v
     if (s%has_constraints) call apply_constraints(s)
     call write_record(s, rf, status, message)   ! the run stops anyway: its own verdict is not needed
   end subroutine record_at_stop
@@ -274,6 +275,7 @@ contains
     t0 = wall_clock()
     call advance_velocities(s%nodes, half_step(s%clock), s%control%mass_damping, s%threads, s%damping_work)
     s%timers%nodes = s%timers%nodes + wall_clock() - t0
+    if (record_due) s%v_free = s%nodes%v   ! what the constraints change is their reaction
     if (s%has_constraints) call apply_constraints(s)
     if (.not. (frame_due .or. record_due)) return
     t0 = wall_clock()

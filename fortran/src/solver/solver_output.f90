@@ -13,7 +13,12 @@ module solver_output
   use paradyn_schema, only: max_integration_points
   use vector_algebra, only: cross
   use halo_exchange, only: sum_to_root
-  use time_integration, only: kinetic_energy, kinetic_energy_by_part
+  use time_integration, only: kinetic_energy, kinetic_energy_by_part, add_constraint_reactions
+  use step_clock, only: half_step
+  use nodal_assembly, only: gather_group
+  use contact_parallel, only: parallel_contact_nodal_force
+  use shell_field_measures, only: layer_stresses, membrane_green_strain, initial_volumes, n_layers
+  use shell_section, only: stress_components
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
   use solver_state, only: solver_t
   use phase_timers, only: wall_clock
@@ -36,8 +41,8 @@ contains
     ! per-part energies (kinetic, internal, hourglass, plastic work), each contact definition's force
     ! and each rigid wall's
     integer, parameter :: inverted_at = n_history_scalars + 1, nan_at = n_history_scalars + 2
-    real(wp) :: sums(nan_at + 6 * s%control%n_tracked + 4 * s%n_parts + 3 * s%n_contacts + 3 * s%n_walls)
-    integer :: bad, bad_total, k, j, parts_at, walls_at
+    real(wp) :: sums(nan_at + 6 * s%control%n_tracked + 4 * s%n_parts + 3 * s%n_contacts + 3 * s%n_walls + 3)
+    integer :: bad, bad_total, k, j, parts_at, walls_at, reaction_at
     real(wp) :: walls(3, s%n_walls)
     associate (ns => s%nodes)
       sums(history_kinetic_energy) = kinetic_energy(ns%n, ns%mass, ns%inertia, ns%v_old, ns%w_old, ns%v, ns%w, &
@@ -63,7 +68,10 @@ contains
       if (s%has_contact .and. s%rank == 0) &
         sums(parts_at + 4 * s%n_parts + 1:walls_at) = reshape(s%contact%c%definition_force, [3 * s%n_contacts])
       call wall_forces(s, walls)   ! the same on every rank: rank 0 reports them
-      if (s%rank == 0) sums(walls_at + 1:) = reshape(walls, [3 * s%n_walls])
+      reaction_at = walls_at + 3 * s%n_walls
+      if (s%rank == 0) sums(walls_at + 1:reaction_at) = reshape(walls, [3 * s%n_walls])
+      call constraint_reaction(s)   ! the same on every rank: rank 0 reports it
+      if (s%rank == 0) sums(reaction_at + 1:reaction_at + 3) = s%reaction
       s%tracked_out = 0.0_wp
       do k = 1, s%control%n_tracked
         j = s%control%tracked_local(k)
@@ -134,6 +142,27 @@ contains
     end do
   end subroutine wall_forces
 
+  !> The resultant force of the constraints in the velocity update before this record (s%reaction:
+  !> time_integration's add_constraint_reactions over the owned nodes), exact sums added over the
+  !> ranks as integers, so it is the same on every rank and on any layout. Collective.
+  subroutine constraint_reaction(s)
+    type(solver_t), intent(inout) :: s
+    integer(i8) :: acc(exact_width, 3)
+    integer :: k
+    acc = 0
+    associate (ns => s%nodes)
+      call add_constraint_reactions(ns%n, half_step(s%clock), s%control%mass_damping, ns%mass, ns%fixed, &
+                                    ns%f_int, ns%f_ext, s%v_free, ns%v, ns%weight, acc)
+    end associate
+    do k = 1, 3
+      call exact_normalise(acc(:, k))
+    end do
+    if (s%n_ranks > 1) call MPI_Allreduce(MPI_IN_PLACE, acc, size(acc), MPI_INTEGER8, MPI_SUM, s%halo%comm)
+    do k = 1, 3
+      s%reaction(k) = exact_value(acc(:, k))
+    end do
+  end subroutine constraint_reaction
+
   !> This rank's internal energy, hourglass energy and plastic work of each part, in turn (n_parts
   !> each). The plastic work of an element: its current area times thickness times the
   !> through-thickness mean of the material's dissipated work per unit volume. The elements' terms
@@ -200,34 +229,51 @@ contains
     if (s%energy_scale > 0.0_wp) error = abs(total - s%energy_first) / s%energy_scale
   end function energy_error
 
-  !> Every rank writes its owned nodes and its elements into the frame (collective).
+  !> Every rank writes its owned nodes and its elements into the frame (collective), in
+  !> results_write_frame's layouts.
   subroutine write_frame(s, rf)
     type(solver_t), intent(inout) :: s
     type(results_file_t), intent(inout) :: rf
-    integer :: g, n, first, nip, k, j
-    real(wp) :: membrane(group_size, 3), von_mises(group_size), plastic(group_size)
+    integer :: g, n, first, last, nip, k, j
+    real(wp) :: membrane(group_size, 3), von_mises(group_size), plastic(group_size), h
+    real(wp) :: layers(stress_components, n_layers, group_size), volume(group_size)
+    real(wp) :: x0(group_size, 3, 4), x(group_size, 3, 4)
+    real(wp), allocatable :: contact_force(:, :)
     ! threads share the frame's arithmetic; the writes that follow are collective, one call
-    !$omp parallel do schedule(static) private(n, first, nip, membrane, von_mises, plastic)
+    !$omp parallel do schedule(static) private(n, first, last, nip, membrane, von_mises, plastic, layers, volume, x0, x)
     do g = 1, s%dom%n_groups
       n = s%dom%group_count(g)
       first = s%dom%group_first(g)
+      last = first + n - 1
       nip = s%props(s%dom%group_part(g))%integration_points
       call blt_element_results(n, nip, s%elements%groups(g)%stress, s%elements%groups(g)%eps_p, &
                                membrane(1:n, :), von_mises(1:n), plastic(1:n))
-      s%element_out(1:3, first:first + n - 1) = transpose(membrane(1:n, :))
-      s%element_out(4, first:first + n - 1) = von_mises(1:n)
-      s%element_out(5, first:first + n - 1) = plastic(1:n)
+      s%element_out(1:3, first:last) = transpose(membrane(1:n, :))
+      s%element_out(4, first:last) = von_mises(1:n)
+      s%element_out(5, first:last) = plastic(1:n)
+      call layer_stresses(n, nip, s%elements%groups(g)%stress, layers(:, :, 1:n))
+      s%element_out(6:20, first:last) = reshape(layers(:, :, 1:n), [stress_components * n_layers, n])
+      call gather_group(n, first, s%dom%connectivity, s%nodes%x0, x0(1:n, :, :))
+      call gather_group(n, first, s%dom%connectivity, s%nodes%x, x(1:n, :, :))
+      call membrane_green_strain(n, x0(1:n, :, :), x(1:n, :, :), s%element_out(21:23, first:last))
+      call initial_volumes(n, x0(1:n, :, :), s%props(s%dom%group_part(g))%thickness, volume(1:n))
+      s%element_out(24, first:last) = s%elements%e_internal(first:last) / volume(1:n)
     end do
     !$omp end parallel do
+    allocate (contact_force(3, s%nodes%n), source=0.0_wp)
+    if (s%has_contact) call parallel_contact_nodal_force(s%contact, contact_force)
+    h = half_step(s%clock)
     !$omp parallel do schedule(static) private(j)
     do k = 1, size(s%halo%owned_local)
       j = s%halo%owned_local(k)
-      s%node_out_a(:, k) = s%nodes%x(:, j) - s%nodes%x0(:, j)
-      s%node_out_b(:, k) = 0.5_wp * (s%nodes%v(:, j) + s%nodes%v_old(:, j))
+      s%node_out(1:3, k) = s%nodes%x(:, j) - s%nodes%x0(:, j)
+      s%node_out(4:6, k) = 0.5_wp * (s%nodes%v(:, j) + s%nodes%v_old(:, j))
+      s%node_out(7:9, k) = 0.0_wp
+      if (h > 0.0_wp) s%node_out(7:9, k) = (s%nodes%v(:, j) - s%nodes%v_old(:, j)) / h
+      s%node_out(10:12, k) = contact_force(:, j)
     end do
     !$omp end parallel do
-    call results_write_frame(rf, s%clock%time, s%node_out_a, s%node_out_b, s%element_out(1:3, :), &
-                             s%element_out(4, :), s%element_out(5, :))
+    call results_write_frame(rf, s%clock%time, s%node_out, s%element_out)
   end subroutine write_frame
 
   !> A progress line from rank 0 every progress_interval of wall time.

@@ -40,7 +40,9 @@ module solver_state
     real(wp), allocatable :: workspace(:, :)   !< per thread: one group's gathered nodes and forces
     type(work_queues_t) :: group_queues        !< the threads' shares of the element groups
     ! output buffers: this rank's owned nodes and its elements
-    real(wp), allocatable :: node_out_a(:, :), node_out_b(:, :), element_out(:, :)
+    real(wp), allocatable :: node_out(:, :), element_out(:, :)   !< results_write_frame's layouts
+    real(wp), allocatable :: v_free(:, :)   !< (3, n) the velocities before the constraints, at a record
+    real(wp) :: reaction(3) = 0             !< the constraints' resultant force at the last record (N)
     real(wp), allocatable :: element_work(:)   !< each element's plastic work at a history record
     real(wp), allocatable :: tracked_out(:, :)   !< (6, n_tracked): this rank's share, summed to rank 0
     integer, allocatable :: node_part(:)         !< per local node: the part of its lowest-numbered element

@@ -1,10 +1,11 @@
 !> Explicit central-difference integration of nodal translations and rotations (lumped mass,
 !> diagonal rotational inertia, optional mass-proportional damping).
 module time_integration
-  use paradyn_kinds, only: wp
+  use paradyn_kinds, only: wp, i8
+  use exact_sum, only: exact_add
   implicit none
   private
-  public :: update_velocities, update_positions, kinetic_energy, kinetic_energy_by_part
+  public :: update_velocities, update_positions, kinetic_energy, kinetic_energy_by_part, add_constraint_reactions
 
 contains
 
@@ -33,6 +34,33 @@ contains
                                            * sum((0.5_wp * (v_old + v(:, j)))**2)
     end do
   end subroutine update_velocities
+
+  !> The force the constraints put on the nodes of weight 1 in the velocity update over h, added
+  !> exactly to acc(:, k) per direction k: on a fixed translation f_int - f_ext (the update zeroed
+  !> it); where a constraint stage changed the updated velocity v_free into v, the force that makes
+  !> that change, m (v - v_free) / (c_new h) with update_velocities' damping factor c_new. Nodes no
+  !> constraint touched add nothing, so a model without constraints reports exactly zero.
+  pure subroutine add_constraint_reactions(n, h, damping, mass, fixed, force_internal, force_external, &
+                                           v_free, v, weight, acc)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: h, damping, mass(n), force_internal(6, n), force_external(6, n)
+    integer, intent(in) :: fixed(6, n)
+    real(wp), intent(in) :: v_free(3, n), v(3, n), weight(n)
+    integer(i8), intent(inout) :: acc(:, :)
+    real(wp) :: c_new
+    integer :: j, k
+    c_new = 1.0_wp / (1.0_wp + 0.5_wp * damping * h)
+    do j = 1, n
+      if (weight(j) == 0.0_wp) cycle
+      do k = 1, 3
+        if (fixed(k, j) /= 0) then
+          call exact_add(acc(:, k), force_internal(k, j) - force_external(k, j))
+        else if (v(k, j) /= v_free(k, j)) then
+          call exact_add(acc(:, k), mass(j) * (v(k, j) - v_free(k, j)) / (c_new * h))
+        end if
+      end do
+    end do
+  end subroutine add_constraint_reactions
 
   !> x(n+1) = x(n) + dt v(n+1/2).
   pure subroutine update_positions(n, dt, v, x)

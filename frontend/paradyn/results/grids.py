@@ -16,6 +16,10 @@ from .layout import FrameArrays
 
 VTK_QUAD = 9
 MEMBRANE_COMPONENTS = ("sxx", "syy", "sxy")
+STRAIN_COMPONENTS = ("exx", "eyy", "exy")
+# layer_stress as one 15-component cell array: layer by layer (bottom, middle, top), 5 components each
+LAYER_COMPONENTS = tuple(f"{layer}_{c}" for layer in ("bottom", "middle", "top")
+                         for c in ("sxx", "syy", "sxy", "sxz", "syz"))
 
 
 @dataclass(frozen=True)
@@ -74,7 +78,14 @@ def fill_frame(
     grid.cell_data["membrane_stress"] = frame.membrane_stress[topo.elements]
     grid.cell_data["von_mises"] = frame.von_mises[topo.elements]
     grid.cell_data["plastic_strain"] = frame.plastic_strain[topo.elements]
+    grid.point_data["acceleration"] = frame.acceleration[topo.nodes]
+    grid.point_data["nodal_contact_force"] = frame.nodal_contact_force[topo.nodes]
+    grid.cell_data["layer_stress"] = frame.layer_stress[topo.elements].reshape(len(topo.elements), -1)
+    grid.cell_data["membrane_strain"] = frame.membrane_strain[topo.elements]
+    grid.cell_data["internal_energy_density"] = frame.internal_energy_density[topo.elements]
     grid.field_data["TimeValue"] = np.array([frame.time])
-    array = grid.GetCellData().GetArray("membrane_stress")
-    for c, name in enumerate(MEMBRANE_COMPONENTS):
-        array.SetComponentName(c, name)
+    for array_name, names in (("membrane_stress", MEMBRANE_COMPONENTS), ("membrane_strain", STRAIN_COMPONENTS),
+                              ("layer_stress", LAYER_COMPONENTS)):
+        array = grid.GetCellData().GetArray(array_name)
+        for c, name in enumerate(names):
+            array.SetComponentName(c, name)

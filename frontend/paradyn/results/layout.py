@@ -28,12 +28,17 @@ SUPPORTED_RESULTS_VERSIONS = (1,)
 TRACKED_COMPONENTS = ("dx", "dy", "dz", "vx", "vy", "vz")
 # the frame fields of schema/results.toml, under the names Results gives them (element_ dropped)
 FRAME_DATASETS = {name.removeprefix("element_"): f"/frames/{name}" for name in FRAME_FIELDS if name != "time"}
+# frame fields a file written before them lacks (read as zeros there); every other one is required
+LATER_FRAME_FIELDS = ("acceleration", "nodal_contact_force", "layer_stress", "membrane_strain", "internal_energy_density")
 
 
 @dataclass(frozen=True)
 class FrameArrays:
-    """The fields of one frame (SI units): ``displacement`` and ``velocity`` (n_nodes, 3),
-    ``membrane_stress`` (n_elements, 3), ``von_mises`` and ``plastic_strain`` (n_elements,)."""
+    """The fields of one frame (SI units; docs/outputs.md): ``displacement``, ``velocity``,
+    ``acceleration`` and ``nodal_contact_force`` (n_nodes, 3); ``membrane_stress`` and
+    ``membrane_strain`` (n_elements, 3); ``layer_stress`` (n_elements, 3 layers: bottom, middle,
+    top, 5 components: sxx, syy, sxy, sxz, syz); ``von_mises``, ``plastic_strain`` and
+    ``internal_energy_density`` (n_elements,)."""
 
     index: int
     time: float
@@ -42,6 +47,11 @@ class FrameArrays:
     membrane_stress: np.ndarray
     von_mises: np.ndarray
     plastic_strain: np.ndarray
+    acceleration: np.ndarray
+    nodal_contact_force: np.ndarray
+    layer_stress: np.ndarray
+    membrane_strain: np.ndarray
+    internal_energy_density: np.ndarray
 
 
 class ResultsError(ValueError):
@@ -166,6 +176,11 @@ def frame_tails(n_nodes: int, n_elements: int) -> dict[str, tuple[int, ...]]:
         "membrane_stress": (n_elements, 3),
         "von_mises": (n_elements,),
         "plastic_strain": (n_elements,),
+        "acceleration": (n_nodes, 3),
+        "nodal_contact_force": (n_nodes, 3),
+        "layer_stress": (n_elements, 3, 5),
+        "membrane_strain": (n_elements, 3),
+        "internal_energy_density": (n_elements,),
     }
 
 
@@ -178,9 +193,11 @@ def read_frame_layout(
     names = {"time": "/frames/time", **FRAME_DATASETS}
     data = _opened_datasets(h5, "/frames")
     if complete:
-        for ds in names.values():
-            _ensure(data, ds, path)
-    n = _available_rows(data, names, complete, path, "/frames")
+        for name, ds in names.items():
+            if name not in LATER_FRAME_FIELDS:
+                _ensure(data, ds, path)
+    present = {name: ds for name, ds in names.items() if name not in LATER_FRAME_FIELDS or ds in data}
+    n = _available_rows(data, present, complete, path, "/frames")
     for name, tail in frame_tails(n_nodes, n_elements).items():
         ds = FRAME_DATASETS[name]
         if ds in data and n > 0 and data[ds].shape[1:] != tail:
@@ -220,6 +237,8 @@ def read_history(h5: h5py.File, path: Path, complete: bool) -> dict[str, np.ndar
                        ("part_plastic_work", ()), ("contact_force", (3,)), ("rigid_wall_force", (3,))):
         width = data[f"/history/{name}"].shape[1] if f"/history/{name}" in data else 0
         out[name] = read_rows(data, f"/history/{name}", n, (width, *tail), path) if width else np.zeros((n, 0, *tail))
+    # the supports' resultant force (n_records, 3); zeros in files written before it
+    out["reaction_force"] = read_rows(data, "/history/reaction_force", n, (3,), path)
     return out
 
 

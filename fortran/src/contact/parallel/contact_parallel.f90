@@ -43,7 +43,8 @@ module contact_parallel
   use contact_record_routes, only: share_records_locally
   implicit none
   private
-  public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply
+  public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply, &
+            parallel_contact_nodal_force
   public :: contact_log_line
   public :: parallel_contact_worked, parallel_contact_idle_cycles, contact_travel_step
   public :: contact_is_local
@@ -464,6 +465,19 @@ contains
       if (j > 0) f_int(1:3, j) = f_int(1:3, j) - pc%c%force(:, k)
     end do
   end subroutine parallel_contact_apply
+
+  !> The contact force on each local node in the last step (frames: LS-DYNA's NCFORC), added to
+  !> force (3, local nodes); what parallel_contact_apply subtracted from the internal forces.
+  subroutine parallel_contact_nodal_force(pc, force)
+    type(parallel_contact_t), intent(in) :: pc
+    real(wp), intent(inout) :: force(:, :)
+    integer :: i, k, j
+    do i = 1, pc%c%n_touched
+      k = pc%c%touched(i)
+      j = pc%c%column(k)
+      if (j > 0) force(:, j) = force(:, j) + pc%c%force(:, k)
+    end do
+  end subroutine parallel_contact_nodal_force
 
   !> One line per rank for the log: the sorts, the passes run, all ranks' candidates, the local
   !> searches of this rank (its equal blocks of the candidates), and the cycles the contact

@@ -1,0 +1,80 @@
+!> Per-element fields of the frames beyond blt_element_results' resultants: the stress at the
+!> bottom, middle and top of the shell, the mid-surface membrane strain, and the initial volume
+!> by which the internal energy becomes a density. Computed at frames only, never in the time loop.
+!> Pure, over groups of n elements with the element index first, like shell_blt.
+module shell_field_measures
+  use paradyn_kinds, only: wp, ek
+  use shell_section, only: stress_components, local_frame, thickness_rule
+  use vector_algebra, only: cross
+  implicit none
+  private
+  public :: layer_stresses, membrane_green_strain, initial_volumes
+
+  integer, parameter, public :: n_layers = 3   !< bottom, middle, top
+  real(wp), parameter :: mid_tolerance = 1.0e-12_wp   ! a point this close to zeta = 0 is the mid-surface's
+
+contains
+
+  !> The five stress components (sxx, syy, sxy, sxz, syz in the element's co-rotational frame) at
+  !> the bottom (zeta = -1 side), middle and top of each element: the outermost points, as LS-DYNA
+  !> writes its lower and upper surfaces, and the mid-surface interpolated linearly in zeta between
+  !> the two points around it (the middle point itself for an odd rule).
+  pure subroutine layer_stresses(n, nip, stress, layers)
+    integer, intent(in) :: n, nip
+    real(ek), intent(in) :: stress(n, stress_components, nip)
+    real(wp), intent(out) :: layers(stress_components, n_layers, n)
+    real(wp) :: zeta(nip), weight(nip), a
+    integer :: i, below
+    call thickness_rule(nip, zeta, weight)
+    below = max(1, count(zeta < -mid_tolerance))   ! the last point under the mid-surface
+    if (nip == 1 .or. abs(zeta(min(below + 1, nip))) <= mid_tolerance) below = min(below + 1, nip)
+    a = 0.0_wp
+    if (below < nip .and. abs(zeta(below)) > mid_tolerance) a = -zeta(below) / (zeta(below + 1) - zeta(below))
+    do i = 1, n
+      layers(:, 1, i) = real(stress(i, :, 1), wp)
+      layers(:, 3, i) = real(stress(i, :, nip), wp)
+      layers(:, 2, i) = real(stress(i, :, below), wp)
+      if (a > 0.0_wp) layers(:, 2, i) = (1.0_wp - a) * layers(:, 2, i) + a * real(stress(i, :, below + 1), wp)
+    end do
+  end subroutine layer_stresses
+
+  !> Green-Lagrange membrane strain (exx, eyy, exy: tensor components) at each element's centre,
+  !> E = (F^T F - I) / 2 with F the in-plane gradient of the bilinear map from the element's
+  !> initial co-rotational coordinates (x0) to its current ones (x), both frames by the same rule
+  !> (shell_section's local_frame): zero for any rigid motion, the engineering strain to first
+  !> order. A triangle is its degenerate quadrilateral (corner 4 = corner 3), for which the
+  !> gradient at the centre is the triangle's exact constant one.
+  pure subroutine membrane_green_strain(n, x0, x, strain)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: x0(n, 3, 4), x(n, 3, 4)
+    real(wp), intent(out) :: strain(3, n)
+    real(wp), parameter :: d_xi(4) = [-0.25_wp, 0.25_wp, 0.25_wp, -0.25_wp]
+    real(wp), parameter :: d_eta(4) = [-0.25_wp, -0.25_wp, 0.25_wp, 0.25_wp]
+    real(wp) :: e(3, 3), xl(4), yl(4), area, j0(2, 2), jc(2, 2), j0_inverse(2, 2), f(2, 2), c(2, 2)
+    integer :: i
+    do i = 1, n
+      call local_frame(x0(i, :, :), e, xl, yl, area)
+      j0 = reshape([sum(d_xi * xl), sum(d_xi * yl), sum(d_eta * xl), sum(d_eta * yl)], [2, 2])
+      call local_frame(x(i, :, :), e, xl, yl, area)
+      jc = reshape([sum(d_xi * xl), sum(d_xi * yl), sum(d_eta * xl), sum(d_eta * yl)], [2, 2])
+      j0_inverse = reshape([j0(2, 2), -j0(2, 1), -j0(1, 2), j0(1, 1)], [2, 2]) &
+                   / (j0(1, 1) * j0(2, 2) - j0(1, 2) * j0(2, 1))
+      f = matmul(jc, j0_inverse)
+      c = matmul(transpose(f), f)
+      strain(:, i) = [0.5_wp * (c(1, 1) - 1.0_wp), 0.5_wp * (c(2, 2) - 1.0_wp), 0.5_wp * c(1, 2)]
+    end do
+  end subroutine membrane_green_strain
+
+  !> Initial volume of each element: the area of its initial quadrilateral (half the cross product
+  !> of the diagonals; a triangle's area when corner 4 = corner 3) times the thickness.
+  pure subroutine initial_volumes(n, x0, thickness, volume)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: x0(n, 3, 4), thickness
+    real(wp), intent(out) :: volume(n)
+    integer :: i
+    do i = 1, n
+      volume(i) = 0.5_wp * norm2(cross(x0(i, :, 3) - x0(i, :, 1), x0(i, :, 4) - x0(i, :, 2))) * thickness
+    end do
+  end subroutine initial_volumes
+
+end module shell_field_measures
