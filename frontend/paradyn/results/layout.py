@@ -29,7 +29,8 @@ TRACKED_COMPONENTS = ("dx", "dy", "dz", "vx", "vy", "vz")
 # the frame fields of schema/results.toml, under the names Results gives them (element_ dropped)
 FRAME_DATASETS = {name.removeprefix("element_"): f"/frames/{name}" for name in FRAME_FIELDS if name != "time"}
 # frame fields a file written before them lacks (read as zeros there); every other one is required
-LATER_FRAME_FIELDS = ("acceleration", "nodal_contact_force", "layer_stress", "membrane_strain", "internal_energy_density")
+LATER_FRAME_FIELDS = ("acceleration", "nodal_contact_force", "layer_stress", "membrane_strain",
+                      "internal_energy_density")
 
 
 @dataclass(frozen=True)
