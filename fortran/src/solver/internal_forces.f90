@@ -12,7 +12,8 @@ module internal_forces
   use halo_exchange, only: exchange_corners
   use nodal_assembly, only: gather_group, assemble_nodes
   use phase_timers, only: wall_clock
-  use contact_parallel, only: parallel_contact_step, parallel_contact_apply, parallel_contact_worked
+  use contact_parallel, only: parallel_contact_step, parallel_contact_worked
+  use contact_node_forces, only: contact_apply_forces
   use paradyn_schema, only: effect_elastic_shells, effect_plastic_shells, effect_contact, effect_friction
   use effect_table, only: effect_count, effect_time
   use effect_pipeline, only: apply_corner_loads
@@ -51,7 +52,7 @@ contains
     if (s%has_contact) then
       t0 = wall_clock()
       call parallel_contact_step(s%contact, s%nodes%x, s%nodes%v, s%clock%cycles, dt_strain, s%timers)
-      call parallel_contact_apply(s%contact, s%nodes%f_int)
+      call contact_apply_forces(s%contact%c, s%nodes%f_int)
       call effect_time(s%effects, effect_contact, wall_clock() - t0)
       if (s%started) then   ! the forces at the start are not a cycle; idle pairs skip their stages
         call effect_count(s%effects, effect_contact, parallel_contact_worked(s%contact))

@@ -16,7 +16,7 @@ module solver_output
   use time_integration, only: kinetic_energy, kinetic_energy_by_part, add_constraint_reactions
   use step_clock, only: half_step
   use nodal_assembly, only: gather_group
-  use contact_parallel, only: parallel_contact_nodal_force
+  use contact_node_forces, only: contact_add_nodal_forces
   use shell_field_measures, only: layer_stresses, membrane_green_strain, initial_volumes, n_layers
   use shell_section, only: stress_components
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
@@ -261,7 +261,7 @@ contains
     end do
     !$omp end parallel do
     allocate (contact_force(3, s%nodes%n), source=0.0_wp)
-    if (s%has_contact) call parallel_contact_nodal_force(s%contact, contact_force)
+    if (s%has_contact) call contact_add_nodal_forces(s%contact%c, contact_force)
     h = half_step(s%clock)
     !$omp parallel do schedule(static) private(j)
     do k = 1, size(s%halo%owned_local)

@@ -21,7 +21,7 @@ from numpy.lib.mixins import NDArrayOperatorsMixin
 
 from paradyn._schema import HISTORY_UNITS
 
-from . import grids
+from . import grids, history_columns
 from . import names as run_names
 from .layout import (
     ENERGY_NAMES,
@@ -387,47 +387,12 @@ class Results:
         return frame
 
     def _part_columns(self) -> dict[str, tuple[str, np.ndarray]]:
-        """The per-part, per-contact and per-wall columns: column -> (its /history dataset, values)."""
-        h = self.history
-        columns: dict[str, tuple[str, np.ndarray]] = {}
-        parts = run_names.unique_safe_names(self.part_names, "part")
-        for quantity in ("kinetic_energy", "internal_energy", "hourglass_energy", "plastic_work"):
-            name = f"part_{quantity}"
-            for i, part in enumerate(parts[:h[name].shape[1]]):
-                columns[f"{part}_{quantity}"] = (name, h[name][:, i])
-        sides = self.contact_sides()
-        for k in range(h["contact_force"].shape[1]):
-            for c, axis in enumerate("xyz"):
-                if k >= len(sides):   # the parts are not known: the first part's force alone
-                    columns[f"contact{k}_f{axis}"] = ("contact_force", h["contact_force"][:, k, c])
-                    continue
-                for side, sign in zip(sides[k], (1.0, -1.0), strict=False):
-                    columns[f"contact{k}_on_{side}_f{axis}"] = ("contact_force", sign * h["contact_force"][:, k, c])
-        for k in range(h["rigid_wall_force"].shape[1]):
-            for c, axis in enumerate("xyz"):
-                columns[f"wall{k}_f{axis}"] = ("rigid_wall_force", h["rigid_wall_force"][:, k, c])
-        for c, axis in enumerate("xyz"):
-            columns[f"reaction_f{axis}"] = ("reaction_force", h["reaction_force"][:, c])
-        return columns
+        """The per-part, per-contact, per-wall and reaction columns: column -> (its /history dataset, values)."""
+        return history_columns.part_columns(self)
 
     def contact_sides(self) -> list[tuple[str, ...]]:
-        """Each contact definition's parts by column-safe name, as the history names its forces:
-        (first, second) for a pair, whose second part gets the opposite of the first's force, and
-        (part,) for a single surface (its forces act and react within it). From the effect table,
-        else the deck; empty when neither is at hand."""
-        parts = run_names.unique_safe_names(self.part_names, "part")
-        rows = [row for row in self.effect_table if row.name == "contact" and row.pairs]
-        if rows:
-            pairs = [tuple(parts[self.part_names.index(n)] if n in self.part_names else n for n in pair["parts"])
-                     for pair in rows[0].pairs]
-        elif self.deck_path is not None and Path(self.deck_path).is_file():
-            from paradyn import deck  # the deck reader, for the pairs only
-
-            found = deck.read_deck_arrays(self.deck_path, ("contact_pairs",))["contact_pairs"]
-            pairs = [tuple(parts[int(i)] for i in pair) for pair in np.asarray(found if found is not None else [])]
-        else:
-            return []
-        return [pair[:1] if pair[0] == pair[-1] else pair for pair in pairs]
+        """Each contact definition's parts by column-safe name (history_columns.contact_sides)."""
+        return history_columns.contact_sides(self)
 
     def history_table(self) -> dict[str, np.ndarray]:
         """The history as columns, in the order of the CSV file (see docs/outputs.md)."""

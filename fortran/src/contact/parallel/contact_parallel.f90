@@ -43,8 +43,7 @@ module contact_parallel
   use contact_record_routes, only: share_records_locally
   implicit none
   private
-  public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step, parallel_contact_apply, &
-            parallel_contact_nodal_force
+  public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step
   public :: contact_log_line
   public :: parallel_contact_worked, parallel_contact_idle_cycles, contact_travel_step
   public :: contact_is_local
@@ -452,32 +451,6 @@ contains
     call count_allgather(pc%traffic, int(item_bytes, i8) * counts(pc%c%rank + 1), &
                          int(item_bytes, i8) * sum(int(counts, i8)), pc%c%n_ranks)
   end subroutine count_gather
-
-  !> Contact forces act on the nodes like external forces: subtract them from the internal ones
-  !> (local nodes). Only the nodes touched this step have a force.
-  subroutine parallel_contact_apply(pc, f_int)
-    type(parallel_contact_t), intent(in) :: pc
-    real(wp), intent(inout) :: f_int(:, :)
-    integer :: i, k, j
-    do i = 1, pc%c%n_touched
-      k = pc%c%touched(i)
-      j = pc%c%column(k)
-      if (j > 0) f_int(1:3, j) = f_int(1:3, j) - pc%c%force(:, k)
-    end do
-  end subroutine parallel_contact_apply
-
-  !> The contact force on each local node in the last step (frames: LS-DYNA's NCFORC), added to
-  !> force (3, local nodes); what parallel_contact_apply subtracted from the internal forces.
-  subroutine parallel_contact_nodal_force(pc, force)
-    type(parallel_contact_t), intent(in) :: pc
-    real(wp), intent(inout) :: force(:, :)
-    integer :: i, k, j
-    do i = 1, pc%c%n_touched
-      k = pc%c%touched(i)
-      j = pc%c%column(k)
-      if (j > 0) force(:, j) = force(:, j) + pc%c%force(:, k)
-    end do
-  end subroutine parallel_contact_nodal_force
 
   !> One line per rank for the log: the sorts, the passes run, all ranks' candidates, the local
   !> searches of this rank (its equal blocks of the candidates), and the cycles the contact
