@@ -4,14 +4,13 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
 from . import names as run_names
 
-if TYPE_CHECKING:
-    from .reading import Results
+Results = Any   # a paradyn.results.reading.Results (not imported: reading imports this module)
 
 
 def part_columns(results: Results) -> dict[str, tuple[str, np.ndarray]]:
