@@ -15,7 +15,7 @@ from .results.postprocess import post_process
 from .results.reports import accuracy_text, effect_table_text
 from .running import launch, preflight, workflow
 from .running.engine_process import AwaitingEngine
-from .running.folders import claim_output, default_output
+from .running.folders import default_output
 from .running.progress import RunProgress
 from .running.runners import SbatchRunner
 
@@ -133,12 +133,11 @@ def _run_parsed(args: argparse.Namespace, started: AwaitingEngine | None) -> int
     out_dir = (args.output or default_output(args.scene)).resolve()
     try:
         runner = batch_runner(args)
-        if args.scene.is_file():
-            claim_output(out_dir, args.scene, force=args.force or args.restart)
         outcome = workflow.run(_with_units(args.scene, args.units), out_dir, args.ranks, args.threads,
                                runner=runner, restart=args.restart,
                                progress=RunProgress(quiet=args.quiet), vtk=not args.no_vtk,
-                               plots=_plots(args), vtk_series=args.vtk_series, started=started)
+                               plots=_plots(args), vtk_series=args.vtk_series, started=started,
+                               force=args.force)   # the folder rule: running/folders.py
     except launch.EngineError as error:
         return _error(error, error.exit_code)
     except reading.ResultsError:

@@ -10,20 +10,22 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable
 from contextlib import AbstractContextManager, nullcontext
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 from paradyn import deck, scene
+from paradyn.arguments import checked_arguments
 from paradyn.results.postprocess import post_process
 from paradyn.results.reading import Results, read
 from paradyn.scene.builder import Scene as SceneBuilder
 
 from . import launch, preflight
 from .engine_process import Progress
-from .folders import output_folder
+from .folders import check_owner, claim_output, output_folder, source_identity
 from .progress import RunProgress
 from .restart import restart_deck
+from .run_warnings import EngineWarning, ModelWarning, check_line, issue, message_of
 from .runners import Runner, SbatchRunner
 
 Source = str | Path | scene.Scene | SceneBuilder | deck.Model  # what paradyn.run accepts
@@ -43,6 +45,7 @@ class BatchJob:
         return ["sbatch", str(self.script)]
 
 
+@checked_arguments("paradyn.run")
 def run(
     source: Source,
     out: str | Path,
@@ -62,6 +65,7 @@ def run(
     results_name: str = "results.h5",
     log_name: str | None = "engine.log",
     started: launch.AwaitingEngine | None = None,
+    force: bool = False,
 ) -> Results | BatchJob:
     """Write the deck of ``source`` into ``out``, run the engine, post-process, return the results.
 
@@ -73,7 +77,9 @@ def run(
         (:class:`paradyn.Scene`) or loaded with :func:`paradyn.scene.load_scene`, or a model.
     out : str or Path
         The output folder (created): ``deck.h5``, ``results.h5``, ``engine.log`` and the
-        post-processing outputs go there (docs/outputs.md).
+        post-processing outputs go there (docs/outputs.md). A folder that holds the run of
+        another source is refused (``force=True`` replaces it); a folder reused is first cleaned
+        of the earlier run's outputs (docs/scene.md, "Output folders").
     ranks, threads : int, optional
         MPI ranks and OpenMP threads per rank; by default one rank with a thread per core this
         process may use (:func:`paradyn.running.launch.default_layout`).
@@ -95,6 +101,9 @@ def run(
         check's lines of :mod:`paradyn.running.preflight`, the engine's cycles, its warnings as they come,
         post-processing), as does a RunProgress of your own (``RunProgress(quiet=True)``: only the
         check's warnings); a callable receives every :class:`~paradyn.running.launch.Progress`.
+        Without a RunProgress, the check's and the engine's warnings are issued through Python's
+        :mod:`warnings` (:class:`paradyn.ModelWarning`, :class:`paradyn.EngineWarning`); either
+        way they are kept in ``engine_run.warnings`` and ``summary.json``.
     extra : dict, optional
         Entries added to ``summary.json`` (after ``scene`` and ``command``).
     results_name, log_name : str
@@ -104,6 +113,8 @@ def run(
         (``paradyn-run`` starts it before its imports: :mod:`paradyn.running.early_engine`). It is used
         if its command is the one this run needs, else cancelled; it is cancelled if the run
         fails before its deck is written.
+    force : bool
+        Replace the run of another scene or deck in ``out`` (``paradyn-run --force``).
 
     Returns
     -------
@@ -117,7 +128,9 @@ def run(
     paradyn.scene.SceneError, paradyn.deck.DeckError
         A bad scene or deck (nothing was run).
     ValueError
-        ``restart`` without a checkpoint in ``out``, or an unknown runner name.
+        ``restart`` without a checkpoint in ``out``, or an unknown runner name;
+        :class:`paradyn.running.folders.OutputFolderError` (a ValueError) for a folder that holds
+        the run of another source.
     paradyn.running.launch.EngineError
         The engine failed or was stopped; ``exit_code`` is its status (4: stopped after writing
         its checkpoint, continue with ``restart=True``).
@@ -139,20 +152,22 @@ def run(
     ranks = default_ranks if ranks is None else ranks
     threads = default_threads if threads is None else threads
     display = progress if isinstance(progress, RunProgress) else (RunProgress() if progress is True else None)
-    out, deck_path, started = _prepare(source, out, ranks, threads, runner, restart, batch, display, results_name,
+    folder = _Folder(force=force, results_name=results_name)
+    out, deck_path, started = _prepare(source, out, ranks, threads, runner, restart, batch, display, folder,
                                        started)
     if batch:
         post_command = _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None
         return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
     on_progress = display if display is not None else (progress if callable(progress) else None)
     finish = _Finish(out / results_name, deck_path, display, post, _source_name(source), extra or {},
-                     {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series})
+                     {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series},
+                     check_warnings=folder.warnings)
     try:
         engine_run = launch.run_engine(deck_path, out / results_name, ranks, threads,
                                        on_progress=on_progress,
                                        log_path=out / log_name if log_name else None,
                                        restart=restart, runner=runner,
-                                       on_warning=display.warning if display is not None else None,
+                                       on_warning=display.warning if display is not None else _engine_warning,
                                        on_done=finish, started=started)
     finally:
         if started is not None:   # a failure before the engine was told to go must not leave it waiting
@@ -162,21 +177,35 @@ def run(
     return finish.results if finish.results is not None else finish(engine_run)
 
 
+@dataclass
+class _Folder:
+    """How a new run takes its output folder (docs/scene.md, "Output folders"), and the check's
+    warnings of the model it wrote there."""
+
+    force: bool = False
+    results_name: str = "results.h5"
+    warnings: list[str] = field(default_factory=list)
+
+
 def _prepare(source: Source, out: str | Path, ranks: int, threads: int, runner: str | Runner | None, restart: bool,
-             batch: bool, display: RunProgress | None, results_name: str,
+             batch: bool, display: RunProgress | None, folder: _Folder,
              started: launch.AwaitingEngine | None) -> tuple[Path, Path, launch.AwaitingEngine | None]:
     """The output folder, the run's deck (written, or the folder's for a restart) and the engine
-    started while the scene was meshed (``started`` when it fits); a failure ends that engine."""
+    started while the scene was meshed (``started`` when it fits); a failure ends that engine.
+    A new run is refused a folder that holds another source's run before anything is read."""
     try:
         _check_source(source)
+        if not restart:
+            check_owner(Path(out), source_identity(source), folder.force)
         out = output_folder(out)
         if restart:
             return out, restart_deck(out, _restart_model(source)), None
         loaded = _loaded(source)
         if not batch and (precision := _precision(loaded)) is not None:
             # the engine starts MPI while the scene is meshed and its deck written
-            started = _engine_for(started, out / "deck.h5", out / results_name, ranks, threads, runner, precision)
-        return out, _write_deck(source, loaded, out, ranks, threads, display, started), started
+            started = _engine_for(started, out / "deck.h5", out / folder.results_name, ranks, threads, runner,
+                                  precision)
+        return out, _write_deck(source, loaded, out, ranks, threads, display, started, folder), started
     except BaseException:
         if started is not None:
             started.cancel()
@@ -208,19 +237,28 @@ class _Finish:
     scene: str | None
     extra: dict[str, Any]
     options: dict[str, bool]
+    check_warnings: list[str] = field(default_factory=list)
     results: Results | None = None
 
     def __call__(self, engine_run: launch.EngineRun) -> Results:
         if self.display is not None:
             self.display.finish_engine(engine_run.done)
+        # the check's warnings first, then the engine's (the order they were said in)
+        engine_run.warnings[:0] = [check_line(w) for w in self.check_warnings]
         results = read(self.results_path, deck=self.deck_path)
         results.engine_run = engine_run
         if self.post:
-            details = {"scene": self.scene, "command": engine_run.command, **self.extra}
+            details = {"scene": self.scene, "command": engine_run.command, "warnings": list(engine_run.warnings),
+                       **self.extra}
             with _stage(self.display, "post-processing"):
                 results.outputs = post_process(results, self.results_path.parent, details, **self.options)
         self.results = results
         return results
+
+
+def _engine_warning(line: str) -> None:
+    """An engine warning, as it comes, through Python's warnings (no display shows it)."""
+    issue([message_of(line)], EngineWarning)
 
 
 def _stage(display: RunProgress | None, name: str) -> AbstractContextManager[None]:
@@ -271,14 +309,20 @@ def model_of(source: Source) -> deck.Model:
 
 
 def _write_deck(source: Source, loaded: Source, out: Path, ranks: int, threads: int, display: RunProgress | None,
-                started: launch.AwaitingEngine | None) -> Path:
-    """Mesh (or read) ``loaded``, write its deck and show the check; a failure ends ``started``."""
+                started: launch.AwaitingEngine | None, folder: _Folder) -> Path:
+    """Mesh (or read) ``loaded``, clean the folder of an earlier run and record the source, write
+    the deck and show or issue the check's lines; a failure ends ``started``."""
     try:
         with _stage(display, "meshing" if _is_scene(source) else "reading the model"):
             model = model_of(loaded)
+        claim_output(out, source_identity(source), force=True, clean=True, results_name=folder.results_name)
         deck_path = deck.write_deck(model, out / "deck.h5")   # a waiting engine reads it once told to go
+        check = preflight.check_model(model, ranks, threads)
+        folder.warnings = list(check.warnings)
         if display is not None:
-            display.report(preflight.check_model(model, ranks, threads).lines())
+            display.report(check.lines())
+        else:
+            issue(check.warnings, ModelWarning)
     except BaseException:
         if started is not None:
             started.cancel()
