@@ -82,8 +82,10 @@ def argument_message(name: str, signature: inspect.Signature, args: tuple[Any, .
         hint = f" ('{typo[0]}' was given: a misspelling of '{key}'?)" if typo else ""
         problems.append(f"missing required argument '{key}'{hint}")
     if not takes_any:
-        problems += [f"unknown argument '{k}'; {did_you_mean(k, named)}".rstrip("; ").rstrip()
-                     for k in unknown if not any(closest(k, [m]) == m for m in missing)]
+        for key in unknown:
+            if not any(closest(key, [m]) == m for m in missing):
+                hint = did_you_mean(key, named).strip()
+                problems.append(f"unknown argument '{key}'" + (f" ({hint})" if hint else ""))
     if not problems:
         return f"{name}(): {fallback.split('() ', 1)[-1]}"
     return f"{name}(): {'; '.join(problems)}; its arguments are: {', '.join(named)}"

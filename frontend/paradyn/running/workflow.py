@@ -76,10 +76,9 @@ def run(
         deck (``.k``, ``.key``, ``.dyn``: docs/keyword.md), a scene built in Python
         (:class:`paradyn.Scene`) or loaded with :func:`paradyn.scene.load_scene`, or a model.
     out : str or Path
-        The output folder (created): ``deck.h5``, ``results.h5``, ``engine.log`` and the
-        post-processing outputs go there (docs/outputs.md). A folder that holds the run of
-        another source is refused (``force=True`` replaces it); a folder reused is first cleaned
-        of the earlier run's outputs (docs/scene.md, "Output folders").
+        The output folder (created): ``deck.h5``, ``results.h5``, ``engine.log`` and the post-processing
+        outputs go there (docs/outputs.md). A folder that holds another source's run is refused
+        (``force=True`` replaces it); one reused is cleaned first (docs/scene.md, "Output folders").
     ranks, threads : int, optional
         MPI ranks and OpenMP threads per rank; by default one rank with a thread per core this
         process may use (:func:`paradyn.running.launch.default_layout`).
@@ -100,10 +99,9 @@ def run(
         True shows the run on standard error (:class:`paradyn.running.progress.RunProgress`: meshing, the
         check's lines of :mod:`paradyn.running.preflight`, the engine's cycles, its warnings as they come,
         post-processing), as does a RunProgress of your own (``RunProgress(quiet=True)``: only the
-        check's warnings); a callable receives every :class:`~paradyn.running.launch.Progress`.
-        Without a RunProgress, the check's and the engine's warnings are issued through Python's
-        :mod:`warnings` (:class:`paradyn.ModelWarning`, :class:`paradyn.EngineWarning`); either
-        way they are kept in ``engine_run.warnings`` and ``summary.json``.
+        check's warnings); a callable receives every :class:`~paradyn.running.launch.Progress`. Without a
+        RunProgress, the check's and the engine's warnings go through Python's :mod:`warnings`
+        (:class:`paradyn.ModelWarning`, :class:`paradyn.EngineWarning`); both kept in ``engine_run.warnings``.
     extra : dict, optional
         Entries added to ``summary.json`` (after ``scene`` and ``command``).
     results_name, log_name : str
@@ -128,9 +126,8 @@ def run(
     paradyn.scene.SceneError, paradyn.deck.DeckError
         A bad scene or deck (nothing was run).
     ValueError
-        ``restart`` without a checkpoint in ``out``, or an unknown runner name;
-        :class:`paradyn.running.folders.OutputFolderError` (a ValueError) for a folder that holds
-        the run of another source.
+        ``restart`` without a checkpoint in ``out``, an unknown runner name, or ``out`` holding the
+        run of another source (:class:`paradyn.running.folders.OutputFolderError`).
     paradyn.running.launch.EngineError
         The engine failed or was stopped; ``exit_code`` is its status (4: stopped after writing
         its checkpoint, continue with ``restart=True``).
@@ -148,25 +145,19 @@ def run(
     if started is not None and (restart or batch):   # these start their own engine, or none
         started.cancel()
         started = None
-    default_ranks, default_threads = launch.default_layout()
-    ranks = default_ranks if ranks is None else ranks
-    threads = default_threads if threads is None else threads
+    ranks, threads = (a if a is not None else b for a, b in zip((ranks, threads), launch.default_layout(), strict=True))
     display = progress if isinstance(progress, RunProgress) else (RunProgress() if progress is True else None)
     folder = _Folder(force=force, results_name=results_name)
-    out, deck_path, started = _prepare(source, out, ranks, threads, runner, restart, batch, display, folder,
-                                       started)
+    out, deck_path, started = _prepare(source, out, ranks, threads, runner, restart, batch, display, folder, started)
     if batch:
         post_command = _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None
         return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
     on_progress = display if display is not None else (progress if callable(progress) else None)
-    finish = _Finish(out / results_name, deck_path, display, post, _source_name(source), extra or {},
-                     {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series},
-                     check_warnings=folder.warnings)
+    outputs = {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series}
+    finish = _Finish(out / results_name, deck_path, display, post, _source_name(source), extra, outputs, folder.warnings)
     try:
-        engine_run = launch.run_engine(deck_path, out / results_name, ranks, threads,
-                                       on_progress=on_progress,
-                                       log_path=out / log_name if log_name else None,
-                                       restart=restart, runner=runner,
+        engine_run = launch.run_engine(deck_path, out / results_name, ranks, threads, on_progress=on_progress,
+                                       log_path=out / log_name if log_name else None, restart=restart, runner=runner,
                                        on_warning=display.warning if display is not None else _engine_warning,
                                        on_done=finish, started=started)
     finally:
@@ -235,7 +226,7 @@ class _Finish:
     display: RunProgress | None
     post: bool
     scene: str | None
-    extra: dict[str, Any]
+    extra: dict[str, Any] | None
     options: dict[str, bool]
     check_warnings: list[str] = field(default_factory=list)
     results: Results | None = None
@@ -249,7 +240,7 @@ class _Finish:
         results.engine_run = engine_run
         if self.post:
             details = {"scene": self.scene, "command": engine_run.command, "warnings": list(engine_run.warnings),
-                       **self.extra}
+                       **(self.extra or {})}
             with _stage(self.display, "post-processing"):
                 results.outputs = post_process(results, self.results_path.parent, details, **self.options)
         self.results = results
