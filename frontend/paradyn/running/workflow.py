@@ -153,8 +153,8 @@ def run(
         post_command = _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None
         return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
     on_progress = display if display is not None else (progress if callable(progress) else None)
-    outputs = {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series}
-    finish = _Finish(out / results_name, deck_path, display, post, _source_name(source), extra, outputs, folder.warnings)
+    asked = {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series}
+    finish = _Finish(out / results_name, deck_path, display, post, _source_name(source), extra, asked, folder.warnings)
     try:
         engine_run = launch.run_engine(deck_path, out / results_name, ranks, threads, on_progress=on_progress,
                                        log_path=out / log_name if log_name else None, restart=restart, runner=runner,
