@@ -80,3 +80,28 @@ def test_a_clean_model_has_no_warnings(tmp_path: Path) -> None:
         res = paradyn.run(SMALL_PLATE, tmp_path, ranks=1, threads=1, vtk=False)
     assert res.engine_run.warnings == []
     assert json.loads((tmp_path / "summary.json").read_text())["warnings"] == []
+
+
+def test_a_keyword_decks_warnings_reach_python(tmp_path: Path) -> None:
+    """The keyword reader's warnings (a card left out, the units) come as KeywordWarning, first."""
+    from test_keyword import HEAD, MESH
+
+    deck = tmp_path / "model.k"
+    deck.write_text(HEAD + MESH + "*CONTROL_ACCURACY\n         1\n*END\n")
+    with pytest.warns(paradyn.ParaDynWarning) as caught:
+        res = paradyn.run(deck, tmp_path / "out", ranks=1, threads=1, post=False)
+    read = [str(w.message) for w in caught if w.category is paradyn.KeywordWarning]
+    assert any("*CONTROL_ACCURACY is not supported" in m for m in read) and any("units SI" in m for m in read)
+    assert [w.category for w in caught if w.category is paradyn.ModelWarning] == [paradyn.ModelWarning]
+    kept = res.engine_run.warnings
+    assert kept[:len(read)] == [f"paradyn: warning: {m}" for m in read]
+    assert "nothing in this model moves" in kept[len(read)]
+
+
+def test_post_processing_again_keeps_the_warnings(tmp_path: Path) -> None:
+    from paradyn import cli
+
+    with pytest.warns(paradyn.ParaDynWarning):
+        res = paradyn.run(_plate_with_mistakes(tmp_path), tmp_path / "out", ranks=1, threads=1, vtk=False)
+    assert cli.main([str(tmp_path / "out"), "--post", "--no-vtk"]) == 0
+    assert json.loads((tmp_path / "out" / "summary.json").read_text())["warnings"] == res.engine_run.warnings

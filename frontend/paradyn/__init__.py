@@ -22,6 +22,7 @@ if TYPE_CHECKING:
     from .results.reading import Results as Results
     from .results.reading import read as read
     from .running.run_warnings import EngineWarning as EngineWarning
+    from .running.run_warnings import KeywordWarning as KeywordWarning
     from .running.run_warnings import ModelWarning as ModelWarning
     from .running.run_warnings import ParaDynWarning as ParaDynWarning
     from .running.workflow import BatchJob as BatchJob
@@ -35,7 +36,8 @@ if TYPE_CHECKING:
 # name -> the module that defines it
 _EXPORTS = {
     "ArgumentError": "arguments", "BatchJob": "running.workflow", "Cylinder": "scene.builder",
-    "EngineWarning": "running.run_warnings", "MeshFile": "scene.builder", "ModelWarning": "running.run_warnings",
+    "EngineWarning": "running.run_warnings", "KeywordWarning": "running.run_warnings",
+    "MeshFile": "scene.builder", "ModelWarning": "running.run_warnings",
     "ParaDynWarning": "running.run_warnings", "Plate": "scene.builder", "Results": "results.reading",
     "Scene": "scene.builder", "read": "results.reading", "read_keyword": "keyword.scene", "run": "running.workflow",
     "study": "studies.sweep",

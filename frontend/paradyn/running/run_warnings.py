@@ -1,15 +1,17 @@
 """ParaDyn's warnings in Python: the categories, and how :func:`paradyn.run` issues them.
 
-A run says what looks wrong in two places: the check before it (:mod:`paradyn.running.preflight`:
+A run says what looks wrong in three places: the reader of an LS-DYNA keyword deck (cards and
+fields left out or read differently, the units), the check before it (:mod:`paradyn.running.preflight`:
 values that look like another unit system's, a model where nothing moves, settings far outside
 the usual) and the engine (``paradyn-engine: warning:`` lines: a requested step above the stable
-one, initial contact penetrations). ``paradyn-run`` prints both; :func:`paradyn.run` issues each
+one, initial contact penetrations). ``paradyn-run`` prints them; :func:`paradyn.run` issues each
 through Python's :mod:`warnings` (unless a :class:`~paradyn.running.progress.RunProgress` display
 shows them), keeps them in ``EngineRun.warnings`` and writes them to ``summary.json``
 (docs/python.md, "Warnings").
 
-The categories are :class:`ParaDynWarning` and its two kinds, :class:`ModelWarning` (the check's)
-and :class:`EngineWarning` (the engine's), so that the usual filters apply::
+The categories are :class:`ParaDynWarning` and its kinds, :class:`ModelWarning` (the check's),
+:class:`KeywordWarning` (the keyword deck reader's: cards left out, the units) and
+:class:`EngineWarning` (the engine's), so that the usual filters apply::
 
     import warnings, paradyn
     warnings.simplefilter("error", paradyn.ModelWarning)     # a likely unit mistake stops the script
@@ -39,6 +41,11 @@ class ParaDynWarning(UserWarning):
 class ModelWarning(ParaDynWarning):
     """The check before a run: a value that looks like another unit system's (a 2 m shell, a
     density in tonne/mm^3), a model where nothing moves, a setting far outside the usual."""
+
+
+class KeywordWarning(ParaDynWarning):
+    """An LS-DYNA keyword deck's cards or fields that ParaDyn leaves out or reads in its own way,
+    and the units it read the deck in (docs/keyword.md)."""
 
 
 class EngineWarning(ParaDynWarning):
@@ -78,4 +85,4 @@ def _caller() -> tuple[str, int, str, dict | None]:
     return frame.f_code.co_filename, frame.f_lineno, str(name), frame.f_globals
 
 
-__all__ = ["EngineWarning", "ModelWarning", "ParaDynWarning", "check_line", "issue", "message_of"]
+__all__ = ["EngineWarning", "KeywordWarning", "ModelWarning", "ParaDynWarning", "check_line", "issue", "message_of"]

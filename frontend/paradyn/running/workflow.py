@@ -25,7 +25,7 @@ from .engine_process import Progress
 from .folders import check_owner, claim_output, output_folder, source_identity
 from .progress import RunProgress
 from .restart import restart_deck
-from .run_warnings import EngineWarning, ModelWarning, check_line, issue, message_of
+from .run_warnings import EngineWarning, KeywordWarning, ModelWarning, check_line, issue, message_of
 from .runners import Runner, SbatchRunner
 
 Source = str | Path | scene.Scene | SceneBuilder | deck.Model  # what paradyn.run accepts
@@ -228,14 +228,14 @@ class _Finish:
     scene: str | None
     extra: dict[str, Any] | None
     options: dict[str, bool]
-    check_warnings: list[str] = field(default_factory=list)
+    read_warnings: list[str] = field(default_factory=list)   # kept lines: the keyword reader's, the check's
     results: Results | None = None
 
     def __call__(self, engine_run: launch.EngineRun) -> Results:
         if self.display is not None:
             self.display.finish_engine(engine_run.done)
-        # the check's warnings first, then the engine's (the order they were said in)
-        engine_run.warnings[:0] = [check_line(w) for w in self.check_warnings]
+        # the reader's and the check's warnings first, then the engine's (the order they were said in)
+        engine_run.warnings[:0] = self.read_warnings
         results = read(self.results_path, deck=self.deck_path)
         results.engine_run = engine_run
         if self.post:
@@ -301,24 +301,39 @@ def model_of(source: Source) -> deck.Model:
 
 def _write_deck(source: Source, loaded: Source, out: Path, ranks: int, threads: int, display: RunProgress | None,
                 started: launch.AwaitingEngine | None, folder: _Folder) -> Path:
-    """Mesh (or read) ``loaded``, clean the folder of an earlier run and record the source, write
-    the deck and show or issue the check's lines; a failure ends ``started``."""
+    """Mesh (or read) ``loaded`` and check it; issue its warnings (a filter that makes them errors
+    stops here, the folder untouched); clean the folder of an earlier run and record the source;
+    write the deck and show the check's lines. A failure ends ``started``."""
     try:
         with _stage(display, "meshing" if _is_scene(source) else "reading the model"):
-            model = model_of(loaded)
+            model, read_warnings = _model_and_warnings(loaded, shown=display is not None)
+        check = preflight.check_model(model, ranks, threads)
+        folder.warnings = [check_line(w) for w in (*read_warnings, *check.warnings)]
+        if display is None:
+            issue(read_warnings, KeywordWarning)
+            issue(check.warnings, ModelWarning)
         claim_output(out, source_identity(source), force=True, clean=True, results_name=folder.results_name)
         deck_path = deck.write_deck(model, out / "deck.h5")   # a waiting engine reads it once told to go
-        check = preflight.check_model(model, ranks, threads)
-        folder.warnings = list(check.warnings)
         if display is not None:
             display.report(check.lines())
-        else:
-            issue(check.warnings, ModelWarning)
     except BaseException:
         if started is not None:
             started.cancel()
         raise
     return deck_path
+
+
+def _model_and_warnings(source: Source, shown: bool) -> tuple[deck.Model, list[str]]:
+    """The model of ``source`` and, for a keyword deck, the reader's warnings (unsupported cards and
+    fields, the units), printed on standard error as ``read_keyword`` does when ``shown``."""
+    if isinstance(source, (str, Path)) and Path(source).suffix.lower() in KEYWORD_SUFFIXES:
+        from paradyn.keyword.scene import load_keyword  # loaded only for a keyword deck
+
+        read = load_keyword(source)
+        for line in read.warnings if shown else ():
+            print(f"paradyn: warning: {line}", file=sys.stderr)
+        return read.model, list(read.warnings)
+    return model_of(source), []
 
 
 def _loaded(source: Source) -> Source:
