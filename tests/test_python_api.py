@@ -197,6 +197,23 @@ def test_pyvista_reads_every_step_of_results_vtkhdf(plate: paradyn.Results) -> N
     assert np.array_equal(first.point_data["displacement"], plate.frame_arrays(0).displacement)
 
 
+def test_a_vtkhdf_file_without_steps_reads_as_with_pyvistas_reader(tmp_path: Path) -> None:
+    """ParaDyn's reader takes every .vtkhdf file in pyvista: one without time steps (here written by
+    VTK's own writer through pyvista) reads as pyvista's HDFReader reads it, with no time values."""
+    import pyvista
+
+    grid = pyvista.ImageData(dimensions=(3, 4, 5)).cast_to_unstructured_grid()
+    grid.point_data["a"] = np.arange(grid.n_points, dtype=float)
+    grid.save(tmp_path / "static.vtkhdf")
+    reader = pyvista.get_reader(tmp_path / "static.vtkhdf")
+    assert reader.time_values == [] and reader.number_time_points == 0
+    mine, theirs = reader.read(), pyvista.HDFReader(tmp_path / "static.vtkhdf").read()
+    assert np.array_equal(mine.points, theirs.points) and np.array_equal(mine.point_data["a"], grid.point_data["a"])
+    sphere = pyvista.Sphere()
+    sphere.save(tmp_path / "sphere.vtkhdf")
+    assert pyvista.read(tmp_path / "sphere.vtkhdf").n_points == sphere.n_points
+
+
 def test_vtkhdf_written_a_frame_at_a_time_is_the_same_file(plate: paradyn.Results, tmp_path: Path,
                                                           monkeypatch: pytest.MonkeyPatch) -> None:
     """The export copies blocks of frames; blocks of one frame must give the same datasets."""
