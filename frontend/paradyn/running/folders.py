@@ -108,7 +108,7 @@ def check_owner(out: Path, source: Path | str, force: bool = False) -> None:
     inside = isinstance(source, Path) and out.resolve() in source.parents
     owner = recorded_source(out)
     has_run = any((out / name).exists() for name in RUN_FILES)
-    if has_run and owner is not None and str(owner) != str(source) and not inside:
+    if has_run and owner is not None and owner != Path(str(source)) and not inside:   # as source.txt reads back
         raise OutputFolderError(
             f"{out} holds the run of {owner}, not of {source}; give another folder (-o, or paradyn.run's out), or "
             f"--force (force=True) to replace that run")
