@@ -116,6 +116,10 @@ def test_misspelt_optional_arguments_are_named(tmp_path: Path) -> None:
 
 
 def test_misspelt_study_keys_are_named() -> None:
+    with pytest.raises(ArgumentError, match=r"paradyn\.study\(\): missing required argument 'out'"):
+        paradyn.study(SMALL_PLATE)
+    with pytest.raises(StudyError, match="unknown study option 'knbos'; did you mean 'knobs'"):
+        spec_from_table({}, "scene.toml").merged(knbos={"mesh": [1, 2]})
     with pytest.raises(StudyError, match="unknown key 'desing' in \\[study\\]; did you mean 'design'"):
         spec_from_table({"desing": "grid"}, "scene.toml")
     with pytest.raises(StudyError, match="did you mean 'richardson'"):
