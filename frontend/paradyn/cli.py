@@ -17,6 +17,7 @@ from .running import launch, preflight, workflow
 from .running.engine_process import AwaitingEngine
 from .running.folders import default_output
 from .running.progress import RunProgress
+from .running.run_warnings import message_of
 from .running.runners import SbatchRunner
 
 
@@ -156,7 +157,7 @@ def _run_parsed(args: argparse.Namespace, started: AwaitingEngine | None) -> int
     print(effect_table_text(outcome))
     print(accuracy_text(outcome))
     for line in outcome.engine_run.warnings:   # said at the start too, but a long run scrolls it away
-        print("  " + line.removeprefix("paradyn-engine: "))
+        print("  warning: " + message_of(line))   # the reader's, the check's and the engine's
     _print_outputs(outcome.outputs)
     return STATUS_OK
 
