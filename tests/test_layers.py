@@ -12,7 +12,7 @@ PACKAGE = Path(paradyn.__file__).resolve().parent
 
 # The units of the package (a subpackage, or top-level modules taken together) ...
 UNITS = {
-    "base": ("paradyn._schema", "paradyn.atomic_write"),
+    "base": ("paradyn._schema", "paradyn.atomic_write", "paradyn.arguments"),
     "deck": ("paradyn.deck",),
     "mesh": ("paradyn.mesh",),
     "scene": ("paradyn.scene",),

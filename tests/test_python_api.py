@@ -170,6 +170,50 @@ def test_vtkhdf_holds_every_frame_with_its_time(plate: paradyn.Results) -> None:
         read_step(path, plate.n_frames)
 
 
+def test_pyvista_reads_every_step_of_results_vtkhdf(plate: paradyn.Results) -> None:
+    """pyvista's own reader (``pyvista.get_reader``: ParaDyn's VTKHDFReader through its entry point)
+    has the time of every frame, and each step holds the frame's positions and fields exactly."""
+    import pyvista
+
+    path = plate.outputs["vtkhdf"]
+    reader = pyvista.get_reader(path)
+    assert isinstance(reader, pyvista.TimeReader)
+    assert reader.time_values == [float(t) for t in plate.time_values] and reader.number_time_points == plate.n_frames
+    for k in [*range(plate.n_frames), 2]:   # and back to an earlier step
+        reader.set_active_time_point(k)
+        grid, arrays = reader.read(), plate.frame_arrays(k)
+        assert reader.active_time_value == plate.time_values[k]
+        assert np.array_equal(grid.point_data["displacement"], arrays.displacement)
+        assert np.array_equal(grid.points, plate.coordinates + arrays.displacement)
+        for name in ("velocity",):
+            assert np.array_equal(grid.point_data[name], getattr(arrays, name)), name
+        for name in ("membrane_stress", "von_mises", "plastic_strain"):
+            assert np.array_equal(grid.cell_data[name], getattr(arrays, name)), name
+    reader.set_active_time_value(plate.time_values[-1])
+    assert np.array_equal(reader.read().point_data["displacement"], plate.frame_arrays(-1).displacement)
+    with pytest.raises(ValueError, match="no step at time"):
+        reader.set_active_time_value(1.5 * plate.time_values[-1])
+    first = pyvista.read(path)   # pyvista.read: the first step, as for a .pvd series
+    assert np.array_equal(first.point_data["displacement"], plate.frame_arrays(0).displacement)
+
+
+def test_a_vtkhdf_file_without_steps_reads_as_with_pyvistas_reader(tmp_path: Path) -> None:
+    """ParaDyn's reader takes every .vtkhdf file in pyvista: one without time steps (here written by
+    VTK's own writer through pyvista) reads as pyvista's HDFReader reads it, with no time values."""
+    import pyvista
+
+    grid = pyvista.ImageData(dimensions=(3, 4, 5)).cast_to_unstructured_grid()
+    grid.point_data["a"] = np.arange(grid.n_points, dtype=float)
+    grid.save(tmp_path / "static.vtkhdf")
+    reader = pyvista.get_reader(tmp_path / "static.vtkhdf")
+    assert reader.time_values == [] and reader.number_time_points == 0
+    mine, theirs = reader.read(), pyvista.HDFReader(tmp_path / "static.vtkhdf").read()
+    assert np.array_equal(mine.points, theirs.points) and np.array_equal(mine.point_data["a"], grid.point_data["a"])
+    sphere = pyvista.Sphere()
+    sphere.save(tmp_path / "sphere.vtkhdf")
+    assert pyvista.read(tmp_path / "sphere.vtkhdf").n_points == sphere.n_points
+
+
 def test_vtkhdf_written_a_frame_at_a_time_is_the_same_file(plate: paradyn.Results, tmp_path: Path,
                                                           monkeypatch: pytest.MonkeyPatch) -> None:
     """The export copies blocks of frames; blocks of one frame must give the same datasets."""

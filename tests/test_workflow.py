@@ -38,7 +38,7 @@ def test_a_scene_file_runs_end_to_end_with_every_output(tmp_path: Path) -> None:
 
 def test_post_false_writes_the_deck_and_results_only(tmp_path: Path, plate_model: deck.Model) -> None:
     res = paradyn.run(plate_model, tmp_path, ranks=1, threads=1, post=False)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["deck.h5", "engine.log", "results.h5"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["deck.h5", "engine.log", "results.h5", "source.txt"]
     assert res.outputs == {} and res.n_frames > 0 and res.part_names == ["plate"]
 
 

@@ -17,9 +17,14 @@ from importlib.util import find_spec
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    from .arguments import ArgumentError as ArgumentError
     from .keyword.scene import read_keyword as read_keyword
     from .results.reading import Results as Results
     from .results.reading import read as read
+    from .running.run_warnings import EngineWarning as EngineWarning
+    from .running.run_warnings import KeywordWarning as KeywordWarning
+    from .running.run_warnings import ModelWarning as ModelWarning
+    from .running.run_warnings import ParaDynWarning as ParaDynWarning
     from .running.workflow import BatchJob as BatchJob
     from .running.workflow import run as run
     from .scene.builder import Cylinder as Cylinder
@@ -30,9 +35,12 @@ if TYPE_CHECKING:
 
 # name -> the module that defines it
 _EXPORTS = {
-    "BatchJob": "running.workflow", "Cylinder": "scene.builder", "MeshFile": "scene.builder", "Plate": "scene.builder",
-    "Results": "results.reading", "Scene": "scene.builder", "read": "results.reading", "read_keyword": "keyword.scene",
-    "run": "running.workflow", "study": "studies.sweep",
+    "ArgumentError": "arguments", "BatchJob": "running.workflow", "Cylinder": "scene.builder",
+    "EngineWarning": "running.run_warnings", "KeywordWarning": "running.run_warnings",
+    "MeshFile": "scene.builder", "ModelWarning": "running.run_warnings",
+    "ParaDynWarning": "running.run_warnings", "Plate": "scene.builder", "Results": "results.reading",
+    "Scene": "scene.builder", "read": "results.reading", "read_keyword": "keyword.scene", "run": "running.workflow",
+    "study": "studies.sweep",
 }
 __all__ = sorted(_EXPORTS)
 __version__ = "0.1.0"

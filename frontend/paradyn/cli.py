@@ -15,8 +15,9 @@ from .results.postprocess import post_process
 from .results.reports import accuracy_text, effect_table_text
 from .running import launch, preflight, workflow
 from .running.engine_process import AwaitingEngine
-from .running.folders import claim_output, default_output
+from .running.folders import default_output
 from .running.progress import RunProgress
+from .running.run_warnings import message_of
 from .running.runners import SbatchRunner
 
 
@@ -133,12 +134,11 @@ def _run_parsed(args: argparse.Namespace, started: AwaitingEngine | None) -> int
     out_dir = (args.output or default_output(args.scene)).resolve()
     try:
         runner = batch_runner(args)
-        if args.scene.is_file():
-            claim_output(out_dir, args.scene, force=args.force or args.restart)
         outcome = workflow.run(_with_units(args.scene, args.units), out_dir, args.ranks, args.threads,
                                runner=runner, restart=args.restart,
                                progress=RunProgress(quiet=args.quiet), vtk=not args.no_vtk,
-                               plots=_plots(args), vtk_series=args.vtk_series, started=started)
+                               plots=_plots(args), vtk_series=args.vtk_series, started=started,
+                               force=args.force)   # the folder rule: running/folders.py
     except launch.EngineError as error:
         return _error(error, error.exit_code)
     except reading.ResultsError:
@@ -157,7 +157,7 @@ def _run_parsed(args: argparse.Namespace, started: AwaitingEngine | None) -> int
     print(effect_table_text(outcome))
     print(accuracy_text(outcome))
     for line in outcome.engine_run.warnings:   # said at the start too, but a long run scrolls it away
-        print("  " + line.removeprefix("paradyn-engine: "))
+        print("  warning: " + message_of(line))   # the reader's, the check's and the engine's
     _print_outputs(outcome.outputs)
     return STATUS_OK
 

@@ -182,7 +182,9 @@ def write_summary(
 
     Run figures come from the ``/run`` attributes (None if the run did not write them);
     ``elements`` and ``nodes`` fall back to the mesh.  ``extra`` entries are merged last and
-    may replace computed ones.  Keys and units: docs/outputs.md.
+    may replace computed ones.  ``warnings`` (the run's, which ``paradyn.run`` gives in ``extra``)
+    are those of the summary already at ``path`` when ``extra`` has none (post-processing again
+    keeps them), else None.  Keys and units: docs/outputs.md.
     """
     run = results.run
     summary: dict[str, Any] = {
@@ -218,12 +220,23 @@ def write_summary(
         "energy": energy_report(results),
         "accuracy": accuracy_indicators(results),
         "effects": [_effect_row(row) for row in results.effect_table],
+        "warnings": _earlier_warnings(Path(path)),
     }
     if extra:
         summary.update(extra)
     summary = _jsonable(summary)
     write_text_atomic(Path(path), json.dumps(summary, indent=2, allow_nan=False) + "\n")
     return summary
+
+
+def _earlier_warnings(path: Path) -> list[str] | None:
+    """The ``warnings`` of the summary at ``path`` (None without one, or without the key)."""
+    try:
+        earlier = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    warnings = earlier.get("warnings") if isinstance(earlier, dict) else None
+    return [str(w) for w in warnings] if isinstance(warnings, list) else None
 
 
 def _effect_row(row: EffectRow) -> dict[str, Any]:

@@ -36,8 +36,8 @@ _FRAME_ARRAYS = (("displacement", True, 3), ("velocity", True, 3), ("membrane_st
 def write_vtkhdf(results: Results, path: str | Path) -> Path:
     """Write every frame of ``results`` into one transient VTKHDF file at ``path``; return the path.
 
-    ParaView opens it with its time steps; from Python, :func:`read_step` reads step ``k``
-    (pyvista's own ``pyvista.read`` gives the first step only).
+    ParaView opens it with its time steps; from Python, ``pyvista.get_reader(path)`` has them too
+    (:class:`paradyn.results.vtkhdf_reader.VTKHDFReader`), and :func:`read_step` reads step ``k``.
     """
     import h5py  # where a file is opened (layout.open_results)
 

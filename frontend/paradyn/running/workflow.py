@@ -10,20 +10,22 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable
 from contextlib import AbstractContextManager, nullcontext
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 from paradyn import deck, scene
+from paradyn.arguments import checked_arguments
 from paradyn.results.postprocess import post_process
 from paradyn.results.reading import Results, read
 from paradyn.scene.builder import Scene as SceneBuilder
 
 from . import launch, preflight
 from .engine_process import Progress
-from .folders import output_folder
+from .folders import check_owner, claim_output, output_folder, source_identity
 from .progress import RunProgress
 from .restart import restart_deck
+from .run_warnings import EngineWarning, KeywordWarning, ModelWarning, check_line, issue, message_of
 from .runners import Runner, SbatchRunner
 
 Source = str | Path | scene.Scene | SceneBuilder | deck.Model  # what paradyn.run accepts
@@ -43,6 +45,7 @@ class BatchJob:
         return ["sbatch", str(self.script)]
 
 
+@checked_arguments("paradyn.run")
 def run(
     source: Source,
     out: str | Path,
@@ -62,6 +65,7 @@ def run(
     results_name: str = "results.h5",
     log_name: str | None = "engine.log",
     started: launch.AwaitingEngine | None = None,
+    force: bool = False,
 ) -> Results | BatchJob:
     """Write the deck of ``source`` into ``out``, run the engine, post-process, return the results.
 
@@ -72,8 +76,9 @@ def run(
         deck (``.k``, ``.key``, ``.dyn``: docs/keyword.md), a scene built in Python
         (:class:`paradyn.Scene`) or loaded with :func:`paradyn.scene.load_scene`, or a model.
     out : str or Path
-        The output folder (created): ``deck.h5``, ``results.h5``, ``engine.log`` and the
-        post-processing outputs go there (docs/outputs.md).
+        The output folder (created): ``deck.h5``, ``results.h5``, ``engine.log`` and the post-processing
+        outputs go there (docs/outputs.md). A folder that holds another source's run is refused
+        (``force=True`` replaces it); one reused is cleaned first (docs/scene.md, "Output folders").
     ranks, threads : int, optional
         MPI ranks and OpenMP threads per rank; by default one rank with a thread per core this
         process may use (:func:`paradyn.running.launch.default_layout`).
@@ -94,7 +99,9 @@ def run(
         True shows the run on standard error (:class:`paradyn.running.progress.RunProgress`: meshing, the
         check's lines of :mod:`paradyn.running.preflight`, the engine's cycles, its warnings as they come,
         post-processing), as does a RunProgress of your own (``RunProgress(quiet=True)``: only the
-        check's warnings); a callable receives every :class:`~paradyn.running.launch.Progress`.
+        check's warnings); a callable receives every :class:`~paradyn.running.launch.Progress`. Without a
+        RunProgress, the check's and the engine's warnings go through Python's :mod:`warnings`
+        (:class:`paradyn.ModelWarning`, :class:`paradyn.EngineWarning`); both kept in ``engine_run.warnings``.
     extra : dict, optional
         Entries added to ``summary.json`` (after ``scene`` and ``command``).
     results_name, log_name : str
@@ -104,6 +111,8 @@ def run(
         (``paradyn-run`` starts it before its imports: :mod:`paradyn.running.early_engine`). It is used
         if its command is the one this run needs, else cancelled; it is cancelled if the run
         fails before its deck is written.
+    force : bool
+        Replace the run of another scene or deck in ``out`` (``paradyn-run --force``).
 
     Returns
     -------
@@ -117,7 +126,8 @@ def run(
     paradyn.scene.SceneError, paradyn.deck.DeckError
         A bad scene or deck (nothing was run).
     ValueError
-        ``restart`` without a checkpoint in ``out``, or an unknown runner name.
+        ``restart`` without a checkpoint in ``out``, an unknown runner name, or ``out`` holding the
+        run of another source (:class:`paradyn.running.folders.OutputFolderError`).
     paradyn.running.launch.EngineError
         The engine failed or was stopped; ``exit_code`` is its status (4: stopped after writing
         its checkpoint, continue with ``restart=True``).
@@ -135,24 +145,20 @@ def run(
     if started is not None and (restart or batch):   # these start their own engine, or none
         started.cancel()
         started = None
-    default_ranks, default_threads = launch.default_layout()
-    ranks = default_ranks if ranks is None else ranks
-    threads = default_threads if threads is None else threads
+    ranks, threads = (a if a is not None else b for a, b in zip((ranks, threads), launch.default_layout(), strict=True))
     display = progress if isinstance(progress, RunProgress) else (RunProgress() if progress is True else None)
-    out, deck_path, started = _prepare(source, out, ranks, threads, runner, restart, batch, display, results_name,
-                                       started)
+    folder = _Folder(force=force, results_name=results_name)
+    out, deck_path, started = _prepare(source, out, ranks, threads, runner, restart, batch, display, folder, started)
     if batch:
         post_command = _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None
         return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
     on_progress = display if display is not None else (progress if callable(progress) else None)
-    finish = _Finish(out / results_name, deck_path, display, post, _source_name(source), extra or {},
-                     {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series})
+    asked = {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series}
+    finish = _Finish(out / results_name, deck_path, display, post, _source_name(source), extra, asked, folder.warnings)
     try:
-        engine_run = launch.run_engine(deck_path, out / results_name, ranks, threads,
-                                       on_progress=on_progress,
-                                       log_path=out / log_name if log_name else None,
-                                       restart=restart, runner=runner,
-                                       on_warning=display.warning if display is not None else None,
+        engine_run = launch.run_engine(deck_path, out / results_name, ranks, threads, on_progress=on_progress,
+                                       log_path=out / log_name if log_name else None, restart=restart, runner=runner,
+                                       on_warning=display.warning if display is not None else _engine_warning,
                                        on_done=finish, started=started)
     finally:
         if started is not None:   # a failure before the engine was told to go must not leave it waiting
@@ -162,21 +168,35 @@ def run(
     return finish.results if finish.results is not None else finish(engine_run)
 
 
+@dataclass
+class _Folder:
+    """How a new run takes its output folder (docs/scene.md, "Output folders"), and the check's
+    warnings of the model it wrote there."""
+
+    force: bool = False
+    results_name: str = "results.h5"
+    warnings: list[str] = field(default_factory=list)
+
+
 def _prepare(source: Source, out: str | Path, ranks: int, threads: int, runner: str | Runner | None, restart: bool,
-             batch: bool, display: RunProgress | None, results_name: str,
+             batch: bool, display: RunProgress | None, folder: _Folder,
              started: launch.AwaitingEngine | None) -> tuple[Path, Path, launch.AwaitingEngine | None]:
     """The output folder, the run's deck (written, or the folder's for a restart) and the engine
-    started while the scene was meshed (``started`` when it fits); a failure ends that engine."""
+    started while the scene was meshed (``started`` when it fits); a failure ends that engine.
+    A new run is refused a folder that holds another source's run before anything is read."""
     try:
         _check_source(source)
+        if not restart:
+            check_owner(Path(out), source_identity(source), folder.force)
         out = output_folder(out)
         if restart:
             return out, restart_deck(out, _restart_model(source)), None
         loaded = _loaded(source)
         if not batch and (precision := _precision(loaded)) is not None:
             # the engine starts MPI while the scene is meshed and its deck written
-            started = _engine_for(started, out / "deck.h5", out / results_name, ranks, threads, runner, precision)
-        return out, _write_deck(source, loaded, out, ranks, threads, display, started), started
+            started = _engine_for(started, out / "deck.h5", out / folder.results_name, ranks, threads, runner,
+                                  precision)
+        return out, _write_deck(source, loaded, out, ranks, threads, display, started, folder), started
     except BaseException:
         if started is not None:
             started.cancel()
@@ -206,21 +226,30 @@ class _Finish:
     display: RunProgress | None
     post: bool
     scene: str | None
-    extra: dict[str, Any]
+    extra: dict[str, Any] | None
     options: dict[str, bool]
+    read_warnings: list[str] = field(default_factory=list)   # kept lines: the keyword reader's, the check's
     results: Results | None = None
 
     def __call__(self, engine_run: launch.EngineRun) -> Results:
         if self.display is not None:
             self.display.finish_engine(engine_run.done)
+        # the reader's and the check's warnings first, then the engine's (the order they were said in)
+        engine_run.warnings[:0] = self.read_warnings
         results = read(self.results_path, deck=self.deck_path)
         results.engine_run = engine_run
         if self.post:
-            details = {"scene": self.scene, "command": engine_run.command, **self.extra}
+            details = {"scene": self.scene, "command": engine_run.command, "warnings": list(engine_run.warnings),
+                       **(self.extra or {})}
             with _stage(self.display, "post-processing"):
                 results.outputs = post_process(results, self.results_path.parent, details, **self.options)
         self.results = results
         return results
+
+
+def _engine_warning(line: str) -> None:
+    """An engine warning, as it comes, through Python's warnings (no display shows it)."""
+    issue([message_of(line)], EngineWarning)
 
 
 def _stage(display: RunProgress | None, name: str) -> AbstractContextManager[None]:
@@ -271,19 +300,40 @@ def model_of(source: Source) -> deck.Model:
 
 
 def _write_deck(source: Source, loaded: Source, out: Path, ranks: int, threads: int, display: RunProgress | None,
-                started: launch.AwaitingEngine | None) -> Path:
-    """Mesh (or read) ``loaded``, write its deck and show the check; a failure ends ``started``."""
+                started: launch.AwaitingEngine | None, folder: _Folder) -> Path:
+    """Mesh (or read) ``loaded`` and check it; issue its warnings (a filter that makes them errors
+    stops here, the folder untouched); clean the folder of an earlier run and record the source;
+    write the deck and show the check's lines. A failure ends ``started``."""
     try:
         with _stage(display, "meshing" if _is_scene(source) else "reading the model"):
-            model = model_of(loaded)
+            model, read_warnings = _model_and_warnings(loaded, shown=display is not None)
+        check = preflight.check_model(model, ranks, threads)
+        folder.warnings = [check_line(w) for w in (*read_warnings, *check.warnings)]
+        if display is None:
+            issue(read_warnings, KeywordWarning)
+            issue(check.warnings, ModelWarning)
+        claim_output(out, source_identity(source), force=True, clean=True, results_name=folder.results_name)
         deck_path = deck.write_deck(model, out / "deck.h5")   # a waiting engine reads it once told to go
         if display is not None:
-            display.report(preflight.check_model(model, ranks, threads).lines())
+            display.report(check.lines())
     except BaseException:
         if started is not None:
             started.cancel()
         raise
     return deck_path
+
+
+def _model_and_warnings(source: Source, shown: bool) -> tuple[deck.Model, list[str]]:
+    """The model of ``source`` and, for a keyword deck, the reader's warnings (unsupported cards and
+    fields, the units), printed on standard error as ``read_keyword`` does when ``shown``."""
+    if isinstance(source, (str, Path)) and Path(source).suffix.lower() in KEYWORD_SUFFIXES:
+        from paradyn.keyword.scene import load_keyword  # loaded only for a keyword deck
+
+        read = load_keyword(source)
+        for line in read.warnings if shown else ():
+            print(f"paradyn: warning: {line}", file=sys.stderr)
+        return read.model, list(read.warnings)
+    return model_of(source), []
 
 
 def _loaded(source: Source) -> Source:

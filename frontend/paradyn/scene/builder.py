@@ -17,6 +17,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from paradyn.arguments import ArgumentError, checked_arguments, did_you_mean
+
 from . import reading, specs
 from .building import build_model
 from .reading import _parse_toml, scene_from_tables
@@ -26,6 +28,15 @@ from .toml_writing import scene_toml
 
 if TYPE_CHECKING:
     from paradyn import deck
+
+
+class SceneArgumentError(specs.SceneError, ArgumentError):
+    """A call of :class:`Scene` or a geometry with an unknown, misspelt or missing argument (both a
+    :class:`~paradyn.scene.SceneError` and a ``TypeError``); the message names the closest argument."""
+
+
+def _checked(name: str) -> Any:
+    return checked_arguments(name, SceneArgumentError)
 
 
 class Geometry:
@@ -50,6 +61,7 @@ class Cylinder(Geometry):
 
     kind = "cylinder"
 
+    @_checked("paradyn.Cylinder")
     def __init__(self, radius: float, length: float, **options: Any) -> None:
         super().__init__(radius=radius, length=length, **options)
 
@@ -62,6 +74,7 @@ class Plate(Geometry):
 
     kind = "plate"
 
+    @_checked("paradyn.Plate")
     def __init__(self, size: tuple[float, float], elements: tuple[int, int], **options: Any) -> None:
         super().__init__(size=size, elements=elements, **options)
 
@@ -72,6 +85,7 @@ class MeshFile(Geometry):
 
     kind = "file"
 
+    @_checked("paradyn.MeshFile")
     def __init__(self, path: str | Path, group: str | None = None) -> None:
         super().__init__(path=str(Path(path).resolve()), **({} if group is None else {"group": group}))
 
@@ -115,6 +129,7 @@ class Scene:
     paradyn.scene.specs.SceneError: paradyn.Scene 'plate': 'thickness' in [[part]] #2 'bad' must be > 0, got -1.0
     """
 
+    @_checked("paradyn.Scene")
     def __init__(self, title: str = "scene", *, end_time: float, output_interval: float,
                  effects: Mapping[str, bool] | None = None, **run: Any) -> None:
         self._tables: dict[str, Any] = {"title": title}
@@ -139,6 +154,7 @@ class Scene:
                           *counts]) + ")"
 
     # ---- entries ------------------------------------------------------------------------------
+    @_checked("paradyn.Scene.add_material")
     def add_material(self, name: str, *, model: str, density: float, youngs_modulus: float,
                      poisson_ratio: float, **options: Any) -> None:
         """A ``[[material]]``: ``model`` ``"elastic"`` or ``"j2_plasticity"`` (then ``yield_stress``,
@@ -146,6 +162,7 @@ class Scene:
         self._add("material", name=name, model=model, density=density, youngs_modulus=youngs_modulus,
                   poisson_ratio=poisson_ratio, **options)
 
+    @_checked("paradyn.Scene.add_part")
     def add_part(self, name: str, *, material: str, thickness: float, geometry: Geometry | Mapping[str, Any],
                  **options: Any) -> None:
         """A ``[[part]]`` of shells on ``geometry`` (:class:`Cylinder`, :class:`Plate`, :class:`MeshFile`).
@@ -156,20 +173,24 @@ class Scene:
         table = geometry.table if isinstance(geometry, Geometry) else dict(geometry)
         self._add("part", name=name, material=material, thickness=thickness, **options, geometry=table)
 
+    @_checked("paradyn.Scene.add_fix")
     def add_fix(self, part: str, box: Any, **options: Any) -> None:
         """A ``[[fix]]``: the ``dofs`` (default all six) of ``part``'s nodes inside ``box`` =
         [[xmin, ymin, zmin], [xmax, ymax, zmax]] (m) are held."""
         self._add("fix", part=part, box=box, **options)
 
+    @_checked("paradyn.Scene.add_load")
     def add_load(self, part: str, *, point: Any, dof: str, value: float, **options: Any) -> None:
         """A ``[[load]]``: a force (N) or moment (N m) on ``dof`` of the node nearest ``point``;
         ``ramp_time`` (s) ramps it up from 0."""
         self._add("load", part=part, point=point, dof=dof, value=value, **options)
 
+    @_checked("paradyn.Scene.add_track")
     def add_track(self, name: str, *, part: str, point: Any) -> None:
         """A ``[[track]]``: the node of ``part`` nearest ``point`` goes into the history as ``name``."""
         self._add("track", name=name, part=part, point=point)
 
+    @_checked("paradyn.Scene.add_contact")
     def add_contact(self, *parts: str, **options: Any) -> None:
         """A ``[[contact]]``: two parts (``kind="node_to_segment"``, the default), or with
         ``kind="single_surface"`` the parts that form one surface (none: every part). ``options``:
@@ -177,6 +198,7 @@ class Scene:
         ``symmetric``, ``initial_penetration`` (docs/scene.md, ``[[contact]]``)."""
         self._add("contact", **({"parts": list(parts)} if parts else {}), **options)
 
+    @_checked("paradyn.Scene.add_rigid_wall")
     def add_rigid_wall(self, *, point: Any, normal: Any, **options: Any) -> None:
         """A ``[[rigid_wall]]``: by default the plane through ``point`` facing ``normal`` (a cylinder's
         axis; any direction for a sphere); ``shape``
@@ -184,22 +206,27 @@ class Scene:
         ``size``, ``radius``, ``length``; ``velocity``, ``penalty_scale``, ``friction`` (docs/scene.md)."""
         self.add("rigid_wall", point=point, normal=normal, **options)
 
+    @_checked("paradyn.Scene.add")
     def add(self, table: str, /, **keys: Any) -> None:
         """An entry of the scene's row table ``[[table]]`` (one deck row per entry; its keys are
         the datasets of schema/deck.toml whose ``scene`` names the table), checked at once."""
         if table not in ROW_TABLES:
-            raise specs.SceneError(f"{self.origin}: no row table [[{table}]]; the row tables are: "
-                                   f"{', '.join(ROW_TABLES) or 'none'}")
+            raise specs.SceneError(f"{self.origin}: no row table [[{table}]]; {did_you_mean(table, ROW_TABLES)}the "
+                                   f"row tables are: {', '.join(ROW_TABLES) or 'none'} (the other tables have "
+                                   f"their own add_* method)")
         self._add(table, **keys)
 
+    @_checked("paradyn.Scene.add_curve")
     def add_curve(self, name: str, *, time: Any, value: Any) -> None:
         """A ``[[curve]]``: a factor, linear between the points (``time`` in s, increasing)."""
         self._add("curve", name=name, time=time, value=value)
 
+    @_checked("paradyn.Scene.add_pressure")
     def add_pressure(self, part: str, *, value: float, **options: Any) -> None:
         """A ``[[pressure]]`` of ``value`` (Pa) on every element of ``part``, times ``curve`` if named."""
         self._add("pressure", part=part, value=value, **options)
 
+    @_checked("paradyn.Scene.add_prescribe")
     def add_prescribe(self, part: str, *, box: Any, dof: str, value: float, **options: Any) -> None:
         """A ``[[prescribe]]``d velocity (m/s, rad/s) of ``dof`` of ``part``'s nodes in ``box``,
         times ``curve`` if named."""

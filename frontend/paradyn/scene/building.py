@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from paradyn import _schema, deck
+from paradyn.arguments import did_you_mean
 from paradyn.deck.rigid_bodies import RigidBodyError, complete_rigid_bodies
 from paradyn.mesh import geometry
 
@@ -232,7 +233,8 @@ def check_material_curves(r: _Reader, scene: Scene) -> None:
                 continue
             label = f"'{key}' = '{name}' in [[material]] #{index + 1} '{material.name}'"
             if name not in curves:
-                raise r.error(f"{label} names no [[curve]]; defined: {', '.join(curves) or 'none'}")
+                raise r.error(f"{label} names no [[curve]]; {did_you_mean(name, curves)}defined: "
+                              f"{', '.join(curves) or 'none'}")
             curve = curves[name]
             fault = deck.material_curve_fault(kind, np.asarray(curve.time), np.asarray(curve.value),
                                               material.yield_stress)

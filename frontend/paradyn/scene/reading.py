@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from paradyn import _schema, deck
+from paradyn.arguments import did_you_mean
 from paradyn.scene.building import check_material_curves
 from paradyn.scene.row_tables import ROW_TABLES, check_row_references, parse_rows, read_key
 from paradyn.scene.specs import (
@@ -317,7 +318,8 @@ def _parse_dofs(r: _Reader, t: dict[str, Any], label: str) -> tuple[str, ...]:
     chosen: set[str] = set()
     for item in items:
         if item not in allowed:
-            raise r.error(f"'dofs' in {label} contains '{item}', which is not one of: {', '.join(allowed)}")
+            raise r.error(f"'dofs' in {label} contains '{item}', which is not one of: {', '.join(allowed)}; "
+                          f"{did_you_mean(item, allowed)}".rstrip("; ").rstrip())
         chosen.update(DOF_GROUPS.get(item, (item,)))
     return tuple(d for d in deck.DOF_NAMES if d in chosen)
 
@@ -444,12 +446,12 @@ def _check_load_references(r: _Reader, scene: Scene) -> None:
         for index, item in enumerate(items):
             if item.part not in parts:
                 raise r.error(f"[[{kind}]] #{index + 1} refers to part '{item.part}', which is not "
-                              f"defined (parts: {', '.join(parts)})")
+                              f"defined; {did_you_mean(item.part, parts)}(parts: {', '.join(parts)})")
             if item.curve is not None and item.curve not in curves:
                 known = ", ".join(curves) or "none defined"
-                raise r.error(f"[[{kind}]] #{index + 1} refers to curve '{item.curve}', which is not defined "
-                              f"(curves: {known}); add a [[curve]] with that name or leave 'curve' out for a "
-                              f"constant load")
+                raise r.error(f"[[{kind}]] #{index + 1} refers to curve '{item.curve}', which is not defined; "
+                              f"{did_you_mean(item.curve, curves)}(curves: {known}); add a [[curve]] with that "
+                              f"name or leave 'curve' out for a constant load")
 
 
 def _check_references(r: _Reader, scene: Scene) -> None:
@@ -462,19 +464,20 @@ def _check_references(r: _Reader, scene: Scene) -> None:
     for part in scene.parts:
         if part.material not in materials:
             known = ", ".join(materials) or "none defined"
-            raise r.error(f"part '{part.name}' uses material '{part.material}', which is not defined "
-                          f"(materials: {known}); add a [[material]] with that name")
+            raise r.error(f"part '{part.name}' uses material '{part.material}', which is not defined; "
+                          f"{did_you_mean(part.material, materials)}(materials: {known}); add a [[material]] "
+                          f"with that name")
     parts = [p.name for p in scene.parts]
     for kind, items in (("fix", scene.fixes), ("load", scene.loads), ("track", scene.tracks)):
         for index, item in enumerate(items):
             if item.part not in parts:
                 raise r.error(f"[[{kind}]] #{index + 1} refers to part '{item.part}', which is not "
-                              f"defined (parts: {', '.join(parts)})")
+                              f"defined; {did_you_mean(item.part, parts)}(parts: {', '.join(parts)})")
     for index, contact in enumerate(scene.contacts):
         for name in contact.parts:
             if name not in parts:
-                raise r.error(f"[[contact]] #{index + 1} names part '{name}', which is not defined "
-                              f"(parts: {', '.join(parts)})")
+                raise r.error(f"[[contact]] #{index + 1} names part '{name}', which is not defined; "
+                              f"{did_you_mean(name, parts)}(parts: {', '.join(parts)})")
 
 
 def _unique(r: _Reader, names: list[str], kind: str) -> None:

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from paradyn._schema import DATASETS, ENUMS, SIZES, DatasetSpec
+from paradyn.arguments import did_you_mean
 from paradyn.deck.validation import within_bounds
 
 from .specs import SceneError
@@ -122,7 +123,8 @@ def check_row_references(r: _Reader, scene: Scene) -> None:
                 names = [entry.name for entry in getattr(scene, _NAMED_BY[kind])]
                 if row[key.name] not in names:
                     raise r.error(f"'{key.name}' = '{row[key.name]}' in [[{name}]] #{index + 1} names no "
-                                  f"[[{kind}]]; defined: {', '.join(names) or 'none'}")
+                                  f"[[{kind}]]; {did_you_mean(row[key.name], names)}defined: "
+                                  f"{', '.join(names) or 'none'}")
 
 
 def needs_constant_curve(scene: Scene) -> bool:

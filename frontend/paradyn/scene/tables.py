@@ -6,11 +6,12 @@ bounds; each problem becomes a :class:`SceneError` that names the scene file, th
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
+
+from paradyn.arguments import did_you_mean
 
 from .specs import SceneError
 
@@ -34,9 +35,8 @@ class _Reader:
         allowed = list(allowed)
         for key in table:
             if key not in allowed:
-                close = difflib.get_close_matches(str(key), allowed, n=1)
-                hint = f"did you mean '{close[0]}'? " if close else ""
-                raise self.error(f"unknown key '{key}' in {label}; {hint}allowed keys are: {', '.join(allowed)}")
+                raise self.error(f"unknown key '{key}' in {label}; {did_you_mean(key, allowed)}allowed keys are: "
+                                 f"{', '.join(allowed)}")
 
     def table(self, parent: Mapping[str, Any], key: str, label: str, required: bool = True) -> dict[str, Any]:
         value = parent.get(key)
@@ -92,7 +92,9 @@ class _Reader:
         if not isinstance(value, str) or (not value and default is _REQUIRED):
             raise self.error(f"'{key}' in {label} must be a non-empty string, got {value!r}")
         if choices is not None and value not in choices:
-            raise self.error(f"'{key}' = '{value}' in {label} is not one of: {', '.join(choices)}")
+            choices = list(choices)
+            raise self.error(f"'{key}' = '{value}' in {label} is not one of: {', '.join(choices)}; "
+                             f"{did_you_mean(value, choices)}".rstrip("; ").rstrip())
         return value
 
     def flag(self, table: Mapping[str, Any], key: str, label: str, default: Any = _REQUIRED) -> bool:

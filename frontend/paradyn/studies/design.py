@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from paradyn import _schema
+from paradyn.arguments import did_you_mean
 from paradyn.scene.specs import HOURGLASS_FORMS, CylinderGeometry, FileGeometry, PlateGeometry, Scene
 
 DESIGNS = ("one_at_a_time", "grid", "list")
@@ -158,7 +159,7 @@ def knob(name: str) -> Knob:
     if name in UNAVAILABLE:
         raise StudyError(f"knob '{name}' is not available: {UNAVAILABLE[name]}")
     if name not in KNOBS:
-        raise StudyError(f"unknown knob '{name}'; the knobs are: {', '.join(KNOBS)}")
+        raise StudyError(f"unknown knob '{name}'; {did_you_mean(name, KNOBS)}the knobs are: {', '.join(KNOBS)}")
     return KNOBS[name]
 
 
@@ -213,7 +214,8 @@ class Design:
     def configurations(self, scene: Scene) -> list[Config]:
         """The configurations, base first, each once; checks every knob and value against the scene."""
         if self.kind not in DESIGNS:
-            raise StudyError(f"unknown design '{self.kind}'; choose one of {', '.join(DESIGNS)}")
+            raise StudyError(f"unknown design '{self.kind}'; {did_you_mean(self.kind, DESIGNS)}choose one of "
+                             f"{', '.join(DESIGNS)}")
         knobs = {name: [check_value(name, v, scene) for v in values] for name, values in self.knobs.items()}
         runs = [{n: check_value(n, v, scene) for n, v in run.items()} for run in self.runs]
         if self.kind == "list":

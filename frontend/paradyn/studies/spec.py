@@ -12,6 +12,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
+from paradyn.arguments import did_you_mean
 from paradyn.scene.specs import Scene
 
 from .design import DESIGNS, Design, StudyError
@@ -51,8 +52,9 @@ class StudySpec:
         known = {f.name for f in fields(self)}
         unknown = set(options) - known
         if unknown:
-            raise StudyError(f"unknown study option {sorted(unknown)[0]!r}; the options are: "
-                             f"{', '.join(sorted(known | {'knobs', 'runs'}))}")
+            first, allowed = sorted(unknown)[0], sorted(known | {"knobs", "runs"})
+            raise StudyError(f"unknown study option {first!r}; {did_you_mean(first, allowed)}the options are: "
+                             f"{', '.join(allowed)}")
         return replace(self, design=design, **{k: v for k, v in options.items() if v is not None})
 
     def parsed_quantities(self, scene: Scene) -> list[Quantity]:
@@ -65,18 +67,21 @@ class StudySpec:
         names = [q.name for q in quantities]
         for name in [*self.reference_values, *self.target_quantities]:
             if name not in names:
-                raise StudyError(f"'{name}' is not a quantity of the study; the quantities are: {', '.join(names)}")
+                raise StudyError(f"'{name}' is not a quantity of the study; {did_you_mean(name, names)}the "
+                                 f"quantities are: {', '.join(names)}")
         return quantities
 
     def check(self) -> None:
         """A StudyError for an option out of range."""
         if self.design.kind not in DESIGNS:
-            raise StudyError(f"unknown design '{self.design.kind}'; choose one of {', '.join(DESIGNS)}")
+            raise StudyError(f"unknown design '{self.design.kind}'; {did_you_mean(self.design.kind, DESIGNS)}"
+                             f"choose one of {', '.join(DESIGNS)}")
         if self.reference not in REFERENCES:
-            raise StudyError(f"unknown reference '{self.reference}'; choose one of {', '.join(REFERENCES)}, "
-                             "or give values (--reference NAME=VALUE)")
+            raise StudyError(f"unknown reference '{self.reference}'; {did_you_mean(self.reference, REFERENCES)}"
+                             f"choose one of {', '.join(REFERENCES)}, or give values (--reference NAME=VALUE)")
         if self.cost not in COSTS:
-            raise StudyError(f"unknown cost '{self.cost}'; choose one of {', '.join(COSTS)}")
+            raise StudyError(f"unknown cost '{self.cost}'; {did_you_mean(self.cost, COSTS)}choose one of "
+                             f"{', '.join(COSTS)}")
         if self.threads < 1 or (self.jobs is not None and self.jobs < 1):
             raise StudyError("threads and jobs must be at least 1")
         if self.end_time is not None and not self.end_time > 0:
@@ -87,7 +92,8 @@ def spec_from_table(table: Mapping[str, Any], where: str) -> StudySpec:
     """The spec of a ``[study]`` table (``where`` names it in messages: the scene file)."""
     for key in table:
         if key not in _TABLE_KEYS:
-            raise StudyError(f"{where}: unknown key '{key}' in [study]; allowed keys are: {', '.join(_TABLE_KEYS)}")
+            raise StudyError(f"{where}: unknown key '{key}' in [study]; {did_you_mean(key, _TABLE_KEYS)}allowed "
+                             f"keys are: {', '.join(_TABLE_KEYS)}")
     knobs = _typed(table, "knobs", dict, where, {})
     for name, values in knobs.items():
         if not isinstance(values, list) or not values:

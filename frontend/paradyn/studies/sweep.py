@@ -20,6 +20,7 @@ from typing import Any
 from tqdm.auto import tqdm
 
 from paradyn import scene
+from paradyn.arguments import checked_arguments
 from paradyn.results.reading import read
 from paradyn.running import launch
 from paradyn.scene.builder import Scene as SceneBuilder
@@ -34,6 +35,7 @@ from .spec import StudySpec, spec_from_table
 __all__ = ["Design", "StudyError", "StudyResult", "StudySpec", "study"]
 
 
+@checked_arguments("paradyn.study")
 def study(source: str | Path | scene.Scene | SceneBuilder, out: str | Path, *, progress: bool = True,
           command: str | None = None, **options: Any) -> StudyResult:
     """Run a study of a scene and write its tables and plot into ``out``.
