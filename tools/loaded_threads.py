@@ -7,11 +7,11 @@ machine as it is. The engine runs alone (``paradyn-run``'s direct runner), with 
 ``paradyn-run`` gives it, and a variant's changes on top:
 
 - ``1 thread``;
-- ``2 threads, spinning``: the launcher before issue 34 (threads pinned, libgomp's default wait:
-  spin about 300 000 times at a barrier before sleeping);
-- ``2 threads, passive``: ``OMP_WAIT_POLICY=passive`` (a thread waiting at a barrier sleeps at once);
-- ``2 threads, GOMP_SPINCOUNT=N``: spin N times, then sleep;
-- ``2 threads, passive, unpinned``: passive, and ``OMP_PROC_BIND``/``OMP_PLACES`` unset.
+- ``2 threads, pinned, spinning``: the launcher before issue 34 (``OMP_PROC_BIND=close``,
+  ``OMP_PLACES=cores``, libgomp's default wait: spin about 300 000 times at a barrier, then sleep);
+- pinned or unpinned (``OMP_PROC_BIND``/``OMP_PLACES`` unset: the threads go where the kernel
+  finds a free core), spinning, passive (``OMP_WAIT_POLICY=passive``: a waiting thread sleeps at
+  once) or ``GOMP_SPINCOUNT=10000`` (spin that often, then sleep).
 
 Prints the median engine wall time (``PARADYN-DONE wall_s``) of each variant under each condition,
 its spread, and the median over the rounds of its time over the 1-thread time of the same round.
@@ -33,15 +33,16 @@ POLICY = ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT")
 
 def variants() -> dict[str, tuple[int, dict[str, str | None]]]:
     """Name -> (threads, environment changes; None removes the variable)."""
-    old = {name: None for name in POLICY}
+    pinned = {"OMP_PROC_BIND": "close", "OMP_PLACES": "cores"}
+    unpinned = {"OMP_PROC_BIND": None, "OMP_PLACES": None}
     return {
         "1 thread": (1, {}),
-        "2 threads, spinning (before)": (2, old),
-        "2 threads, passive": (2, {"OMP_WAIT_POLICY": "passive", "GOMP_SPINCOUNT": None}),
-        "2 threads, GOMP_SPINCOUNT=10000": (2, {"OMP_WAIT_POLICY": None, "GOMP_SPINCOUNT": "10000"}),
-        "2 threads, passive, unpinned": (2, {"OMP_WAIT_POLICY": "passive", "GOMP_SPINCOUNT": None,
-                                              "OMP_PROC_BIND": None, "OMP_PLACES": None}),
-        "2 threads (launcher now)": (2, {}),
+        "2 threads, pinned, spinning (before)": (2, {**pinned, "OMP_WAIT_POLICY": None, "GOMP_SPINCOUNT": None}),
+        "2 threads, pinned, passive": (2, {**pinned, "OMP_WAIT_POLICY": "passive", "GOMP_SPINCOUNT": None}),
+        "2 threads, unpinned, spinning": (2, {**unpinned, "OMP_WAIT_POLICY": None, "GOMP_SPINCOUNT": None}),
+        "2 threads, unpinned, passive": (2, {**unpinned, "OMP_WAIT_POLICY": "passive", "GOMP_SPINCOUNT": None}),
+        "2 threads, unpinned, GOMP_SPINCOUNT=10000": (2, {**unpinned, "OMP_WAIT_POLICY": None,
+                                                          "GOMP_SPINCOUNT": "10000"}),
     }
 
 

@@ -3,8 +3,10 @@ a small benchmark and cached.
 
 The benchmark is two crossing pipes of J2 steel flying into each other (the pipe whip of
 ``cases/pipe_whip_scaling`` at a quarter of its mesh: 2 x 20 x 40 = 1 600 elements, 300 cycles,
-contact on), run by this machine's engine on one rank and one thread; its
-``element_cycles_per_s`` is the rate per core. The cache, ``$XDG_CACHE_HOME/paradyn/element_rate.json``
+contact on), run by this machine's engine on one rank and one thread, three times; the highest
+``element_cycles_per_s`` of the three (the run other programs disturbed least) is the rate per
+core. A machine busy with other work while it is measured gives a low rate: delete the cache
+and measure again (``paradyn-run --check``) on a quiet machine. The cache, ``$XDG_CACHE_HOME/paradyn/element_rate.json``
 (``~/.cache/paradyn`` by default, ``$PARADYN_CACHE_DIR`` instead), holds one rate per key: the
 engine's build (its path, size and modification time: a rebuilt engine is measured again) and the
 CPU (its model name and the cores the system has). Delete the file to measure again.
@@ -25,6 +27,7 @@ from paradyn.atomic_write import write_text_atomic
 CACHE_ENV = "PARADYN_CACHE_DIR"
 CACHE_NAME = "element_rate.json"
 BENCHMARK_ELEMENTS = 1600
+BENCHMARK_RUNS = 3   # the fastest of these: the one the machine's other work disturbed least
 
 _PIPE = """
 [[part]]
@@ -142,9 +145,9 @@ def measure_rate(engine: Path) -> MachineRate:
         scene_path.write_text(BENCHMARK_SCENE)
         model = scene.build_model(scene.load_scene(scene_path))
         deck_path = deck.write_deck(model, folder / "deck.h5")
-        run = follow_engine([str(engine), str(deck_path), str(folder / "results.h5")],
-                            launch.engine_environment(1), folder)
-    rate = float(run.done["element_cycles_per_s"])
+        rate = max(float(follow_engine([str(engine), str(deck_path), str(folder / "results.h5")],
+                                       launch.engine_environment(1), folder).done["element_cycles_per_s"])
+                   for _ in range(BENCHMARK_RUNS))
     path = cache_path()
     entries = _read_cache(path)
     entries[key] = {"element_cycles_per_s": rate, "engine": str(engine), "cpu": cpu,

@@ -43,25 +43,39 @@ class Machine:
     engine: Path  # the paradyn-engine executable
     cores: int  # the cores this process may run on
     pinning: bool = True  # pin ranks and threads to cores when they fit ($PARADYN_BIND != none)
+    busy_cores: float = 0.0  # how many of those cores other work keeps busy (the load average's share)
 
     def binds_to_cores(self, ranks: int, threads: int) -> bool:
-        """Pin every rank and thread to a core of its own when the layout fits (a rank or thread
-        that migrates loses its cache and can land on a busy core, which the others then wait
-        for)."""
-        return self.pinning and ranks * threads <= self.cores
+        """Pin every rank and thread to a core of its own when the layout fits the cores that other
+        work leaves idle (a rank or thread that migrates loses its cache and can land on a busy
+        core, which the others then wait for; a thread pinned to a core that another program
+        holds gets its share of that core, and the others wait for it at every barrier: 2 pinned
+        threads beside a busy loop ran 10 x slower than 1, docs/performance.md)."""
+        return self.pinning and ranks * threads + self.busy_cores <= self.cores + 0.5
 
     def oversubscribed(self, ranks: int, threads: int) -> bool:
         return ranks * threads > self.cores
 
 
+# How an OpenMP thread waits at a barrier when the user says nothing (docs/performance.md,
+# "Threads on a busy machine"): it sleeps at once. libgomp's default spins about 300 000 times
+# first, and a thread that spins holds a core the late thread needs when other programs share the
+# machine (even 10 000 spins collapsed there); more ranks x threads than cores are the same case
+WAIT_POLICY = {"OMP_WAIT_POLICY": "passive"}
+WAIT_VARIABLES = ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT")
+
+
 def engine_environment(threads: int, bind_threads: bool) -> dict[str, str]:
     """The engine's environment: this process's, with ``threads`` OpenMP threads (on neighbouring
-    cores of the rank's own set when ``bind_threads``; the user's own placement wins)."""
+    cores of the rank's own set when ``bind_threads``; the user's own placement wins) that wait at
+    a barrier as :data:`WAIT_POLICY` says, unless the user set a wait policy of their own."""
     env = dict(os.environ)
     env["OMP_NUM_THREADS"] = str(threads)
     if threads > 1 and bind_threads:
         env.setdefault("OMP_PROC_BIND", "close")
         env.setdefault("OMP_PLACES", "cores")
+    if threads > 1 and not any(name in env for name in WAIT_VARIABLES):
+        env.update(WAIT_POLICY)
     env["SRUN_CPUS_PER_TASK"] = str(threads)
     env.setdefault("OMP_STACKSIZE", "64M")  # threads with large private arrays need more than the default
     env.setdefault("OMPI_MCA_btl_vader_single_copy_mechanism", "none")  # containers without CMA
@@ -192,11 +206,8 @@ class MpirunRunner(Runner):
         env = super().environment(ranks, threads)
         if any(name in env for name in HOST_LIST_VARIABLES):
             return env
-        if threads > 1 and self.machine.oversubscribed(ranks, threads):
-            # more threads than cores: a thread that spins at a barrier holds a core that the thread
-            # it waits for needs (2 ranks x 2 threads on 2 cores spun 250 ms a cycle, against 0.2 ms
-            # for one rank); the user's own policy wins
-            env.setdefault("OMP_WAIT_POLICY", "passive")
+        # (more ranks x threads than cores wait passively too, as WAIT_POLICY says: spinning, 2 ranks
+        # x 2 threads on 2 cores spun 250 ms a cycle, against 0.2 ms for one rank)
         return one_machine_mpi(env)
 
 
@@ -218,10 +229,10 @@ class SrunRunner(Runner):
 def slurm_seconds(text: str) -> int:
     """Seconds of a Slurm ``--time`` (``MM``, ``MM:SS``, ``HH:MM:SS``, ``D-HH``, ``D-HH:MM``,
     ``D-HH:MM:SS``); ValueError for anything else (``UNLIMITED`` included: a chain needs a limit)."""
-    days, _, clock = text.strip().rpartition("-")
+    days, dash, clock = text.strip().rpartition("-")
     parts = clock.split(":")
     try:
-        if days and not days.isdigit():
+        if dash and not days.isdigit():
             raise ValueError
         numbers = [int(part) for part in parts]
         if any(n < 0 for n in numbers) or not 1 <= len(numbers) <= 3:
@@ -312,7 +323,9 @@ class SbatchRunner(SrunRunner):
             f"export OMP_NUM_THREADS={threads}",
             f"export SRUN_CPUS_PER_TASK={threads}",
             "export OMP_STACKSIZE=${OMP_STACKSIZE:-64M}",
-            *(f"export {name}=${{{name}:-{value}}}" for name, value in WAIT_POLICY.items()),
+            "# threads wait at a barrier as paradyn-run's do, unless the job sets a policy of its own",
+            'if [ -z "${OMP_WAIT_POLICY:-}${GOMP_SPINCOUNT:-}" ]; then '
+            + "; ".join(f"export {name}={value}" for name, value in WAIT_POLICY.items()) + "; fi",
             "job=${PARADYN_JOB_NUMBER:-1}   # this job's place in the chain of continuations",
             "# a continuation (PARADYN_CONTINUE) or a job Slurm requeued goes on from the checkpoint",
             'restart=""',
