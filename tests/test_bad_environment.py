@@ -144,7 +144,8 @@ def test_a_scene_that_is_not_utf8_through_the_command(tmp_path: Path, encoding: 
     reader, and a UTF-16 (or binary) file ended in a traceback; now status 2 and one line."""
     path = tmp_path / "scene.toml"
     text = SMALL_PLATE.read_text().replace("Small cantilever plate", "Kragplatte für Stöße")
-    path.write_bytes(b"\x00\x01\x89PNG\r\n\x1a\n" + bytes(range(256)) if encoding == "binary" else text.encode(encoding))
+    binary = b"\x00\x01\x89PNG\r\n\x1a\n" + bytes(range(256))
+    path.write_bytes(binary if encoding == "binary" else text.encode(encoding))
     done = _paradyn_run([str(path), "-o", str(tmp_path / "run"), "-q", "-t", "1"])
     assert done.returncode == STATUS_BAD_INPUT, done.stderr
     assert "Traceback" not in done.stderr and done.stderr.count("\n") == 1

@@ -185,9 +185,9 @@ def explain_cannot_create(message: str, folder: Path) -> str:
     if not held_open(path):
         return message
     return (message.replace("; check that the folder exists and is writable", "") +
-            f": another program holds it open (an h5py.File not closed, in this Python session or a notebook, "
-            f"HDFView, another reader of HDF5); close it there (h5py: f.close(), or open it with `with "
-            f"h5py.File(...)`), or give another output folder, then run again")
+            ": another program holds it open (an h5py.File not closed, in this Python session or a notebook, "
+            "HDFView, another reader of HDF5); close it there (h5py: f.close(), or open it with `with "
+            "h5py.File(...)`), or give another output folder, then run again")
 
 
 def held_open(path: Path) -> bool:

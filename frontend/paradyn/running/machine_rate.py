@@ -14,6 +14,7 @@ CPU (its model name and the cores the system has). Delete the file to measure ag
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -152,8 +153,6 @@ def measure_rate(engine: Path) -> MachineRate:
     entries = _read_cache(path)
     entries[key] = {"element_cycles_per_s": rate, "engine": str(engine), "cpu": cpu,
                     "benchmark": f"two crossing pipes, {BENCHMARK_ELEMENTS} J2 elements with contact, 1 x 1"}
-    try:
+    with contextlib.suppress(OSError):   # a read-only home: the rate serves this check, the next measures again
         write_text_atomic(path, json.dumps(entries, indent=2) + "\n")
-    except OSError:
-        pass   # a read-only home: the rate serves this check, and the next measures again
     return MachineRate(rate, key, cpu, measured_now=True)

@@ -241,7 +241,7 @@ def slurm_seconds(text: str) -> int:
         raise ValueError(f"--time {text!r} is not a Slurm time limit; give MM, HH:MM:SS or D-HH:MM:SS "
                          f"(e.g. 2:00:00)") from None
     if days:   # D-HH, D-HH:MM, D-HH:MM:SS
-        hours, minutes, seconds = (numbers + [0, 0])[:3]
+        hours, minutes, seconds = [*numbers, 0, 0][:3]
         return ((int(days) * 24 + hours) * 60 + minutes) * 60 + seconds
     if len(numbers) == 1:
         return numbers[0] * 60   # MM
