@@ -195,3 +195,39 @@ def _toml(data: dict) -> str:
 
 def _is_tables(v: object) -> bool:
     return isinstance(v, list) and bool(v) and all(isinstance(x, dict) for x in v)
+
+
+ENCODINGS = st.sampled_from(["utf-16", "utf-16-le", "utf-32", "latin-1", "cp1252", "shift_jis"])
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(content=st.one_of(st.binary(min_size=1, max_size=400),
+                         st.tuples(ENCODINGS, st.integers(0, 2000)),
+                         st.tuples(st.just("bytes"), st.integers(0, 2000), st.binary(min_size=1, max_size=8))))
+def test_a_scene_file_of_any_bytes_gets_a_scene_error_or_a_model(tmp_path_factory: pytest.TempPathFactory,
+                                                                 content: object) -> None:
+    """Issue 34: files that are not UTF-8 text (binary; the scene saved as UTF-16 by an editor, or
+    in a legacy code page with a non-ASCII title; bytes spliced into it) give a SceneError naming
+    the file, from the command's early engine start (which reads [run] precision) as from the
+    reader, never another exception."""
+    from paradyn.running.early_engine import scene_precision
+
+    text = SMALL_PLATE.read_text().replace("Small cantilever plate", "Kragplatte für Stöße — 試験")
+    if isinstance(content, bytes):
+        data = content
+    elif content[0] == "bytes":
+        _, at, spliced = content
+        raw = text.encode()
+        data = raw[:at % len(raw)] + spliced + raw[at % len(raw):]
+    else:
+        encoding, _ = content
+        data = text.encode(encoding, errors="replace")
+    path = tmp_path_factory.mktemp("scene") / "scene.toml"
+    path.write_bytes(data)
+    assert scene_precision(path) in (None, "double", "mixed")
+    try:
+        model = scene.build_model(scene.load_scene(path))
+    except (scene.SceneError, deck.DeckError, geometry.GeometryError) as error:
+        assert str(path) in str(error)
+        return
+    assert model.n_elements > 0

@@ -52,6 +52,7 @@ def test_a_layout_that_fits_the_cores_is_pinned(monkeypatch: pytest.MonkeyPatch)
     monkeypatch.delenv("OMP_PROC_BIND", raising=False)
     monkeypatch.delenv("OMP_PLACES", raising=False)
     monkeypatch.setattr(launch, "available_cores", lambda: 4)
+    monkeypatch.setattr(launch, "busy_cores", lambda: 0.0)   # an idle machine (tests/test_busy_machine.py: a busy one)
     deck, results = Path("/d/deck.h5"), Path("/d/results.h5")
 
     def options(ranks: int, threads: int) -> str:

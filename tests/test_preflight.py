@@ -98,9 +98,11 @@ def test_mass_scaling_adds_the_engines_mass(tmp_path: Path) -> None:
     assert sum(p.added_kg for p in check.parts) > 0
 
 
-def test_wall_time_and_memory_follow_the_stated_figures(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_wall_time_and_memory_follow_the_stated_figures(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """Before this machine's rate is measured (an empty cache), the development machine's."""
     model = _two_plates()
     monkeypatch.delenv(preflight.RATE_ENV, raising=False)
+    monkeypatch.setenv("PARADYN_CACHE_DIR", str(tmp_path / "empty-cache"))
     one = preflight.check_model(model, 1, 1)
     assert one.rate == preflight.RATE_PER_CORE
     assert one.wall_s == pytest.approx(one.cycles * 64 / preflight.RATE_PER_CORE, rel=1e-12)

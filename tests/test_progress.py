@@ -8,6 +8,7 @@ import io
 import sys
 import threading
 import types
+from pathlib import Path
 
 import pytest
 
@@ -116,3 +117,75 @@ def test_version(capsys: pytest.CaptureFixture[str]) -> None:
     assert "\nparadyn-engine " in out and " precision, " in out
     for line in ("compiler: ", "flags: ", "MPI: ", "HDF5: "):
         assert f"\n{line}" in out
+
+
+def test_piped_to_a_file_the_run_ends_at_100_percent() -> None:
+    """Issue 34: the engine's last progress line comes before its end, so a log file never saw
+    100 %; the DONE line now writes it (once), also for a run that printed no progress line."""
+    stream = io.StringIO()
+    display = progress.RunProgress(stream=stream, live=False)
+    for k in range(1, 96):
+        display(Progress(k, k * 1e-6, 1e-6, 1e-4, wall_s=k * 0.01))
+    display.finish_engine({"cycles": "100", "time": "1.0e-04", "wall_s": "1.0"})
+    display.finish_engine({"cycles": "100", "time": "1.0e-04", "wall_s": "1.0"})
+    lines = stream.getvalue().splitlines()
+    assert lines[-2].startswith(" 90.0% cycle 90")
+    assert lines[-1] == "100.0% cycle 100 t 1.000e-04 s done in 0:01"
+    assert sum(line.startswith("100.0%") for line in lines) == 1
+    silent = io.StringIO()
+    progress.RunProgress(stream=silent, live=False).finish_engine({"cycles": "7", "time": "1e-4", "wall_s": "0.1"})
+    assert silent.getvalue().startswith("100.0% cycle 7 ")
+    quiet = io.StringIO()
+    progress.RunProgress(stream=quiet, live=False, quiet=True).finish_engine({"cycles": "7"})
+    assert quiet.getvalue() == ""
+
+
+def test_a_terminal_shows_100_percent_even_without_a_progress_line() -> None:
+    """A restart close to its end (or a short run) prints no progress line before DONE: the bar
+    still ends at 100 %."""
+    stream = io.StringIO()
+    progress.RunProgress(stream=stream, live=True).finish_engine({"cycles": "9", "time": "2e-4", "wall_s": "0.4"})
+    frames = _frames(stream.getvalue())
+    assert frames[-1].startswith("cycle 9 t 2.000e-04 s done in 0:00") and "100%" in frames[-1]
+
+
+def test_after_a_restart_the_eta_comes_from_this_part_of_the_run() -> None:
+    """Issue 34: the engine's wall_s counts from the restart, so the ETA must divide by the
+    simulated time since the checkpoint, not since zero (13x too small for a restart at 12/13)."""
+    from paradyn.running.engine_process import EngineRun, _LineReader
+
+    seen: list[Progress] = []
+    run = EngineRun(command=[], exit_code=-1)
+    reader = _LineReader(run, seen.append, None, "DONE")
+    reader.take("PARADYN-RESTART time= 1.200000E-01 cycle=12000\n")
+    reader.take("PARADYN-PROGRESS cycle=12100 time= 1.210000E-01 dt= 1.0000E-06 end_time= 1.3000E-01 wall_s=2.000\n")
+    reader.take("PARADYN-DONE cycles=13000 time= 1.300000E-01 wall_s=18.000 element_cycles_per_s= 1.0E+06\n")
+    assert seen[0].start_time == pytest.approx(0.12)
+    assert seen[0].eta_s == pytest.approx(2.0 * 0.009 / 0.001)   # 18 s: 9 ms left at 1 ms per 2 s
+    assert Progress(12100, 0.121, 1e-6, 0.13, 2.0).eta_s == pytest.approx(2.0 * 0.009 / 0.121)  # the old answer
+    assert run.cycles_run == 1000
+    text = cli.finished_text(run)
+    assert text.startswith("paradyn-run: 1000 cycles from the restart at cycle 12000 (t = 0.12 s) to cycle 13000 "
+                           "in 18.00 s")
+
+
+def test_a_stopped_run_says_once_how_to_continue() -> None:
+    """Issue 34: the stop said "error" twice, offered the raw engine command first and a
+    `paradyn-run --restart` without the scene and -o it needs. Now one message, with the command."""
+    from paradyn.cli_parser import build_parser
+    from paradyn.running.engine_process import EngineRun, RunStopped
+
+    run = EngineRun(command=[], exit_code=4, checkpoint={"time": "5.0E-02", "cycle": "4321",
+                                                         "path": "/r/out/results.checkpoint.h5"})
+    stop = RunStopped.of(run, Path("/r/out"))
+    assert stop.exit_code == 4 and stop.cycle == 4321 and "error" not in str(stop)
+    args = build_parser().parse_args(["cases/my plate/scene.toml", "-o", "runs/a", "-n", "1", "-t", "1",
+                                      "--no-vtk", "--force"])
+    text = cli.stopped_text(stop, args)
+    assert "error" not in text
+    assert text.splitlines() == [
+        "paradyn-run: stopped by a signal at t = 0.05 s (cycle 4321); the checkpoint "
+        "/r/out/results.checkpoint.h5 holds the state.",
+        "continue with: paradyn-run 'cases/my plate/scene.toml' -o runs/a" +
+        (" -n 1" if cli.launch.default_layout()[0] != 1 else "") +
+        (" -t 1" if cli.launch.default_layout()[1] != 1 else "") + " --no-vtk --restart"]

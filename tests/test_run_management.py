@@ -140,9 +140,11 @@ def test_the_job_continues_after_a_time_limit_stop(tmp_path: Path) -> None:
     script = batch.write_job(tmp_path / "deck.h5", tmp_path / "results.h5", 2, 1)
     env = _fake_slurm(tmp_path)
     first = subprocess.run(["bash", str(script)], env={**env, "FAKE_SRUN_STATUS": "4"}, capture_output=True, text=True)
-    assert first.returncode == 0 and "continuing in a new job" in first.stdout
-    assert (tmp_path / "log.sbatch").read_text().split() == ["--export=ALL,PARADYN_CONTINUE=1", str(script)]
+    assert first.returncode == 0 and "continuing in job 2" in first.stdout
+    assert (tmp_path / "log.sbatch").read_text().split() == ["--export=ALL,PARADYN_CONTINUE=1,PARADYN_JOB_NUMBER=2",
+                                                             str(script)]
     assert "--restart" not in (tmp_path / "log.srun").read_text() and not marker.exists()
+    (tmp_path / "results.checkpoint.h5").write_bytes(b"")   # what the stopped engine wrote
     second = subprocess.run(["bash", str(script)], env={**env, "PARADYN_CONTINUE": "1"}, capture_output=True)
     assert second.returncode == 0 and marker.exists()
     assert (tmp_path / "log.srun").read_text().splitlines()[-1].endswith("--expect-ranks=2 --restart")
@@ -163,3 +165,65 @@ def test_the_engine_refuses_another_rank_count(tmp_path: Path) -> None:
     ok = subprocess.run([engine, str(deck_path), "--expect-ranks=1"], cwd=tmp_path, capture_output=True, text=True,
                         env=launch.engine_environment(1))
     assert ok.returncode == 0 and "PARADYN-DONE" in ok.stdout
+
+
+def test_a_requeued_job_continues_and_the_chain_has_a_limit(tmp_path: Path) -> None:
+    """Issue 34: a job Slurm requeues (SLURM_RESTART_COUNT > 0: a node failure, a preemption) used
+    to start the run over; it now continues from the checkpoint when there is one (else starts
+    anew). A chain of continuations stops after --max-jobs jobs, saying how to go on."""
+    batch = runners.SbatchRunner(_machine(), time="1:00:00", max_jobs=3)
+    script = batch.write_job(tmp_path / "deck.h5", tmp_path / "results.h5", 2, 1)
+    assert "#SBATCH --requeue" in script.read_text().splitlines()
+    env = _fake_slurm(tmp_path)
+    fresh = subprocess.run(["bash", str(script)], env={**env, "SLURM_RESTART_COUNT": "1"}, capture_output=True)
+    assert fresh.returncode == 0   # no checkpoint yet: the requeued job starts the run
+    assert not (tmp_path / "log.srun").read_text().rstrip().endswith("--restart")
+    (tmp_path / "results.checkpoint.h5").write_bytes(b"")
+    requeued = subprocess.run(["bash", str(script)], env={**env, "SLURM_RESTART_COUNT": "1"}, capture_output=True)
+    assert requeued.returncode == 0
+    assert (tmp_path / "log.srun").read_text().splitlines()[-1].endswith("--expect-ranks=2 --restart")
+    first = subprocess.run(["bash", str(script)], env={**env, "FAKE_SRUN_STATUS": "4"}, capture_output=True)
+    assert first.returncode == 0   # not the first run: no PARADYN_CONTINUE, so the checkpoint is not taken
+    assert not (tmp_path / "log.srun").read_text().splitlines()[-1].endswith("--restart")
+    last = subprocess.run(["bash", str(script)], capture_output=True, text=True,
+                          env={**env, "FAKE_SRUN_STATUS": "4", "PARADYN_CONTINUE": "1", "PARADYN_JOB_NUMBER": "3"})
+    assert last.returncode == 4
+    assert "after 3 jobs (--max-jobs); continue with: sbatch --export=ALL,PARADYN_CONTINUE=1 " in last.stdout
+    assert len((tmp_path / "log.sbatch").read_text().splitlines()) == 1   # only the first stop submitted
+
+
+def test_a_time_limit_within_the_checkpoint_lead_is_refused(tmp_path: Path,
+                                                             capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 34: --time 4:00 with the 300 s lead would get its stop signal before it starts; refused
+    (status 2) naming the lead and the fix, and nothing written. A shorter lead lets it through."""
+    out = tmp_path / "run"
+    assert cli.main([str(SMALL_PLATE), "-o", str(out), "-q", "--sbatch", "--time", "4:00"]) == 2
+    err = capsys.readouterr().err
+    assert "--time 4:00 (240 s) is not longer than the checkpoint lead of 300 s" in err and "--checkpoint-lead" in err
+    assert not (out / "job.sbatch").exists()
+    assert cli.main([str(SMALL_PLATE), "-o", str(out), "-q", "--sbatch", "--time", "4:00",
+                     "--checkpoint-lead", "60", "--max-jobs", "5"]) == 0
+    text = (out / "job.sbatch").read_text()
+    assert "#SBATCH --signal=USR1@60" in text and '[ "$job" -ge 5 ]' in text
+    for limit, seconds in (("30", 1800), ("30:15", 1815), ("2:00:00", 7200), ("1-2", 93600),
+                           ("1-0:30", 88200), ("1-00:00:05", 86405)):
+        assert runners.slurm_seconds(limit) == seconds, limit
+    for bad in ("UNLIMITED", "1:2:3:4", "x-1", "-5"):
+        with pytest.raises(ValueError, match="is not a Slurm time limit"):
+            runners.slurm_seconds(bad)
+
+
+def test_the_prologue_runs_before_the_engine(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 34: --sbatch-prologue adds shell lines (module load ...) after the #SBATCH lines and
+    before the engine; an #SBATCH line there is refused (sbatch would not read it)."""
+    out = tmp_path / "run"
+    assert cli.main([str(SMALL_PLATE), "-o", str(out), "-q", "--sbatch", "--sbatch-prologue", "module load openmpi/4.1",
+                     "--sbatch-prologue", "module load hdf5"]) == 0
+    lines = (out / "job.sbatch").read_text().splitlines()
+    load = lines.index("module load openmpi/4.1")
+    assert lines[load + 1] == "module load hdf5"
+    assert max(i for i, line in enumerate(lines) if line.startswith("#SBATCH")) < load
+    assert load < next(i for i, line in enumerate(lines) if line.startswith("srun "))
+    assert cli.main([str(SMALL_PLATE), "-o", str(tmp_path / "bad"), "-q", "--sbatch",
+                     "--sbatch-prologue", "#SBATCH --mem=8G"]) == 2
+    assert "give it with --sbatch-line" in capsys.readouterr().err

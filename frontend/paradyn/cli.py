@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
+from contextlib import nullcontext
 from dataclasses import replace
 from pathlib import Path
 
@@ -14,7 +16,7 @@ from .results import reading
 from .results.postprocess import post_process
 from .results.reports import accuracy_text, effect_table_text
 from .running import launch, preflight, workflow
-from .running.engine_process import AwaitingEngine
+from .running.engine_process import AwaitingEngine, RunStopped
 from .running.folders import default_output
 from .running.progress import RunProgress
 from .running.run_warnings import message_of
@@ -67,7 +69,11 @@ def check_only(source: Path, ranks: int, threads: int, quiet: bool, units: str |
         else:
             with display.stage("reading the deck" if source.suffix in workflow.DECK_SUFFIXES else "meshing"):
                 model = workflow.model_of(_with_units(source, units))
-        check = preflight.check_model(model, ranks, threads)
+        machine = preflight.this_machine(model.control.precision)   # cached
+        if machine is None:
+            with display.stage("measuring this machine's element rate (once)") if display else nullcontext():
+                machine = preflight.this_machine(model.control.precision, measure=True)
+        check = preflight.check_model(model, ranks, threads, machine)
         engine = preflight.engine_check(model)
     except launch.EngineError as error:
         return _error(error, error.exit_code)
@@ -83,15 +89,20 @@ def check_only(source: Path, ranks: int, threads: int, quiet: bool, units: str |
 
 def batch_runner(args: argparse.Namespace) -> SbatchRunner | None:
     """The sbatch runner with the command line's Slurm options (None without --sbatch)."""
-    slurm = (args.time, args.account, args.partition, *args.sbatch_line)
+    slurm = (args.time, args.account, args.partition, *args.sbatch_line, *args.sbatch_prologue)
     if not args.sbatch:
-        if any(slurm):
-            raise ValueError("--time, --account, --partition and --sbatch-line go with --sbatch")
+        if any(slurm) or args.checkpoint_lead is not None or args.max_jobs is not None:
+            raise ValueError("--time, --account, --partition, --sbatch-line, --sbatch-prologue, --checkpoint-lead "
+                             "and --max-jobs go with --sbatch")
         return None
     runner = launch.make_runner(SbatchRunner.name, args.ranks)
     assert isinstance(runner, SbatchRunner)
     runner = replace(runner, time=args.time, account=args.account, partition=args.partition,
-                     extra_lines=tuple(args.sbatch_line))
+                     extra_lines=tuple(args.sbatch_line), prologue=tuple(args.sbatch_prologue))
+    if args.checkpoint_lead is not None:
+        runner = replace(runner, signal_lead_s=args.checkpoint_lead)
+    if args.max_jobs is not None:
+        runner = replace(runner, max_jobs=args.max_jobs)
     runner.directives(Path("."), args.ranks, args.threads, "check")   # refuses a bad --sbatch-line now
     return runner
 
@@ -108,6 +119,37 @@ def _print_outputs(outputs: dict[str, Path]) -> None:
 def _error(error: Exception, status: int) -> int:
     print(f"paradyn-run: error: {error}", file=sys.stderr)
     return status
+
+
+def continue_command(args: argparse.Namespace) -> list[str]:
+    """The ``paradyn-run`` command that continues the run of ``args`` from its checkpoint: the same
+    source, output folder and options, with ``--restart`` (without ``--force``)."""
+    ranks, threads = launch.default_layout()
+    command = ["paradyn-run", str(args.scene), "-o", str(args.output or default_output(args.scene))]
+    command += ["-n", str(args.ranks)] * (args.ranks != ranks) + ["-t", str(args.threads)] * (args.threads != threads)
+    command += ["--units", args.units] * (args.units is not None)
+    for flag in ("quiet", "plots", "no_vtk", "vtk_series"):
+        command += [f"--{flag.replace('_', '-')}"] * bool(getattr(args, flag))
+    return [*command, "--restart"]
+
+
+def stopped_text(stop: RunStopped, args: argparse.Namespace) -> str:
+    """The one message of a run stopped with its checkpoint: where, and the command to go on."""
+    return (f"paradyn-run: stopped by a signal at t = {stop.time:.6g} s (cycle {stop.cycle}); the checkpoint "
+            f"{stop.checkpoint} holds the state.\ncontinue with: {shlex.join(continue_command(args))}")
+
+
+def finished_text(run: launch.EngineRun) -> str:
+    """The run's line: its cycles and wall time, and for a restart the cycles of this part (the
+    rate counts those alone: the engine's wall time starts at the restart)."""
+    done = run.done
+    wall, rate = float(done.get("wall_s", "nan")), float(done.get("element_cycles_per_s", "nan"))
+    if run.restart:
+        counted = (f"{run.cycles_run} cycles from the restart at cycle {run.restart.get('cycle')} (t = "
+                   f"{float(run.restart.get('time', 'nan')):.4g} s) to cycle {done.get('cycles')}")
+    else:
+        counted = f"{done.get('cycles')} cycles"
+    return f"paradyn-run: {counted} in {wall:.2f} s ({rate:.3e} element-cycles/s); effects:"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -139,6 +181,9 @@ def _run_parsed(args: argparse.Namespace, started: AwaitingEngine | None) -> int
                                progress=RunProgress(quiet=args.quiet), vtk=not args.no_vtk,
                                plots=_plots(args), vtk_series=args.vtk_series, started=started,
                                force=args.force)   # the folder rule: running/folders.py
+    except RunStopped as stop:
+        print(stopped_text(stop, args), file=sys.stderr)
+        return stop.exit_code
     except launch.EngineError as error:
         return _error(error, error.exit_code)
     except reading.ResultsError:
@@ -151,9 +196,7 @@ def _run_parsed(args: argparse.Namespace, started: AwaitingEngine | None) -> int
     if isinstance(outcome, workflow.BatchJob):
         print(f"paradyn-run: wrote {outcome.script}; submit it with: sbatch {outcome.script}")
         return STATUS_OK
-    done = outcome.engine_run.done
-    print(f"paradyn-run: {done.get('cycles')} cycles in {float(done.get('wall_s', 'nan')):.2f} s "
-          f"({float(done.get('element_cycles_per_s', 'nan')):.3e} element-cycles/s); effects:")
+    print(finished_text(outcome.engine_run))
     print(effect_table_text(outcome))
     print(accuracy_text(outcome))
     for line in outcome.engine_run.warnings:   # said at the start too, but a long run scrolls it away

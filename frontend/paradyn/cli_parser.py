@@ -87,6 +87,15 @@ def build_parser() -> argparse.ArgumentParser:
     batch.add_argument("--partition", help="#SBATCH --partition")
     batch.add_argument("--sbatch-line", action="append", default=[], metavar="OPTION",
                        help="another #SBATCH option: --sbatch-line=--mem=8G (repeatable)")
+    batch.add_argument("--sbatch-prologue", action="append", default=[], metavar="LINE",
+                       help="a shell line run before the engine: --sbatch-prologue 'module load openmpi' "
+                            "(repeatable)")
+    batch.add_argument("--checkpoint-lead", type=int, default=None, metavar="SECONDS",
+                       help=f"seconds before the time limit at which the engine checkpoints and the job "
+                            f"continues in a new one (default {SbatchRunner.signal_lead_s})")
+    batch.add_argument("--max-jobs", type=int, default=None, metavar="N",
+                       help=f"jobs in the chain of continuations at most, the first included (default "
+                            f"{SbatchRunner.max_jobs})")
     parser.add_argument("--restart", action="store_true",
                         help="continue an interrupted run in the output folder from its checkpoint "
                              "(results.checkpoint.h5), with the folder's deck.h5")

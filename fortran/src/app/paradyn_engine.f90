@@ -17,7 +17,7 @@ program paradyn_engine
   use, intrinsic :: iso_c_binding, only: c_int
   use hdf5, only: h5open_f, h5close_f, h5eset_auto_f, h5get_libversion_f
   use paradyn_kinds, only: wp, ek, i8
-  use build_info, only: build_commit, build_type, build_native
+  use build_info, only: build_commit, build_type, build_arch
   use paradyn_schema, only: status_ok, status_failure, status_bad_input, status_stopped, contact_gather_all
   use model_deck, only: deck_t
   use deck_reader, only: read_deck
@@ -237,8 +237,8 @@ program paradyn_engine
     if (solver%stop_requested) then
       status = status_stopped
       write (message, '(a,es12.5,a)') 'stopped by a signal at time ', solver%clock%time, ' s; the checkpoint '// &
-        checkpoint//' holds the state: continue with paradyn-engine '//trim(deck_path)//' '// &
-        trim(results_path)//' --restart (or paradyn-run --restart)'
+        checkpoint//' holds the state; continue with: paradyn-engine '//trim(deck_path)//' '// &
+        trim(results_path)//' --restart'
       exit
     end if
   end do
@@ -351,7 +351,7 @@ contains
     line_end = index(library(1:length), achar(10)) - 1
     if (line_end < 0) line_end = length
     write (*, '(a)') 'paradyn-engine '//build_commit//' ('//trim(merge('double', 'mixed ', ek == wp))// &
-      ' precision, '//build_type//' build'//trim(merge(', -march=native', '               ', build_native == 'ON'))//')'
+      ' precision, '//build_type//' build, arch '//build_arch//')'
     write (*, '(a)') 'compiler: '//compiler_version()
     write (*, '(a)') 'flags: '//compiler_options()
     write (*, '(a)') 'MPI: '//trim(library(1:line_end))
@@ -385,7 +385,11 @@ contains
   subroutine fail(code, text)
     integer, intent(in) :: code
     character(len=*), intent(in) :: text
-    if (rank == 0) write (0, '(a)') 'paradyn-engine: error: '//text
+    if (rank == 0 .and. code == status_stopped) then   ! a pause with its checkpoint, not an error
+      write (0, '(a)') 'paradyn-engine: '//text
+    else if (rank == 0) then
+      write (0, '(a)') 'paradyn-engine: error: '//text
+    end if
     call finish(code)
   end subroutine fail
 

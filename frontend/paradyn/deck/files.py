@@ -38,18 +38,29 @@ if TYPE_CHECKING:
 
 
 def write_deck(model: Model, path: str | Path) -> Path:
-    """Validate ``model`` and write it to ``path`` atomically (temporary file, then rename)."""
+    """Validate ``model`` and write it to ``path`` atomically (temporary file, then rename).
+
+    The file is made in memory (HDF5's core driver) and written to disk in one piece with plain
+    file writes: a disk that fills then raises one OSError (``cannot write PATH (No space left on
+    device)``) and leaves neither the deck nor the temporary file, where HDF5 writing to a full
+    disk itself crashed the process (issue 34)."""
     path = Path(path)
     import h5py  # where a file is opened
 
     validate_model(model, source=f"{path} (not written)")
+    with h5py.File(f"{path.name}.in-memory", "w", driver="core", backing_store=False) as f:
+        _write_contents(f, model)
+        f.flush()
+        image = f.id.get_file_image()
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(handle)
     try:
-        with h5py.File(temporary, "w") as f:
-            _write_contents(f, model)
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(image)
         os.replace(temporary, path)
+    except OSError as error:
+        Path(temporary).unlink(missing_ok=True)
+        raise OSError(error.errno, f"cannot write {path} ({error.strerror or error})", str(path)) from error
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise

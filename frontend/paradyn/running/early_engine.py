@@ -38,7 +38,7 @@ def scene_precision(path: Path) -> str | None:
     try:
         with path.open("rb") as stream:
             table = tomllib.load(stream)
-    except (OSError, tomllib.TOMLDecodeError):
+    except (OSError, ValueError):   # unreadable, not UTF-8 (UnicodeDecodeError), not TOML (TOMLDecodeError)
         return None
     run = table.get("run", {})
     precision = run.get("precision", "double") if isinstance(run, dict) else None

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
-from paradyn._schema import STATUS_FAILURE, STATUS_OK
+from paradyn._schema import STATUS_FAILURE, STATUS_OK, STATUS_STOPPED
 
 _FIELD = re.compile(r"(\w+)=\s*(\S+)")
 
@@ -35,15 +35,39 @@ class EngineError(RuntimeError):
         self.exit_code = exit_code
 
 
+class RunStopped(EngineError):
+    """The engine was asked to stop (Ctrl-C, SIGTERM, SIGUSR1, a batch system's time limit), wrote
+    its checkpoint and exited with status 4: not an error, a pause. ``time`` and ``cycle`` are
+    where it stopped, ``checkpoint`` the file that holds the state; ``str()`` says how to go on
+    from Python, and ``paradyn-run`` prints its own command (:func:`paradyn.cli.stopped_text`)."""
+
+    def __init__(self, time: float, cycle: int, checkpoint: Path) -> None:
+        self.time, self.cycle, self.checkpoint = time, cycle, checkpoint
+        super().__init__(f"stopped by a signal at t = {time:.6g} s (cycle {cycle}); the checkpoint {checkpoint} "
+                         f"holds the state: continue with paradyn.run(SOURCE, OUT, restart=True) or "
+                         f"`paradyn-run SOURCE -o OUT --restart`", STATUS_STOPPED)
+
+    @classmethod
+    def of(cls, run: EngineRun, folder: Path) -> RunStopped:
+        """The stop of ``run``, from its last ``PARADYN-CHECKPOINT`` line (paths relative to the
+        engine's folder made whole)."""
+        fields = run.checkpoint
+        path = Path(fields.get("path", "results.checkpoint.h5"))
+        return cls(float(fields.get("time", "nan")), int(fields.get("cycle", 0)), folder / path)
+
+
 @dataclass
 class Progress:
-    """One progress line of the engine (times in seconds)."""
+    """One progress line of the engine (times in seconds). ``start_time``: the simulated time this
+    engine process started from (a restart's, from its ``PARADYN-RESTART`` line; 0 otherwise), since
+    ``wall_s`` counts from that start: the rate, and so the ETA, come from this part of the run."""
 
     cycle: int
     time: float
     dt: float
     end_time: float
     wall_s: float
+    start_time: float = 0.0
 
     @property
     def fraction(self) -> float:
@@ -51,8 +75,10 @@ class Progress:
 
     @property
     def eta_s(self) -> float | None:
-        f = self.fraction
-        return self.wall_s * (1.0 - f) / f if f > 0 else None
+        done = self.time - self.start_time
+        if done <= 0 or self.end_time <= 0:
+            return None
+        return self.wall_s * max(self.end_time - self.time, 0.0) / done
 
 
 @dataclass
@@ -68,6 +94,15 @@ class EngineRun:
     log_path: Path | None = None
     elapsed_s: float = 0.0
     warnings: list[str] = field(default_factory=list)   #: the engine's ``paradyn-engine: warning:`` lines
+    restart: dict[str, str] = field(default_factory=dict)      #: a restart's time and cycle (PARADYN-RESTART)
+    checkpoint: dict[str, str] = field(default_factory=dict)   #: the last checkpoint written (PARADYN-CHECKPOINT)
+
+    @property
+    def cycles_run(self) -> int | None:
+        """The cycles this engine process ran (a restart's own, not those before its checkpoint)."""
+        if "cycles" not in self.done:
+            return None
+        return int(self.done["cycles"]) - int(self.restart.get("cycle", 0))
 
 
 def parse_line(line: str) -> tuple[str, dict[str, str]] | None:
@@ -123,14 +158,56 @@ def follow_engine(
             for number, handler in previous.items():
                 signal.signal(number, handler)
     run.elapsed_s = time.perf_counter() - clock_start
+    if run.exit_code == STATUS_STOPPED and run.checkpoint:
+        raise RunStopped.of(run, folder)
     if run.exit_code != STATUS_OK or not run.done:
         message = "; ".join(e for e in errors if "error" in e) or (
             f"the engine stopped with status {run.exit_code} without finishing"
             + (f"; see {log_path}" if log_path and not log.error else ""))
+        message = explain_cannot_create(message, folder)
         raise EngineError(message + (f" ({log.error})" if log.error else ""), run.exit_code or STATUS_FAILURE)
     if log.error:   # the run finished; only its log is short
         raise OSError(errno.ENOSPC if "space" in log.error else errno.EIO, log.error, str(log_path))
     return run
+
+
+_CANNOT_CREATE = re.compile(r"cannot create (?:the checkpoint )?(\S+?);")
+
+
+def explain_cannot_create(message: str, folder: Path) -> str:
+    """The engine's "cannot create FILE" with its reason when that is another program holding the
+    file open (an ``h5py.File`` not closed, in this Python session or a notebook; HDFView; any
+    HDF5 reader), whose HDF5 lock refuses the engine's create; else the message as it was."""
+    found = _CANNOT_CREATE.search(message)
+    if found is None:
+        return message
+    path = folder / found.group(1).removesuffix(".partial")
+    if not held_open(path):
+        return message
+    return (message.replace("; check that the folder exists and is writable", "") +
+            ": another program holds it open (an h5py.File not closed, in this Python session or a notebook, "
+            "HDFView, another reader of HDF5); close it there (h5py: f.close(), or open it with `with "
+            "h5py.File(...)`), or give another output folder, then run again")
+
+
+def held_open(path: Path) -> bool:
+    """True when another open of ``path`` holds a lock on it (HDF5's readers hold a shared flock,
+    which the engine's create, asking for an exclusive one, is refused)."""
+    import fcntl
+
+    try:
+        descriptor = os.open(path, os.O_RDONLY)
+    except OSError:
+        return False
+    try:
+        fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return True
+    except OSError:
+        return False
+    finally:
+        os.close(descriptor)   # closing drops the lock if it was taken
+    return False
 
 
 def _spawn(command: list[str], environment: dict[str, str], folder: Path, *,
@@ -257,13 +334,18 @@ class _LineReader:
         kind, fields = parsed
         if kind == "START":
             self.run.start = fields
+        elif kind == "RESTART":
+            self.run.restart = fields
+        elif kind == "CHECKPOINT":
+            self.run.checkpoint = fields
         elif kind == self.done_kind:
             self.run.done = fields
             if self.on_done is not None:
                 self.on_done(self.run)
         elif kind == "PROGRESS" and self.on_progress is not None:
             self.on_progress(Progress(int(fields["cycle"]), float(fields["time"]), float(fields["dt"]),
-                                      float(fields["end_time"]), float(fields["wall_s"])))
+                                      float(fields["end_time"]), float(fields["wall_s"]),
+                                      float(self.run.restart.get("time", 0.0))))
 
 
 def _read_until_done(process: subprocess.Popen, log: EngineLog, lines: _LineReader) -> None:

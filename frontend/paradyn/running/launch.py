@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import time
 from collections.abc import Callable
 from dataclasses import replace
 from importlib import resources
@@ -28,7 +29,9 @@ MIXED_ENGINE_ENV = "PARADYN_ENGINE_MIXED"   # the mixed-precision engine ([run] 
 # the engine of each precision (/control precision; docs/theory.md, "Precision"): its executable's
 # name inside the package and the variable that points at another build of it
 ENGINES = {"double": ("paradyn-engine", ENGINE_ENV), "mixed": ("paradyn-engine-mixed", MIXED_ENGINE_ENV)}
-BIND_ENV = "PARADYN_BIND"   # "none": let the ranks and threads float over the cores
+# "auto" (the default): pin ranks and threads to cores when the layout fits the cores other work
+# leaves idle; "cores": pin whenever the layout fits; "none": let them float over the cores
+BIND_ENV = "PARADYN_BIND"
 
 __all__ = [
     "BIND_ENV", "ENGINES", "ENGINE_ENV", "MIXED_ENGINE_ENV", "AwaitingEngine", "EngineError", "EngineRun", "Progress",
@@ -85,14 +88,44 @@ def available_cores() -> int:
 
 def pinning_allowed() -> bool:
     """False when $PARADYN_BIND is "none" (ranks and threads then float over the cores)."""
-    return os.environ.get(BIND_ENV, "cores").lower() != "none"
+    return os.environ.get(BIND_ENV, "auto").lower() != "none"
+
+
+BUSY_REFRESH_S = 30.0   # the load is read again after this long (a session runs many runs)
+_busy_seen: list[tuple[float, float]] = []   # (monotonic time, busy cores) of the last reading
+
+
+def busy_cores() -> float:
+    """How many of this process's cores other work keeps busy: the 1-minute load average, as a
+    share of the machine's cores times the cores this process may use; 0 when $PARADYN_BIND is
+    "cores" (pin whenever the layout fits) or "none" (never pin), or the system has no load average. Read at most every
+    30 s, so that the engine started before the imports and the run after them agree
+    (docs/performance.md, "Threads on a busy machine")."""
+    if os.environ.get(BIND_ENV, "auto").lower() in ("cores", "none") or not hasattr(os, "getloadavg"):
+        return 0.0
+    now = time.monotonic()
+    if _busy_seen and now - _busy_seen[0][0] < BUSY_REFRESH_S:
+        return _busy_seen[0][1]
+    try:
+        load = os.getloadavg()[0]
+    except OSError:
+        load = 0.0
+    busy = load * available_cores() / max(1, os.cpu_count() or 1)
+    _busy_seen[:] = [(now, busy)]
+    return busy
 
 
 def binds_to_cores(ranks: int, threads: int) -> bool:
-    """Pin every rank and thread to a core of its own when the layout fits the machine (a rank
-    or thread that migrates loses its cache and can land on a busy core, which the others then
-    wait for), unless $PARADYN_BIND is "none"."""
-    return pinning_allowed() and ranks * threads <= available_cores()
+    """Pin every rank and thread to a core of its own when the layout fits the cores other work
+    leaves idle (a rank or thread that migrates loses its cache and can land on a busy core,
+    which the others then wait for; but one pinned to a core another program holds runs at its
+    share of that core, and the others wait for it), unless $PARADYN_BIND is "none"."""
+    return current_machine_layout().binds_to_cores(ranks, threads)
+
+
+def current_machine_layout() -> Machine:
+    """This machine's cores and pinning, without the engine (:func:`current_machine` adds it)."""
+    return Machine(engine=Path(), cores=available_cores(), pinning=pinning_allowed(), busy_cores=busy_cores())
 
 
 def default_layout() -> tuple[int, int]:
@@ -114,7 +147,7 @@ def inside_slurm() -> bool:
 def current_machine(precision: str | None = None) -> Machine:
     """This machine, as runners see it: the engine of ``precision`` (double by default), the cores
     this process may use, $PARADYN_BIND."""
-    return Machine(engine=engine_path(precision), cores=available_cores(), pinning=pinning_allowed())
+    return replace(current_machine_layout(), engine=engine_path(precision))
 
 
 def make_runner(runner: str | Runner | None = None, ranks: int = 1, precision: str | None = None) -> Runner:

@@ -24,12 +24,14 @@ from paradyn.deck.model import trait_codes
 
 from . import launch
 from .engine_process import EngineError, follow_engine
+from .machine_rate import MachineRate, cache_path, cached_rate, measure_rate
 
-# Measured element-cycles per second on one core: the pipe whip (1024 elements, contact, J2) on
+# Element-cycles per second on one core before this machine's is measured (paradyn-run --check
+# measures it once and caches it: machine_rate.py): the pipe whip (1024 elements, contact, J2) on
 # the development machine, docs/performance.md "Scaling" (2.2e6 at 1 x 1 on both meshes). A run on
 # more cores is estimated at 75 % parallel efficiency (the 1 x 2 and 2 x 1 rows there: 74 to 89 %).
 RATE_PER_CORE = 2.2e6
-RATE_SOURCE = "2.2e6 per core, docs/performance.md"
+RATE_SOURCE = "2.2e6 per core of the development machine, docs/performance.md; paradyn-run --check measures this one's"
 RATE_ENV = "PARADYN_ELEMENT_RATE"   # this machine's figure (summary.json element_cycles_per_s) overrides it
 PARALLEL_EFFICIENCY = 0.75
 # the engine's memory estimate per rank (app/machine_memory.f90): a base plus so much per element or node
@@ -198,8 +200,10 @@ def first_step(control: deck.Control, dt_stable: float) -> tuple[float, int]:
     return dt_stable, max(1, math.ceil(end / dt_stable - 1e-9))
 
 
-def element_rate(ranks: int, threads: int) -> tuple[float, str]:
-    """Element-cycles per second for the wall-time estimate, and where the figure comes from."""
+def element_rate(ranks: int, threads: int, machine: MachineRate | None = None) -> tuple[float, str]:
+    """Element-cycles per second for the wall-time estimate, and where the figure comes from:
+    $PARADYN_ELEMENT_RATE, else ``machine`` (this machine's, measured once and cached:
+    :mod:`paradyn.running.machine_rate`), else the development machine's."""
     override = os.environ.get(RATE_ENV, "").strip()
     if override:
         try:
@@ -210,15 +214,33 @@ def element_rate(ranks: int, threads: int) -> tuple[float, str]:
             return rate, f"${RATE_ENV}"
     cores = ranks * threads
     efficiency = 1.0 if cores == 1 else PARALLEL_EFFICIENCY
-    return RATE_PER_CORE * cores * efficiency, RATE_SOURCE + (
+    if machine is not None:
+        per_core = machine.per_core
+        source = (f"{per_core:.3g} per core, {'measured now' if machine.measured_now else 'measured'} on this "
+                  f"machine ({machine.cpu}; cached in {cache_path()})")
+    else:
+        per_core, source = RATE_PER_CORE, RATE_SOURCE
+    return per_core * cores * efficiency, source + (
         f" x {cores} cores at {PARALLEL_EFFICIENCY:.0%}" if cores > 1 else "") + f"; ${RATE_ENV} sets it"
 
 
-def check_model(model: deck.Model, ranks: int = 1, threads: int = 1) -> Preflight:
-    """The check of a deck model on ``ranks`` x ``threads`` (see the module's description)."""
+def this_machine(precision: str | None, measure: bool = False) -> MachineRate | None:
+    """The element rate of this machine's engine of ``precision``: cached, or with ``measure``
+    measured now when it is not (about a second; ``paradyn-run --check``); None when there is none
+    (not measured yet, or no engine)."""
+    try:
+        engine = launch.engine_path(precision)
+        return cached_rate(engine) or (measure_rate(engine) if measure else None)
+    except (EngineError, OSError, KeyError, ValueError):
+        return None
+
+
+def check_model(model: deck.Model, ranks: int = 1, threads: int = 1, machine: MachineRate | None = None) -> Preflight:
+    """The check of a deck model on ``ranks`` x ``threads`` (see the module's description);
+    ``machine``: this machine's rate (:func:`this_machine`), by default the cached one if any."""
     step, area, added = stable_step(model)
     dt, cycles = first_step(model.control, step.dt)
-    rate, source = element_rate(ranks, threads)
+    rate, source = element_rate(ranks, threads, machine or this_machine(model.control.precision))
     result = Preflight(parts=_parts(model, area, added), step=step, dt=dt, cycles=cycles,
                        end_time=model.control.end_time, n_elements=len(np.asarray(model.element_part)),
                        n_nodes=len(np.asarray(model.coordinates)), ranks=ranks, threads=threads,

@@ -10,7 +10,10 @@ Jupyter). The choices (docs/scene.md, "What paradyn-run shows"):
 - a stage without a measure of its own (meshing, each post-processing output) shows its name and
   the seconds it has taken, refreshed twice a second;
 - where the stream is neither a terminal nor a notebook (a log file, a batch job), one plain line
-  every tenth of the run instead of carriage returns;
+  every tenth of the run instead of carriage returns, and a last ``100.0%`` line when the engine
+  is done (its last progress line comes before the end);
+- the ETA from the rate of this engine process: after a restart, the simulated time since the
+  checkpoint over the wall time since the restart;
 - engine warnings (initial penetrations) are printed above the bar as they come;
 - quiet (``paradyn-run -q``): nothing but the check's ``warning:`` lines (a likely unit mistake
   is never silent).
@@ -99,13 +102,23 @@ class RunProgress:
         self.bar.refresh()
 
     def finish_engine(self, done: dict[str, str] | None = None) -> None:
-        """The engine is done: the bar shows 100 % and the engine's last cycle and wall time (its
-        last progress line came before the end), from the fields of its ``PARADYN-DONE`` line."""
+        """The engine is done: the bar (or, without a terminal, a last line) shows 100 % and the
+        engine's last cycle and wall time (its last progress line came before the end), from the
+        fields of its ``PARADYN-DONE`` line."""
+        fields = done or {}
+        text = (f"cycle {fields['cycles']} t {float(fields.get('time', 'nan')):.3e} s "
+                f"done in {clock(float(fields.get('wall_s', 'nan')))}") if "cycles" in fields else "done"
+        if not self.live:
+            if not self.quiet and self.last_tenth < 10:   # the last tenth's line came before the end
+                self.last_tenth = 10
+                self.stream.write(f"100.0% {text}\n")
+                self.stream.flush()
+            return
+        if self.bar is None and not self.quiet and "time" in fields:
+            # no progress line came (a short run, or a restart close to its end): the bar at its end
+            self.bar = self._new_bar(float(fields["time"]) or 1.0, text)
         if self.bar is not None:
-            fields = done or {}
-            if "cycles" in fields:
-                self.bar.set_description_str(f"cycle {fields['cycles']} t {float(fields.get('time', 'nan')):.3e} s "
-                                             f"done in {clock(float(fields.get('wall_s', 'nan')))}", refresh=False)
+            self.bar.set_description_str(text, refresh=False)
             self.bar.n = self.bar.total
             self.bar.refresh()
             self.bar.close()

@@ -43,25 +43,39 @@ class Machine:
     engine: Path  # the paradyn-engine executable
     cores: int  # the cores this process may run on
     pinning: bool = True  # pin ranks and threads to cores when they fit ($PARADYN_BIND != none)
+    busy_cores: float = 0.0  # how many of those cores other work keeps busy (the load average's share)
 
     def binds_to_cores(self, ranks: int, threads: int) -> bool:
-        """Pin every rank and thread to a core of its own when the layout fits (a rank or thread
-        that migrates loses its cache and can land on a busy core, which the others then wait
-        for)."""
-        return self.pinning and ranks * threads <= self.cores
+        """Pin every rank and thread to a core of its own when the layout fits the cores that other
+        work leaves idle (a rank or thread that migrates loses its cache and can land on a busy
+        core, which the others then wait for; a thread pinned to a core that another program
+        holds gets its share of that core, and the others wait for it at every barrier: 2 pinned
+        threads beside a busy loop ran 10 x slower than 1, docs/performance.md)."""
+        return self.pinning and ranks * threads + self.busy_cores <= self.cores + 0.5
 
     def oversubscribed(self, ranks: int, threads: int) -> bool:
         return ranks * threads > self.cores
 
 
+# How an OpenMP thread waits at a barrier when the user says nothing (docs/performance.md,
+# "Threads on a busy machine"): it sleeps at once. libgomp's default spins about 300 000 times
+# first, and a thread that spins holds a core the late thread needs when other programs share the
+# machine (even 10 000 spins collapsed there); more ranks x threads than cores are the same case
+WAIT_POLICY = {"OMP_WAIT_POLICY": "passive"}
+WAIT_VARIABLES = ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT")
+
+
 def engine_environment(threads: int, bind_threads: bool) -> dict[str, str]:
     """The engine's environment: this process's, with ``threads`` OpenMP threads (on neighbouring
-    cores of the rank's own set when ``bind_threads``; the user's own placement wins)."""
+    cores of the rank's own set when ``bind_threads``; the user's own placement wins) that wait at
+    a barrier as :data:`WAIT_POLICY` says, unless the user set a wait policy of their own."""
     env = dict(os.environ)
     env["OMP_NUM_THREADS"] = str(threads)
     if threads > 1 and bind_threads:
         env.setdefault("OMP_PROC_BIND", "close")
         env.setdefault("OMP_PLACES", "cores")
+    if threads > 1 and not any(name in env for name in WAIT_VARIABLES):
+        env.update(WAIT_POLICY)
     env["SRUN_CPUS_PER_TASK"] = str(threads)
     env.setdefault("OMP_STACKSIZE", "64M")  # threads with large private arrays need more than the default
     env.setdefault("OMPI_MCA_btl_vader_single_copy_mechanism", "none")  # containers without CMA
@@ -192,11 +206,8 @@ class MpirunRunner(Runner):
         env = super().environment(ranks, threads)
         if any(name in env for name in HOST_LIST_VARIABLES):
             return env
-        if threads > 1 and self.machine.oversubscribed(ranks, threads):
-            # more threads than cores: a thread that spins at a barrier holds a core that the thread
-            # it waits for needs (2 ranks x 2 threads on 2 cores spun 250 ms a cycle, against 0.2 ms
-            # for one rank); the user's own policy wins
-            env.setdefault("OMP_WAIT_POLICY", "passive")
+        # (more ranks x threads than cores wait passively too, as WAIT_POLICY says: spinning, 2 ranks
+        # x 2 threads on 2 cores spun 250 ms a cycle, against 0.2 ms for one rank)
         return one_machine_mpi(env)
 
 
@@ -215,16 +226,42 @@ class SrunRunner(Runner):
                 str(self.machine.engine), *_engine_arguments(deck, results, restart, ranks)]
 
 
+def slurm_seconds(text: str) -> int:
+    """Seconds of a Slurm ``--time`` (``MM``, ``MM:SS``, ``HH:MM:SS``, ``D-HH``, ``D-HH:MM``,
+    ``D-HH:MM:SS``); ValueError for anything else (``UNLIMITED`` included: a chain needs a limit)."""
+    days, dash, clock = text.strip().rpartition("-")
+    parts = clock.split(":")
+    try:
+        if dash and not days.isdigit():
+            raise ValueError
+        numbers = [int(part) for part in parts]
+        if any(n < 0 for n in numbers) or not 1 <= len(numbers) <= 3:
+            raise ValueError
+    except ValueError:
+        raise ValueError(f"--time {text!r} is not a Slurm time limit; give MM, HH:MM:SS or D-HH:MM:SS "
+                         f"(e.g. 2:00:00)") from None
+    if days:   # D-HH, D-HH:MM, D-HH:MM:SS
+        hours, minutes, seconds = [*numbers, 0, 0][:3]
+        return ((int(days) * 24 + hours) * 60 + minutes) * 60 + seconds
+    if len(numbers) == 1:
+        return numbers[0] * 60   # MM
+    if len(numbers) == 2:
+        return numbers[0] * 60 + numbers[1]   # MM:SS
+    return (numbers[0] * 60 + numbers[1]) * 60 + numbers[2]
+
+
 @dataclass
 class SbatchRunner(SrunRunner):
     """Writes a Slurm job script that runs the engine with srun, then ``post_command``; it runs
     nothing itself (submit the script with ``sbatch``).
 
     ``time``, ``account`` and ``partition`` become ``#SBATCH`` lines, as does every entry of
-    ``extra_lines`` (``"--mem=8G"`` or ``"#SBATCH --mem=8G"``). Slurm is asked for SIGUSR1
-    ``signal_lead_s`` seconds before the time limit (``--signal``, sent to the engine's ranks): the
-    engine writes its checkpoint and stops with status 4, and the script then submits itself again
-    with ``PARADYN_CONTINUE=1``, which runs the engine with ``--restart`` (docs/scene.md, "Slurm")."""
+    ``extra_lines`` (``"--mem=8G"`` or ``"#SBATCH --mem=8G"``); ``prologue`` lines (``module load
+    openmpi``) run before the engine. Slurm is asked for SIGUSR1 ``signal_lead_s`` seconds before
+    the time limit (``--signal``, sent to the engine's ranks): the engine writes its checkpoint and
+    stops with status 4, and the script then submits itself again with ``PARADYN_CONTINUE=1``,
+    which runs the engine with ``--restart``, up to ``max_jobs`` jobs in all; a job that Slurm
+    requeues (``SLURM_RESTART_COUNT``) continues from the checkpoint too (docs/scene.md, "Slurm")."""
 
     name: ClassVar[str] = "sbatch"
     post_command: list[str] | None = None
@@ -233,11 +270,34 @@ class SbatchRunner(SrunRunner):
     partition: str | None = None
     extra_lines: tuple[str, ...] = ()
     signal_lead_s: int = 300
+    prologue: tuple[str, ...] = ()   # shell lines before the engine (module load ...)
+    max_jobs: int = 20               # jobs in a chain of continuations, the first included
+
+    def check(self) -> None:
+        """Refuse options the job could not honour (ValueError, naming the fix)."""
+        if self.time is not None:
+            limit = slurm_seconds(self.time)
+            if limit <= self.signal_lead_s:
+                raise ValueError(f"--time {self.time} ({limit} s) is not longer than the checkpoint lead of "
+                                 f"{self.signal_lead_s} s (the engine checkpoints that long before the limit): "
+                                 f"give a --time above {self.signal_lead_s // 60}:{self.signal_lead_s % 60:02d} "
+                                 f"(e.g. 1:00:00), or a shorter --checkpoint-lead")
+        if self.signal_lead_s < 1:
+            raise ValueError(f"--checkpoint-lead {self.signal_lead_s} must be at least 1 s")
+        if self.max_jobs < 1:
+            raise ValueError(f"--max-jobs {self.max_jobs} must be at least 1")
+        for line in self.prologue:
+            if "\n" in line or not line.strip():
+                raise ValueError(f"--sbatch-prologue {line!r} must be one non-empty shell line")
+            if line.strip().startswith("#SBATCH"):
+                raise ValueError(f"--sbatch-prologue {line!r} is an #SBATCH option, which sbatch reads only above "
+                                 f"the commands; give it with --sbatch-line")
 
     def directives(self, folder: Path, ranks: int, threads: int, job_name: str) -> list[str]:
         """The ``#SBATCH`` lines."""
+        self.check()
         options = [f"--job-name={job_name}", f"--ntasks={ranks}", f"--cpus-per-task={threads}",
-                   f"--output={folder}/slurm-%j.out", f"--signal=USR1@{self.signal_lead_s}"]
+                   f"--output={folder}/slurm-%j.out", f"--signal=USR1@{self.signal_lead_s}", "--requeue"]
         options += [f"--{key}={value}" for key, value in
                     (("time", self.time), ("account", self.account), ("partition", self.partition)) if value]
         lines = [f"#SBATCH {option}" for option in options]
@@ -249,25 +309,38 @@ class SbatchRunner(SrunRunner):
         return lines
 
     def script(self, deck: Path, results: Path, ranks: int, threads: int, job_name: str) -> str:
-        """The job script's text: the engine under srun (continuing from the checkpoint when the job
-        is a continuation), a new job when the engine stopped at the time limit (status 4), else
-        the post-processing."""
+        """The job script's text: the prologue, the engine under srun (continuing from the checkpoint
+        when the job is a continuation or was requeued by Slurm), a new job when the engine stopped
+        at the time limit (status 4) and the chain has jobs left, else the post-processing."""
         folder = results.parent
-        script_path = folder / "job.sbatch"
+        script_path = shlex.quote(str(folder / "job.sbatch"))
+        checkpoint = shlex.quote(str(results.with_name(results.stem + ".checkpoint.h5")))
         lines = [
             "#!/bin/bash",
             *self.directives(folder, ranks, threads, job_name),
             "set -uo pipefail",
+            *self.prologue,
             f"export OMP_NUM_THREADS={threads}",
             f"export SRUN_CPUS_PER_TASK={threads}",
             "export OMP_STACKSIZE=${OMP_STACKSIZE:-64M}",
-            'restart=""   # a continuation (PARADYN_CONTINUE set) goes on from the checkpoint',
-            'if [ -n "${PARADYN_CONTINUE:-}" ]; then restart=--restart; fi',
+            "# threads wait at a barrier as paradyn-run's do, unless the job sets a policy of its own",
+            'if [ -z "${OMP_WAIT_POLICY:-}${GOMP_SPINCOUNT:-}" ]; then '
+            + "; ".join(f"export {name}={value}" for name, value in WAIT_POLICY.items()) + "; fi",
+            "job=${PARADYN_JOB_NUMBER:-1}   # this job's place in the chain of continuations",
+            "# a continuation (PARADYN_CONTINUE) or a job Slurm requeued goes on from the checkpoint",
+            'restart=""',
+            'if { [ -n "${PARADYN_CONTINUE:-}" ] || [ "${SLURM_RESTART_COUNT:-0}" -gt 0 ]; } '
+            f'&& [ -f {checkpoint} ]; then restart=--restart; fi',
             "status=0",
             shlex.join(self.command(deck, results, ranks, threads)) + " $restart || status=$?",
             f"if [ \"$status\" -eq {STATUS_STOPPED} ]; then",
-            '  echo "paradyn: the engine stopped with its checkpoint (time limit); continuing in a new job"',
-            f"  sbatch --export=ALL,PARADYN_CONTINUE=1 {shlex.quote(str(script_path))}",
+            f"  if [ \"$job\" -ge {self.max_jobs} ]; then",
+            f'    echo "paradyn: the engine stopped with its checkpoint after {self.max_jobs} jobs (--max-jobs); '
+            f'continue with: sbatch --export=ALL,PARADYN_CONTINUE=1 {script_path}"',
+            f"    exit {STATUS_STOPPED}",
+            "  fi",
+            '  echo "paradyn: the engine stopped with its checkpoint (time limit); continuing in job $((job + 1))"',
+            f"  sbatch --export=ALL,PARADYN_CONTINUE=1,PARADYN_JOB_NUMBER=$((job + 1)) {script_path}",
             "  exit $?",
             "fi",
             'if [ "$status" -ne 0 ]; then exit "$status"; fi',

@@ -240,7 +240,7 @@ class _Finish:
         results.engine_run = engine_run
         if self.post:
             details = {"scene": self.scene, "command": engine_run.command, "warnings": list(engine_run.warnings),
-                       **(self.extra or {})}
+                       **_restart_details(engine_run), **(self.extra or {})}
             with _stage(self.display, "post-processing"):
                 results.outputs = post_process(results, self.results_path.parent, details, **self.options)
         self.results = results
@@ -250,6 +250,15 @@ class _Finish:
 def _engine_warning(line: str) -> None:
     """An engine warning, as it comes, through Python's warnings (no display shows it)."""
     issue([message_of(line)], EngineWarning)
+
+
+def _restart_details(engine_run: launch.EngineRun) -> dict[str, Any]:
+    """For a restart, summary.json's ``restart``: where it continued from and the cycles it ran
+    (``wall_s`` and ``element_cycles_per_s`` are this part's; ``cycles`` counts from the start)."""
+    if not engine_run.restart:
+        return {}
+    return {"restart": {"from_time_s": float(engine_run.restart.get("time", "nan")),
+                        "from_cycle": int(engine_run.restart.get("cycle", 0)), "cycles": engine_run.cycles_run}}
 
 
 def _stage(display: RunProgress | None, name: str) -> AbstractContextManager[None]:
