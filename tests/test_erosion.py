@@ -201,5 +201,5 @@ def test_death_before_birth_is_refused() -> None:
     s.add_part("a", material="steel", thickness=0.002, geometry=paradyn.Plate((0.1, 0.1), (1, 1)))
     s.add_part("b", material="steel", thickness=0.002,
                geometry=paradyn.Plate((0.1, 0.1), (1, 1), origin=[0, 0, 0.01]))
-    with pytest.raises(paradyn.scene.SceneError, match="'death_time' in \\[\\[contact\\]\\] #1 .* must come after"):
+    with pytest.raises(paradyn.scene.SceneError, match=r"'death_time' in \[\[contact\]\] #1 .* must come after"):
         s.add_contact("a", "b", birth_time=2e-4, death_time=1e-4)
