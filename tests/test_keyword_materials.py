@@ -109,16 +109,20 @@ def test_c_and_p_or_lcsr_scale_the_yield_stress(tmp_path: Path) -> None:
         _read(tmp_path, _mat24(card2=(40.4,)))
 
 
-def test_fail_and_mat81_damage_are_named_as_not_modelled(tmp_path: Path) -> None:
-    """FAIL (element erosion) and MAT 81's damage are not modelled: a warning naming the material."""
-    _, warnings = _read(tmp_path, _mat24(card1=(1, 7800.0, 2e11, 0.3, 2.5e8, 1e9, 0.3)))
-    assert any("*MAT_024 1 FAIL = 0.3: element failure (erosion) is not modelled by ParaDyn; material 1's "
-               "elements never fail" in w for w in warnings)
-    _, warnings = _read(tmp_path, _mat24())
-    assert not any("FAIL" in w for w in warnings)   # the default (1e21) is no failure
+def test_fail_is_the_failure_strain_and_mat81_damage_is_named_as_not_modelled(tmp_path: Path) -> None:
+    """FAIL is the material's failure_strain (element erosion), its default 1e21 none; a negative
+    FAIL (a user subroutine) is refused; MAT 81's damage is not modelled: a warning naming the
+    material, and its EPPF is no failure strain."""
+    model, warnings = _read(tmp_path, _mat24(card1=(1, 7800.0, 2e11, 0.3, 2.5e8, 1e9, 0.3)))
+    assert model.failure_strain.tolist() == [0.3] and not any("FAIL" in w for w in warnings)
+    model, warnings = _read(tmp_path, _mat24())
+    assert model.failure_strain is None or model.failure_strain.tolist() == [0.0]   # the default (1e21) is none
+    with pytest.raises(KeywordError, match=r"FAIL = -1 asks for a user failure subroutine"):
+        _read(tmp_path, _mat24(card1=(1, 7800.0, 2e11, 0.3, 2.5e8, 1e9, -1.0)))
     model, warnings = _read(tmp_path, _mat24(card1=(1, 7800.0, 2e11, 0.3, 2.5e8, 1e9, 0.2),
                                              keyword="MAT_PLASTICITY_WITH_DAMAGE"))
     assert model.material_model.tolist() == [CODES["piecewise_linear"]]
+    assert model.failure_strain is None or model.failure_strain.tolist() == [0.0]
     assert any("*MAT_PLASTICITY_WITH_DAMAGE 1 is read as *MAT_PIECEWISE_LINEAR_PLASTICITY: its damage (EPPF, "
                "EPPFR, LCDM) is not modelled" in w for w in warnings)
 

@@ -97,7 +97,7 @@ TWO = (MESH + "*NODE\n      17             3.0             0.0             0.0\n
 
 def test_contact_variants(tmp_path: Path) -> None:
     """Nodes-to-surface: a symmetric pair, warned one-way; mortar: the automatic kind, warned; the
-    _ID heading names the contact; BT > 0 and DT before the end are warned as unsupported; SSID 0
+    _ID heading names the contact; BT and DT are the contact's birth and death times; SSID 0
     takes the parts with shells only; a tied contact is a tied pair, slave first."""
     extra = ("*CONTACT_NODES_TO_SURFACE_ID\n         5bolt\n         1         2         3         3\n"
              "       0.2       0.1       0.0       0.0       0.0         0    0.0001    0.0005\n"
@@ -111,8 +111,9 @@ def test_contact_variants(tmp_path: Path) -> None:
     assert specs[0].static_friction == 0.2 and specs[0].dynamic_friction == 0.1
     text = "\n".join(read.warnings)
     assert "*CONTACT_NODES_TO_SURFACE 5 'bolt' is one-way in LS-DYNA" in text
-    assert "'bolt': BT = 0.0001 (birth time) is not supported" in text
-    assert "'bolt': DT = 0.0005 (death time) is before the end time 0.001" in text
+    assert (specs[0].birth_time, specs[0].death_time) == (pytest.approx(1e-4), pytest.approx(5e-4))
+    assert (specs[1].birth_time, specs[1].death_time) == (0.0, 1e20)   # blank BT, DT: the whole run
+    assert "BT = " not in text and "DT = " not in text
     assert "(mortar) is read as *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE" in text
 
 

@@ -47,6 +47,7 @@ def _two_plates(control: Control | None = None) -> Model:
     model.density = np.array([STEEL.density, ALUMINIUM.density])
     model.youngs_modulus = np.array([STEEL.young, ALUMINIUM.young])
     model.poisson_ratio = np.array([STEEL.poisson, ALUMINIUM.poisson])
+    model.failure_strain = np.zeros(2)
     model.part_names = ["steel_plate", "aluminium_plate"]
     model.initial_velocity = np.tile([0.0, 0.0, 1.0], (model.n_nodes, 1))   # something acts: no idle warning
     return model

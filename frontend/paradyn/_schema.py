@@ -483,6 +483,16 @@ DATASETS: tuple[DatasetSpec, ...] = (
         ), '[[material]] rate_curve', 'give the index of a curve of /curves/first_point, or -1 for no rate effect',
     ),
     DatasetSpec(
+        '/materials/failure_strain', 'failure_strain', 'float', ('n_materials',), False, None, 'plastic', 0.0,
+        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, '-',
+        (
+            'effective plastic strain at which a shell element fails: it is eroded (no forces, no time step, its '
+            'mass kept on its nodes) when a through-thickness point reaches it (LS-DYNA MAT_024 FAIL, MAT_003 FS, '
+            'with NUMFIP 1); 0: never fails'
+        ), '[[material]] failure_strain',
+        'give the failure plastic strain (> 0), or 0 for a material that never fails',
+    ),
+    DatasetSpec(
         '/loads/node', 'load_node', 'int', ('n_loads',), False, 'loads_group', None, None, None, None, '', None,
         '', 'node', True, '-', 'node index of each point load', '[[load]] part, point',
         'give the index of the loaded node',
@@ -559,6 +569,21 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'what the engine does with slave nodes that start inside the contact thickness (always reported)',
         '[[contact]] initial_penetration',
         'use 1 (move the nodes onto the surface) or 2 (take the overlap as the gap)',
+    ),
+    DatasetSpec(
+        '/contact/birth_time', 'contact_birth_time', 'float', ('n_contacts',), False, None, None, 0.0,
+        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 's',
+        (
+            'the contact acts from this time on (LS-DYNA BT); one born after 0 is not checked for initial '
+            'penetration at the start (its parts may cross then) and from its birth pushes back every slave it '
+            'finds inside, with no gap taken'
+        ), '[[contact]] birth_time', 'give the birth time in s (>= 0; 0: from the start)',
+    ),
+    DatasetSpec(
+        '/contact/death_time', 'contact_death_time', 'float', ('n_contacts',), False, None, None, 1e+20,
+        Bound(0.0, False), None, 'must be > 0', None, '', None, False, 's',
+        'the contact acts until this time and not after it (LS-DYNA DT; the default 1e20: to the end)',
+        '[[contact]] death_time', 'give the death time in s, after the birth time (1e20: never)',
     ),
     DatasetSpec(
         '/rigid_walls/point', 'rigid_wall_point', 'float', ('n_rigid_walls', 3), False, 'rigid_walls_group', None,
@@ -1029,6 +1054,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/materials/rate_p'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/materials/hardening_curve'): ('required_when', 'class', 'shape', 'rows', 'lower', 'reference'),
     ('dataset', '/materials/rate_curve'): ('required_when', 'class', 'shape', 'rows', 'lower', 'reference'),
+    ('dataset', '/materials/failure_strain'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/loads/node'): ('required_when', 'class', 'shape', 'reference'),
     ('dataset', '/loads/dof'): ('required_when', 'class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/loads/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
@@ -1042,6 +1068,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/contact/passes'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/contact/kind'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/contact/initial_penetration'): ('class', 'shape', 'rows', 'enum'),
+    ('dataset', '/contact/birth_time'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/contact/death_time'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/rigid_walls/point'): ('required_when', 'class', 'shape', 'finite'),
     ('dataset', '/rigid_walls/normal'): ('required_when', 'class', 'shape', 'rows', 'finite'),
     ('dataset', '/rigid_walls/shape'): ('class', 'shape', 'rows', 'enum'),
@@ -1129,9 +1157,9 @@ FRAME_FIELDS = (
 )
 HISTORY_NAMES = (
     'time', 'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work',
-    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'part_kinetic_energy', 'part_internal_energy',
-    'part_hourglass_energy', 'part_plastic_work', 'contact_force', 'rigid_wall_force', 'reaction_force',
-    'tracked_displacement', 'tracked_velocity',
+    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'eroded_elements', 'part_kinetic_energy',
+    'part_internal_energy', 'part_hourglass_energy', 'part_plastic_work', 'contact_force', 'rigid_wall_force',
+    'reaction_force', 'tracked_displacement', 'tracked_velocity',
 )
 ENERGY_NAMES = ('kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work')
 HISTORY_UNITS: dict[str, str] = {
@@ -1145,6 +1173,7 @@ HISTORY_UNITS: dict[str, str] = {
     'dt': 's',
     'dt_stable': 's',
     'dt_element': '-',
+    'eroded_elements': '-',
     'part_kinetic_energy': 'J',
     'part_internal_energy': 'J',
     'part_hourglass_energy': 'J',

@@ -16,11 +16,11 @@ module paradyn_schema
       status_bad_input, status_numerical, status_stopped, n_frame_fields, n_history_scalars, &
       history_kinetic_energy, history_internal_energy, history_hourglass_energy, history_contact_energy, &
       history_external_work, history_contact_penetration, history_dt, history_dt_stable, history_dt_element, &
-      frame_field_names, history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, &
-      size_n_elements, size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, &
-      size_n_rigid_walls, size_n_rigid_wall_nodes, size_n_curves, size_n_curve_points, size_n_pressures, &
-      size_n_prescribed, size_n_base_accelerations, size_n_rigid_bodies, n_sizes, condition_none, &
-      condition_loads_group, condition_contact_group, condition_rigid_walls_group, &
+      history_eroded_elements, frame_field_names, history_scalar_names, class_int, class_float, class_string, &
+      size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, size_n_loads, size_n_tracked, &
+      size_n_contacts, size_n_rigid_walls, size_n_rigid_wall_nodes, size_n_curves, size_n_curve_points, &
+      size_n_pressures, size_n_prescribed, size_n_base_accelerations, size_n_rigid_bodies, n_sizes, &
+      condition_none, condition_loads_group, condition_contact_group, condition_rigid_walls_group, &
       condition_rigid_wall_nodes_group, condition_curves_group, condition_pressure_group, &
       condition_prescribed_group, condition_base_accelerations_group, condition_rigid_bodies_group, &
       condition_plastic, condition_combined_hardening, condition_strain_rate, condition_hardening_curve, &
@@ -35,31 +35,32 @@ module paradyn_schema
       dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
       dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
       dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
-      dataset_materials_hardening_curve, dataset_materials_rate_curve, dataset_loads_node, dataset_loads_dof, &
-      dataset_loads_value, dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
-      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
-      dataset_contact_initial_penetration, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
-      dataset_rigid_walls_shape, dataset_rigid_walls_edge, dataset_rigid_walls_size, &
-      dataset_rigid_walls_radius, dataset_rigid_walls_length, dataset_rigid_walls_velocity, &
-      dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, dataset_rigid_wall_nodes_wall, &
-      dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, &
-      dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
-      dataset_curves_first_point, dataset_curves_time, dataset_curves_value, dataset_pressure_part, &
-      dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, &
-      dataset_prescribed_value, dataset_prescribed_curve, dataset_base_accelerations_direction, &
-      dataset_base_accelerations_value, dataset_base_accelerations_curve, n_deck_datasets, control_end_time, &
-      control_output_interval, control_history_interval, control_time_step, control_time_step_safety, &
-      control_mass_damping, control_progress_interval, control_contact_sort_interval, &
-      control_checkpoint_interval, control_partition, control_contact_gather, control_precision, &
-      control_gravity_x, control_gravity_y, control_gravity_z, control_energy_error_limit, &
-      control_time_step_floor, control_contact_travel_limit, control_mass_scaling_step, &
-      control_mass_scaling_limit, control_effect_point_loads, control_effect_gravity, &
-      control_effect_base_acceleration, control_effect_pressure, control_effect_rigid_wall, &
-      control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
-      control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
-      control_restart_may_change, max_enum_members, n_effects, effect_point_loads, effect_gravity, &
-      effect_base_acceleration, effect_pressure, effect_rigid_wall, effect_time_integration, &
+      dataset_materials_hardening_curve, dataset_materials_rate_curve, dataset_materials_failure_strain, &
+      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
+      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
+      dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
+      dataset_contact_passes, dataset_contact_kind, dataset_contact_initial_penetration, &
+      dataset_contact_birth_time, dataset_contact_death_time, dataset_rigid_walls_point, &
+      dataset_rigid_walls_normal, dataset_rigid_walls_shape, dataset_rigid_walls_edge, &
+      dataset_rigid_walls_size, dataset_rigid_walls_radius, dataset_rigid_walls_length, &
+      dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, &
+      dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, &
+      dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, &
+      dataset_rigid_bodies_curve, dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
+      dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, &
+      dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
+      dataset_base_accelerations_direction, dataset_base_accelerations_value, &
+      dataset_base_accelerations_curve, n_deck_datasets, control_end_time, control_output_interval, &
+      control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
+      control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
+      control_partition, control_contact_gather, control_precision, control_gravity_x, control_gravity_y, &
+      control_gravity_z, control_energy_error_limit, control_time_step_floor, control_contact_travel_limit, &
+      control_mass_scaling_step, control_mass_scaling_limit, control_effect_point_loads, &
+      control_effect_gravity, control_effect_base_acceleration, control_effect_pressure, &
+      control_effect_rigid_wall, control_effect_mass_damping, control_effect_prescribed_velocity, &
+      control_effect_plasticity, control_effect_hourglass, control_effect_contact, control_effect_friction, &
+      n_control_attributes, control_restart_may_change, max_enum_members, n_effects, effect_point_loads, &
+      effect_gravity, effect_base_acceleration, effect_pressure, effect_rigid_wall, effect_time_integration, &
       effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, effect_rigid_bodies, &
       effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, effect_friction, &
       effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
@@ -113,7 +114,7 @@ module paradyn_schema
 
   ! results datasets (schema/results.toml): frame fields, scalar histories by id
   integer, parameter :: n_frame_fields = 11
-  integer, parameter :: n_history_scalars = 9
+  integer, parameter :: n_history_scalars = 10
   integer, parameter :: history_kinetic_energy = 1
   integer, parameter :: history_internal_energy = 2
   integer, parameter :: history_hourglass_energy = 3
@@ -123,13 +124,14 @@ module paradyn_schema
   integer, parameter :: history_dt = 7
   integer, parameter :: history_dt_stable = 8
   integer, parameter :: history_dt_element = 9
+  integer, parameter :: history_eroded_elements = 10
   character(len=31), parameter :: frame_field_names(n_frame_fields) = [character(len=31) :: 'time', &
     'displacement', 'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain', &
     'acceleration', 'nodal_contact_force', 'element_layer_stress', 'element_membrane_strain', &
     'element_internal_energy_density']
   character(len=19), parameter :: history_scalar_names(n_history_scalars) = [character(len=19) :: &
     'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work', &
-    'contact_penetration', 'dt', 'dt_stable', 'dt_element']
+    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'eroded_elements']
 
   ! classes, row symbols, conditions, enums, datasets and /control attributes by id
   integer, parameter :: class_int = 1
@@ -210,50 +212,53 @@ module paradyn_schema
   integer, parameter :: dataset_materials_rate_p = 27
   integer, parameter :: dataset_materials_hardening_curve = 28
   integer, parameter :: dataset_materials_rate_curve = 29
-  integer, parameter :: dataset_loads_node = 30
-  integer, parameter :: dataset_loads_dof = 31
-  integer, parameter :: dataset_loads_value = 32
-  integer, parameter :: dataset_loads_ramp_time = 33
-  integer, parameter :: dataset_output_tracked_nodes = 34
-  integer, parameter :: dataset_contact_pairs = 35
-  integer, parameter :: dataset_contact_penalty_scale = 36
-  integer, parameter :: dataset_contact_static_friction = 37
-  integer, parameter :: dataset_contact_dynamic_friction = 38
-  integer, parameter :: dataset_contact_friction_decay = 39
-  integer, parameter :: dataset_contact_passes = 40
-  integer, parameter :: dataset_contact_kind = 41
-  integer, parameter :: dataset_contact_initial_penetration = 42
-  integer, parameter :: dataset_rigid_walls_point = 43
-  integer, parameter :: dataset_rigid_walls_normal = 44
-  integer, parameter :: dataset_rigid_walls_shape = 45
-  integer, parameter :: dataset_rigid_walls_edge = 46
-  integer, parameter :: dataset_rigid_walls_size = 47
-  integer, parameter :: dataset_rigid_walls_radius = 48
-  integer, parameter :: dataset_rigid_walls_length = 49
-  integer, parameter :: dataset_rigid_walls_velocity = 50
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 51
-  integer, parameter :: dataset_rigid_walls_friction = 52
-  integer, parameter :: dataset_rigid_wall_nodes_wall = 53
-  integer, parameter :: dataset_rigid_wall_nodes_node = 54
-  integer, parameter :: dataset_rigid_bodies_part = 55
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 56
-  integer, parameter :: dataset_rigid_bodies_prescribed = 57
-  integer, parameter :: dataset_rigid_bodies_velocity = 58
-  integer, parameter :: dataset_rigid_bodies_curve = 59
-  integer, parameter :: dataset_curves_first_point = 60
-  integer, parameter :: dataset_curves_time = 61
-  integer, parameter :: dataset_curves_value = 62
-  integer, parameter :: dataset_pressure_part = 63
-  integer, parameter :: dataset_pressure_value = 64
-  integer, parameter :: dataset_pressure_curve = 65
-  integer, parameter :: dataset_prescribed_node = 66
-  integer, parameter :: dataset_prescribed_dof = 67
-  integer, parameter :: dataset_prescribed_value = 68
-  integer, parameter :: dataset_prescribed_curve = 69
-  integer, parameter :: dataset_base_accelerations_direction = 70
-  integer, parameter :: dataset_base_accelerations_value = 71
-  integer, parameter :: dataset_base_accelerations_curve = 72
-  integer, parameter :: n_deck_datasets = 72
+  integer, parameter :: dataset_materials_failure_strain = 30
+  integer, parameter :: dataset_loads_node = 31
+  integer, parameter :: dataset_loads_dof = 32
+  integer, parameter :: dataset_loads_value = 33
+  integer, parameter :: dataset_loads_ramp_time = 34
+  integer, parameter :: dataset_output_tracked_nodes = 35
+  integer, parameter :: dataset_contact_pairs = 36
+  integer, parameter :: dataset_contact_penalty_scale = 37
+  integer, parameter :: dataset_contact_static_friction = 38
+  integer, parameter :: dataset_contact_dynamic_friction = 39
+  integer, parameter :: dataset_contact_friction_decay = 40
+  integer, parameter :: dataset_contact_passes = 41
+  integer, parameter :: dataset_contact_kind = 42
+  integer, parameter :: dataset_contact_initial_penetration = 43
+  integer, parameter :: dataset_contact_birth_time = 44
+  integer, parameter :: dataset_contact_death_time = 45
+  integer, parameter :: dataset_rigid_walls_point = 46
+  integer, parameter :: dataset_rigid_walls_normal = 47
+  integer, parameter :: dataset_rigid_walls_shape = 48
+  integer, parameter :: dataset_rigid_walls_edge = 49
+  integer, parameter :: dataset_rigid_walls_size = 50
+  integer, parameter :: dataset_rigid_walls_radius = 51
+  integer, parameter :: dataset_rigid_walls_length = 52
+  integer, parameter :: dataset_rigid_walls_velocity = 53
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 54
+  integer, parameter :: dataset_rigid_walls_friction = 55
+  integer, parameter :: dataset_rigid_wall_nodes_wall = 56
+  integer, parameter :: dataset_rigid_wall_nodes_node = 57
+  integer, parameter :: dataset_rigid_bodies_part = 58
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 59
+  integer, parameter :: dataset_rigid_bodies_prescribed = 60
+  integer, parameter :: dataset_rigid_bodies_velocity = 61
+  integer, parameter :: dataset_rigid_bodies_curve = 62
+  integer, parameter :: dataset_curves_first_point = 63
+  integer, parameter :: dataset_curves_time = 64
+  integer, parameter :: dataset_curves_value = 65
+  integer, parameter :: dataset_pressure_part = 66
+  integer, parameter :: dataset_pressure_value = 67
+  integer, parameter :: dataset_pressure_curve = 68
+  integer, parameter :: dataset_prescribed_node = 69
+  integer, parameter :: dataset_prescribed_dof = 70
+  integer, parameter :: dataset_prescribed_value = 71
+  integer, parameter :: dataset_prescribed_curve = 72
+  integer, parameter :: dataset_base_accelerations_direction = 73
+  integer, parameter :: dataset_base_accelerations_value = 74
+  integer, parameter :: dataset_base_accelerations_curve = 75
+  integer, parameter :: n_deck_datasets = 75
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -522,6 +527,10 @@ module paradyn_schema
         condition_rate_curve, condition_rate_curve, -1.0_wp, .true., .true., .false., .true., -1.0_wp, &
         0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
         'give the index of a curve of /curves/first_point, or -1 for no rate effect'), &
+    dataset_spec_t('/materials/failure_strain', class_float, 0, size_n_materials, .false., .false., &
+        condition_none, condition_plastic, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the failure plastic strain (> 0), or 0 for a material that never fails'), &
     dataset_spec_t('/loads/node', class_int, 0, size_n_loads, .true., .false., condition_loads_group, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
         [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of the loaded node'), &
@@ -569,6 +578,14 @@ module paradyn_schema
         condition_none, condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_initial_penetration, 2, [1, 2, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = move, 2 = gap)', &
         'use 1 (move the nodes onto the surface) or 2 (take the overlap as the gap)'), &
+    dataset_spec_t('/contact/birth_time', class_float, 0, size_n_contacts, .false., .false., condition_none, &
+        condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the birth time in s (>= 0; 0: from the start)'), &
+    dataset_spec_t('/contact/death_time', class_float, 0, size_n_contacts, .false., .false., condition_none, &
+        condition_none, 1e+20_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        'give the death time in s, after the birth time (1e20: never)'), &
     dataset_spec_t('/rigid_walls/point', class_float, 3, size_n_rigid_walls, .true., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
         0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give the wall''s point in metres'), &

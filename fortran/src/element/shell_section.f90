@@ -34,6 +34,8 @@ module shell_section
     logical :: warping_correction = .true.   !< shell_warping (docs/theory.md)
     logical :: rigid = .false.          !< a rigid part: no element forces, no step of its own
     logical :: surface_only = .false.   !< the faces of a rigid solid: no mass of their own
+    !> the material's failure strain (element_erosion): an element whose point reaches it is eroded; 0: never
+    real(wp) :: failure_strain = 0.0_wp
     class(material_t), allocatable :: material   !< the stress update at the points (material family)
   end type shell_properties_t
 

@@ -16,12 +16,14 @@ module deck_fields
                             dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
                             dataset_materials_hardening_mixing, dataset_materials_rate_c, &
                             dataset_materials_rate_p, dataset_materials_hardening_curve, &
-                            dataset_materials_rate_curve, dataset_loads_node, dataset_loads_dof, &
-                            dataset_loads_value, dataset_loads_ramp_time, dataset_output_tracked_nodes, &
-                            dataset_contact_pairs, dataset_contact_penalty_scale, &
-                            dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-                            dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
-                            dataset_contact_initial_penetration, dataset_rigid_walls_point, &
+                            dataset_materials_rate_curve, dataset_materials_failure_strain, &
+                            dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
+                            dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
+                            dataset_contact_penalty_scale, dataset_contact_static_friction, &
+                            dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
+                            dataset_contact_passes, dataset_contact_kind, &
+                            dataset_contact_initial_penetration, dataset_contact_birth_time, &
+                            dataset_contact_death_time, dataset_rigid_walls_point, &
                             dataset_rigid_walls_normal, dataset_rigid_walls_shape, dataset_rigid_walls_edge, &
                             dataset_rigid_walls_size, dataset_rigid_walls_radius, dataset_rigid_walls_length, &
                             dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, &
@@ -91,6 +93,7 @@ module deck_fields
     real(wp), allocatable :: rate_p(:)   !< /materials/rate_p (n_materials) -
     integer, allocatable :: hardening_curve(:)   !< /materials/hardening_curve (n_materials) -
     integer, allocatable :: rate_curve(:)   !< /materials/rate_curve (n_materials) -
+    real(wp), allocatable :: failure_strain(:)   !< /materials/failure_strain (n_materials) -
     integer, allocatable :: load_node(:)   !< /loads/node (n_loads) -
     integer, allocatable :: load_dof(:)   !< /loads/dof (n_loads) -
     real(wp), allocatable :: load_value(:)   !< /loads/value (n_loads) N or N m
@@ -104,6 +107,8 @@ module deck_fields
     integer, allocatable :: contact_passes(:)   !< /contact/passes (n_contacts) -
     integer, allocatable :: contact_kind(:)   !< /contact/kind (n_contacts) -
     integer, allocatable :: contact_initial_penetration(:)   !< /contact/initial_penetration (n_contacts) -
+    real(wp), allocatable :: contact_birth_time(:)   !< /contact/birth_time (n_contacts) s
+    real(wp), allocatable :: contact_death_time(:)   !< /contact/death_time (n_contacts) s
     real(wp), allocatable :: rigid_wall_point(:, :)   !< /rigid_walls/point (3, n_rigid_walls) m
     real(wp), allocatable :: rigid_wall_normal(:, :)   !< /rigid_walls/normal (3, n_rigid_walls) -
     integer, allocatable :: rigid_wall_shape(:)   !< /rigid_walls/shape (n_rigid_walls) -
@@ -282,6 +287,8 @@ contains
       d%hardening_curve = indices(1, :)
     case (dataset_materials_rate_curve)
       d%rate_curve = indices(1, :)
+    case (dataset_materials_failure_strain)
+      d%failure_strain = values(1, :)
     end select
   end subroutine store_materials
 
@@ -341,6 +348,10 @@ contains
       d%contact_kind = indices(1, :)
     case (dataset_contact_initial_penetration)
       d%contact_initial_penetration = indices(1, :)
+    case (dataset_contact_birth_time)
+      d%contact_birth_time = values(1, :)
+    case (dataset_contact_death_time)
+      d%contact_death_time = values(1, :)
     end select
   end subroutine store_contact
 

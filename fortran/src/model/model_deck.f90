@@ -57,7 +57,10 @@ contains
     props%density = deck%density(m)
     props%young = deck%young(m)
     props%poisson = deck%poisson(m)
-    if (material_is_plastic(deck%material_model(m))) props%hourglass_yield = deck%yield_stress(m)
+    if (material_is_plastic(deck%material_model(m))) then
+      props%hourglass_yield = deck%yield_stress(m)
+      props%failure_strain = deck%failure_strain(m)
+    end if
     call material_from_deck(deck, m, props%material)
   end function part_properties
 

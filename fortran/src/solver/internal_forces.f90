@@ -8,6 +8,7 @@ module internal_forces
   use shell_blt, only: blt_internal_forces
   use shell_c0_triangle, only: c0_triangle_internal_forces
   use shell_measures, only: blt_lumped_mass, triangle_lumped_mass
+  use element_erosion, only: erosion_before, erosion_after
   use work_queues, only: queues_start, queues_take
   use halo_exchange, only: exchange_corners
   use nodal_assembly, only: gather_group, assemble_nodes
@@ -51,6 +52,7 @@ contains
     call effect_time(s%effects, effect_plastic_shells, elements_s * busy(2))
     if (s%has_contact) then
       t0 = wall_clock()
+      s%contact%c%time = s%clock%time
       call parallel_contact_step(s%contact, s%nodes%x, s%nodes%v, s%clock%cycles, dt_strain, s%timers)
       call contact_apply_forces(s%contact%c, s%nodes%f_int)
       call effect_time(s%effects, effect_contact, wall_clock() - t0)
@@ -71,14 +73,15 @@ contains
     real(wp), intent(in) :: dt_strain
     real(wp), intent(out) :: busy(2)
     integer :: g, n, first, p, tid, emptied, inverted, ox, ov, ow, family
-    real(wp) :: t0
+    real(wp) :: t0, e_kept(2, group_size)
+    logical :: erodes
     inverted = 0
     busy = 0.0_wp
     ox = 1
     ov = ox + 12 * group_size
     ow = ov + 12 * group_size
     call queues_start(s%group_queues, s%dom%n_groups, s%threads)
-    !$omp parallel private(g, n, first, p, tid, emptied, t0, family) reduction(+:inverted, busy)
+    !$omp parallel private(g, n, first, p, tid, emptied, t0, family, e_kept, erodes) reduction(+:inverted, busy)
     tid = omp_get_thread_num() + 1
     emptied = 0
     do
@@ -95,7 +98,11 @@ contains
       call gather_group(n, first, s%dom%connectivity, s%nodes%x, s%workspace(ox, tid))
       call gather_group(n, first, s%dom%connectivity, s%nodes%v, s%workspace(ov, tid))
       call gather_group(n, first, s%dom%connectivity, s%nodes%w, s%workspace(ow, tid))
+      erodes = s%props(p)%failure_strain > 0.0_wp   ! element_erosion: a part whose material fails
       associate (gs => s%elements%groups(g))
+        if (erodes) call erosion_before(n, gs%eps_p, s%props(p)%failure_strain, s%dom%group_triangle(g), &
+                                        s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
+                                        s%elements%e_internal(first), s%elements%e_hourglass(first), e_kept)
         if (s%dom%group_triangle(g)) then
           call c0_triangle_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
                                            s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%state, gs%hourglass, &
@@ -107,6 +114,9 @@ contains
                                    s%corner(1, 4 * first - 3), s%elements%e_internal(first), s%elements%e_hourglass(first), &
                                    inverted, s%elements%dt_element(first))
         end if
+        if (erodes) call erosion_after(n, gs%eps_p, s%props(p)%failure_strain, e_kept, gs%stress, gs%back, &
+                                       gs%hourglass, s%corner(1, 4 * first - 3), s%elements%e_internal(first), &
+                                       s%elements%e_hourglass(first), s%elements%dt_element(first))
       end associate
       family = merge(2, 1, s%part_effect(p) == effect_plastic_shells)
       busy(family) = busy(family) + wall_clock() - t0

@@ -6,7 +6,8 @@ module solver_output
   use paradyn_schema, only: status_ok, status_numerical, n_history_scalars, history_kinetic_energy, &
                             history_internal_energy, history_hourglass_energy, history_contact_energy, &
                             history_external_work, history_contact_penetration, effect_time_integration, &
-                            history_dt, history_dt_element, history_dt_stable
+                            history_dt, history_dt_element, history_dt_stable, history_eroded_elements
+  use element_erosion, only: eroded_count
   use element_groups, only: group_size
   use shell_measures, only: blt_element_results
   use shell_section, only: thickness_rule
@@ -57,6 +58,7 @@ contains
       sums(history_dt) = merge(s%clock%dt, 0.0_wp, s%rank == 0)
       sums(history_dt_stable) = merge(s%clock%dt_stable, 0.0_wp, s%rank == 0)
       sums(history_dt_element) = merge(real(s%clock%controlling, wp), 0.0_wp, s%rank == 0)
+      sums(history_eroded_elements) = real(eroded_elements(s), wp)
       sums(inverted_at) = real(s%elements%inverted, wp)
       sums(nan_at) = merge(1.0_wp, 0.0_wp, any(ns%v /= ns%v) .or. any(ns%f_int /= ns%f_int))
       parts_at = nan_at + 6 * s%control%n_tracked
@@ -111,6 +113,17 @@ contains
         s%clock%time, ' s; the run is unstable (time step too large or a bad material constant)'
     end if
   end subroutine write_record
+
+  !> How many of this rank's elements are eroded (element_erosion).
+  integer function eroded_elements(s) result(count)
+    type(solver_t), intent(in) :: s
+    integer :: g
+    count = 0
+    do g = 1, s%dom%n_groups
+      count = count + eroded_count(s%dom%group_count(g), s%elements%groups(g)%eps_p, &
+                                   s%props(s%dom%group_part(g))%failure_strain)
+    end do
+  end function eroded_elements
 
   !> Each rigid wall's force on the model in the last step, (3, n_walls): the exact sums of the
   !> members that report forces (history_sums) added over the ranks as integers, so the value is

@@ -43,6 +43,7 @@ class DeckFields:
     rate_p: np.ndarray | None = None   # /materials/rate_p (n_materials,) -
     hardening_curve: np.ndarray | None = None   # /materials/hardening_curve (n_materials,) -
     rate_curve: np.ndarray | None = None   # /materials/rate_curve (n_materials,) -
+    failure_strain: np.ndarray | None = None   # /materials/failure_strain (n_materials,) -
     load_node: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))   # /loads/node (n_loads,) -
     load_dof: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))   # /loads/dof (n_loads,) -
     load_value: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))
@@ -56,6 +57,8 @@ class DeckFields:
     contact_passes: np.ndarray | None = None   # /contact/passes (n_contacts,) -
     contact_kind: np.ndarray | None = None   # /contact/kind (n_contacts,) -
     contact_initial_penetration: np.ndarray | None = None   # /contact/initial_penetration (n_contacts,) -
+    contact_birth_time: np.ndarray | None = None   # /contact/birth_time (n_contacts,) s
+    contact_death_time: np.ndarray | None = None   # /contact/death_time (n_contacts,) s
     rigid_wall_point: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.float64))
     rigid_wall_normal: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.float64))
     rigid_wall_shape: np.ndarray | None = None   # /rigid_walls/shape (n_rigid_walls,) -

@@ -300,15 +300,11 @@ def _read_material(r: _Reading, model: str, cards: tuple[tuple[Field, ...], ...]
 
 def _piecewise_material(cards: tuple[tuple[Field, ...], ...]) -> Callable[[_Reading], None]:
     """MAT 24 (and MAT 81, read as MAT 24): the cards as _material reads them, with a warning for
-    what ParaDyn does not model, naming the material: failure (FAIL; erosion), VP other than 0,
-    and MAT 81's damage."""
+    what ParaDyn does not model, naming the material: VP other than 0, MAT 81's damage. FAIL is
+    the failure strain (materials.py)."""
     def read(r: _Reading) -> None:
         first, second = _read_material(r, "piecewise_linear", cards, {"TDEL": 0.0})[:2]
         mid = int(first["MID"])
-        fail = first.values.get("FAIL")
-        if fail is not None and 0.0 != float(fail) < 1e20:
-            r.data.warn(f"{first.where}: *{r.keyword} {mid} FAIL = {fail}: element failure (erosion) is not "
-                        f"modelled by ParaDyn; material {mid}'s elements never fail")
         if float(second["VP"] or 0.0) != 0.0:
             r.data.warn(f"{second.where}: *{r.keyword} {mid} VP = {second['VP']} is not modelled; the yield stress "
                         f"is scaled by the total strain rate as with VP = 0")
@@ -446,7 +442,7 @@ for _title in ("", "_TITLE"):
                                                                 "A1": 0.0, "A2": 0.0, "A3": 0.0, "V1": 0.0,
                                                                 "V2": 0.0, "V3": 0.0})
     for _name in ("MAT_PLASTIC_KINEMATIC", "MAT_003"):
-        READERS[_name + _title] = _material("j2_plasticity", MAT_PLASTIC_KINEMATIC, {"FS": 0.0, "VP": 0.0})
+        READERS[_name + _title] = _material("j2_plasticity", MAT_PLASTIC_KINEMATIC, {"VP": 0.0})
     for _name in ("MAT_PIECEWISE_LINEAR_PLASTICITY", "MAT_024"):
         READERS[_name + _title] = _piecewise_material(MAT_PIECEWISE_LINEAR_PLASTICITY)
     for _name in ("MAT_PLASTICITY_WITH_DAMAGE", "MAT_081"):

@@ -174,9 +174,9 @@ def _contact(data: KeywordData, name: str, records: list[Record], names_of: dict
         data.warn(f"{label} {variant.note}")
     elif variant.form == "tied" and not name.endswith("_OFFSET"):
         data.warn(f"{label} (a constraint tie in LS-DYNA) is read as ParaDyn's penalty tie, LS-DYNA's _OFFSET form")
-    _times(data, label, second, end_time)
+    times = _times(data, label, second, unit)
     slave = _side(data, label, "SSTYP", int(first["SSTYP"]), int(first["SSID"]), names_of)
-    common = _law(data, label, records, slave, unit)
+    common = {**_law(data, label, records, slave, unit), **times}
     if variant.form == "single":
         every = int(first["SSTYP"]) == 5 or int(first["SSID"]) == 0
         members = tuple(n for pid in slave for n in names_of[pid])
@@ -193,15 +193,27 @@ def _contact(data: KeywordData, name: str, records: list[Record], names_of: dict
     return [ContactSpec(parts=pair, symmetric=True, **common) for pair in pairs.values()]
 
 
-def _times(data: KeywordData, label: str, second: Record, end_time: float) -> None:
-    """ParaDyn's contacts act for the whole run: a birth time, or a death time before the end, is warned."""
-    birth, death = float(second["BT"]), float(second["DT"])
-    if birth != 0.0:
-        data.warn(f"{label}: BT = {birth:g} (birth time) is not supported: ParaDyn's contacts act from the start of "
-                  f"the run (no birth or death times for contacts)")
-    if death < end_time:
-        data.warn(f"{label}: DT = {death:g} (death time) is before the end time {end_time:g} and is not supported: "
-                  f"ParaDyn's contacts act to the end of the run (no birth or death times for contacts)")
+def _times(data: KeywordData, label: str, second: Record, unit: Units) -> dict[str, float]:
+    """Birth and death times BT, DT (the deck's time, to s): the contact acts while BT <= t <= DT.
+    DT = 0 means never (1e20), as in LS-DYNA; a negative BT or DT (LS-DYNA: times that also hold
+    during dynamic relaxation, which ParaDyn does not run) is read as its absolute value, with a
+    warning. The scene's keys are left at their defaults for a contact of the whole run."""
+    birth, death = float(second["BT"] or 0.0), float(second["DT"] or 0.0)
+    if birth < 0.0 or death < 0.0:
+        data.warn(f"{label}: BT = {birth:g}, DT = {death:g}: a negative time (dynamic relaxation) is read as its "
+                  f"absolute value; ParaDyn runs no dynamic relaxation")
+        birth, death = abs(birth), abs(death)
+    if death == 0.0:
+        death = 1e20
+    if death <= birth:
+        raise KeywordError(f"{label}: DT = {death:g} is not after BT = {birth:g}: the contact would never act; "
+                           f"remove it or correct its times")
+    times: dict[str, float] = {}
+    if birth > 0.0:
+        times["birth_time"] = birth * unit.time
+    if death < 1e20:
+        times["death_time"] = death * unit.time
+    return times
 
 
 def _side(data: KeywordData, label: str, what: str, kind: int, ident: int,

@@ -2,7 +2,8 @@
 
 MAT 1 is elastic; MAT 3 is j2_plasticity, or j2_rate with SRC and SRP; MAT 24 (and MAT 81, read
 as MAT 24 without its damage) is piecewise_linear, or piecewise_linear_rate with C and P, its
-curves (LCSS or the EPS/ES pairs, LCSR) becoming scene curves that the material names.
+curves (LCSS or the EPS/ES pairs, LCSR) becoming scene curves that the material names. MAT 3's FS
+and MAT 24's FAIL are the failure strain (element erosion, docs/theory.md).
 """
 
 from __future__ import annotations
@@ -45,7 +46,21 @@ def _material(mid: int, model: str, cards: list[Record], unit: Units) -> Materia
         spec.tangent_modulus = float(first["ETAN"]) * unit.stress
         spec.hardening_mixing = float(first["BETA"])
         _rates(mid, cards[1], unit, spec)
+        _failure(mid, cards[1], "FS", "*MAT_PLASTIC_KINEMATIC", spec)
     return spec
+
+
+def _failure(mid: int, card: Record, name: str, keyword: str, spec: MaterialSpec) -> None:
+    """The failure strain (MAT 3 FS, MAT 24 FAIL): an effective plastic strain > 0 becomes the
+    material's failure_strain (an element is eroded when a point reaches it); 0, blank or a huge
+    value (MAT 24's default 1e21) means no failure. A negative value (LS-DYNA: a user failure
+    subroutine) is refused."""
+    value = float(card.values.get(name) or 0.0)
+    if value < 0.0:
+        raise KeywordError(f"{card.where}: {keyword} {mid} {name} = {value:g} asks for a user failure subroutine, "
+                           f"which ParaDyn does not have; give the failure plastic strain (> 0) or 0 for none")
+    if 0.0 < value < 1e20:
+        spec.extra["failure_strain"] = value
 
 
 def _rates(mid: int, card: Record, unit: Units, spec: MaterialSpec) -> None:
@@ -70,6 +85,8 @@ def _piecewise(mid: int, data: KeywordData, unit: Units, spec: MaterialSpec, cur
     first, second, eps, es = data.materials[mid][1]
     spec.extra.update({"hardening_curve": None, "rate_curve": None})   # none unless given below
     keyword = "*MAT_PIECEWISE_LINEAR_PLASTICITY"
+    if "FAIL" in first.values:   # MAT 81's EPPF is its damage's, not a failure strain
+        _failure(mid, first, "FAIL", keyword, spec)
     lcss, lcsr = int(second["LCSS"] or 0), int(second["LCSR"] or 0)
     ordinates = [float(es[f"ES{k}"] or 0.0) for k in range(1, 9)]
     if lcss:

@@ -192,6 +192,8 @@ def _apply_contacts(scene: Scene, model: deck.Model) -> None:
     model.contact_kind = np.array([_schema.ENUMS["contact_kind"][kind] for _, _, kind, _ in rows], dtype=np.int32)
     model.contact_initial_penetration = np.array([_schema.ENUMS["initial_penetration"][c.initial_penetration]
                                                   for c in contacts], dtype=np.int32)
+    model.contact_birth_time = np.array([c.birth_time for c in contacts])
+    model.contact_death_time = np.array([c.death_time for c in contacts])
 
 
 def _apply_file_ids(meshes: list[_PartMesh], model: deck.Model) -> None:

@@ -78,7 +78,7 @@ _CURVE_KEYS = ("name", "time", "value")
 _PRESSURE_KEYS = ("part", "value", "curve")
 _PRESCRIBE_KEYS = ("part", "box", "dof", "value", "curve")
 _CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "static_friction", "dynamic_friction",
-                 "friction_decay", "symmetric")
+                 "friction_decay", "symmetric", "birth_time", "death_time")
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -374,6 +374,11 @@ def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
         raise r.error(f"'symmetric' in {label} must be true (both passes every step) or false "
                       f"(slave and master swap every step, as in the paper); got {symmetric!r}")
     static = r.number(t, "static_friction", label, default=ContactSpec.static_friction, minimum=0.0)
+    birth = r.number(t, "birth_time", label, default=ContactSpec.birth_time, minimum=0.0)
+    death = r.number(t, "death_time", label, default=ContactSpec.death_time, positive=True)
+    if death <= birth:
+        raise r.error(f"'death_time' in {label} ({death:g} s) must come after 'birth_time' ({birth:g} s): the "
+                      f"contact would never act; remove the contact or move its times")
     return ContactSpec(
         parts=parts,
         penalty_scale=r.number(t, "penalty_scale", label, default=ContactSpec.penalty_scale, positive=True),
@@ -384,6 +389,8 @@ def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
         kind=kind,
         initial_penetration=r.string(t, "initial_penetration", label, default=ContactSpec.initial_penetration,
                                      choices=tuple(_schema.ENUMS["initial_penetration"])),
+        birth_time=birth,
+        death_time=death,
     )
 
 

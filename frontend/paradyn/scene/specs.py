@@ -151,6 +151,8 @@ class ContactSpec:
     symmetric: bool = _DECK_DEFAULT["/contact/passes"] == _schema.ENUMS["contact_passes"]["both"]
     kind: str = _enum_name("contact_kind", _DECK_DEFAULT["/contact/kind"])
     initial_penetration: str = _enum_name("initial_penetration", _DECK_DEFAULT["/contact/initial_penetration"])
+    birth_time: float = _DECK_DEFAULT["/contact/birth_time"]
+    death_time: float = _DECK_DEFAULT["/contact/death_time"]
 
 
 @dataclass

@@ -47,6 +47,7 @@ contains
     x = deck%coordinates
     do k = 1, deck%n_contacts
       if (contact_kind_is_tied(deck%contact_kind(k))) cycle   ! tied parts start within reach on purpose
+      if (deck%contact_birth_time(k) > 0.0_wp) cycle   ! born later: the parts may cross at the start
       if (deck%contact_initial_penetration(k) == initial_penetration_move) then
         call check_definition(deck, comm, x, k, .true., speak, unit, 'moved onto the surface')
         call check_definition(deck, comm, x, k, .false., speak, unit, 'still inside after the move')
@@ -225,6 +226,7 @@ contains
     call MPI_Comm_size(comm, n_ranks)
     do k = 1, deck%n_contacts
       if (contact_kind_is_tied(deck%contact_kind(k))) cycle   ! tied parts may meet as they like
+      if (deck%contact_birth_time(k) > 0.0_wp) cycle   ! born later: the parts may cross at the start
       do side = 1, 2   ! a small element of one part may poke through the middle of a large one of the other
         part = deck%contact_pairs(:, k)
         if (side == 2) part = part([2, 1])

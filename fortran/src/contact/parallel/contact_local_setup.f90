@@ -150,7 +150,8 @@ contains
       pass%t_master = held_thickness(deck, comm, pass%pair, pass%master_part)
       deallocate (pass%overlap)
       allocate (pass%overlap(size(pass%slaves)), source=0.0_wp)
-      if (deck%contact_initial_penetration(pass%pair) == initial_penetration_gap) &
+      if (deck%contact_initial_penetration(pass%pair) == initial_penetration_gap .and. &
+          deck%contact_birth_time(pass%pair) == 0.0_wp) &
         call gap_overlaps(deck, dom, comm, contact_of, c, p)
       if (pass%bound) call own_bindings(deck, dom, comm, contact_of, c, p)
       end associate

@@ -78,6 +78,8 @@ module contact_pass
     integer(i8), allocatable :: clear_sort(:)
     real(wp), allocatable :: clear_gap(:), clear_moved(:)
     real(wp) :: bucket_size = 0, t_slave = 0, t_master = 0, mu_static = 0, mu_dynamic = 0, decay = 0
+    !> the definition's life (/contact/birth_time, death_time): the pass runs while birth <= t <= death
+    real(wp) :: birth = 0, death = huge(1.0_wp)
   end type contact_pass_t
 
 contains
@@ -123,8 +125,11 @@ contains
     pass%mu_static = deck%contact_static_friction(pair)
     pass%mu_dynamic = deck%contact_dynamic_friction(pair)
     pass%decay = deck%contact_friction_decay(pair)
+    pass%birth = deck%contact_birth_time(pair)
+    pass%death = deck%contact_death_time(pair)
     allocate (pass%overlap(size(slave_nodes)), source=0.0_wp)
-    if (deck%contact_initial_penetration(pair) == initial_penetration_gap) then
+    ! a definition born later is not checked at the start: its overlaps then are not its gaps
+    if (deck%contact_initial_penetration(pair) == initial_penetration_gap .and. deck%contact_birth_time(pair) == 0.0_wp) then
       allocate (push(3, size(slave_nodes)))
       call slave_penetrations(deck%coordinates, slave_nodes, deck%connectivity(:, elements), pass%t_slave, &
                               pass%t_master, pass%overlap, push)

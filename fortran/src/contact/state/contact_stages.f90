@@ -34,14 +34,15 @@ module contact_stages
 
 contains
 
-  !> Pass p runs this cycle: unless idle (contact_activity), always or every other cycle with the
-  !> paper's swap.
+  !> Pass p runs this cycle: unless idle (contact_activity) or outside its definition's life
+  !> (birth <= c%time <= death), always or every other cycle with the paper's swap.
   pure logical function contact_pass_active(c, p, cycle)
     type(contact_t), intent(in) :: c
     integer, intent(in) :: p
     integer(i8), intent(in) :: cycle
     contact_pass_active = .not. c%passes(p)%idle .and. &
-                          (c%passes(p)%every_cycle .or. modulo(cycle + c%passes(p)%swap_index, 2_i8) == 1)
+                          (c%passes(p)%every_cycle .or. modulo(cycle + c%passes(p)%swap_index, 2_i8) == 1) .and. &
+                          c%time >= c%passes(p)%birth .and. c%time <= c%passes(p)%death
   end function contact_pass_active
 
   !> Add the records of the step (complete on this rank: the caller has shared them between
