@@ -1,4 +1,4 @@
-!> The section of a Belytschko-Lin-Tsay shell part and the geometry every shell routine shares:
+!> The section of a part (a Belytschko-Lin-Tsay shell's, or a truss's: element/truss_element) and the geometry every shell routine shares:
 !> the part's properties with its material, the state widths, the through-thickness rule and the
 !> co-rotational frame of one quadrilateral. Pure, no module state.
 module shell_section
@@ -34,6 +34,9 @@ module shell_section
     logical :: warping_correction = .true.   !< shell_warping (docs/theory.md)
     logical :: rigid = .false.          !< a rigid part: no element forces, no step of its own
     logical :: surface_only = .false.   !< the faces of a rigid solid: no mass of their own
+    !> a truss part (element/truss_element): 2-node bars of cross-section `area`, one stress point
+    logical :: truss = .false.
+    real(wp) :: area = 0.0_wp
     class(material_t), allocatable :: material   !< the stress update at the points (material family)
   end type shell_properties_t
 
