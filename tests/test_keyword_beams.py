@@ -88,7 +88,7 @@ def test_other_beam_formulations_are_refused(tmp_path: Path, elform: int, named:
 
 
 def test_a_beam_section_without_area_is_refused(tmp_path: Path) -> None:
-    with pytest.raises(KeywordError, match="A = 0.0; give the truss's cross-section area"):
+    with pytest.raises(KeywordError, match=r"A = 0\.0; give the truss's cross-section area"):
         _read(tmp_path, BEAMS.format(mid=1).replace("      1e-4\n", "       0.0\n"))
 
 

@@ -998,8 +998,8 @@ CONTROL: tuple[AttributeSpec, ...] = (
         'effect_plasticity', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
         '-',
         (
-            '"off" switches off plastic_shells: shell forces of the parts with a plastic material (switched off: '
-            'the same parts elastic)'
+            '"off" switches off plastic_shells: shell and truss forces of the parts with a plastic material '
+            '(switched off: the same parts elastic)'
         ), '[effects] plasticity', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
     ),
     AttributeSpec(
