@@ -1,4 +1,5 @@
-!> The section of a part (a Belytschko-Lin-Tsay shell's, or a truss's: element/truss_element) and the geometry every shell routine shares:
+!> The section of a part (a Belytschko-Lin-Tsay shell's, or a truss's: element/truss_element) and the
+!> geometry every shell routine shares:
 !> the part's properties with its material, the state widths, the through-thickness rule and the
 !> co-rotational frame of one quadrilateral. Pure, no module state.
 module shell_section
