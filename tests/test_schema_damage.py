@@ -43,8 +43,9 @@ def _base_model() -> deck.Model:
     condition of the /materials datasets) below, part 1 (elastic aluminium) above, with gravity, a
     pressure on part 1, a prescribed velocity and a base acceleration, over two load curves; a third
     material, piecewise_linear with a hardening curve and a rate curve (curves 2 and 3), used by no
-    part, meets the conditions of its own datasets; and a rigid lid above the strips (part 2, the
-    fourth material: one face of a rigid solid, surface only, its mass on its nodes)."""
+    part, meets the conditions of its own datasets; a rigid lid above the strips (part 2, the
+    fourth material: one face of a rigid solid, surface only, its mass on its nodes); and a wire
+    (part 3, a truss of the aluminium) from the lower strip to the upper."""
     lower = geometry.plate((0.02, 0.01), (2, 1))
     upper = geometry.plate((0.02, 0.01), (2, 1), origin=(0.0, 0.0, 0.0015))
     lid = geometry.plate((0.02, 0.01), (1, 1), origin=(0.0, 0.0, 0.004))
@@ -55,14 +56,16 @@ def _base_model() -> deck.Model:
     fixed[[0, 3], :] = 1
     return deck.Model(
         coordinates=coordinates,
-        connectivity=np.vstack([lower.quads, upper.quads + n, lid.quads + 2 * n]),
-        element_part=np.array([0, 0, 1, 1, 2]),
-        thickness=np.array([0.001, 0.0012, 0.002]),
-        part_material=np.array([0, 1, 3]),
-        integration_points=np.array([5, 3, 1]),
-        hourglass_coefficient=np.array([0.1, 0.05, 0.1]),
-        hourglass_form=np.array([2, 1, 3]),
-        surface_only=np.array([0, 0, 1]),
+        connectivity=np.vstack([lower.quads, upper.quads + n, lid.quads + 2 * n, [[2, n + 2, n + 2, n + 2]]]),
+        element_part=np.array([0, 0, 1, 1, 2, 3]),
+        thickness=np.array([0.001, 0.0012, 0.002, 0.0005]),
+        part_material=np.array([0, 1, 3, 1]),
+        integration_points=np.array([5, 3, 1, 1]),
+        hourglass_coefficient=np.array([0.1, 0.05, 0.1, 0.1]),
+        hourglass_form=np.array([2, 1, 3, 3]),
+        surface_only=np.array([0, 0, 1, 0]),
+        element_kind=np.array([1, 1, 1, ENUMS["element_kind"]["truss"]]),
+        cross_section_area=np.array([0.0, 0.0, 0.0, 2e-7]),
         material_model=np.array([ENUMS["material_model"]["j2_rate"], deck.ELASTIC,   # plastic, with a rate
                                  ENUMS["material_model"]["piecewise_linear"], ENUMS["material_model"]["rigid"]]),
         density=np.array([7860.0, 2700.0, 7800.0, 7860.0]),
@@ -83,8 +86,8 @@ def _base_model() -> deck.Model:
         rigid_body_part=np.array([2]),
         rigid_body_fixed_dofs=np.array([[0, 0, 1, 0, 0, 0]]),
         node_ids=np.arange(101, 101 + n_all),
-        element_ids=np.array([7, 9, 11, 13, 15]),
-        part_ids=np.array([3, 4, 5]),
+        element_ids=np.array([7, 9, 11, 13, 15, 17]),
+        part_ids=np.array([3, 4, 5, 6]),
         load_node=np.array([2, 8]),
         load_dof=np.array([3, 6]),
         load_value=np.array([-5.0, 0.01]),
@@ -122,7 +125,7 @@ def _base_model() -> deck.Model:
                              contact_sort_interval=0, checkpoint_interval=0.0, partition="blocks",
                              contact_gather="near", precision="double", gravity_x=0.0, gravity_y=0.0, gravity_z=-9.81,
                              effect_switches={switch: "on" for switch in _schema.EFFECT_SWITCHES}),
-        title="damage base", part_names=["steel strip", "aluminium strip", "rigid lid"],
+        title="damage base", part_names=["steel strip", "aluminium strip", "rigid lid", "wire"],
         material_names=["steel", "aluminium", "curved steel", "rigid steel"],
         tracked_names=["lower tip", "upper tip"],
     )

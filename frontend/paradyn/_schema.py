@@ -110,6 +110,7 @@ ENUMS: dict[str, dict[str, int]] = {
         'piecewise_linear': 5,
         'piecewise_linear_rate': 6,
     },
+    'element_kind': {'shell': 1, 'truss': 2},
     'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
     'contact_passes': {'alternate': 1, 'both': 2},
@@ -131,6 +132,7 @@ ENUM_TRAITS: dict[str, dict[str, tuple[str, ...]]] = {
         'rigid': ('rigid',),
         'hardening_curve': ('piecewise_linear', 'piecewise_linear_rate'),
     },
+    'element_kind': {'truss': ('truss',)},
     'contact_kind': {'self_contact': ('single_surface',), 'tied': ('tied',)},
 }
 
@@ -213,16 +215,26 @@ CONDITIONS: dict[str, ConditionSpec] = {
         meaning='some /materials/model is piecewise_linear (which may take a rate curve)',
         rows='for a piecewise_linear material',
     ),
+    'truss': ConditionSpec(
+        name='truss', group=None, dataset='/parts/element_kind', codes=(2,),
+        meaning='some /parts/element_kind is truss', rows='for a truss part',
+    ),
 }
 
 RELATIONS: dict[str, RelationSpec] = {
     'distinct_element_nodes': RelationSpec(
         'distinct_element_nodes', '/elements/connectivity',
-        "the four nodes of an element are distinct, but for a triangle's third node repeated as its fourth",
+        (
+            "the four nodes of an element are distinct, but for a triangle's third node repeated as its fourth; a "
+            'truss names two distinct nodes, the second repeated as third and fourth'
+        ),
     ),
     'convex_elements': RelationSpec(
         'convex_elements', '/nodes/coordinates',
-        'every element is a convex quadrilateral, or a triangle, without coincident or collinear corners',
+        (
+            'every element is a convex quadrilateral, or a triangle, without coincident or collinear corners; a '
+            'truss has a length > 0'
+        ),
     ),
     'distinct_elements': RelationSpec(
         'distinct_elements', '/elements/connectivity',
@@ -244,7 +256,10 @@ RELATIONS: dict[str, RelationSpec] = {
     ),
     'contact_parts_differ': RelationSpec(
         'contact_parts_differ', '/contact/pairs',
-        'a node_to_segment pair names two different parts, a single_surface definition its one part twice',
+        (
+            'a node_to_segment pair names two different parts, a single_surface definition its one part twice; '
+            'neither is a truss part (trusses have no contact surface)'
+        ),
     ),
     'rigid_wall_normal_nonzero': RelationSpec(
         'rigid_wall_normal_nonzero', '/rigid_walls/normal',
@@ -396,6 +411,21 @@ DATASETS: tuple[DatasetSpec, ...] = (
             "1: the part's elements are the outer faces of a rigid solid, with no mass of their own (the solid's "
             'is in /nodes/added_mass); their thickness is the contact thickness. 0: shells'
         ), '-', 'use 0 for shells, 1 for the faces of a rigid solid (a rigid part only)',
+    ),
+    DatasetSpec(
+        '/parts/element_kind', 'element_kind', 'int', ('n_parts',), False, None, None, 1, None, None, '',
+        'element_kind', 'must be 1 or 2 (1 = shell, 2 = truss)', None, False, '-',
+        (
+            "the part's elements: 1 shells (quadrilaterals and triangles), 2 trusses (axial force only; "
+            'connectivity N1 N2 N2 N2; its thickness is only a nominal diameter, its integration_points are '
+            'ignored: one point)'
+        ), '-', 'use 1 (shell) or 2 (truss)',
+    ),
+    DatasetSpec(
+        '/parts/cross_section_area', 'cross_section_area', 'float', ('n_parts',), False, 'truss', 'truss', 0.0,
+        Bound(0.0, False), None, 'must be > 0', None, '', None, False, 'm^2',
+        'cross-section area of a truss part (LS-DYNA *SECTION_BEAM A); ignored for shells', '-',
+        'give every truss part a positive cross-section area in m^2',
     ),
     DatasetSpec(
         '/parts/id', 'part_ids', 'int', ('n_parts',), False, None, None, None, Bound(0, True), None,
@@ -993,8 +1023,8 @@ CONTROL: tuple[AttributeSpec, ...] = (
         'effect_plasticity', 'string', False, 'on', None, None, None, None, '', 'switch', 'must be "off" or "on"',
         '-',
         (
-            '"off" switches off plastic_shells: shell forces of the parts with a plastic material (switched off: '
-            'the same parts elastic)'
+            '"off" switches off plastic_shells: shell and truss forces of the parts with a plastic material '
+            '(switched off: the same parts elastic)'
         ), '[effects] plasticity', 'use "on" or "off" (the scene\'s [effects] table takes true or false)',
     ),
     AttributeSpec(
@@ -1041,6 +1071,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/parts/hourglass_form'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/parts/warping_correction'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/surface_only'): ('class', 'shape', 'rows', 'lower', 'upper'),
+    ('dataset', '/parts/element_kind'): ('class', 'shape', 'rows', 'enum'),
+    ('dataset', '/parts/cross_section_area'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/parts/id'): ('class', 'shape', 'rows', 'lower'),
     ('dataset', '/materials/model'): ('missing', 'class', 'shape', 'empty', 'enum'),
     ('dataset', '/materials/density'): ('missing', 'class', 'shape', 'rows', 'lower', 'finite'),

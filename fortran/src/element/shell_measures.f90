@@ -54,9 +54,14 @@ contains
   end subroutine blt_stable_time_step
 
   !> The wave speed of a part's material (unscaled density): the plate wave speed
-  !> c = sqrt(E / (rho (1 - nu^2))) unless the member bounds the step otherwise.
+  !> c = sqrt(E / (rho (1 - nu^2))) unless the member bounds the step otherwise; a truss's the bar
+  !> wave speed sqrt(E / rho).
   pure real(wp) function part_wave_speed(props) result(c)
     type(shell_properties_t), intent(in) :: props
+    if (props%truss) then
+      c = sqrt(props%young / props%density)
+      return
+    end if
     c = props%material%wave_speed(props%density)
   end function part_wave_speed
 

@@ -1,4 +1,5 @@
-!> The section of a Belytschko-Lin-Tsay shell part and the geometry every shell routine shares:
+!> The section of a part (a Belytschko-Lin-Tsay shell's, or a truss's: element/truss_element) and the
+!> geometry every shell routine shares:
 !> the part's properties with its material, the state widths, the through-thickness rule and the
 !> co-rotational frame of one quadrilateral. Pure, no module state.
 module shell_section
@@ -36,6 +37,9 @@ module shell_section
     logical :: surface_only = .false.   !< the faces of a rigid solid: no mass of their own
     !> the material's failure strain (element_erosion): an element whose point reaches it is eroded; 0: never
     real(wp) :: failure_strain = 0.0_wp
+    !> a truss part (element/truss_element): 2-node bars of cross-section `area`, one stress point
+    logical :: truss = .false.
+    real(wp) :: area = 0.0_wp
     class(material_t), allocatable :: material   !< the stress update at the points (material family)
   end type shell_properties_t
 

@@ -10,6 +10,7 @@ module elastic_material
   type, extends(material_t) :: elastic_material_t
   contains
     procedure :: update_points => elastic_update_points
+    procedure :: update_uniaxial => elastic_update_uniaxial
     procedure :: back_stress_points => elastic_back_points
     procedure :: has_history => elastic_has_history
     procedure :: dissipated_work => elastic_dissipated_work
@@ -25,6 +26,16 @@ contains
     real(ek), intent(in), contiguous :: dstrain(:, :)
     call elastic_plane_stress_update_points(m, stress, dstrain, real(self%young, ek), real(self%poisson, ek))
   end subroutine elastic_update_points
+
+  !> sigma += E deps (a bar's uniaxial stress: no lateral stress, so no Poisson coupling).
+  pure subroutine elastic_update_uniaxial(self, m, dt, stress, back, eps_p, state, dstrain)
+    class(elastic_material_t), intent(in) :: self
+    integer, intent(in) :: m
+    real(ek), intent(in) :: dt
+    real(ek), intent(inout), contiguous :: stress(:), back(:), eps_p(:), state(:, :)
+    real(ek), intent(in), contiguous :: dstrain(:)
+    stress(1:m) = stress(1:m) + real(self%young, ek) * dstrain(1:m)
+  end subroutine elastic_update_uniaxial
 
   pure integer function elastic_back_points(self, nip) result(points)
     class(elastic_material_t), intent(in) :: self

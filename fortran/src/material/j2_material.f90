@@ -4,6 +4,7 @@ module j2_material
   use paradyn_kinds, only: wp, ek
   use material_model, only: material_t
   use plane_stress_returns, only: j2_plane_stress_update_points, j2_kinematic_modulus
+  use uniaxial_returns, only: j2_uniaxial_update_points
   implicit none
   private
   public :: j2_material_t
@@ -14,6 +15,7 @@ module j2_material
     real(wp) :: hardening_mixing = 1.0_wp   !< beta: 1 isotropic, 0 kinematic
   contains
     procedure :: update_points => j2_update_points
+    procedure :: update_uniaxial => j2_update_uniaxial
     procedure :: back_stress_points => j2_back_points
     procedure :: has_history => j2_has_history
     procedure :: dissipated_work => j2_dissipated_work
@@ -31,6 +33,20 @@ contains
                                        real(self%poisson, ek), real(self%yield_stress, ek), &
                                        real(self%tangent_modulus, ek), real(self%hardening_mixing, ek))
   end subroutine j2_update_points
+
+  !> The uniaxial return of the same law (uniaxial_returns), no rate scaling.
+  pure subroutine j2_update_uniaxial(self, m, dt, stress, back, eps_p, state, dstrain)
+    class(j2_material_t), intent(in) :: self
+    integer, intent(in) :: m
+    real(ek), intent(in) :: dt
+    real(ek), intent(inout), contiguous :: stress(:), back(:), eps_p(:), state(:, :)
+    real(ek), intent(in), contiguous :: dstrain(:)
+    real(ek) :: scale(m)
+    scale = 1.0_ek
+    call j2_uniaxial_update_points(m, stress, back, eps_p, dstrain, real(self%young, ek), &
+                                   real(self%yield_stress, ek), real(self%tangent_modulus, ek), &
+                                   real(self%hardening_mixing, ek), scale)
+  end subroutine j2_update_uniaxial
 
   !> Every point with kinematic hardening; none for perfect plasticity or purely isotropic
   !> hardening, where the back stress stays zero (not storing it saves over a quarter of the

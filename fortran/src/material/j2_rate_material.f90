@@ -21,6 +21,7 @@ module j2_rate_material
   use paradyn_kinds, only: wp, ek
   use j2_material, only: j2_material_t
   use plane_stress_returns, only: j2_plane_stress_update_points
+  use uniaxial_returns, only: j2_uniaxial_update_points, uniaxial_rate
   implicit none
   private
   public :: j2_rate_material_t
@@ -30,6 +31,7 @@ module j2_rate_material
     real(wp) :: rate_p = 1.0_wp   !< Cowper-Symonds P, > 0
   contains
     procedure :: update_points => j2_rate_update_points
+    procedure :: update_uniaxial => j2_rate_update_uniaxial
   end type j2_rate_material_t
 
 contains
@@ -56,5 +58,23 @@ contains
                                        real(self%tangent_modulus, ek), real(self%hardening_mixing, ek), &
                                        yield_scale=scale)
   end subroutine j2_rate_update_points
+
+  !> The uniaxial return with the yield radius scaled by 1 + (rate / C)^(1/P), rate = |deps| / dt
+  !> (the effective rate of uniaxial plastic flow, as update_points' rate).
+  pure subroutine j2_rate_update_uniaxial(self, m, dt, stress, back, eps_p, state, dstrain)
+    class(j2_rate_material_t), intent(in) :: self
+    integer, intent(in) :: m
+    real(ek), intent(in) :: dt
+    real(ek), intent(inout), contiguous :: stress(:), back(:), eps_p(:), state(:, :)
+    real(ek), intent(in), contiguous :: dstrain(:)
+    real(ek) :: scale(m)
+    integer :: i
+    do i = 1, m
+      scale(i) = 1.0_ek + (uniaxial_rate(dstrain(i), dt) * real(1.0_wp / self%rate_c, ek))**real(1.0_wp / self%rate_p, ek)
+    end do
+    call j2_uniaxial_update_points(m, stress, back, eps_p, dstrain, real(self%young, ek), &
+                                   real(self%yield_stress, ek), real(self%tangent_modulus, ek), &
+                                   real(self%hardening_mixing, ek), scale)
+  end subroutine j2_rate_update_uniaxial
 
 end module j2_rate_material

@@ -4,6 +4,7 @@
 !> (J2 plasticity with combined hardening), j2_rate_material (with Cowper-Symonds rates),
 !> piecewise_linear_material (isotropic hardening along a curve, LS-DYNA MAT_024; one state word
 !> per point); material_factory makes one from its schema name.
+!> Each member has a uniaxial form too (update_uniaxial: a truss's axial stress, the same data).
 !> A member gets the step (a rate law's strain rate is dstrain / dt), may keep state_width()
 !> words of its own per point (stored, exchanged and checkpointed by the element state), and
 !> may bound the step through the wave speed it reports.
@@ -23,6 +24,10 @@ module material_model
     !> the back stress and plastic strain of points that store them; in the element kernel's kind
     !> ek (single in the mixed engine), the law's constants rounded to it
     procedure(update_points_interface), deferred :: update_points
+    !> The law's uniaxial form (a truss's axial stress, element/truss_element): stress(1:m) += the
+    !> response to the axial strain increments dstrain(1:m), with the same yield and hardening
+    !> data; back(1:m) the axial back stress, eps_p and state as update_points'
+    procedure(update_uniaxial_interface), deferred :: update_uniaxial
     !> Through-thickness points that store a back stress, of nip (0 where it stays zero)
     procedure(back_points_interface), deferred :: back_stress_points
     !> Whether the law changes the back stress or the plastic strain (else they are not written)
@@ -47,6 +52,15 @@ module material_model
       real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:), state(:, :)
       real(ek), intent(in), contiguous :: dstrain(:, :)
     end subroutine update_points_interface
+
+    pure subroutine update_uniaxial_interface(self, m, dt, stress, back, eps_p, state, dstrain)
+      import :: material_t, ek
+      class(material_t), intent(in) :: self
+      integer, intent(in) :: m
+      real(ek), intent(in) :: dt
+      real(ek), intent(inout), contiguous :: stress(:), back(:), eps_p(:), state(:, :)
+      real(ek), intent(in), contiguous :: dstrain(:)
+    end subroutine update_uniaxial_interface
 
     pure integer function back_points_interface(self, nip) result(points)
       import :: material_t

@@ -42,6 +42,7 @@ module piecewise_linear_material
     real(ek), allocatable :: rate_points(:), rate_factors(:)   !< the rate curve (1/s, factor)
   contains
     procedure :: update_points => piecewise_update_points
+    procedure :: update_uniaxial => piecewise_update_uniaxial
     procedure :: back_stress_points => piecewise_back_points
     procedure :: has_history => piecewise_has_history
     procedure :: dissipated_work => piecewise_dissipated_work
@@ -167,6 +168,44 @@ contains
       end do
     end associate
   end subroutine piecewise_update_points
+
+  !> The uniaxial return on the curve (a bar's axial stress): on the segment k the point is on, the
+  !> yield radius R (s_k + slope_k (eps_p - e_k)) is linear in eps_p, so
+  !> dlambda = (|sigma_trial| - R (s_k + slope_k (eps_p - e_k))) / (E + R slope_k) exactly; a point
+  !> whose eps_p + dlambda passes the segment's end returns from the same trial on the next one. R:
+  !> the rate factor of the effective rate |deps| / dt (rate_factors' rate of uniaxial flow).
+  pure subroutine piecewise_update_uniaxial(self, m, dt, stress, back, eps_p, state, dstrain)
+    class(piecewise_linear_material_t), intent(in) :: self
+    integer, intent(in) :: m
+    real(ek), intent(in) :: dt
+    real(ek), intent(inout), contiguous :: stress(:), back(:), eps_p(:), state(:, :)
+    real(ek), intent(in), contiguous :: dstrain(:)
+    real(ek) :: scale(m), flow(m, 3), young, trial, dlambda
+    integer :: i, k, last
+    flow(:, 1) = dstrain(1:m)
+    flow(:, 2) = -0.5_ek * dstrain(1:m)   ! uniaxial plastic flow: its effective rate is |deps| / dt
+    flow(:, 3) = 0.0_ek
+    call rate_factors(self, m, dt, flow, scale)
+    young = real(self%young, ek)
+    last = size(self%segment_start)
+    associate (start => self%segment_start, finish => self%segment_end, sk => self%segment_stress, &
+               slope => self%segment_slope)
+      do i = 1, m
+        stress(i) = stress(i) + young * dstrain(i)
+        trial = abs(stress(i))
+        k = min(max(int(state(i, 1)) + 1, 1), last)
+        if (trial <= scale(i) * (sk(k) + slope(k) * (eps_p(i) - start(k)))) cycle
+        do
+          dlambda = (trial - scale(i) * (sk(k) + slope(k) * (eps_p(i) - start(k)))) / (young + scale(i) * slope(k))
+          if (eps_p(i) + dlambda <= finish(k) .or. k == last) exit
+          k = k + 1
+        end do
+        stress(i) = stress(i) - young * dlambda * sign(1.0_ek, stress(i))
+        eps_p(i) = eps_p(i) + dlambda
+        state(i, 1) = real(k - 1, ek)
+      end do
+    end associate
+  end subroutine piecewise_update_uniaxial
 
   !> The points of a return whose new plastic strain `reached` passed the end of their segment:
   !> each returns again from the same trial on the next segment, until none passes (the rare case:

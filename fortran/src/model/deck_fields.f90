@@ -11,6 +11,7 @@ module deck_fields
                             dataset_parts_material, dataset_parts_integration_points, &
                             dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
                             dataset_parts_warping_correction, dataset_parts_surface_only, &
+                            dataset_parts_element_kind, dataset_parts_cross_section_area, &
                             dataset_materials_model, dataset_materials_density, &
                             dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, &
                             dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
@@ -82,6 +83,8 @@ module deck_fields
     integer, allocatable :: hourglass_form(:)   !< /parts/hourglass_form (n_parts) -
     integer, allocatable :: warping_correction(:)   !< /parts/warping_correction (n_parts) -
     integer, allocatable :: surface_only(:)   !< /parts/surface_only (n_parts) -
+    integer, allocatable :: element_kind(:)   !< /parts/element_kind (n_parts) -
+    real(wp), allocatable :: area(:)   !< /parts/cross_section_area (n_parts) m^2
     integer, allocatable :: material_model(:)   !< /materials/model (n_materials) -
     real(wp), allocatable :: density(:)   !< /materials/density (n_materials) kg/m^3
     real(wp), allocatable :: young(:)   !< /materials/youngs_modulus (n_materials) Pa
@@ -254,6 +257,10 @@ contains
       d%warping_correction = indices(1, :)
     case (dataset_parts_surface_only)
       d%surface_only = indices(1, :)
+    case (dataset_parts_element_kind)
+      d%element_kind = indices(1, :)
+    case (dataset_parts_cross_section_area)
+      d%area = values(1, :)
     end select
   end subroutine store_parts
 

@@ -6,7 +6,7 @@ module deck_relations
   use paradyn_kinds, only: wp
   use paradyn_schema, only: material_is_plastic, material_is_rigid, contact_kind_is_self_contact, class_float, &
                             enum_name, enum_precision, precision_mixed, material_is_hardening_curve, &
-                            material_piecewise_linear
+                            material_piecewise_linear, element_kind_is_truss
   use deck_rules, only: integer_text, number_text, index_list
   use quad_shape, only: quad_shape_fault, triangle_shape_fault, shape_sound, shape_concave
   use model_deck, only: deck_t, node_row, engine_precision
@@ -44,6 +44,16 @@ contains
     character(len=:), allocatable :: message
     integer :: j, k
     message = ''
+    if (element_kind_is_truss(d%element_kind(d%element_part(row)))) then
+      associate (c => d%connectivity(:, row))
+        if (c(1) /= c(2) .and. c(2) == c(3) .and. c(3) == c(4)) return
+      end associate
+      message = '/elements/connectivity['//integer_text(d%element_ids(row) - 1)//'] = '// &
+                index_list(d%connectivity(:, row))//' is an element of truss part '// &
+                integer_text(d%element_part(row) - 1)//'; a truss names two distinct nodes, the second repeated '// &
+                'as the third and fourth (N1 N2 N2 N2)'
+      return
+    end if
     do k = 1, 4
       do j = k + 1, 4
         if (d%connectivity(k, row) /= d%connectivity(j, row) .or. (k == 3 .and. j == 4)) cycle
@@ -74,6 +84,13 @@ contains
     real(wp) :: x(3, 4)
     message = ''
     x = d%coordinates(:, [(node_row(d, d%connectivity(k, row)), k = 1, 4)])
+    if (element_kind_is_truss(d%element_kind(d%element_part(row)))) then
+      if (norm2(x(:, 2) - x(:, 1)) > 0.0_wp) return
+      message = '/nodes/coordinates: element '//integer_text(d%element_ids(row) - 1)//' (truss part '// &
+                integer_text(d%element_part(row) - 1)//', nodes '//index_list(d%connectivity(:, row))// &
+                ') has zero length (its two nodes coincide); move a node or remove the truss'
+      return
+    end if
     if (d%connectivity(3, row) == d%connectivity(4, row)) then
       call triangle_shape_fault(x(:, 1:3), fault, corner)
     else
@@ -120,6 +137,11 @@ contains
           message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
                     ' pairs a part with itself; name two different parts, or make the contact single_surface'
         end if
+        return
+      end if
+      if (any(element_kind_is_truss(d%element_kind(d%contact_pairs(:, i))))) then
+        message = '/contact/pairs['//integer_text(i - 1)//'] = '//index_list(d%contact_pairs(:, i))// &
+                  ' names a truss part; trusses have no contact surface, name shell parts only'
         return
       end if
     end do

@@ -13,7 +13,7 @@ module model_deck
   use paradyn_kinds, only: wp, ek
   use shell_section, only: shell_properties_t
   use paradyn_schema, only: material_is_plastic, material_is_rigid, control_attributes, control_partition, &
-                            precision_double, precision_mixed
+                            precision_double, precision_mixed, element_kind_is_truss
   use deck_fields, only: deck_fields_t, store_dataset, store_control
   use material_factory, only: material_from_deck
   implicit none
@@ -54,6 +54,11 @@ contains
     props%warping_correction = deck%warping_correction(part) /= 0
     props%rigid = material_is_rigid(deck%material_model(m))
     props%surface_only = deck%surface_only(part) /= 0
+    props%truss = element_kind_is_truss(deck%element_kind(part))
+    if (props%truss) then   ! one stress point, the axial stress; the thickness is a nominal diameter
+      props%area = deck%area(part)
+      props%integration_points = 1
+    end if
     props%density = deck%density(m)
     props%young = deck%young(m)
     props%poisson = deck%poisson(m)

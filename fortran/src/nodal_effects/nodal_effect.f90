@@ -30,6 +30,9 @@ module nodal_effect
     procedure :: state_words => no_state
     procedure :: restore_state => no_restore
     procedure :: history_sums => no_history_sums
+    !> mass(j): the mass that moves with local node j, for the contact's stability cap (default:
+    !> unchanged, the node's own); a member that moves nodes together gives them their group's
+    procedure :: carried_mass => own_mass
   end type nodal_effect_t
 
   !> A member in a list (a Fortran array cannot hold different members directly).
@@ -50,6 +53,11 @@ contains
 
   !> Adds to ns%f_ext the forces at time (positions ns%x); every rank that holds a node adds the
   !> whole force, as each rank updates its own copy of a shared node.
+  pure subroutine own_mass(e, mass)
+    class(nodal_effect_t), intent(in) :: e
+    real(wp), intent(inout) :: mass(:)
+  end subroutine own_mass
+
   subroutine no_forces(e, ns, time)
     class(nodal_effect_t), intent(inout) :: e
     type(nodal_state_t), intent(inout) :: ns

@@ -38,6 +38,7 @@ module rigid_body_effect
     procedure :: constrain
     procedure :: state_words
     procedure :: restore_state
+    procedure :: carried_mass
   end type rigid_body_effect_t
 
 contains
@@ -261,5 +262,19 @@ contains
     integer, intent(in) :: stage
     acts_at = stage == stage_constraints
   end function acts_at
+
+  !> A body's node moves with the whole body: its mass for the contact's stability cap is the
+  !> body's (a node's own lumped share would cap the penalty of a heavy body's contact far below
+  !> what stops it, and let it sink into what it hits when the step is set by other elements).
+  pure subroutine carried_mass(e, mass)
+    class(rigid_body_effect_t), intent(in) :: e
+    real(wp), intent(inout) :: mass(:)
+    integer :: b, k
+    do b = 1, size(e%bodies)
+      do k = e%first(b), e%first(b + 1) - 1
+        mass(e%node(k)) = max(mass(e%node(k)), e%bodies(b)%mass)
+      end do
+    end do
+  end subroutine carried_mass
 
 end module rigid_body_effect

@@ -63,9 +63,10 @@ contains
     type(MPI_Comm), intent(in) :: comm
     integer, intent(out) :: status
     character(len=*), intent(out) :: message
-    integer :: p
+    integer :: p, k
     type(mass_scaling_t) :: scaling
     logical :: too_large
+    real(wp), allocatable :: carried(:)
 
     status = status_ok
     message = ''
@@ -120,8 +121,14 @@ contains
     call pipeline_setup(s)
 
     s%has_contact = deck%n_contacts > 0
-    if (s%has_contact) call parallel_contact_setup(s%contact, contact, deck, s%dom, comm, s%nodes%mass, s%nodes%v, &
-                                                   s%clock%dt, s%control%contact_gather_all)
+    if (s%has_contact) then   ! the contact's stability cap takes the mass moving with each node
+      carried = s%nodes%mass
+      do k = 1, size(s%nodal_effects)
+        call s%nodal_effects(k)%effect%carried_mass(carried)
+      end do
+      call parallel_contact_setup(s%contact, contact, deck, s%dom, comm, carried, s%nodes%v, s%clock%dt, &
+                                  s%control%contact_gather_all)
+    end if
     allocate (s%node_out(node_field_width, size(s%halo%owned_local)), s%v_free(3, s%nodes%n))
     allocate (s%element_out(element_field_width, s%dom%n_elements), s%tracked_out(6, deck%n_tracked))
     allocate (s%element_work(s%dom%n_elements))

@@ -9,6 +9,7 @@ module internal_forces
   use shell_c0_triangle, only: c0_triangle_internal_forces
   use shell_measures, only: blt_lumped_mass, triangle_lumped_mass
   use element_erosion, only: erosion_before, erosion_after
+  use truss_element, only: truss_internal_forces, truss_lumped_mass
   use work_queues, only: queues_start, queues_take
   use halo_exchange, only: exchange_corners
   use nodal_assembly, only: gather_group, assemble_nodes
@@ -103,7 +104,11 @@ contains
         if (erodes) call erosion_before(n, gs%eps_p, s%props(p)%failure_strain, s%dom%group_triangle(g), &
                                         s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
                                         s%elements%e_internal(first), s%elements%e_hourglass(first), e_kept)
-        if (s%dom%group_triangle(g)) then
+        if (s%props(p)%truss) then
+          call truss_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%props(p), dt_strain, gs%stress, &
+                                     gs%back, gs%eps_p, gs%state, s%corner(1, 4 * first - 3), &
+                                     s%elements%e_internal(first), s%elements%dt_element(first))
+        else if (s%dom%group_triangle(g)) then
           call c0_triangle_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
                                            s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%state, gs%hourglass, &
                                            s%corner(1, 4 * first - 3), s%elements%e_internal(first), &
@@ -156,7 +161,9 @@ contains
       first = s%dom%group_first(g)
       p = s%dom%group_part(g)
       call gather_group(n, first, s%dom%connectivity, s%nodes%x, xg)
-      if (s%dom%group_triangle(g)) then
+      if (s%props(p)%truss) then
+        call truss_lumped_mass(n, xg, s%props(p), node_mass, node_inertia)
+      else if (s%dom%group_triangle(g)) then
         call triangle_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, node_mass, node_inertia)
       else
         call blt_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, node_mass, node_inertia)
@@ -171,14 +178,23 @@ contains
         factor = s%elements%step_scale(first + j - 1)**2
         s%corner(1:3, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_mass(j) * factor
         s%corner(4:6, 4 * (first + j - 2) + 1:4 * (first + j - 1)) = node_inertia(j) * factor
-        ! a triangle's fourth corner is its third node again: no second share
-        if (s%dom%group_triangle(g)) s%corner(:, 4 * (first + j - 1)) = 0.0_wp
+        if (s%props(p)%truss) then
+          ! ends 1 and 2 only; the rod's rotary inertia in slot 5 alone, for nodes of trusses alone
+          s%corner(:, 4 * (first + j - 1) - 1:4 * (first + j - 1)) = 0.0_wp
+          s%corner(4, 4 * (first + j - 2) + 1:4 * (first + j - 2) + 2) = 0.0_wp
+          s%corner(6, 4 * (first + j - 2) + 1:4 * (first + j - 2) + 2) = 0.0_wp
+        else if (s%dom%group_triangle(g)) then   ! a triangle's fourth corner is its third node again
+          s%corner(:, 4 * (first + j - 1)) = 0.0_wp
+        end if
       end do
     end do
     call exchange_corners(s%dom, s%halo, s%corner)
     call assemble_nodes(s%nodes%n, s%dom%assembly_start, s%dom%assembly_slot, s%corner, s%nodes%f_int)
     s%nodes%mass = s%nodes%f_int(1, :)
     s%nodes%inertia = s%nodes%f_int(4, :)
+    ! a node of trusses alone has no rotary inertia from shells: its rods' (slot 5, which equals
+    ! slot 4 for shells, so a shell model's inertias are untouched); no moment ever turns it
+    where (s%nodes%inertia == 0.0_wp) s%nodes%inertia = s%nodes%f_int(5, :)
     s%nodes%f_int = 0.0_wp
   end subroutine lumped_masses
 

@@ -11,6 +11,7 @@ module mass_scaling
   use model_deck, only: deck_t, node_row
   use shell_section, only: shell_properties_t, local_frame
   use shell_measures, only: blt_stable_time_step, triangle_stable_time_step
+  use truss_element, only: truss_stable_time_step, truss_length
   implicit none
   private
   public :: mass_scaling_t, mass_scaling_setup, mass_scaling_message
@@ -50,13 +51,19 @@ contains
     do k = 1, size(deck%element_ids)
       p = deck%element_part(k)
       x(1, :, :) = deck%coordinates(:, [(node_row(deck, deck%connectivity(j, k)), j = 1, 4)])
-      if (deck%connectivity(3, k) == deck%connectivity(4, k)) then
+      if (props(p)%truss) then
+        call truss_stable_time_step(1, x, props(p), dt)
+      else if (deck%connectivity(3, k) == deck%connectivity(4, k)) then
         call triangle_stable_time_step(1, x, props(p), dt)
       else
         call blt_stable_time_step(1, x, props(p), dt)
       end if
-      call local_frame(x(1, :, :), e, xl, yl, area)   ! a triangle's area too (its fourth corner is its third)
-      mass = merge(0.0_wp, props(p)%density * props(p)%thickness * abs(area), props(p)%surface_only)
+      if (props(p)%truss) then
+        mass = props(p)%density * props(p)%area * truss_length(x(1, :, 1:2))
+      else
+        call local_frame(x(1, :, :), e, xl, yl, area)   ! a triangle's area too (its fourth corner is its third)
+        mass = merge(0.0_wp, props(p)%density * props(p)%thickness * abs(area), props(p)%surface_only)
+      end if
       ms%element_mass(k) = mass
       if (props(p)%rigid) then   ! a rigid body's element sets no step (unless all are rigid), is not scaled
         ms%dt_rigid_min = min(ms%dt_rigid_min, dt(1))

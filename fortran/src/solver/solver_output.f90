@@ -178,7 +178,8 @@ contains
 
   !> This rank's internal energy, hourglass energy and plastic work of each part, in turn (n_parts
   !> each). The plastic work of an element: its current area times thickness times the
-  !> through-thickness mean of the material's dissipated work per unit volume. The elements' terms
+  !> through-thickness mean of the material's dissipated work per unit volume (a truss: A L times
+  !> that of its one point). The elements' terms
   !> are computed on the threads (a material call per element) and summed in element order, so
   !> the sums are the same for any number of threads.
   subroutine part_energies(s, energies)
@@ -206,6 +207,8 @@ contains
         area = 0.5_wp * norm2(cross(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2)))
         point_work(1:nip) = work(i, 1:nip)   ! contiguous: the sum's order as before this batch call
         s%element_work(first + i - 1) = area * s%props(p)%thickness * 0.5_wp * sum(wgt(1:nip) * point_work(1:nip))
+        ! a truss: its volume A L times the work at its one point
+        if (s%props(p)%truss) s%element_work(first + i - 1) = s%props(p)%area * norm2(x(:, 2) - x(:, 1)) * point_work(1)
       end do
     end do
     !$omp end parallel do

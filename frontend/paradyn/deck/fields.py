@@ -35,6 +35,8 @@ class DeckFields:
     hourglass_form: np.ndarray | None = None   # /parts/hourglass_form (n_parts,) -
     warping_correction: np.ndarray | None = None   # /parts/warping_correction (n_parts,) -
     surface_only: np.ndarray | None = None   # /parts/surface_only (n_parts,) -
+    element_kind: np.ndarray | None = None   # /parts/element_kind (n_parts,) -
+    cross_section_area: np.ndarray | None = None   # /parts/cross_section_area (n_parts,) m^2
     part_ids: np.ndarray | None = None   # /parts/id (n_parts,) -
     yield_stress: np.ndarray | None = None   # /materials/yield_stress (n_materials,) Pa
     tangent_modulus: np.ndarray | None = None   # /materials/tangent_modulus (n_materials,) Pa

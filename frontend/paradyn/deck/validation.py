@@ -180,15 +180,18 @@ def _check_presence(check: _Checker) -> None:
 def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
     """The schema's [relations], which need more than one field (model_deck's check_deck_relations)."""
     conn = check.array("connectivity")
+    truss = _truss_elements(check)
+    _check_trusses(check, conn, truss)
     pairs = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3)]   # (2, 3) equal: a triangle
     repeated = np.any([conn[:, a] == conn[:, b] for a, b in pairs], axis=0) if conn.size else np.zeros(0, bool)
+    repeated &= ~truss
     if np.any(repeated):
         element = int(np.flatnonzero(repeated)[0])
         check.fail(f"/elements/connectivity[{element}] = {conn[element].tolist()} repeats a node; every "
                    f"quadrilateral needs four distinct nodes, a triangle three with the third repeated as the "
                    f"fourth (remesh without collapsed elements)")
     _check_distinct_elements(check, conn)
-    _check_element_shapes(check, conn)
+    _check_element_shapes(check, conn, truss)
     plastic = np.isin(check.array("material_model"), trait_codes("material_model", "plastic"))
     if np.any(plastic):
         tangent, young = check.array("tangent_modulus"), check.array("youngs_modulus")
@@ -206,6 +209,9 @@ def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
                       "name two different parts, or make the contact single_surface")
         check.entries(_BY_ATTRIBUTE["contact_pairs"], single & ~same, "names two parts for a single_surface contact",
                       "name its one part twice")
+        truss_parts = np.isin(check.array("element_kind"), trait_codes("element_kind", "truss"))
+        check.entries(_BY_ATTRIBUTE["contact_pairs"], truss_parts[pairs].any(axis=1), "names a truss part",
+                      "trusses have no contact surface, name shell parts only")
     used = np.zeros(sizes["n_nodes"], dtype=bool)
     used[conn.ravel()] = True
     if not np.all(used):
@@ -351,9 +357,35 @@ def _check_distinct_elements(check: _Checker, conn: np.ndarray) -> None:
                    f"{original}; a duplicated element doubles its mass and stiffness, remove it")
 
 
-def _check_element_shapes(check: _Checker, conn: np.ndarray) -> None:
+def _truss_elements(check: _Checker) -> np.ndarray:
+    """Whether each element is of a truss part (/parts/element_kind with the trait truss)."""
+    kinds = check.array("element_kind")
+    return np.isin(kinds[check.array("element_part")], trait_codes("element_kind", "truss"))
+
+
+def _check_trusses(check: _Checker, conn: np.ndarray, truss: np.ndarray) -> None:
+    """A truss names two distinct nodes, the second repeated as third and fourth, and has a length."""
+    if not np.any(truss):
+        return
+    bad = truss & ~((conn[:, 0] != conn[:, 1]) & (conn[:, 1] == conn[:, 2]) & (conn[:, 2] == conn[:, 3]))
+    if np.any(bad):
+        element = int(np.flatnonzero(bad)[0])
+        check.fail(f"/elements/connectivity[{element}] = {conn[element].tolist()} is an element of truss part "
+                   f"{int(check.array('element_part')[element])}; a truss names two distinct nodes, the second "
+                   f"repeated as the third and fourth (N1 N2 N2 N2)")
+    x = check.array("coordinates")
+    short = truss & ~(np.linalg.norm(x[conn[:, 1]] - x[conn[:, 0]], axis=1) > 0.0)
+    if np.any(short):
+        element = int(np.flatnonzero(short)[0])
+        check.fail(f"/nodes/coordinates: element {element} (truss part {int(check.array('element_part')[element])}, "
+                   f"nodes {conn[element].tolist()}) has zero length (its two nodes coincide); move a node or remove "
+                   f"the truss")
+
+
+def _check_element_shapes(check: _Checker, conn: np.ndarray, truss: np.ndarray) -> None:
     """Every element convex without coincident or collinear corners (the engine's quad_shape): at each
-    corner the turn from the incoming to the outgoing side points along the normal of the diagonals."""
+    corner the turn from the incoming to the outgoing side points along the normal of the diagonals
+    (trusses are checked by _check_trusses)."""
     x = check.array("coordinates")[conn]                       # (elements, 4, 3)
     normal = np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1])
     incoming = x - np.roll(x, 1, axis=1)
@@ -369,7 +401,7 @@ def _check_element_shapes(check: _Checker, conn: np.ndarray) -> None:
     n_tri = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
     flat = np.einsum("ei,ei->e", n_tri, n_tri) <= 1e-10 * longest**2
     bad[triangle] = False
-    bad[triangle & flat, 0] = True
+    bad[triangle & flat & ~truss, 0] = True
     turn[triangle & flat, 0] = 0.0
     if not np.any(bad):
         return

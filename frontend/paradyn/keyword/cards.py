@@ -117,6 +117,8 @@ class KeywordData:
     history_nodes: list[tuple[int, str, str]] = field(default_factory=list)   # (nid, name, where)
     body_loads: list[tuple[str, Record]] = field(default_factory=list)        # ("X" | "Y" | "Z", record)
     solids: list[Record] = field(default_factory=list)                       # *ELEMENT_SOLID (rigid geometry)
+    beams: list[Record] = field(default_factory=list)                        # *ELEMENT_BEAM (trusses)
+    beam_sections: dict[int, list[Record]] = field(default_factory=dict)     # *SECTION_BEAM cards 1 and 2
     solid_sections: dict[int, Record] = field(default_factory=dict)
     deformable_to_rigid: list[Record] = field(default_factory=list)
     merged_bodies: list[Record] = field(default_factory=list)               # *CONSTRAINED_RIGID_BODIES

@@ -66,8 +66,8 @@ class KeywordMesh:
 
 def mesh_of(data: KeywordData, unit: Units) -> KeywordMesh:
     """The shells of the deck; an element that names an unknown node, or repeats one, is an error."""
-    if not data.elements:
-        raise KeywordError("the deck has no *ELEMENT_SHELL; ParaDyn needs a shell mesh")
+    if not data.elements and not data.beams:
+        raise KeywordError("the deck has no *ELEMENT_SHELL (nor *ELEMENT_BEAM); ParaDyn needs a shell mesh")
     node_row: dict[int, int] = {}
     for row, record in enumerate(data.nodes):
         nid = int(record["NID"])
@@ -84,40 +84,71 @@ def mesh_of(data: KeywordData, unit: Units) -> KeywordMesh:
             raise KeywordError(f"{record.where}: *ELEMENT_SHELL {eid} is defined twice (first at {seen[eid]})")
         seen[eid] = record.where
         parts.append(part_order[int(record["PID"])])
-    largest = max(max(node_row), max(seen), max(part_order))
+    largest = max(max(node_row), max(seen, default=0), max(part_order))
     if largest > np.iinfo(np.int32).max:
         raise KeywordError(f"id {largest} is larger than the deck format's ids ({np.iinfo(np.int32).max}); "
                            f"renumber the deck")
     # the triangles of each run of one part's elements after its quads (geometry.shape_order), ids with them
-    order = geometry.shape_order(np.array(quads, dtype=np.int64), np.array(parts))
+    order = geometry.shape_order(np.array(quads, dtype=np.int64), np.array(parts)) if quads else np.zeros(0, int)
     quads, parts = [quads[i] for i in order], [parts[i] for i in order]
+    beam_ids = _beam_rows(data, node_row, part_order, quads, parts)   # trusses after the shells, by part
     used, inverse = np.unique(np.array(quads, dtype=np.int64), return_inverse=True)
     unused = len(data.nodes) - used.size
     if unused:
-        data.warn(f"{unused} node(s) of *NODE belong to no shell element and are left out")
+        data.warn(f"{unused} node(s) of *NODE belong to no shell or beam element and are left out")
     xyz = np.array([[float(data.nodes[r][c]) for c in "XYZ"] for r in used.tolist()]) * unit.length
     node_ids = np.array([int(data.nodes[r]["NID"]) for r in used.tolist()], dtype=np.int64)
     return KeywordMesh(coordinates=xyz, connectivity=inverse.reshape(-1, 4).astype(np.int32),
                        element_part=np.array(parts, dtype=np.int32),
-                       node_ids=node_ids, element_ids=np.array(list(seen), dtype=np.int64)[order],
+                       node_ids=node_ids, element_ids=np.concatenate([np.array(list(seen), dtype=np.int64)[order],
+                                                                      np.array(beam_ids, dtype=np.int64)]),
                        part_ids=np.array(list(part_order), dtype=np.int64),
                        node_index={int(n): i for i, n in enumerate(node_ids.tolist())})
 
 
 def _part_order(data: KeywordData) -> dict[int, int]:
-    """PID -> part index, parts in order of their first element (parts without elements left out)."""
+    """PID -> part index, parts in order of their first element, the beams' parts after the shells'
+    (parts without elements left out)."""
     defined = {int(p["PID"]): p for p in data.parts}
     order: dict[int, int] = {}
-    for record in data.elements:
-        pid = int(record["PID"] or 0)
-        if pid not in defined:
-            raise KeywordError(f"{record.where}: *ELEMENT_SHELL {record['EID']} names part {pid}, which no "
-                               f"*PART defines")
-        order.setdefault(pid, len(order))
+    for keyword, records in (("*ELEMENT_SHELL", data.elements), ("*ELEMENT_BEAM", data.beams)):
+        for record in records:
+            pid = int(record["PID"] or 0)
+            if pid not in defined:
+                raise KeywordError(f"{record.where}: {keyword} {record['EID']} names part {pid}, which no "
+                                   f"*PART defines")
+            order.setdefault(pid, len(order))
+    shells = {int(record["PID"] or 0) for record in data.elements}
+    both = sorted(shells & {int(record["PID"]) for record in data.beams})
+    if both:
+        raise KeywordError(f"{defined[both[0]].where}: *PART {both[0]} has both *ELEMENT_SHELL and *ELEMENT_BEAM "
+                           f"elements; give the beams a part of their own")
     for pid, part in defined.items():
         if pid not in order:
-            data.warn(f"{part.where}: *PART {pid} has no shell elements and is left out")
+            data.warn(f"{part.where}: *PART {pid} has no shell or beam elements and is left out")
     return order
+
+
+def _beam_rows(data: KeywordData, node_row: dict[int, int], part_order: dict[int, int], quads: list[list[int]],
+               parts: list[int]) -> list[int]:
+    """Append the beams as trusses N1 N2 N2 N2 (the orientation node N3 is not needed) to ``quads``
+    and ``parts``, grouped by part in the order of their first beam; their EIDs in that order."""
+    seen: dict[int, str] = {}
+    ordered = sorted(data.beams, key=lambda record: part_order[int(record["PID"])])   # stable: deck order kept
+    for record in ordered:
+        eid = int(record["EID"])
+        if eid in seen:
+            raise KeywordError(f"{record.where}: *ELEMENT_BEAM {eid} is defined twice (first at {seen[eid]})")
+        seen[eid] = record.where
+        ends = []
+        for name in ("N1", "N2"):
+            nid = int(record[name])
+            if nid not in node_row:
+                raise KeywordError(f"{record.where}: *ELEMENT_BEAM {eid} names node {nid}, which no *NODE defines")
+            ends.append(node_row[nid])
+        quads.append([ends[0], ends[1], ends[1], ends[1]])
+        parts.append(part_order[int(record["PID"])])
+    return list(seen)
 
 
 def _element_rows(record: Record, node_row: dict[int, int]) -> list[int]:

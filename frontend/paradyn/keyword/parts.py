@@ -73,10 +73,12 @@ def split_by_thickness(data: KeywordData, mesh: KeywordMesh, given: dict[int, fl
     """Give every engine part one thickness (deck units, ``mesh.part_thickness``): a deck part whose
     shells have several becomes one engine part per thickness, in the order of their first shell,
     each keeping the PID (``mesh.part_ids`` repeats it) with a name suffix (``mesh.part_suffix``).
-    ``given``: PID -> the thickness of a part that has no shell section (a rigid solid's faces)."""
+    ``given``: PID -> the thickness of a part that has no shell section (a rigid solid's faces, a
+    beam part's nominal diameter)."""
     by_pid = {int(p["PID"]): p for p in data.parts}
     section_of = {}
     warned: set[int] = set()
+    n_shells = len(data.elements)   # the beams' rows follow (keyword/mesh.py), each of one thickness
     for pid in mesh.part_ids.tolist():
         if given and pid in given:
             section_of[pid] = [given[pid]] * 4
@@ -85,9 +87,13 @@ def split_by_thickness(data: KeywordData, mesh: KeywordMesh, given: dict[int, fl
     keys: dict[tuple[int, float], int] = {}
     element_part = np.empty_like(mesh.element_part)
     uneven: dict[int, Record] = {}
-    for row, record in enumerate(data.elements[:len(mesh.element_part)]):
+    for row in range(len(mesh.element_part)):
         pid = int(mesh.part_ids[mesh.element_part[row]])
         section = section_of[pid]
+        if row >= n_shells:   # a beam: its part's one nominal thickness
+            element_part[row] = keys.setdefault((pid, float(f"{_thickness(section):.12g}")), len(keys))
+            continue
+        record = data.elements[row]
         corners = [float(record.values.get(name) or 0.0) or section[k] for k, name in enumerate(CORNERS)]
         if len(set(corners)) > 1:
             uneven.setdefault(pid, record)

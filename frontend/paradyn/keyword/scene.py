@@ -18,9 +18,10 @@ import numpy as np
 
 from paradyn import _schema, deck
 from paradyn.deck.rigid_bodies import RigidBodyError, complete_rigid_bodies
-from paradyn.scene.building import _apply_contacts, _apply_material_extras
+from paradyn.scene.building import _apply_contacts, _apply_material_extras, apply_trusses
 from paradyn.scene.specs import CurveSpec, MaterialSpec, PartSpec, RunSettings, Scene
 
+from .beams import beam_pids, beam_thickness, truss_part_spec
 from .cards import KeywordData, Record, with_warnings
 from .contacts import contact_specs
 from .ids import in_deck_ids
@@ -101,7 +102,8 @@ def _read(path: Path, units: str | None) -> tuple[Scene, KeywordData, Units, Key
         solids = add_solid_faces(data)
         mesh = mesh_of(data, unit)
         _add_solid_masses(data, solids, unit, mesh)
-        split_by_thickness(data, mesh, {pid: t / unit.length for pid, t in mesh.face_thickness.items()})
+        split_by_thickness(data, mesh, {pid: t / unit.length for pid, t in mesh.face_thickness.items()}
+                           | beam_thickness(data))
         return _scene(path, data, unit, mesh), data, unit, mesh
     except KeywordError as exc:
         raise with_warnings(exc, data.warnings) from exc
@@ -147,9 +149,10 @@ def _scene(path: Path, data: KeywordData, unit: Units, mesh: KeywordMesh) -> Sce
     run = _run(data, unit)
     curves: list[CurveSpec] = []   # the materials' curves (LCSS, EPS/ES, LCSR), in SI
     parts, materials = _parts_and_materials(data, unit, mesh, curves)
-    names_of: dict[int, list[str]] = {}
+    names_of: dict[int, list[str]] = {}   # the parts with a contact surface: trusses have none
     for pid, part in zip(mesh.part_ids.tolist(), parts, strict=True):
-        names_of.setdefault(pid, []).append(part.name)
+        if part.element_kind == "shell":
+            names_of.setdefault(pid, []).append(part.name)
     contacts = contact_specs(data, names_of, unit, run.end_time / unit.time)
     return Scene(path=path, title=data.title or path.stem, run=run, materials=materials, parts=parts,
                  contacts=contacts, curves=curves)
@@ -179,6 +182,7 @@ def _parts_and_materials(data: KeywordData, unit: Units, mesh: KeywordMesh,
     materials: dict[tuple[str, int], MaterialSpec] = {}
     taken: set[str] = set()
     base_names: dict[int, str] = {}
+    trusses = beam_pids(data)
     for index, pid in enumerate(mesh.part_ids.tolist()):
         record = by_pid[pid]
         mid = int(record["MID"] or 0)
@@ -196,7 +200,10 @@ def _parts_and_materials(data: KeywordData, unit: Units, mesh: KeywordMesh,
         if pid not in base_names:
             base_names[pid] = _part_name(record, taken)
         name = base_names[pid] + mesh.part_suffix[index]
-        if pid in mesh.face_thickness:   # a rigid solid: its faces, a contact surface (keyword/rigid.py)
+        if pid in trusses:   # *ELEMENT_BEAM on a *SECTION_BEAM ELFORM 3 (keyword/beams.py)
+            parts.append(truss_part_spec(data, record, name, materials[key].name, unit.length,
+                                         mesh.part_geometry(index)))
+        elif pid in mesh.face_thickness:   # a rigid solid: its faces, a contact surface (keyword/rigid.py)
             parts.append(PartSpec(name=name, material=materials[key].name, thickness=mesh.face_thickness[pid],
                                   geometry=mesh.part_geometry(index), integration_points=1))
         else:
@@ -275,6 +282,7 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
         part_names=[p.name for p in parts], material_names=[m.name for m in materials],
     )
     _apply_material_extras(scene, model)
+    apply_trusses(scene, model)
     apply_loads(data, mesh, unit, model, scene.run.end_time)
     apply_material_curves(scene, model)
     _apply_contacts(scene, model)

@@ -119,7 +119,9 @@ def element_steps(model: deck.Model) -> tuple[np.ndarray, np.ndarray, np.ndarray
     """Per element: the stable step L / c (no safety factor, no mass scaling), L, the area and c.
 
     The engine's ``blt_stable_time_step``: the area is that of the element's co-rotational frame,
-    half the norm of the cross product of the diagonals, and L is the area over the longest side."""
+    half the norm of the cross product of the diagonals, and L is the area over the longest side. A
+    truss's (``truss_stable_time_step``): L its length, c = sqrt(E / rho), and as its area the
+    volume A L over the part's thickness (so that rho t area is its mass, as for a shell)."""
     x = np.asarray(model.coordinates, dtype=float)[np.asarray(model.connectivity)]   # (n, 4, 3)
     area = 0.5 * np.linalg.norm(np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1]), axis=1)
     longest = np.linalg.norm(np.roll(x, -1, axis=1) - x, axis=2).max(axis=1)
@@ -128,11 +130,31 @@ def element_steps(model: deck.Model) -> tuple[np.ndarray, np.ndarray, np.ndarray
     nu = np.asarray(model.poisson_ratio, float)
     c = np.sqrt(young / (rho * (1.0 - nu**2)))[material]
     length = area / longest
+    truss = _truss_elements(model)
+    if truss.any():   # element/truss_element: L the length, c the bar wave speed sqrt(E / rho)
+        length = np.where(truss, np.linalg.norm(x[:, 1] - x[:, 0], axis=1), length)
+        c = np.where(truss, np.sqrt(young / rho)[material], c)
+        # the volume A L as the "area" whose rho t area is the element's mass
+        area = np.where(truss, _truss_area(model) * length / np.asarray(model.thickness, float)[
+            np.asarray(model.element_part)], area)
     dt = length / c
     rigid = np.isin(np.asarray(model.material_model), trait_codes("material_model", "rigid"))[material]
     if rigid.any() and not rigid.all():   # a rigid body's elements set no step (engine: mass_scaling_setup)
         dt = np.where(rigid, np.inf, dt)
     return dt, length, area, c
+
+
+def _truss_elements(model: deck.Model) -> np.ndarray:
+    """Whether each element is of a truss part."""
+    kinds = np.asarray(model.element_kind if model.element_kind is not None else np.ones(len(model.thickness)))
+    return np.isin(kinds, trait_codes("element_kind", "truss"))[np.asarray(model.element_part)]
+
+
+def _truss_area(model: deck.Model) -> np.ndarray:
+    """Each element's part's cross-section area (0 where none is given)."""
+    area = np.zeros(len(np.asarray(model.thickness))) if model.cross_section_area is None \
+        else np.asarray(model.cross_section_area, float)
+    return area[np.asarray(model.element_part)]
 
 
 def _part_names(model: deck.Model) -> list[str]:

@@ -84,6 +84,7 @@ def build_model(scene: Scene) -> deck.Model:
         material_names=[m.name for m in scene.materials],
     )
     _apply_material_extras(scene, model)
+    apply_trusses(scene, model)
     _apply_loads(r, scene, by_name, model)
     _apply_tracks(r, scene, by_name, model)
     _apply_contacts(scene, model)
@@ -164,14 +165,15 @@ def _apply_tracks(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model
 def _deck_contacts(scene: Scene) -> list[tuple[int, int, str, ContactSpec]]:
     """The deck's contact definitions (part, part, kind, spec). A single_surface contact over
     several parts is one surface: each part against itself, and each two parts a symmetric
-    node_to_segment pair (docs/scene.md)."""
+    node_to_segment pair (docs/scene.md); with no parts named, every shell part."""
     index = {p.name: i for i, p in enumerate(scene.parts)}
     rows: list[tuple[int, int, str, ContactSpec]] = []
     for c in scene.contacts:
         if c.kind != "single_surface":
             rows.append((index[c.parts[0]], index[c.parts[1]], c.kind, c))
             continue
-        members = [index[name] for name in (c.parts or [p.name for p in scene.parts])]
+        every = [p.name for p in scene.parts if p.element_kind == "shell"]   # trusses have no surface
+        members = [index[name] for name in (c.parts or every)]
         rows += [(a, a, "single_surface", c) for a in members]
         pair = dataclasses.replace(c, symmetric=True)
         rows += [(a, b, "node_to_segment", pair) for i, a in enumerate(members) for b in members[i + 1:]]
@@ -207,6 +209,15 @@ def _apply_file_ids(meshes: list[_PartMesh], model: deck.Model) -> None:
     model.node_ids = np.concatenate([ids(m.mesh.node_ids, m.mesh.n_nodes) for m in meshes])
     model.element_ids = np.concatenate([ids(m.mesh.element_ids, m.mesh.n_elements) for m in meshes])
     model.part_ids = np.array([m.mesh.part_id or 0 for m in meshes], dtype=np.int64)
+
+
+def apply_trusses(scene: Scene, model: deck.Model) -> None:
+    """/parts/element_kind and /parts/cross_section_area where some part is a truss part."""
+    if all(p.element_kind == "shell" for p in scene.parts):
+        return
+    kinds = _schema.ENUMS["element_kind"]
+    model.element_kind = np.array([kinds[p.element_kind] for p in scene.parts], dtype=np.int32)
+    model.cross_section_area = np.array([p.cross_section_area for p in scene.parts])
 
 
 def _apply_material_extras(scene: Scene, model: deck.Model) -> None:

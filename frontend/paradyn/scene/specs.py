@@ -113,6 +113,9 @@ class PartSpec:
     hourglass_form: str = _enum_name("hourglass_form", _DECK_DEFAULT["/parts/hourglass_form"])
     warping_correction: bool = bool(_DECK_DEFAULT["/parts/warping_correction"])
     initial_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    # "truss": 2-node bars (elements N1 N2 N2 N2) of cross-section area cross_section_area (m^2)
+    element_kind: str = _enum_name("element_kind", _DECK_DEFAULT["/parts/element_kind"])
+    cross_section_area: float = 0.0
 
 
 @dataclass
