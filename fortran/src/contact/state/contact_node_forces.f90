@@ -14,24 +14,28 @@ contains
   pure subroutine contact_apply_forces(c, f_int)
     type(contact_t), intent(in) :: c
     real(wp), intent(inout) :: f_int(:, :)
-    integer :: i, k, j
-    do i = 1, c%n_touched
-      k = c%touched(i)
-      j = c%column(k)
-      if (j > 0) f_int(1:3, j) = f_int(1:3, j) - c%force(:, k)
-    end do
+    call add_touched(c, -1.0_wp, f_int)
   end subroutine contact_apply_forces
 
   !> force (3, local nodes) plus each touched node's contact force.
   pure subroutine contact_add_nodal_forces(c, force)
     type(contact_t), intent(in) :: c
     real(wp), intent(inout) :: force(:, :)
+    call add_touched(c, 1.0_wp, force)
+  end subroutine contact_add_nodal_forces
+
+  !> values(1:3, node) + sign x each touched node's contact force (sign +-1: exact, so f - x and
+  !> f + (-1) x are the same bits).
+  pure subroutine add_touched(c, sign, values)
+    type(contact_t), intent(in) :: c
+    real(wp), intent(in) :: sign
+    real(wp), intent(inout) :: values(:, :)
     integer :: i, k, j
     do i = 1, c%n_touched
       k = c%touched(i)
       j = c%column(k)
-      if (j > 0) force(:, j) = force(:, j) + c%force(:, k)
+      if (j > 0) values(1:3, j) = values(1:3, j) + sign * c%force(:, k)
     end do
-  end subroutine contact_add_nodal_forces
+  end subroutine add_touched
 
 end module contact_node_forces
