@@ -19,7 +19,7 @@ import numpy as np
 from paradyn.atomic_write import replacing
 
 from . import grids
-from .layout import frame_tails, open_results, read_frame_rows
+from .layout import FRAME_DATASETS, LATER_FRAME_FIELDS, frame_tails, open_results, read_frame_rows
 from .reading import Results, ResultsError
 
 if TYPE_CHECKING:
@@ -28,9 +28,12 @@ if TYPE_CHECKING:
 
 VTKHDF_VERSION = (2, 1)
 _BLOCK_BYTES = 64 * 2**20   # frames copied per read: bounded memory on long runs
-# (name, on points?, components) of the fields written every frame
+# (name, on points?, components) of the fields written every frame, as in the .vtu files (grids.py);
+# layer_stress is one 15-component cell array (bottom, middle, top; sxx syy sxy sxz syz each)
 _FRAME_ARRAYS = (("displacement", True, 3), ("velocity", True, 3), ("membrane_stress", False, 3),
-                 ("von_mises", False, 1), ("plastic_strain", False, 1))
+                 ("von_mises", False, 1), ("plastic_strain", False, 1), ("acceleration", True, 3),
+                 ("nodal_contact_force", True, 3), ("layer_stress", False, 15), ("membrane_strain", False, 3),
+                 ("internal_energy_density", False, 1))
 
 
 def write_vtkhdf(results: Results, path: str | Path) -> Path:
@@ -92,23 +95,31 @@ def _write_topology(root: h5py.Group, results: Results) -> None:
     cells["file_part_id"] = ids.part[results.element_part].astype(np.int64)
 
 
+def _arrays_in(h5: h5py.File) -> list[tuple[str, bool, int]]:
+    """The frame arrays of ``h5``: every one of ``_FRAME_ARRAYS`` but the later fields a file
+    written before them lacks (layout.LATER_FRAME_FIELDS)."""
+    return [a for a in _FRAME_ARRAYS if a[0] not in LATER_FRAME_FIELDS or FRAME_DATASETS[a[0]] in h5]
+
+
 def _write_steps(root: h5py.Group, results: Results) -> None:
     """The deformed points and the fields of every frame, and the ``Steps`` offsets into them."""
     steps, n_nodes, n_cells = results.n_frames, results.n_nodes, results.n_elements
     points = root.create_dataset("Points", (steps * n_nodes, 3), dtype=np.float64)
+    with open_results(results.path) as h5:
+        arrays = _arrays_in(h5)
     data = {}
-    for name, on_points, components in _FRAME_ARRAYS:
+    for name, on_points, components in arrays:
         rows = steps * (n_nodes if on_points else n_cells)
         shape = (rows, components) if components > 1 else (rows,)
         data[name] = root["PointData" if on_points else "CellData"].create_dataset(name, shape, dtype=np.float64)
     # whole blocks of frames per read and write: one h5py call per block, not per frame and field
-    per_frame = 8 * 7 * (n_nodes + n_cells)
+    per_frame = 8 * sum(c * (n_nodes if p else n_cells) for _, p, c in arrays) + 24 * n_nodes
     block = max(1, _BLOCK_BYTES // max(per_frame, 1))
     tails = frame_tails(n_nodes, n_elements=n_cells)
     with open_results(results.path) as h5:
         for first in range(0, steps, block):
             last = min(first + block, steps)
-            for name, on_points, components in _FRAME_ARRAYS:
+            for name, on_points, components in arrays:
                 size = n_nodes if on_points else n_cells
                 rows = slice(first * size, last * size)
                 values = read_frame_rows(h5, name, first, last, tails[name])
@@ -129,5 +140,5 @@ def _write_steps(root: h5py.Group, results: Results) -> None:
         point_offsets[name] = zeros
     for name in ("part", "element_id", "file_element_id", "file_part_id"):
         cell_offsets[name] = zeros
-    for name, on_points, _ in _FRAME_ARRAYS:
+    for name, on_points, _ in arrays:
         (point_offsets if on_points else cell_offsets)[name] = k * (n_nodes if on_points else n_cells)
