@@ -33,6 +33,9 @@ MEETS: dict[str, tuple[str, ...]] = {
     "edge_drop": ("finishes", "finite", "balance", "penetration"),
     "wall_crush": ("finishes", "finite", "balance", "hourglass"),
     "crush_100": ("finishes", "finite", "balance"),
+    "mixed_mesh": ("finishes", "finite", "balance", "hourglass", "penetration"),
+    "sphere_plate": ("finishes", "finite", "balance", "penetration"),
+    "tube_crush": ("finishes", "finite", "balance", "penetration"),
 }
 FREE = {"sliding_friction", "spinning_pipe", "fig3"}
 
