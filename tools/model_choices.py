@@ -32,11 +32,13 @@ QUANTITY_TIME = 2.5e-3   # s
 CHOICES = [
     ("base", None, None),
     ("physical hourglass form", "hourglass_form", "physical"),
+    ("viscous hourglass form", "hourglass_form", "viscous"),
     ("warping correction on", "warping_correction", True),
     ("3 points through the thickness", "integration_points", 3),
     ("9 points through the thickness", "integration_points", 9),
     ("penalty scale 1.0 (stiffer contact)", "penalty_scale", 1.0),
     ("penalty scale 0.01 (softer contact)", "penalty_scale", 0.01),
+    ("one contact pass (lower pipe master)", "symmetric", False),
     ("step 0.5 of the stable step", "time_step_safety", 0.5),
 ]
 
@@ -71,9 +73,13 @@ def main() -> None:
     parser.add_argument("-o", "--out", type=Path, default=Path("runs/model_choices"))
     parser.add_argument("--jobs", type=int, default=1, help="runs at once (default 1)")
     parser.add_argument("--end-time", type=float, default=None, help="shorter runs, for a quick check")
+    parser.add_argument("--only", default=None, help="comma-separated knob names: the base and these choices alone")
     args = parser.parse_args()
+    wanted = None if args.only is None else set(args.only.split(","))
     rows, base_value = [], None
     for label, knob, value in CHOICES:
+        if wanted is not None and knob is not None and knob not in wanted:
+            continue
         q = ladder(label, knob, value, args.out, args.jobs, args.end_time)
         ex = richardson(MESHES, q)
         if label == "base":
