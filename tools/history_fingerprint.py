@@ -4,8 +4,8 @@ Meshes every ``cases/pipe_whip*`` scene (or the ones named), runs the engine on 
 threads (``paradyn.run`` without post-processing), and prints one SHA-256 per case over every
 ``/history`` dataset of its ``results.h5`` (raw bytes, in name order) but the time step's own
 records (``dt``, ``dt_stable``, ``dt_element``: STEP_NAMES, added with the step that follows the mesh)
-and the per-part and per-contact records, the reaction and the eroded element count (LATER_NAMES,
-added in issues 18, 33 and 34), so that the digests compare with those of files written before them;
+and the per-part and per-contact records, the reaction, the eroded element count and the failed welds (LATER_NAMES,
+added in issues 18, 33, 34 and 32), so that the digests compare with those of files written before them;
 a second digest covers the step's records. A
 change that must keep the answers (a restructure, a speed-up) keeps every line of this output:
 run it before and after and compare with ``diff``.
@@ -25,7 +25,7 @@ import paradyn
 ROOT = Path(__file__).resolve().parents[1]
 STEP_NAMES = ("dt", "dt_element", "dt_stable")
 LATER_NAMES = ("contact_force", "part_hourglass_energy", "part_internal_energy", "part_kinetic_energy",
-               "part_plastic_work", "reaction_force", "eroded_elements")
+               "part_plastic_work", "reaction_force", "eroded_elements", "failed_welds")
 
 
 def history_digest(results: Path, step: bool = False) -> str:

@@ -741,6 +741,48 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'give the index of a curve of /curves/first_point, or -1 for a constant velocity',
     ),
     DatasetSpec(
+        '/rigid_bodies/failure_force', 'rigid_body_failure_force', 'float', ('n_rigid_bodies', 2), False, None,
+        None, 0.0, Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 'N',
+        (
+            "a weld's failure forces SN (normal, tension) and SS (shear), 0 for none: the body lets its nodes go "
+            'when (max(fn, 0) / SN)^N + (|fs| / SS)^M >= 1, fn and fs the normal and shear parts of the force the '
+            "body's constraint applies to /rigid_bodies/failure_node (LS-DYNA *CONSTRAINED_SPOTWELD SN, SS; "
+            'docs/theory.md, "Weld failure")'
+        ), '-', 'give forces >= 0 in N (0: no failure in that mode)',
+    ),
+    DatasetSpec(
+        '/rigid_bodies/failure_exponent', 'rigid_body_failure_exponent', 'float', ('n_rigid_bodies', 2), False,
+        None, None, 2.0, Bound(0.0, False), None, 'must be > 0', None, '', None, False, '-',
+        (
+            "the exponents N (normal) and M (shear) of the weld's failure criterion (LS-DYNA "
+            '*CONSTRAINED_SPOTWELD N, M)'
+        ), '-', 'give exponents > 0 (2: the quadratic criterion)',
+    ),
+    DatasetSpec(
+        '/rigid_bodies/failure_time', 'rigid_body_failure_time', 'float', ('n_rigid_bodies',), False, None, None,
+        1e+20, None, None, '', None, '', None, False, 's',
+        (
+            'the time at which the body lets its nodes go whatever its force (LS-DYNA *CONSTRAINED_SPOTWELD TF; '
+            '1e20: never)'
+        ), '-', 'give a time in s (1e20 for never)',
+    ),
+    DatasetSpec(
+        '/rigid_bodies/failure_node', 'rigid_body_failure_node', 'int', ('n_rigid_bodies',), False, None, None, -1,
+        Bound(-1, True), None, 'must be >= -1', None, '', 'node', False, '-',
+        (
+            "the node of the body whose constraint force is the weld's force (a two-node weld's N1), -1 for none "
+            '(no force failure)'
+        ), '-', "give the 0-based index of a node of the body's own (/nodes/rigid_body), or -1",
+    ),
+    DatasetSpec(
+        '/rigid_bodies/failure_normal', 'rigid_body_failure_normal', 'float', ('n_rigid_bodies', 3), False, None,
+        None, 0.0, None, None, '', None, '', None, False, '-',
+        (
+            "the weld's normal at time 0 (a two-node weld: from N1 to N2), turned with the body: fn is the force "
+            'on failure_node along it (tension > 0), fs the rest; the zero vector: the whole force is shear'
+        ), '-', 'give a direction (any length) or the zero vector',
+    ),
+    DatasetSpec(
         '/curves/first_point', 'curve_first_point', 'int', ('n_curves',), False, 'curves_group', None, None,
         Bound(0, True), None, 'must be >= 0', None, '', None, True, '-',
         (
@@ -1119,6 +1161,11 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/rigid_bodies/prescribed'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/rigid_bodies/velocity'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/rigid_bodies/curve'): ('class', 'shape', 'rows', 'lower', 'reference'),
+    ('dataset', '/rigid_bodies/failure_force'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/rigid_bodies/failure_exponent'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/rigid_bodies/failure_time'): ('class', 'shape', 'rows', 'finite'),
+    ('dataset', '/rigid_bodies/failure_node'): ('class', 'shape', 'rows', 'lower', 'reference'),
+    ('dataset', '/rigid_bodies/failure_normal'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/curves/first_point'): ('required_when', 'class', 'shape', 'lower'),
     ('dataset', '/curves/time'): ('required_when', 'class', 'shape', 'finite'),
     ('dataset', '/curves/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
@@ -1189,9 +1236,9 @@ FRAME_FIELDS = (
 )
 HISTORY_NAMES = (
     'time', 'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work',
-    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'eroded_elements', 'part_kinetic_energy',
-    'part_internal_energy', 'part_hourglass_energy', 'part_plastic_work', 'contact_force', 'rigid_wall_force',
-    'reaction_force', 'tracked_displacement', 'tracked_velocity',
+    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'eroded_elements', 'failed_welds',
+    'part_kinetic_energy', 'part_internal_energy', 'part_hourglass_energy', 'part_plastic_work', 'contact_force',
+    'rigid_wall_force', 'reaction_force', 'tracked_displacement', 'tracked_velocity',
 )
 ENERGY_NAMES = ('kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work')
 HISTORY_UNITS: dict[str, str] = {
@@ -1206,6 +1253,7 @@ HISTORY_UNITS: dict[str, str] = {
     'dt_stable': 's',
     'dt_element': '-',
     'eroded_elements': '-',
+    'failed_welds': '-',
     'part_kinetic_energy': 'J',
     'part_internal_energy': 'J',
     'part_hourglass_energy': 'J',

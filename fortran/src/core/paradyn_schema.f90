@@ -16,41 +16,44 @@ module paradyn_schema
       max_integration_points, status_ok, status_failure, status_bad_input, status_numerical, status_stopped, &
       n_frame_fields, n_history_scalars, history_kinetic_energy, history_internal_energy, &
       history_hourglass_energy, history_contact_energy, history_external_work, history_contact_penetration, &
-      history_dt, history_dt_stable, history_dt_element, history_eroded_elements, frame_field_names, &
-      history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, size_n_elements, &
-      size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, &
-      size_n_rigid_wall_nodes, size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, &
-      size_n_base_accelerations, size_n_rigid_bodies, n_sizes, condition_none, condition_loads_group, &
-      condition_contact_group, condition_rigid_walls_group, condition_rigid_wall_nodes_group, &
-      condition_curves_group, condition_pressure_group, condition_prescribed_group, &
-      condition_base_accelerations_group, condition_rigid_bodies_group, condition_plastic, &
-      condition_combined_hardening, condition_strain_rate, condition_hardening_curve, condition_rate_curve, &
-      condition_truss, n_conditions, enum_none, enum_material_model, enum_element_kind, enum_hourglass_form, &
-      enum_dof_state, enum_contact_passes, enum_contact_kind, enum_initial_penetration, enum_contact_gather, &
-      enum_rigid_wall_shape, enum_switch, enum_partition, enum_precision, n_enums, dataset_nodes_coordinates, &
-      dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
-      dataset_nodes_rigid_body, dataset_nodes_added_mass, dataset_nodes_id, dataset_elements_connectivity, &
-      dataset_elements_part, dataset_elements_id, dataset_parts_thickness, dataset_parts_material, &
-      dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
-      dataset_parts_warping_correction, dataset_parts_surface_only, dataset_parts_element_kind, &
-      dataset_parts_cross_section_area, dataset_parts_id, dataset_materials_model, dataset_materials_density, &
-      dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
-      dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, dataset_materials_rate_c, &
-      dataset_materials_rate_p, dataset_materials_hardening_curve, dataset_materials_rate_curve, &
-      dataset_materials_failure_strain, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
-      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
-      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
-      dataset_contact_initial_penetration, dataset_contact_birth_time, dataset_contact_death_time, &
-      dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_shape, &
-      dataset_rigid_walls_edge, dataset_rigid_walls_size, dataset_rigid_walls_radius, &
-      dataset_rigid_walls_length, dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, &
-      dataset_rigid_walls_friction, dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, &
-      dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, &
-      dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, dataset_curves_first_point, &
-      dataset_curves_time, dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
-      dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
-      dataset_prescribed_curve, dataset_base_accelerations_direction, dataset_base_accelerations_value, &
+      history_dt, history_dt_stable, history_dt_element, history_eroded_elements, history_failed_welds, &
+      frame_field_names, history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, &
+      size_n_elements, size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, &
+      size_n_rigid_walls, size_n_rigid_wall_nodes, size_n_curves, size_n_curve_points, size_n_pressures, &
+      size_n_prescribed, size_n_base_accelerations, size_n_rigid_bodies, n_sizes, condition_none, &
+      condition_loads_group, condition_contact_group, condition_rigid_walls_group, &
+      condition_rigid_wall_nodes_group, condition_curves_group, condition_pressure_group, &
+      condition_prescribed_group, condition_base_accelerations_group, condition_rigid_bodies_group, &
+      condition_plastic, condition_combined_hardening, condition_strain_rate, condition_hardening_curve, &
+      condition_rate_curve, condition_truss, n_conditions, enum_none, enum_material_model, enum_element_kind, &
+      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_initial_penetration, &
+      enum_contact_gather, enum_rigid_wall_shape, enum_switch, enum_partition, enum_precision, n_enums, &
+      dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
+      dataset_nodes_fixed_dofs, dataset_nodes_rigid_body, dataset_nodes_added_mass, dataset_nodes_id, &
+      dataset_elements_connectivity, dataset_elements_part, dataset_elements_id, dataset_parts_thickness, &
+      dataset_parts_material, dataset_parts_integration_points, dataset_parts_hourglass_coefficient, &
+      dataset_parts_hourglass_form, dataset_parts_warping_correction, dataset_parts_surface_only, &
+      dataset_parts_element_kind, dataset_parts_cross_section_area, dataset_parts_id, &
+      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
+      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
+      dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
+      dataset_materials_hardening_curve, dataset_materials_rate_curve, dataset_materials_failure_strain, &
+      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
+      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
+      dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
+      dataset_contact_passes, dataset_contact_kind, dataset_contact_initial_penetration, &
+      dataset_contact_birth_time, dataset_contact_death_time, dataset_rigid_walls_point, &
+      dataset_rigid_walls_normal, dataset_rigid_walls_shape, dataset_rigid_walls_edge, &
+      dataset_rigid_walls_size, dataset_rigid_walls_radius, dataset_rigid_walls_length, &
+      dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, &
+      dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, &
+      dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, &
+      dataset_rigid_bodies_curve, dataset_rigid_bodies_failure_force, dataset_rigid_bodies_failure_exponent, &
+      dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_node, &
+      dataset_rigid_bodies_failure_normal, dataset_curves_first_point, dataset_curves_time, &
+      dataset_curves_value, dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
+      dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
+      dataset_base_accelerations_direction, dataset_base_accelerations_value, &
       dataset_base_accelerations_curve, n_deck_datasets, control_end_time, control_output_interval, &
       control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
       control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
@@ -117,7 +120,7 @@ module paradyn_schema
 
   ! results datasets (schema/results.toml): frame fields, scalar histories by id
   integer, parameter :: n_frame_fields = 11
-  integer, parameter :: n_history_scalars = 10
+  integer, parameter :: n_history_scalars = 11
   integer, parameter :: history_kinetic_energy = 1
   integer, parameter :: history_internal_energy = 2
   integer, parameter :: history_hourglass_energy = 3
@@ -128,13 +131,14 @@ module paradyn_schema
   integer, parameter :: history_dt_stable = 8
   integer, parameter :: history_dt_element = 9
   integer, parameter :: history_eroded_elements = 10
+  integer, parameter :: history_failed_welds = 11
   character(len=31), parameter :: frame_field_names(n_frame_fields) = [character(len=31) :: 'time', &
     'displacement', 'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain', &
     'acceleration', 'nodal_contact_force', 'element_layer_stress', 'element_membrane_strain', &
     'element_internal_energy_density']
   character(len=19), parameter :: history_scalar_names(n_history_scalars) = [character(len=19) :: &
     'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work', &
-    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'eroded_elements']
+    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'eroded_elements', 'failed_welds']
 
   ! classes, row symbols, conditions, enums, datasets and /control attributes by id
   integer, parameter :: class_int = 1
@@ -252,20 +256,25 @@ module paradyn_schema
   integer, parameter :: dataset_rigid_bodies_prescribed = 62
   integer, parameter :: dataset_rigid_bodies_velocity = 63
   integer, parameter :: dataset_rigid_bodies_curve = 64
-  integer, parameter :: dataset_curves_first_point = 65
-  integer, parameter :: dataset_curves_time = 66
-  integer, parameter :: dataset_curves_value = 67
-  integer, parameter :: dataset_pressure_part = 68
-  integer, parameter :: dataset_pressure_value = 69
-  integer, parameter :: dataset_pressure_curve = 70
-  integer, parameter :: dataset_prescribed_node = 71
-  integer, parameter :: dataset_prescribed_dof = 72
-  integer, parameter :: dataset_prescribed_value = 73
-  integer, parameter :: dataset_prescribed_curve = 74
-  integer, parameter :: dataset_base_accelerations_direction = 75
-  integer, parameter :: dataset_base_accelerations_value = 76
-  integer, parameter :: dataset_base_accelerations_curve = 77
-  integer, parameter :: n_deck_datasets = 77
+  integer, parameter :: dataset_rigid_bodies_failure_force = 65
+  integer, parameter :: dataset_rigid_bodies_failure_exponent = 66
+  integer, parameter :: dataset_rigid_bodies_failure_time = 67
+  integer, parameter :: dataset_rigid_bodies_failure_node = 68
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 69
+  integer, parameter :: dataset_curves_first_point = 70
+  integer, parameter :: dataset_curves_time = 71
+  integer, parameter :: dataset_curves_value = 72
+  integer, parameter :: dataset_pressure_part = 73
+  integer, parameter :: dataset_pressure_value = 74
+  integer, parameter :: dataset_pressure_curve = 75
+  integer, parameter :: dataset_prescribed_node = 76
+  integer, parameter :: dataset_prescribed_dof = 77
+  integer, parameter :: dataset_prescribed_value = 78
+  integer, parameter :: dataset_prescribed_curve = 79
+  integer, parameter :: dataset_base_accelerations_direction = 80
+  integer, parameter :: dataset_base_accelerations_value = 81
+  integer, parameter :: dataset_base_accelerations_curve = 82
+  integer, parameter :: n_deck_datasets = 82
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -668,6 +677,23 @@ module paradyn_schema
         condition_none, condition_none, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
         'give the index of a curve of /curves/first_point, or -1 for a constant velocity'), &
+    dataset_spec_t('/rigid_bodies/failure_force', class_float, 2, size_n_rigid_bodies, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give forces >= 0 in N (0: no failure in that mode)'), &
+    dataset_spec_t('/rigid_bodies/failure_exponent', class_float, 2, size_n_rigid_bodies, .false., .false., &
+        condition_none, condition_none, 2.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give exponents > 0 (2: the quadratic criterion)'), &
+    dataset_spec_t('/rigid_bodies/failure_time', class_float, 0, size_n_rigid_bodies, .false., .false., &
+        condition_none, condition_none, 1e+20_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give a time in s (1e20 for never)'), &
+    dataset_spec_t('/rigid_bodies/failure_node', class_int, 0, size_n_rigid_bodies, .false., .false., &
+        condition_none, condition_none, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_n_nodes, 'must be >= -1', '', &
+        'give the 0-based index of a node of the body''s own (/nodes/rigid_body), or -1'), &
+    dataset_spec_t('/rigid_bodies/failure_normal', class_float, 3, size_n_rigid_bodies, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give a direction (any length) or the zero vector'), &
     dataset_spec_t('/curves/first_point', class_int, 0, size_n_curves, .true., .false., &
         condition_curves_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &

@@ -18,6 +18,7 @@ module effect_factory
   use prescribed_velocity, only: prescribed_velocity_make
   use base_acceleration_effect, only: base_acceleration_effect_make
   use rigid_body_effect, only: rigid_body_effect_make
+  use weld_failure, only: weld_make
   use nodal_state, only: nodal_state_t
   implicit none
   private
@@ -76,7 +77,10 @@ contains
         call append(effects)
         allocate (effects(size(effects))%effect, source=rigid_body_effect_make( &
           [(deck%node_rigid_body(node_row(deck, dom%nodes(k))), k = 1, dom%n_nodes)], deck%rigid_body_fixed_dofs, &
-          deck%rigid_body_prescribed, deck%rigid_body_velocity, deck%rigid_body_curve, curves, ns, comm))
+          deck%rigid_body_prescribed, deck%rigid_body_velocity, deck%rigid_body_curve, curves, &
+          [(weld_make(deck%rigid_body_failure_force(:, k), deck%rigid_body_failure_exponent(:, k), &
+                      deck%rigid_body_failure_time(k), deck%rigid_body_failure_normal(:, k)), k = 1, deck%n_rigid_bodies)], &
+          [(local_node(dom, deck%rigid_body_failure_node(k)), k = 1, deck%n_rigid_bodies)], ns, comm))
       end select   ! effects that are not nodal (elements, contact, integration) are built elsewhere
     end do
   end subroutine make_nodal_effects

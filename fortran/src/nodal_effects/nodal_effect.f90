@@ -4,7 +4,8 @@
 !> acts_at; the solver's pipeline calls only those, and only for the members the deck declares
 !> (effect_factory), so an effect the scene does not call for costs nothing. A member with a state
 !> of its own (the rigid bodies' motion) gives it to checkpoints through state_words; a member
-!> whose forces the history reports (the rigid walls' RWFORC) gives their exact sums through history_sums.
+!> whose forces the history reports (the rigid walls' RWFORC) gives their exact sums through history_sums,
+!> one whose constraints can let go (the welds) counts them in failures.
 module nodal_effect
   use paradyn_kinds, only: wp, i8
   use nodal_state, only: nodal_state_t
@@ -30,6 +31,8 @@ module nodal_effect
     procedure :: state_words => no_state
     procedure :: restore_state => no_restore
     procedure :: history_sums => no_history_sums
+    !> how many of the member's constraints have let go so far (welds), the same on every rank
+    procedure :: failures => no_failures
     !> mass(j): the mass that moves with local node j, for the contact's stability cap (default:
     !> unchanged, the node's own); a member that moves nodes together gives them their group's
     procedure :: carried_mass => own_mass
@@ -110,5 +113,11 @@ contains
     integer(i8), allocatable :: sums(:, :, :)
     allocate (sums(0, 3, 0))
   end function no_history_sums
+
+  !> No constraint of the member ever lets go.
+  pure integer function no_failures(e) result(count)
+    class(nodal_effect_t), intent(in) :: e
+    count = 0
+  end function no_failures
 
 end module nodal_effect

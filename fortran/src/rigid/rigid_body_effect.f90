@@ -4,6 +4,8 @@
 !> exact (core/exact_sum) and reduced over the ranks, so every rank moves every body the same way
 !> and the positions are bitwise the same on any layout. Each rank carries the nodes it holds; a
 !> body costs time in proportion to its nodes, and a model without bodies never builds this member.
+!> A weld (a body with a failure force or time, weld_failure) lets its nodes go for the rest of the
+!> run when it fails: from that step on they move as free nodes; the failed state is checkpointed.
 module rigid_body_effect
   use mpi_f08
   use paradyn_kinds, only: wp, i8
@@ -15,11 +17,13 @@ module rigid_body_effect
   use nodal_effect, only: nodal_effect_t, stage_constraints
   use rigid_body_motion, only: rigid_body_t, body_from_sums, body_advance, body_omega, &
                                carry_nodes, n_mass_sums
+  use weld_failure, only: weld_t, weld_has_force_criterion, weld_criterion
   implicit none
   private
   public :: rigid_body_effect_t, rigid_body_effect_make
 
-  integer, parameter :: state_per_body = 21   !< centre, rotation, velocity, momentum, omega
+  !> centre, rotation, velocity, momentum, omega, failed (1.0 or 0.0) and the failure time
+  integer, parameter :: state_per_body = 23
 
   type, extends(nodal_effect_t) :: rigid_body_effect_t
     type(MPI_Comm) :: comm
@@ -33,12 +37,19 @@ module rigid_body_effect
     integer, allocatable :: curve(:)          !< per body, 1-based, 0: the factor 1
     type(load_curves_t) :: curves
     integer :: rank = 0                       !< the constraint work is counted once, on rank 0
+    type(weld_t), allocatable :: welds(:)     !< per body: its failure forces, exponents, time, normal
+    integer, allocatable :: failure_entry(:)  !< per body: the entry of its weld node if this rank owns it, else 0
+    logical :: force_criteria = .false.       !< some body can fail by its force
+    integer, allocatable :: failed(:)         !< per body: 1 once it has let its nodes go
+    real(wp), allocatable :: failed_at(:)     !< per body: the time it let go (s), -1 while it holds
+    real(wp), allocatable :: v_free(:, :)     !< (6, entries) workspace: the nodes' velocities before the constraint
   contains
     procedure :: acts_at
     procedure :: constrain
     procedure :: state_words
     procedure :: restore_state
     procedure :: carried_mass
+    procedure :: failures
   end type rigid_body_effect_t
 
 contains
@@ -47,11 +58,15 @@ contains
   !> fixed(:, b) the held dofs of body b, prescribed(:, b) those whose velocity is velocity(:, b) x
   !> curve(b) of curves (0: the factor 1). Collective over comm. Mass, centre and inertia come from
   !> the nodes' masses (ns%mass, ns%inertia, set before); the initial velocity and angular momentum
-  !> from the nodes' initial velocities, which are then made those of the rigid motion.
-  function rigid_body_effect_make(body, fixed, prescribed, velocity, curve, curves, ns, comm) result(e)
-    integer, intent(in) :: body(:), fixed(:, :), prescribed(:, :), curve(:)
+  !> from the nodes' initial velocities, which are then made those of the rigid motion. welds(b):
+  !> body b's failure (weld_failure), failure_node(b) the local node whose constraint force is its
+  !> weld's (0 for none or not held here).
+  function rigid_body_effect_make(body, fixed, prescribed, velocity, curve, curves, welds, failure_node, ns, comm) &
+      result(e)
+    integer, intent(in) :: body(:), fixed(:, :), prescribed(:, :), curve(:), failure_node(:)
     real(wp), intent(in) :: velocity(:, :)
     type(load_curves_t), intent(in) :: curves
+    type(weld_t), intent(in) :: welds(:)
     type(nodal_state_t), intent(inout) :: ns
     type(MPI_Comm), intent(in) :: comm
     type(rigid_body_effect_t) :: e
@@ -66,6 +81,21 @@ contains
     e%curve = curve
     e%curves = curves
     call sort_entries(body, nb, e%first, e%node)
+    e%welds = welds
+    allocate (e%failure_entry(nb), e%failed(nb), e%failed_at(nb))
+    e%failure_entry = 0
+    e%failed = 0
+    e%failed_at = -1.0_wp
+    do b = 1, nb   ! every rank checks the welds (collective), whether it holds their nodes or not
+      if (.not. weld_has_force_criterion(welds(b))) cycle
+      e%force_criteria = .true.
+      if (failure_node(b) == 0) cycle
+      do k = e%first(b), e%first(b + 1) - 1
+        if (e%node(k) == failure_node(b) .and. ns%weight(failure_node(b)) /= 0.0_wp) e%failure_entry(b) = k
+      end do
+    end do
+    call check_failure_nodes(e, failure_node, comm)
+    if (e%force_criteria) allocate (e%v_free(6, size(e%node)))
     allocate (e%bodies(nb), origin(3, nb), totals(n_mass_sums, nb))
     allocate (e%sums(exact_width, n_mass_sums, nb))
     origin = 0.0_wp
@@ -105,6 +135,21 @@ contains
     end do
     e%sums = 0
   end function rigid_body_effect_make
+
+  !> Stops the run when a body's failure node (given here where held) is on no rank one of its own.
+  subroutine check_failure_nodes(e, failure_node, comm)
+    type(rigid_body_effect_t), intent(in) :: e
+    integer, intent(in) :: failure_node(:)
+    type(MPI_Comm), intent(in) :: comm
+    integer :: given(size(failure_node)), found(size(failure_node)), k
+    given = merge(1, 0, failure_node > 0)
+    found = merge(1, 0, e%failure_entry > 0)
+    call MPI_Allreduce(MPI_IN_PLACE, given, size(given), MPI_INTEGER, MPI_MAX, comm)
+    call MPI_Allreduce(MPI_IN_PLACE, found, size(found), MPI_INTEGER, MPI_MAX, comm)
+    if (any(given > 0 .and. found == 0 .and. [(weld_has_force_criterion(e%welds(k)), k = 1, size(e%welds))])) &
+      error stop 'paradyn-engine: a /rigid_bodies/failure_node is not a node of its own body (/nodes/rigid_body); '// &
+        'give the weld''s N1, or -1 (the frontend checks this: paradyn.deck.validate_model)'
+  end subroutine check_failure_nodes
 
   !> The factor of body b's prescribed velocities at time 0.
   pure real(wp) function start_factor(e, b) result(factor)
@@ -207,6 +252,11 @@ contains
     integer :: b, k, j
     terms = 0.0_wp
     do b = 1, size(e%bodies)
+      if (e%failed(b) == 0 .and. time >= e%welds(b)%time) then   ! its failure time: free from this step
+        e%failed(b) = 1
+        e%failed_at(b) = time
+      end if
+      if (e%failed(b) /= 0) cycle
       do k = e%first(b), e%first(b + 1) - 1
         j = e%node(k)
         if (ns%weight(j) == 0.0_wp) cycle
@@ -216,7 +266,12 @@ contains
       end do
     end do
     call reduce(e, terms, totals)
+    if (e%force_criteria) then
+      e%v_free(1:3, :) = ns%v(:, e%node)
+      e%v_free(4:6, :) = ns%w(:, e%node)
+    end if
     do b = 1, size(e%bodies)
+      if (e%failed(b) /= 0) cycle
       centre = e%bodies(b)%centre
       rotation = e%bodies(b)%rotation
       factor = 1.0_wp
@@ -227,7 +282,44 @@ contains
       call carry_nodes(e%bodies(b), centre, rotation, e%offset(:, e%first(b):e%first(b + 1) - 1), &
                        e%node(e%first(b):e%first(b + 1) - 1), dt, ns%v, ns%w)
     end do
+    if (e%force_criteria) call check_welds(e, ns, time, 0.5_wp * (dt_previous + dt))
   end subroutine constrain
+
+  !> The welds whose force reached their failure surface in this step let their nodes go: the
+  !> force is the one the constraint applied to the weld's node, m (v - v_free) / h, summed exactly
+  !> over the ranks (its owner alone gives it), so every rank decides alike. A weld that fails
+  !> gives its nodes back their free velocities of this step: they move freely from this step on.
+  subroutine check_welds(e, ns, time, h)
+    type(rigid_body_effect_t), intent(inout) :: e
+    type(nodal_state_t), intent(inout) :: ns
+    real(wp), intent(in) :: time, h
+    real(wp) :: terms(3, size(e%node)), totals(3, size(e%bodies))
+    integer :: b, k, j
+    terms = 0.0_wp
+    do b = 1, size(e%bodies)
+      k = e%failure_entry(b)
+      if (k == 0 .or. e%failed(b) /= 0) cycle
+      j = e%node(k)
+      terms(:, k) = ns%mass(j) * (ns%v(:, j) - e%v_free(1:3, k)) / h
+    end do
+    call reduce(e, terms, totals)
+    do b = 1, size(e%bodies)
+      if (e%failed(b) /= 0 .or. .not. weld_has_force_criterion(e%welds(b))) cycle
+      if (weld_criterion(e%welds(b), totals(:, b), e%bodies(b)%rotation) < 1.0_wp) cycle
+      e%failed(b) = 1
+      e%failed_at(b) = time
+      do k = e%first(b), e%first(b + 1) - 1
+        ns%v(:, e%node(k)) = e%v_free(1:3, k)
+        ns%w(:, e%node(k)) = e%v_free(4:6, k)
+      end do
+    end do
+  end subroutine check_welds
+
+  !> How many bodies have let their nodes go (the same on every rank).
+  pure integer function failures(e) result(n)
+    class(rigid_body_effect_t), intent(in) :: e
+    n = count(e%failed /= 0)
+  end function failures
 
   !> The bodies' motion, the same on every rank, for a checkpoint.
   function state_words(e) result(words)
@@ -237,7 +329,8 @@ contains
     allocate (words(0))
     do b = 1, size(e%bodies)
       associate (x => e%bodies(b))
-        words = [words, x%centre, reshape(x%rotation, [9]), x%velocity, x%momentum, x%omega]
+        words = [words, x%centre, reshape(x%rotation, [9]), x%velocity, x%momentum, x%omega, &
+                 real(e%failed(b), wp), e%failed_at(b)]
       end associate
     end do
   end function state_words
@@ -254,6 +347,8 @@ contains
       e%bodies(b)%velocity = words(o + 13:o + 15)
       e%bodies(b)%momentum = words(o + 16:o + 18)
       e%bodies(b)%omega = words(o + 19:o + 21)
+      e%failed(b) = nint(words(o + 22))
+      e%failed_at(b) = words(o + 23)
     end do
   end subroutine restore_state
 
@@ -271,6 +366,7 @@ contains
     real(wp), intent(inout) :: mass(:)
     integer :: b, k
     do b = 1, size(e%bodies)
+      if (e%failed(b) /= 0) cycle
       do k = e%first(b), e%first(b + 1) - 1
         mass(e%node(k)) = max(mass(e%node(k)), e%bodies(b)%mass)
       end do

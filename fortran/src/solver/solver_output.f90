@@ -6,7 +6,8 @@ module solver_output
   use paradyn_schema, only: status_ok, status_numerical, n_history_scalars, history_kinetic_energy, &
                             history_internal_energy, history_hourglass_energy, history_contact_energy, &
                             history_external_work, history_contact_penetration, effect_time_integration, &
-                            history_dt, history_dt_element, history_dt_stable, history_eroded_elements
+                            history_dt, history_dt_element, history_dt_stable, history_eroded_elements, &
+                            history_failed_welds
   use element_erosion, only: eroded_count
   use element_groups, only: group_size
   use shell_measures, only: blt_element_results
@@ -59,6 +60,8 @@ contains
       sums(history_dt_stable) = merge(s%clock%dt_stable, 0.0_wp, s%rank == 0)
       sums(history_dt_element) = merge(real(s%clock%controlling, wp), 0.0_wp, s%rank == 0)
       sums(history_eroded_elements) = real(eroded_elements(s), wp)
+      ! the same on every rank: rank 0 reports it
+      sums(history_failed_welds) = merge(real(failed_welds(s), wp), 0.0_wp, s%rank == 0)
       sums(inverted_at) = real(s%elements%inverted, wp)
       sums(nan_at) = merge(1.0_wp, 0.0_wp, any(ns%v /= ns%v) .or. any(ns%f_int /= ns%f_int))
       parts_at = nan_at + 6 * s%control%n_tracked
@@ -124,6 +127,16 @@ contains
                                    s%props(s%dom%group_part(g))%failure_strain)
     end do
   end function eroded_elements
+
+  !> How many welds (rigid bodies of the nodal effects) have let their nodes go so far.
+  integer function failed_welds(s) result(count)
+    type(solver_t), intent(in) :: s
+    integer :: k
+    count = 0
+    do k = 1, size(s%nodal_effects)
+      count = count + s%nodal_effects(k)%effect%failures()
+    end do
+  end function failed_welds
 
   !> Each rigid wall's force on the model in the last step, (3, n_walls): the exact sums of the
   !> members that report forces (history_sums) added over the ranks as integers, so the value is

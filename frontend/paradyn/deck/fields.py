@@ -78,6 +78,11 @@ class DeckFields:
     rigid_body_prescribed: np.ndarray | None = None   # /rigid_bodies/prescribed (n_rigid_bodies, 6) -
     rigid_body_velocity: np.ndarray | None = None   # /rigid_bodies/velocity (n_rigid_bodies, 6) m/s, rad/s
     rigid_body_curve: np.ndarray | None = None   # /rigid_bodies/curve (n_rigid_bodies,) -
+    rigid_body_failure_force: np.ndarray | None = None   # /rigid_bodies/failure_force (n_rigid_bodies, 2) N
+    rigid_body_failure_exponent: np.ndarray | None = None   # /rigid_bodies/failure_exponent (n_rigid_bodies, 2) -
+    rigid_body_failure_time: np.ndarray | None = None   # /rigid_bodies/failure_time (n_rigid_bodies,) s
+    rigid_body_failure_node: np.ndarray | None = None   # /rigid_bodies/failure_node (n_rigid_bodies,) -
+    rigid_body_failure_normal: np.ndarray | None = None   # /rigid_bodies/failure_normal (n_rigid_bodies, 3) -
     curve_first_point: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     curve_time: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))
     curve_value: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))

@@ -9,7 +9,8 @@ engine reads (it never looks at the parts to find a body's nodes).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -22,6 +23,34 @@ class RigidBodyError(ValueError):
     """A body that cannot be built: the message names the part and the fix."""
 
 
+@dataclass
+class Weld:
+    """A body of nodes alone (a spot weld, LS-DYNA *CONSTRAINED_SPOTWELD, or a nodal rigid body)
+    with its failure (docs/theory.md, "Weld failure"): it lets its nodes go when the force its
+    constraint applies to ``nodes[0]`` (N1) reaches (max(fn, 0) / SN)^N + (|fs| / SS)^M >= 1, fn along
+    ``normal`` (N1 -> N2 when None and the first two nodes differ; else the zero vector: all shear),
+    or at ``failure_time``. SN = SS = 0: no force failure."""
+
+    nodes: Sequence[int]
+    strength: tuple[float, float] = (0.0, 0.0)        # SN, SS (N)
+    exponent: tuple[float, float] = (2.0, 2.0)        # N, M
+    failure_time: float = 1e20                        # s
+    normal: tuple[float, float, float] | None = None
+
+    def fails(self) -> bool:
+        return max(self.strength) > 0.0 or self.failure_time < 1e20
+
+    def normal_at(self, coordinates: np.ndarray) -> np.ndarray:
+        """The weld's normal at time 0: the one given, or N1 -> N2 (zero where they coincide)."""
+        if self.normal is not None:
+            return np.asarray(self.normal, dtype=float)
+        if len(self.nodes) < 2:
+            return np.zeros(3)
+        d = np.asarray(coordinates[self.nodes[1]], dtype=float) - np.asarray(coordinates[self.nodes[0]], dtype=float)
+        size = float(np.linalg.norm(d))
+        return d / size if size > 1e-9 * max(float(np.abs(coordinates).max()), 1e-300) else np.zeros(3)
+
+
 def rigid_parts(model: Model) -> np.ndarray:
     """The 0-based parts whose material is rigid."""
     rigid = np.isin(np.asarray(model.material_model), trait_codes("material_model", "rigid"))
@@ -30,15 +59,15 @@ def rigid_parts(model: Model) -> np.ndarray:
 
 def complete_rigid_bodies(model: Model, merge: list[tuple[int, int]] | None = None,
                           extra: list[tuple[int, int]] | None = None,
-                          nodal: list[list[int]] | None = None) -> list[str]:
+                          nodal: Sequence[Sequence[int] | Weld] | None = None) -> list[str]:
     """One /rigid_bodies row per rigid body and /nodes/rigid_body from the bodies' elements;
     nothing when the model has no rigid part and no row. A body is a rigid part, or rigid parts
     that share a node or that ``merge`` pairs (LS-DYNA *CONSTRAINED_RIGID_BODIES): the lowest part
     leads it, its held dofs are those of any of its parts. ``extra``: (part, node) pairs, nodes that
     move with the part's body besides its elements' (LS-DYNA *CONSTRAINED_EXTRA_NODES); ``nodal``:
-    bodies of nodes alone (part -1: LS-DYNA *CONSTRAINED_NODAL_RIGID_BODY, spot welds), after the
-    parts' bodies. Returns a line for each pair of rigid parts merged because they share nodes (the
-    caller warns with it)."""
+    bodies of nodes alone (part -1: LS-DYNA *CONSTRAINED_NODAL_RIGID_BODY, spot welds; a :class:`Weld`
+    with its failure), after the parts' bodies. Returns a line for each pair of rigid parts merged
+    because they share nodes (the caller warns with it)."""
     parts = [int(p) for p in rigid_parts(model)]
     given = [] if model.rigid_body_part is None else [int(p) for p in model.rigid_body_part if p >= 0]
     if not parts and not given and not nodal:
@@ -71,7 +100,9 @@ def complete_rigid_bodies(model: Model, merge: list[tuple[int, int]] | None = No
             raise RigidBodyError(f"extra node {node} of part {name(part)} is already on the rigid body of part "
                                  f"{name(int(model.rigid_body_part[body[node]]))}; merge the two bodies instead")
         body[node] = row_of[lead[part]]
-    for nodes in nodal or []:
+    for entry in nodal or []:
+        weld = entry if isinstance(entry, Weld) else Weld(list(entry))
+        nodes = list(weld.nodes)
         row = len(model.rigid_body_part)
         taken = [int(n) for n in nodes if body[n] >= 0]
         if taken:
@@ -81,6 +112,8 @@ def complete_rigid_bodies(model: Model, merge: list[tuple[int, int]] | None = No
         model.rigid_body_part = np.append(model.rigid_body_part, -1).astype(np.int32)
         model.rigid_body_fixed_dofs = np.vstack([model.rigid_body_fixed_dofs, np.zeros((1, 6), dtype=np.int32)])
         _pad_rows(model)
+        if weld.fails():
+            _set_failure(model, row, weld)
     model.node_rigid_body = body
     return notes
 
@@ -95,6 +128,24 @@ def _pad_rows(model: Model) -> None:
             values = np.asarray(values)
             setattr(model, spec.python, np.concatenate([values, np.full((1, *values.shape[1:]), spec.default,
                                                                         dtype=values.dtype)]))
+
+
+def _set_failure(model: Model, row: int, weld: Weld) -> None:
+    """Row ``row`` of the /rigid_bodies failure columns from ``weld`` (the columns made, with their
+    defaults, where absent)."""
+    n = len(model.rigid_body_part)
+    values = {"rigid_body_failure_force": weld.strength, "rigid_body_failure_exponent": weld.exponent,
+              "rigid_body_failure_time": weld.failure_time, "rigid_body_failure_node": int(weld.nodes[0]),
+              "rigid_body_failure_normal": weld.normal_at(np.asarray(model.coordinates, dtype=float))}
+    for spec in DATASETS:
+        if spec.python not in values:
+            continue
+        column = getattr(model, spec.python)
+        if column is None:
+            dtype = np.int32 if spec.type == "int" else float
+            column = np.full((n, *[int(k) for k in spec.shape[1:]]), spec.default, dtype=dtype)
+        column[row] = values[spec.python]
+        setattr(model, spec.python, column)
 
 
 def body_centres(model: Model) -> np.ndarray:

@@ -287,6 +287,14 @@ def _check_rigid_bodies(check: _Checker, sizes: dict[str, int]) -> None:
     for row in np.flatnonzero(counts[:sizes["n_rigid_bodies"]] == 0):
         check.fail(f"/nodes/rigid_body: rigid body {int(row)} (/rigid_bodies/part[{int(row)}]) has no node; give "
                    f"every body its nodes, or remove it")
+    if check.model.rigid_body_failure_node is None:
+        return
+    failure_node, body_of = check.array("rigid_body_failure_node"), check.array("node_rigid_body")
+    for row in range(min(sizes["n_rigid_bodies"], len(failure_node))):
+        node = int(failure_node[row])
+        if node >= 0 and node < len(body_of) and body_of[node] != row:
+            check.fail(f"/rigid_bodies/failure_node[{row}] = {node} is not a node of body {row} (its "
+                       f"/nodes/rigid_body is {int(body_of[node])}); give the weld's N1, a node of the body, or -1")
 
 
 def _check_curve_relations(check: _Checker, sizes: dict[str, int]) -> None:

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from paradyn import deck
-from paradyn.deck.rigid_bodies import body_centres
+from paradyn.deck.rigid_bodies import Weld, body_centres
 
 from .cards import KeywordData, Record
 from .mesh import KeywordMesh
@@ -251,10 +251,11 @@ def _body_of_part(model: deck.Model, row: dict[int, int], pid: int, where: str) 
     return bodies.pop()
 
 
-def nodal_bodies(data: KeywordData, mesh: KeywordMesh) -> list[list[int]]:
-    """The node rows of each body of nodes alone: *CONSTRAINED_NODAL_RIGID_BODY (its NSID),
-    *CONSTRAINED_SPOTWELD (N1, N2) and *CONSTRAINED_GENERALIZED_WELD_SPOT (its NSID). A weld's
-    failure (SN, SS, TF, TFAIL, EPSF) is not modelled: warned, the weld holds for the run."""
+def nodal_bodies(data: KeywordData, mesh: KeywordMesh, unit: Units) -> list[Weld]:
+    """The bodies of nodes alone: *CONSTRAINED_NODAL_RIGID_BODY (its NSID), *CONSTRAINED_SPOTWELD
+    (N1, N2) and *CONSTRAINED_GENERALIZED_WELD_SPOT (its NSID), with a weld's failure: SN, SS, N, M
+    (a zero exponent is read as 2) and its failure time TF / TFAIL; the force is the one on N1 (the
+    set's first node), its normal N1 -> N2. EP / EPSF (failure by plastic strain) is warned and ignored."""
     bodies = []
     for kind, record in data.welds:
         what = {"NODAL": "*CONSTRAINED_NODAL_RIGID_BODY", "SPOTWELD": "*CONSTRAINED_SPOTWELD",
@@ -270,9 +271,22 @@ def nodal_bodies(data: KeywordData, mesh: KeywordMesh) -> list[list[int]]:
         if missing:
             raise KeywordError(f"{record.where}: {what} names node {missing[0]}, which no element uses; a weld joins "
                                f"nodes of elements")
-        failure = [k for k in ("SN", "SS", "TF", "TFAIL", "EPSF") if record.values.get(k) not in (None, 0.0, 1e20)]
-        if failure:
-            data.warn(f"{record.where}: {what}: the weld's failure ({', '.join(failure)}) is not modelled; it "
-                      f"holds for the whole run")
-        bodies.append(sorted({mesh.node_index[n] for n in nids}))
+        ignored = [k for k in ("EPSF", "EP") if record.values.get(k) not in (None, 0.0, 1e20)]
+        if ignored:
+            data.warn(f"{record.where}: {what}: the weld's failure by plastic strain ({', '.join(ignored)}) is not "
+                      f"modelled; its failure forces and time are")
+        rows = list(dict.fromkeys(mesh.node_index[n] for n in nids))
+        bodies.append(Weld(rows, *_weld_failure(record, unit)))
     return bodies
+
+
+def _weld_failure(record: Record, unit: Units) -> tuple[tuple[float, float], tuple[float, float], float]:
+    """(SN, SS) in N, the exponents (N, M; 0 read as 2) and the failure time (TF or TFAIL) in s of a
+    weld's card; (0, 0) and 1e20 where the card gives none."""
+    def number(key: str, default: float) -> float:
+        value = record.values.get(key)
+        return default if value in (None, "") else float(value)
+    strength = (max(number("SN", 0.0), 0.0) * unit.force, max(number("SS", 0.0), 0.0) * unit.force)
+    exponent = tuple(e if e > 0.0 else 2.0 for e in (number("N", 0.0), number("M", 0.0)))
+    time = min(number("TF", 1e20), number("TFAIL", 1e20))
+    return strength, (exponent[0], exponent[1]), (time * unit.time if time < 1e20 else 1e20)

@@ -320,7 +320,7 @@ def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, unit: Units, model
                                f"with elements in *CONSTRAINED_RIGID_BODIES and *DEFORMABLE_TO_RIGID MRB")
         merge.append((row[a], row[b]))
     try:
-        for note in complete_rigid_bodies(model, merge, extra_nodes(data, mesh, row), nodal_bodies(data, mesh)):
+        for note in complete_rigid_bodies(model, merge, extra_nodes(data, mesh, row), nodal_bodies(data, mesh, unit)):
             data.warn(note)
     except RigidBodyError as exc:
         raise KeywordError(str(exc)) from exc

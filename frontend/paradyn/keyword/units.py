@@ -69,6 +69,10 @@ class Units:
         return self.mass / self.length**3
 
     @property
+    def force(self) -> float:
+        return self.mass * self.length / self.time**2
+
+    @property
     def stress(self) -> float:
         return self.mass / (self.length * self.time**2)
 
