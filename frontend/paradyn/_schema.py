@@ -741,6 +741,29 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'give the index of a curve of /curves/first_point, or -1 for a constant velocity',
     ),
     DatasetSpec(
+        '/rigid_bodies/given_mass', 'rigid_body_given_mass', 'float', ('n_rigid_bodies',), False, None, None, 0.0,
+        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 'kg',
+        (
+            "the body's mass as given (LS-DYNA *PART_INERTIA TM), 0: from its nodes; a body with a given mass has "
+            'its centre and inertia given too (/rigid_bodies/given_centre, given_inertia) and moves with them, '
+            'its nodes\' lumped masses serving only its initial velocity (docs/theory.md, "Given mass properties")'
+        ), '-', "give a mass > 0 in kg, or 0 to take it from the body's nodes",
+    ),
+    DatasetSpec(
+        '/rigid_bodies/given_centre', 'rigid_body_given_centre', 'float', ('n_rigid_bodies', 3), False, None, None,
+        0.0, None, None, '', None, '', None, False, 'm',
+        "the body's centre of mass at time 0 where its mass is given (LS-DYNA *PART_INERTIA XC, YC, ZC)", '-',
+        'give finite coordinates in m',
+    ),
+    DatasetSpec(
+        '/rigid_bodies/given_inertia', 'rigid_body_given_inertia', 'float', ('n_rigid_bodies', 6), False, None,
+        None, 0.0, None, None, '', None, '', None, False, 'kg m^2',
+        (
+            "the body's inertia tensor about its given centre in the global axes at time 0, xx, yy, zz, xy, yz, "
+            'zx (LS-DYNA *PART_INERTIA IXX, IYY, IZZ, IXY, IYZ, IXZ), positive definite where the mass is given'
+        ), '-', 'give the six components in kg m^2 of a positive definite tensor',
+    ),
+    DatasetSpec(
         '/rigid_bodies/failure_force', 'rigid_body_failure_force', 'float', ('n_rigid_bodies', 2), False, None,
         None, 0.0, Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 'N',
         (
@@ -1161,6 +1184,9 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/rigid_bodies/prescribed'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/rigid_bodies/velocity'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/rigid_bodies/curve'): ('class', 'shape', 'rows', 'lower', 'reference'),
+    ('dataset', '/rigid_bodies/given_mass'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/rigid_bodies/given_centre'): ('class', 'shape', 'rows', 'finite'),
+    ('dataset', '/rigid_bodies/given_inertia'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/rigid_bodies/failure_force'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/rigid_bodies/failure_exponent'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/rigid_bodies/failure_time'): ('class', 'shape', 'rows', 'finite'),

@@ -48,12 +48,13 @@ module paradyn_schema
       dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, &
       dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, &
       dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, &
-      dataset_rigid_bodies_curve, dataset_rigid_bodies_failure_force, dataset_rigid_bodies_failure_exponent, &
-      dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_node, &
-      dataset_rigid_bodies_failure_normal, dataset_curves_first_point, dataset_curves_time, &
-      dataset_curves_value, dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
-      dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
-      dataset_base_accelerations_direction, dataset_base_accelerations_value, &
+      dataset_rigid_bodies_curve, dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, &
+      dataset_rigid_bodies_given_inertia, dataset_rigid_bodies_failure_force, &
+      dataset_rigid_bodies_failure_exponent, dataset_rigid_bodies_failure_time, &
+      dataset_rigid_bodies_failure_node, dataset_rigid_bodies_failure_normal, dataset_curves_first_point, &
+      dataset_curves_time, dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
+      dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
+      dataset_prescribed_curve, dataset_base_accelerations_direction, dataset_base_accelerations_value, &
       dataset_base_accelerations_curve, n_deck_datasets, control_end_time, control_output_interval, &
       control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
       control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
@@ -256,25 +257,28 @@ module paradyn_schema
   integer, parameter :: dataset_rigid_bodies_prescribed = 62
   integer, parameter :: dataset_rigid_bodies_velocity = 63
   integer, parameter :: dataset_rigid_bodies_curve = 64
-  integer, parameter :: dataset_rigid_bodies_failure_force = 65
-  integer, parameter :: dataset_rigid_bodies_failure_exponent = 66
-  integer, parameter :: dataset_rigid_bodies_failure_time = 67
-  integer, parameter :: dataset_rigid_bodies_failure_node = 68
-  integer, parameter :: dataset_rigid_bodies_failure_normal = 69
-  integer, parameter :: dataset_curves_first_point = 70
-  integer, parameter :: dataset_curves_time = 71
-  integer, parameter :: dataset_curves_value = 72
-  integer, parameter :: dataset_pressure_part = 73
-  integer, parameter :: dataset_pressure_value = 74
-  integer, parameter :: dataset_pressure_curve = 75
-  integer, parameter :: dataset_prescribed_node = 76
-  integer, parameter :: dataset_prescribed_dof = 77
-  integer, parameter :: dataset_prescribed_value = 78
-  integer, parameter :: dataset_prescribed_curve = 79
-  integer, parameter :: dataset_base_accelerations_direction = 80
-  integer, parameter :: dataset_base_accelerations_value = 81
-  integer, parameter :: dataset_base_accelerations_curve = 82
-  integer, parameter :: n_deck_datasets = 82
+  integer, parameter :: dataset_rigid_bodies_given_mass = 65
+  integer, parameter :: dataset_rigid_bodies_given_centre = 66
+  integer, parameter :: dataset_rigid_bodies_given_inertia = 67
+  integer, parameter :: dataset_rigid_bodies_failure_force = 68
+  integer, parameter :: dataset_rigid_bodies_failure_exponent = 69
+  integer, parameter :: dataset_rigid_bodies_failure_time = 70
+  integer, parameter :: dataset_rigid_bodies_failure_node = 71
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 72
+  integer, parameter :: dataset_curves_first_point = 73
+  integer, parameter :: dataset_curves_time = 74
+  integer, parameter :: dataset_curves_value = 75
+  integer, parameter :: dataset_pressure_part = 76
+  integer, parameter :: dataset_pressure_value = 77
+  integer, parameter :: dataset_pressure_curve = 78
+  integer, parameter :: dataset_prescribed_node = 79
+  integer, parameter :: dataset_prescribed_dof = 80
+  integer, parameter :: dataset_prescribed_value = 81
+  integer, parameter :: dataset_prescribed_curve = 82
+  integer, parameter :: dataset_base_accelerations_direction = 83
+  integer, parameter :: dataset_base_accelerations_value = 84
+  integer, parameter :: dataset_base_accelerations_curve = 85
+  integer, parameter :: n_deck_datasets = 85
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -677,6 +681,17 @@ module paradyn_schema
         condition_none, condition_none, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
         'give the index of a curve of /curves/first_point, or -1 for a constant velocity'), &
+    dataset_spec_t('/rigid_bodies/given_mass', class_float, 0, size_n_rigid_bodies, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give a mass > 0 in kg, or 0 to take it from the body''s nodes'), &
+    dataset_spec_t('/rigid_bodies/given_centre', class_float, 3, size_n_rigid_bodies, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give finite coordinates in m'), &
+    dataset_spec_t('/rigid_bodies/given_inertia', class_float, 6, size_n_rigid_bodies, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
+        'give the six components in kg m^2 of a positive definite tensor'), &
     dataset_spec_t('/rigid_bodies/failure_force', class_float, 2, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &

@@ -32,16 +32,18 @@ module deck_fields
                             dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, &
                             dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, &
                             dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
-                            dataset_rigid_bodies_failure_force, dataset_rigid_bodies_failure_exponent, &
-                            dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_node, &
-                            dataset_rigid_bodies_failure_normal, dataset_curves_first_point, &
-                            dataset_curves_time, dataset_curves_value, dataset_pressure_part, &
-                            dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, &
-                            dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
-                            dataset_base_accelerations_direction, dataset_base_accelerations_value, &
-                            dataset_base_accelerations_curve, control_end_time, control_output_interval, &
-                            control_history_interval, control_time_step, control_time_step_safety, &
-                            control_mass_damping, control_progress_interval, control_contact_sort_interval, &
+                            dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, &
+                            dataset_rigid_bodies_given_inertia, dataset_rigid_bodies_failure_force, &
+                            dataset_rigid_bodies_failure_exponent, dataset_rigid_bodies_failure_time, &
+                            dataset_rigid_bodies_failure_node, dataset_rigid_bodies_failure_normal, &
+                            dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
+                            dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
+                            dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
+                            dataset_prescribed_curve, dataset_base_accelerations_direction, &
+                            dataset_base_accelerations_value, dataset_base_accelerations_curve, &
+                            control_end_time, control_output_interval, control_history_interval, &
+                            control_time_step, control_time_step_safety, control_mass_damping, &
+                            control_progress_interval, control_contact_sort_interval, &
                             control_checkpoint_interval, control_partition, control_contact_gather, &
                             control_precision, control_gravity_x, control_gravity_y, control_gravity_z, &
                             control_energy_error_limit, control_time_step_floor, &
@@ -131,6 +133,9 @@ module deck_fields
     integer, allocatable :: rigid_body_prescribed(:, :)   !< /rigid_bodies/prescribed (6, n_rigid_bodies) -
     real(wp), allocatable :: rigid_body_velocity(:, :)
     integer, allocatable :: rigid_body_curve(:)   !< /rigid_bodies/curve (n_rigid_bodies) -
+    real(wp), allocatable :: rigid_body_given_mass(:)   !< /rigid_bodies/given_mass (n_rigid_bodies) kg
+    real(wp), allocatable :: rigid_body_given_centre(:, :)
+    real(wp), allocatable :: rigid_body_given_inertia(:, :)
     real(wp), allocatable :: rigid_body_failure_force(:, :)
     real(wp), allocatable :: rigid_body_failure_exponent(:, :)
     real(wp), allocatable :: rigid_body_failure_time(:)   !< /rigid_bodies/failure_time (n_rigid_bodies) s
@@ -433,6 +438,12 @@ contains
       d%rigid_body_velocity = values
     case (dataset_rigid_bodies_curve)
       d%rigid_body_curve = indices(1, :)
+    case (dataset_rigid_bodies_given_mass)
+      d%rigid_body_given_mass = values(1, :)
+    case (dataset_rigid_bodies_given_centre)
+      d%rigid_body_given_centre = values
+    case (dataset_rigid_bodies_given_inertia)
+      d%rigid_body_given_inertia = values
     case (dataset_rigid_bodies_failure_force)
       d%rigid_body_failure_force = values
     case (dataset_rigid_bodies_failure_exponent)

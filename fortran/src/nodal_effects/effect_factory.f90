@@ -80,7 +80,8 @@ contains
           deck%rigid_body_prescribed, deck%rigid_body_velocity, deck%rigid_body_curve, curves, &
           [(weld_make(deck%rigid_body_failure_force(:, k), deck%rigid_body_failure_exponent(:, k), &
                       deck%rigid_body_failure_time(k), deck%rigid_body_failure_normal(:, k)), k = 1, deck%n_rigid_bodies)], &
-          [(local_node(dom, deck%rigid_body_failure_node(k)), k = 1, deck%n_rigid_bodies)], ns, comm))
+          [(local_node(dom, deck%rigid_body_failure_node(k)), k = 1, deck%n_rigid_bodies)], &
+          deck%rigid_body_given_mass, deck%rigid_body_given_centre, deck%rigid_body_given_inertia, ns, comm))
       end select   ! effects that are not nodal (elements, contact, integration) are built elsewhere
     end do
   end subroutine make_nodal_effects

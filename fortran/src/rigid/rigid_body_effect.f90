@@ -16,7 +16,7 @@ module rigid_body_effect
   use load_curves, only: load_curves_t, curve_value
   use nodal_effect, only: nodal_effect_t, stage_constraints
   use rigid_body_motion, only: rigid_body_t, body_from_sums, body_advance, body_omega, &
-                               carry_nodes, n_mass_sums
+                               carry_nodes, n_mass_sums, body_with_given_mass, inertia_is_positive
   use weld_failure, only: weld_t, weld_has_force_criterion, weld_criterion
   implicit none
   private
@@ -60,11 +60,12 @@ contains
   !> the nodes' masses (ns%mass, ns%inertia, set before); the initial velocity and angular momentum
   !> from the nodes' initial velocities, which are then made those of the rigid motion. welds(b):
   !> body b's failure (weld_failure), failure_node(b) the local node whose constraint force is its
-  !> weld's (0 for none or not held here).
-  function rigid_body_effect_make(body, fixed, prescribed, velocity, curve, curves, welds, failure_node, ns, comm) &
-      result(e)
+  !> weld's (0 for none or not held here). given_mass(b) > 0: body b's mass, centre (3, b) and
+  !> inertia (6, b: xx, yy, zz, xy, yz, zx) are given_* instead (its nodes give its initial velocity).
+  function rigid_body_effect_make(body, fixed, prescribed, velocity, curve, curves, welds, failure_node, &
+                                  given_mass, given_centre, given_inertia, ns, comm) result(e)
     integer, intent(in) :: body(:), fixed(:, :), prescribed(:, :), curve(:), failure_node(:)
-    real(wp), intent(in) :: velocity(:, :)
+    real(wp), intent(in) :: velocity(:, :), given_mass(:), given_centre(:, :), given_inertia(:, :)
     type(load_curves_t), intent(in) :: curves
     type(weld_t), intent(in) :: welds(:)
     type(nodal_state_t), intent(inout) :: ns
@@ -131,6 +132,14 @@ contains
       do k = e%first(b), e%first(b + 1) - 1
         ns%v(:, e%node(k)) = e%bodies(b)%velocity + cross(e%bodies(b)%omega, e%offset(:, k))
         ns%w(:, e%node(k)) = e%bodies(b)%omega
+      end do
+      if (.not. given_mass(b) > 0.0_wp) cycle   ! LS-DYNA *PART_INERTIA: the same motion, the given body
+      if (.not. inertia_is_positive(given_inertia(:, b))) error stop 'paradyn-engine: a /rigid_bodies/given_inertia '// &
+        'is not positive definite; give the inertia tensor about the centre (the frontend checks this)'
+      call body_with_given_mass(e%bodies(b), given_mass(b), given_centre(:, b), given_inertia(:, b))
+      call body_omega(e%bodies(b), e%bodies(b)%rotation)
+      do k = e%first(b), e%first(b + 1) - 1
+        e%offset(:, k) = ns%x(:, e%node(k)) - e%bodies(b)%centre
       end do
     end do
     e%sums = 0

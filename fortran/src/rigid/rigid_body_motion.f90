@@ -8,10 +8,11 @@
 !> (the world's) to the world's now. The inertia about the centre in the world is R I0 R^T.
 module rigid_body_motion
   use paradyn_kinds, only: wp
+  use vector_algebra, only: cross
   implicit none
   private
   public :: rigid_body_t, body_from_sums, body_advance, body_omega, carry_nodes, rotation_step, &
-            n_mass_sums
+            body_with_given_mass, inertia_is_positive, n_mass_sums
 
   !> the sums over a body's nodes that give its mass properties: mass, first moment (3), second
   !> moments about the first pass's centre (xx, yy, zz, xy, yz, zx) and the nodes' rotary inertia
@@ -55,6 +56,33 @@ contains
     b%rotation = identity()
     b%given = given
   end function body_from_sums
+
+  !> The moving body b (its velocity, angular momentum and omega set from its nodes) with the mass,
+  !> centre and inertia given instead (LS-DYNA *PART_INERTIA; inertia: xx, yy, zz, xy, yz, zx about
+  !> centre, world axes at t = 0): the same rigid velocity field, V taken at the new centre, and
+  !> the angular momentum the given inertia gives omega.
+  pure subroutine body_with_given_mass(b, mass, centre, inertia)
+    type(rigid_body_t), intent(inout) :: b
+    real(wp), intent(in) :: mass, centre(3), inertia(6)
+    real(wp) :: moved(3)
+    moved = b%velocity + cross(b%omega, centre - b%centre)
+    b%velocity = merge(b%velocity, moved, b%given(1:3) /= 0)
+    b%mass = mass
+    b%centre = centre
+    b%inertia0 = reshape([inertia(1), inertia(4), inertia(6), inertia(4), inertia(2), inertia(5), &
+                          inertia(6), inertia(5), inertia(3)], [3, 3])
+    b%momentum = matmul(b%inertia0, b%omega)   ! the rotation is the identity at t = 0
+  end subroutine body_with_given_mass
+
+  !> Whether the tensor (xx, yy, zz, xy, yz, zx) is positive definite (Sylvester's criterion).
+  pure logical function inertia_is_positive(inertia) result(positive)
+    real(wp), intent(in) :: inertia(6)
+    real(wp) :: minor2, det
+    minor2 = inertia(1) * inertia(2) - inertia(4)**2
+    det = inertia(1) * (inertia(2) * inertia(3) - inertia(5)**2) - inertia(4) * (inertia(4) * inertia(3) &
+          - inertia(5) * inertia(6)) + inertia(6) * (inertia(4) * inertia(5) - inertia(2) * inertia(6))
+    positive = inertia(1) > 0.0_wp .and. minor2 > 0.0_wp .and. det > 0.0_wp
+  end function inertia_is_positive
 
   !> The half-step velocities from the force and torque (about the centre) at the whole step
   !> over h = (dt_previous + dt) / 2, then the centre and rotation at the next whole step. A dof with

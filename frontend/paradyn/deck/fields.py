@@ -78,6 +78,9 @@ class DeckFields:
     rigid_body_prescribed: np.ndarray | None = None   # /rigid_bodies/prescribed (n_rigid_bodies, 6) -
     rigid_body_velocity: np.ndarray | None = None   # /rigid_bodies/velocity (n_rigid_bodies, 6) m/s, rad/s
     rigid_body_curve: np.ndarray | None = None   # /rigid_bodies/curve (n_rigid_bodies,) -
+    rigid_body_given_mass: np.ndarray | None = None   # /rigid_bodies/given_mass (n_rigid_bodies,) kg
+    rigid_body_given_centre: np.ndarray | None = None   # /rigid_bodies/given_centre (n_rigid_bodies, 3) m
+    rigid_body_given_inertia: np.ndarray | None = None   # /rigid_bodies/given_inertia (n_rigid_bodies, 6) kg m^2
     rigid_body_failure_force: np.ndarray | None = None   # /rigid_bodies/failure_force (n_rigid_bodies, 2) N
     rigid_body_failure_exponent: np.ndarray | None = None   # /rigid_bodies/failure_exponent (n_rigid_bodies, 2) -
     rigid_body_failure_time: np.ndarray | None = None   # /rigid_bodies/failure_time (n_rigid_bodies,) s

@@ -287,6 +287,13 @@ def _check_rigid_bodies(check: _Checker, sizes: dict[str, int]) -> None:
     for row in np.flatnonzero(counts[:sizes["n_rigid_bodies"]] == 0):
         check.fail(f"/nodes/rigid_body: rigid body {int(row)} (/rigid_bodies/part[{int(row)}]) has no node; give "
                    f"every body its nodes, or remove it")
+    if check.model.rigid_body_given_mass is not None and check.model.rigid_body_given_inertia is not None:
+        given, tensors = check.array("rigid_body_given_mass"), check.array("rigid_body_given_inertia")
+        for row in np.flatnonzero(given[:len(tensors)] > 0.0):
+            xx, yy, zz, xy, yz, zx = (float(v) for v in tensors[row])
+            if np.any(np.linalg.eigvalsh(np.array([[xx, xy, zx], [xy, yy, yz], [zx, yz, zz]])) <= 0.0):
+                check.fail(f"/rigid_bodies/given_inertia[{int(row)}] = {tensors[row].tolist()} is not positive "
+                           f"definite; give the body's inertia tensor about its centre (xx, yy, zz, xy, yz, zx)")
     if check.model.rigid_body_failure_node is None:
         return
     failure_node, body_of = check.array("rigid_body_failure_node"), check.array("node_rigid_body")

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 from .defaults import apply_zero_defaults
 from .reader import Block, Field, KeywordError, KeywordFile, Line, Value, fields, layout
+from .rigid_cards import WELD_READERS, part_inertia_reader
 from .walls import WALL_READERS
 
 NODE = (Field("NID", "int", None, 8), Field("X", "float", 0.0, 16), Field("Y", "float", 0.0, 16),
@@ -62,12 +63,6 @@ MAT_RIGID = (layout("int:MID RO E PR N COUPLE M ALIAS", n=0.0, couple=0.0, m=0.0
 DEFORMABLE_TO_RIGID = layout("int:PID int:MRB text:PTYPE", mrb=0, ptype="PART")
 CONSTRAINED_RIGID_BODIES = layout("int:PIDL int:PIDC int:IFLAG", iflag=0)
 EXTRA_NODES = layout("int:PID int:ID int:IFLAG", iflag=0)
-NODAL_RIGID_BODY = layout("int:PID int:CID int:NSID int:PNODE int:IPRT int:DRFLAG int:RRFLAG", pid=0, cid=0,
-                          pnode=0, iprt=0, drflag=0, rrflag=0)
-SPOTWELD = layout("int:N1 int:N2 SN SS N M TF EP", sn=0.0, ss=0.0, n=0.0, m=0.0, tf=1e20, ep=1e20)
-WELD_SPOT = (layout("int:WID int:NSID int:CID int:FILTER int:WINDOW int:NPR int:NPRT", wid=0, cid=0, filter=0,
-                    window=0, npr=0, nprt=0),
-             layout("TFAIL EPSF SN SS N M", tfail=1e20, epsf=1e20, sn=0.0, ss=0.0, n=0.0, m=0.0))
 RIGID_BODY_VELOCITY = layout("int:PID VX VY VZ VXR VYR VZR", vx=0.0, vy=0.0, vz=0.0, vxr=0.0, vyr=0.0, vzr=0.0)
 CONTROL_HOURGLASS = layout("int:IHQ QH", ihq=1, qh=0.1)
 # only IMFLAG is read: a value other than 0 asks for an implicit analysis, which ParaDyn refuses
@@ -125,6 +120,7 @@ class KeywordData:
     extra_nodes: list[tuple[str, Record]] = field(default_factory=list)     # ("NODE" | "SET", record)
     welds: list[tuple[str, Record]] = field(default_factory=list)           # nodal rigid bodies, spot welds
     body_velocities: list[Record] = field(default_factory=list)             # *INITIAL_VELOCITY_RIGID_BODY
+    part_inertia: dict[int, Record] = field(default_factory=dict)           # PID -> *PART_INERTIA cards 3-5a
     rigid_motions: list[tuple[int, int, float, int, str]] = field(default_factory=list)  # PID, dof, SI scale, curve
     added_masses: list[tuple[str, Record]] = field(default_factory=list)    # *ELEMENT_MASS(_PART): (target, card)
     # loads, motions and boxes (keyword/loads.py); parts with contact data (keyword/contacts.py)
@@ -237,23 +233,6 @@ def _extra_nodes(target: str) -> Callable[[_Reading], None]:
     def read(r: _Reading) -> None:
         for line in r.lines():
             r.data.extra_nodes.append((target, r.card(line, EXTRA_NODES, {"IFLAG": 0})))
-    return read
-
-
-def _weld(kind: str) -> Callable[[_Reading], None]:
-    def read(r: _Reading) -> None:
-        lines = [line for line in r.lines() if line.text.strip()]
-        if kind == "SPOTWELD" and r.keyword.endswith("_ID"):
-            lines = lines[1::2]   # each weld's ID card, then its card
-        if kind == "GENERALIZED":
-            for first, second in zip(lines[::2], lines[1::2], strict=False):
-                record = r.card(first, WELD_SPOT[0])
-                record.values.update(r.card(second, WELD_SPOT[1]).values)
-                r.data.welds.append((kind, record))
-            return
-        card = NODAL_RIGID_BODY if kind == "NODAL" else SPOTWELD
-        for line in lines:
-            r.data.welds.append((kind, r.card(line, card)))
     return read
 
 
@@ -407,7 +386,7 @@ def _define_curve(r: _Reading) -> None:
 READERS: dict[str, Callable[[_Reading], None]] = {
     "NODE": _node,
     "ELEMENT_SHELL": _element_shell,
-    "PART": _part,
+    "PART": _part, "PART_INERTIA": part_inertia_reader(PART[1]),
     "SECTION_SHELL": _section_shell, "SECTION_SHELL_TITLE": _section_shell,
     "BOUNDARY_SPC_NODE": _spc("NODE"), "BOUNDARY_SPC_NODE_ID": _spc("NODE"),
     "BOUNDARY_SPC_SET": _spc("SET"), "BOUNDARY_SPC_SET_ID": _spc("SET"),
@@ -432,9 +411,7 @@ READERS: dict[str, Callable[[_Reading], None]] = {
     "CONSTRAINED_RIGID_BODIES": _merged_bodies,
     "CONSTRAINED_EXTRA_NODES_NODE": _extra_nodes("NODE"), "CONSTRAINED_EXTRA_NODES_SET": _extra_nodes("SET"),
     "INITIAL_VELOCITY_RIGID_BODY": _body_velocity,
-    "CONSTRAINED_NODAL_RIGID_BODY": _weld("NODAL"),
-    "CONSTRAINED_SPOTWELD": _weld("SPOTWELD"), "CONSTRAINED_SPOTWELD_ID": _weld("SPOTWELD"),
-    "CONSTRAINED_GENERALIZED_WELD_SPOT": _weld("GENERALIZED"),
+    **WELD_READERS,
 }
 for _title in ("", "_TITLE"):
     for _name in ("MAT_ELASTIC", "MAT_001"):

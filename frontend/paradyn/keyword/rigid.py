@@ -214,6 +214,9 @@ def body_velocities(data: KeywordData, mesh: KeywordMesh, row: dict[int, int], u
     if not data.body_velocities:
         return
     centres = body_centres(model)
+    if model.rigid_body_given_mass is not None:   # *PART_INERTIA: the given centre
+        given = np.asarray(model.rigid_body_given_mass) > 0.0
+        centres[given] = np.asarray(model.rigid_body_given_centre)[given]
     for record in data.body_velocities:
         body = _body_of_part(model, row, int(record["PID"]), f"{record.where}: *INITIAL_VELOCITY_RIGID_BODY")
         nodes = np.flatnonzero(model.node_rigid_body == body)
@@ -222,6 +225,63 @@ def body_velocities(data: KeywordData, mesh: KeywordMesh, row: dict[int, int], u
         r = np.asarray(model.coordinates)[nodes] - centres[body]
         model.initial_velocity[nodes] = velocity + np.cross(omega, r)
         model.initial_angular_velocity[nodes] = omega
+
+
+def part_inertia(data: KeywordData, mesh: KeywordMesh, row: dict[int, int], unit: Units,
+                 model: deck.Model) -> None:
+    """*PART_INERTIA: the mass TM, centre (XC, YC, ZC, or node NODEID's place) and inertia tensor of
+    the part's body as given (global axes with IRCS = 0; IRCS = 1: the principal tensor in the axes
+    of card 5a, XL and the plane of XL, XLIP), and where VTX .. VRZ are not all zero the body's
+    initial velocity, V + omega x (x - centre) on its nodes."""
+    if not data.part_inertia:
+        return
+    n = len(model.rigid_body_part)
+    mass, centre, inertia = np.zeros(n), np.zeros((n, 3)), np.zeros((n, 6))
+    x = np.asarray(model.coordinates, dtype=float)
+    for pid, record in data.part_inertia.items():
+        where = f"{record.where}: *PART_INERTIA part {pid}"
+        body = _body_of_part(model, row, pid, where)
+        if mass[body] > 0.0:
+            raise KeywordError(f"{where}: its body already has a *PART_INERTIA (merged parts); give the merged "
+                               f"body one")
+        mass[body] = float(record["TM"] or 0.0) * unit.mass
+        if not mass[body] > 0.0:
+            raise KeywordError(f"{where}: TM = {record['TM']}; give the body's mass (> 0)")
+        node = int(record["NODEID"] or 0)
+        if node and node not in mesh.node_index:
+            raise KeywordError(f"{where}: NODEID {node} is no node of an element; give a node or XC, YC, ZC")
+        centre[body] = x[mesh.node_index[node]] if node else np.array([float(record[k] or 0.0) for k in
+                                                                       ("XC", "YC", "ZC")]) * unit.length
+        tensor = _inertia_tensor(record, where) * unit.mass * unit.length**2
+        if np.any(np.linalg.eigvalsh(tensor) <= 0.0):
+            raise KeywordError(f"{where}: the inertia tensor is not positive definite; give IXX .. IZZ about the "
+                               f"centre of mass")
+        inertia[body] = tensor[[0, 1, 2, 0, 1, 2], [0, 1, 2, 1, 2, 0]]
+        velocity = np.array([float(record[k] or 0.0) for k in ("VTX", "VTY", "VTZ")]) * unit.velocity
+        omega = np.array([float(record[k] or 0.0) for k in ("VRX", "VRY", "VRZ")]) / unit.time
+        if velocity.any() or omega.any():
+            nodes = np.flatnonzero(np.asarray(model.node_rigid_body) == body)
+            model.initial_velocity[nodes] = velocity + np.cross(omega, x[nodes] - centre[body])
+            model.initial_angular_velocity[nodes] = omega
+    model.rigid_body_given_mass, model.rigid_body_given_centre, model.rigid_body_given_inertia = mass, centre, inertia
+
+
+def _inertia_tensor(record: Record, where: str) -> np.ndarray:
+    """The tensor of *PART_INERTIA's card 4 in global axes (IRCS = 1: turned from card 5a's axes)."""
+    v = {k: float(record[k] or 0.0) for k in ("IXX", "IXY", "IXZ", "IYY", "IYZ", "IZZ")}
+    tensor = np.array([[v["IXX"], v["IXY"], v["IXZ"]], [v["IXY"], v["IYY"], v["IYZ"]], [v["IXZ"], v["IYZ"], v["IZZ"]]])
+    if int(record["IRCS"] or 0) != 1:
+        return tensor
+    if int(record["CID"] or 0):
+        raise KeywordError(f"{where}: IRCS = 1 with CID {record['CID']} is not read; give the axes by XL .. ZLIP")
+    e1 = np.array([float(record[k] or 0.0) for k in ("XL", "YL", "ZL")])
+    in_plane = np.array([float(record[k] or 0.0) for k in ("XLIP", "YLIP", "ZLIP")])
+    e3 = np.cross(e1, in_plane)
+    if np.linalg.norm(e1) == 0.0 or np.linalg.norm(e3) == 0.0:
+        raise KeywordError(f"{where}: IRCS = 1 needs XL, YL, ZL and a vector XLIP, YLIP, ZLIP not along it")
+    e1, e3 = e1 / np.linalg.norm(e1), e3 / np.linalg.norm(e3)
+    axes = np.column_stack([e1, np.cross(e3, e1), e3])
+    return axes @ tensor @ axes.T
 
 
 def body_motions(data: KeywordData, row: dict[int, int], model: deck.Model) -> None:

@@ -40,6 +40,7 @@ from .rigid import (
     extra_nodes,
     merged_pairs,
     nodal_bodies,
+    part_inertia,
     rigid_body_rows,
     rigid_material_key,
     solid_face_thickness,
@@ -324,6 +325,7 @@ def _apply_rigid_bodies(data: KeywordData, mesh: KeywordMesh, unit: Units, model
             data.warn(note)
     except RigidBodyError as exc:
         raise KeywordError(str(exc)) from exc
+    part_inertia(data, mesh, row, unit, model)
     body_velocities(data, mesh, row, unit, model)
     body_motions(data, row, model)
 
