@@ -45,7 +45,7 @@ def _explicit_beer_can(tmp_path: Path, end_time: str, curve_time_scale: str = "1
                                                                              f"       0.0     1e+08")
     sfa = "         1         0       1.0       1.0       0.0       0.0         0         0"
     assert sfa in text
-    text = text.replace(sfa, f"         1         0{curve_time_scale:>10}       1.0       0.0       0.0         0         0")
+    text = text.replace(sfa, f"{1:>10}{0:>10}{curve_time_scale:>10}" + sfa[30:])
     (tmp_path / "beer_can.k").write_text(text)
     (tmp_path / "mesh.k").write_text((source / "mesh.k").read_text())
     return tmp_path / "beer_can.k"
@@ -75,14 +75,15 @@ def test_the_beer_can_runs_explicitly_with_its_point_loads(tmp_path: Path) -> No
 @needs
 def test_the_beer_can_buckles_near_the_classical_load(tmp_path: Path) -> None:
     """The can (R = 1.5, t = 0.002, E = 1e7, nu = 0.33: the deck's inch-lbf-s numbers, read as they
-    are) under its 76 nodal loads of 13.1579 each, ramped over 20 ms instead of the deck's 1 s (SFA =
-    0.02: 400 of the can's axial periods, still quasi-static; the 1 s ramp is 4.2 M steps). The
-    support's reaction (history reaction_force) follows the applied load P(t) to 5 % (the ramp's start rings about 3 %) until 0.8 of the
-    classical buckling load of an axially compressed cylinder, P_cl = 2 pi E t^2 / sqrt(3 (1 - nu^2))
-    = 153.7 (Timoshenko and Gere, Theory of Elastic Stability, 1961, sec. 11.4), peaks between
-    1.0 and 1.35 P_cl (the mesh, 0.12 to 0.17 wide, is coarser than the classical axisymmetric
-    half-wave 1.72 sqrt(R t) = 0.094, so it buckles above P_cl), then falls behind the load: the can
-    has buckled. The run stops at 4.2 ms, before the collapsing can turns an element inside out."""
+    are) under its 76 nodal loads of 13.1579 each, ramped over 20 ms instead of the deck's 1 s
+    (SFA = 0.02: 400 of the can's axial periods, still quasi-static; the 1 s ramp is 4.2 M steps).
+    The support's reaction (history reaction_force) follows the applied load P(t) to 5 % (the
+    ramp's start rings about 3 %) until 0.8 of the classical buckling load of an axially compressed
+    cylinder, P_cl = 2 pi E t^2 / sqrt(3 (1 - nu^2)) = 153.7 (Timoshenko and Gere, Theory of
+    Elastic Stability, 1961, sec. 11.4), peaks between 1.0 and 1.35 P_cl (the mesh, 0.12 to 0.17
+    wide, is coarser than the classical axisymmetric half-wave 1.72 sqrt(R t) = 0.094, so it
+    buckles above P_cl), then falls behind the load: the can has buckled. The run stops at 4.2 ms,
+    before the collapsing can turns an element inside out."""
     read = load_keyword(_explicit_beer_can(tmp_path, "0.0042", curve_time_scale="0.02"))
     res = paradyn.run(read.model, tmp_path / "run", ranks=1, threads=2, post=False)
     assert res.complete

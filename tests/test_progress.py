@@ -189,3 +189,17 @@ def test_a_stopped_run_says_once_how_to_continue() -> None:
         "continue with: paradyn-run 'cases/my plate/scene.toml' -o runs/a" +
         (" -n 1" if cli.launch.default_layout()[0] != 1 else "") +
         (" -t 1" if cli.launch.default_layout()[1] != 1 else "") + " --no-vtk --restart"]
+
+
+def test_a_run_stopped_from_python_names_the_call_that_continues_it() -> None:
+    """Issue 34: paradyn.run's stop said "paradyn.run(SOURCE, OUT, restart=True)"; now the call
+    names the source as it was given and the folder."""
+    from paradyn.running.engine_process import EngineRun, RunStopped
+    from paradyn.running.workflow import _source_text
+
+    run = EngineRun(command=[], exit_code=4, checkpoint={"time": "5.0E-02", "cycle": "7", "path": "c.h5"})
+    stop = RunStopped.of(run, Path("/r/out")).continuing(_source_text("cases/plate/scene.toml"), Path("runs/p"))
+    assert stop.exit_code == 4 and stop.cycle == 7 and stop.checkpoint == Path("/r/out/c.h5")
+    assert str(stop).endswith("continue with paradyn.run('cases/plate/scene.toml', 'runs/p', restart=True)")
+    import paradyn
+    assert _source_text(paradyn.Scene("s", end_time=1e-3, output_interval=1e-4)) == "<the same Scene>"

@@ -41,11 +41,17 @@ class RunStopped(EngineError):
     where it stopped, ``checkpoint`` the file that holds the state; ``str()`` says how to go on
     from Python, and ``paradyn-run`` prints its own command (:func:`paradyn.cli.stopped_text`)."""
 
-    def __init__(self, time: float, cycle: int, checkpoint: Path) -> None:
+    def __init__(self, time: float, cycle: int, checkpoint: Path, how: str = "") -> None:
         self.time, self.cycle, self.checkpoint = time, cycle, checkpoint
+        how = how or "paradyn.run(SOURCE, OUT, restart=True) or `paradyn-run SOURCE -o OUT --restart`"
         super().__init__(f"stopped by a signal at t = {time:.6g} s (cycle {cycle}); the checkpoint {checkpoint} "
-                         f"holds the state: continue with paradyn.run(SOURCE, OUT, restart=True) or "
-                         f"`paradyn-run SOURCE -o OUT --restart`", STATUS_STOPPED)
+                         f"holds the state: continue with {how}", STATUS_STOPPED)
+
+    def continuing(self, source: str, out: Path) -> RunStopped:
+        """The same stop, its message naming the call that continues it: ``source`` as the caller
+        wrote it (a path's repr, or a placeholder for a scene or model object) and the folder."""
+        call = f"paradyn.run({source}, {str(out)!r}, restart=True)"
+        return RunStopped(self.time, self.cycle, self.checkpoint, how=call)
 
     @classmethod
     def of(cls, run: EngineRun, folder: Path) -> RunStopped:

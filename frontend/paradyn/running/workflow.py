@@ -21,7 +21,7 @@ from paradyn.results.reading import Results, read
 from paradyn.scene.builder import Scene as SceneBuilder
 
 from . import launch, preflight
-from .engine_process import Progress
+from .engine_process import Progress, RunStopped
 from .folders import check_owner, claim_output, output_folder, source_identity
 from .progress import RunProgress
 from .restart import restart_deck
@@ -160,12 +160,21 @@ def run(
                                        log_path=out / log_name if log_name else None, restart=restart, runner=runner,
                                        on_warning=display.warning if display is not None else _engine_warning,
                                        on_done=finish, started=started)
+    except RunStopped as stop:
+        raise stop.continuing(_source_text(source), out) from None
     finally:
         if started is not None:   # a failure before the engine was told to go must not leave it waiting
             started.cancel()
         if display is not None:
             display.close()
     return finish.results if finish.results is not None else finish(engine_run)
+
+
+def _source_text(source: Source) -> str:
+    """``source`` as a continuing call writes it: a path's repr, else the name of what it is."""
+    if isinstance(source, str | Path):
+        return repr(str(source))
+    return f"<the same {type(source).__name__}>"
 
 
 @dataclass
