@@ -78,7 +78,7 @@ def test_free_fall_accelerates_at_g_with_no_reaction(tmp_path) -> None:
     acceleration = np.asarray(res.acceleration.read_all())
     np.testing.assert_allclose(acceleration, np.broadcast_to(g, acceleration.shape), rtol=1e-9)
     assert np.abs(np.asarray(res.membrane_strain.read_all())).max() < 1e-12
-    assert np.all(res.history["reaction_force"] == 0.0)
+    assert np.all(res.history["reaction_force"] == 0.0) and np.all(res.history["reaction_moment"] == 0.0)
     assert not np.any(np.asarray(res.nodal_contact_force.read_all()))
     with h5py.File(res.path) as h5:
         np.testing.assert_array_equal(h5["/mesh/thickness"][()], 0.002)
@@ -86,7 +86,8 @@ def test_free_fall_accelerates_at_g_with_no_reaction(tmp_path) -> None:
 
 def test_cantilever_at_rest_has_its_weight_as_reaction_and_beam_stresses(tmp_path) -> None:
     """The cantilever of tests/test_gravity.py brought to rest by mass damping (transient 5e-5):
-    the reaction is -M g (1e-3; the rotations' moments are not in it); the root element's
+    the reaction is -M g (1e-3) and its moment about the origin balances the weights' (1e-3 of
+    M g L); the root element's
     outermost points carry sxx = 6 M(x) zeta / (b t^2) with M(x) = q (L - x)^2 / 2 at its centre
     (3 %: shear-deformable shell against the beam) and the middle none (1 % of it); the internal
     energy densities times the initial volumes add up to the history's internal energy."""
@@ -95,9 +96,15 @@ def test_cantilever_at_rest_has_its_weight_as_reaction_and_beam_stresses(tmp_pat
     period = 1.0 / beam.first_frequency
     control = Control(end_time=2.0 * period, output_interval=period, history_interval=period / 50,
                       mass_damping=2.0 * (2.0 * np.pi * beam.first_frequency), gravity_z=-g)
-    res = M.run(beam.model(control), tmp_path).results
+    model = beam.model(control)
+    res = M.run(model, tmp_path).results
     weight = STEEL.density * beam.length * beam.width * beam.thickness * g
     np.testing.assert_allclose(res.history["reaction_force"][-1], [0.0, 0.0, weight], rtol=0, atol=1e-3 * weight)
+    # at rest the supports' moment about the origin balances the weights': -sum x_i x m_i g
+    x = res.coordinates + res.frame_arrays(-1).displacement
+    gravity_moment = np.cross(x, M.lumped_masses(model)[:, None] * np.array([0.0, 0.0, -g])).sum(axis=0)
+    np.testing.assert_allclose(res.history["reaction_moment"][-1], -gravity_moment, rtol=0,
+                               atol=1e-3 * weight * beam.length)
 
     frame = res.frame_arrays(-1)
     root = np.flatnonzero(res.coordinates[res.connectivity].mean(axis=1)[:, 0] < beam.length / 20)

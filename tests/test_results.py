@@ -335,12 +335,14 @@ def test_history_csv(synthetic: Synthetic, tmp_path: Path) -> None:
         "contact_energy [J]", "external_work [J]", "total_energy [J]", "contact_penetration [m]", "dt [s]",
         "dt_stable [s]", "dt_element [-]",
     ]
-    # the supports' reaction (zeros in this synthetic file, written before it), then the tracked points
-    assert header[11:14] == ["reaction_fx [N]", "reaction_fy [N]", "reaction_fz [N]"]
-    assert header[14:] == [f"{n}_{c} [{u}]" for n in ("tip_low", "tip_high") for c, u in
+    # the supports' reaction and its moment (zeros in this synthetic file, written before them), then
+    # the tracked points
+    assert header[11:17] == ["reaction_fx [N]", "reaction_fy [N]", "reaction_fz [N]", "reaction_mx [N m]",
+                             "reaction_my [N m]", "reaction_mz [N m]"]
+    assert header[17:] == [f"{n}_{c} [{u}]" for n in ("tip_low", "tip_high") for c, u in
                            (("dx", "m"), ("dy", "m"), ("dz", "m"), ("vx", "m/s"), ("vy", "m/s"), ("vz", "m/s"))]
     values = np.array(rows[1:], dtype=float)
-    assert values.shape == (N_RECORDS, 14 + 12)
+    assert values.shape == (N_RECORDS, 17 + 12)
     assert_allclose(values[:, 0], synthetic.history_times, rtol=0, atol=0)  # exact round trip
     assert_allclose(values[:, 6], 100.0 - 5.0 * synthetic.history_times / END_TIME)
     x_tip = synthetic.coordinates[TRACKED[1], 0]

@@ -1264,7 +1264,7 @@ HISTORY_NAMES = (
     'time', 'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work',
     'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'eroded_elements', 'failed_welds',
     'part_kinetic_energy', 'part_internal_energy', 'part_hourglass_energy', 'part_plastic_work', 'contact_force',
-    'rigid_wall_force', 'reaction_force', 'tracked_displacement', 'tracked_velocity',
+    'rigid_wall_force', 'reaction_force', 'reaction_moment', 'tracked_displacement', 'tracked_velocity',
 )
 ENERGY_NAMES = ('kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work')
 HISTORY_UNITS: dict[str, str] = {
@@ -1287,6 +1287,7 @@ HISTORY_UNITS: dict[str, str] = {
     'contact_force': 'N',
     'rigid_wall_force': 'N',
     'reaction_force': 'N',
+    'reaction_moment': 'N m',
     'tracked_displacement': 'm',
     'tracked_velocity': 'm/s',
 }

@@ -30,7 +30,7 @@ module results_writer
   integer, parameter :: history_batch = 64   !< history records written in one collective write
   !> The histories with a value per part (rank 0 writes them), in the order of the block of values
   !> results_write_history takes; then contact_force, 3 values per contact definition,
-  !> rigid_wall_force, 3 values per rigid wall, and reaction_force, 3 values
+  !> rigid_wall_force, 3 values per rigid wall, reaction_force and reaction_moment, 3 values each
   character(len=*), parameter :: part_histories(4) = [character(len=21) :: 'part_kinetic_energy', &
                                                       'part_internal_energy', 'part_hourglass_energy', &
                                                       'part_plastic_work']
@@ -145,6 +145,7 @@ contains
     if (n_contacts > 0) call create_growing(group, 'contact_force', [3_hsize_t, int(n_contacts, hsize_t)])
     if (n_walls > 0) call create_growing(group, 'rigid_wall_force', [3_hsize_t, int(n_walls, hsize_t)])
     call create_growing(group, 'reaction_force', [3_hsize_t])
+    call create_growing(group, 'reaction_moment', [3_hsize_t])
     call h5gclose_f(group, err)
     call h5fflush_f(rf%file, H5F_SCOPE_GLOBAL_F, err)
     status = status_ok
@@ -203,6 +204,7 @@ contains
     if (n_contacts > 0) call truncate_growing(rf%file, '/history/contact_force', records)
     if (n_walls > 0) call truncate_growing(rf%file, '/history/rigid_wall_force', records)
     call truncate_growing(rf%file, '/history/reaction_force', records)
+    call truncate_growing(rf%file, '/history/reaction_moment', records)
     rf%frames = frames
     rf%records = records
     status = status_ok
@@ -251,11 +253,11 @@ contains
     type(results_file_t), intent(inout) :: rf
     real(wp), intent(in) :: time, values(n_history_scalars)
     real(wp), intent(in) :: tracked_displacement(:, :), tracked_velocity(:, :)
-    real(wp), intent(in) :: part_values(:)   !< the part_histories in turn, contact_force, rigid_wall_force, reaction_force
+    real(wp), intent(in) :: part_values(:)   !< the part_histories in turn, contact_force, rigid_wall_force, reaction_force, reaction_moment
     if (.not. allocated(rf%pending_values)) then
       allocate (rf%pending_values(1 + n_history_scalars, history_batch))
       allocate (rf%pending_tracked(6, rf%n_tracked, history_batch))
-      allocate (rf%pending_parts(size(part_histories) * rf%n_parts + 3 * rf%n_contacts + 3 * rf%n_walls + 3, &
+      allocate (rf%pending_parts(size(part_histories) * rf%n_parts + 3 * rf%n_contacts + 3 * rf%n_walls + 6, &
                                  history_batch))
     end if
     rf%records = rf%records + 1
@@ -323,7 +325,7 @@ contains
     end if
   end subroutine write_pending
 
-  !> The pending per-part histories, contact, wall and reaction forces (rank 0's values; none when
+  !> The pending per-part histories, contact, wall and reaction forces and the reaction moment (rank 0's values; none when
   !> the model has no part, contact definition or wall).
   subroutine write_pending_parts(rf, first, n)
     type(results_file_t), intent(inout) :: rf
@@ -347,6 +349,8 @@ contains
                                          [3_hsize_t, int(rf%n_walls, hsize_t)], first, n)
     at = at + 3 * rf%n_walls
     call append_root(rf, '/history/reaction_force', reshape(rf%pending_parts(at + 1:at + 3, 1:n), [3 * n]), &
+                     [3_hsize_t], first, n)
+    call append_root(rf, '/history/reaction_moment', reshape(rf%pending_parts(at + 4:at + 6, 1:n), [3 * n]), &
                      [3_hsize_t], first, n)
   end subroutine write_pending_parts
 

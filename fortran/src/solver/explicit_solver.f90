@@ -129,7 +129,7 @@ contains
       call parallel_contact_setup(s%contact, contact, deck, s%dom, comm, carried, s%nodes%v, s%clock%dt, &
                                   s%control%contact_gather_all)
     end if
-    allocate (s%node_out(node_field_width, size(s%halo%owned_local)), s%v_free(3, s%nodes%n))
+    allocate (s%node_out(node_field_width, size(s%halo%owned_local)), s%v_free(3, s%nodes%n), s%w_free(3, s%nodes%n))
     allocate (s%element_out(element_field_width, s%dom%n_elements), s%tracked_out(6, deck%n_tracked))
     allocate (s%element_work(s%dom%n_elements))
     s%n_parts = deck%n_parts
@@ -261,6 +261,7 @@ contains
     call keep_velocities(s%nodes)
     call advance_velocities(s%nodes, half_step(s%clock), s%control%mass_damping, s%threads, s%damping_work)
     s%v_free = s%nodes%v
+    s%w_free = s%nodes%w
     if (s%has_constraints) call apply_constraints(s)
     call write_record(s, rf, status, message)   ! the run stops anyway: its own verdict is not needed
   end subroutine record_at_stop
@@ -282,7 +283,10 @@ contains
     t0 = wall_clock()
     call advance_velocities(s%nodes, half_step(s%clock), s%control%mass_damping, s%threads, s%damping_work)
     s%timers%nodes = s%timers%nodes + wall_clock() - t0
-    if (record_due) s%v_free = s%nodes%v   ! what the constraints change is their reaction
+    if (record_due) then   ! what the constraints change is their reaction
+      s%v_free = s%nodes%v
+      s%w_free = s%nodes%w
+    end if
     if (s%has_constraints) call apply_constraints(s)
     if (.not. (frame_due .or. record_due)) return
     t0 = wall_clock()

@@ -43,7 +43,7 @@ contains
     ! per-part energies (kinetic, internal, hourglass, plastic work), each contact definition's force
     ! and each rigid wall's
     integer, parameter :: inverted_at = n_history_scalars + 1, nan_at = n_history_scalars + 2
-    real(wp) :: sums(nan_at + 6 * s%control%n_tracked + 4 * s%n_parts + 3 * s%n_contacts + 3 * s%n_walls + 3)
+    real(wp) :: sums(nan_at + 6 * s%control%n_tracked + 4 * s%n_parts + 3 * s%n_contacts + 3 * s%n_walls + 6)
     integer :: bad, bad_total, k, j, parts_at, walls_at, reaction_at
     real(wp) :: walls(3, s%n_walls)
     associate (ns => s%nodes)
@@ -76,7 +76,7 @@ contains
       reaction_at = walls_at + 3 * s%n_walls
       if (s%rank == 0) sums(walls_at + 1:reaction_at) = reshape(walls, [3 * s%n_walls])
       call constraint_reaction(s)   ! the same on every rank: rank 0 reports it
-      if (s%rank == 0) sums(reaction_at + 1:reaction_at + 3) = s%reaction
+      if (s%rank == 0) sums(reaction_at + 1:reaction_at + 6) = s%reaction
       s%tracked_out = 0.0_wp
       do k = 1, s%control%n_tracked
         j = s%control%tracked_local(k)
@@ -168,23 +168,24 @@ contains
     end do
   end subroutine wall_forces
 
-  !> The resultant force of the constraints in the velocity update before this record (s%reaction:
-  !> time_integration's add_constraint_reactions over the owned nodes), exact sums added over the
-  !> ranks as integers, so it is the same on every rank and on any layout. Collective.
+  !> The resultant force of the constraints in the velocity update before this record and its
+  !> moment about the origin (s%reaction: time_integration's add_constraint_reactions over the
+  !> owned nodes), exact sums added over the ranks as integers, so it is the same on every rank and
+  !> on any layout. Collective.
   subroutine constraint_reaction(s)
     type(solver_t), intent(inout) :: s
-    integer(i8) :: acc(exact_width, 3)
+    integer(i8) :: acc(exact_width, 6)
     integer :: k
     acc = 0
     associate (ns => s%nodes)
-      call add_constraint_reactions(ns%n, half_step(s%clock), s%control%mass_damping, ns%mass, ns%fixed, &
-                                    ns%f_int, ns%f_ext, s%v_free, ns%v, ns%weight, acc)
+      call add_constraint_reactions(ns%n, half_step(s%clock), s%control%mass_damping, ns%x, ns%mass, ns%inertia, &
+                                    ns%fixed, ns%f_int, ns%f_ext, s%v_free, ns%v, s%w_free, ns%w, ns%weight, acc)
     end associate
-    do k = 1, 3
+    do k = 1, 6
       call exact_normalise(acc(:, k))
     end do
     if (s%n_ranks > 1) call MPI_Allreduce(MPI_IN_PLACE, acc, size(acc), MPI_INTEGER8, MPI_SUM, s%halo%comm)
-    do k = 1, 3
+    do k = 1, 6
       s%reaction(k) = exact_value(acc(:, k))
     end do
   end subroutine constraint_reaction

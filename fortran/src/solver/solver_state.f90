@@ -42,7 +42,8 @@ module solver_state
     ! output buffers: this rank's owned nodes and its elements
     real(wp), allocatable :: node_out(:, :), element_out(:, :)   !< results_write_frame's layouts
     real(wp), allocatable :: v_free(:, :)   !< (3, n) the velocities before the constraints, at a record
-    real(wp) :: reaction(3) = 0             !< the constraints' resultant force at the last record (N)
+    real(wp), allocatable :: w_free(:, :)   !< (3, n) and the angular velocities
+    real(wp) :: reaction(6) = 0             !< the constraints' resultant force (N) and moment about the origin (N m) at the last record
     real(wp), allocatable :: element_work(:)   !< each element's plastic work at a history record
     real(wp), allocatable :: tracked_out(:, :)   !< (6, n_tracked): this rank's share, summed to rank 0
     integer, allocatable :: node_part(:)         !< per local node: the part of its lowest-numbered element

@@ -35,29 +35,55 @@ contains
     end do
   end subroutine update_velocities
 
-  !> The force the constraints put on the nodes of weight 1 in the velocity update over h, added
-  !> exactly to acc(:, k) per direction k: on a fixed translation f_int - f_ext (the update zeroed
-  !> it); where a constraint stage changed the updated velocity v_free into v, the force that makes
-  !> that change, m (v - v_free) / (c_new h) with update_velocities' damping factor c_new. Nodes no
-  !> constraint touched add nothing, so a model without constraints reports exactly zero.
-  pure subroutine add_constraint_reactions(n, h, damping, mass, fixed, force_internal, force_external, &
-                                           v_free, v, weight, acc)
+  !> The force and moment the constraints put on the nodes of weight 1 in the velocity update over
+  !> h, added exactly to acc(:, k): k = 1..3 the force, k = 4..6 its moment about the origin,
+  !> sum of x x f over the nodes (at the positions x of the update) plus the moments on rotations.
+  !> On a fixed dof the reaction is f_int - f_ext (the update zeroed it); where a constraint stage
+  !> changed the updated velocity v_free into v (w_free into w), it is the force (moment) that makes
+  !> that change, m (v - v_free) / (c_new h) (inertia (w - w_free) / (c_new h)) with
+  !> update_velocities' damping factor c_new. Nodes no constraint touched add nothing, so a model
+  !> without constraints reports exactly zero.
+  pure subroutine add_constraint_reactions(n, h, damping, x, mass, inertia, fixed, force_internal, &
+                                           force_external, v_free, v, w_free, w, weight, acc)
     integer, intent(in) :: n
-    real(wp), intent(in) :: h, damping, mass(n), force_internal(6, n), force_external(6, n)
+    real(wp), intent(in) :: h, damping, x(3, n), mass(n), inertia(n), force_internal(6, n), force_external(6, n)
     integer, intent(in) :: fixed(6, n)
-    real(wp), intent(in) :: v_free(3, n), v(3, n), weight(n)
+    real(wp), intent(in) :: v_free(3, n), v(3, n), w_free(3, n), w(3, n), weight(n)
     integer(i8), intent(inout) :: acc(:, :)
-    real(wp) :: c_new
+    real(wp) :: c_new, f(3), m(3)
     integer :: j, k
+    logical :: touched
     c_new = 1.0_wp / (1.0_wp + 0.5_wp * damping * h)
     do j = 1, n
       if (weight(j) == 0.0_wp) cycle
+      touched = .false.
+      f = 0.0_wp
+      m = 0.0_wp
       do k = 1, 3
         if (fixed(k, j) /= 0) then
-          call exact_add(acc(:, k), force_internal(k, j) - force_external(k, j))
+          f(k) = force_internal(k, j) - force_external(k, j)
         else if (v(k, j) /= v_free(k, j)) then
-          call exact_add(acc(:, k), mass(j) * (v(k, j) - v_free(k, j)) / (c_new * h))
+          f(k) = mass(j) * (v(k, j) - v_free(k, j)) / (c_new * h)
+        else
+          cycle
         end if
+        touched = .true.
+        call exact_add(acc(:, k), f(k))
+      end do
+      do k = 1, 3
+        if (fixed(3 + k, j) /= 0) then
+          m(k) = force_internal(3 + k, j) - force_external(3 + k, j)
+        else if (w(k, j) /= w_free(k, j)) then
+          m(k) = inertia(j) * (w(k, j) - w_free(k, j)) / (c_new * h)
+        else
+          cycle
+        end if
+        touched = .true.
+      end do
+      if (.not. touched) cycle
+      m = m + [x(2, j) * f(3) - x(3, j) * f(2), x(3, j) * f(1) - x(1, j) * f(3), x(1, j) * f(2) - x(2, j) * f(1)]
+      do k = 1, 3
+        call exact_add(acc(:, 3 + k), m(k))
       end do
     end do
   end subroutine add_constraint_reactions

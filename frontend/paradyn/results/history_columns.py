@@ -36,6 +36,8 @@ def part_columns(results: Results) -> dict[str, tuple[str, np.ndarray]]:
             columns[f"wall{k}_f{axis}"] = ("rigid_wall_force", h["rigid_wall_force"][:, k, c])
     for c, axis in enumerate("xyz"):
         columns[f"reaction_f{axis}"] = ("reaction_force", h["reaction_force"][:, c])
+    for c, axis in enumerate("xyz"):
+        columns[f"reaction_m{axis}"] = ("reaction_moment", h["reaction_moment"][:, c])
     return columns
 
 

@@ -238,8 +238,10 @@ def read_history(h5: h5py.File, path: Path, complete: bool) -> dict[str, np.ndar
                        ("part_plastic_work", ()), ("contact_force", (3,)), ("rigid_wall_force", (3,))):
         width = data[f"/history/{name}"].shape[1] if f"/history/{name}" in data else 0
         out[name] = read_rows(data, f"/history/{name}", n, (width, *tail), path) if width else np.zeros((n, 0, *tail))
-    # the supports' resultant force (n_records, 3); zeros in files written before it
-    out["reaction_force"] = read_rows(data, "/history/reaction_force", n, (3,), path)
+    # the supports' resultant force and its moment about the origin (n_records, 3); zeros in files
+    # written before them
+    for name in ("reaction_force", "reaction_moment"):
+        out[name] = read_rows(data, f"/history/{name}", n, (3,), path)
     return out
 
 
