@@ -85,6 +85,9 @@ def _base_model() -> deck.Model:
         added_mass=np.where(np.arange(n_all) >= 2 * n, 0.01, 0.0),
         rigid_body_part=np.array([2]),
         rigid_body_fixed_dofs=np.array([[0, 0, 1, 0, 0, 0]]),
+        rotation_tie_node=np.array([n + 1]),   # the upper strip's middle node turns with the lower's first element
+        rotation_tie_masters=lower.quads[:1],
+        rotation_tie_weights=np.array([[0.25, 0.25, 0.25, 0.25]]),
         node_ids=np.arange(101, 101 + n_all),
         element_ids=np.array([7, 9, 11, 13, 15, 17]),
         part_ids=np.array([3, 4, 5, 6]),

@@ -174,3 +174,35 @@ def test_restart_after_a_weld_failed_is_the_uninterrupted_run(tmp_path: Path,
         assert one["history/failed_welds"][-1] == 2.0
         for key in ("frames/displacement", "frames/velocity", "history/failed_welds"):
             assert np.array_equal(one[key][:], two[key][:]), key
+
+
+def _scene_strips() -> paradyn.Scene:
+    """The tension case as a scene: the strips as two plates 1 mm apart, two [[weld]] at the
+    corners of their facing ends (SN = 30 N), the far corners pulled by 60 N x t / RAMP."""
+    scene = paradyn.Scene("welded strips", end_time=END, output_interval=END / 4, history_interval=2e-6)
+    scene.add_material("steel", model="elastic", density=7800.0, youngs_modulus=2e11, poisson_ratio=0.3)
+    for name, x0 in (("fixed", 0.0), ("pulled", LENGTH + 0.001)):
+        scene.add_part(name, material="steel", thickness=0.002,
+                       geometry=paradyn.Plate(size=(LENGTH, WIDTH), elements=(4, 1), origin=[x0, 0.0, 0.0]))
+    scene.add_fix("fixed", box=[[-1e-6, -1.0, -1.0], [1e-6, 1.0, 1.0]])
+    for y in (0.0, WIDTH):
+        scene.add_weld("fixed", "pulled", point=[LENGTH + 0.0005, y, 0.0], strength=[30.0, 0.0])
+        scene.add_load("pulled", point=[2 * LENGTH + 0.001, y, 0.0], dof="ux", value=60.0, ramp_time=RAMP)
+    scene.add_track("tip", part="pulled", point=[2 * LENGTH + 0.001, 0.0, 0.0])
+    return scene
+
+
+def test_the_scene_form_welds_and_lets_go_alike(tmp_path: Path) -> None:
+    """Scene.add_weld ([[weld]], the nodes of the two parts nearest the point): the same welds
+    let go at the same load as the keyword deck's (within 1 % of SN = 30 N), and the scene's
+    TOML file gives the same deck."""
+    scene = _scene_strips()
+    model = scene.build()
+    assert model.rigid_body_failure_force.tolist() == [[30.0, 0.0], [30.0, 0.0]]
+    np.testing.assert_allclose(model.rigid_body_failure_normal, [[1.0, 0.0, 0.0]] * 2, atol=1e-12)
+    path = scene.to_toml(tmp_path / "scene.toml")
+    again = paradyn.scene.load_scene(path)
+    assert len(again.welds) == 2 and again.welds[0].strength == (30.0, 0.0)
+    load, failed, _ = _failure_load(_run(model, tmp_path / "scene"), 60.0)
+    assert load == pytest.approx(30.0, rel=0.01)
+    assert failed[-1] == 2.0

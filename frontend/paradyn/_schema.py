@@ -152,6 +152,7 @@ SIZES: dict[str, SizeSpec] = {
     'n_prescribed': SizeSpec('n_prescribed', 'prescribed motion', 0, None),
     'n_base_accelerations': SizeSpec('n_base_accelerations', 'base acceleration', 0, 'base_acceleration'),
     'n_rigid_bodies': SizeSpec('n_rigid_bodies', 'rigid body', 0, 'rigid_body'),
+    'n_rotation_ties': SizeSpec('n_rotation_ties', 'rotation tie', 0, None),
 }
 
 CONDITIONS: dict[str, ConditionSpec] = {
@@ -188,6 +189,10 @@ CONDITIONS: dict[str, ConditionSpec] = {
     'rigid_bodies_group': ConditionSpec(
         name='rigid_bodies_group', group='/rigid_bodies', dataset=None, codes=(),
         meaning='the group /rigid_bodies exists', rows='',
+    ),
+    'rotation_ties_group': ConditionSpec(
+        name='rotation_ties_group', group='/rotation_ties', dataset=None, codes=(),
+        meaning='the group /rotation_ties exists', rows='',
     ),
     'plastic': ConditionSpec(
         name='plastic', group=None, dataset='/materials/model', codes=(2, 3, 5, 6),
@@ -806,6 +811,30 @@ DATASETS: tuple[DatasetSpec, ...] = (
         ), '-', 'give a direction (any length) or the zero vector',
     ),
     DatasetSpec(
+        '/rotation_ties/node', 'rotation_tie_node', 'int', ('n_rotation_ties',), False, 'rotation_ties_group',
+        None, None, None, None, '', None, '', 'node', True, '-',
+        (
+            "a node whose rotation follows a surface's: its angular velocity is held to the weighted mean of its "
+            'masters\' (docs/theory.md, "Rotation ties"); the frontend ties the slave nodes of a shell edge tied '
+            'to a surface'
+        ), '-', 'give the index of a node',
+    ),
+    DatasetSpec(
+        '/rotation_ties/masters', 'rotation_tie_masters', 'int', ('n_rotation_ties', 4), False,
+        'rotation_ties_group', None, None, None, None, '', None, '', 'node', False, '-',
+        'the four nodes of the master segment the node is tied to (a triangle repeats its third)', '-',
+        "give the indices of the segment's nodes",
+    ),
+    DatasetSpec(
+        '/rotation_ties/weights', 'rotation_tie_weights', 'float', ('n_rotation_ties', 4), False,
+        'rotation_ties_group', None, None, Bound(0.0, True), Bound(1.0, True), 'must be in [0, 1]', None, '', None,
+        False, '-',
+        (
+            "the segment's shape functions at the node's tied point (bilinear, summing to 1): the node's angular "
+            'velocity is sum(weight_I omega_I)'
+        ), '-', 'give the shape functions at the tied point, each in [0, 1], summing to 1',
+    ),
+    DatasetSpec(
         '/curves/first_point', 'curve_first_point', 'int', ('n_curves',), False, 'curves_group', None, None,
         Bound(0, True), None, 'must be >= 0', None, '', None, True, '-',
         (
@@ -1192,6 +1221,9 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/rigid_bodies/failure_time'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/rigid_bodies/failure_node'): ('class', 'shape', 'rows', 'lower', 'reference'),
     ('dataset', '/rigid_bodies/failure_normal'): ('class', 'shape', 'rows', 'finite'),
+    ('dataset', '/rotation_ties/node'): ('required_when', 'class', 'shape', 'reference'),
+    ('dataset', '/rotation_ties/masters'): ('required_when', 'class', 'shape', 'rows', 'reference'),
+    ('dataset', '/rotation_ties/weights'): ('required_when', 'class', 'shape', 'rows', 'lower', 'upper', 'finite'),
     ('dataset', '/curves/first_point'): ('required_when', 'class', 'shape', 'lower'),
     ('dataset', '/curves/time'): ('required_when', 'class', 'shape', 'finite'),
     ('dataset', '/curves/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
@@ -1305,8 +1337,8 @@ CONTACT_PHASES = ('contact_sort', 'contact_search', 'contact_force')
 # The effects of a step (schema/effects.toml), in the order of the step
 EFFECTS = (
     'point_loads', 'gravity', 'base_acceleration', 'pressure', 'rigid_wall', 'time_integration', 'mass_damping',
-    'fixed_boundaries', 'prescribed_velocity', 'rigid_bodies', 'elastic_shells', 'plastic_shells', 'hourglass',
-    'contact', 'friction',
+    'fixed_boundaries', 'prescribed_velocity', 'rigid_bodies', 'rotation_ties', 'elastic_shells', 'plastic_shells',
+    'hourglass', 'contact', 'friction',
 )
 EFFECT_SWITCHES: dict[str, str] = {
     'point_loads': 'point_loads',

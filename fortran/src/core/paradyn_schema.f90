@@ -20,21 +20,21 @@ module paradyn_schema
       frame_field_names, history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, &
       size_n_elements, size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, &
       size_n_rigid_walls, size_n_rigid_wall_nodes, size_n_curves, size_n_curve_points, size_n_pressures, &
-      size_n_prescribed, size_n_base_accelerations, size_n_rigid_bodies, n_sizes, condition_none, &
-      condition_loads_group, condition_contact_group, condition_rigid_walls_group, &
+      size_n_prescribed, size_n_base_accelerations, size_n_rigid_bodies, size_n_rotation_ties, n_sizes, &
+      condition_none, condition_loads_group, condition_contact_group, condition_rigid_walls_group, &
       condition_rigid_wall_nodes_group, condition_curves_group, condition_pressure_group, &
       condition_prescribed_group, condition_base_accelerations_group, condition_rigid_bodies_group, &
-      condition_plastic, condition_combined_hardening, condition_strain_rate, condition_hardening_curve, &
-      condition_rate_curve, condition_truss, n_conditions, enum_none, enum_material_model, enum_element_kind, &
-      enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, enum_initial_penetration, &
-      enum_contact_gather, enum_rigid_wall_shape, enum_switch, enum_partition, enum_precision, n_enums, &
-      dataset_nodes_coordinates, dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, &
-      dataset_nodes_fixed_dofs, dataset_nodes_rigid_body, dataset_nodes_added_mass, dataset_nodes_id, &
-      dataset_elements_connectivity, dataset_elements_part, dataset_elements_id, dataset_parts_thickness, &
-      dataset_parts_material, dataset_parts_integration_points, dataset_parts_hourglass_coefficient, &
-      dataset_parts_hourglass_form, dataset_parts_warping_correction, dataset_parts_surface_only, &
-      dataset_parts_element_kind, dataset_parts_cross_section_area, dataset_parts_id, &
-      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
+      condition_rotation_ties_group, condition_plastic, condition_combined_hardening, condition_strain_rate, &
+      condition_hardening_curve, condition_rate_curve, condition_truss, n_conditions, enum_none, &
+      enum_material_model, enum_element_kind, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
+      enum_contact_kind, enum_initial_penetration, enum_contact_gather, enum_rigid_wall_shape, enum_switch, &
+      enum_partition, enum_precision, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
+      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_nodes_rigid_body, &
+      dataset_nodes_added_mass, dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, &
+      dataset_elements_id, dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
+      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_warping_correction, &
+      dataset_parts_surface_only, dataset_parts_element_kind, dataset_parts_cross_section_area, &
+      dataset_parts_id, dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
       dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
       dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
       dataset_materials_hardening_curve, dataset_materials_rate_curve, dataset_materials_failure_strain, &
@@ -51,7 +51,8 @@ module paradyn_schema
       dataset_rigid_bodies_curve, dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, &
       dataset_rigid_bodies_given_inertia, dataset_rigid_bodies_failure_force, &
       dataset_rigid_bodies_failure_exponent, dataset_rigid_bodies_failure_time, &
-      dataset_rigid_bodies_failure_node, dataset_rigid_bodies_failure_normal, dataset_curves_first_point, &
+      dataset_rigid_bodies_failure_node, dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, &
+      dataset_rotation_ties_masters, dataset_rotation_ties_weights, dataset_curves_first_point, &
       dataset_curves_time, dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
       dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
       dataset_prescribed_curve, dataset_base_accelerations_direction, dataset_base_accelerations_value, &
@@ -67,11 +68,11 @@ module paradyn_schema
       n_control_attributes, control_restart_may_change, max_enum_members, n_effects, effect_point_loads, &
       effect_gravity, effect_base_acceleration, effect_pressure, effect_rigid_wall, effect_time_integration, &
       effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, effect_rigid_bodies, &
-      effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, effect_friction, &
-      effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
-      size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
-      deck_conditions, deck_datasets, control_attributes, enum_name, enum_code, material_is_plastic, &
-      material_is_combined_hardening, material_is_cowper_symonds, material_is_rigid, &
+      effect_rotation_ties, effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, &
+      effect_friction, effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, &
+      size_entity, size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, &
+      deck_enums, deck_conditions, deck_datasets, control_attributes, enum_name, enum_code, &
+      material_is_plastic, material_is_combined_hardening, material_is_cowper_symonds, material_is_rigid, &
       material_is_hardening_curve, element_kind_is_truss, contact_kind_is_self_contact, contact_kind_is_tied
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
@@ -161,7 +162,8 @@ module paradyn_schema
   integer, parameter :: size_n_prescribed = 13
   integer, parameter :: size_n_base_accelerations = 14
   integer, parameter :: size_n_rigid_bodies = 15
-  integer, parameter :: n_sizes = 15
+  integer, parameter :: size_n_rotation_ties = 16
+  integer, parameter :: n_sizes = 16
   integer, parameter :: condition_none = 0
   integer, parameter :: condition_loads_group = 1
   integer, parameter :: condition_contact_group = 2
@@ -172,13 +174,14 @@ module paradyn_schema
   integer, parameter :: condition_prescribed_group = 7
   integer, parameter :: condition_base_accelerations_group = 8
   integer, parameter :: condition_rigid_bodies_group = 9
-  integer, parameter :: condition_plastic = 10
-  integer, parameter :: condition_combined_hardening = 11
-  integer, parameter :: condition_strain_rate = 12
-  integer, parameter :: condition_hardening_curve = 13
-  integer, parameter :: condition_rate_curve = 14
-  integer, parameter :: condition_truss = 15
-  integer, parameter :: n_conditions = 15
+  integer, parameter :: condition_rotation_ties_group = 10
+  integer, parameter :: condition_plastic = 11
+  integer, parameter :: condition_combined_hardening = 12
+  integer, parameter :: condition_strain_rate = 13
+  integer, parameter :: condition_hardening_curve = 14
+  integer, parameter :: condition_rate_curve = 15
+  integer, parameter :: condition_truss = 16
+  integer, parameter :: n_conditions = 16
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
   integer, parameter :: enum_element_kind = 2
@@ -265,20 +268,23 @@ module paradyn_schema
   integer, parameter :: dataset_rigid_bodies_failure_time = 70
   integer, parameter :: dataset_rigid_bodies_failure_node = 71
   integer, parameter :: dataset_rigid_bodies_failure_normal = 72
-  integer, parameter :: dataset_curves_first_point = 73
-  integer, parameter :: dataset_curves_time = 74
-  integer, parameter :: dataset_curves_value = 75
-  integer, parameter :: dataset_pressure_part = 76
-  integer, parameter :: dataset_pressure_value = 77
-  integer, parameter :: dataset_pressure_curve = 78
-  integer, parameter :: dataset_prescribed_node = 79
-  integer, parameter :: dataset_prescribed_dof = 80
-  integer, parameter :: dataset_prescribed_value = 81
-  integer, parameter :: dataset_prescribed_curve = 82
-  integer, parameter :: dataset_base_accelerations_direction = 83
-  integer, parameter :: dataset_base_accelerations_value = 84
-  integer, parameter :: dataset_base_accelerations_curve = 85
-  integer, parameter :: n_deck_datasets = 85
+  integer, parameter :: dataset_rotation_ties_node = 73
+  integer, parameter :: dataset_rotation_ties_masters = 74
+  integer, parameter :: dataset_rotation_ties_weights = 75
+  integer, parameter :: dataset_curves_first_point = 76
+  integer, parameter :: dataset_curves_time = 77
+  integer, parameter :: dataset_curves_value = 78
+  integer, parameter :: dataset_pressure_part = 79
+  integer, parameter :: dataset_pressure_value = 80
+  integer, parameter :: dataset_pressure_curve = 81
+  integer, parameter :: dataset_prescribed_node = 82
+  integer, parameter :: dataset_prescribed_dof = 83
+  integer, parameter :: dataset_prescribed_value = 84
+  integer, parameter :: dataset_prescribed_curve = 85
+  integer, parameter :: dataset_base_accelerations_direction = 86
+  integer, parameter :: dataset_base_accelerations_value = 87
+  integer, parameter :: dataset_base_accelerations_curve = 88
+  integer, parameter :: n_deck_datasets = 88
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -318,7 +324,7 @@ module paradyn_schema
   integer, parameter :: max_enum_members = 6
 
   ! effects of a step (schema/effects.toml), in the order of the step
-  integer, parameter :: n_effects = 15
+  integer, parameter :: n_effects = 16
   integer, parameter :: effect_point_loads = 1
   integer, parameter :: effect_gravity = 2
   integer, parameter :: effect_base_acceleration = 3
@@ -329,31 +335,33 @@ module paradyn_schema
   integer, parameter :: effect_fixed_boundaries = 8
   integer, parameter :: effect_prescribed_velocity = 9
   integer, parameter :: effect_rigid_bodies = 10
-  integer, parameter :: effect_elastic_shells = 11
-  integer, parameter :: effect_plastic_shells = 12
-  integer, parameter :: effect_hourglass = 13
-  integer, parameter :: effect_contact = 14
-  integer, parameter :: effect_friction = 15
+  integer, parameter :: effect_rotation_ties = 11
+  integer, parameter :: effect_elastic_shells = 12
+  integer, parameter :: effect_plastic_shells = 13
+  integer, parameter :: effect_hourglass = 14
+  integer, parameter :: effect_contact = 15
+  integer, parameter :: effect_friction = 16
   character(len=19), parameter :: effect_names(n_effects) = [character(len=19) :: 'point_loads', 'gravity', &
     'base_acceleration', 'pressure', 'rigid_wall', 'time_integration', 'mass_damping', 'fixed_boundaries', &
-    'prescribed_velocity', 'rigid_bodies', 'elastic_shells', 'plastic_shells', 'hourglass', 'contact', &
-    'friction']
+    'prescribed_velocity', 'rigid_bodies', 'rotation_ties', 'elastic_shells', 'plastic_shells', 'hourglass', &
+    'contact', 'friction']
   integer, parameter :: effect_timed_with(n_effects) = [0, 0, 0, 0, 0, 0, effect_time_integration, &
-    effect_time_integration, 0, 0, 0, 0, effect_elastic_shells, 0, effect_contact]
-  integer, parameter :: effect_also_timed_with(n_effects) = [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, &
+    effect_time_integration, 0, 0, 0, 0, 0, effect_elastic_shells, 0, effect_contact]
+  integer, parameter :: effect_also_timed_with(n_effects) = [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, &
     effect_plastic_shells, 0, 0]
   integer, parameter :: effect_switch(n_effects) = [control_effect_point_loads, control_effect_gravity, &
     control_effect_base_acceleration, control_effect_pressure, control_effect_rigid_wall, 0, &
-    control_effect_mass_damping, 0, control_effect_prescribed_velocity, 0, 0, control_effect_plasticity, &
+    control_effect_mass_damping, 0, control_effect_prescribed_velocity, 0, 0, 0, control_effect_plasticity, &
     control_effect_hourglass, control_effect_contact, control_effect_friction]
 
   character(len=20), parameter :: size_symbol(n_sizes) = [character(len=20) :: 'n_nodes', 'n_elements', &
     'n_parts', 'n_materials', 'n_loads', 'n_tracked', 'n_contacts', 'n_rigid_walls', 'n_rigid_wall_nodes', &
-    'n_curves', 'n_curve_points', 'n_pressures', 'n_prescribed', 'n_base_accelerations', 'n_rigid_bodies']
+    'n_curves', 'n_curve_points', 'n_pressures', 'n_prescribed', 'n_base_accelerations', 'n_rigid_bodies', &
+    'n_rotation_ties']
   character(len=17), parameter :: size_entity(n_sizes) = [character(len=17) :: 'node', 'element', 'part', &
     'material', 'load', 'tracked node', 'contact pair', 'rigid wall', 'rigid wall node', 'curve', &
-    'curve point', 'pressure load', 'prescribed motion', 'base acceleration', 'rigid body']
-  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+    'curve point', 'pressure load', 'prescribed motion', 'base acceleration', 'rigid body', 'rotation tie']
+  integer, parameter :: size_min_rows(n_sizes) = [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
 
   !> Members of an enum: codes and the names a scene or a string attribute uses.
   type :: enum_spec_t
@@ -436,6 +444,7 @@ module paradyn_schema
     condition_spec_t('/prescribed', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/base_accelerations', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/rigid_bodies', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/rotation_ties', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('', 21, 4, [2, 3, 5, 6, 0, 0], 'for a plastic material'), &
     condition_spec_t('', 21, 2, [2, 3, 0, 0, 0, 0], 'for a j2_plasticity or j2_rate material'), &
     condition_spec_t('', 21, 2, [3, 6, 0, 0, 0, 0], 'for a j2_rate or piecewise_linear_rate material'), &
@@ -709,6 +718,17 @@ module paradyn_schema
     dataset_spec_t('/rigid_bodies/failure_normal', class_float, 3, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give a direction (any length) or the zero vector'), &
+    dataset_spec_t('/rotation_ties/node', class_int, 0, size_n_rotation_ties, .true., .false., &
+        condition_rotation_ties_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of a node'), &
+    dataset_spec_t('/rotation_ties/masters', class_int, 4, size_n_rotation_ties, .false., .false., &
+        condition_rotation_ties_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', &
+        'give the indices of the segment''s nodes'), &
+    dataset_spec_t('/rotation_ties/weights', class_float, 4, size_n_rotation_ties, .false., .false., &
+        condition_rotation_ties_group, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, &
+        1.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be in [0, 1]', '', &
+        'give the shape functions at the tied point, each in [0, 1], summing to 1'), &
     dataset_spec_t('/curves/first_point', class_int, 0, size_n_curves, .true., .false., &
         condition_curves_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &

@@ -36,21 +36,22 @@ module deck_fields
                             dataset_rigid_bodies_given_inertia, dataset_rigid_bodies_failure_force, &
                             dataset_rigid_bodies_failure_exponent, dataset_rigid_bodies_failure_time, &
                             dataset_rigid_bodies_failure_node, dataset_rigid_bodies_failure_normal, &
-                            dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
-                            dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
-                            dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
-                            dataset_prescribed_curve, dataset_base_accelerations_direction, &
-                            dataset_base_accelerations_value, dataset_base_accelerations_curve, &
-                            control_end_time, control_output_interval, control_history_interval, &
-                            control_time_step, control_time_step_safety, control_mass_damping, &
-                            control_progress_interval, control_contact_sort_interval, &
+                            dataset_rotation_ties_node, dataset_rotation_ties_masters, &
+                            dataset_rotation_ties_weights, dataset_curves_first_point, dataset_curves_time, &
+                            dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
+                            dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, &
+                            dataset_prescribed_value, dataset_prescribed_curve, &
+                            dataset_base_accelerations_direction, dataset_base_accelerations_value, &
+                            dataset_base_accelerations_curve, control_end_time, control_output_interval, &
+                            control_history_interval, control_time_step, control_time_step_safety, &
+                            control_mass_damping, control_progress_interval, control_contact_sort_interval, &
                             control_checkpoint_interval, control_partition, control_contact_gather, &
                             control_precision, control_gravity_x, control_gravity_y, control_gravity_z, &
                             control_energy_error_limit, control_time_step_floor, &
                             control_contact_travel_limit, control_mass_scaling_step, &
                             control_mass_scaling_limit, effect_point_loads, effect_base_acceleration, &
                             effect_pressure, effect_rigid_wall, effect_prescribed_velocity, &
-                            effect_rigid_bodies, effect_contact
+                            effect_rigid_bodies, effect_rotation_ties, effect_contact
   implicit none
   private
   public :: deck_fields_t, store_dataset, store_control, declare_by_rows, drop_rows
@@ -72,6 +73,7 @@ module deck_fields
     integer :: n_prescribed = 0
     integer :: n_base_accelerations = 0
     integer :: n_rigid_bodies = 0
+    integer :: n_rotation_ties = 0
     real(wp), allocatable :: coordinates(:, :)   !< /nodes/coordinates (3, n_nodes) m
     real(wp), allocatable :: velocity(:, :)   !< /nodes/initial_velocity (3, n_nodes) m/s
     real(wp), allocatable :: angular_velocity(:, :)   !< /nodes/initial_angular_velocity (3, n_nodes) rad/s
@@ -141,6 +143,9 @@ module deck_fields
     real(wp), allocatable :: rigid_body_failure_time(:)   !< /rigid_bodies/failure_time (n_rigid_bodies) s
     integer, allocatable :: rigid_body_failure_node(:)   !< /rigid_bodies/failure_node (n_rigid_bodies) -
     real(wp), allocatable :: rigid_body_failure_normal(:, :)
+    integer, allocatable :: rotation_tie_node(:)   !< /rotation_ties/node (n_rotation_ties) -
+    integer, allocatable :: rotation_tie_masters(:, :)   !< /rotation_ties/masters (4, n_rotation_ties) -
+    real(wp), allocatable :: rotation_tie_weights(:, :)   !< /rotation_ties/weights (4, n_rotation_ties) -
     integer, allocatable :: curve_first_point(:)   !< /curves/first_point (n_curves) -
     real(wp), allocatable :: curve_time(:)   !< /curves/time (n_curve_points) s
     real(wp), allocatable :: curve_value(:)   !< /curves/value (n_curve_points) -
@@ -203,6 +208,7 @@ contains
     call store_rigid_walls(d, id, values, indices)
     call store_rigid_wall_nodes(d, id, values, indices)
     call store_rigid_bodies(d, id, values, indices)
+    call store_rotation_ties(d, id, values, indices)
     call store_curves(d, id, values, indices)
     call store_pressure(d, id, values, indices)
     call store_prescribed(d, id, values, indices)
@@ -457,6 +463,23 @@ contains
     end select
   end subroutine store_rigid_bodies
 
+  !> Puts dataset id into its field if it is one of /rotation_ties (store_dataset).
+  subroutine store_rotation_ties(d, id, values, indices)
+    class(deck_fields_t), intent(inout) :: d
+    integer, intent(in) :: id
+    real(wp), intent(in) :: values(:, :)
+    integer, allocatable, intent(in) :: indices(:, :)
+    select case (id)
+    case (dataset_rotation_ties_node)
+      d%rotation_tie_node = indices(1, :)
+      d%n_rotation_ties = size(values, 2)
+    case (dataset_rotation_ties_masters)
+      d%rotation_tie_masters = indices
+    case (dataset_rotation_ties_weights)
+      d%rotation_tie_weights = values
+    end select
+  end subroutine store_rotation_ties
+
   !> Puts dataset id into its field if it is one of /curves (store_dataset).
   subroutine store_curves(d, id, values, indices)
     class(deck_fields_t), intent(inout) :: d
@@ -589,6 +612,7 @@ contains
     declared(effect_rigid_wall) = d%n_rigid_walls > 0
     declared(effect_prescribed_velocity) = d%n_prescribed > 0
     declared(effect_rigid_bodies) = d%n_rigid_bodies > 0
+    declared(effect_rotation_ties) = d%n_rotation_ties > 0
     declared(effect_contact) = d%n_contacts > 0
   end subroutine declare_by_rows
 
@@ -602,6 +626,7 @@ contains
     if (off(effect_rigid_wall)) d%n_rigid_walls = 0
     if (off(effect_prescribed_velocity)) d%n_prescribed = 0
     if (off(effect_rigid_bodies)) d%n_rigid_bodies = 0
+    if (off(effect_rotation_ties)) d%n_rotation_ties = 0
     if (off(effect_contact)) d%n_contacts = 0
   end subroutine drop_rows
 

@@ -4,7 +4,8 @@
 module effect_factory
   use paradyn_kinds, only: wp
   use paradyn_schema, only: n_effects, effect_point_loads, effect_gravity, effect_pressure, effect_rigid_wall, &
-                            effect_prescribed_velocity, effect_base_acceleration, effect_rigid_bodies
+                            effect_prescribed_velocity, effect_base_acceleration, effect_rigid_bodies, &
+                            effect_rotation_ties
   use mpi_f08, only: MPI_Comm
   use model_deck, only: deck_t, node_row, deck_gravity
   use domain_decomposition, only: domain_t, local_node
@@ -19,6 +20,7 @@ module effect_factory
   use base_acceleration_effect, only: base_acceleration_effect_make
   use rigid_body_effect, only: rigid_body_effect_make
   use weld_failure, only: weld_make
+  use rotation_tie_effect, only: rotation_tie_effect_make
   use nodal_state, only: nodal_state_t
   implicit none
   private
@@ -82,6 +84,10 @@ contains
                       deck%rigid_body_failure_time(k), deck%rigid_body_failure_normal(:, k)), k = 1, deck%n_rigid_bodies)], &
           [(local_node(dom, deck%rigid_body_failure_node(k)), k = 1, deck%n_rigid_bodies)], &
           deck%rigid_body_given_mass, deck%rigid_body_given_centre, deck%rigid_body_given_inertia, ns, comm))
+      case (effect_rotation_ties)
+        call append(effects)
+        allocate (effects(size(effects))%effect, source=rotation_tie_effect_make(deck%rotation_tie_node, &
+          deck%rotation_tie_masters, deck%rotation_tie_weights, dom, comm))
       end select   ! effects that are not nodal (elements, contact, integration) are built elsewhere
     end do
   end subroutine make_nodal_effects

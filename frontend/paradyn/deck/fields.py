@@ -86,6 +86,9 @@ class DeckFields:
     rigid_body_failure_time: np.ndarray | None = None   # /rigid_bodies/failure_time (n_rigid_bodies,) s
     rigid_body_failure_node: np.ndarray | None = None   # /rigid_bodies/failure_node (n_rigid_bodies,) -
     rigid_body_failure_normal: np.ndarray | None = None   # /rigid_bodies/failure_normal (n_rigid_bodies, 3) -
+    rotation_tie_node: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
+    rotation_tie_masters: np.ndarray = field(default_factory=lambda: np.zeros((0, 4), dtype=np.int32))
+    rotation_tie_weights: np.ndarray = field(default_factory=lambda: np.zeros((0, 4), dtype=np.float64))
     curve_first_point: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     curve_time: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))
     curve_value: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))
@@ -154,6 +157,11 @@ class DeckFields:
     def n_rigid_bodies(self) -> int:
         """Rows of /rigid_bodies/part."""
         return _rows(self.rigid_body_part, 1)
+
+    @property
+    def n_rotation_ties(self) -> int:
+        """Rows of /rotation_ties/node."""
+        return _rows(self.rotation_tie_node, 1)
 
 
 def _rows(value: object, rank: int) -> int:

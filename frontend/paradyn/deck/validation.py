@@ -221,6 +221,7 @@ def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
     _check_rigid_walls(check, sizes)
     _check_curve_relations(check, sizes)
     _check_rigid_bodies(check, sizes)
+    _check_rotation_ties(check, sizes)
 
 
 def _check_rigid_walls(check: _Checker, sizes: dict[str, int]) -> None:
@@ -302,6 +303,21 @@ def _check_rigid_bodies(check: _Checker, sizes: dict[str, int]) -> None:
         if node >= 0 and node < len(body_of) and body_of[node] != row:
             check.fail(f"/rigid_bodies/failure_node[{row}] = {node} is not a node of body {row} (its "
                        f"/nodes/rigid_body is {int(body_of[node])}); give the weld's N1, a node of the body, or -1")
+
+
+def _check_rotation_ties(check: _Checker, sizes: dict[str, int]) -> None:
+    """A rotation tie's weights sum to 1 (a point of its segment) and its node is not one of its masters."""
+    if not sizes.get("n_rotation_ties"):
+        return
+    node, masters = check.array("rotation_tie_node"), check.array("rotation_tie_masters")
+    weights = check.array("rotation_tie_weights")
+    for row in range(sizes["n_rotation_ties"]):
+        if abs(float(weights[row].sum()) - 1.0) > 1e-9:
+            check.fail(f"/rotation_ties/weights[{row}] = {weights[row].tolist()} sum to {float(weights[row].sum()):g}; "
+                       f"give the segment's shape functions at the tied point (they sum to 1)")
+        if node[row] in masters[row]:
+            check.fail(f"/rotation_ties/node[{row}] = {int(node[row])} is one of its own masters; tie a node to "
+                       f"another segment's nodes")
 
 
 def _check_curve_relations(check: _Checker, sizes: dict[str, int]) -> None:

@@ -129,6 +129,7 @@ class KeywordData:
     set_velocities: list[list[Record]] = field(default_factory=list)          # *INITIAL_VELOCITY cards
     boxes: dict[int, Record] = field(default_factory=dict)
     part_contacts: dict[int, Record] = field(default_factory=dict)           # PID -> *PART_CONTACT card
+    shell_edges: list[tuple[str, str]] = field(default_factory=list)       # tied shell edge -> surface parts
     title: str = ""
     warnings: list[str] = field(default_factory=list)
 

@@ -183,8 +183,10 @@ def _contact(data: KeywordData, name: str, records: list[Record], names_of: dict
         return [ContactSpec(parts=() if every else members, kind="single_surface", **common)]
     master = _side(data, label, "MSTYP", int(first["MSTYP"]), int(first["MSID"]), names_of)
     if variant.form == "tied":
-        return [ContactSpec(parts=(a, b), kind="tied", **common)
-                for s in slave for m in master if s != m for a in names_of[s] for b in names_of[m]]
+        pairs = [(a, b) for s in slave for m in master if s != m for a in names_of[s] for b in names_of[m]]
+        if base == "CONTACT_TIED_SHELL_EDGE_TO_SURFACE":   # the edges' rotations too (deck/rotation_ties.py)
+            data.shell_edges += pairs
+        return [ContactSpec(parts=pair, kind="tied", **common) for pair in pairs]
     pairs: dict[frozenset[str], tuple[str, str]] = {}   # symmetric: (a, b) and (b, a) are one contact
     for s, m in ((s, m) for s in slave for m in master if s != m):
         for a in names_of[s]:

@@ -18,6 +18,7 @@ import numpy as np
 
 from paradyn import _schema, deck
 from paradyn.deck.rigid_bodies import RigidBodyError, complete_rigid_bodies
+from paradyn.deck.rotation_ties import add_rotation_ties
 from paradyn.scene.building import _apply_contacts, _apply_material_extras, apply_trusses
 from paradyn.scene.specs import CurveSpec, MaterialSpec, PartSpec, RunSettings, Scene
 
@@ -291,6 +292,9 @@ def _model(scene: Scene, data: KeywordData, unit: Units, mesh: KeywordMesh) -> d
     _apply_tracks(data, mesh, model)
     apply_masses(data, mesh, unit, model)
     _apply_rigid_bodies(data, mesh, unit, model)
+    names = list(model.part_names or [])
+    for slave, master in data.shell_edges:   # *CONTACT_TIED_SHELL_EDGE_TO_SURFACE: rotations tied too
+        add_rotation_ties(model, names.index(slave), names.index(master))
     mesh.store_ids(model)
     return model
 

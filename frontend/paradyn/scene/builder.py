@@ -25,6 +25,7 @@ from .reading import _parse_toml, scene_from_tables
 from .row_tables import ROW_TABLES, parse_row
 from .tables import _Reader
 from .toml_writing import scene_toml
+from .welds import parse_weld
 
 if TYPE_CHECKING:
     from paradyn import deck
@@ -198,6 +199,14 @@ class Scene:
         ``symmetric``, ``initial_penetration``, ``birth_time``, ``death_time`` (docs/scene.md, ``[[contact]]``)."""
         self._add("contact", **({"parts": list(parts)} if parts else {}), **options)
 
+    @_checked("paradyn.Scene.add_weld")
+    def add_weld(self, *parts: str, point: Any, **options: Any) -> None:
+        """A ``[[weld]]``: the nodes of the two ``parts`` nearest ``point`` move as one small rigid
+        body (a spot weld); ``options``: ``strength`` (SN, SS in N: it lets go when
+        (max(fn, 0)/SN)^N + (|fs|/SS)^M >= 1, fn along the first part's node to the second's),
+        ``exponent`` (N, M), ``failure_time`` (docs/scene.md, ``[[weld]]``)."""
+        self._add("weld", parts=list(parts), point=point, **options)
+
     @_checked("paradyn.Scene.add_rigid_wall")
     def add_rigid_wall(self, *, point: Any, normal: Any, **options: Any) -> None:
         """A ``[[rigid_wall]]``: by default the plane through ``point`` facing ``normal`` (a cylinder's
@@ -283,7 +292,7 @@ class Scene:
 _PARSERS = {"run": reading._parse_run, "effects": reading._parse_effects, "material": reading._parse_material,
             "part": reading._parse_part, "fix": reading._parse_fix, "load": reading._parse_load,
             "track": reading._parse_track, "contact": reading._parse_contact, "curve": reading._parse_curve,
-            "pressure": reading._parse_pressure, "prescribe": reading._parse_prescribe}
+            "pressure": reading._parse_pressure, "prescribe": reading._parse_prescribe, "weld": parse_weld}
 
 
 def check_entry(kind: str, table: Mapping[str, Any], index: int, path: Path) -> None:

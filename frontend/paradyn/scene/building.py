@@ -17,6 +17,7 @@ from paradyn import _schema, deck
 from paradyn.arguments import did_you_mean
 from paradyn.deck.rigid_bodies import RigidBodyError, complete_rigid_bodies
 from paradyn.mesh import geometry
+from paradyn.scene.welds import scene_welds
 
 from .row_tables import needs_constant_curve, rows_to_model, scene_words
 from .specs import HOURGLASS_FORMS, ContactSpec, PartSpec, Scene, SceneError
@@ -90,8 +91,9 @@ def build_model(scene: Scene) -> deck.Model:
     _apply_contacts(scene, model)
     _apply_curve_loads(r, scene, by_name, model)
     _apply_file_ids(meshes, model)
+    welds = scene_welds(scene.welds, lambda part, point, label: _located_node(r, by_name[part], point, label))
     try:
-        complete_rigid_bodies(model)
+        complete_rigid_bodies(model, nodal=welds)
     except RigidBodyError as exc:
         raise SceneError(f"{scene.path}: {exc}") from exc
     try:

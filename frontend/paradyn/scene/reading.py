@@ -40,6 +40,7 @@ from paradyn.scene.specs import (
     TrackSpec,
 )
 from paradyn.scene.tables import _REQUIRED, _Reader
+from paradyn.scene.welds import parse_weld
 
 try:
     import tomllib
@@ -57,7 +58,7 @@ def _label(kind: str, index: int, table: Mapping[str, Any]) -> str:
 # parsing
 
 _TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "track", "contact", "curve", "pressure",
-             "prescribe", "study", *ROW_TABLES)
+             "prescribe", "weld", "study", *ROW_TABLES)
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
              "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "contact_travel_limit",
@@ -108,9 +109,10 @@ def scene_from_tables(data: Mapping[str, Any], path: Path) -> Scene:
     curves = [_parse_curve(reader, t, i) for i, t in enumerate(reader.tables(data, "curve"))]
     pressures = [_parse_pressure(reader, t, i) for i, t in enumerate(reader.tables(data, "pressure"))]
     prescribed = [_parse_prescribe(reader, t, i) for i, t in enumerate(reader.tables(data, "prescribe"))]
+    welds = [parse_weld(reader, t, i) for i, t in enumerate(reader.tables(data, "weld"))]
     scene = Scene(path=path, title=title, run=run, materials=materials, parts=parts,
                   fixes=fixes, loads=loads, tracks=tracks, contacts=contacts, curves=curves,
-                  pressures=pressures, prescribed=prescribed, rows=parse_rows(reader, data))
+                  pressures=pressures, prescribed=prescribed, welds=welds, rows=parse_rows(reader, data))
     _check_references(reader, scene)
     _check_load_references(reader, scene)
     check_material_curves(reader, scene)
@@ -480,10 +482,10 @@ def _check_references(r: _Reader, scene: Scene) -> None:
             if item.part not in parts:
                 raise r.error(f"[[{kind}]] #{index + 1} refers to part '{item.part}', which is not "
                               f"defined; {did_you_mean(item.part, parts)}(parts: {', '.join(parts)})")
-    for index, contact in enumerate(scene.contacts):
-        for name in contact.parts:
-            if name not in parts:
-                raise r.error(f"[[contact]] #{index + 1} names part '{name}', which is not defined; "
+    for kind, entries in (("contact", scene.contacts), ("weld", scene.welds)):
+        for index, names in enumerate(entry.parts for entry in entries):
+            for name in (name for name in names if name not in parts):
+                raise r.error(f"[[{kind}]] #{index + 1} names part '{name}', which is not defined; "
                               f"{did_you_mean(name, parts)}(parts: {', '.join(parts)})")
 
 

@@ -142,6 +142,18 @@ class TrackSpec:
 
 
 @dataclass
+class WeldSpec:
+    """A spot weld (docs/scene.md, [[weld]]): the nodes of two parts nearest ``point`` move as one
+    small rigid body until its failure (docs/theory.md, "Weld failure")."""
+
+    parts: tuple[str, str]
+    point: tuple[float, float, float]
+    strength: tuple[float, float] = (0.0, 0.0)    # SN, SS (N); 0: no failure in that mode
+    exponent: tuple[float, float] = (2.0, 2.0)    # N, M
+    failure_time: float = 1e20                    # s
+
+
+@dataclass
 class ContactSpec:
     """Parts that may touch (docs/scene.md, [[contact]]): two different parts for a node_to_segment
     pair; for a single_surface contact the parts that form one surface, every part when empty."""
@@ -197,6 +209,7 @@ class Scene:
     curves: list[CurveSpec] = field(default_factory=list)
     pressures: list[PressureSpec] = field(default_factory=list)
     prescribed: list[PrescribeSpec] = field(default_factory=list)
+    welds: list[WeldSpec] = field(default_factory=list)
     # the row tables (paradyn.scene.row_tables: [[rigid_wall]], ...), table -> its entries as read
     rows: dict[str, list[dict[str, Any]]] = field(default_factory=dict)
 
