@@ -122,10 +122,12 @@ contains
     real(ek), intent(in) :: dnx(group_size, 4, 4), dny(group_size, 4, 4), detj(group_size, 4), jac(group_size, 4, 4)
     real(ek), intent(in) :: res(group_size, 8, 4)
     real(ek), intent(out) :: fl(group_size, 6, 4)
-    real(ek) :: ga, gb, gc, gd, p_xi, p_eta, f1, f2, f4, f5, mx, my, gt(4)
-    integer :: i, k, g, ta(4), tb(4)
+    !> the edges of the tying points A, B, C, D: from node ta to node tb
+    integer, parameter :: ta(4) = [1, 2, 4, 1], tb(4) = [2, 3, 3, 4]
+    real(ek) :: tie(group_size, 4)   !< the forces conjugate to the tying strains A, B, C, D
+    real(ek) :: ga, gb, gc, gd, p_xi, p_eta, f1, f2, f4, f5, mx, my
+    integer :: i, k, g, a, b
     do i = 1, m
-      ! the forces conjugate to the tying strains
       ga = 0.0_ek
       gb = 0.0_ek
       gc = 0.0_ek
@@ -138,7 +140,13 @@ contains
         gd = gd + 0.5_ek * (1.0_ek - xi_g(g)) * p_eta
         gb = gb + 0.5_ek * (1.0_ek + xi_g(g)) * p_eta
       end do
-      do k = 1, 4
+      tie(i, 1) = ga
+      tie(i, 2) = gb
+      tie(i, 3) = gc
+      tie(i, 4) = gd
+    end do
+    do k = 1, 4
+      do i = 1, m
         f1 = 0.0_ek
         f2 = 0.0_ek
         f4 = 0.0_ek
@@ -156,20 +164,21 @@ contains
         fl(i, 5, k) = f5
         fl(i, 6, k) = 0.0_ek
       end do
-      ! the tying strain of the edge a -> b: force -+ gt / 2 on w of a, b; moments
-      ! (-(y_b - y_a), x_b - x_a) gt / 4 on both
-      ta = [1, 2, 4, 1]
-      tb = [2, 3, 3, 4]
-      gt = [ga, gb, gc, gd]
-      do k = 1, 4
-        mx = -0.25_ek * (yl(i, tb(k)) - yl(i, ta(k))) * gt(k)
-        my = 0.25_ek * (xl(i, tb(k)) - xl(i, ta(k))) * gt(k)
-        fl(i, 3, ta(k)) = fl(i, 3, ta(k)) - 0.5_ek * gt(k)
-        fl(i, 3, tb(k)) = fl(i, 3, tb(k)) + 0.5_ek * gt(k)
-        fl(i, 4, ta(k)) = fl(i, 4, ta(k)) + mx
-        fl(i, 4, tb(k)) = fl(i, 4, tb(k)) + mx
-        fl(i, 5, ta(k)) = fl(i, 5, ta(k)) + my
-        fl(i, 5, tb(k)) = fl(i, 5, tb(k)) + my
+    end do
+    ! the tying strain of the edge a -> b: force -+ tie / 2 on w of a, b; moments
+    ! (-(y_b - y_a), x_b - x_a) tie / 4 on both
+    do k = 1, 4
+      a = ta(k)
+      b = tb(k)
+      do i = 1, m
+        mx = -0.25_ek * (yl(i, b) - yl(i, a)) * tie(i, k)
+        my = 0.25_ek * (xl(i, b) - xl(i, a)) * tie(i, k)
+        fl(i, 3, a) = fl(i, 3, a) - 0.5_ek * tie(i, k)
+        fl(i, 3, b) = fl(i, 3, b) + 0.5_ek * tie(i, k)
+        fl(i, 4, a) = fl(i, 4, a) + mx
+        fl(i, 4, b) = fl(i, 4, b) + mx
+        fl(i, 5, a) = fl(i, 5, a) + my
+        fl(i, 5, b) = fl(i, 5, b) + my
       end do
     end do
   end subroutine nodal_forces
