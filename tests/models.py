@@ -20,6 +20,7 @@ from paradyn.deck import ELASTIC, Control, Model
 from paradyn.mesh import geometry
 
 HOURGLASS_FORMS = dict(ENUMS["hourglass_form"])
+SHELL_ELEMENTS = dict(ENUMS["shell_element"])
 
 THREADS = 2  # OpenMP threads per engine run (one rank)
 
@@ -98,6 +99,7 @@ def shell_model(
     hourglass_form: str | None = None,
     integration_points: int = 5,
     warping_correction: bool = True,
+    element: str = "blt",
     title: str = "verification",
 ) -> Model:
     """One part, one elastic material; ``fixed`` maps node -> six 0/1 flags (ux uy uz rx ry rz)."""
@@ -126,6 +128,7 @@ def shell_model(
         hourglass_coefficient=np.array([hourglass_coefficient]),
         hourglass_form=None if hourglass_form is None else np.array([HOURGLASS_FORMS[hourglass_form]], dtype=np.int32),
         warping_correction=np.array([int(warping_correction)], dtype=np.int32),
+        shell_element=None if element == "blt" else np.array([SHELL_ELEMENTS[element]], dtype=np.int32),
         tracked_nodes=np.asarray(tracked, dtype=np.int64),
         title=title,
         **load_arrays,
@@ -312,12 +315,12 @@ class ScordelisLo:
     WEIGHT = 90.0            # per unit area
 
     def model(self, control: Control, load_per_area: float, density: float,
-              ramp_time: float) -> Model:
+              ramp_time: float, **kwargs: object) -> Model:
         material = Material(self.YOUNG, self.POISSON, density)
         nodes = np.arange(self.mesh.n_nodes)
         return shell_model(self.mesh, self.THICKNESS, material, control, fixed=self.fixed,
                            loads=[Load(nodes, 3, -load_per_area * self.weights, ramp_time)],
-                           tracked=[self.point_b])
+                           tracked=[self.point_b], **kwargs)
 
 
 def scordelis_lo_quarter(n: int) -> ScordelisLo:

@@ -304,8 +304,8 @@ def test_single_surface_contact_maps_to_the_single_surface_kind(tmp_path: Path) 
 
 def test_hourglass_and_element_formulation(tmp_path: Path) -> None:
     """No hourglass card: LS-DYNA's default IHQ 1 (viscous), 0.1; *HOURGLASS IHQ 4 is the stiffness
-    form; ELFORM 2 has no warping correction, ELFORM 10 has it, ELFORM 16 warns that it runs as the one-point
-    element."""
+    form; ELFORM 2 has no warping correction, ELFORM 10 has it, ELFORM 16 is the fully integrated element
+    (/parts/shell_element full), without a warning."""
     plain = _model(tmp_path)
     assert plain.hourglass_form.tolist() == [_schema.ENUMS["hourglass_form"]["viscous"]]
     assert plain.warping_correction.tolist() == [0]
@@ -316,7 +316,9 @@ def test_hourglass_and_element_formulation(tmp_path: Path) -> None:
     assert model.hourglass_coefficient.tolist() == [0.05] and model.warping_correction.tolist() == [1]
     read = load_keyword(_deck(tmp_path, HEAD.replace("         1         2   ", "         1        16   ") + MESH,
                               "e16.k"))
-    assert any("ELFORM = 16 (fully integrated) runs as ParaDyn's one-point" in w for w in read.warnings)
+    assert not any("ELFORM" in w for w in read.warnings)
+    assert read.model.shell_element.tolist() == [_schema.ENUMS["shell_element"]["full"]]
+    assert plain.shell_element.tolist() == [_schema.ENUMS["shell_element"]["blt"]]
 
 
 def test_time_step_cap_mass_scaling_and_history_nodes(tmp_path: Path) -> None:

@@ -60,12 +60,12 @@ def test_one_element_thickness_for_a_whole_part_is_its_thickness(tmp_path: Path)
 
 
 def test_shell_formulations(tmp_path: Path) -> None:
-    """ELFORM -16 runs as the one-point element with a warning naming the part; ELFORM 13 (2-D
+    """ELFORM -16 is the fully integrated element with the warping correction; ELFORM 13 (2-D
     plane strain) is refused naming the part and the fix."""
     read = _read(tmp_path, "", head=HEAD.replace("         1         2   ", "         1       -16   "))
-    assert any("*PART 1 'plate': *SECTION_SHELL 1 ELFORM = -16 (fully integrated) runs as ParaDyn's one-point"
-               in w for w in read.warnings)
-    assert read.model.warping_correction.tolist() == [0]
+    assert not any("ELFORM" in w for w in read.warnings)
+    assert read.model.shell_element.tolist() == [2] and read.scene.parts[0].element == "full"
+    assert read.model.warping_correction.tolist() == [1]
     with pytest.raises(KeywordError, match=r"\*PART 1 'plate' uses \*SECTION_SHELL 1 ELFORM = 13 \(2-D plane "
                                            r"strain\).*give the section ELFORM 2"):
         _read(tmp_path, "", head=HEAD.replace("         1         2   ", "         1        13   "))

@@ -54,7 +54,8 @@ def _explicit_beer_can(tmp_path: Path, end_time: str, curve_time_scale: str = "1
 @needs
 def test_the_beer_can_runs_explicitly_with_its_point_loads(tmp_path: Path) -> None:
     """Without *CONTROL_IMPLICIT_*, the can reads: each *LOAD_NODE_POINT is one ramp of SF over the
-    curve's 1 s, the mortar contact is read as automatic single surface (warned), ELFORM -16 is warned;
+    curve's 1 s, the mortar contact is read as automatic single surface (warned), ELFORM -16 is the fully
+    integrated element;
     run to 0.5 ms (about 2100 steps), every loaded node has moved down, along its load."""
     read = load_keyword(_explicit_beer_can(tmp_path, "0.0005"))
     model = read.model
@@ -64,7 +65,7 @@ def test_the_beer_can_runs_explicitly_with_its_point_loads(tmp_path: Path) -> No
     assert set(model.load_ramp_time.tolist()) == {1.0}
     text = "\n".join(read.warnings)
     assert "(mortar) is read as *CONTACT_AUTOMATIC_SINGLE_SURFACE" in text
-    assert "ELFORM = -16 (fully integrated) runs as ParaDyn's one-point" in text
+    assert "ELFORM" not in text and set(model.shell_element.tolist()) == {2}
     assert [c.kind for c in read.scene.contacts] == ["single_surface"]
     res = paradyn.run(model, tmp_path / "run", ranks=1, threads=2, post=False)
     assert res.complete

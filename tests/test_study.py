@@ -178,6 +178,9 @@ def test_knobs_set_the_scene() -> None:
     assert fine.run.time_step == 0.0 and sc.parts[0].geometry.elements_around == 16   # the scene is kept
     plate = apply(scene.load_scene(PLATE), (("mesh", 0.5),))
     assert plate.parts[0].geometry.elements == (4, 2)
+    full = apply(sc, (("element", "full"),))   # issue 35: the fully integrated element as a knob
+    assert [p.element for p in full.parts] == ["full"] * 2 and [p.element for p in sc.parts] == ["blt"] * 2
+    assert scene.build_model(full).shell_element.tolist() == [2, 2]
 
 
 @pytest.mark.parametrize(("design", "words"), [
@@ -185,6 +188,7 @@ def test_knobs_set_the_scene() -> None:
     (Design(knobs={"mesh_size": [1]}), "unknown knob 'mesh_size'"),
     (Design(knobs={"integration_points": [2.5]}), "takes int values"),
     (Design(knobs={"integration_points": [11]}), "must be 1 to 9"),
+    (Design(knobs={"element": ["bt"]}), "must be one of blt, full"),
     (Design(knobs={"penalty_scale": [0.2]}), "needs a \\[\\[contact\\]\\]"),
     (Design(kind="list", knobs={"mesh": [2]}), "takes its configurations from runs"),
     (Design(knobs={}), "turns no knob"),

@@ -3,6 +3,7 @@
 !> Times the BLT element kernel alone, single thread, on groups of the engine's size: an elastic
 !> section (with and without the warping correction), a J2-plastic section that yields and a
 !> piecewise-linear one (MAT_024: a 4-point hardening curve, with and without Cowper-Symonds rates),
+!> the fully integrated element (shell_full) elastic and plastic,
 !> all with 5 through-thickness points; then the plastic members' stress update alone, on batches
 !> of 64 points that stay plastic (nanoseconds of CPU time per point update, the least of 5 rounds,
 !> and each piecewise member's ratio to its J2 twin: J2 with hardening, j2_rate). Prints microseconds per element-cycle, of wall time and of the
@@ -13,6 +14,7 @@ program kernel_benchmark
   use paradyn_kinds, only: wp, ek, i8
   use shell_section, only: shell_properties_t, stress_components, hourglass_components
   use shell_blt, only: blt_internal_forces
+  use shell_full, only: full_internal_forces
   use shell_c0_triangle, only: c0_triangle_internal_forces
   use material_factory, only: material_from_deck
   use deck_fields, only: deck_fields_t
@@ -64,6 +66,12 @@ program kernel_benchmark
   props%hourglass_form = hourglass_physical
   call material_from_deck(steel(material_j2_plasticity), 1, props%material)
   call report('plastic: ', props)
+  props%fully_integrated = .true.   ! the fully integrated element (4 x 5 points, no hourglass control)
+  call material_from_deck(steel(material_elastic), 1, props%material)
+  call report('elastic, fully integrated: ', props)
+  call material_from_deck(steel(material_j2_plasticity), 1, props%material)
+  call report('plastic, fully integrated: ', props)
+  props%fully_integrated = .false.
   do s = 1, 2   ! the triangles: all groups, then every tenth
     triangle_every = merge(1, 10, s == 1)
     call material_from_deck(steel(material_elastic), 1, props%material)
@@ -183,13 +191,14 @@ contains
     real(ek), allocatable :: state(:, :, :, :)   ! the material member's own state per point
     real(wp), allocatable :: e_int(:, :), e_hg(:, :)
     real(wp) :: r(3), dt_element(group_size)
-    integer :: g, i, k, c, inverted
+    integer :: g, i, k, c, inverted, pts
     integer(i8) :: t0, t1, rate
     real(wp) :: cpu0, cpu1
     allocate (x(group_size, 3, 4, n_groups), v(group_size, 3, 4, n_groups), w(group_size, 3, 4, n_groups))
-    allocate (stress(group_size, stress_components, 5, n_groups), back(group_size, 3, 5, n_groups))
-    allocate (eps_p(group_size, 5, n_groups), hg(group_size, hourglass_components, n_groups))
-    allocate (state(group_size, p%material%state_width(), 5, n_groups), source=0.0_ek)
+    pts = 5 * merge(4, 1, p%fully_integrated)   ! stored points: a fully integrated element's 4 in-plane
+    allocate (stress(group_size, stress_components, pts, n_groups), back(group_size, 3, pts, n_groups))
+    allocate (eps_p(group_size, pts, n_groups), hg(group_size, hourglass_components, n_groups))
+    allocate (state(group_size, p%material%state_width(), pts, n_groups), source=0.0_ek)
     allocate (e_int(group_size, n_groups), e_hg(group_size, n_groups), force(6, 4, group_size))
     stress = 0
     back = 0
@@ -227,6 +236,12 @@ contains
                                              hg(:, :, g), force, e_int(:, g), e_hg(:, g), inverted, dt_element)
             cycle
           end if
+        end if
+        if (p%fully_integrated) then
+          call full_internal_forces(group_size, x(:, :, :, g), v(:, :, :, g), w(:, :, :, g), p, 1.0e-7_wp, &
+                                    stress(:, :, :, g), back(:, :, :, g), eps_p(:, :, g), state(:, :, :, g), &
+                                    hg(:, :, g), force, e_int(:, g), inverted, dt_element)
+          cycle
         end if
         call blt_internal_forces(group_size, x(:, :, :, g), v(:, :, :, g), w(:, :, :, g), p, 1.0e-7_wp, &
                                  stress(:, :, :, g), back(:, :, :, g), eps_p(:, :, g), state(:, :, :, g), hg(:, :, g), &

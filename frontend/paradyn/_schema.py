@@ -111,6 +111,7 @@ ENUMS: dict[str, dict[str, int]] = {
         'piecewise_linear_rate': 6,
     },
     'element_kind': {'shell': 1, 'truss': 2},
+    'shell_element': {'blt': 1, 'full': 2},
     'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
     'contact_passes': {'alternate': 1, 'both': 2},
@@ -400,6 +401,16 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'hourglass_form', 'must be 1 or 2 or 3 (1 = viscous, 2 = stiffness, 3 = physical)', None, False, '-',
         'hourglass control form (docs/theory.md)', '[[part]] hourglass_form',
         'use 1 (viscous), 2 (stiffness) or 3 (physical)',
+    ),
+    DatasetSpec(
+        '/parts/shell_element', 'shell_element', 'int', ('n_parts',), False, None, None, 1, None, None, '',
+        'shell_element', 'must be 1 or 2 (1 = blt, 2 = full)', None, False, '-',
+        (
+            "the formulation of the part's quadrilaterals (docs/theory.md): 1 the one-point Belytschko-Lin-Tsay "
+            'element, 2 the fully integrated element (4 in-plane points, no hourglass control: hourglass_form and '
+            'hourglass_coefficient are ignored; its element state holds 4 x integration_points points); triangles '
+            'are C0 triangles either way'
+        ), '[[part]] element', 'use 1 (blt) or 2 (full)',
     ),
     DatasetSpec(
         '/parts/warping_correction', 'warping_correction', 'int', ('n_parts',), False, None, None, 1,
@@ -1163,6 +1174,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/parts/integration_points'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/hourglass_coefficient'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/parts/hourglass_form'): ('class', 'shape', 'rows', 'enum'),
+    ('dataset', '/parts/shell_element'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/parts/warping_correction'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/surface_only'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/element_kind'): ('class', 'shape', 'rows', 'enum'),

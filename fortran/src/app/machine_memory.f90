@@ -10,6 +10,9 @@ module machine_memory
   !> pipe-whip cases (peak 31.8 MiB at 1024 elements, 68.1 MiB at 25600: about 1.5 kB per element
   !> and node together), rounded up; a rank holds its share of the mesh (model_deck's layout).
   real(wp), parameter :: mb_per_element = 2.0e-3_wp, mb_base = 40.0_wp
+  !> a stored point beyond those measured: stress, back stress and plastic strain (9 doubles); a
+  !> fully integrated part (element/shell_full) stores 3 x integration_points more per element
+  real(wp), parameter :: mb_per_point = 9.0_wp * 8.0_wp / 1048576.0_wp
 
 contains
 
@@ -46,10 +49,13 @@ contains
     mb = proc_kib('/proc/meminfo', 'MemTotal:') / 1024.0_wp
   end function node_memory_mb
 
-  !> The memory one rank needs for a model of this size (MiB).
-  pure real(wp) function deck_memory_mb(n_elements, n_nodes) result(mb)
-    integer, intent(in) :: n_elements, n_nodes
-    mb = mb_base + mb_per_element * real(max(n_elements, n_nodes), wp)
+  !> The memory one rank needs for a model of this size (MiB); extra_points: the stored points per
+  !> element beyond a one-point element's (3 x the most integration_points of a fully integrated
+  !> part, counted for every element: an upper bound; 0 without one).
+  pure real(wp) function deck_memory_mb(n_elements, n_nodes, extra_points) result(mb)
+    integer, intent(in) :: n_elements, n_nodes, extra_points
+    mb = mb_base + mb_per_element * real(max(n_elements, n_nodes), wp) &
+         + mb_per_point * real(extra_points, wp) * real(n_elements, wp)
   end function deck_memory_mb
 
 end module machine_memory

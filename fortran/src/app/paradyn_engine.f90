@@ -18,7 +18,7 @@ program paradyn_engine
   use hdf5, only: h5open_f, h5close_f, h5eset_auto_f, h5get_libversion_f
   use paradyn_kinds, only: wp, ek, i8
   use build_info, only: build_commit, build_type, build_arch
-  use paradyn_schema, only: status_ok, status_failure, status_bad_input, status_stopped, contact_gather_all
+  use paradyn_schema, only: status_ok, status_failure, status_bad_input, status_stopped, contact_gather_all, shell_element_full
   use model_deck, only: deck_t
   use deck_reader, only: read_deck
   use explicit_solver, only: solver_t, solver_setup, solver_run, record_at_stop
@@ -152,7 +152,8 @@ program paradyn_engine
   ! every rank reads its rows of the deck and checks them; all reach the same verdict
   call read_deck(trim(deck_path), comm, deck, status, message)
   if (status /= status_ok) call fail(status_bad_input, trim(deck_path)//': '//trim(message))
-  call check_memory(deck%n_elements, deck%n_nodes)
+  call check_memory(deck%n_elements, deck%n_nodes, &
+                    3 * maxval(merge(deck%integration_points, 0, deck%shell_element == shell_element_full)))
   call write_deck_line()
   call effects_of_deck(deck, effects)   ! what the deck declares; the scene's switched-off effects go
   if (deck%n_contacts > 0) then   ! checked on each rank's rows
@@ -303,8 +304,8 @@ contains
 
   !> Refuses a model whose memory estimate per rank (its share of the mesh: model_deck's layout),
   !> times the ranks on this node, is beyond the node's memory, naming the estimate.
-  subroutine check_memory(n_elements, n_nodes)
-    integer, intent(in) :: n_elements, n_nodes
+  subroutine check_memory(n_elements, n_nodes, extra_points)
+    integer, intent(in) :: n_elements, n_nodes, extra_points
     type(MPI_Comm) :: node
     integer :: ranks_here
     real(wp) :: need_mb, have_mb
@@ -312,7 +313,8 @@ contains
     call MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, node)
     call MPI_Comm_size(node, ranks_here)
     call MPI_Comm_free(node)
-    need_mb = ranks_here * deck_memory_mb((n_elements + n_ranks - 1) / n_ranks, (n_nodes + n_ranks - 1) / n_ranks)
+    need_mb = ranks_here * deck_memory_mb((n_elements + n_ranks - 1) / n_ranks, (n_nodes + n_ranks - 1) / n_ranks, &
+                                           extra_points)
     have_mb = node_memory_mb()
     if (have_mb <= 0.0_wp .or. need_mb <= have_mb) return
     write (text, '(a,i0,a,i0,a,i0,a,i0,a)') 'the model (', n_elements, ' elements) on ', ranks_here, &

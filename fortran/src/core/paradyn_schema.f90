@@ -8,54 +8,56 @@ module paradyn_schema
   private
   public :: deck_version, deck_version_attribute, material_elastic, material_j2_plasticity, material_j2_rate, &
       material_rigid, material_piecewise_linear, material_piecewise_linear_rate, element_kind_shell, &
-      element_kind_truss, hourglass_viscous, hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, &
-      contact_passes_alternate, contact_passes_both, contact_kind_node_to_segment, &
-      contact_kind_single_surface, contact_kind_tied, initial_penetration_move, initial_penetration_gap, &
-      contact_gather_near, contact_gather_all, wall_plane, wall_finite_plane, wall_cylinder, wall_sphere, &
-      wall_box, switch_off, switch_on, partition_blocks, partition_rcb, precision_double, precision_mixed, &
-      max_integration_points, status_ok, status_failure, status_bad_input, status_numerical, status_stopped, &
-      n_frame_fields, n_history_scalars, history_kinetic_energy, history_internal_energy, &
-      history_hourglass_energy, history_contact_energy, history_external_work, history_contact_penetration, &
-      history_dt, history_dt_stable, history_dt_element, history_eroded_elements, history_failed_welds, &
-      frame_field_names, history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, &
-      size_n_elements, size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, &
-      size_n_rigid_walls, size_n_rigid_wall_nodes, size_n_curves, size_n_curve_points, size_n_pressures, &
-      size_n_prescribed, size_n_base_accelerations, size_n_rigid_bodies, size_n_rotation_ties, n_sizes, &
-      condition_none, condition_loads_group, condition_contact_group, condition_rigid_walls_group, &
-      condition_rigid_wall_nodes_group, condition_curves_group, condition_pressure_group, &
-      condition_prescribed_group, condition_base_accelerations_group, condition_rigid_bodies_group, &
-      condition_rotation_ties_group, condition_plastic, condition_combined_hardening, condition_strain_rate, &
-      condition_hardening_curve, condition_rate_curve, condition_truss, n_conditions, enum_none, &
-      enum_material_model, enum_element_kind, enum_hourglass_form, enum_dof_state, enum_contact_passes, &
-      enum_contact_kind, enum_initial_penetration, enum_contact_gather, enum_rigid_wall_shape, enum_switch, &
-      enum_partition, enum_precision, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
+      element_kind_truss, shell_element_blt, shell_element_full, hourglass_viscous, hourglass_stiffness, &
+      hourglass_physical, dof_free, dof_fixed, contact_passes_alternate, contact_passes_both, &
+      contact_kind_node_to_segment, contact_kind_single_surface, contact_kind_tied, initial_penetration_move, &
+      initial_penetration_gap, contact_gather_near, contact_gather_all, wall_plane, wall_finite_plane, &
+      wall_cylinder, wall_sphere, wall_box, switch_off, switch_on, partition_blocks, partition_rcb, &
+      precision_double, precision_mixed, max_integration_points, status_ok, status_failure, status_bad_input, &
+      status_numerical, status_stopped, n_frame_fields, n_history_scalars, history_kinetic_energy, &
+      history_internal_energy, history_hourglass_energy, history_contact_energy, history_external_work, &
+      history_contact_penetration, history_dt, history_dt_stable, history_dt_element, &
+      history_eroded_elements, history_failed_welds, frame_field_names, history_scalar_names, class_int, &
+      class_float, class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, &
+      size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_rigid_wall_nodes, &
+      size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, size_n_base_accelerations, &
+      size_n_rigid_bodies, size_n_rotation_ties, n_sizes, condition_none, condition_loads_group, &
+      condition_contact_group, condition_rigid_walls_group, condition_rigid_wall_nodes_group, &
+      condition_curves_group, condition_pressure_group, condition_prescribed_group, &
+      condition_base_accelerations_group, condition_rigid_bodies_group, condition_rotation_ties_group, &
+      condition_plastic, condition_combined_hardening, condition_strain_rate, condition_hardening_curve, &
+      condition_rate_curve, condition_truss, n_conditions, enum_none, enum_material_model, enum_element_kind, &
+      enum_shell_element, enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, &
+      enum_initial_penetration, enum_contact_gather, enum_rigid_wall_shape, enum_switch, enum_partition, &
+      enum_precision, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
       dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_nodes_rigid_body, &
       dataset_nodes_added_mass, dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, &
       dataset_elements_id, dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
-      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_warping_correction, &
-      dataset_parts_surface_only, dataset_parts_element_kind, dataset_parts_cross_section_area, &
-      dataset_parts_id, dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
-      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
-      dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
-      dataset_materials_hardening_curve, dataset_materials_rate_curve, dataset_materials_failure_strain, &
-      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
-      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
-      dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
-      dataset_contact_passes, dataset_contact_kind, dataset_contact_initial_penetration, &
-      dataset_contact_birth_time, dataset_contact_death_time, dataset_rigid_walls_point, &
-      dataset_rigid_walls_normal, dataset_rigid_walls_shape, dataset_rigid_walls_edge, &
-      dataset_rigid_walls_size, dataset_rigid_walls_radius, dataset_rigid_walls_length, &
-      dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, &
-      dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, &
-      dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, &
-      dataset_rigid_bodies_curve, dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, &
-      dataset_rigid_bodies_given_inertia, dataset_rigid_bodies_failure_force, &
-      dataset_rigid_bodies_failure_exponent, dataset_rigid_bodies_failure_time, &
-      dataset_rigid_bodies_failure_node, dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, &
-      dataset_rotation_ties_masters, dataset_rotation_ties_weights, dataset_curves_first_point, &
-      dataset_curves_time, dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
-      dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
-      dataset_prescribed_curve, dataset_base_accelerations_direction, dataset_base_accelerations_value, &
+      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_shell_element, &
+      dataset_parts_warping_correction, dataset_parts_surface_only, dataset_parts_element_kind, &
+      dataset_parts_cross_section_area, dataset_parts_id, dataset_materials_model, dataset_materials_density, &
+      dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
+      dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, dataset_materials_rate_c, &
+      dataset_materials_rate_p, dataset_materials_hardening_curve, dataset_materials_rate_curve, &
+      dataset_materials_failure_strain, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
+      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
+      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
+      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+      dataset_contact_initial_penetration, dataset_contact_birth_time, dataset_contact_death_time, &
+      dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_shape, &
+      dataset_rigid_walls_edge, dataset_rigid_walls_size, dataset_rigid_walls_radius, &
+      dataset_rigid_walls_length, dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, &
+      dataset_rigid_walls_friction, dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, &
+      dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, &
+      dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, dataset_rigid_bodies_given_mass, &
+      dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
+      dataset_rigid_bodies_failure_force, dataset_rigid_bodies_failure_exponent, &
+      dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_node, &
+      dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, dataset_rotation_ties_masters, &
+      dataset_rotation_ties_weights, dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
+      dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, &
+      dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
+      dataset_base_accelerations_direction, dataset_base_accelerations_value, &
       dataset_base_accelerations_curve, n_deck_datasets, control_end_time, control_output_interval, &
       control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
       control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
@@ -86,6 +88,8 @@ module paradyn_schema
   integer, parameter :: material_piecewise_linear_rate = 6   !< piecewise_linear with Cowper-Symonds rate scaling
   integer, parameter :: element_kind_shell = 1   !< thin shells: quadrilaterals (Belytschko-Lin-Tsay) and triangle
   integer, parameter :: element_kind_truss = 2   !< 2-node axial-force trusses (wires, cables; LS-DYNA *SECTION_BE
+  integer, parameter :: shell_element_blt = 1   !< the one-point Belytschko-Lin-Tsay quadrilateral with hourglass
+  integer, parameter :: shell_element_full = 2   !< the fully integrated quadrilateral: 2 x 2 in-plane points, MIT
   integer, parameter :: hourglass_viscous = 1   !< resultants proportional to the hourglass rates
   integer, parameter :: hourglass_stiffness = 2   !< resultants integrated from the rates (elastic)
   integer, parameter :: hourglass_physical = 3   !< assumed-strain stabilisation from the section's elastic stiffn
@@ -185,17 +189,18 @@ module paradyn_schema
   integer, parameter :: enum_none = 0
   integer, parameter :: enum_material_model = 1
   integer, parameter :: enum_element_kind = 2
-  integer, parameter :: enum_hourglass_form = 3
-  integer, parameter :: enum_dof_state = 4
-  integer, parameter :: enum_contact_passes = 5
-  integer, parameter :: enum_contact_kind = 6
-  integer, parameter :: enum_initial_penetration = 7
-  integer, parameter :: enum_contact_gather = 8
-  integer, parameter :: enum_rigid_wall_shape = 9
-  integer, parameter :: enum_switch = 10
-  integer, parameter :: enum_partition = 11
-  integer, parameter :: enum_precision = 12
-  integer, parameter :: n_enums = 12
+  integer, parameter :: enum_shell_element = 3
+  integer, parameter :: enum_hourglass_form = 4
+  integer, parameter :: enum_dof_state = 5
+  integer, parameter :: enum_contact_passes = 6
+  integer, parameter :: enum_contact_kind = 7
+  integer, parameter :: enum_initial_penetration = 8
+  integer, parameter :: enum_contact_gather = 9
+  integer, parameter :: enum_rigid_wall_shape = 10
+  integer, parameter :: enum_switch = 11
+  integer, parameter :: enum_partition = 12
+  integer, parameter :: enum_precision = 13
+  integer, parameter :: n_enums = 13
   integer, parameter :: dataset_nodes_coordinates = 1
   integer, parameter :: dataset_nodes_initial_velocity = 2
   integer, parameter :: dataset_nodes_initial_angular_velocity = 3
@@ -211,80 +216,81 @@ module paradyn_schema
   integer, parameter :: dataset_parts_integration_points = 13
   integer, parameter :: dataset_parts_hourglass_coefficient = 14
   integer, parameter :: dataset_parts_hourglass_form = 15
-  integer, parameter :: dataset_parts_warping_correction = 16
-  integer, parameter :: dataset_parts_surface_only = 17
-  integer, parameter :: dataset_parts_element_kind = 18
-  integer, parameter :: dataset_parts_cross_section_area = 19
-  integer, parameter :: dataset_parts_id = 20
-  integer, parameter :: dataset_materials_model = 21
-  integer, parameter :: dataset_materials_density = 22
-  integer, parameter :: dataset_materials_youngs_modulus = 23
-  integer, parameter :: dataset_materials_poisson_ratio = 24
-  integer, parameter :: dataset_materials_yield_stress = 25
-  integer, parameter :: dataset_materials_tangent_modulus = 26
-  integer, parameter :: dataset_materials_hardening_mixing = 27
-  integer, parameter :: dataset_materials_rate_c = 28
-  integer, parameter :: dataset_materials_rate_p = 29
-  integer, parameter :: dataset_materials_hardening_curve = 30
-  integer, parameter :: dataset_materials_rate_curve = 31
-  integer, parameter :: dataset_materials_failure_strain = 32
-  integer, parameter :: dataset_loads_node = 33
-  integer, parameter :: dataset_loads_dof = 34
-  integer, parameter :: dataset_loads_value = 35
-  integer, parameter :: dataset_loads_ramp_time = 36
-  integer, parameter :: dataset_output_tracked_nodes = 37
-  integer, parameter :: dataset_contact_pairs = 38
-  integer, parameter :: dataset_contact_penalty_scale = 39
-  integer, parameter :: dataset_contact_static_friction = 40
-  integer, parameter :: dataset_contact_dynamic_friction = 41
-  integer, parameter :: dataset_contact_friction_decay = 42
-  integer, parameter :: dataset_contact_passes = 43
-  integer, parameter :: dataset_contact_kind = 44
-  integer, parameter :: dataset_contact_initial_penetration = 45
-  integer, parameter :: dataset_contact_birth_time = 46
-  integer, parameter :: dataset_contact_death_time = 47
-  integer, parameter :: dataset_rigid_walls_point = 48
-  integer, parameter :: dataset_rigid_walls_normal = 49
-  integer, parameter :: dataset_rigid_walls_shape = 50
-  integer, parameter :: dataset_rigid_walls_edge = 51
-  integer, parameter :: dataset_rigid_walls_size = 52
-  integer, parameter :: dataset_rigid_walls_radius = 53
-  integer, parameter :: dataset_rigid_walls_length = 54
-  integer, parameter :: dataset_rigid_walls_velocity = 55
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 56
-  integer, parameter :: dataset_rigid_walls_friction = 57
-  integer, parameter :: dataset_rigid_wall_nodes_wall = 58
-  integer, parameter :: dataset_rigid_wall_nodes_node = 59
-  integer, parameter :: dataset_rigid_bodies_part = 60
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 61
-  integer, parameter :: dataset_rigid_bodies_prescribed = 62
-  integer, parameter :: dataset_rigid_bodies_velocity = 63
-  integer, parameter :: dataset_rigid_bodies_curve = 64
-  integer, parameter :: dataset_rigid_bodies_given_mass = 65
-  integer, parameter :: dataset_rigid_bodies_given_centre = 66
-  integer, parameter :: dataset_rigid_bodies_given_inertia = 67
-  integer, parameter :: dataset_rigid_bodies_failure_force = 68
-  integer, parameter :: dataset_rigid_bodies_failure_exponent = 69
-  integer, parameter :: dataset_rigid_bodies_failure_time = 70
-  integer, parameter :: dataset_rigid_bodies_failure_node = 71
-  integer, parameter :: dataset_rigid_bodies_failure_normal = 72
-  integer, parameter :: dataset_rotation_ties_node = 73
-  integer, parameter :: dataset_rotation_ties_masters = 74
-  integer, parameter :: dataset_rotation_ties_weights = 75
-  integer, parameter :: dataset_curves_first_point = 76
-  integer, parameter :: dataset_curves_time = 77
-  integer, parameter :: dataset_curves_value = 78
-  integer, parameter :: dataset_pressure_part = 79
-  integer, parameter :: dataset_pressure_value = 80
-  integer, parameter :: dataset_pressure_curve = 81
-  integer, parameter :: dataset_prescribed_node = 82
-  integer, parameter :: dataset_prescribed_dof = 83
-  integer, parameter :: dataset_prescribed_value = 84
-  integer, parameter :: dataset_prescribed_curve = 85
-  integer, parameter :: dataset_base_accelerations_direction = 86
-  integer, parameter :: dataset_base_accelerations_value = 87
-  integer, parameter :: dataset_base_accelerations_curve = 88
-  integer, parameter :: n_deck_datasets = 88
+  integer, parameter :: dataset_parts_shell_element = 16
+  integer, parameter :: dataset_parts_warping_correction = 17
+  integer, parameter :: dataset_parts_surface_only = 18
+  integer, parameter :: dataset_parts_element_kind = 19
+  integer, parameter :: dataset_parts_cross_section_area = 20
+  integer, parameter :: dataset_parts_id = 21
+  integer, parameter :: dataset_materials_model = 22
+  integer, parameter :: dataset_materials_density = 23
+  integer, parameter :: dataset_materials_youngs_modulus = 24
+  integer, parameter :: dataset_materials_poisson_ratio = 25
+  integer, parameter :: dataset_materials_yield_stress = 26
+  integer, parameter :: dataset_materials_tangent_modulus = 27
+  integer, parameter :: dataset_materials_hardening_mixing = 28
+  integer, parameter :: dataset_materials_rate_c = 29
+  integer, parameter :: dataset_materials_rate_p = 30
+  integer, parameter :: dataset_materials_hardening_curve = 31
+  integer, parameter :: dataset_materials_rate_curve = 32
+  integer, parameter :: dataset_materials_failure_strain = 33
+  integer, parameter :: dataset_loads_node = 34
+  integer, parameter :: dataset_loads_dof = 35
+  integer, parameter :: dataset_loads_value = 36
+  integer, parameter :: dataset_loads_ramp_time = 37
+  integer, parameter :: dataset_output_tracked_nodes = 38
+  integer, parameter :: dataset_contact_pairs = 39
+  integer, parameter :: dataset_contact_penalty_scale = 40
+  integer, parameter :: dataset_contact_static_friction = 41
+  integer, parameter :: dataset_contact_dynamic_friction = 42
+  integer, parameter :: dataset_contact_friction_decay = 43
+  integer, parameter :: dataset_contact_passes = 44
+  integer, parameter :: dataset_contact_kind = 45
+  integer, parameter :: dataset_contact_initial_penetration = 46
+  integer, parameter :: dataset_contact_birth_time = 47
+  integer, parameter :: dataset_contact_death_time = 48
+  integer, parameter :: dataset_rigid_walls_point = 49
+  integer, parameter :: dataset_rigid_walls_normal = 50
+  integer, parameter :: dataset_rigid_walls_shape = 51
+  integer, parameter :: dataset_rigid_walls_edge = 52
+  integer, parameter :: dataset_rigid_walls_size = 53
+  integer, parameter :: dataset_rigid_walls_radius = 54
+  integer, parameter :: dataset_rigid_walls_length = 55
+  integer, parameter :: dataset_rigid_walls_velocity = 56
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 57
+  integer, parameter :: dataset_rigid_walls_friction = 58
+  integer, parameter :: dataset_rigid_wall_nodes_wall = 59
+  integer, parameter :: dataset_rigid_wall_nodes_node = 60
+  integer, parameter :: dataset_rigid_bodies_part = 61
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 62
+  integer, parameter :: dataset_rigid_bodies_prescribed = 63
+  integer, parameter :: dataset_rigid_bodies_velocity = 64
+  integer, parameter :: dataset_rigid_bodies_curve = 65
+  integer, parameter :: dataset_rigid_bodies_given_mass = 66
+  integer, parameter :: dataset_rigid_bodies_given_centre = 67
+  integer, parameter :: dataset_rigid_bodies_given_inertia = 68
+  integer, parameter :: dataset_rigid_bodies_failure_force = 69
+  integer, parameter :: dataset_rigid_bodies_failure_exponent = 70
+  integer, parameter :: dataset_rigid_bodies_failure_time = 71
+  integer, parameter :: dataset_rigid_bodies_failure_node = 72
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 73
+  integer, parameter :: dataset_rotation_ties_node = 74
+  integer, parameter :: dataset_rotation_ties_masters = 75
+  integer, parameter :: dataset_rotation_ties_weights = 76
+  integer, parameter :: dataset_curves_first_point = 77
+  integer, parameter :: dataset_curves_time = 78
+  integer, parameter :: dataset_curves_value = 79
+  integer, parameter :: dataset_pressure_part = 80
+  integer, parameter :: dataset_pressure_value = 81
+  integer, parameter :: dataset_pressure_curve = 82
+  integer, parameter :: dataset_prescribed_node = 83
+  integer, parameter :: dataset_prescribed_dof = 84
+  integer, parameter :: dataset_prescribed_value = 85
+  integer, parameter :: dataset_prescribed_curve = 86
+  integer, parameter :: dataset_base_accelerations_direction = 87
+  integer, parameter :: dataset_base_accelerations_value = 88
+  integer, parameter :: dataset_base_accelerations_curve = 89
+  integer, parameter :: n_deck_datasets = 89
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -421,6 +427,7 @@ module paradyn_schema
     enum_spec_t(6, [1, 2, 3, 4, 5, 6], &
         [character(len=21) :: 'elastic', 'j2_plasticity', 'j2_rate', 'rigid', 'piecewise_linear', 'piecewise_linear_rate']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'shell', 'truss', '', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'blt', 'full', '', '', '', '']), &
     enum_spec_t(3, [1, 2, 3, 0, 0, 0], [character(len=21) :: 'viscous', 'stiffness', 'physical', '', '', '']), &
     enum_spec_t(2, [0, 1, 0, 0, 0, 0], [character(len=21) :: 'free', 'fixed', '', '', '', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'alternate', 'both', '', '', '', '']), &
@@ -445,12 +452,12 @@ module paradyn_schema
     condition_spec_t('/base_accelerations', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/rigid_bodies', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/rotation_ties', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('', 21, 4, [2, 3, 5, 6, 0, 0], 'for a plastic material'), &
-    condition_spec_t('', 21, 2, [2, 3, 0, 0, 0, 0], 'for a j2_plasticity or j2_rate material'), &
-    condition_spec_t('', 21, 2, [3, 6, 0, 0, 0, 0], 'for a j2_rate or piecewise_linear_rate material'), &
-    condition_spec_t('', 21, 2, [5, 6, 0, 0, 0, 0], 'for a piecewise_linear or piecewise_linear_rate material'), &
-    condition_spec_t('', 21, 1, [5, 0, 0, 0, 0, 0], 'for a piecewise_linear material'), &
-    condition_spec_t('', 18, 1, [2, 0, 0, 0, 0, 0], 'for a truss part') ]
+    condition_spec_t('', 22, 4, [2, 3, 5, 6, 0, 0], 'for a plastic material'), &
+    condition_spec_t('', 22, 2, [2, 3, 0, 0, 0, 0], 'for a j2_plasticity or j2_rate material'), &
+    condition_spec_t('', 22, 2, [3, 6, 0, 0, 0, 0], 'for a j2_rate or piecewise_linear_rate material'), &
+    condition_spec_t('', 22, 2, [5, 6, 0, 0, 0, 0], 'for a piecewise_linear or piecewise_linear_rate material'), &
+    condition_spec_t('', 22, 1, [5, 0, 0, 0, 0, 0], 'for a piecewise_linear material'), &
+    condition_spec_t('', 19, 1, [2, 0, 0, 0, 0, 0], 'for a truss part') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
@@ -504,6 +511,9 @@ module paradyn_schema
         condition_none, 3.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_hourglass_form, 3, &
         [1, 2, 3, 0, 0, 0], size_none, '', 'must be 1 or 2 or 3 (1 = viscous, 2 = stiffness, 3 = physical)', &
         'use 1 (viscous), 2 (stiffness) or 3 (physical)'), &
+    dataset_spec_t('/parts/shell_element', class_int, 0, size_n_parts, .false., .false., condition_none, &
+        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_shell_element, 2, &
+        [1, 2, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = blt, 2 = full)', 'use 1 (blt) or 2 (full)'), &
     dataset_spec_t('/parts/warping_correction', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
         [0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &

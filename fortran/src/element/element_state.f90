@@ -5,7 +5,7 @@
 module element_state
   use paradyn_kinds, only: wp, ek
   use domain_decomposition, only: domain_t
-  use shell_section, only: shell_properties_t, stress_components, hourglass_components, back_stress_points
+  use shell_section, only: shell_properties_t, stress_components, hourglass_components, in_plane_points
   implicit none
   private
   public :: group_state_t, element_state_t, element_state_setup, element_row_width, element_rows_pack, &
@@ -36,16 +36,18 @@ contains
     type(element_state_t), intent(out) :: es
     type(domain_t), intent(in) :: dom
     type(shell_properties_t), intent(in) :: props(:)
-    integer :: g, n, nip, p
+    integer :: g, n, nip, p, part
     es%max_state = maxval([(props(p)%material%state_width(), p = 1, size(props))])
     allocate (es%groups(dom%n_groups))
     do g = 1, dom%n_groups
       n = dom%group_count(g)
-      nip = props(dom%group_part(g))%integration_points
+      part = dom%group_part(g)
+      ! the stored points: through-thickness x in-plane (4 for a fully integrated part's quadrilaterals)
+      nip = props(part)%integration_points * in_plane_points(props(part), dom%group_triangle(g))
       allocate (es%groups(g)%stress(n, stress_components, nip), source=0.0_ek)
-      allocate (es%groups(g)%back(n, 3, back_stress_points(props(dom%group_part(g)))), source=0.0_ek)
+      allocate (es%groups(g)%back(n, 3, props(part)%material%back_stress_points(nip)), source=0.0_ek)
       allocate (es%groups(g)%eps_p(n, nip), es%groups(g)%hourglass(n, hourglass_components), source=0.0_ek)
-      allocate (es%groups(g)%state(n, props(dom%group_part(g))%material%state_width(), nip), source=0.0_ek)
+      allocate (es%groups(g)%state(n, props(part)%material%state_width(), nip), source=0.0_ek)
     end do
     allocate (es%e_internal(dom%n_elements), es%e_hourglass(dom%n_elements), source=0.0_wp)
     allocate (es%dt_element(dom%n_elements), source=huge(1.0_wp))

@@ -21,7 +21,7 @@ module shell_blt
   use material_model, only: max_state_words
   implicit none
   private
-  public :: blt_internal_forces
+  public :: blt_internal_forces, frames, check_end_frames
 
   real(ek), parameter :: h(4) = [1.0_ek, -1.0_ek, 1.0_ek, -1.0_ek]   !< the hourglass pattern
 
@@ -231,6 +231,7 @@ contains
     end do
   end subroutine blt_internal_forces
 
+  !> (Also the frame of the fully integrated element, shell_full.)
   !> local_frame of elements o+1..o+m of x (mid-surface frame, local node coordinates, projected
   !> area), with |a| = sqrt(a . a) in place of norm2 and a unit vector a * (1 / |a|): one division
   !> per vector, not three; results for 1..m. The positions are double (wp); every measure is a

@@ -8,12 +8,27 @@ module shell_field_measures
   use vector_algebra, only: cross
   implicit none
   private
-  public :: layer_stresses, membrane_green_strain, initial_volumes
+  public :: layer_stresses, membrane_green_strain, initial_volumes, in_plane_means
 
   integer, parameter, public :: n_layers = 3   !< bottom, middle, top
   real(wp), parameter :: mid_tolerance = 1.0e-12_wp   ! a point this close to zeta = 0 is the mid-surface's
 
 contains
+
+  !> A fully integrated element's state (element/shell_full: 4 in-plane points of nip layers,
+  !> point (g - 1) nip + k) as one point's for the frames' fields: the mean stress of each layer
+  !> over the in-plane points, and the largest plastic strain of each layer.
+  pure subroutine in_plane_means(n, nip, stress, eps_p, mean_stress, most_eps_p)
+    integer, intent(in) :: n, nip
+    real(ek), intent(in) :: stress(n, stress_components, 4 * nip), eps_p(n, 4 * nip)
+    real(ek), intent(out) :: mean_stress(n, stress_components, nip), most_eps_p(n, nip)
+    integer :: k
+    do k = 1, nip
+      mean_stress(:, :, k) = 0.25_ek * ((stress(:, :, k) + stress(:, :, nip + k)) &
+                                        + (stress(:, :, 2 * nip + k) + stress(:, :, 3 * nip + k)))
+      most_eps_p(:, k) = max(eps_p(:, k), eps_p(:, nip + k), eps_p(:, 2 * nip + k), eps_p(:, 3 * nip + k))
+    end do
+  end subroutine in_plane_means
 
   !> The five stress components (sxx, syy, sxy, sxz, syz in the element's co-rotational frame) at
   !> the bottom (zeta = -1 side), middle and top of each element: the outermost points, as LS-DYNA

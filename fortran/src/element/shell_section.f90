@@ -11,7 +11,7 @@ module shell_section
   implicit none
   private
   public :: shell_properties_t, stress_components, hourglass_components, shear_correction
-  public :: back_stress_points, thickness_rule, local_frame
+  public :: back_stress_points, thickness_rule, local_frame, in_plane_points
 
   integer, parameter :: stress_components = 5     !< sxx, syy, sxy, sxz, syz (local frame)
   !> membrane x, y; rotation x, y; transverse w; the drilling moments of the 4 nodes; then the
@@ -33,6 +33,9 @@ module shell_section
     !> the yield stress that caps the physical form's resultants (huge for an elastic material)
     real(wp) :: hourglass_yield = huge(1.0_wp)
     logical :: warping_correction = .true.   !< shell_warping (docs/theory.md)
+    !> the fully integrated element (shell_full: 2 x 2 in-plane points, MITC4 shear) for the
+    !> part's quadrilaterals, in place of the one-point Belytschko-Lin-Tsay element
+    logical :: fully_integrated = .false.
     logical :: rigid = .false.          !< a rigid part: no element forces, no step of its own
     logical :: surface_only = .false.   !< the faces of a rigid solid: no mass of their own
     !> the material's failure strain (element_erosion): an element whose point reaches it is eroded; 0: never
@@ -50,6 +53,15 @@ contains
     type(shell_properties_t), intent(in) :: props
     points = props%material%back_stress_points(props%integration_points)
   end function back_stress_points
+
+  !> In-plane points whose stresses an element of the part stores: 4 for the quadrilaterals of a
+  !> fully integrated part (shell_full), else 1; a triangle keeps 1 in any part. The element
+  !> state holds integration_points x this many points per element, in-plane point slowest.
+  pure integer function in_plane_points(props, triangle) result(points)
+    type(shell_properties_t), intent(in) :: props
+    logical, intent(in) :: triangle
+    points = merge(4, 1, props%fully_integrated .and. .not. triangle .and. .not. props%truss)
+  end function in_plane_points
 
   !> Gauss-Legendre points (in [-1, 1]) and weights (summing to 2) for n = 1..9 points.
   pure subroutine thickness_rule(n, zeta, weight)

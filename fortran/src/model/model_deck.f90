@@ -13,7 +13,7 @@ module model_deck
   use paradyn_kinds, only: wp, ek
   use shell_section, only: shell_properties_t
   use paradyn_schema, only: material_is_plastic, material_is_rigid, control_attributes, control_partition, &
-                            precision_double, precision_mixed, element_kind_is_truss
+                            precision_double, precision_mixed, element_kind_is_truss, shell_element_full
   use deck_fields, only: deck_fields_t, store_dataset, store_control
   use material_factory, only: material_from_deck
   implicit none
@@ -52,6 +52,7 @@ contains
     props%integration_points = deck%integration_points(part)
     props%hourglass_form = deck%hourglass_form(part)
     props%warping_correction = deck%warping_correction(part) /= 0
+    props%fully_integrated = deck%shell_element(part) == shell_element_full
     props%rigid = material_is_rigid(deck%material_model(m))
     props%surface_only = deck%surface_only(part) /= 0
     props%truss = element_kind_is_truss(deck%element_kind(part))

@@ -6,6 +6,7 @@ module internal_forces
   use paradyn_kinds, only: wp
   use element_groups, only: group_size
   use shell_blt, only: blt_internal_forces
+  use shell_full, only: full_internal_forces
   use shell_c0_triangle, only: c0_triangle_internal_forces
   use shell_measures, only: blt_lumped_mass, triangle_lumped_mass
   use element_erosion, only: erosion_before, erosion_after
@@ -113,6 +114,12 @@ contains
                                            s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%state, gs%hourglass, &
                                            s%corner(1, 4 * first - 3), s%elements%e_internal(first), &
                                            s%elements%e_hourglass(first), inverted, s%elements%dt_element(first))
+        else if (s%props(p)%fully_integrated) then   ! no hourglass control: its hourglass energy stays 0
+          ! (gs%hourglass holds its drilling moments)
+          call full_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
+                                    s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%state, gs%hourglass, &
+                                    s%corner(1, 4 * first - 3), s%elements%e_internal(first), inverted, &
+                                    s%elements%dt_element(first))
         else
           call blt_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
                                    s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%state, gs%hourglass, &

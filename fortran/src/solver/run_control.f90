@@ -5,7 +5,7 @@ module run_control
   use paradyn_kinds, only: wp
   use model_deck, only: deck_t, engine_precision
   use domain_decomposition, only: domain_t, local_node
-  use paradyn_schema, only: contact_gather_all, enum_name, enum_partition, enum_precision
+  use paradyn_schema, only: contact_gather_all, enum_name, enum_partition, enum_precision, shell_element_full
   implicit none
   private
   public :: run_control_t, run_control_setup
@@ -18,7 +18,7 @@ module run_control
     real(wp) :: contact_travel_limit = 0     !< most contact-node travel per step / thinner wall (0: no limit)
     real(wp) :: dt_cap = huge(1.0_wp)        !< the largest step the rigid walls' penalty allows (s)
     integer :: n_nodes = 0, n_elements = 0   !< of the whole model
-    integer :: max_points = 0                !< the most through-thickness points of any part
+    integer :: max_points = 0                !< the most stored points of any part (through-thickness x in-plane)
     integer :: n_tracked = 0
     integer, allocatable :: tracked_local(:) !< local node of each tracked node where this rank owns it, else 0
     character(len=:), allocatable :: partition
@@ -47,7 +47,8 @@ contains
     rc%contact_travel_limit = deck%contact_travel_limit
     rc%n_nodes = deck%n_nodes
     rc%n_elements = deck%n_elements
-    rc%max_points = maxval(deck%integration_points)
+    ! a fully integrated part stores its 4 in-plane points' (element_state)
+    rc%max_points = maxval(deck%integration_points * merge(4, 1, deck%shell_element == shell_element_full))
     rc%n_tracked = deck%n_tracked
     allocate (rc%tracked_local(deck%n_tracked), source=0)
     do k = 1, deck%n_tracked   ! each tracked node is reported by its owner alone

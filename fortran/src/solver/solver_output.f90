@@ -2,7 +2,7 @@
 !> inverted elements), field frames, progress lines, and the run record of the /run attributes.
 module solver_output
   use mpi_f08
-  use paradyn_kinds, only: wp, i8
+  use paradyn_kinds, only: wp, ek, i8
   use paradyn_schema, only: status_ok, status_numerical, n_history_scalars, history_kinetic_energy, &
                             history_internal_energy, history_hourglass_energy, history_contact_energy, &
                             history_external_work, history_contact_penetration, effect_time_integration, &
@@ -19,7 +19,7 @@ module solver_output
   use step_clock, only: half_step
   use nodal_assembly, only: gather_group
   use contact_node_forces, only: contact_add_nodal_forces
-  use shell_field_measures, only: layer_stresses, membrane_green_strain, initial_volumes, n_layers
+  use shell_field_measures, only: layer_stresses, membrane_green_strain, initial_volumes, n_layers, in_plane_means
   use shell_section, only: stress_components
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
   use solver_state, only: solver_t
@@ -199,13 +199,15 @@ contains
   subroutine part_energies(s, energies)
     type(solver_t), intent(inout) :: s
     real(wp), intent(out) :: energies(:)
-    real(wp) :: zeta(max_integration_points), wgt(max_integration_points), x(3, 4), area
-    real(wp) :: eps_p(group_size, max_integration_points), work(group_size, max_integration_points)
-    real(wp) :: point_work(max_integration_points)
-    integer :: g, p, first, last, i, n, nip, np
+    integer, parameter :: most = 4 * max_integration_points   !< stored points: a fully integrated part's 4 in-plane
+    real(wp) :: zeta(max_integration_points), wgt(most), x(3, 4), area
+    real(wp) :: eps_p(group_size, most), work(group_size, most)
+    real(wp) :: point_work(most)
+    integer :: g, p, first, last, i, n, nip, np, pts, k
     np = s%n_parts
     ! one material call per group: a call per element made two temporaries each (docs/performance.md)
-    !$omp parallel do schedule(static) private(p, first, last, n, nip, zeta, wgt, i, x, area, eps_p, work, point_work)
+    !$omp parallel do schedule(static) private(p, first, last, n, nip, pts, k, zeta, wgt, i, x, area, eps_p, work, &
+    !$omp point_work)
     do g = 1, s%dom%n_groups
       p = s%dom%group_part(g)
       if (.not. s%props(p)%material%has_history()) cycle
@@ -213,14 +215,19 @@ contains
       n = s%dom%group_count(g)
       last = first + n - 1
       nip = s%props(p)%integration_points
+      pts = size(s%elements%groups(g)%eps_p, 2)   ! nip, or 4 nip in-plane point by in-plane point
       call thickness_rule(nip, zeta(1:nip), wgt(1:nip))
-      eps_p(1:n, 1:nip) = real(s%elements%groups(g)%eps_p(1:n, 1:nip), wp)
-      call s%props(p)%material%dissipated_work(eps_p(1:n, 1:nip), work(1:n, 1:nip))
+      do k = nip + 1, pts   ! each in-plane point's layers weigh their share of the element
+        wgt(k) = wgt(k - nip)
+      end do
+      if (pts > nip) wgt(1:pts) = wgt(1:pts) / real(pts / nip, wp)
+      eps_p(1:n, 1:pts) = real(s%elements%groups(g)%eps_p(1:n, 1:pts), wp)
+      call s%props(p)%material%dissipated_work(eps_p(1:n, 1:pts), work(1:n, 1:pts))
       do i = 1, n
         x = s%nodes%x(:, s%dom%connectivity(:, first + i - 1))
         area = 0.5_wp * norm2(cross(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2)))
-        point_work(1:nip) = work(i, 1:nip)   ! contiguous: the sum's order as before this batch call
-        s%element_work(first + i - 1) = area * s%props(p)%thickness * 0.5_wp * sum(wgt(1:nip) * point_work(1:nip))
+        point_work(1:pts) = work(i, 1:pts)   ! contiguous: the sum's order as before this batch call
+        s%element_work(first + i - 1) = area * s%props(p)%thickness * 0.5_wp * sum(wgt(1:pts) * point_work(1:pts))
         ! a truss: its volume A L times the work at its one point
         if (s%props(p)%truss) s%element_work(first + i - 1) = s%props(p)%area * norm2(x(:, 2) - x(:, 1)) * point_work(1)
       end do
@@ -268,20 +275,31 @@ contains
     real(wp) :: membrane(group_size, 3), von_mises(group_size), plastic(group_size), h
     real(wp) :: layers(stress_components, n_layers, group_size), volume(group_size)
     real(wp) :: x0(group_size, 3, 4), x(group_size, 3, 4)
+    real(ek) :: mean_stress(group_size, stress_components, max_integration_points)
+    real(ek) :: most_eps_p(group_size, max_integration_points)
     real(wp), allocatable :: contact_force(:, :)
     ! threads share the frame's arithmetic; the writes that follow are collective, one call
-    !$omp parallel do schedule(static) private(n, first, last, nip, membrane, von_mises, plastic, layers, volume, x0, x)
+    !$omp parallel do schedule(static) private(n, first, last, nip, membrane, von_mises, plastic, layers, volume, x0, x, &
+    !$omp mean_stress, most_eps_p)
     do g = 1, s%dom%n_groups
       n = s%dom%group_count(g)
       first = s%dom%group_first(g)
       last = first + n - 1
       nip = s%props(s%dom%group_part(g))%integration_points
-      call blt_element_results(n, nip, s%elements%groups(g)%stress, s%elements%groups(g)%eps_p, &
-                               membrane(1:n, :), von_mises(1:n), plastic(1:n))
+      if (size(s%elements%groups(g)%eps_p, 2) > nip) then   ! a fully integrated part: 4 in-plane points
+        call in_plane_means(n, nip, s%elements%groups(g)%stress, s%elements%groups(g)%eps_p, &
+                            mean_stress(1:n, :, 1:nip), most_eps_p(1:n, 1:nip))
+        call blt_element_results(n, nip, mean_stress(1:n, :, 1:nip), most_eps_p(1:n, 1:nip), &
+                                 membrane(1:n, :), von_mises(1:n), plastic(1:n))
+        call layer_stresses(n, nip, mean_stress(1:n, :, 1:nip), layers(:, :, 1:n))
+      else
+        call blt_element_results(n, nip, s%elements%groups(g)%stress, s%elements%groups(g)%eps_p, &
+                                 membrane(1:n, :), von_mises(1:n), plastic(1:n))
+        call layer_stresses(n, nip, s%elements%groups(g)%stress, layers(:, :, 1:n))
+      end if
       s%element_out(1:3, first:last) = transpose(membrane(1:n, :))
       s%element_out(4, first:last) = von_mises(1:n)
       s%element_out(5, first:last) = plastic(1:n)
-      call layer_stresses(n, nip, s%elements%groups(g)%stress, layers(:, :, 1:n))
       s%element_out(6:20, first:last) = reshape(layers(:, :, 1:n), [stress_components * n_layers, n])
       call gather_group(n, first, s%dom%connectivity, s%nodes%x0, x0(1:n, :, :))
       call gather_group(n, first, s%dom%connectivity, s%nodes%x, x(1:n, :, :))

@@ -138,12 +138,15 @@ def part_spec(data: KeywordData, record: Record, name: str, material: str, unit:
     return PartSpec(name=name, material=material, thickness=mesh.part_thickness[index] * unit.length,
                     geometry=mesh.part_geometry(index), integration_points=nip,
                     hourglass_coefficient=coefficient, hourglass_form=form,
-                    warping_correction=_warping(data, first, pid, name))
+                    warping_correction=_warping(data, first, pid, name),
+                    element="full" if int(first["ELFORM"]) in FULLY_INTEGRATED else "blt")
 
 
 def _warping(data: KeywordData, section: Record, pid: int, name: str) -> bool:
-    """ELFORM 2 and 10 as they are; 16 and -16 run as the one-point element (warned); a form that
-    is not a 3-D shell is refused; any other shell form is warned and runs as ELFORM 2."""
+    """ELFORM 2 and 10 as they are; 16 and -16 are the fully integrated element with the warping
+    correction (its flat projection needs the rigid links on a warped element, as LS-DYNA's
+    formulation 16 handles warping in its own way); a form that is not a 3-D shell is refused;
+    any other shell form is warned and runs as ELFORM 2."""
     elform, secid = int(section["ELFORM"]), int(section["SECID"])
     if elform in WARPING_OF_ELFORM:
         return WARPING_OF_ELFORM[elform]
@@ -153,11 +156,7 @@ def _warping(data: KeywordData, section: Record, pid: int, name: str) -> bool:
                            f"({what}), which is not a 3-D thin shell; ParaDyn runs 3-D shells only: give the section "
                            f"ELFORM 2 (Belytschko-Tsay) or 16 (fully integrated), or leave the part out of the deck")
     if elform in FULLY_INTEGRATED:
-        data.warn(f"{section.where}: *PART {pid} '{name}': *SECTION_SHELL {secid} ELFORM = {elform} (fully "
-                  f"integrated) runs as ParaDyn's one-point Belytschko-Lin-Tsay shell with hourglass control (as "
-                  f"ELFORM 2) until a fully integrated element exists; expect a softer response in bending-"
-                  f"dominated, coarse meshes")
-        return False
+        return True
     data.warn(f"{section.where}: *SECTION_SHELL {secid} ELFORM = {elform} is not available; ParaDyn's "
               f"Belytschko-Lin-Tsay shell (ELFORM 2) is used for part {pid} '{name}'")
     return False

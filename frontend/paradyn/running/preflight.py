@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from paradyn import deck
+from paradyn import _schema, deck
 from paradyn.deck.model import trait_codes
 
 from . import launch
@@ -36,6 +36,9 @@ RATE_ENV = "PARADYN_ELEMENT_RATE"   # this machine's figure (summary.json elemen
 PARALLEL_EFFICIENCY = 0.75
 # the engine's memory estimate per rank (app/machine_memory.f90): a base plus so much per element or node
 MEMORY_BASE_MB, MEMORY_PER_ENTITY_MB = 40.0, 2.0e-3
+# a stored point beyond those (9 doubles), counted 3 x integration_points per element with a fully
+# integrated part (its 4 in-plane points): the engine's upper bound
+MEMORY_PER_POINT_MB = 9 * 8 / 2**20
 # plausible engineering materials in SI units (kg/m^3, Pa, m/s): outside these a unit slip is likelier
 DENSITY_RANGE = (30.0, 3.0e4)          # foams of 30 kg/m^3 to the densest metals (osmium 22 600)
 YOUNG_RANGE = (1.0e5, 1.2e12)          # soft rubbers and foams to diamond
@@ -85,6 +88,7 @@ class Preflight:
     rate: float                # element-cycles per second assumed for the wall time
     rate_source: str
     warnings: list[str] = field(default_factory=list)
+    extra_points: int = 0      # stored points per element beyond the one-point element's
 
     @property
     def wall_s(self) -> float:
@@ -94,7 +98,9 @@ class Preflight:
     def memory_mb(self) -> float:
         """The engine's estimate per rank times the ranks (each rank holds its share of the mesh)."""
         share = max(-(-self.n_elements // self.ranks), -(-self.n_nodes // self.ranks))
-        return self.ranks * (MEMORY_BASE_MB + MEMORY_PER_ENTITY_MB * share)
+        elements = -(-self.n_elements // self.ranks)
+        return self.ranks * (MEMORY_BASE_MB + MEMORY_PER_ENTITY_MB * share
+                             + MEMORY_PER_POINT_MB * self.extra_points * elements)
 
     def lines(self) -> list[str]:
         """The check's report, one line each (the warnings last, starting with ``warning:``)."""
@@ -266,9 +272,26 @@ def check_model(model: deck.Model, ranks: int = 1, threads: int = 1, machine: Ma
     result = Preflight(parts=_parts(model, area, added), step=step, dt=dt, cycles=cycles,
                        end_time=model.control.end_time, n_elements=len(np.asarray(model.element_part)),
                        n_nodes=len(np.asarray(model.coordinates)), ranks=ranks, threads=threads,
-                       rate=rate, rate_source=source)
+                       rate=rate, rate_source=source, extra_points=_extra_points(model))
     result.warnings = unit_warnings(model, result) + idle_warnings(model) + setting_warnings(model)
     return result
+
+
+def _default_points() -> int:
+    return int(next(d.default for d in _schema.DATASETS if d.path == "/parts/integration_points"))
+
+
+def _extra_points(model: deck.Model) -> int:
+    """3 x the most integration points of a fully integrated part (0 without one), as the engine's
+    memory estimate (app/machine_memory.f90)."""
+    if model.shell_element is None:
+        return 0
+    full = np.asarray(model.shell_element) == _schema.ENUMS["shell_element"]["full"]
+    if not full.any():
+        return 0
+    points = np.asarray(model.integration_points if model.integration_points is not None
+                        else np.full(full.shape, _default_points()))
+    return 3 * int(points[full].max())
 
 
 # coefficients far outside any sensible range (the usual values are 0.05 to 0.15 and 0.1)

@@ -17,7 +17,7 @@ from typing import Any
 
 from paradyn import _schema
 from paradyn.arguments import did_you_mean
-from paradyn.scene.specs import HOURGLASS_FORMS, CylinderGeometry, FileGeometry, PlateGeometry, Scene
+from paradyn.scene.specs import HOURGLASS_FORMS, SHELL_ELEMENTS, CylinderGeometry, FileGeometry, PlateGeometry, Scene
 
 DESIGNS = ("one_at_a_time", "grid", "list")
 PRECISIONS = tuple(_schema.ENUMS["precision"])   # [run] precision: the engines there are
@@ -131,6 +131,9 @@ KNOBS: dict[str, Knob] = {k.name: k for k in [
     Knob("hourglass_coefficient", float, "hourglass_coefficient of every part, >= 0",
          lambda s: _same([p.hourglass_coefficient for p in s.parts]), _set_parts("hourglass_coefficient"),
          _non_negative),
+    Knob("element", str, f"element of every part (its quadrilaterals): {', '.join(SHELL_ELEMENTS)}",
+         lambda s: _same([p.element for p in s.parts]), _set_parts("element"),
+         lambda v: None if v in SHELL_ELEMENTS else f"must be one of {', '.join(SHELL_ELEMENTS)}"),
     Knob("warping_correction", bool, "warping_correction of every part",
          lambda s: _same([p.warping_correction for p in s.parts]), _set_parts("warping_correction")),
     Knob("penalty_scale", float, "penalty_scale of every [[contact]], > 0",
