@@ -12,7 +12,7 @@ module contact_stages
   use contact_pass, only: contact_pass_t, bound_segment
   use contact_laws, only: bound_force
   use edge_search, only: deepest_edge_crossing
-  use edge_penalty, only: edge_edge_force
+  use edge_penalty, only: edge_edge_force, closest_points_of_edges
   use contact_interface, only: contact_t, clock_seconds
   use contact_slots, only: slot_of
   use exact_sum, only: exact_add, exact_value
@@ -341,8 +341,8 @@ contains
 
   !> The record of candidate k of an edge pass (edge_to_edge_contact): its slave edge against the
   !> edges of the segments around its nearest master (edge_search), the deepest crossing's force
-  !> (edge_penalty) with the segment's penalty stiffness, capped like a node's at the stable fraction
-  !> of m / dt^2 of the lightest of the four nodes. The record names the slave edge's two nodes, the
+  !> (edge_penalty) with the segment's penalty stiffness, capped so that the spring's frequency on
+  !> the four nodes stays within the bound of a node's spring (below). The record names the slave edge's two nodes, the
   !> master edge's two and the last again with no force (record_nodes has five). No record where no
   !> edge crosses within reach. Called by one thread per candidate.
   subroutine edge_record(c, pass, k)
@@ -350,7 +350,7 @@ contains
     type(contact_pass_t), intent(in) :: pass
     integer, intent(in) :: k
     integer :: j, m, a1, a2, b1, b2, segment, corner
-    real(wp) :: penetration, stiffness, force(3, 4)
+    real(wp) :: penetration, stiffness, force(3, 4), s, u, inverse_mass
     logical :: touching
     j = c%candidates(1, k)
     m = c%candidates(2, k)
@@ -361,8 +361,12 @@ contains
     if (segment == 0) return
     b1 = pass%segment_at(corner, segment)
     b2 = pass%segment_at(mod(corner, 4) + 1, segment)
-    stiffness = min(pass%stiffness(segment), stable_spring_fraction / c%time_step**2 * &
-                    min(c%mass(a1), c%mass(a2), c%mass(b1), c%mass(b2)))
+    ! the spring's frequency: omega^2 = k sum_I w_I^2 / m_I, w the four shares (1 - s, s, 1 - u, u);
+    ! a node's spring (slave share 1, the segment's N_I) has sum w^2 / m <= 2 / m_lightest, so its cap
+    ! holds omega^2 dt^2 <= 2 stable_spring_fraction: the edge's cap holds the same bound
+    call closest_points_of_edges(c%x(:, a1), c%x(:, a2), c%x(:, b1), c%x(:, b2), s, u)
+    inverse_mass = (1.0_wp - s)**2 / c%mass(a1) + s**2 / c%mass(a2) + (1.0_wp - u)**2 / c%mass(b1) + u**2 / c%mass(b2)
+    stiffness = min(pass%stiffness(segment), 2.0_wp * stable_spring_fraction / (c%time_step**2 * inverse_mass))
     call edge_edge_force(c%x(:, a1), c%x(:, a2), c%x(:, b1), c%x(:, b2), pass%t_slave, pass%t_master, stiffness, &
                          force, penetration, touching)
     if (.not. touching) return
