@@ -285,6 +285,23 @@ def test_surface_to_surface_contact_is_a_symmetric_pair(tmp_path: Path) -> None:
     assert read.model.node_ids.tolist() == [11, 12, 13, 14, 15, 16]   # node 12 and 15 shared by both parts
 
 
+def test_soft_2_reads_as_contact_with_edge_checks(tmp_path: Path) -> None:
+    """SOFT = 2 (card A; LS-DYNA's segment-based contact, which finds walls crossing edge against edge)
+    gives edges = true: the pair becomes the deck kind edge_to_edge, a single surface
+    single_surface_edges (issue 35; docs/keyword.md)."""
+    cards = "         1         2         3         3\n       0.3\n\n         2\n"
+    pair = load_keyword(_deck(tmp_path, HEAD + TWO_PARTS + "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE\n" + cards))
+    assert pair.scene.contacts[0].edges
+    kinds = _schema.ENUMS["contact_kind"]
+    assert pair.model.contact_kind.tolist() == [kinds["edge_to_edge"]]
+    single = load_keyword(_deck(tmp_path, HEAD + TWO_PARTS + "*CONTACT_AUTOMATIC_SINGLE_SURFACE\n"
+                                "         9         0         2\n       0.1\n\n         2\n", "single.k"))
+    assert set(single.model.contact_kind.tolist()) == {kinds["single_surface_edges"], kinds["edge_to_edge"]}
+    plain = load_keyword(_deck(tmp_path, HEAD + TWO_PARTS + "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE\n"
+                               + cards.replace("         2\n", "         0\n"), "plain.k"))
+    assert plain.model.contact_kind.tolist() == [kinds["node_to_segment"]]
+
+
 def test_single_surface_contact_maps_to_the_single_surface_kind(tmp_path: Path) -> None:
     """*CONTACT_AUTOMATIC_SINGLE_SURFACE on a part set is one contact of kind single_surface over
     its parts; SSID 0 takes every part (no parts, as in a scene)."""

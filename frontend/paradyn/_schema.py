@@ -115,7 +115,13 @@ ENUMS: dict[str, dict[str, int]] = {
     'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
     'contact_passes': {'alternate': 1, 'both': 2},
-    'contact_kind': {'node_to_segment': 1, 'single_surface': 2, 'tied': 3},
+    'contact_kind': {
+        'node_to_segment': 1,
+        'single_surface': 2,
+        'tied': 3,
+        'edge_to_edge': 4,
+        'single_surface_edges': 5,
+    },
     'initial_penetration': {'move': 1, 'gap': 2},
     'contact_gather': {'near': 1, 'all': 2},
     'rigid_wall_shape': {'plane': 1, 'finite_plane': 2, 'cylinder': 3, 'sphere': 4, 'box': 5},
@@ -134,7 +140,11 @@ ENUM_TRAITS: dict[str, dict[str, tuple[str, ...]]] = {
         'hardening_curve': ('piecewise_linear', 'piecewise_linear_rate'),
     },
     'element_kind': {'truss': ('truss',)},
-    'contact_kind': {'self_contact': ('single_surface',), 'tied': ('tied',)},
+    'contact_kind': {
+        'self_contact': ('single_surface', 'single_surface_edges'),
+        'tied': ('tied',),
+        'edge_to_edge': ('edge_to_edge', 'single_surface_edges'),
+    },
 }
 
 SIZES: dict[str, SizeSpec] = {
@@ -263,8 +273,9 @@ RELATIONS: dict[str, RelationSpec] = {
     'contact_parts_differ': RelationSpec(
         'contact_parts_differ', '/contact/pairs',
         (
-            'a node_to_segment pair names two different parts, a single_surface definition its one part twice; '
-            'neither is a truss part (trusses have no contact surface)'
+            'a node_to_segment, tied or edge_to_edge pair names two different parts, a single_surface or '
+            'single_surface_edges definition its one part twice; neither is a truss part (trusses have no contact '
+            'surface)'
         ),
     ),
     'rigid_wall_normal_nonzero': RelationSpec(
@@ -605,9 +616,13 @@ DATASETS: tuple[DatasetSpec, ...] = (
     ),
     DatasetSpec(
         '/contact/kind', 'contact_kind', 'int', ('n_contacts',), False, None, None, 1, None, None, '',
-        'contact_kind', 'must be 1 or 2 or 3 (1 = node_to_segment, 2 = single_surface, 3 = tied)', None, False,
-        '-', "the kind of contact (a member of the engine's contact family; docs/architecture.md)",
-        '[[contact]] kind', 'use 1 (node_to_segment), 2 (single_surface) or 3 (tied)',
+        'contact_kind',
+        (
+            'must be 1 or 2 or 3 or 4 or 5 (1 = node_to_segment, 2 = single_surface, 3 = tied, 4 = edge_to_edge, '
+            '5 = single_surface_edges)'
+        ), None, False, '-', "the kind of contact (a member of the engine's contact family; docs/architecture.md)",
+        '[[contact]] kind',
+        'use 1 (node_to_segment), 2 (single_surface), 3 (tied), 4 (edge_to_edge) or 5 (single_surface_edges)',
     ),
     DatasetSpec(
         '/contact/initial_penetration', 'contact_initial_penetration', 'int', ('n_contacts',), False, None, None,

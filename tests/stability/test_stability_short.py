@@ -4,8 +4,8 @@ variant meets. The full cases and their pass / fail are in docs/stability.md (``
 
 Criteria not asserted here, and why (what the short runs show; see docs/stability.md for the full runs):
 peak hourglass / internal above 0.10 in the first tens of microseconds of contact on the pipe cases and
-on the coarse skewed plate; penetration / thickness above 0.20 on the thin walls (the upper pipe moves
-more than a fifth of the wall per step) and on the 100 m/s crush.
+on the coarse skewed plate; penetration / thickness above 0.20 on thin_1000 (0.08 mm walls; with the edge
+contact an edge pair is pushed through on the coarse mesh: docs/contact-edges.md) and on the 100 m/s crush.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from paradyn._schema import ENUMS
 
 # case -> the criteria its short variant meets (asserted); the others are n/a or fail (module docstring)
 MEETS: dict[str, tuple[str, ...]] = {
-    "thin_270": ("finishes", "finite", "balance"),
+    "thin_270": ("finishes", "finite", "balance", "penetration"),
     "thin_1000": ("finishes", "finite", "balance"),
     "skew_55": ("finishes", "finite", "balance", "penetration"),
     "aspect_10": ("finishes", "finite", "balance", "hourglass", "penetration"),

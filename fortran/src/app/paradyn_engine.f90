@@ -160,7 +160,7 @@ program paradyn_engine
     call resolve_initial_penetrations(deck, comm, rank == 0, error_unit, moves)   ! reported; moves where asked
     ! local contact sets up from each rank's rows; one rank and the replicated scheme read the
     ! contact parts in the global layout (contact_global_rows)
-    if (.not. contact_is_local(n_ranks, deck%contact_gather == contact_gather_all)) &
+    if (.not. contact_is_local(n_ranks, deck%contact_gather == contact_gather_all, deck%contact_kind)) &
       contact = replicated_contact_deck(deck, comm)
   end if
   call solver_setup(solver, deck, contact, effects, comm, status, message)

@@ -10,7 +10,8 @@ module paradyn_schema
       material_rigid, material_piecewise_linear, material_piecewise_linear_rate, element_kind_shell, &
       element_kind_truss, shell_element_blt, shell_element_full, hourglass_viscous, hourglass_stiffness, &
       hourglass_physical, dof_free, dof_fixed, contact_passes_alternate, contact_passes_both, &
-      contact_kind_node_to_segment, contact_kind_single_surface, contact_kind_tied, initial_penetration_move, &
+      contact_kind_node_to_segment, contact_kind_single_surface, contact_kind_tied, &
+      contact_kind_edge_to_edge, contact_kind_single_surface_edges, initial_penetration_move, &
       initial_penetration_gap, contact_gather_near, contact_gather_all, wall_plane, wall_finite_plane, &
       wall_cylinder, wall_sphere, wall_box, switch_off, switch_on, partition_blocks, partition_rcb, &
       precision_double, precision_mixed, max_integration_points, status_ok, status_failure, status_bad_input, &
@@ -75,7 +76,8 @@ module paradyn_schema
       size_entity, size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, &
       deck_enums, deck_conditions, deck_datasets, control_attributes, enum_name, enum_code, &
       material_is_plastic, material_is_combined_hardening, material_is_cowper_symonds, material_is_rigid, &
-      material_is_hardening_curve, element_kind_is_truss, contact_kind_is_self_contact, contact_kind_is_tied
+      material_is_hardening_curve, element_kind_is_truss, contact_kind_is_self_contact, contact_kind_is_tied, &
+      contact_kind_is_edge_to_edge
   integer, parameter :: deck_version = 1
   character(len=*), parameter :: deck_version_attribute = 'paradyn_deck_version'
 
@@ -100,6 +102,8 @@ module paradyn_schema
   integer, parameter :: contact_kind_node_to_segment = 1   !< each part of the pair is slave to the other's shell
   integer, parameter :: contact_kind_single_surface = 2   !< the part is slave to its own shell segments (self-con
   integer, parameter :: contact_kind_tied = 3   !< the first part's nodes within reach of the second's segments at
+  integer, parameter :: contact_kind_edge_to_edge = 4   !< node_to_segment, plus every element edge of the first p
+  integer, parameter :: contact_kind_single_surface_edges = 5   !< single_surface, plus the part's element edges a
   integer, parameter :: initial_penetration_move = 1   !< slave nodes inside the contact thickness at the start ar
   integer, parameter :: initial_penetration_gap = 2   !< each slave node's overlap at the start is taken as its ga
   integer, parameter :: contact_gather_near = 1   !< local contact: each rank holds only the contact nodes near it
@@ -431,8 +435,8 @@ module paradyn_schema
     enum_spec_t(3, [1, 2, 3, 0, 0, 0], [character(len=21) :: 'viscous', 'stiffness', 'physical', '', '', '']), &
     enum_spec_t(2, [0, 1, 0, 0, 0, 0], [character(len=21) :: 'free', 'fixed', '', '', '', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'alternate', 'both', '', '', '', '']), &
-    enum_spec_t(3, [1, 2, 3, 0, 0, 0], &
-        [character(len=21) :: 'node_to_segment', 'single_surface', 'tied', '', '', '']), &
+    enum_spec_t(5, [1, 2, 3, 4, 5, 0], &
+        [character(len=21) :: 'node_to_segment', 'single_surface', 'tied', 'edge_to_edge', 'single_surface_edges', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'move', 'gap', '', '', '', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'near', 'all', '', '', '', '']), &
     enum_spec_t(5, [1, 2, 3, 4, 5, 0], &
@@ -619,10 +623,11 @@ module paradyn_schema
         [1, 2, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
         'use 2 (both bodies slave every step) or 1 (slave and master swap every step)'), &
     dataset_spec_t('/contact/kind', class_int, 0, size_n_contacts, .false., .false., condition_none, &
-        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 3, &
-        [1, 2, 3, 0, 0, 0], size_none, '', &
-        'must be 1 or 2 or 3 (1 = node_to_segment, 2 = single_surface, 3 = tied)', &
-        'use 1 (node_to_segment), 2 (single_surface) or 3 (tied)'), &
+        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 5, &
+        [1, 2, 3, 4, 5, 0], size_none, '', &
+        'must be 1 or 2 or 3 or 4 or 5 (1 = node_to_segment, 2 = single_surface, 3 = tied, 4 = edge_to_edge, ' // &
+          '5 = single_surface_edges)', &
+        'use 1 (node_to_segment), 2 (single_surface), 3 (tied), 4 (edge_to_edge) or 5 (single_surface_edges)'), &
     dataset_spec_t('/contact/initial_penetration', class_int, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_initial_penetration, 2, [1, 2, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = move, 2 = gap)', &
@@ -935,10 +940,10 @@ contains
     has = any(code == [2])
   end function element_kind_is_truss
 
-  !> Whether a code of enum contact_kind has the trait self_contact (single_surface)
+  !> Whether a code of enum contact_kind has the trait self_contact (single_surface, single_surface_edges)
   elemental logical function contact_kind_is_self_contact(code) result(has)
     integer, intent(in) :: code
-    has = any(code == [2])
+    has = any(code == [2, 5])
   end function contact_kind_is_self_contact
 
   !> Whether a code of enum contact_kind has the trait tied (tied)
@@ -946,5 +951,11 @@ contains
     integer, intent(in) :: code
     has = any(code == [3])
   end function contact_kind_is_tied
+
+  !> Whether a code of enum contact_kind has the trait edge_to_edge (edge_to_edge, single_surface_edges)
+  elemental logical function contact_kind_is_edge_to_edge(code) result(has)
+    integer, intent(in) :: code
+    has = any(code == [4, 5])
+  end function contact_kind_is_edge_to_edge
 
 end module paradyn_schema

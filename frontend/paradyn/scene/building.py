@@ -167,18 +167,20 @@ def _apply_tracks(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], model
 def _deck_contacts(scene: Scene) -> list[tuple[int, int, str, ContactSpec]]:
     """The deck's contact definitions (part, part, kind, spec). A single_surface contact over
     several parts is one surface: each part against itself, and each two parts a symmetric
-    node_to_segment pair (docs/scene.md); with no parts named, every shell part."""
+    node_to_segment pair (docs/scene.md); with no parts named, every shell part. With edges, the
+    kinds with edge checks: edge_to_edge pairs and single_surface_edges."""
     index = {p.name: i for i, p in enumerate(scene.parts)}
     rows: list[tuple[int, int, str, ContactSpec]] = []
     for c in scene.contacts:
+        pair_kind = "edge_to_edge" if c.edges else "node_to_segment"
         if c.kind != "single_surface":
-            rows.append((index[c.parts[0]], index[c.parts[1]], c.kind, c))
+            rows.append((index[c.parts[0]], index[c.parts[1]], pair_kind if c.kind == "node_to_segment" else c.kind, c))
             continue
         every = [p.name for p in scene.parts if p.element_kind == "shell"]   # trusses have no surface
         members = [index[name] for name in (c.parts or every)]
-        rows += [(a, a, "single_surface", c) for a in members]
+        rows += [(a, a, "single_surface_edges" if c.edges else "single_surface", c) for a in members]
         pair = dataclasses.replace(c, symmetric=True)
-        rows += [(a, b, "node_to_segment", pair) for i, a in enumerate(members) for b in members[i + 1:]]
+        rows += [(a, b, pair_kind, pair) for i, a in enumerate(members) for b in members[i + 1:]]
     return rows
 
 

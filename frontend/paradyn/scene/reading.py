@@ -20,6 +20,7 @@ from paradyn.scene.building import check_material_curves
 from paradyn.scene.row_tables import ROW_TABLES, check_row_references, parse_rows, read_key
 from paradyn.scene.specs import (
     DOF_GROUPS,
+    EDGE_KINDS,
     HOURGLASS_FORMS,
     MATERIAL_MODELS,
     SHELL_ELEMENTS,
@@ -80,7 +81,7 @@ _CURVE_KEYS = ("name", "time", "value")
 _PRESSURE_KEYS = ("part", "value", "curve")
 _PRESCRIBE_KEYS = ("part", "box", "dof", "value", "curve")
 _CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "static_friction", "dynamic_friction",
-                 "friction_decay", "symmetric", "birth_time", "death_time")
+                 "friction_decay", "symmetric", "birth_time", "death_time", "edges")
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -372,7 +373,10 @@ def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
     r.keys(t, label, _CONTACT_KEYS)
     kind = (r.string(t, "kind", label, choices=tuple(_schema.ENUMS["contact_kind"])) if "kind" in t
             else ContactSpec.kind)
-    parts = _contact_parts(r, t, label, kind)
+    edges = r.raw(t, "edges", label, kind in EDGE_KINDS)
+    if not isinstance(edges, bool) or (edges and kind == "tied"):
+        raise r.error(f"'edges' in {label} must be true (edges against edges; not tied) or false; got {edges!r}")
+    parts = _contact_parts(r, t, label, kind := EDGE_KINDS.get(kind, kind))
     symmetric = r.raw(t, "symmetric", label, ContactSpec.symmetric)
     if not isinstance(symmetric, bool):
         raise r.error(f"'symmetric' in {label} must be true (both passes every step) or false "
@@ -394,8 +398,9 @@ def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
         initial_penetration=r.string(t, "initial_penetration", label, default=ContactSpec.initial_penetration,
                                      choices=tuple(_schema.ENUMS["initial_penetration"])),
         birth_time=birth,
-        death_time=death,
+        death_time=death, edges=edges,
     )
+
 
 
 def _contact_parts(r: _Reader, t: dict[str, Any], label: str, kind: str) -> tuple[str, ...]:

@@ -144,6 +144,10 @@ class TrackSpec:
     point: tuple[float, float, float]
 
 
+# the deck's kinds with edge checks, as the scene's kind with edges = true
+EDGE_KINDS = {"edge_to_edge": "node_to_segment", "single_surface_edges": "single_surface"}
+
+
 @dataclass
 class WeldSpec:
     """A spot weld (docs/scene.md, [[weld]]): the nodes of two parts nearest ``point`` move as one
@@ -159,7 +163,8 @@ class WeldSpec:
 @dataclass
 class ContactSpec:
     """Parts that may touch (docs/scene.md, [[contact]]): two different parts for a node_to_segment
-    pair; for a single_surface contact the parts that form one surface, every part when empty."""
+    pair; for a single_surface contact the parts that form one surface, every part when empty.
+    ``edges``: the element edges of the surfaces are also checked against each other's edges."""
 
     parts: tuple[str, ...]
     penalty_scale: float = _DECK_DEFAULT["/contact/penalty_scale"]
@@ -171,6 +176,7 @@ class ContactSpec:
     initial_penetration: str = _enum_name("initial_penetration", _DECK_DEFAULT["/contact/initial_penetration"])
     birth_time: float = _DECK_DEFAULT["/contact/birth_time"]
     death_time: float = _DECK_DEFAULT["/contact/death_time"]
+    edges: bool = False   # also element edges against edges (deck kinds edge_to_edge, single_surface_edges)
 
 
 @dataclass

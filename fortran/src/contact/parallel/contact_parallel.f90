@@ -34,6 +34,7 @@ module contact_parallel
   use contact_stages, only: contact_global_search, contact_candidates, contact_local_search, contact_sum, &
                             contact_end, contact_finish
   use exact_sum, only: exact_width
+  use paradyn_schema, only: contact_kind_is_edge_to_edge
   use contact_reduction, only: reduce_contact_sums
   use contact_local_setup, only: local_contact_setup
   use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, &
@@ -86,7 +87,7 @@ contains
     integer :: k, j
     pc%comm = comm
     ! local contact on more than one rank, unless every node is gathered (the replicated reference)
-    local = contact_is_local(dom%n_ranks, gather_all)
+    local = contact_is_local(dom%n_ranks, gather_all, rows%contact_kind)
     ! the nodes held: every contact node, or (local contact) this domain's until the first refresh,
     ! with their local columns (0: not in this domain) and the masses for the stability cap
     ! (local: this domain's, the ghosts' come with them)
@@ -115,6 +116,7 @@ contains
     do k = 1, size(pc%c%passes)
       associate (pass => pc%c%passes(k))
       pass%slave_columns = owned_columns(pass%slave_at)
+      if (pass%edges) pass%slave_columns = owned_columns([pass%slave_at, pass%slave_other_at])
       pass%master_columns = owned_columns([(slot_of(pc%c, pass%own_masters(j)), j = 1, size(pass%own_masters))])
       end associate
     end do
@@ -141,11 +143,14 @@ contains
   end subroutine parallel_contact_setup
 
   !> Whether the contact is local (each rank its own slaves and the ghosts near them): on more than
-  !> one rank, unless every node is gathered (contact_gather = "all", the replicated scheme).
-  pure logical function contact_is_local(n_ranks, gather_all)
+  !> one rank, unless every node is gathered (contact_gather = "all", the replicated scheme) or a
+  !> definition (kinds: the deck's contact kinds) has edge passes, which run in the replicated
+  !> scheme (edge_to_edge_contact: an edge's two nodes may lie in different domains).
+  pure logical function contact_is_local(n_ranks, gather_all, kinds)
     integer, intent(in) :: n_ranks
     logical, intent(in) :: gather_all
-    contact_is_local = n_ranks > 1 .and. .not. gather_all
+    integer, intent(in) :: kinds(:)
+    contact_is_local = n_ranks > 1 .and. .not. gather_all .and. .not. any(contact_kind_is_edge_to_edge(kinds))
   end function contact_is_local
 
   !> Contact forces at the positions x (local nodes) of this cycle. Communication time goes to

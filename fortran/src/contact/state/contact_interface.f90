@@ -383,10 +383,12 @@ contains
       pass%n_near = 0
       do j = 1, size(pass%slaves)
         x = c%x_at_sort(:, pass%slave_at(j))
+        if (pass%edges) x = 0.5_wp * (x + c%x_at_sort(:, pass%slave_other_at(j)))   ! an edge: its midpoint
         if (any(x < lower) .or. any(x > upper)) cycle
         pass%n_near = pass%n_near + 1
         pass%near_slaves(pass%n_near) = j
         c%in_gather(pass%slave_at(j)) = .true.
+        if (pass%edges) c%in_gather(pass%slave_other_at(j)) = .true.
         slave_lower = min(slave_lower, x)
         slave_upper = max(slave_upper, x)
       end do

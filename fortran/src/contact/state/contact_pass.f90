@@ -61,6 +61,11 @@ module contact_pass
     !> slave is free) and the law's data for it (a tie: the point's xi, eta and the slave's offset)
     integer :: kind = 0
     logical :: bound = .false.
+    !> an edge pass (edge_to_edge_contact): slave j is the element edge from slaves(j) to
+    !> slave_other(j) (contact-node ids; a node that begins several edges is listed once for each),
+    !> met by the edges of the master segments; slave_other_at: the held slots of the other ends
+    logical :: edges = .false.
+    integer, allocatable :: slave_other(:), slave_other_at(:)
     integer, allocatable :: bound_element(:)
     real(wp), allocatable :: bound_data(:, :)   !< (the law's width, slaves)
     real(wp), allocatable :: x_sorted(:, :)    !< master positions when last sorted

@@ -11,6 +11,8 @@ module contact_stages
   use contact_penalty, only: penalty_force, edge_tolerance
   use contact_pass, only: contact_pass_t, bound_segment
   use contact_laws, only: bound_force
+  use edge_search, only: deepest_edge_crossing
+  use edge_penalty, only: edge_edge_force, closest_points_of_edges
   use contact_interface, only: contact_t, clock_seconds
   use contact_slots, only: slot_of
   use exact_sum, only: exact_add, exact_value
@@ -68,6 +70,8 @@ contains
         do k = 1, 3
           d = 1 + 3 * (pass%pair - 1) + k
           call exact_add(c%sums(:, d), pass%first_part_sign * c%record_force(k, 1, j))
+          ! an edge record's slave is its first two nodes
+          if (pass%edges) call exact_add(c%sums(:, d), pass%first_part_sign * c%record_force(k, 2, j))
         end do
         end associate
       end if
@@ -169,6 +173,7 @@ contains
       associate (pass => c%passes(p))
       j = pass%near_slaves(rank + 1 + (i - offset(p) - 1) * n_ranks)
       x = c%x(:, pass%slave_at(j))
+      if (pass%edges) x = 0.5_wp * (x + c%x(:, pass%slave_other_at(j)))   ! an edge: its midpoint
       if (near_box(x, pass)) then
         if (pass%shares_nodes) then
           call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
@@ -273,6 +278,10 @@ contains
       at = pass%slave_at(c%candidates(1, k))
       x = c%x(:, at)
       slot = c%candidates(1, k)
+      if (pass%edges) then   ! a slave edge: the deepest crossing of the master edges near it
+        call edge_record(c, pass, k)
+        cycle
+      end if
       if (pass%bound) then   ! its binding names the segment and the point (contact_laws)
         segment = bound_segment(pass, slot)
       else
@@ -329,6 +338,44 @@ contains
     !$omp end parallel do
     c%time_force = c%time_force + clock() - t0
   end subroutine contact_local_search
+
+  !> The record of candidate k of an edge pass (edge_to_edge_contact): its slave edge against the
+  !> edges of the segments around its nearest master (edge_search), the deepest crossing's force
+  !> (edge_penalty) with the segment's penalty stiffness, capped so that the spring's frequency on
+  !> the four nodes stays within the bound of a node's spring (below). The record names the slave edge's two nodes, the
+  !> master edge's two and the last again with no force (record_nodes has five). No record where no
+  !> edge crosses within reach. Called by one thread per candidate.
+  subroutine edge_record(c, pass, k)
+    type(contact_t), intent(inout) :: c
+    type(contact_pass_t), intent(in) :: pass
+    integer, intent(in) :: k
+    integer :: j, m, a1, a2, b1, b2, segment, corner
+    real(wp) :: penetration, stiffness, force(3, 4), s, u, inverse_mass
+    logical :: touching
+    j = c%candidates(1, k)
+    m = c%candidates(2, k)
+    a1 = pass%slave_at(j)
+    a2 = pass%slave_other_at(j)
+    call deepest_edge_crossing(c%x, a1, a2, pass%segment_at, pass%segment_list, pass%segment_start(m), &
+                               pass%segment_start(m + 1) - 1, pass%t_slave, pass%t_master, segment, corner, penetration)
+    if (segment == 0) return
+    b1 = pass%segment_at(corner, segment)
+    b2 = pass%segment_at(mod(corner, 4) + 1, segment)
+    ! the spring's frequency: omega^2 = k sum_I w_I^2 / m_I, w the four shares (1 - s, s, 1 - u, u);
+    ! a node's spring (slave share 1, the segment's N_I) has sum w^2 / m <= 2 / m_lightest, so its cap
+    ! holds omega^2 dt^2 <= 2 stable_spring_fraction: the edge's cap holds the same bound
+    call closest_points_of_edges(c%x(:, a1), c%x(:, a2), c%x(:, b1), c%x(:, b2), s, u)
+    inverse_mass = (1.0_wp - s)**2 / c%mass(a1) + s**2 / c%mass(a2) + (1.0_wp - u)**2 / c%mass(b1) + u**2 / c%mass(b2)
+    stiffness = min(pass%stiffness(segment), 2.0_wp * stable_spring_fraction / (c%time_step**2 * inverse_mass))
+    call edge_edge_force(c%x(:, a1), c%x(:, a2), c%x(:, b1), c%x(:, b2), pass%t_slave, pass%t_master, stiffness, &
+                         force, penetration, touching)
+    if (.not. touching) return
+    c%record_penetration(k) = penetration
+    c%record_nodes(:, k) = [pass%slaves(j), pass%slave_other(j), pass%segments(corner, segment), &
+                            pass%segments(mod(corner, 4) + 1, segment), pass%segments(mod(corner, 4) + 1, segment)]
+    c%record_force(:, 1:4, k) = force
+    c%record_force(:, 5, k) = 0.0_wp
+  end subroutine edge_record
 
   !> Slave j of the pass, whose nearest master is master (a contact-node id), still cannot touch: at an earlier step of
   !> the same sort (sort number n_sorts) the segments around the same master were all at least
