@@ -4,8 +4,9 @@ Every case starts from the scene of ``cases/pipe_whip`` (the paper's case-1 geom
 with ``tomllib``, edits the tables (thickness, velocities, positions, meshes, extra parts, rigid
 walls), writes them as a scene file, and builds the deck with ``paradyn.scene.load_scene`` and
 ``build_model``; the model's arrays are then edited where a scene cannot say it (the skewed mesh's
-coordinates) and every part gets the new element defaults: the physical hourglass form and the
-warping correction (``Case.paper_element`` keeps the scene's element instead).
+coordinates) and every part gets the element a user picks for a hard case: the fully integrated
+element with the warping correction (``build_model(element="blt")``: the one-point element with the
+physical hourglass form; ``Case.paper_element`` keeps the scene's element instead).
 
 ``Case.short`` gives the coarse, short variant that ``make test`` runs (tests/stability/test_stability_short.py).
 """
@@ -21,6 +22,17 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from stability_shapes import (
+    SPHERE_RADIUS,
+    TUBE_LENGTH,
+    TUBE_SPEED,
+    TUBE_WALL,
+    abramowicz_jones_force,
+    mean_crush_force,
+    mix_triangles,
+    sphere_file,
+    to_square,
+)
 
 from paradyn import deck, scene
 from paradyn._schema import ENUMS
@@ -85,9 +97,11 @@ def to_toml(table: Table, prefix: str = "") -> str:
     return "\n".join(lines)
 
 
-def build_model(case: Case, folder: Path, short: bool, refine: int = 1) -> deck.Model:
+def build_model(case: Case, folder: Path, short: bool, refine: int = 1, element: str = "full") -> deck.Model:
     """The deck model of ``case`` (its short variant when ``short``), its scene written into ``folder``;
-    ``refine`` multiplies every generated part's element counts (a mesh study of the full case)."""
+    ``refine`` multiplies every generated part's element counts (a mesh study of the full case);
+    ``element`` is every part's shell element unless the case keeps the paper's ("full": the fully
+    integrated element a user picks for a hard case; "blt": the one-point element)."""
     tables = case.build(case.short.coarsen if short else 1)
     for part in tables["part"]:
         g = part["geometry"]
@@ -110,6 +124,7 @@ def build_model(case: Case, folder: Path, short: bool, refine: int = 1) -> deck.
         n_parts = len(model.thickness)
         model.hourglass_form = np.full(n_parts, ENUMS["hourglass_form"]["physical"], dtype=np.int32)
         model.warping_correction = np.ones(n_parts, dtype=np.int32)
+        model.shell_element = np.full(n_parts, ENUMS["shell_element"][element], dtype=np.int32)
     return model
 
 
@@ -325,70 +340,6 @@ def mixed_plate(coarsen: int) -> Table:
     return _plate_hit_by_pipe((24, 24), coarsen)
 
 
-def mix_triangles(model: deck.Model) -> None:
-    """Cut every other quad of the plate (part 0, a checkerboard) into two triangles (N3 = N4) along the
-    diagonal that points at the plate's centre; the other elements keep their order after them."""
-    conn, part = np.asarray(model.connectivity), np.asarray(model.element_part)
-    xy = np.asarray(model.coordinates)[:, :2]
-    rows, parts = [], []
-    for k, (quad, p) in enumerate(zip(conn, part, strict=True)):
-        if p != 0 or k % 2:
-            rows.append(quad)
-            parts.append(p)
-            continue
-        a, b, c, d = quad
-        centre = xy[quad].mean(axis=0)
-        rows += [[a, b, c, c], [a, c, d, d]] if centre[0] * centre[1] > 0 else [[a, b, d, d], [b, c, d, d]]
-        parts += [p, p]
-    model.connectivity = np.array(rows, dtype=np.int64)
-    model.element_part = np.array(parts, dtype=np.int32)
-    model.element_ids = None
-
-
-SPHERE_RADIUS = 0.05   # the rigid ball (m)
-
-
-def cubed_sphere(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """A sphere of SPHERE_RADIUS centred on the origin, as quads: a cube's six faces, n x n each,
-    pushed out onto the sphere (the corners and edges shared), normals outward."""
-    grid = np.linspace(-1.0, 1.0, n + 1)
-    points: dict[tuple[int, ...], int] = {}
-    coords, quads = [], []
-
-    def node(p: np.ndarray) -> int:
-        key = tuple(np.round(p * n).astype(int))
-        if key not in points:
-            points[key] = len(coords)
-            coords.append(SPHERE_RADIUS * p / np.linalg.norm(p))
-        return points[key]
-
-    for axis in range(3):
-        for sign in (-1.0, 1.0):
-            u, v = (axis + 1) % 3, (axis + 2) % 3
-            for i in range(n):
-                for j in range(n):
-                    corners = []
-                    for di, dj in ((0, 0), (1, 0), (1, 1), (0, 1)):
-                        p = np.zeros(3)
-                        p[axis], p[u], p[v] = sign, grid[i + di], grid[j + dj]
-                        corners.append(node(p))
-                    quads.append(corners if sign > 0 else corners[::-1])
-    return np.array(coords), np.array(quads, dtype=np.int64)
-
-
-def _sphere_file(n: int) -> Path:
-    """The cubed sphere written once as a .vtu file in a cache folder (a scene's mesh is a file)."""
-    import tempfile
-
-    import meshio
-    path = Path(tempfile.gettempdir()) / "paradyn-stability" / f"sphere_{n}.vtu"
-    if not path.exists():
-        path.parent.mkdir(parents=True, exist_ok=True)
-        coords, quads = cubed_sphere(n)
-        meshio.write(path, meshio.Mesh(coords, [("quad", quads)]))
-    return path
-
-
 def sphere_on_plate(coarsen: int) -> Table:
     """A rigid ball (a 5 mm shell sphere of steel's density, 0.05 m radius) thrown at 20 m/s onto the
     middle of the clamped 0.6 m plate, 0.1 mm above it."""
@@ -396,7 +347,7 @@ def sphere_on_plate(coarsen: int) -> Table:
     tables["material"].append({"name": "rigid_steel", "model": "rigid", "density": 7860.0,
                                "youngs_modulus": 200e9, "poisson_ratio": 0.28})
     ball = {"name": "ball", "material": "rigid_steel", "thickness": 0.005, "initial_velocity": [0.0, 0.0, -20.0],
-            "geometry": {"kind": "file", "path": str(_sphere_file(max(2, 8 // coarsen)))}}
+            "geometry": {"kind": "file", "path": str(sphere_file(max(2, 8 // coarsen)))}}
     tables["part"] = [_part(tables, "plate"), ball]
     tables["rigid_body"] = [{"part": "ball"}]
     tables["contact"] = [_contact("plate", "ball")]
@@ -440,11 +391,6 @@ def wall_crush(coarsen: int) -> Table:
     return tables
 
 
-# the square tube (issue 35 item 4): side C, wall t, length L, the paper's steel (sigma_0 = 250 MPa,
-# perfectly plastic), crushed by a rigid wall at 10 m/s
-TUBE_SIDE, TUBE_WALL, TUBE_LENGTH, TUBE_SPEED = 0.05, 1.5e-3, 0.2, 10.0
-
-
 def square_tube(coarsen: int) -> Table:
     """A square tube along z (side TUBE_SIDE at the mid-surface, 16 elements a side, 64 along), its
     bottom ring clamped, crushed by a plane wall closing from the top at TUBE_SPEED; single-surface
@@ -460,40 +406,6 @@ def square_tube(coarsen: int) -> Table:
     tables["rigid_wall"] = [{"point": [0.0, 0.0, TUBE_LENGTH + 1e-4], "normal": [0.0, 0.0, -1.0],
                              "velocity": [0.0, 0.0, -TUBE_SPEED]}]
     return tables
-
-
-def to_square(model: deck.Model) -> None:
-    """Map the cylinder's rings onto a square of side TUBE_SIDE: the node at angle theta from the first
-    node goes to the point at the same fraction of the square's perimeter, so corners are nodes (the
-    count around is a multiple of 4) and each side keeps equal elements."""
-    x = np.asarray(model.coordinates)
-    theta = np.arctan2(x[:, 1], x[:, 0])
-    phase = np.mod(theta - theta[0], 2.0 * np.pi)
-    side = np.floor(phase / (0.5 * np.pi) + 1e-9).astype(int) % 4
-    fraction = phase / (0.5 * np.pi) - side
-    half = TUBE_SIDE / math.sqrt(2.0)          # the corners lie on this circle
-    a0 = theta[0] + 0.5 * np.pi * side
-    corner0 = half * np.stack([np.cos(a0), np.sin(a0)], axis=1)
-    corner1 = half * np.stack([np.cos(a0 + 0.5 * np.pi), np.sin(a0 + 0.5 * np.pi)], axis=1)
-    x[:, :2] = corner0 + fraction[:, None] * (corner1 - corner0)
-    model.coordinates = x
-
-
-def mean_crush_force(results: Any) -> tuple[float, float]:
-    """The moving wall's mean force on the tube over the run (its impulse over the time: the wall moves
-    at a constant speed, so this is the work over the crush distance) and the crush distance (m)."""
-    h = results.history
-    force = -np.asarray(h["rigid_wall_force"])[:, 0, 2]       # the wall pushes the tube down: -fz
-    t = np.asarray(h["time"])
-    mean = float(np.sum(0.5 * (force[1:] + force[:-1]) * np.diff(t)) / (t[-1] - t[0]))
-    return mean, TUBE_SPEED * float(t[-1] - t[0])
-
-
-def abramowicz_jones_force() -> float:
-    """Mean crush force of a square tube in progressive folding, P_m = 13.06 sigma_0 t^2 (C / t)^(1/3)
-    (Abramowicz and Jones 1984, Int. J. Impact Eng. 2(2), from Wierzbicki and Abramowicz's
-    super-folding element with the effective crush distance 0.73 of the fold length)."""
-    return 13.06 * 250e6 * TUBE_WALL**2 * (TUBE_SIDE / TUBE_WALL) ** (1.0 / 3.0)
 
 
 def tube_probe(results: Any, model: deck.Model) -> str:

@@ -53,6 +53,11 @@ REASONS: dict[tuple[str, str], str] = {
 NOTES: dict[str, str] = {}
 
 
+_ELEMENTS = {"full": "the fully integrated element (`element = \"full\"`: what a user picks for a hard case; "
+                     "about 2.5 to 3.5 times the one-point element's cost per element-cycle, docs/performance.md)",
+             "blt": "the one-point element with the physical hourglass form (`--element blt`)"}
+
+
 def _fmt(value: float | None, digits: str = ".3g") -> str:
     return "n/a" if value is None else format(value, digits)
 
@@ -78,7 +83,7 @@ def _commit() -> str:
     return git("rev-parse", "--short=12", "HEAD") + dirty
 
 
-def page(cases: list[Case], outcomes: list[Outcome], command: str, short: bool) -> str:
+def page(cases: list[Case], outcomes: list[Outcome], command: str, short: bool, element: str = "full") -> str:
     head = ("| case | what | energy balance error | peak HG / IE | penetration / thickness | momentum error "
             "| angular momentum change (not judged) | dt (us) | " + " | ".join(CRITERIA)
             + " | overall | cycles | wall (s) |")
@@ -97,7 +102,7 @@ def page(cases: list[Case], outcomes: list[Outcome], command: str, short: bool) 
         "frames' nodal velocities and the lumped masses rebuilt from the deck (a quarter of rho t A per element "
         "and node; their sum is checked against the engine's model mass). n/a: the criterion does not apply "
         "(no contact pair, not a free body, no record with internal energy above the threshold). Every case "
-        "uses the physical hourglass form and the warping correction, one rank and two threads, the automatic "
+        f"uses {_ELEMENTS[element]} and the warping correction, one rank and two threads, the automatic "
         "time step. The cases are built in tests/stability/stability_scenes.py (a new case is one more "
         "`Case` in its list `CASES`); their short variants run "
         "in `make test` (tests/stability/test_stability_short.py).",
@@ -125,20 +130,22 @@ def main() -> None:
     parser.add_argument("--short", action="store_true")
     parser.add_argument("--refine", type=int, default=1,
                         help="multiply every part's element counts (a mesh study; writes no page unless --doc)")
+    parser.add_argument("--element", choices=("full", "blt"), default="full",
+                        help="every part's shell element (default full; blt: one point, physical hourglass form)")
     args = parser.parse_args()
     folder = args.out or Path(tempfile.mkdtemp(prefix="stability_"))
     cases = [BY_NAME[name] for name in args.cases.split(",")]
     outcomes = []
     for case in cases:
         run_folder = folder / case.name
-        model = build_model(case, run_folder, short=args.short, refine=args.refine)
+        model = build_model(case, run_folder, short=args.short, refine=args.refine, element=args.element)
         outcome = run_case(case.name, model, run_folder, case.probe)
         outcomes.append(outcome)
         print(row(case, outcome), flush=True)
     command = "python tests/stability/stability_suite.py " + " ".join(sys.argv[1:])
     doc = args.doc or (ROOT / "docs" / "stability.md" if args.refine == 1 else None)
     if doc is not None:
-        doc.write_text(page(cases, outcomes, command.strip(), args.short))
+        doc.write_text(page(cases, outcomes, command.strip(), args.short, args.element))
         print(f"wrote {doc}")
 
 
