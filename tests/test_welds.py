@@ -24,6 +24,7 @@ import pytest
 import paradyn
 from paradyn.keyword.scene import load_keyword
 from paradyn.running import launch
+from test_keyword import HEAD, MESH
 
 LENGTH = 0.02    # m, each strip's length (4 shells of 5 mm)
 WIDTH = 0.005    # m, the strips' width (1 shell)
@@ -206,3 +207,23 @@ def test_the_scene_form_welds_and_lets_go_alike(tmp_path: Path) -> None:
     load, failed, _ = _failure_load(_run(model, tmp_path / "scene"), 60.0)
     assert load == pytest.approx(30.0, rel=0.01)
     assert failed[-1] == 2.0
+
+
+def test_a_generalized_weld_reads_its_failure_in_the_deck_units(tmp_path: Path) -> None:
+    """*CONSTRAINED_GENERALIZED_WELD_SPOT in mm, ms, kg (forces in kN): card 2's TFAIL 5 ms,
+    SN 2 kN, SS 1.5 kN, N 0 (read as 2), M 3 become 0.005 s, 2000 N, 1500 N, (2, 3); the force is
+    the set's first node's (12), the normal from it to the second (15): +y; EPSF is warned."""
+    weld = ("*SET_NODE_LIST\n         4\n        12        15\n*CONSTRAINED_GENERALIZED_WELD_SPOT\n"
+            "         1         4\n       5.0       0.1       2.0       1.5       0.0       3.0\n")
+    path = tmp_path / "generalized.k"
+    path.write_text(HEAD.replace("*KEYWORD\n", "*KEYWORD\n*CONTROL_UNITS\n        mm        ms        kg\n")
+                    + MESH + weld + "*END\n")
+    read = load_keyword(path)
+    model = read.model
+    assert model.rigid_body_part.tolist() == [-1]
+    np.testing.assert_allclose(model.rigid_body_failure_force, [[2000.0, 1500.0]], rtol=1e-12)
+    np.testing.assert_allclose(model.rigid_body_failure_exponent, [[2.0, 3.0]])
+    np.testing.assert_allclose(model.rigid_body_failure_time, [0.005], rtol=1e-12)
+    assert int(np.asarray(model.node_ids)[model.rigid_body_failure_node[0]]) == 12
+    np.testing.assert_allclose(model.rigid_body_failure_normal, [[0.0, 1.0, 0.0]], atol=1e-12)
+    assert any("EPSF" in w for w in read.warnings)

@@ -456,7 +456,7 @@ def _parse_prescribe(r: _Reader, t: dict[str, Any], index: int) -> PrescribeSpec
 
 def _check_load_references(r: _Reader, scene: Scene) -> None:
     """Curves are uniquely named; pressures and prescribed velocities name defined parts and curves."""
-    _unique(r, [c.name for c in scene.curves], "curve")
+    r.unique([c.name for c in scene.curves], "curve")
     parts, curves = [p.name for p in scene.parts], [c.name for c in scene.curves]
     for kind, items in (("pressure", scene.pressures), ("prescribe", scene.prescribed)):
         for index, item in enumerate(items):
@@ -471,9 +471,9 @@ def _check_load_references(r: _Reader, scene: Scene) -> None:
 
 
 def _check_references(r: _Reader, scene: Scene) -> None:
-    _unique(r, [m.name for m in scene.materials], "material")
-    _unique(r, [p.name for p in scene.parts], "part")
-    _unique(r, [t.name for t in scene.tracks], "track")
+    r.unique([m.name for m in scene.materials], "material")
+    r.unique([p.name for p in scene.parts], "part")
+    r.unique([t.name for t in scene.tracks], "track")
     if not scene.parts:
         raise r.error("the scene has no [[part]]; add at least one part with a geometry")
     materials = [m.name for m in scene.materials]
@@ -494,11 +494,3 @@ def _check_references(r: _Reader, scene: Scene) -> None:
             for name in (name for name in names if name not in parts):
                 raise r.error(f"[[{kind}]] #{index + 1} names part '{name}', which is not defined; "
                               f"{did_you_mean(name, parts)}(parts: {', '.join(parts)})")
-
-
-def _unique(r: _Reader, names: list[str], kind: str) -> None:
-    seen: set[str] = set()
-    for name in names:
-        if name in seen:
-            raise r.error(f"two [[{kind}]] entries are named '{name}'; names must be unique")
-        seen.add(name)

@@ -119,6 +119,14 @@ class _Reader:
             raise self.error(f"'{key}' in {label} must be two positive integers [nx, ny], got {value!r}")
         return (value[0], value[1])
 
+    def unique(self, names: list[str], kind: str) -> None:
+        """Refuse two entries of ``[[kind]]`` with one name."""
+        seen: set[str] = set()
+        for name in names:
+            if name in seen:
+                raise self.error(f"two [[{kind}]] entries are named '{name}'; names must be unique")
+            seen.add(name)
+
 
 def _kind(value: Any) -> str:
     return {list: "an array", dict: "a table", str: "a string"}.get(type(value), type(value).__name__)
