@@ -6,8 +6,10 @@ checkpoint rows, and the frames' fields from its four in-plane points.
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
+import h5py
 import numpy as np
 import pytest
 
@@ -15,9 +17,11 @@ import models as M
 import paradyn
 import report_full_shell as R
 import shell_obstacles as S
+import test_checkpoint as C
 import test_verification as V
 import test_warping as W
 from paradyn.deck import Control
+from paradyn.running import launch
 from paradyn.scene import build_model, load_scene
 
 STEEL = M.Material(young=200.0e9, poisson=0.0, density=7850.0)
@@ -180,3 +184,34 @@ def test_undamped_warped_shell_conserves_energy_at_the_default_step(tmp_path: Pa
     assert h["internal_energy"].max() > 0.1 * np.abs(h["external_work"]).max()
     assert np.abs(stored - h["external_work"]).max() < 1e-5 * np.abs(h["external_work"]).max()
     assert np.all(h["hourglass_energy"] == 0.0)
+
+
+@pytest.mark.mpi
+def test_restart_of_a_mixed_model_is_bitwise(tmp_path: Path) -> None:
+    """Checkpoint rows (docs/formats.md): the pipe whip of tests/test_checkpoint.py with the upper,
+    hardening pipe (back stresses) fully integrated, 4 x 5 points per element, and the lower one
+    on the one-point element; a restart from the 0.3 ms checkpoint on 1 and on 2 ranks continues
+    the uninterrupted run bitwise (frames and tracked nodes), the upper pipe yielding by then."""
+    def deck_file(name: str, **control: float) -> Path:
+        path = C._hardening_pipe_whip(tmp_path, name, 0.5, **control)
+        with h5py.File(path, "r+") as f:
+            if "shell_element" in f["/parts"]:
+                del f["/parts/shell_element"]
+            f["/parts/shell_element"] = np.array([2, 1], dtype=np.int32)
+        return path
+    plain = deck_file("plain.h5")
+    with_checkpoints = deck_file("deck.h5", checkpoint_interval=C.CHECKPOINT_INTERVAL)
+    launch.run_engine(plain, tmp_path / "reference.h5")
+    launch.run_engine(with_checkpoints, tmp_path / "results.h5")
+    reference = C._read(tmp_path / "reference.h5")
+    assert reference["frames/element_plastic_strain"][2].max() > 0.0
+    assert np.all(reference["history/part_hourglass_energy"][:, 0] == 0.0)   # the upper pipe
+    for ranks in (1, 2):
+        target = tmp_path / f"restart_{ranks}.h5"
+        C._interrupted_copy(tmp_path / "results.h5", target)
+        shutil.copy(tmp_path / "results.checkpoint.h5", tmp_path / f"restart_{ranks}.checkpoint.h5")
+        launch.run_engine(with_checkpoints, target, ranks, 1, restart=True)
+        data = C._read(target)
+        for key in ("frames/displacement", "frames/velocity", "frames/element_plastic_strain",
+                    "history/tracked_displacement"):
+            assert np.array_equal(data[key], reference[key]), (ranks, key)

@@ -157,8 +157,9 @@ def test_the_mixed_kernel_benchmark_runs_in_single(tmp_path: Path) -> None:
     done = subprocess.run([str(bench), "512", "30"], capture_output=True, text=True, check=True)
     assert "element kernel in single precision" in done.stdout
     rates = [float(line.split(":")[1].split()[0]) for line in done.stdout.splitlines() if "us per" in line]
-    # 4 quadrilateral and 4 triangle lines, 2 piecewise_linear; -1: a NaN or an inverted element; -2: never yielded
-    assert len(rates) == 10 and min(rates) > 0
+    # 4 quadrilateral, 2 fully integrated and 4 triangle lines, 2 piecewise_linear; -1: a NaN or an
+    # inverted element; -2: never yielded
+    assert len(rates) == 12 and min(rates) > 0
     updates = [float(x) for x in re.findall(r"(-?[\d.]+) ns per point update", done.stdout)]
     assert len(updates) == 5 and min(updates) > 0   # the stress update alone; -1: a point never yielded
 
