@@ -12,8 +12,9 @@ Checks:
   B's upper edge (the strips end up overlapping by more than a wall), and no contact force acts;
 - with ``edges = true`` the strips stay apart: the deepest penetration stays below 0.2 t (the
   stability suite's criterion) and A's lower edge ends above B's upper edge;
-- the deck kind ``edge_to_edge`` (what ``edges = true`` writes) gives bitwise the same frames and
-  contact histories on one and two ranks (the edge passes run in the replicated scheme there).
+- the deck kind ``edge_to_edge`` (what ``edges = true`` writes), and a single-surface contact of
+  both strips with edges, give bitwise the same frames and contact histories on one and two ranks
+  (the edge passes run in the replicated scheme there).
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ H = 2.0e-3          # element size (m)
 GAP = 1.0e-4        # clearance between the contact surfaces at the start (m)
 
 
-def _scene(edges: bool) -> str:
+def _scene(edges: bool, single: bool = False) -> str:
     z0 = T + GAP     # A's lower edge: a wall (two half walls) plus the gap above B's upper edge at z = 0
     return f"""
 title = "edge-first crossing of two thin strips"
@@ -80,18 +81,19 @@ v_axis = [0.0, 0.0, 1.0]
 [[contact]]
 parts = ["a", "b"]
 edges = {"true" if edges else "false"}
+{'kind = "single_surface"' if single else ""}
 """
 
 
-def _model(tmp_path: Path, edges: bool) -> deck.Model:
-    path = tmp_path / f"strips_{edges}.toml"
-    path.write_text(_scene(edges))
+def _model(tmp_path: Path, edges: bool, single: bool = False) -> deck.Model:
+    path = tmp_path / f"strips_{edges}_{single}.toml"
+    path.write_text(_scene(edges, single))
     return scene.build_model(scene.load_scene(path))
 
 
-def _run(tmp_path: Path, edges: bool, ranks: int = 1) -> dict[str, np.ndarray]:
-    model = _model(tmp_path, edges)
-    folder = tmp_path / f"run_{edges}_{ranks}"
+def _run(tmp_path: Path, edges: bool, ranks: int = 1, single: bool = False) -> dict[str, np.ndarray]:
+    model = _model(tmp_path, edges, single)
+    folder = tmp_path / f"run_{edges}_{ranks}_{single}"
     folder.mkdir(exist_ok=True)
     path = deck.write_deck(model, folder / "deck.h5")
     launch.run_engine(path, folder / "results.h5", ranks, 1)
@@ -128,9 +130,19 @@ def test_thin_strips_crossing_edge_first_stay_apart_only_with_edges(tmp_path: Pa
 
 
 @pytest.mark.mpi
-def test_edge_contact_is_bitwise_on_one_and_two_ranks(tmp_path: Path) -> None:
-    one = _run(tmp_path, True, ranks=1)
-    two = _run(tmp_path, True, ranks=2)
+@pytest.mark.parametrize("single", [False, True], ids=["pair", "single_surface"])
+def test_edge_contact_is_bitwise_on_one_and_two_ranks(tmp_path: Path, single: bool) -> None:
+    """edge_to_edge, and a single_surface contact of both strips with edges (each strip's
+    single_surface_edges definition and their edge_to_edge pair): the same frames and contact histories
+    on one and two ranks; the single surface keeps the strips apart as the pair does."""
+    one = _run(tmp_path, True, ranks=1, single=single)
+    two = _run(tmp_path, True, ranks=2, single=single)
+    if single:
+        kinds = _model(tmp_path, True, True).contact_kind.tolist()
+        assert sorted(kinds) == sorted([ENUMS["contact_kind"]["single_surface_edges"]] * 2
+                                       + [ENUMS["contact_kind"]["edge_to_edge"]])
+        assert one["/history/contact_penetration"].max() < 0.2 * T
+        assert np.all(one["a_lowest"] > one["b_highest"])
     assert one["/history/contact_penetration"].max() > 0.0
     # the exact histories and the frames (the kinetic energy is a sum over each rank's nodes: not exact)
     for name in ("/frames/displacement", "/frames/velocity", "/history/contact_penetration", "/history/contact_energy"):
