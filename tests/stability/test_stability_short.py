@@ -3,10 +3,12 @@ coarse mesh and short end time (about half a second each), asserting only the cr
 variant meets. The full cases and their pass / fail are in docs/stability.md (``make stability``).
 
 The cases run the fully integrated element (stability_scenes.build_model), which has no hourglass
-energy, so the hourglass criterion holds everywhere. Criteria not asserted here, and why (what the
-short runs show; see docs/stability.md for the full runs): penetration / thickness above 0.20 on
-thin_1000 (0.08 mm walls; with the edge contact an edge pair is pushed through on the coarse mesh:
-docs/contact-edges.md) and on the 100 m/s crush (0.49 on the coarse mesh).
+energy, so the hourglass criterion holds everywhere but on the tube crush, which keeps the one-point
+element (with the fully integrated one an element of a fold turns inside out at 9 mm of crush).
+Criteria not asserted here, and why (what the short runs show; see docs/stability.md for the full
+runs): penetration / thickness above 0.20 on thin_1000 (0.08 mm walls; with the edge contact an edge
+pair is pushed through on the coarse mesh: docs/contact-edges.md) and on the 100 m/s crush (0.49 on
+the coarse mesh); peak hourglass / internal above 0.10 on the tube crush's one-point element.
 """
 
 from __future__ import annotations
@@ -36,7 +38,7 @@ MEETS: dict[str, tuple[str, ...]] = {
     "crush_100": ("finishes", "finite", "balance", "hourglass"),
     "mixed_mesh": ("finishes", "finite", "balance", "hourglass", "penetration"),
     "sphere_plate": ("finishes", "finite", "balance", "hourglass", "penetration"),
-    "tube_crush": ("finishes", "finite", "balance", "hourglass", "penetration"),
+    "tube_crush": ("finishes", "finite", "balance", "penetration"),
 }
 FREE = {"sliding_friction", "spinning_pipe", "fig3"}
 
@@ -49,7 +51,8 @@ def test_every_case_has_its_short_expectations() -> None:
 @pytest.mark.parametrize("name", [case.name for case in CASES])
 def test_short_variant_meets_its_criteria(name: str, tmp_path: Path) -> None:
     model = build_model(BY_NAME[name], tmp_path, short=True)
-    assert np.all(model.shell_element == ENUMS["shell_element"]["full"]) or BY_NAME[name].paper_element
+    element = BY_NAME[name].element or "full"
+    assert np.all(model.shell_element == ENUMS["shell_element"][element]) or BY_NAME[name].paper_element
     outcome = run_case(name, model, tmp_path)
     failed = {c: outcome.passed[c] for c in MEETS[name] if outcome.passed[c] is not True}
     assert failed == {}, f"{name}: {outcome}"

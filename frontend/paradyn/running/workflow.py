@@ -150,8 +150,8 @@ def run(
     folder = _Folder(force=force, results_name=results_name)
     out, deck_path, started = _prepare(source, out, ranks, threads, runner, restart, batch, display, folder, started)
     if batch:
-        post_command = _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None
-        return _write_batch_job(runner, deck_path, out / results_name, ranks, threads, post_command)
+        return _write_batch_job(runner, deck_path, out / results_name, ranks, threads,
+                                _post_command(out, vtk=vtk, plots=plots, vtk_series=vtk_series) if post else None)
     on_progress = display if display is not None else (progress if callable(progress) else None)
     asked = {"vtk": vtk, "history": history, "summary": summary, "plots": plots, "vtk_series": vtk_series}
     finish = _Finish(out / results_name, deck_path, display, post, _source_name(source), extra, asked, folder.warnings)
@@ -160,14 +160,20 @@ def run(
                                        log_path=out / log_name if log_name else None, restart=restart, runner=runner,
                                        on_warning=display.warning if display is not None else _engine_warning,
                                        on_done=finish, started=started)
-    except RunStopped as stop:
+    except RunStopped as stop:   # the stop names the call that continues it
         raise stop.continuing(_source_text(source), out) from None
     finally:
-        if started is not None:   # a failure before the engine was told to go must not leave it waiting
-            started.cancel()
-        if display is not None:
-            display.close()
+        _close(started, display)
     return finish.results if finish.results is not None else finish(engine_run)
+
+
+def _close(started: launch.AwaitingEngine | None, display: RunProgress | None) -> None:
+    """After the engine: an engine started early but never told to go is ended (a failure before
+    the run must not leave it waiting), and the progress display closed."""
+    if started is not None:
+        started.cancel()
+    if display is not None:
+        display.close()
 
 
 def _source_text(source: Source) -> str:
