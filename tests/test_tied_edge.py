@@ -10,7 +10,7 @@ at 5 ms. The moment of that pull about the joint line goes into the flange throu
 - Reference: the same T with shared nodes (each web node on the joint welded to the flange node
   it lies on: a rigid body of two coincident nodes, which is the merged node to rounding).
 - Tied: the web joined by a tied contact (its places) and rotation ties (its rotations): the tip
-  deflection within 2 % of the reference's (issue 32).
+  deflection within 1 % of the reference's (issue 32: 2 %).
 - Tied without the rotation ties: a hinge along the joint line, the web swings away (more than
   3 times the reference's deflection at the end, and growing): the moment needs the rotation ties.
 """
@@ -81,13 +81,14 @@ def tips(tmp_path_factory: pytest.TempPathFactory) -> dict[str, np.ndarray]:
 
 
 def test_a_tied_edge_bends_as_the_shared_node_joint(tips: dict[str, np.ndarray]) -> None:
-    """The tip's sideways deflection at the quasi-static end within 2 % of the shared-node T's
-    (measured: +1.4 %, the tie's penalty spring); with a web of 12 shells along x, its nodes between
-    the flange's, within 3 % (+2.6 %, the web's finer mesh included)."""
+    """The tip's sideways deflection at the quasi-static end within 1 % of the shared-node T's
+    (issue 32 asks 2 %; measured +0.06 %), and with a web of 12 shells along x, its nodes between
+    the flange's, too (+0.25 %, the web's finer mesh included). A tie that turned the clamped
+    flange nodes it shares a segment with (a held rotation taking impulses) is off by 1.4 %."""
     reference = tips["welded"][-1, 1]
     assert reference > 1e-5
-    assert tips["tied"][-1, 1] == pytest.approx(reference, rel=0.02)
-    assert tips["tied_12"][-1, 1] == pytest.approx(reference, rel=0.03)
+    assert tips["tied"][-1, 1] == pytest.approx(reference, rel=0.01)
+    assert tips["tied_12"][-1, 1] == pytest.approx(reference, rel=0.01)
 
 
 def test_without_rotation_ties_the_joint_is_a_hinge(tips: dict[str, np.ndarray]) -> None:

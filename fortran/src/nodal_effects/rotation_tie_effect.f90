@@ -2,7 +2,7 @@
 !> bodies): the tied nodes' angular velocities and rotary inertias are gathered from their owners
 !> (one owner each, the others add zero: the sum is exact), every rank holds every tie by the same
 !> impulses (rotation_ties), and each keeps the nodes it holds. The result is the same on any
-!> layout; the cost is one reduction of four numbers per tied node, in proportion to the ties.
+!> layout; the cost is one reduction of six numbers per tied node, in proportion to the ties.
 module rotation_tie_effect
   use mpi_f08
   use paradyn_kinds, only: wp
@@ -72,19 +72,19 @@ contains
     class(rotation_tie_effect_t), intent(inout) :: e
     type(nodal_state_t), intent(inout) :: ns
     real(wp), intent(in) :: time, dt, dt_previous
-    real(wp) :: values(4, size(e%local)), work
+    real(wp) :: values(6, size(e%local)), work
     integer :: u, j, n_ranks
-    values = 0.0_wp
+    values = 0.0_wp   ! per tied node: w, then 1 / its rotary inertia about each axis (0: held)
     do u = 1, size(e%local)
       j = e%local(u)
       if (j == 0) cycle
       if (ns%weight(j) == 0.0_wp) cycle
       values(1:3, u) = ns%w(:, j)
-      values(4, u) = ns%inertia(j)
+      if (ns%inertia(j) > 0.0_wp) values(4:6, u) = merge(0.0_wp, 1.0_wp / ns%inertia(j), ns%fixed(4:6, j) /= 0)
     end do
     call MPI_Comm_size(e%comm, n_ranks)
     if (n_ranks > 1) call MPI_Allreduce(MPI_IN_PLACE, values, size(values), MPI_DOUBLE_PRECISION, MPI_SUM, e%comm)
-    call tie_rotations(e%slave, e%masters, e%weight, values(4, :), values(1:3, :), work)
+    call tie_rotations(e%slave, e%masters, e%weight, values(4:6, :), values(1:3, :), work)
     if (e%rank == 0) e%work = e%work + work
     do u = 1, size(e%local)
       j = e%local(u)
