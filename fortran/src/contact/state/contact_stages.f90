@@ -344,20 +344,31 @@ contains
   !> (edge_penalty) with the segment's penalty stiffness, capped so that the spring's frequency on
   !> the four nodes stays within the bound of a node's spring (below). The record names the slave edge's two nodes, the
   !> master edge's two and the last again with no force (record_nodes has five). No record where no
-  !> edge crosses within reach. Called by one thread per candidate.
+  !> edge crosses within reach; where every edge met is clear, the clearance is kept and spares the
+  !> search while it holds (still_clear), as for a node. Called by one thread per candidate.
   subroutine edge_record(c, pass, k)
     type(contact_t), intent(inout) :: c
-    type(contact_pass_t), intent(in) :: pass
+    type(contact_pass_t), intent(inout) :: pass
     integer, intent(in) :: k
     integer :: j, m, a1, a2, b1, b2, segment, corner
-    real(wp) :: penetration, stiffness, force(3, 4), s, u, inverse_mass
+    real(wp) :: penetration, stiffness, force(3, 4), s, u, inverse_mass, clearance
     logical :: touching
     j = c%candidates(1, k)
     m = c%candidates(2, k)
+    if (still_clear(pass, j, pass%masters(m), c%n_sorts, c%moved)) return
     a1 = pass%slave_at(j)
     a2 = pass%slave_other_at(j)
     call deepest_edge_crossing(c%x, a1, a2, pass%segment_at, pass%segment_list, pass%segment_start(m), &
-                               pass%segment_start(m + 1) - 1, pass%t_slave, pass%t_master, segment, corner, penetration)
+                               pass%segment_start(m + 1) - 1, pass%t_slave, pass%t_master, segment, corner, penetration, &
+                               clearance)
+    ! clear: the distance of two edges changes by at most the sum of their nodes' movements, which
+    ! still_clear bounds as it does a node's (this slave's entry only: no other thread writes it)
+    if (clearance > 0.0_wp .and. clearance < huge(1.0_wp) .and. c%moved < huge(1.0_wp)) then
+      pass%clear_master(j) = pass%masters(m)
+      pass%clear_sort(j) = c%n_sorts
+      pass%clear_gap(j) = clearance
+      pass%clear_moved(j) = c%moved
+    end if
     if (segment == 0) return
     b1 = pass%segment_at(corner, segment)
     b2 = pass%segment_at(mod(corner, 4) + 1, segment)
