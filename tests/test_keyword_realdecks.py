@@ -74,18 +74,21 @@ def test_the_beer_can_runs_explicitly_with_its_point_loads(tmp_path: Path) -> No
 
 
 @needs
-def test_the_beer_can_buckles_near_the_classical_load(tmp_path: Path) -> None:
+@pytest.mark.slow
+def test_the_beer_can_buckles_above_the_classical_load(tmp_path: Path) -> None:
     """The can (R = 1.5, t = 0.002, E = 1e7, nu = 0.33: the deck's inch-lbf-s numbers, read as they
-    are) under its 76 nodal loads of 13.1579 each, ramped over 20 ms instead of the deck's 1 s
-    (SFA = 0.02: 400 of the can's axial periods, still quasi-static; the 1 s ramp is 4.2 M steps).
-    The support's reaction (history reaction_force) follows the applied load P(t) to 5 % (the
-    ramp's start rings about 3 %) until 0.8 of the classical buckling load of an axially compressed
-    cylinder, P_cl = 2 pi E t^2 / sqrt(3 (1 - nu^2)) = 153.7 (Timoshenko and Gere, Theory of
-    Elastic Stability, 1961, sec. 11.4), peaks between 1.0 and 1.35 P_cl (the mesh, 0.12 to 0.17
-    wide, is coarser than the classical axisymmetric half-wave 1.72 sqrt(R t) = 0.094, so it
-    buckles above P_cl), then falls behind the load: the can has buckled. The run stops at 4.2 ms,
-    before the collapsing can turns an element inside out."""
-    read = load_keyword(_explicit_beer_can(tmp_path, "0.0042", curve_time_scale="0.02"))
+    are; ELFORM -16: the fully integrated element) under its 76 nodal loads of 13.1579 each, ramped
+    over 20 ms instead of the deck's 1 s (SFA = 0.02: 400 of the can's axial periods, still
+    quasi-static; the 1 s ramp is 4.2 M steps). The support's reaction (history reaction_force)
+    follows the applied load P(t) to 5 % (the ramp's start rings about 3 %) until 0.8 of the
+    classical buckling load of an axially compressed cylinder, P_cl = 2 pi E t^2 / sqrt(3 (1 - nu^2))
+    = 153.7 (Timoshenko and Gere, Theory of Elastic Stability, 1961, sec. 11.4); it peaks above P_cl
+    (measured 1.63 P_cl at 5.0 ms; 1.18 with the one-point element): the mesh, 0.12 to 0.17 wide,
+    is coarser than the classical axisymmetric half-wave 1.72 sqrt(R t) = 0.094, so it cannot take the
+    classical mode and buckles higher; a locking element would go far higher, so the peak is bounded
+    by 2 P_cl. By 5.3 ms the can has buckled: the reaction falls below 0.9 of the load. Run on, the
+    collapsing can crushes an element at 5.46 ms (the deck's load is a force that keeps pushing)."""
+    read = load_keyword(_explicit_beer_can(tmp_path, "0.0053", curve_time_scale="0.02"))
     res = paradyn.run(read.model, tmp_path / "run", ranks=1, threads=2, post=False)
     assert res.complete
     t = res.history["time"]
@@ -96,5 +99,5 @@ def test_the_beer_can_buckles_near_the_classical_load(tmp_path: Path) -> None:
     assert early.sum() > 10
     assert np.allclose(reaction[early], applied[early], rtol=0.05)   # the ramp start rings about 3 %
     peak = int(np.argmax(reaction))
-    assert 1.0 * classical < reaction[peak] < 1.35 * classical, reaction[peak] / classical
+    assert 1.0 * classical < reaction[peak] < 2.0 * classical, reaction[peak] / classical
     assert reaction[-1] < 0.9 * applied[-1]
