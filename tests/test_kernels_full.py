@@ -254,3 +254,46 @@ def test_full_thin_plate_does_not_lock(ratio: float) -> None:
     kirchhoff = 0.00406235 * a**4 / d
     w = plate_centre_deflection(12, t, a)
     assert w == pytest.approx(kirchhoff, rel=0.03)
+
+
+def _corner_turns_and_point_jacobians(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A flat quad's corner turns (cross product of its two edges at each corner) and the bilinear
+    map's Jacobian determinants at the 2 x 2 Gauss points."""
+    def turn(k: int) -> float:
+        a, b = q[(k + 1) % 4] - q[k], q[(k + 3) % 4] - q[k]
+        return float(a[0] * b[1] - a[1] * b[0])
+    turns = np.array([turn(k) for k in range(4)])
+    g = 1.0 / np.sqrt(3.0)
+    xi_n, eta_n = np.array([-1.0, 1.0, 1.0, -1.0]), np.array([-1.0, -1.0, 1.0, 1.0])
+    dets = []
+    for xi, eta in ((-g, -g), (g, -g), (g, g), (-g, g)):
+        d_xi = 0.25 * xi_n * (1.0 + eta_n * eta)
+        d_eta = 0.25 * eta_n * (1.0 + xi_n * xi)
+        dets.append(np.linalg.det(np.array([[d_xi @ q[:, 0], d_xi @ q[:, 1]], [d_eta @ q[:, 0], d_eta @ q[:, 1]]])))
+    return turns, np.array(dets)
+
+
+def test_full_element_past_convex_keeps_working_while_its_points_are_valid() -> None:
+    """Reference: the isoparametric patch test holds wherever the map's Jacobian is positive at the
+    quadrature points (Irons; Zienkiewicz & Taylor): a quad squashed past convex at one corner (as the
+    first fold of a crushed tube squashes them) still reproduces a constant membrane strain exactly and
+    is not counted inverted; a bow-tie, whose Jacobian changes sign at a point, is."""
+    squashed = 0.05 * np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.45, 0.45, 0.0], [0.0, 1.0, 0.0]])
+    turns, dets = _corner_turns_and_point_jacobians(squashed[:, :2])
+    assert turns.min() < 0.0 < dets.min()
+    a, b, c = 1.0e-3, 0.5e-3, 2.0e-3
+    v = np.column_stack([a * squashed[:, 0] + b * squashed[:, 1], b * squashed[:, 0] + c * squashed[:, 1],
+                         np.zeros(4)])
+    dt = 1e-9
+    state = _kernel_state(1)
+    force, inverted = _full_step((squashed + 0.5 * dt * v)[None], v[None], np.zeros((1, 4, 3)), dt, state)
+    assert inverted == 0
+    layers = state["stress"].reshape(5, 4, NIP)
+    trace = layers[0] + layers[1]
+    assert np.abs(trace - trace[0, 0]).max() <= 1e-9 * np.abs(trace).max()
+    assert np.abs(force[0, :, :3].sum(axis=0)).max() <= 1e-9 * np.abs(force).max()
+    bow_tie = squashed[[0, 1, 3, 2]]
+    turns, dets = _corner_turns_and_point_jacobians(bow_tie[:, :2])
+    assert dets.min() < 0.0
+    _, inverted = _full_step(bow_tie[None], np.zeros((1, 4, 3)), np.zeros((1, 4, 3)), dt, _kernel_state(1))
+    assert inverted == 1

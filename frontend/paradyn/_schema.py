@@ -593,6 +593,16 @@ DATASETS: tuple[DatasetSpec, ...] = (
         'use a penalty scale factor such as 0.1 (the default)',
     ),
     DatasetSpec(
+        '/contact/soft_constraint', 'contact_soft_constraint', 'float', ('n_contacts',), False, None, None, 0.0,
+        Bound(0.0, True), Bound(10.0, True), 'must be in [0, 10]', None, '', None, False, '-',
+        (
+            '0 = off; the soft-constraint scale s (LS-DYNA SOFT = 1, SOFSCL): the penalty spring is at least s m '
+            '/ (2 dt^2), m the lightest node of the slave and its segment and dt the current step, so that thin '
+            "or soft walls against stiff ones get a spring that follows the nodes' masses rather than the "
+            "material's bulk modulus (still capped at the stable m / (4 dt^2))"
+        ), '[[contact]] soft_constraint', "use 0 (off) or a scale such as 0.1 (LS-DYNA's SOFSCL default)",
+    ),
+    DatasetSpec(
         '/contact/static_friction', 'contact_static_friction', 'float', ('n_contacts',), False, None, None, 0.0,
         Bound(0.0, True), None, 'must be >= 0', None, '', None, False, '-', 'Coulomb coefficient at rest',
         '[[contact]] static_friction', 'give a Coulomb coefficient >= 0',
@@ -1215,6 +1225,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/output/tracked_nodes'): ('class', 'shape', 'reference'),
     ('dataset', '/contact/pairs'): ('required_when', 'class', 'shape', 'reference'),
     ('dataset', '/contact/penalty_scale'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/contact/soft_constraint'): ('class', 'shape', 'rows', 'lower', 'upper', 'finite'),
     ('dataset', '/contact/static_friction'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/contact/dynamic_friction'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/contact/friction_decay'): ('class', 'shape', 'rows', 'lower', 'finite'),

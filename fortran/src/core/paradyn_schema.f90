@@ -42,16 +42,16 @@ module paradyn_schema
       dataset_materials_rate_p, dataset_materials_hardening_curve, dataset_materials_rate_curve, &
       dataset_materials_failure_strain, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
       dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
-      dataset_contact_penalty_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
-      dataset_contact_initial_penetration, dataset_contact_birth_time, dataset_contact_death_time, &
-      dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_shape, &
-      dataset_rigid_walls_edge, dataset_rigid_walls_size, dataset_rigid_walls_radius, &
-      dataset_rigid_walls_length, dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, &
-      dataset_rigid_walls_friction, dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, &
-      dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, &
-      dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, dataset_rigid_bodies_given_mass, &
-      dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
+      dataset_contact_penalty_scale, dataset_contact_soft_constraint, dataset_contact_static_friction, &
+      dataset_contact_dynamic_friction, dataset_contact_friction_decay, dataset_contact_passes, &
+      dataset_contact_kind, dataset_contact_initial_penetration, dataset_contact_birth_time, &
+      dataset_contact_death_time, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
+      dataset_rigid_walls_shape, dataset_rigid_walls_edge, dataset_rigid_walls_size, &
+      dataset_rigid_walls_radius, dataset_rigid_walls_length, dataset_rigid_walls_velocity, &
+      dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, dataset_rigid_wall_nodes_wall, &
+      dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, &
+      dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
+      dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
       dataset_rigid_bodies_failure_force, dataset_rigid_bodies_failure_exponent, &
       dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_node, &
       dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, dataset_rotation_ties_masters, &
@@ -245,56 +245,57 @@ module paradyn_schema
   integer, parameter :: dataset_output_tracked_nodes = 38
   integer, parameter :: dataset_contact_pairs = 39
   integer, parameter :: dataset_contact_penalty_scale = 40
-  integer, parameter :: dataset_contact_static_friction = 41
-  integer, parameter :: dataset_contact_dynamic_friction = 42
-  integer, parameter :: dataset_contact_friction_decay = 43
-  integer, parameter :: dataset_contact_passes = 44
-  integer, parameter :: dataset_contact_kind = 45
-  integer, parameter :: dataset_contact_initial_penetration = 46
-  integer, parameter :: dataset_contact_birth_time = 47
-  integer, parameter :: dataset_contact_death_time = 48
-  integer, parameter :: dataset_rigid_walls_point = 49
-  integer, parameter :: dataset_rigid_walls_normal = 50
-  integer, parameter :: dataset_rigid_walls_shape = 51
-  integer, parameter :: dataset_rigid_walls_edge = 52
-  integer, parameter :: dataset_rigid_walls_size = 53
-  integer, parameter :: dataset_rigid_walls_radius = 54
-  integer, parameter :: dataset_rigid_walls_length = 55
-  integer, parameter :: dataset_rigid_walls_velocity = 56
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 57
-  integer, parameter :: dataset_rigid_walls_friction = 58
-  integer, parameter :: dataset_rigid_wall_nodes_wall = 59
-  integer, parameter :: dataset_rigid_wall_nodes_node = 60
-  integer, parameter :: dataset_rigid_bodies_part = 61
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 62
-  integer, parameter :: dataset_rigid_bodies_prescribed = 63
-  integer, parameter :: dataset_rigid_bodies_velocity = 64
-  integer, parameter :: dataset_rigid_bodies_curve = 65
-  integer, parameter :: dataset_rigid_bodies_given_mass = 66
-  integer, parameter :: dataset_rigid_bodies_given_centre = 67
-  integer, parameter :: dataset_rigid_bodies_given_inertia = 68
-  integer, parameter :: dataset_rigid_bodies_failure_force = 69
-  integer, parameter :: dataset_rigid_bodies_failure_exponent = 70
-  integer, parameter :: dataset_rigid_bodies_failure_time = 71
-  integer, parameter :: dataset_rigid_bodies_failure_node = 72
-  integer, parameter :: dataset_rigid_bodies_failure_normal = 73
-  integer, parameter :: dataset_rotation_ties_node = 74
-  integer, parameter :: dataset_rotation_ties_masters = 75
-  integer, parameter :: dataset_rotation_ties_weights = 76
-  integer, parameter :: dataset_curves_first_point = 77
-  integer, parameter :: dataset_curves_time = 78
-  integer, parameter :: dataset_curves_value = 79
-  integer, parameter :: dataset_pressure_part = 80
-  integer, parameter :: dataset_pressure_value = 81
-  integer, parameter :: dataset_pressure_curve = 82
-  integer, parameter :: dataset_prescribed_node = 83
-  integer, parameter :: dataset_prescribed_dof = 84
-  integer, parameter :: dataset_prescribed_value = 85
-  integer, parameter :: dataset_prescribed_curve = 86
-  integer, parameter :: dataset_base_accelerations_direction = 87
-  integer, parameter :: dataset_base_accelerations_value = 88
-  integer, parameter :: dataset_base_accelerations_curve = 89
-  integer, parameter :: n_deck_datasets = 89
+  integer, parameter :: dataset_contact_soft_constraint = 41
+  integer, parameter :: dataset_contact_static_friction = 42
+  integer, parameter :: dataset_contact_dynamic_friction = 43
+  integer, parameter :: dataset_contact_friction_decay = 44
+  integer, parameter :: dataset_contact_passes = 45
+  integer, parameter :: dataset_contact_kind = 46
+  integer, parameter :: dataset_contact_initial_penetration = 47
+  integer, parameter :: dataset_contact_birth_time = 48
+  integer, parameter :: dataset_contact_death_time = 49
+  integer, parameter :: dataset_rigid_walls_point = 50
+  integer, parameter :: dataset_rigid_walls_normal = 51
+  integer, parameter :: dataset_rigid_walls_shape = 52
+  integer, parameter :: dataset_rigid_walls_edge = 53
+  integer, parameter :: dataset_rigid_walls_size = 54
+  integer, parameter :: dataset_rigid_walls_radius = 55
+  integer, parameter :: dataset_rigid_walls_length = 56
+  integer, parameter :: dataset_rigid_walls_velocity = 57
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 58
+  integer, parameter :: dataset_rigid_walls_friction = 59
+  integer, parameter :: dataset_rigid_wall_nodes_wall = 60
+  integer, parameter :: dataset_rigid_wall_nodes_node = 61
+  integer, parameter :: dataset_rigid_bodies_part = 62
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 63
+  integer, parameter :: dataset_rigid_bodies_prescribed = 64
+  integer, parameter :: dataset_rigid_bodies_velocity = 65
+  integer, parameter :: dataset_rigid_bodies_curve = 66
+  integer, parameter :: dataset_rigid_bodies_given_mass = 67
+  integer, parameter :: dataset_rigid_bodies_given_centre = 68
+  integer, parameter :: dataset_rigid_bodies_given_inertia = 69
+  integer, parameter :: dataset_rigid_bodies_failure_force = 70
+  integer, parameter :: dataset_rigid_bodies_failure_exponent = 71
+  integer, parameter :: dataset_rigid_bodies_failure_time = 72
+  integer, parameter :: dataset_rigid_bodies_failure_node = 73
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 74
+  integer, parameter :: dataset_rotation_ties_node = 75
+  integer, parameter :: dataset_rotation_ties_masters = 76
+  integer, parameter :: dataset_rotation_ties_weights = 77
+  integer, parameter :: dataset_curves_first_point = 78
+  integer, parameter :: dataset_curves_time = 79
+  integer, parameter :: dataset_curves_value = 80
+  integer, parameter :: dataset_pressure_part = 81
+  integer, parameter :: dataset_pressure_value = 82
+  integer, parameter :: dataset_pressure_curve = 83
+  integer, parameter :: dataset_prescribed_node = 84
+  integer, parameter :: dataset_prescribed_dof = 85
+  integer, parameter :: dataset_prescribed_value = 86
+  integer, parameter :: dataset_prescribed_curve = 87
+  integer, parameter :: dataset_base_accelerations_direction = 88
+  integer, parameter :: dataset_base_accelerations_value = 89
+  integer, parameter :: dataset_base_accelerations_curve = 90
+  integer, parameter :: n_deck_datasets = 90
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -609,6 +610,10 @@ module paradyn_schema
         condition_none, condition_none, 0.1_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
         'use a penalty scale factor such as 0.1 (the default)'), &
+    dataset_spec_t('/contact/soft_constraint', class_float, 0, size_n_contacts, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 10.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be in [0, 10]', '', &
+        'use 0 (off) or a scale such as 0.1 (LS-DYNA''s SOFSCL default)'), &
     dataset_spec_t('/contact/static_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &

@@ -28,7 +28,7 @@ module shell_full
   use shell_section, only: shell_properties_t, stress_components, shear_correction, thickness_rule, &
                            hourglass_components
   use shell_hourglass, only: drilling_penalty
-  use shell_blt, only: frames, check_end_frames
+  use shell_blt, only: frames
   use shell_warping, only: warp_heights, warp_curvature, warp_twist_moment
   use shell_measures, only: frame_time_steps
   use material_model, only: max_state_words
@@ -117,9 +117,9 @@ contains
       ! --- nodal forces on the end-of-step geometry
       call frames(m, n, o, x, e, xl, yl, area)
       call frame_time_steps(m, xl, yl, area, props, dt_element(o + 1:o + m))
-      call check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
-      inverted = inverted + count(.not. (area(1:m) > 0.0_ek))
       call point_geometry(m, xl, yl, dnx, dny, detj, jac)
+      call check_end_points(m, area_mid, normal_mid, e, detj, area)
+      inverted = inverted + count(.not. (area(1:m) > 0.0_ek))
       zw = 0.0_ek
       dh = 0.0_ek
       call centre_gradients(m, xl, yl, area, b1, b2)
@@ -155,6 +155,24 @@ contains
       end do
     end do
   end subroutine full_internal_forces
+
+  !> An element is inverted (its area set to 0, its forces dropped) when its area at mid-step or
+  !> a point's Jacobian determinant at the end of the step is not positive, or its normal turned
+  !> over in the step: the quadrature samples the map only at its points, so a corner may pass
+  !> beyond convex (as squashed folds do) while every point stays valid.
+  pure subroutine check_end_points(m, area_mid, normal_mid, e, detj, area)
+    integer, intent(in) :: m
+    real(ek), intent(in) :: area_mid(group_size), normal_mid(group_size, 3), e(group_size, 3, 3)
+    real(ek), intent(in) :: detj(group_size, 4)
+    real(ek), intent(inout) :: area(group_size)
+    integer :: i
+    do i = 1, m
+      area(i) = merge(area(i), 0.0_ek, area_mid(i) > 0.0_ek .and. area(i) > 0.0_ek &
+                      .and. min(detj(i, 1), detj(i, 2), detj(i, 3), detj(i, 4)) > 0.0_ek &
+                      .and. normal_mid(i, 1) * e(i, 1, 3) + normal_mid(i, 2) * e(i, 2, 3) &
+                            + normal_mid(i, 3) * e(i, 3, 3) > 0.0_ek)
+    end do
+  end subroutine check_end_points
 
   !> The stress update of elements o+1..o+m at every in-plane and through-thickness point, one
   !> material call per layer on the 4 m points of the batch (row j = (g - 1) m + i), written back

@@ -36,7 +36,7 @@ CONTACT = (layout("int:SSID int:MSID int:SSTYP int:MSTYP int:SBOXID int:MBOXID i
 IGNORED = ({"SBOXID": 0, "MBOXID": 0, "SPR": 0, "MPR": 0},
            {"VC": 0.0, "VDC": 0.0, "PENCHK": 0},
            {"SST": 0.0, "MST": 0.0, "SFST": 1.0, "SFMT": 1.0, "FSF": 1.0, "VSF": 1.0},
-           {"SOFSCL": 0.1, "LCIDAB": 0, "MAXPAR": 1.025, "SBOPT": 2.0, "DEPTH": 2, "BSORT": 0, "FRCFRQ": 1},
+           {"LCIDAB": 0, "MAXPAR": 1.025, "SBOPT": 2.0, "DEPTH": 2, "BSORT": 0, "FRCFRQ": 1},
            {"PENMAX": 0.0, "THKOPT": 0, "SHLTHK": 0, "SNLOG": 0, "ISYM": 0, "I2D3D": 0, "SLDTHK": 0.0, "SLDSTF": 0.0},
            {"IGAP": 1, "IGNORE": 0, "DPRFAC": 0.0, "DTSTIF": 0.0, "EDGEK": 0.0, "UNUSED": 0.0, "FLANGL": 0.0,
             "CID_RCF": 0})
@@ -178,9 +178,12 @@ def _contact(data: KeywordData, name: str, records: list[Record], names_of: dict
     times = _times(data, label, second, unit)
     slave = _side(data, label, "SSTYP", int(first["SSTYP"]), int(first["SSID"]), names_of)
     common = {**_law(data, label, records, slave, unit), **times}
-    edges = _edges(data, label, int(records[4]["SOFT"] or 0), variant.form)
+    soft = int(records[4]["SOFT"] or 0)
+    edges = _edges(data, label, soft, variant.form)
     if variant.form != "tied":
         common["edges"] = edges
+    if soft == 1 and variant.form != "tied":
+        common["soft_constraint"] = float(records[4]["SOFSCL"])
     if variant.form == "single":
         every = int(first["SSTYP"]) == 5 or int(first["SSID"]) == 0
         members = tuple(n for pid in slave for n in names_of[pid])
@@ -202,12 +205,13 @@ def _contact(data: KeywordData, name: str, records: list[Record], names_of: dict
 def _edges(data: KeywordData, label: str, soft: int, form: str) -> bool:
     """SOFT = 2 (LS-DYNA's segment-based contact, which finds walls crossing edge against edge) is read
     as ParaDyn's contact with edge checks (edges = true: kinds edge_to_edge, single_surface_edges);
-    SOFT = 1 (the soft-constraint stiffness) is not read: ParaDyn's penalty is capped at a stable
-    m / dt^2 fraction in any case."""
+    SOFT = 1 (the soft-constraint stiffness, ``soft_constraint`` = SOFSCL) is read by the caller."""
     if soft == 2 and form == "tied":
         data.warn(f"{label}: SOFT = 2 on a tied contact is ignored (a tie has no edge checks)")
         return False
-    if soft not in (0, 2):
+    if soft == 1 and form == "tied":
+        data.warn(f"{label}: SOFT = 1 on a tied contact is ignored (a tie's spring is the stable cap)")
+    if soft not in (0, 1, 2):
         data.warn(f"{label}: SOFT = {soft} is not supported and ignored (SOFT = 2 is read as edges = true: "
                   f"docs/keyword.md)")
     return soft == 2

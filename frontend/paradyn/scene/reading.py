@@ -80,8 +80,8 @@ _TRACK_KEYS = ("name", "part", "point")
 _CURVE_KEYS = ("name", "time", "value")
 _PRESSURE_KEYS = ("part", "value", "curve")
 _PRESCRIBE_KEYS = ("part", "box", "dof", "value", "curve")
-_CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "static_friction", "dynamic_friction",
-                 "friction_decay", "symmetric", "birth_time", "death_time", "edges")
+_CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "soft_constraint", "static_friction",
+                 "dynamic_friction", "friction_decay", "symmetric", "birth_time", "death_time", "edges")
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -390,6 +390,7 @@ def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
     return ContactSpec(
         parts=parts,
         penalty_scale=r.number(t, "penalty_scale", label, default=ContactSpec.penalty_scale, positive=True),
+        soft_constraint=r.number(t, "soft_constraint", label, default=ContactSpec.soft_constraint, minimum=0.0),
         static_friction=static,
         dynamic_friction=r.number(t, "dynamic_friction", label, default=static, minimum=0.0),
         friction_decay=r.number(t, "friction_decay", label, default=ContactSpec.friction_decay, minimum=0.0),

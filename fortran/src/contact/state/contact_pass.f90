@@ -85,6 +85,9 @@ module contact_pass
     real(wp) :: bucket_size = 0, t_slave = 0, t_master = 0, mu_static = 0, mu_dynamic = 0, decay = 0
     !> the definition's life (/contact/birth_time, death_time): the pass runs while birth <= t <= death
     real(wp) :: birth = 0, death = huge(1.0_wp)
+    !> the soft-constraint scale (/contact/soft_constraint; 0 = off): the spring is at least
+    !> soft_scale m / (2 dt^2) (contact_stages)
+    real(wp) :: soft_scale = 0
   end type contact_pass_t
 
 contains
@@ -130,6 +133,7 @@ contains
     pass%mu_static = deck%contact_static_friction(pair)
     pass%mu_dynamic = deck%contact_dynamic_friction(pair)
     pass%decay = deck%contact_friction_decay(pair)
+    pass%soft_scale = deck%contact_soft_constraint(pair)
     pass%birth = deck%contact_birth_time(pair)
     pass%death = deck%contact_death_time(pair)
     allocate (pass%overlap(size(slave_nodes)), source=0.0_wp)
