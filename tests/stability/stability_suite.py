@@ -30,14 +30,6 @@ REASONS: dict[tuple[str, str], str] = {
                                  "step at the automatic step, 36 % of the 0.296 mm wall, and the penetration is 0.41",
     ("thin_270", "hourglass"): "hourglass / internal stays above 0.1 from 0.02 ms to the end (0.24 at 2.5 ms, also "
                                "the largest hourglass over the largest internal energy); not yet traced to a cause",
-    ("thin_1000", "penetration"): "the edge contact (edges = true) takes the deepest penetration from 0.335 to 0.245 "
-                                  "(docs/contact-edges.md), but the peak is the first impact, 6.3 us after the start, "
-                                  "where the pipes meet node on node at the centre: node-to-segment contact's penalty, "
-                                  "capped for stability at a quarter of m / dt^2, lets the 0.08 mm walls close by a "
-                                  "quarter of a wall at the travel limit's step. A travel limit of 0.05 does not cure "
-                                  "it: node-to-segment alone 0.226, with the edges 1.0 (an edge pair pushed through "
-                                  "at 16 us: one crossing carries the load, and a spring capped for stability cannot "
-                                  "hold it)",
     ("thin_1000", "hourglass"): "hourglass / internal above 0.1 while the internal energy is small: the pipes barely "
                                 "interact (above)",
     ("sliding_friction", "hourglass"): _EARLY_HG + "; it falls with the mesh: 0.128 with twice the elements "

@@ -27,7 +27,7 @@ from paradyn._schema import ENUMS
 # case -> the criteria its short variant meets (asserted); the others are n/a or fail (module docstring)
 MEETS: dict[str, tuple[str, ...]] = {
     "thin_270": ("finishes", "finite", "balance", "hourglass", "penetration"),
-    "thin_1000": ("finishes", "finite", "balance", "hourglass"),
+    "thin_1000": ("finishes", "finite", "balance", "hourglass", "penetration"),
     "skew_55": ("finishes", "finite", "balance", "hourglass", "penetration"),
     "aspect_10": ("finishes", "finite", "balance", "hourglass", "penetration"),
     "sliding_friction": ("finishes", "finite", "balance", "hourglass", "penetration", "momentum"),

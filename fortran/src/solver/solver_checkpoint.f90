@@ -86,6 +86,7 @@ contains
     call write_real_attribute(file, 'dt_first', s%clock%dt_first)
     call write_real_attribute(file, 'dt_min', s%dt_min)
     call write_real_attribute(file, 'dt_max', s%dt_max)
+    if (s%has_contact) call write_real_attribute(file, 'contact_soft_step', s%contact%c%soft_step)
     call write_int_attribute(file, 'fixed_step', merge(1, 0, s%clock%fixed))
     call write_long_attribute(file, 'dt_element', s%clock%controlling)
     call write_long_attribute(file, 'steps_left', s%clock%steps_left)
@@ -343,6 +344,7 @@ contains
     integer(hsize_t) :: nc
     integer :: err
     s%contact%c%time_step = s%clock%dt   ! the penalty's cap follows the step (time_step_control)
+    call read_real_attribute(file, 'contact_soft_step', s%contact%c%soft_step, err)
     nc = int(s%contact%c%n_nodes, hsize_t)
     ! the rows of the contact nodes this rank holds (contact-node ids, ascending)
     allocate (contact(contact_checkpoint_width, size(s%contact%c%held_node)), force(3 * s%n_contacts))

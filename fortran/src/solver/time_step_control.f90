@@ -46,7 +46,10 @@ contains
       s%dt_min = min(s%dt_min, s%clock%dt_stable)
       s%dt_max = max(s%dt_max, s%clock%dt_stable)
     end if
-    if (s%has_contact) s%contact%c%time_step = s%clock%dt
+    if (s%has_contact) then
+      s%contact%c%time_step = s%clock%dt
+      s%contact%c%soft_step = max(s%contact%c%soft_step, s%clock%dt)
+    end if
   end subroutine next_time_step
 
   !> status 3 with a message when the step fell below the floor: the rank that holds the

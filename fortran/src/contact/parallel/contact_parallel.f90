@@ -121,6 +121,7 @@ contains
       end associate
     end do
     pc%c%time_step = dt
+    pc%c%soft_step = dt
     pc%c%rank = dom%rank
     pc%c%n_ranks = dom%n_ranks
     pc%c%gather_all = gather_all

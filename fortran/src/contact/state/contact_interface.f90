@@ -67,6 +67,9 @@ module contact_interface
     real(wp), allocatable :: x(:, :), v(:, :)  !< gathered positions and velocities
     real(wp), allocatable :: mass(:)           !< lumped mass of each contact node
     real(wp) :: time_step = 0.0_wp             !< the solver's step, for the stability cap
+    !> the soft constraint's step: the largest step of the run so far (LS-DYNA: the initial step,
+    !> updated when the step grows), so that a step cut short does not stiffen the spring
+    real(wp) :: soft_step = 0.0_wp
     real(wp) :: time = 0.0_wp                  !< the time of the step's forces (the passes' birth and death)
     real(wp), allocatable :: force(:, :), force_old(:, :)  !< contact force per contact node
     ! the contact nodes that got a record this step and last step, in the order of the sum (the

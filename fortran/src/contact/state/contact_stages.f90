@@ -37,12 +37,17 @@ module contact_stages
 contains
 
   !> The penalty spring of a contact pair: the segment's stiffness k0, at least the soft
-  !> constraint's soft_scale m / (2 dt^2) (LS-DYNA SOFT = 1: k = max(k0, SOFSCL k1), k1 the
-  !> stiffness of a spring-mass pair whose period matches the step), never above the stable cap
-  !> = stable_spring_fraction m / dt^2, m the pair's lightest node (an edge pair: its effective mass).
-  pure real(wp) function spring(k0, soft_scale, cap)
-    real(wp), intent(in) :: k0, soft_scale, cap
-    spring = min(max(k0, (0.5_wp / stable_spring_fraction) * soft_scale * cap), cap)
+  !> constraint's soft_scale m / (2 dt_soft^2) (LS-DYNA SOFT = 1: k = max(k0, SOFSCL k1), k1 the
+  !> stiffness of a spring-mass pair whose period matches the step; dt_soft the largest step so
+  !> far), never above the stable cap = stable_spring_fraction m / dt^2; m the pair's lightest
+  !> node (an edge pair: its effective mass).
+  pure real(wp) function spring(k0, soft_scale, m, soft_step, cap)
+    real(wp), intent(in) :: k0, soft_scale, m, soft_step, cap
+    if (soft_scale > 0.0_wp .and. soft_step > 0.0_wp) then
+      spring = min(max(k0, 0.5_wp * soft_scale * m / soft_step**2), cap)
+    else
+      spring = min(k0, cap)
+    end if
   end function spring
 
   !> Pass p runs this cycle: unless idle (contact_activity) or outside its definition's life
@@ -322,7 +327,8 @@ contains
           vseg(:, m) = c%v(:, seg_at(m))
           lightest = min(lightest, c%mass(seg_at(m)))
         end do
-        stiffness = spring(pass%stiffness(segment), pass%soft_scale, stable_spring_fraction / c%time_step**2 * lightest)
+        stiffness = spring(pass%stiffness(segment), pass%soft_scale, lightest, c%soft_step, &
+                           stable_spring_fraction / c%time_step**2 * lightest)
         if (pass%bound) then   ! the binding's law (no penetration: a tie holds its offset)
           call bound_force(pass%kind, x, xseg, pass%bound_data(:, slot), stiffness, f_slave, f_master)
           penetration = 0.0_wp
@@ -386,7 +392,7 @@ contains
     ! holds omega^2 dt^2 <= 2 stable_spring_fraction: the edge's cap holds the same bound
     call closest_points_of_edges(c%x(:, a1), c%x(:, a2), c%x(:, b1), c%x(:, b2), s, u)
     inverse_mass = (1.0_wp - s)**2 / c%mass(a1) + s**2 / c%mass(a2) + (1.0_wp - u)**2 / c%mass(b1) + u**2 / c%mass(b2)
-    stiffness = spring(pass%stiffness(segment), pass%soft_scale, &
+    stiffness = spring(pass%stiffness(segment), pass%soft_scale, 2.0_wp / inverse_mass, c%soft_step, &
                        2.0_wp * stable_spring_fraction / (c%time_step**2 * inverse_mass))
     call edge_edge_force(c%x(:, a1), c%x(:, a2), c%x(:, b1), c%x(:, b2), pass%t_slave, pass%t_master, stiffness, &
                          force, penetration, touching)
