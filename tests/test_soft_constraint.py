@@ -80,3 +80,45 @@ def test_keyword_soft_1_reads_as_the_soft_constraint(tmp_path: Path, card_a: str
     assert read.model.contact_soft_constraint.tolist() == [expected]
     assert not [w for w in read.warnings if "SOFSCL" in w]
     assert read.model.contact_kind.tolist() == [_schema.ENUMS["contact_kind"]["node_to_segment"]]
+
+
+def test_a_restart_keeps_the_soft_constraints_step(tmp_path: Path) -> None:
+    """The soft constraint's step (the largest so far) is in the checkpoint: the pipe whip at its
+    automatic step (trimmed at 0.3 ms to end on the end time, below the largest so far) with penalty
+    scale 0.01 and soft_constraint 0.5, restarted from 0.3 ms, equals the uninterrupted run bit for
+    bit, and the soft constraint changes the run (it acts)."""
+    import shutil
+
+    import h5py
+
+    from paradyn import deck, scene
+    from paradyn.running import launch
+
+    def pipe_whip(name: str, soft: float, **control: float) -> Path:
+        model = scene.build_model(scene.load_scene(Path(__file__).resolve().parents[1] / "cases" / "pipe_whip"
+                                                   / "scene.toml"))
+        model.control.end_time = 4e-4
+        model.control.output_interval = 1e-4
+        model.control.time_step = 0.0            # the automatic step
+        for key, value in control.items():
+            setattr(model.control, key, value)
+        model.contact_soft_constraint = np.full(len(model.contact_pairs), soft)
+        model.contact_penalty_scale = np.full(len(model.contact_pairs), 0.01)   # k0 below the soft spring
+        return deck.write_deck(model, tmp_path / name)
+
+    def displacement(path: Path) -> np.ndarray:
+        with h5py.File(path, "r") as f:
+            return f["/frames/displacement"][()]
+
+    launch.run_engine(pipe_whip("plain.h5", 0.0), tmp_path / "plain_results.h5")
+    launch.run_engine(pipe_whip("reference.h5", 0.5), tmp_path / "reference_results.h5")
+    stepped = pipe_whip("deck.h5", 0.5, checkpoint_interval=1.5e-4)
+    launch.run_engine(stepped, tmp_path / "results.h5")
+    shutil.copy(tmp_path / "results.h5", tmp_path / "restart.h5")
+    shutil.copy(tmp_path / "results.checkpoint.h5", tmp_path / "restart.checkpoint.h5")
+    with h5py.File(tmp_path / "restart.h5", "r+") as f:
+        f.attrs["complete"] = np.int32(0)
+    launch.run_engine(stepped, tmp_path / "restart.h5", 1, 1, restart=True)
+    reference = displacement(tmp_path / "reference_results.h5")
+    assert not np.array_equal(reference, displacement(tmp_path / "plain_results.h5"))
+    assert np.array_equal(displacement(tmp_path / "restart.h5"), reference)
