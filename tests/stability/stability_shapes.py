@@ -17,6 +17,7 @@ from paradyn import deck
 # the square tube (issue 35 item 4): side C, wall t, length L, the paper's steel (sigma_0 = 250 MPa,
 # perfectly plastic), crushed by a rigid wall at 10 m/s
 TUBE_SIDE, TUBE_WALL, TUBE_LENGTH, TUBE_SPEED = 0.05, 1.5e-3, 0.2, 10.0
+PLATEN_FRICTION = 0.3   # the crushing wall's Coulomb coefficient (dry steel on steel)
 
 
 SPHERE_RADIUS = 0.05   # the rigid ball (m)

@@ -39,11 +39,6 @@ REASONS: dict[tuple[str, str], str] = {
                                 "with the mesh: 0.294 with twice the elements each way, 0.278 with four times "
                                 "(--refine 2, 4): the plate's edge meets the pipe at one node, a point load in the "
                                 "plate's plane",
-    ("tube_crush", "hourglass"): "the case runs the one-point element: with the fully integrated element an element "
-                                 "of the first fold turns inside out at 0.86 ms (9 mm of crush; stability_suite.py "
-                                 "--cases tube_crush with the case's element removed), as the folds squash elements "
-                                 "whose corner points invert before their centre does; with the one-point element the "
-                                 "step falls from 0.54 to 0.07 us in the folds and the run goes on",
     ("crush_100", "hourglass"): _EARLY_HG + " (above 0.1 to 2 ms); 0.240 with twice the elements each way",
 }
 # What a case's run showed that no criterion judges (written from the runs of 2026-11-23); keyed by case.

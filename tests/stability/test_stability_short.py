@@ -38,7 +38,7 @@ MEETS: dict[str, tuple[str, ...]] = {
     "crush_100": ("finishes", "finite", "balance", "hourglass"),
     "mixed_mesh": ("finishes", "finite", "balance", "hourglass", "penetration"),
     "sphere_plate": ("finishes", "finite", "balance", "hourglass", "penetration"),
-    "tube_crush": ("finishes", "finite", "balance", "penetration"),
+    "tube_crush": ("finishes", "finite", "balance", "hourglass", "penetration"),
 }
 FREE = {"sliding_friction", "spinning_pipe", "fig3"}
 
