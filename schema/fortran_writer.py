@@ -230,9 +230,11 @@ class _Writer:
         for e in s.enums.values():
             members = e["members"] + [{"code": 0, "name": ""}] * (int(max(len(x["members"]) for x in s.enums.values()))
                                                                   - len(e["members"]))
+            names = [text(m["name"]) for m in members]   # separate items: the list may wrap between names
+            names[0] = f"[character(len={self.n['member']}) :: " + names[0]
+            names[-1] += "]"
             rows.append(_pack("enum_spec_t(", [str(len(e["members"])), "[" + ", ".join(str(m["code"]) for m in members)
-                                               + "]", f"[character(len={self.n['member']}) :: "
-                                               + ", ".join(text(m["name"]) for m in members) + "]"], "    ", ")"))
+                                               + "]", *names], "    ", ")"))
         self._array("type(enum_spec_t)", "deck_enums(n_enums)", rows)
         ids = {d.name: k for k, d in enumerate(s.datasets, start=1)}
         width = max(len(x["members"]) for x in s.enums.values())
@@ -303,7 +305,7 @@ class _Writer:
             codes = self.s.enum_codes(enum)
             members = self.s.trait_members(enum, trait)
             self.public.append(name)
-            out += ["", f"  !> Whether a code of enum {enum} has the trait {trait} ({', '.join(members)})",
+            out += ["", f"  !> Whether a code of enum {enum} has the trait {trait}:", f"  !> {', '.join(members)}",
                     f"  elemental logical function {name}(code) result(has)", "    integer, intent(in) :: code",
                     f"    has = any(code == [{', '.join(str(codes[m]) for m in members)}])",
                     f"  end function {name}"]

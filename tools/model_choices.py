@@ -40,6 +40,7 @@ CHOICES = [
     ("penalty scale 0.01 (softer contact)", "penalty_scale", 0.01),
     ("one contact pass (lower pipe master)", "symmetric", False),
     ("step 0.5 of the stable step", "time_step_safety", 0.5),
+    ("radial return without the plane-stress iteration", "plastic_return", "radial"),
 ]
 
 

@@ -21,6 +21,17 @@ subroutine j2_update_points(m, stress, back, eps_p, dstrain, young, poisson, yie
   call j2_plane_stress_update_points(m, stress, back, eps_p, dstrain, young, poisson, yield_stress, tangent, beta)
 end subroutine j2_update_points
 
+! The radial return without the plane-stress iteration (the j2_radial member), same arrays.
+subroutine j2_radial_points(m, stress, back, eps_p, dstrain, young, poisson, yield_stress, tangent, beta)
+  use paradyn_kinds, only: wp
+  use plane_stress_returns, only: j2_radial_update_points
+  implicit none
+  integer, intent(in) :: m
+  real(wp), intent(inout) :: stress(m, 3), back(m, 3), eps_p(m)
+  real(wp), intent(in) :: dstrain(m, 3), young, poisson, yield_stress, tangent, beta
+  call j2_radial_update_points(m, stress, back, eps_p, dstrain, young, poisson, yield_stress, tangent, beta)
+end subroutine j2_radial_points
+
 ! The piecewise-linear member's batch update (material/piecewise_linear_material.f90): m points
 ! over a step dt, its hardening curve (strain, curve_stress: n points) and rate law (0 none,
 ! 1 Cowper-Symonds rate_c, rate_p, 2 the rate curve rates, factors: nr points); state: each

@@ -109,6 +109,7 @@ ENUMS: dict[str, dict[str, int]] = {
         'rigid': 4,
         'piecewise_linear': 5,
         'piecewise_linear_rate': 6,
+        'j2_radial': 7,
     },
     'element_kind': {'shell': 1, 'truss': 2},
     'shell_element': {'blt': 1, 'full': 2},
@@ -133,8 +134,8 @@ ENUMS: dict[str, dict[str, int]] = {
 # The members of an enum that carry a trait (schema/deck.toml traits): ask a trait, not a name
 ENUM_TRAITS: dict[str, dict[str, tuple[str, ...]]] = {
     'material_model': {
-        'plastic': ('j2_plasticity', 'j2_rate', 'piecewise_linear', 'piecewise_linear_rate'),
-        'combined_hardening': ('j2_plasticity', 'j2_rate'),
+        'plastic': ('j2_plasticity', 'j2_rate', 'piecewise_linear', 'piecewise_linear_rate', 'j2_radial'),
+        'combined_hardening': ('j2_plasticity', 'j2_rate', 'j2_radial'),
         'cowper_symonds': ('j2_rate', 'piecewise_linear_rate'),
         'rigid': ('rigid',),
         'hardening_curve': ('piecewise_linear', 'piecewise_linear_rate'),
@@ -206,15 +207,17 @@ CONDITIONS: dict[str, ConditionSpec] = {
         meaning='the group /rotation_ties exists', rows='',
     ),
     'plastic': ConditionSpec(
-        name='plastic', group=None, dataset='/materials/model', codes=(2, 3, 5, 6),
+        name='plastic', group=None, dataset='/materials/model', codes=(2, 3, 5, 6, 7),
         meaning=(
-            'some /materials/model is plastic (j2_plasticity, j2_rate, piecewise_linear, piecewise_linear_rate)'
+            'some /materials/model is plastic (j2_plasticity, j2_rate, piecewise_linear, piecewise_linear_rate, '
+            'j2_radial)'
         ), rows='for a plastic material',
     ),
     'combined_hardening': ConditionSpec(
-        name='combined_hardening', group=None, dataset='/materials/model', codes=(2, 3),
-        meaning='some /materials/model has combined isotropic/kinematic hardening (j2_plasticity, j2_rate)',
-        rows='for a j2_plasticity or j2_rate material',
+        name='combined_hardening', group=None, dataset='/materials/model', codes=(2, 3, 7),
+        meaning=(
+            'some /materials/model has combined isotropic/kinematic hardening (j2_plasticity, j2_rate, j2_radial)'
+        ), rows='for a j2_plasticity, j2_rate or j2_radial material',
     ),
     'strain_rate': ConditionSpec(
         name='strain_rate', group=None, dataset='/materials/model', codes=(3, 6),
@@ -466,8 +469,8 @@ DATASETS: tuple[DatasetSpec, ...] = (
         '/materials/model', 'material_model', 'int', ('n_materials',), True, None, None, None, None, None, '',
         'material_model',
         (
-            'must be 1 or 2 or 3 or 4 or 5 or 6 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 4 = rigid, 5 = '
-            'piecewise_linear, 6 = piecewise_linear_rate)'
+            'must be 1 or 2 or 3 or 4 or 5 or 6 or 7 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 4 = rigid, 5 = '
+            'piecewise_linear, 6 = piecewise_linear_rate, 7 = j2_radial)'
         ), None, True, '-', 'material model', '[[material]] model',
         (
             'use 1 for linear elastic, 2 for J2 plasticity, 3 for rate-dependent J2 plasticity, 5 for '

@@ -7,10 +7,10 @@ module paradyn_schema
   implicit none
   private
   public :: deck_version, deck_version_attribute, material_elastic, material_j2_plasticity, material_j2_rate, &
-      material_rigid, material_piecewise_linear, material_piecewise_linear_rate, element_kind_shell, &
-      element_kind_truss, shell_element_blt, shell_element_full, hourglass_viscous, hourglass_stiffness, &
-      hourglass_physical, dof_free, dof_fixed, contact_passes_alternate, contact_passes_both, &
-      contact_kind_node_to_segment, contact_kind_single_surface, contact_kind_tied, &
+      material_rigid, material_piecewise_linear, material_piecewise_linear_rate, material_j2_radial, &
+      element_kind_shell, element_kind_truss, shell_element_blt, shell_element_full, hourglass_viscous, &
+      hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, contact_passes_alternate, &
+      contact_passes_both, contact_kind_node_to_segment, contact_kind_single_surface, contact_kind_tied, &
       contact_kind_edge_to_edge, contact_kind_single_surface_edges, initial_penetration_move, &
       initial_penetration_gap, contact_gather_near, contact_gather_all, wall_plane, wall_finite_plane, &
       wall_cylinder, wall_sphere, wall_box, switch_off, switch_on, partition_blocks, partition_rcb, &
@@ -88,6 +88,7 @@ module paradyn_schema
   integer, parameter :: material_rigid = 4   !< rigid: the part moves as one body of /rigid_bodies (LS-DYNA MAT_RI
   integer, parameter :: material_piecewise_linear = 5   !< J2 plasticity with isotropic hardening along a curve of
   integer, parameter :: material_piecewise_linear_rate = 6   !< piecewise_linear with Cowper-Symonds rate scaling
+  integer, parameter :: material_j2_radial = 7   !< j2_plasticity's law with the radial return without the plane-s
   integer, parameter :: element_kind_shell = 1   !< thin shells: quadrilaterals (Belytschko-Lin-Tsay) and triangle
   integer, parameter :: element_kind_truss = 2   !< 2-node axial-force trusses (wires, cables; LS-DYNA *SECTION_BE
   integer, parameter :: shell_element_blt = 1   !< the one-point Belytschko-Lin-Tsay quadrilateral with hourglass
@@ -332,7 +333,7 @@ module paradyn_schema
     .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .false., &
     .true., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., &
     .false., .false., .false., .false.]
-  integer, parameter :: max_enum_members = 6
+  integer, parameter :: max_enum_members = 7
 
   ! effects of a step (schema/effects.toml), in the order of the step
   integer, parameter :: n_effects = 16
@@ -408,7 +409,7 @@ module paradyn_schema
     integer :: codes(max_enum_members)
     integer :: reference                !< size id of the entity indexed, size_none
     character(len=23) :: rule
-    character(len=140) :: enum_rule
+    character(len=160) :: enum_rule
     character(len=154) :: fix
   end type dataset_spec_t
 
@@ -424,378 +425,387 @@ module paradyn_schema
     real(wp) :: lower, upper
     integer :: enum
     character(len=23) :: rule
-    character(len=140) :: enum_rule
+    character(len=160) :: enum_rule
     character(len=154) :: fix
   end type attribute_spec_t
 
   type(enum_spec_t), parameter :: deck_enums(n_enums) = [ &
-    enum_spec_t(6, [1, 2, 3, 4, 5, 6], &
-        [character(len=21) :: 'elastic', 'j2_plasticity', 'j2_rate', 'rigid', 'piecewise_linear', 'piecewise_linear_rate']), &
-    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'shell', 'truss', '', '', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'blt', 'full', '', '', '', '']), &
-    enum_spec_t(3, [1, 2, 3, 0, 0, 0], [character(len=21) :: 'viscous', 'stiffness', 'physical', '', '', '']), &
-    enum_spec_t(2, [0, 1, 0, 0, 0, 0], [character(len=21) :: 'free', 'fixed', '', '', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'alternate', 'both', '', '', '', '']), &
-    enum_spec_t(5, [1, 2, 3, 4, 5, 0], &
-        [character(len=21) :: 'node_to_segment', 'single_surface', 'tied', 'edge_to_edge', 'single_surface_edges', '']), &
-    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'move', 'gap', '', '', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'near', 'all', '', '', '', '']), &
-    enum_spec_t(5, [1, 2, 3, 4, 5, 0], &
-        [character(len=21) :: 'plane', 'finite_plane', 'cylinder', 'sphere', 'box', '']), &
-    enum_spec_t(2, [0, 1, 0, 0, 0, 0], [character(len=21) :: 'off', 'on', '', '', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'blocks', 'rcb', '', '', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0, 0, 0], [character(len=21) :: 'double', 'mixed', '', '', '', '']) ]
+    enum_spec_t(7, [1, 2, 3, 4, 5, 6, 7], [character(len=21) :: 'elastic', 'j2_plasticity', 'j2_rate', &
+        'rigid', 'piecewise_linear', 'piecewise_linear_rate', 'j2_radial']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'shell', 'truss', '', '', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'blt', 'full', '', '', '', '', '']), &
+    enum_spec_t(3, [1, 2, 3, 0, 0, 0, 0], [character(len=21) :: 'viscous', 'stiffness', 'physical', '', '', &
+        '', '']), &
+    enum_spec_t(2, [0, 1, 0, 0, 0, 0, 0], [character(len=21) :: 'free', 'fixed', '', '', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'alternate', 'both', '', '', '', '', '']), &
+    enum_spec_t(5, [1, 2, 3, 4, 5, 0, 0], [character(len=21) :: 'node_to_segment', 'single_surface', 'tied', &
+        'edge_to_edge', 'single_surface_edges', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'move', 'gap', '', '', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'near', 'all', '', '', '', '', '']), &
+    enum_spec_t(5, [1, 2, 3, 4, 5, 0, 0], [character(len=21) :: 'plane', 'finite_plane', 'cylinder', &
+        'sphere', 'box', '', '']), &
+    enum_spec_t(2, [0, 1, 0, 0, 0, 0, 0], [character(len=21) :: 'off', 'on', '', '', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'blocks', 'rcb', '', '', '', '', '']), &
+    enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'double', 'mixed', '', '', '', '', '']) ]
 
   type(condition_spec_t), parameter :: deck_conditions(n_conditions) = [ &
-    condition_spec_t('/loads', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('/contact', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('/rigid_walls', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('/rigid_wall_nodes', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('/curves', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('/pressure', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('/prescribed', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('/base_accelerations', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('/rigid_bodies', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('/rotation_ties', 0, 0, [0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('', 22, 4, [2, 3, 5, 6, 0, 0], 'for a plastic material'), &
-    condition_spec_t('', 22, 2, [2, 3, 0, 0, 0, 0], 'for a j2_plasticity or j2_rate material'), &
-    condition_spec_t('', 22, 2, [3, 6, 0, 0, 0, 0], 'for a j2_rate or piecewise_linear_rate material'), &
-    condition_spec_t('', 22, 2, [5, 6, 0, 0, 0, 0], 'for a piecewise_linear or piecewise_linear_rate material'), &
-    condition_spec_t('', 22, 1, [5, 0, 0, 0, 0, 0], 'for a piecewise_linear material'), &
-    condition_spec_t('', 19, 1, [2, 0, 0, 0, 0, 0], 'for a truss part') ]
+    condition_spec_t('/loads', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/contact', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/rigid_walls', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/rigid_wall_nodes', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/curves', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/pressure', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/prescribed', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/base_accelerations', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/rigid_bodies', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('/rotation_ties', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
+    condition_spec_t('', 22, 5, [2, 3, 5, 6, 7, 0, 0], 'for a plastic material'), &
+    condition_spec_t('', 22, 3, [2, 3, 7, 0, 0, 0, 0], 'for a j2_plasticity, j2_rate or j2_radial material'), &
+    condition_spec_t('', 22, 2, [3, 6, 0, 0, 0, 0, 0], 'for a j2_rate or piecewise_linear_rate material'), &
+    condition_spec_t('', 22, 2, [5, 6, 0, 0, 0, 0, 0], &
+        'for a piecewise_linear or piecewise_linear_rate material'), &
+    condition_spec_t('', 22, 1, [5, 0, 0, 0, 0, 0, 0], 'for a piecewise_linear material'), &
+    condition_spec_t('', 19, 1, [2, 0, 0, 0, 0, 0, 0], 'for a truss part') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, '', '', 'give every node a finite position in metres'), &
+        [0, 0, 0, 0, 0, 0, 0], size_none, '', '', 'give every node a finite position in metres'), &
     dataset_spec_t('/nodes/initial_velocity', class_float, 3, size_n_nodes, .false., .false., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, '', '', 'give finite initial velocities in m/s'), &
+        [0, 0, 0, 0, 0, 0, 0], size_none, '', '', 'give finite initial velocities in m/s'), &
     dataset_spec_t('/nodes/initial_angular_velocity', class_float, 3, size_n_nodes, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give finite initial angular velocities in rad/s'), &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', 'give finite initial angular velocities in rad/s'), &
     dataset_spec_t('/nodes/fixed_dofs', class_int, 6, size_n_nodes, .false., .false., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_dof_state, 2, &
-        [0, 1, 0, 0, 0, 0], size_none, '', 'must be 0 or 1 (0 = free, 1 = fixed)', &
+        [0, 1, 0, 0, 0, 0, 0], size_none, '', 'must be 0 or 1 (0 = free, 1 = fixed)', &
         'use 1 to fix a dof and 0 to leave it free'), &
     dataset_spec_t('/nodes/rigid_body', class_int, 0, size_n_nodes, .false., .false., condition_none, &
         condition_none, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be >= -1', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= -1', '', &
         'give -1 for a deformable node or the 0-based row of its rigid body in /rigid_bodies'), &
     dataset_spec_t('/nodes/added_mass', class_float, 0, size_n_nodes, .false., .false., condition_none, &
         condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a non-negative mass in kg'), &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a non-negative mass in kg'), &
     dataset_spec_t('/nodes/id', class_int, 0, size_n_nodes, .false., .false., condition_none, condition_none, &
-        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, &
-        'must be >= 0', '', 'give every node a positive id (0 for none), or leave the dataset out'), &
+        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], &
+        size_none, 'must be >= 0', '', 'give every node a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/elements/connectivity', class_int, 4, size_n_elements, .true., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'remesh'), &
+        [0, 0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'remesh'), &
     dataset_spec_t('/elements/part', class_int, 0, size_n_elements, .false., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_n_parts, '', '', 'give every element the index of its part'), &
+        [0, 0, 0, 0, 0, 0, 0], size_n_parts, '', '', 'give every element the index of its part'), &
     dataset_spec_t('/elements/id', class_int, 0, size_n_elements, .false., .false., condition_none, &
         condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give every element a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/parts/thickness', class_float, 0, size_n_parts, .true., .true., condition_none, &
         condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'set a positive shell thickness in metres'), &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'set a positive shell thickness in metres'), &
     dataset_spec_t('/parts/material', class_int, 0, size_n_parts, .false., .true., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_n_materials, '', '', 'give every part the index of its material'), &
+        [0, 0, 0, 0, 0, 0, 0], size_n_materials, '', '', 'give every part the index of its material'), &
     dataset_spec_t('/parts/integration_points', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 5.0_wp, .true., .true., .true., .true., 1.0_wp, 9.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be between 1 and 9', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be between 1 and 9', '', &
         'choose 1 to 9 Gauss points through the thickness (5 is usual)'), &
     dataset_spec_t('/parts/hourglass_coefficient', class_float, 0, size_n_parts, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'use a small non-negative coefficient such as 0.1'), &
     dataset_spec_t('/parts/hourglass_form', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 3.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_hourglass_form, 3, &
-        [1, 2, 3, 0, 0, 0], size_none, '', 'must be 1 or 2 or 3 (1 = viscous, 2 = stiffness, 3 = physical)', &
+        [1, 2, 3, 0, 0, 0, 0], size_none, '', &
+        'must be 1 or 2 or 3 (1 = viscous, 2 = stiffness, 3 = physical)', &
         'use 1 (viscous), 2 (stiffness) or 3 (physical)'), &
     dataset_spec_t('/parts/shell_element', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_shell_element, 2, &
-        [1, 2, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = blt, 2 = full)', 'use 1 (blt) or 2 (full)'), &
+        [1, 2, 0, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = blt, 2 = full)', 'use 1 (blt) or 2 (full)'), &
     dataset_spec_t('/parts/warping_correction', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
         'use 1 (warping correction on) or 0 (off)'), &
     dataset_spec_t('/parts/surface_only', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
         'use 0 for shells, 1 for the faces of a rigid solid (a rigid part only)'), &
     dataset_spec_t('/parts/element_kind', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_element_kind, 2, &
-        [1, 2, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = shell, 2 = truss)', &
+        [1, 2, 0, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = shell, 2 = truss)', &
         'use 1 (shell) or 2 (truss)'), &
     dataset_spec_t('/parts/cross_section_area', class_float, 0, size_n_parts, .false., .false., &
         condition_truss, condition_truss, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
         'give every truss part a positive cross-section area in m^2'), &
     dataset_spec_t('/parts/id', class_int, 0, size_n_parts, .false., .false., condition_none, condition_none, &
-        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, &
-        'must be >= 0', '', 'give every part a positive id (0 for none), or leave the dataset out'), &
+        0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], &
+        size_none, 'must be >= 0', '', 'give every part a positive id (0 for none), or leave the dataset out'), &
     dataset_spec_t('/materials/model', class_int, 0, size_n_materials, .true., .true., condition_none, &
-        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 6, &
-        [1, 2, 3, 4, 5, 6], size_none, '', &
-        'must be 1 or 2 or 3 or 4 or 5 or 6 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 4 = rigid, 5 = piec' // &
-          'ewise_linear, 6 = piecewise_linear_rate)', &
+        condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_material_model, 7, &
+        [1, 2, 3, 4, 5, 6, 7], size_none, '', &
+        'must be 1 or 2 or 3 or 4 or 5 or 6 or 7 (1 = elastic, 2 = j2_plasticity, 3 = j2_rate, 4 = rigid, 5 =' // &
+          ' piecewise_linear, 6 = piecewise_linear_rate, 7 = j2_radial)', &
         'use 1 for linear elastic, 2 for J2 plasticity, 3 for rate-dependent J2 plasticity, 5 for piecewise-l' // &
           'inear plasticity or 6 for it with Cowper-Symonds rates'), &
     dataset_spec_t('/materials/density', class_float, 0, size_n_materials, .false., .true., condition_none, &
         condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give the density in kg/m^3'), &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give the density in kg/m^3'), &
     dataset_spec_t('/materials/youngs_modulus', class_float, 0, size_n_materials, .false., .true., &
         condition_none, condition_none, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give Young''s modulus in Pa (200e9 for steel)'), &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        'give Young''s modulus in Pa (200e9 for steel)'), &
     dataset_spec_t('/materials/poisson_ratio', class_float, 0, size_n_materials, .false., .true., &
         condition_none, condition_none, 0.0_wp, .true., .false., .true., .false., -1.0_wp, 0.5_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be in (-1, 0.5)', '', 'give a Poisson ratio such as 0.3'), &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be in (-1, 0.5)', '', 'give a Poisson ratio such as 0.3'), &
     dataset_spec_t('/materials/yield_stress', class_float, 0, size_n_materials, .false., .false., &
         condition_plastic, condition_plastic, 0.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give the initial yield stress in Pa'), &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        'give the initial yield stress in Pa'), &
     dataset_spec_t('/materials/tangent_modulus', class_float, 0, size_n_materials, .false., .false., &
         condition_plastic, condition_plastic, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the plastic tangent modulus in Pa below Young''s modulus (0 = perfectly plastic)'), &
     dataset_spec_t('/materials/hardening_mixing', class_float, 0, size_n_materials, .false., .false., &
         condition_combined_hardening, condition_combined_hardening, 1.0_wp, .true., .true., .true., .true., &
-        0.0_wp, 1.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be in [0, 1]', '', &
+        0.0_wp, 1.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be in [0, 1]', '', &
         'use 1 for isotropic, 0 for kinematic hardening or a mix in between'), &
     dataset_spec_t('/materials/rate_c', class_float, 0, size_n_materials, .false., .false., &
         condition_strain_rate, condition_strain_rate, 0.0_wp, .true., .false., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
         'give the Cowper-Symonds strain rate C in 1/s (40.4 for mild steel)'), &
     dataset_spec_t('/materials/rate_p', class_float, 0, size_n_materials, .false., .false., &
         condition_strain_rate, condition_strain_rate, 0.0_wp, .true., .false., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
         'give the Cowper-Symonds exponent P (5 for mild steel)'), &
     dataset_spec_t('/materials/hardening_curve', class_int, 0, size_n_materials, .false., .false., &
         condition_hardening_curve, condition_hardening_curve, -1.0_wp, .true., .true., .false., .true., &
-        -1.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
+        -1.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
         'give the index of a curve of /curves/first_point, or -1 for the bilinear law of yield_stress and tangent_modulus'), &
     dataset_spec_t('/materials/rate_curve', class_int, 0, size_n_materials, .false., .false., &
         condition_rate_curve, condition_rate_curve, -1.0_wp, .true., .true., .false., .true., -1.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
         'give the index of a curve of /curves/first_point, or -1 for no rate effect'), &
     dataset_spec_t('/materials/failure_strain', class_float, 0, size_n_materials, .false., .false., &
         condition_none, condition_plastic, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the failure plastic strain (> 0), or 0 for a material that never fails'), &
     dataset_spec_t('/loads/node', class_int, 0, size_n_loads, .true., .false., condition_loads_group, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of the loaded node'), &
+        [0, 0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of the loaded node'), &
     dataset_spec_t('/loads/dof', class_int, 0, size_n_loads, .false., .false., condition_loads_group, &
         condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be between 1 and 6', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be between 1 and 6', '', &
         'use 1..3 for a force along x, y, z and 4..6 for a moment about x, y, z'), &
     dataset_spec_t('/loads/value', class_float, 0, size_n_loads, .false., .false., condition_loads_group, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, '', '', 'give the final load value in N or N m'), &
+        [0, 0, 0, 0, 0, 0, 0], size_none, '', '', 'give the final load value in N or N m'), &
     dataset_spec_t('/loads/ramp_time', class_float, 0, size_n_loads, .false., .false., condition_loads_group, &
         condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the ramp time in seconds (0 applies the load at once)'), &
     dataset_spec_t('/output/tracked_nodes', class_int, 0, size_n_tracked, .true., .false., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of each tracked node'), &
+        [0, 0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of each tracked node'), &
     dataset_spec_t('/contact/pairs', class_int, 2, size_n_contacts, .true., .false., condition_contact_group, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_n_parts, '', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_n_parts, '', '', &
         'name two different parts for node_to_segment, or one part twice for single_surface'), &
     dataset_spec_t('/contact/penalty_scale', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
         'use a penalty scale factor such as 0.1 (the default)'), &
     dataset_spec_t('/contact/soft_constraint', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 10.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be in [0, 10]', '', &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be in [0, 10]', '', &
         'use 0 (off) or a scale such as 0.1 (LS-DYNA''s SOFSCL default)'), &
     dataset_spec_t('/contact/static_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
     dataset_spec_t('/contact/dynamic_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &
     dataset_spec_t('/contact/friction_decay', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a decay coefficient >= 0 in s/m'), &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a decay coefficient >= 0 in s/m'), &
     dataset_spec_t('/contact/passes', class_int, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 2.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_passes, 2, &
-        [1, 2, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
+        [1, 2, 0, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
         'use 2 (both bodies slave every step) or 1 (slave and master swap every step)'), &
     dataset_spec_t('/contact/kind', class_int, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 5, &
-        [1, 2, 3, 4, 5, 0], size_none, '', &
+        [1, 2, 3, 4, 5, 0, 0], size_none, '', &
         'must be 1 or 2 or 3 or 4 or 5 (1 = node_to_segment, 2 = single_surface, 3 = tied, 4 = edge_to_edge, ' // &
           '5 = single_surface_edges)', &
         'use 1 (node_to_segment), 2 (single_surface), 3 (tied), 4 (edge_to_edge) or 5 (single_surface_edges)'), &
     dataset_spec_t('/contact/initial_penetration', class_int, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_initial_penetration, 2, [1, 2, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = move, 2 = gap)', &
+        enum_initial_penetration, 2, [1, 2, 0, 0, 0, 0, 0], size_none, '', &
+        'must be 1 or 2 (1 = move, 2 = gap)', &
         'use 1 (move the nodes onto the surface) or 2 (take the overlap as the gap)'), &
     dataset_spec_t('/contact/birth_time', class_float, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the birth time in s (>= 0; 0: from the start)'), &
     dataset_spec_t('/contact/death_time', class_float, 0, size_n_contacts, .false., .false., condition_none, &
         condition_none, 1e+20_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
         'give the death time in s, after the birth time (1e20: never)'), &
     dataset_spec_t('/rigid_walls/point', class_float, 3, size_n_rigid_walls, .true., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give the wall''s point in metres'), &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', 'give the wall''s point in metres'), &
     dataset_spec_t('/rigid_walls/normal', class_float, 3, size_n_rigid_walls, .false., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', &
         'give a nonzero normal pointing from the wall towards the model (a cylinder: its axis)'), &
     dataset_spec_t('/rigid_walls/shape', class_int, 0, size_n_rigid_walls, .false., .false., condition_none, &
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_rigid_wall_shape, 5, &
-        [1, 2, 3, 4, 5, 0], size_none, '', &
+        [1, 2, 3, 4, 5, 0, 0], size_none, '', &
         'must be 1 or 2 or 3 or 4 or 5 (1 = plane, 2 = finite_plane, 3 = cylinder, 4 = sphere, 5 = box)', &
         'use 1 (plane), 2 (finite_plane), 3 (cylinder), 4 (sphere) or 5 (box)'), &
     dataset_spec_t('/rigid_walls/edge', class_float, 3, size_n_rigid_walls, .false., .false., condition_none, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, '', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, '', '', &
         'give a direction of the wall''s first side, not parallel to its normal'), &
     dataset_spec_t('/rigid_walls/size', class_float, 3, size_n_rigid_walls, .false., .false., condition_none, &
         condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give lengths >= 0 in metres (> 0 for the sides of a finite plane or box, and its depth)'), &
     dataset_spec_t('/rigid_walls/radius', class_float, 0, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the radius in metres (> 0 for a cylinder or sphere)'), &
     dataset_spec_t('/rigid_walls/length', class_float, 0, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the cylinder''s length in metres, or 0 for an infinite one'), &
     dataset_spec_t('/rigid_walls/velocity', class_float, 3, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give the wall''s velocity in m/s (0 for a stationary wall)'), &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', &
+        'give the wall''s velocity in m/s (0 for a stationary wall)'), &
     dataset_spec_t('/rigid_walls/penalty_scale', class_float, 0, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.1_wp, .true., .false., .true., .true., 0.0_wp, 0.5_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be in (0, 0.5]', '', &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be in (0, 0.5]', '', &
         'use a penalty scale above 0 and at most 0.5, such as 0.1 (the default)'), &
     dataset_spec_t('/rigid_walls/friction', class_float, 0, size_n_rigid_walls, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give a friction coefficient >= 0 (0 for a frictionless wall)'), &
     dataset_spec_t('/rigid_wall_nodes/wall', class_int, 0, size_n_rigid_wall_nodes, .true., .false., &
         condition_rigid_wall_nodes_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the 0-based index of a rigid wall of /rigid_walls'), &
     dataset_spec_t('/rigid_wall_nodes/node', class_int, 0, size_n_rigid_wall_nodes, .false., .false., &
         condition_rigid_wall_nodes_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of a node'), &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of a node'), &
     dataset_spec_t('/rigid_bodies/part', class_int, 0, size_n_rigid_bodies, .true., .false., &
         condition_rigid_bodies_group, condition_none, 0.0_wp, .true., .true., .false., .true., -1.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_parts, 'must be >= -1', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_n_parts, 'must be >= -1', '', &
         'give the index of a part with a rigid material (or -1 for a body of nodes alone)'), &
     dataset_spec_t('/rigid_bodies/fixed_dofs', class_int, 6, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
         'use 1 to fix a dof of the body and 0 to leave it free'), &
     dataset_spec_t('/rigid_bodies/prescribed', class_int, 6, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
-        [0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
         'use 1 to prescribe a dof''s velocity and 0 to leave it to the forces'), &
     dataset_spec_t('/rigid_bodies/velocity', class_float, 6, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give finite velocities in m/s and rad/s'), &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', 'give finite velocities in m/s and rad/s'), &
     dataset_spec_t('/rigid_bodies/curve', class_int, 0, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
+        0, [0, 0, 0, 0, 0, 0, 0], size_n_curves, 'must be >= -1', '', &
         'give the index of a curve of /curves/first_point, or -1 for a constant velocity'), &
     dataset_spec_t('/rigid_bodies/given_mass', class_float, 0, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give a mass > 0 in kg, or 0 to take it from the body''s nodes'), &
     dataset_spec_t('/rigid_bodies/given_centre', class_float, 3, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give finite coordinates in m'), &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', 'give finite coordinates in m'), &
     dataset_spec_t('/rigid_bodies/given_inertia', class_float, 6, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', &
         'give the six components in kg m^2 of a positive definite tensor'), &
     dataset_spec_t('/rigid_bodies/failure_force', class_float, 2, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give forces >= 0 in N (0: no failure in that mode)'), &
     dataset_spec_t('/rigid_bodies/failure_exponent', class_float, 2, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 2.0_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', 'give exponents > 0 (2: the quadratic criterion)'), &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        'give exponents > 0 (2: the quadratic criterion)'), &
     dataset_spec_t('/rigid_bodies/failure_time', class_float, 0, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 1e+20_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give a time in s (1e20 for never)'), &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', 'give a time in s (1e20 for never)'), &
     dataset_spec_t('/rigid_bodies/failure_node', class_int, 0, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_n_nodes, 'must be >= -1', '', &
+        0, [0, 0, 0, 0, 0, 0, 0], size_n_nodes, 'must be >= -1', '', &
         'give the 0-based index of a node of the body''s own (/nodes/rigid_body), or -1'), &
     dataset_spec_t('/rigid_bodies/failure_normal', class_float, 3, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
-        0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give a direction (any length) or the zero vector'), &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', 'give a direction (any length) or the zero vector'), &
     dataset_spec_t('/rotation_ties/node', class_int, 0, size_n_rotation_ties, .true., .false., &
         condition_rotation_ties_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of a node'), &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of a node'), &
     dataset_spec_t('/rotation_ties/masters', class_int, 4, size_n_rotation_ties, .false., .false., &
         condition_rotation_ties_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_n_nodes, '', '', &
         'give the indices of the segment''s nodes'), &
     dataset_spec_t('/rotation_ties/weights', class_float, 4, size_n_rotation_ties, .false., .false., &
         condition_rotation_ties_group, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, &
-        1.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be in [0, 1]', '', &
+        1.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be in [0, 1]', '', &
         'give the shape functions at the tied point, each in [0, 1], summing to 1'), &
     dataset_spec_t('/curves/first_point', class_int, 0, size_n_curves, .true., .false., &
         condition_curves_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the 0-based index of each curve''s first point, 0 first and strictly increasing'), &
     dataset_spec_t('/curves/time', class_float, 0, size_n_curve_points, .true., .false., &
         condition_curves_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', &
         'give finite times in seconds, strictly increasing within each curve'), &
     dataset_spec_t('/curves/value', class_float, 0, size_n_curve_points, .false., .false., &
         condition_curves_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', &
         'give finite curve values (factors on the load''s value)'), &
     dataset_spec_t('/pressure/part', class_int, 0, size_n_pressures, .true., .false., &
         condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_parts, '', '', 'give the index of the loaded part'), &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_n_parts, '', '', 'give the index of the loaded part'), &
     dataset_spec_t('/pressure/value', class_float, 0, size_n_pressures, .false., .false., &
         condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', &
         'give the pressure in Pa (positive pushes along the element normal)'), &
     dataset_spec_t('/pressure/curve', class_int, 0, size_n_pressures, .false., .false., &
         condition_pressure_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_curves, '', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_n_curves, '', '', &
         'give the index of a curve of /curves/first_point'), &
     dataset_spec_t('/prescribed/node', class_int, 0, size_n_prescribed, .true., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of the node'), &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of the node'), &
     dataset_spec_t('/prescribed/dof', class_int, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .true., .true., .true., .true., 1.0_wp, 6.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be between 1 and 6', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be between 1 and 6', '', &
         'use 1..3 for a velocity along x, y, z and 4..6 for an angular velocity about x, y, z'), &
     dataset_spec_t('/prescribed/value', class_float, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give the velocity in m/s (rad/s for a rotation)'), &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', &
+        'give the velocity in m/s (rad/s for a rotation)'), &
     dataset_spec_t('/prescribed/curve', class_int, 0, size_n_prescribed, .false., .false., &
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
-        enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_curves, '', '', &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_n_curves, '', '', &
         'give the index of a curve of /curves/first_point'), &
     dataset_spec_t('/base_accelerations/direction', class_float, 3, size_n_base_accelerations, .true., &
         .false., condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., &
-        .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
+        .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', &
         'give a nonzero direction [x, y, z]'), &
     dataset_spec_t('/base_accelerations/value', class_float, 0, size_n_base_accelerations, .false., .false., &
         condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give the acceleration in m/s^2'), &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', 'give the acceleration in m/s^2'), &
     dataset_spec_t('/base_accelerations/curve', class_int, 0, size_n_base_accelerations, .false., .false., &
         condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
-        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_curves, '', '', &
+        0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_n_curves, '', '', &
         'give the index of a curve of /curves/first_point') ]
 
   type(attribute_spec_t), parameter :: control_attributes(n_control_attributes) = [ &
@@ -909,55 +919,64 @@ contains
     end do
   end function enum_code
 
-  !> Whether a code of enum material_model has the trait plastic (j2_plasticity, j2_rate, piecewise_linear, piecewise_linear_rate)
+  !> Whether a code of enum material_model has the trait plastic:
+  !> j2_plasticity, j2_rate, piecewise_linear, piecewise_linear_rate, j2_radial
   elemental logical function material_is_plastic(code) result(has)
     integer, intent(in) :: code
-    has = any(code == [2, 3, 5, 6])
+    has = any(code == [2, 3, 5, 6, 7])
   end function material_is_plastic
 
-  !> Whether a code of enum material_model has the trait combined_hardening (j2_plasticity, j2_rate)
+  !> Whether a code of enum material_model has the trait combined_hardening:
+  !> j2_plasticity, j2_rate, j2_radial
   elemental logical function material_is_combined_hardening(code) result(has)
     integer, intent(in) :: code
-    has = any(code == [2, 3])
+    has = any(code == [2, 3, 7])
   end function material_is_combined_hardening
 
-  !> Whether a code of enum material_model has the trait cowper_symonds (j2_rate, piecewise_linear_rate)
+  !> Whether a code of enum material_model has the trait cowper_symonds:
+  !> j2_rate, piecewise_linear_rate
   elemental logical function material_is_cowper_symonds(code) result(has)
     integer, intent(in) :: code
     has = any(code == [3, 6])
   end function material_is_cowper_symonds
 
-  !> Whether a code of enum material_model has the trait rigid (rigid)
+  !> Whether a code of enum material_model has the trait rigid:
+  !> rigid
   elemental logical function material_is_rigid(code) result(has)
     integer, intent(in) :: code
     has = any(code == [4])
   end function material_is_rigid
 
-  !> Whether a code of enum material_model has the trait hardening_curve (piecewise_linear, piecewise_linear_rate)
+  !> Whether a code of enum material_model has the trait hardening_curve:
+  !> piecewise_linear, piecewise_linear_rate
   elemental logical function material_is_hardening_curve(code) result(has)
     integer, intent(in) :: code
     has = any(code == [5, 6])
   end function material_is_hardening_curve
 
-  !> Whether a code of enum element_kind has the trait truss (truss)
+  !> Whether a code of enum element_kind has the trait truss:
+  !> truss
   elemental logical function element_kind_is_truss(code) result(has)
     integer, intent(in) :: code
     has = any(code == [2])
   end function element_kind_is_truss
 
-  !> Whether a code of enum contact_kind has the trait self_contact (single_surface, single_surface_edges)
+  !> Whether a code of enum contact_kind has the trait self_contact:
+  !> single_surface, single_surface_edges
   elemental logical function contact_kind_is_self_contact(code) result(has)
     integer, intent(in) :: code
     has = any(code == [2, 5])
   end function contact_kind_is_self_contact
 
-  !> Whether a code of enum contact_kind has the trait tied (tied)
+  !> Whether a code of enum contact_kind has the trait tied:
+  !> tied
   elemental logical function contact_kind_is_tied(code) result(has)
     integer, intent(in) :: code
     has = any(code == [3])
   end function contact_kind_is_tied
 
-  !> Whether a code of enum contact_kind has the trait edge_to_edge (edge_to_edge, single_surface_edges)
+  !> Whether a code of enum contact_kind has the trait edge_to_edge:
+  !> edge_to_edge, single_surface_edges
   elemental logical function contact_kind_is_edge_to_edge(code) result(has)
     integer, intent(in) :: code
     has = any(code == [4, 5])

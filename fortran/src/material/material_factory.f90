@@ -9,6 +9,7 @@ module material_factory
   use elastic_material, only: elastic_material_t
   use j2_material, only: j2_material_t
   use j2_rate_material, only: j2_rate_material_t
+  use j2_radial_material, only: j2_radial_material_t
   use piecewise_linear_material, only: piecewise_linear_material_t, piecewise_linear_from_curve, rate_none, &
                                        rate_cowper_symonds, rate_tabulated
   use paradyn_kinds, only: wp
@@ -32,6 +33,11 @@ contains
                                                yield_stress=deck%yield_stress(m), &
                                                tangent_modulus=deck%tangent_modulus(m), &
                                                hardening_mixing=deck%hardening_mixing(m)))
+    case ('j2_radial')
+      allocate (material, source=j2_radial_material_t(young=deck%young(m), poisson=deck%poisson(m), &
+                                                      yield_stress=deck%yield_stress(m), &
+                                                      tangent_modulus=deck%tangent_modulus(m), &
+                                                      hardening_mixing=deck%hardening_mixing(m)))
     case ('j2_rate')
       allocate (material, source=j2_rate_material_t(young=deck%young(m), poisson=deck%poisson(m), &
                                                     yield_stress=deck%yield_stress(m), &

@@ -11,7 +11,7 @@ module plane_stress_returns
   private
   public :: elastic_plane_stress_update, j2_plane_stress_update, von_mises_plane_stress
   public :: elastic_plane_stress_update_points, j2_plane_stress_update_points
-  public :: j2_kinematic_modulus, return_points, return_batch
+  public :: j2_kinematic_modulus, return_points, return_batch, j2_radial_update_points
 
   !> points per pass of j2_plane_stress_update_points (one element group's worth): fixed-size
   !> local arrays, no allocation
@@ -265,6 +265,49 @@ contains
       end do
     end do
   end subroutine j2_plane_stress_update_points
+
+  !> The radial return without the plane-stress iteration, at points 1..m laid out as
+  !> j2_plane_stress_update_points': the elastic trial; a point whose relative stress xi = s - alpha
+  !> lies outside the yield radius k = sigma_y0 + beta H eps_p gets the plastic strain of the 3-D
+  !> radial return, d_eps_p = (|xi| - k) / (3 G + H) (|.| von Mises, H = E Et / (E - Et)), and its
+  !> relative stress scaled onto the hardened radius, xi k' / |xi|, k' = k + beta H d_eps_p; the
+  !> back stress moves by (1 - beta) H d_eps_p xi / |xi|. The plane-stress condition is not iterated
+  !> (the trial's through-thickness strain stays elastic): the cheaper return of explicit codes
+  !> (OpenRadioss's shell default, Iplas = 2), a model choice beside the exact return above.
+  pure subroutine j2_radial_update_points(m, stress, back, eps_p, dstrain, young, poisson, yield0, tangent, beta)
+    integer, intent(in) :: m
+    real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:)
+    real(ek), intent(in), contiguous :: dstrain(:, :)
+    real(ek), intent(in) :: young, poisson, yield0, tangent, beta
+    real(ek) :: c, h, h_iso, h_kin, shear, x1, x2, x3, effective, radius, d_eps, scale, shift
+    integer :: i
+    c = young / (1.0_ek - poisson**2)
+    h = young * tangent / (young - tangent)
+    h_iso = beta * h
+    h_kin = (1.0_ek - beta) * h
+    shear = young / (2.0_ek * (1.0_ek + poisson))
+    do i = 1, m
+      stress(i, 1) = stress(i, 1) + c * (dstrain(i, 1) + poisson * dstrain(i, 2))
+      stress(i, 2) = stress(i, 2) + c * (dstrain(i, 2) + poisson * dstrain(i, 1))
+      stress(i, 3) = stress(i, 3) + c * 0.5_ek * (1.0_ek - poisson) * dstrain(i, 3)
+      x1 = stress(i, 1) - back(i, 1)
+      x2 = stress(i, 2) - back(i, 2)
+      x3 = stress(i, 3) - back(i, 3)
+      effective = sqrt(max(x1**2 - x1 * x2 + x2**2 + 3.0_ek * x3**2, 0.0_ek))
+      radius = yield0 + h_iso * eps_p(i)
+      d_eps = merge((effective - radius) / (3.0_ek * shear + h), 0.0_ek, effective > radius)
+      scale = merge((radius + h_iso * d_eps) / merge(effective, 1.0_ek, effective > radius), 1.0_ek, &
+                    effective > radius)
+      shift = merge(h_kin * d_eps / merge(effective, 1.0_ek, effective > radius), 0.0_ek, effective > radius)
+      back(i, 1) = back(i, 1) + shift * x1
+      back(i, 2) = back(i, 2) + shift * x2
+      back(i, 3) = back(i, 3) + shift * x3
+      stress(i, 1) = scale * x1 + back(i, 1)
+      stress(i, 2) = scale * x2 + back(i, 2)
+      stress(i, 3) = scale * x3 + back(i, 3)
+      eps_p(i) = eps_p(i) + d_eps
+    end do
+  end subroutine j2_radial_update_points
 
   !> Consistency parameter dgamma of np <= batch yielding points: the bracket and the safeguarded
   !> Newton iteration of j2_plane_stress_update in lockstep. Masks freeze a point once it meets its

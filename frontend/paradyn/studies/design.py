@@ -109,6 +109,21 @@ def _set_precision(scene: Scene, value: str) -> None:
     scene.run.precision = None if value == "double" else value
 
 
+# the plane-stress return of J2 plasticity: exact (j2_plasticity) or radial (j2_radial, docs/theory.md)
+PLASTIC_RETURNS = {"exact": "j2_plasticity", "radial": "j2_radial"}
+
+
+def _plastic_return(scene: Scene) -> str | None:
+    returns = {name for name, model in PLASTIC_RETURNS.items() for m in scene.materials if m.model == model}
+    return returns.pop() if len(returns) == 1 else None
+
+
+def _set_plastic_return(scene: Scene, value: str) -> None:
+    for material in scene.materials:
+        if material.model in PLASTIC_RETURNS.values():
+            material.model = PLASTIC_RETURNS[value]
+
+
 def _effect_knob(switch: str) -> Knob:
     return Knob(switch, bool, f"[effects] {switch}: false switches the effect off",
                 lambda s: s.run.effect_switches.get(switch, "on") == "on", _set_effect(switch))
@@ -134,6 +149,9 @@ KNOBS: dict[str, Knob] = {k.name: k for k in [
     Knob("element", str, f"element of every part (its quadrilaterals): {', '.join(SHELL_ELEMENTS)}",
          lambda s: _same([p.element for p in s.parts]), _set_parts("element"),
          lambda v: None if v in SHELL_ELEMENTS else f"must be one of {', '.join(SHELL_ELEMENTS)}"),
+    Knob("plastic_return", str, "the plane-stress return of every J2 material: exact (j2_plasticity) or radial "
+         "(j2_radial)", _plastic_return, _set_plastic_return,
+         lambda v: None if v in PLASTIC_RETURNS else f"must be one of {', '.join(PLASTIC_RETURNS)}"),
     Knob("warping_correction", bool, "warping_correction of every part",
          lambda s: _same([p.warping_correction for p in s.parts]), _set_parts("warping_correction")),
     Knob("penalty_scale", float, "penalty_scale of every [[contact]], > 0",
