@@ -30,6 +30,10 @@ module solver_state
     type(run_control_t) :: control
     type(parallel_contact_t) :: contact
     logical :: has_contact = .false.
+    ! erosion in contact (eroded_contact): whether a contact part can erode, this rank's elements
+    ! known eroded and its nodes known to have no live element
+    logical :: contact_erodes = .false.
+    logical, allocatable :: eroded_known(:), dead_known(:)
     type(effect_table_t) :: effects                          !< what runs, with its counters
     type(nodal_effect_holder_t), allocatable :: nodal_effects(:)   !< the running loads and constraints
     logical :: has_loads = .false., has_constraints = .false., has_corner_loads = .false.

@@ -63,6 +63,7 @@ contains
     end do
     call number_contact_nodes(deck%n_nodes, dom, comm, in_contact, contact_of, c%n_nodes)
     c%sort_interval = deck%contact_sort_interval
+    allocate (c%eroded_elements(0), c%dead_nodes(0))
     call make_passes(deck, dom, comm, corner, contact_of, c)
     allocate (c%pair_active_cycles(deck%n_contacts), c%pair_skipped_cycles(deck%n_contacts), source=0_i8)
     allocate (c%definition_force(3, deck%n_contacts), source=0.0_wp)
