@@ -635,9 +635,10 @@ DATASETS: tuple[DatasetSpec, ...] = (
         '/contact/birth_time', 'contact_birth_time', 'float', ('n_contacts',), False, None, None, 0.0,
         Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 's',
         (
-            'the contact acts from this time on (LS-DYNA BT); one born after 0 is not checked for initial '
-            'penetration at the start (its parts may cross then) and from its birth pushes back every slave it '
-            'finds inside, with no gap taken'
+            'the contact acts from this time on (LS-DYNA BT); one born after 0 is checked for crossing parts and '
+            'initial penetrations at its birth instead of at the start (its parts may cross then), with the '
+            "start's rules: crossing parts refused, slaves inside moved or their overlaps kept as gaps by "
+            'initial_penetration'
         ), '[[contact]] birth_time', 'give the birth time in s (>= 0; 0: from the start)',
     ),
     DatasetSpec(

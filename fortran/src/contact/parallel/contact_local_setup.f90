@@ -154,6 +154,8 @@ contains
       if (deck%contact_initial_penetration(pass%pair) == initial_penetration_gap .and. &
           deck%contact_birth_time(pass%pair) == 0.0_wp) &
         call gap_overlaps(deck, dom, comm, contact_of, c, p)
+      pass%gap_at_birth = deck%contact_initial_penetration(pass%pair) == initial_penetration_gap .and. &
+                          deck%contact_birth_time(pass%pair) > 0.0_wp .and. .not. pass%bound   ! contact_birth_gaps
       if (pass%bound) call own_bindings(deck, dom, comm, contact_of, c, p)
       end associate
     end do

@@ -54,8 +54,10 @@ module contact_pass
     !> excluded(excluded_start(s) : excluded_start(s + 1) - 1), and the segments
     logical :: shares_nodes = .false.
     integer, allocatable :: excluded_start(:), excluded(:)
-    !> each slave's overlap at the start, taken as its gap (/contact/initial_penetration = gap), else 0
+    !> each slave's overlap at the start, taken as its gap (/contact/initial_penetration = gap), else 0;
+    !> gap_at_birth: a gap definition born later takes them at its birth (contact_birth_gaps)
     real(wp), allocatable :: overlap(:)
+    logical :: gap_at_birth = .false.
     !> the definition's contact kind (schema enum contact_kind); a kind with the trait tied binds
     !> each slave to a master segment at the start (contact_laws): the binding, kept for the run,
     !> replaces the search and the penalty law: each slave's segment (its global element, 0: the
@@ -140,7 +142,10 @@ contains
     pass%birth = deck%contact_birth_time(pair)
     pass%death = deck%contact_death_time(pair)
     allocate (pass%overlap(size(slave_nodes)), source=0.0_wp)
-    ! a definition born later is not checked at the start: its overlaps then are not its gaps
+    ! a definition born later is not checked at the start: its overlaps then are not its gaps, those
+    ! at its birth are
+    pass%gap_at_birth = deck%contact_initial_penetration(pair) == initial_penetration_gap .and. &
+                        deck%contact_birth_time(pair) > 0.0_wp .and. .not. pass%bound
     if (deck%contact_initial_penetration(pair) == initial_penetration_gap .and. deck%contact_birth_time(pair) == 0.0_wp) then
       allocate (push(3, size(slave_nodes)))
       call slave_penetrations(deck%coordinates, slave_nodes, deck%connectivity(:, elements), pass%t_slave, &
