@@ -48,16 +48,17 @@ module paradyn_schema
       dataset_rigid_walls_point, dataset_rigid_walls_normal, dataset_rigid_walls_shape, &
       dataset_rigid_walls_edge, dataset_rigid_walls_size, dataset_rigid_walls_radius, &
       dataset_rigid_walls_length, dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, &
-      dataset_rigid_walls_friction, dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, &
-      dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, &
-      dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, dataset_rigid_bodies_given_mass, &
-      dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
-      dataset_rigid_bodies_failure_force, dataset_rigid_bodies_failure_exponent, &
-      dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_node, &
-      dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, dataset_rotation_ties_masters, &
-      dataset_rotation_ties_weights, dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
-      dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, &
-      dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
+      dataset_rigid_walls_friction, dataset_rigid_walls_birth_time, dataset_rigid_walls_death_time, &
+      dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, &
+      dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, &
+      dataset_rigid_bodies_curve, dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, &
+      dataset_rigid_bodies_given_inertia, dataset_rigid_bodies_failure_force, &
+      dataset_rigid_bodies_failure_exponent, dataset_rigid_bodies_failure_time, &
+      dataset_rigid_bodies_failure_node, dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, &
+      dataset_rotation_ties_masters, dataset_rotation_ties_weights, dataset_curves_first_point, &
+      dataset_curves_time, dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
+      dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
+      dataset_prescribed_curve, dataset_prescribed_birth_time, dataset_prescribed_death_time, &
       dataset_base_accelerations_direction, dataset_base_accelerations_value, &
       dataset_base_accelerations_curve, n_deck_datasets, control_end_time, control_output_interval, &
       control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
@@ -263,38 +264,42 @@ module paradyn_schema
   integer, parameter :: dataset_rigid_walls_velocity = 56
   integer, parameter :: dataset_rigid_walls_penalty_scale = 57
   integer, parameter :: dataset_rigid_walls_friction = 58
-  integer, parameter :: dataset_rigid_wall_nodes_wall = 59
-  integer, parameter :: dataset_rigid_wall_nodes_node = 60
-  integer, parameter :: dataset_rigid_bodies_part = 61
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 62
-  integer, parameter :: dataset_rigid_bodies_prescribed = 63
-  integer, parameter :: dataset_rigid_bodies_velocity = 64
-  integer, parameter :: dataset_rigid_bodies_curve = 65
-  integer, parameter :: dataset_rigid_bodies_given_mass = 66
-  integer, parameter :: dataset_rigid_bodies_given_centre = 67
-  integer, parameter :: dataset_rigid_bodies_given_inertia = 68
-  integer, parameter :: dataset_rigid_bodies_failure_force = 69
-  integer, parameter :: dataset_rigid_bodies_failure_exponent = 70
-  integer, parameter :: dataset_rigid_bodies_failure_time = 71
-  integer, parameter :: dataset_rigid_bodies_failure_node = 72
-  integer, parameter :: dataset_rigid_bodies_failure_normal = 73
-  integer, parameter :: dataset_rotation_ties_node = 74
-  integer, parameter :: dataset_rotation_ties_masters = 75
-  integer, parameter :: dataset_rotation_ties_weights = 76
-  integer, parameter :: dataset_curves_first_point = 77
-  integer, parameter :: dataset_curves_time = 78
-  integer, parameter :: dataset_curves_value = 79
-  integer, parameter :: dataset_pressure_part = 80
-  integer, parameter :: dataset_pressure_value = 81
-  integer, parameter :: dataset_pressure_curve = 82
-  integer, parameter :: dataset_prescribed_node = 83
-  integer, parameter :: dataset_prescribed_dof = 84
-  integer, parameter :: dataset_prescribed_value = 85
-  integer, parameter :: dataset_prescribed_curve = 86
-  integer, parameter :: dataset_base_accelerations_direction = 87
-  integer, parameter :: dataset_base_accelerations_value = 88
-  integer, parameter :: dataset_base_accelerations_curve = 89
-  integer, parameter :: n_deck_datasets = 89
+  integer, parameter :: dataset_rigid_walls_birth_time = 59
+  integer, parameter :: dataset_rigid_walls_death_time = 60
+  integer, parameter :: dataset_rigid_wall_nodes_wall = 61
+  integer, parameter :: dataset_rigid_wall_nodes_node = 62
+  integer, parameter :: dataset_rigid_bodies_part = 63
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 64
+  integer, parameter :: dataset_rigid_bodies_prescribed = 65
+  integer, parameter :: dataset_rigid_bodies_velocity = 66
+  integer, parameter :: dataset_rigid_bodies_curve = 67
+  integer, parameter :: dataset_rigid_bodies_given_mass = 68
+  integer, parameter :: dataset_rigid_bodies_given_centre = 69
+  integer, parameter :: dataset_rigid_bodies_given_inertia = 70
+  integer, parameter :: dataset_rigid_bodies_failure_force = 71
+  integer, parameter :: dataset_rigid_bodies_failure_exponent = 72
+  integer, parameter :: dataset_rigid_bodies_failure_time = 73
+  integer, parameter :: dataset_rigid_bodies_failure_node = 74
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 75
+  integer, parameter :: dataset_rotation_ties_node = 76
+  integer, parameter :: dataset_rotation_ties_masters = 77
+  integer, parameter :: dataset_rotation_ties_weights = 78
+  integer, parameter :: dataset_curves_first_point = 79
+  integer, parameter :: dataset_curves_time = 80
+  integer, parameter :: dataset_curves_value = 81
+  integer, parameter :: dataset_pressure_part = 82
+  integer, parameter :: dataset_pressure_value = 83
+  integer, parameter :: dataset_pressure_curve = 84
+  integer, parameter :: dataset_prescribed_node = 85
+  integer, parameter :: dataset_prescribed_dof = 86
+  integer, parameter :: dataset_prescribed_value = 87
+  integer, parameter :: dataset_prescribed_curve = 88
+  integer, parameter :: dataset_prescribed_birth_time = 89
+  integer, parameter :: dataset_prescribed_death_time = 90
+  integer, parameter :: dataset_base_accelerations_direction = 91
+  integer, parameter :: dataset_base_accelerations_value = 92
+  integer, parameter :: dataset_base_accelerations_curve = 93
+  integer, parameter :: n_deck_datasets = 93
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -679,6 +684,14 @@ module paradyn_schema
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give a friction coefficient >= 0 (0 for a frictionless wall)'), &
+    dataset_spec_t('/rigid_walls/birth_time', class_float, 0, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the birth time in s (>= 0; 0: from the start)'), &
+    dataset_spec_t('/rigid_walls/death_time', class_float, 0, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 1e+20_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        'give the death time in s, after the birth time (1e20: never)'), &
     dataset_spec_t('/rigid_wall_nodes/wall', class_int, 0, size_n_rigid_wall_nodes, .true., .false., &
         condition_rigid_wall_nodes_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, &
         0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
@@ -781,6 +794,14 @@ module paradyn_schema
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_none, 0, [0, 0, 0, 0, 0, 0], size_n_curves, '', '', &
         'give the index of a curve of /curves/first_point'), &
+    dataset_spec_t('/prescribed/birth_time', class_float, 0, size_n_prescribed, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the birth time in s (>= 0; 0: from the start)'), &
+    dataset_spec_t('/prescribed/death_time', class_float, 0, size_n_prescribed, .false., .false., &
+        condition_none, condition_none, 1e+20_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        'give the death time in s, after the birth time (1e20: never)'), &
     dataset_spec_t('/base_accelerations/direction', class_float, 3, size_n_base_accelerations, .true., &
         .false., condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', &
