@@ -82,10 +82,11 @@ def test_prescribed_displacement_is_its_slope_as_a_velocity(tmp_path: Path) -> N
     assert np.trapezoid(model.curve_value, model.curve_time) == pytest.approx(0.002, rel=1e-12)
 
 
-def test_prescribed_acceleration_is_integrated_and_death_ends_the_curve(tmp_path: Path) -> None:
+def test_prescribed_acceleration_is_integrated_and_death_releases_the_dof(tmp_path: Path) -> None:
     """VAD 1: 100 m/s^2 from 0 is the velocity 100 t (0.1 m/s at 1 ms); VAD 0 with DEATH 0.5 ms:
-    the curve ends there (its value held), warned; SF scales the velocity; a dof prescribed twice
-    is an error."""
+    the curve is kept whole and the motion's death_time is 0.5 ms (the engine frees the dof then:
+    tests/test_motion_life.py), the default DEATH 1e28 is never (1e20), BIRTH 0; SF scales the
+    velocity; a dof prescribed twice is an error."""
     extra = ("*BOUNDARY_PRESCRIBED_MOTION_NODE\n        13         1         1         7\n"
              "*BOUNDARY_PRESCRIBED_MOTION_SET\n         4         2         0         8       0.5            0.0005\n"
              "*SET_NODE_LIST\n         4\n        14        15\n"
@@ -97,9 +98,11 @@ def test_prescribed_acceleration_is_integrated_and_death_ends_the_curve(tmp_path
     second = int(model.curve_first_point[1])
     np.testing.assert_allclose(model.curve_time[:second], [0.0, 0.001])
     np.testing.assert_allclose(model.curve_value[:second], [0.0, 0.1], rtol=1e-12)
-    np.testing.assert_allclose(model.curve_time[second:], [0.0, 0.0005])
-    np.testing.assert_allclose(model.curve_value[second:], [0.0, 2.0])
-    assert any("DEATH = 0.0005: ParaDyn cannot release a prescribed dof" in w for w in read.warnings)
+    np.testing.assert_allclose(model.curve_time[second:], [0.0, 0.001])
+    np.testing.assert_allclose(model.curve_value[second:], [0.0, 4.0])
+    assert model.prescribed_death_time.tolist() == [1e20, 0.0005, 0.0005]
+    assert model.prescribed_birth_time.tolist() == [0.0, 0.0, 0.0]
+    assert not any("DEATH" in w or "BIRTH" in w for w in read.warnings)
     with pytest.raises(KeywordError, match="prescribes node 13 DOF 1 again"):
         _read(tmp_path, extra + "*BOUNDARY_PRESCRIBED_MOTION_NODE\n        13         1         0         8\n")
 

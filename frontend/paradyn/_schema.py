@@ -648,9 +648,10 @@ DATASETS: tuple[DatasetSpec, ...] = (
         '/contact/birth_time', 'contact_birth_time', 'float', ('n_contacts',), False, None, None, 0.0,
         Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 's',
         (
-            'the contact acts from this time on (LS-DYNA BT); one born after 0 is not checked for initial '
-            'penetration at the start (its parts may cross then) and from its birth pushes back every slave it '
-            'finds inside, with no gap taken'
+            'the contact acts from this time on (LS-DYNA BT); one born after 0 is checked for crossing parts and '
+            'initial penetrations at its birth instead of at the start (its parts may cross then), with the '
+            "start's rules: crossing parts refused, slaves inside moved or their overlaps kept as gaps by "
+            'initial_penetration'
         ), '[[contact]] birth_time', 'give the birth time in s (>= 0; 0: from the start)',
     ),
     DatasetSpec(
@@ -732,6 +733,18 @@ DATASETS: tuple[DatasetSpec, ...] = (
             "Coulomb friction coefficient between the wall and a node in contact (0 = frictionless; LS-DYNA's "
             'FRIC): sticking below mu times the normal force, sliding at it (docs/theory.md)'
         ), '[[rigid_wall]] friction', 'give a friction coefficient >= 0 (0 for a frictionless wall)',
+    ),
+    DatasetSpec(
+        '/rigid_walls/birth_time', 'rigid_wall_birth_time', 'float', ('n_rigid_walls',), False, None, None, 0.0,
+        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 's',
+        'the wall acts from this time on (LS-DYNA BIRTH); before it no node meets it', '[[rigid_wall]] birth_time',
+        'give the birth time in s (>= 0; 0: from the start)',
+    ),
+    DatasetSpec(
+        '/rigid_walls/death_time', 'rigid_wall_death_time', 'float', ('n_rigid_walls',), False, None, None, 1e+20,
+        Bound(0.0, False), None, 'must be > 0', None, '', None, False, 's',
+        'the wall acts until this time (LS-DYNA DEATH; the default 1e20: to the end), not after it',
+        '[[rigid_wall]] death_time', 'give the death time in s, after the birth time (1e20: never)',
     ),
     DatasetSpec(
         '/rigid_wall_nodes/wall', 'rigid_wall_node_wall', 'int', ('n_rigid_wall_nodes',), False,
@@ -937,6 +950,22 @@ DATASETS: tuple[DatasetSpec, ...] = (
         '/prescribed/curve', 'prescribed_curve', 'int', ('n_prescribed',), False, 'prescribed_group', None, None,
         None, None, '', None, '', 'curve', False, '-', 'curve of each prescribed velocity', '[[prescribe]] curve',
         'give the index of a curve of /curves/first_point',
+    ),
+    DatasetSpec(
+        '/prescribed/birth_time', 'prescribed_birth_time', 'float', ('n_prescribed',), False, None, None, 0.0,
+        Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 's',
+        (
+            'the motion acts from this time on (LS-DYNA BIRTH): before it the dof is free (its initial velocity, '
+            'its forces)'
+        ), '[[prescribe]] birth_time', 'give the birth time in s (>= 0; 0: from the start)',
+    ),
+    DatasetSpec(
+        '/prescribed/death_time', 'prescribed_death_time', 'float', ('n_prescribed',), False, None, None, 1e+20,
+        Bound(0.0, False), None, 'must be > 0', None, '', None, False, 's',
+        (
+            'the motion acts until this time (LS-DYNA DEATH; the default 1e20: to the end): after it the dof is '
+            'free again, from the velocity it had'
+        ), '[[prescribe]] death_time', 'give the death time in s, after the birth time (1e20: never)',
     ),
     DatasetSpec(
         '/base_accelerations/direction', 'base_acceleration_direction', 'float', ('n_base_accelerations', 3),
@@ -1247,6 +1276,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/rigid_walls/velocity'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/rigid_walls/penalty_scale'): ('class', 'shape', 'rows', 'lower', 'upper', 'finite'),
     ('dataset', '/rigid_walls/friction'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/rigid_walls/birth_time'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/rigid_walls/death_time'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/rigid_wall_nodes/wall'): ('required_when', 'class', 'shape', 'lower'),
     ('dataset', '/rigid_wall_nodes/node'): ('required_when', 'class', 'shape', 'rows', 'reference'),
     ('dataset', '/rigid_bodies/part'): ('required_when', 'class', 'shape', 'lower', 'reference'),
@@ -1275,6 +1306,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/prescribed/dof'): ('required_when', 'class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/prescribed/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
     ('dataset', '/prescribed/curve'): ('required_when', 'class', 'shape', 'rows', 'reference'),
+    ('dataset', '/prescribed/birth_time'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/prescribed/death_time'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/base_accelerations/direction'): ('required_when', 'class', 'shape', 'finite'),
     ('dataset', '/base_accelerations/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),
     ('dataset', '/base_accelerations/curve'): ('required_when', 'class', 'shape', 'rows', 'reference'),

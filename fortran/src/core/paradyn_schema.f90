@@ -48,28 +48,30 @@ module paradyn_schema
       dataset_contact_death_time, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
       dataset_rigid_walls_shape, dataset_rigid_walls_edge, dataset_rigid_walls_size, &
       dataset_rigid_walls_radius, dataset_rigid_walls_length, dataset_rigid_walls_velocity, &
-      dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, dataset_rigid_wall_nodes_wall, &
-      dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, &
-      dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
-      dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
+      dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, dataset_rigid_walls_birth_time, &
+      dataset_rigid_walls_death_time, dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, &
+      dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, &
+      dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, dataset_rigid_bodies_given_mass, &
+      dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
       dataset_rigid_bodies_failure_force, dataset_rigid_bodies_failure_exponent, &
       dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_node, &
       dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, dataset_rotation_ties_masters, &
       dataset_rotation_ties_weights, dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
       dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, &
       dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
-      dataset_base_accelerations_direction, dataset_base_accelerations_value, &
-      dataset_base_accelerations_curve, n_deck_datasets, control_end_time, control_output_interval, &
-      control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
-      control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
-      control_partition, control_contact_gather, control_precision, control_gravity_x, control_gravity_y, &
-      control_gravity_z, control_energy_error_limit, control_time_step_floor, control_contact_travel_limit, &
-      control_mass_scaling_step, control_mass_scaling_limit, control_effect_point_loads, &
-      control_effect_gravity, control_effect_base_acceleration, control_effect_pressure, &
-      control_effect_rigid_wall, control_effect_mass_damping, control_effect_prescribed_velocity, &
-      control_effect_plasticity, control_effect_hourglass, control_effect_contact, control_effect_friction, &
-      n_control_attributes, control_restart_may_change, max_enum_members, n_effects, effect_point_loads, &
-      effect_gravity, effect_base_acceleration, effect_pressure, effect_rigid_wall, effect_time_integration, &
+      dataset_prescribed_birth_time, dataset_prescribed_death_time, dataset_base_accelerations_direction, &
+      dataset_base_accelerations_value, dataset_base_accelerations_curve, n_deck_datasets, control_end_time, &
+      control_output_interval, control_history_interval, control_time_step, control_time_step_safety, &
+      control_mass_damping, control_progress_interval, control_contact_sort_interval, &
+      control_checkpoint_interval, control_partition, control_contact_gather, control_precision, &
+      control_gravity_x, control_gravity_y, control_gravity_z, control_energy_error_limit, &
+      control_time_step_floor, control_contact_travel_limit, control_mass_scaling_step, &
+      control_mass_scaling_limit, control_effect_point_loads, control_effect_gravity, &
+      control_effect_base_acceleration, control_effect_pressure, control_effect_rigid_wall, &
+      control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
+      control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
+      control_restart_may_change, max_enum_members, n_effects, effect_point_loads, effect_gravity, &
+      effect_base_acceleration, effect_pressure, effect_rigid_wall, effect_time_integration, &
       effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, effect_rigid_bodies, &
       effect_rotation_ties, effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, &
       effect_friction, effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, &
@@ -265,38 +267,42 @@ module paradyn_schema
   integer, parameter :: dataset_rigid_walls_velocity = 57
   integer, parameter :: dataset_rigid_walls_penalty_scale = 58
   integer, parameter :: dataset_rigid_walls_friction = 59
-  integer, parameter :: dataset_rigid_wall_nodes_wall = 60
-  integer, parameter :: dataset_rigid_wall_nodes_node = 61
-  integer, parameter :: dataset_rigid_bodies_part = 62
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 63
-  integer, parameter :: dataset_rigid_bodies_prescribed = 64
-  integer, parameter :: dataset_rigid_bodies_velocity = 65
-  integer, parameter :: dataset_rigid_bodies_curve = 66
-  integer, parameter :: dataset_rigid_bodies_given_mass = 67
-  integer, parameter :: dataset_rigid_bodies_given_centre = 68
-  integer, parameter :: dataset_rigid_bodies_given_inertia = 69
-  integer, parameter :: dataset_rigid_bodies_failure_force = 70
-  integer, parameter :: dataset_rigid_bodies_failure_exponent = 71
-  integer, parameter :: dataset_rigid_bodies_failure_time = 72
-  integer, parameter :: dataset_rigid_bodies_failure_node = 73
-  integer, parameter :: dataset_rigid_bodies_failure_normal = 74
-  integer, parameter :: dataset_rotation_ties_node = 75
-  integer, parameter :: dataset_rotation_ties_masters = 76
-  integer, parameter :: dataset_rotation_ties_weights = 77
-  integer, parameter :: dataset_curves_first_point = 78
-  integer, parameter :: dataset_curves_time = 79
-  integer, parameter :: dataset_curves_value = 80
-  integer, parameter :: dataset_pressure_part = 81
-  integer, parameter :: dataset_pressure_value = 82
-  integer, parameter :: dataset_pressure_curve = 83
-  integer, parameter :: dataset_prescribed_node = 84
-  integer, parameter :: dataset_prescribed_dof = 85
-  integer, parameter :: dataset_prescribed_value = 86
-  integer, parameter :: dataset_prescribed_curve = 87
-  integer, parameter :: dataset_base_accelerations_direction = 88
-  integer, parameter :: dataset_base_accelerations_value = 89
-  integer, parameter :: dataset_base_accelerations_curve = 90
-  integer, parameter :: n_deck_datasets = 90
+  integer, parameter :: dataset_rigid_walls_birth_time = 60
+  integer, parameter :: dataset_rigid_walls_death_time = 61
+  integer, parameter :: dataset_rigid_wall_nodes_wall = 62
+  integer, parameter :: dataset_rigid_wall_nodes_node = 63
+  integer, parameter :: dataset_rigid_bodies_part = 64
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 65
+  integer, parameter :: dataset_rigid_bodies_prescribed = 66
+  integer, parameter :: dataset_rigid_bodies_velocity = 67
+  integer, parameter :: dataset_rigid_bodies_curve = 68
+  integer, parameter :: dataset_rigid_bodies_given_mass = 69
+  integer, parameter :: dataset_rigid_bodies_given_centre = 70
+  integer, parameter :: dataset_rigid_bodies_given_inertia = 71
+  integer, parameter :: dataset_rigid_bodies_failure_force = 72
+  integer, parameter :: dataset_rigid_bodies_failure_exponent = 73
+  integer, parameter :: dataset_rigid_bodies_failure_time = 74
+  integer, parameter :: dataset_rigid_bodies_failure_node = 75
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 76
+  integer, parameter :: dataset_rotation_ties_node = 77
+  integer, parameter :: dataset_rotation_ties_masters = 78
+  integer, parameter :: dataset_rotation_ties_weights = 79
+  integer, parameter :: dataset_curves_first_point = 80
+  integer, parameter :: dataset_curves_time = 81
+  integer, parameter :: dataset_curves_value = 82
+  integer, parameter :: dataset_pressure_part = 83
+  integer, parameter :: dataset_pressure_value = 84
+  integer, parameter :: dataset_pressure_curve = 85
+  integer, parameter :: dataset_prescribed_node = 86
+  integer, parameter :: dataset_prescribed_dof = 87
+  integer, parameter :: dataset_prescribed_value = 88
+  integer, parameter :: dataset_prescribed_curve = 89
+  integer, parameter :: dataset_prescribed_birth_time = 90
+  integer, parameter :: dataset_prescribed_death_time = 91
+  integer, parameter :: dataset_base_accelerations_direction = 92
+  integer, parameter :: dataset_base_accelerations_value = 93
+  integer, parameter :: dataset_base_accelerations_curve = 94
+  integer, parameter :: n_deck_datasets = 94
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -692,6 +698,14 @@ module paradyn_schema
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give a friction coefficient >= 0 (0 for a frictionless wall)'), &
+    dataset_spec_t('/rigid_walls/birth_time', class_float, 0, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the birth time in s (>= 0; 0: from the start)'), &
+    dataset_spec_t('/rigid_walls/death_time', class_float, 0, size_n_rigid_walls, .false., .false., &
+        condition_none, condition_none, 1e+20_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        'give the death time in s, after the birth time (1e20: never)'), &
     dataset_spec_t('/rigid_wall_nodes/wall', class_int, 0, size_n_rigid_wall_nodes, .true., .false., &
         condition_rigid_wall_nodes_group, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, &
         0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
@@ -796,6 +810,14 @@ module paradyn_schema
         condition_prescribed_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_n_curves, '', '', &
         'give the index of a curve of /curves/first_point'), &
+    dataset_spec_t('/prescribed/birth_time', class_float, 0, size_n_prescribed, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the birth time in s (>= 0; 0: from the start)'), &
+    dataset_spec_t('/prescribed/death_time', class_float, 0, size_n_prescribed, .false., .false., &
+        condition_none, condition_none, 1e+20_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
+        'give the death time in s, after the birth time (1e20: never)'), &
     dataset_spec_t('/base_accelerations/direction', class_float, 3, size_n_base_accelerations, .true., &
         .false., condition_base_accelerations_group, condition_none, 0.0_wp, .false., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', &

@@ -29,7 +29,8 @@ module deck_fields
                             dataset_rigid_walls_normal, dataset_rigid_walls_shape, dataset_rigid_walls_edge, &
                             dataset_rigid_walls_size, dataset_rigid_walls_radius, dataset_rigid_walls_length, &
                             dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, &
-                            dataset_rigid_walls_friction, dataset_rigid_wall_nodes_wall, &
+                            dataset_rigid_walls_friction, dataset_rigid_walls_birth_time, &
+                            dataset_rigid_walls_death_time, dataset_rigid_wall_nodes_wall, &
                             dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, &
                             dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, &
                             dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
@@ -42,6 +43,7 @@ module deck_fields
                             dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
                             dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, &
                             dataset_prescribed_value, dataset_prescribed_curve, &
+                            dataset_prescribed_birth_time, dataset_prescribed_death_time, &
                             dataset_base_accelerations_direction, dataset_base_accelerations_value, &
                             dataset_base_accelerations_curve, control_end_time, control_output_interval, &
                             control_history_interval, control_time_step, control_time_step_safety, &
@@ -131,6 +133,8 @@ module deck_fields
     real(wp), allocatable :: rigid_wall_velocity(:, :)   !< /rigid_walls/velocity (3, n_rigid_walls) m/s
     real(wp), allocatable :: rigid_wall_penalty_scale(:)   !< /rigid_walls/penalty_scale (n_rigid_walls) -
     real(wp), allocatable :: rigid_wall_friction(:)   !< /rigid_walls/friction (n_rigid_walls) -
+    real(wp), allocatable :: rigid_wall_birth_time(:)   !< /rigid_walls/birth_time (n_rigid_walls) s
+    real(wp), allocatable :: rigid_wall_death_time(:)   !< /rigid_walls/death_time (n_rigid_walls) s
     integer, allocatable :: rigid_wall_node_wall(:)   !< /rigid_wall_nodes/wall (n_rigid_wall_nodes) -
     integer, allocatable :: rigid_wall_node(:)   !< /rigid_wall_nodes/node (n_rigid_wall_nodes) -
     integer, allocatable :: rigid_body_part(:)   !< /rigid_bodies/part (n_rigid_bodies) -
@@ -159,6 +163,8 @@ module deck_fields
     integer, allocatable :: prescribed_dof(:)   !< /prescribed/dof (n_prescribed) -
     real(wp), allocatable :: prescribed_value(:)   !< /prescribed/value (n_prescribed) m/s or rad/s
     integer, allocatable :: prescribed_curve(:)   !< /prescribed/curve (n_prescribed) -
+    real(wp), allocatable :: prescribed_birth_time(:)   !< /prescribed/birth_time (n_prescribed) s
+    real(wp), allocatable :: prescribed_death_time(:)   !< /prescribed/death_time (n_prescribed) s
     real(wp), allocatable :: base_acceleration_direction(:, :)
     real(wp), allocatable :: base_acceleration_value(:)
     integer, allocatable :: base_acceleration_curve(:)   !< /base_accelerations/curve (n_base_accelerations) -
@@ -415,6 +421,10 @@ contains
       d%rigid_wall_penalty_scale = values(1, :)
     case (dataset_rigid_walls_friction)
       d%rigid_wall_friction = values(1, :)
+    case (dataset_rigid_walls_birth_time)
+      d%rigid_wall_birth_time = values(1, :)
+    case (dataset_rigid_walls_death_time)
+      d%rigid_wall_death_time = values(1, :)
     end select
   end subroutine store_rigid_walls
 
@@ -538,6 +548,10 @@ contains
       d%prescribed_value = values(1, :)
     case (dataset_prescribed_curve)
       d%prescribed_curve = indices(1, :)
+    case (dataset_prescribed_birth_time)
+      d%prescribed_birth_time = values(1, :)
+    case (dataset_prescribed_death_time)
+      d%prescribed_death_time = values(1, :)
     end select
   end subroutine store_prescribed
 

@@ -68,13 +68,15 @@ contains
         allocate (effects(size(effects))%effect, source=rigid_wall_effect_make(deck%rigid_wall_shape, &
           deck%rigid_wall_point, deck%rigid_wall_normal, deck%rigid_wall_edge, deck%rigid_wall_size, &
           deck%rigid_wall_radius, deck%rigid_wall_length, deck%rigid_wall_velocity, deck%rigid_wall_penalty_scale, &
-          deck%rigid_wall_friction, deck%rigid_wall_node_wall(1:deck%n_rigid_wall_nodes), &
+          deck%rigid_wall_friction, deck%rigid_wall_birth_time, deck%rigid_wall_death_time, &
+          deck%rigid_wall_node_wall(1:deck%n_rigid_wall_nodes), &
           [(local_node(dom, deck%rigid_wall_node(k)), k = 1, deck%n_rigid_wall_nodes)], dom%n_nodes, dt))
       case (effect_prescribed_velocity)
         call append(effects)
         allocate (effects(size(effects))%effect, source=prescribed_velocity_make(curves, &
           [(local_node(dom, deck%prescribed_node(k)), k = 1, deck%n_prescribed)], deck%prescribed_dof, &
-          deck%prescribed_value, deck%prescribed_curve, [(initial_velocity(deck, k), k = 1, deck%n_prescribed)]))
+          deck%prescribed_value, deck%prescribed_curve, [(initial_velocity(deck, k), k = 1, deck%n_prescribed)], &
+          deck%prescribed_birth_time, deck%prescribed_death_time))
       case (effect_rigid_bodies)
         call append(effects)
         allocate (effects(size(effects))%effect, source=rigid_body_effect_make( &

@@ -2,6 +2,9 @@
 !> velocity update, a dof's half-step velocity becomes scale x curve(t + dt / 2), so the node's
 !> displacement is the midpoint-rule integral of the curve. The reaction that imposes it does work,
 !> counted on the owned nodes; a prescribed zero still holds the node, so the member is never idle.
+!> A motion with a birth and a death (LS-DYNA BIRTH, DEATH) acts on the steps whose midpoint
+!> t + dt / 2 lies between them: before and after, the dof is free (its own velocity, its forces);
+!> at the first step it acts, the reaction's work takes the free velocity as the last step's.
 module prescribed_velocity
   use paradyn_kinds, only: wp
   use paradyn_schema, only: effect_prescribed_velocity
@@ -18,6 +21,9 @@ module prescribed_velocity
     real(wp), allocatable :: scale(:)                   !< m/s or rad/s
     real(wp), allocatable :: initial(:)                 !< the dof's velocity at t = 0
     real(wp), allocatable :: target(:), previous(:)     !< workspace: this and the last step's velocity
+    real(wp), allocatable :: birth(:), death(:)         !< the motion acts while birth <= t + dt / 2 <= death
+    logical :: lives = .false.                          !< some motion has a birth or a death
+    logical, allocatable :: acting(:)                   !< workspace: the rows acting this step
   contains
     procedure :: acts_at
     procedure :: constrain
@@ -27,10 +33,10 @@ contains
 
   !> The member for the deck's prescribed velocities: local node of each (0 where this rank does
   !> not hold it; those rows are dropped), dof, scale, curve, and the dof's initial velocity.
-  function prescribed_velocity_make(curves, local_node, dof, scale, curve, initial) result(e)
+  function prescribed_velocity_make(curves, local_node, dof, scale, curve, initial, birth, death) result(e)
     integer, intent(in) :: local_node(:), dof(:), curve(:)
     type(load_curves_t), intent(in) :: curves
-    real(wp), intent(in) :: scale(:), initial(:)
+    real(wp), intent(in) :: scale(:), initial(:), birth(:), death(:)
     type(prescribed_velocity_t) :: e
     logical :: held(size(local_node))
     held = local_node > 0
@@ -41,7 +47,10 @@ contains
     e%curve = pack(curve, held)
     e%scale = pack(scale, held)
     e%initial = pack(initial, held)
-    allocate (e%target(size(e%node)), e%previous(size(e%node)))
+    e%birth = pack(birth, held)
+    e%death = pack(death, held)
+    e%lives = any(e%birth > 0.0_wp) .or. any(e%death < 1.0e20_wp)
+    allocate (e%target(size(e%node)), e%previous(size(e%node)), e%acting(size(e%node)))
   end function prescribed_velocity_make
 
   !> Sets dof(i) of node(i) to target(i) and adds the reaction's work on the nodes of weight 1:
@@ -80,7 +89,26 @@ contains
       e%previous(i) = e%scale(i) * curve_value(e%curves, e%curve(i), time - 0.5_wp * dt_previous)
     end do
     if (time <= 0.0_wp) e%previous = e%initial
-    call impose_velocities(e%node, e%dof, e%target, e%previous, ns%mass, ns%inertia, ns%weight, ns%v, ns%w, e%work)
+    if (.not. e%lives) then
+      call impose_velocities(e%node, e%dof, e%target, e%previous, ns%mass, ns%inertia, ns%weight, ns%v, ns%w, e%work)
+      return
+    end if
+    do i = 1, size(e%node)   ! the rows alive this step; one born now had its own velocity last step
+      e%acting(i) = e%birth(i) <= time + 0.5_wp * dt .and. time + 0.5_wp * dt <= e%death(i)
+      if (e%acting(i) .and. time > 0.0_wp .and. e%birth(i) > time - 0.5_wp * dt_previous) &
+        e%previous(i) = free_velocity(i)
+    end do
+    call impose_velocities(pack(e%node, e%acting), pack(e%dof, e%acting), pack(e%target, e%acting), &
+                           pack(e%previous, e%acting), ns%mass, ns%inertia, ns%weight, ns%v, ns%w, e%work)
+  contains
+    real(wp) function free_velocity(i) result(v)
+      integer, intent(in) :: i
+      if (e%dof(i) <= 3) then
+        v = ns%v(e%dof(i), e%node(i))
+      else
+        v = ns%w(e%dof(i) - 3, e%node(i))
+      end if
+    end function free_velocity
   end subroutine constrain
 
   pure logical function acts_at(e, stage)

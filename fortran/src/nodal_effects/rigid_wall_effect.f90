@@ -2,7 +2,9 @@
 !> its nodes inside it goes into the nodes' external forces (kernel: rigid_wall), so its work, the
 !> springs' stored energy, friction and a moving wall's work, counts as external work. Each wall
 !> keeps the exact sum of its forces on the nodes this rank owns, which the history reduces over
-!> the ranks (history_sums: LS-DYNA's RWFORC, the same bits on any layout).
+!> the ranks (history_sums: LS-DYNA's RWFORC, the same bits on any layout). A wall acts while
+!> birth <= t <= death (LS-DYNA BIRTH, DEATH), t the time of the step's forces; outside it no node
+!> meets it.
 module rigid_wall_effect
   use paradyn_kinds, only: wp, i8
   use paradyn_schema, only: effect_rigid_wall
@@ -19,6 +21,7 @@ module rigid_wall_effect
     integer, allocatable :: first(:)          !< nodes of wall w: node(first(w) : first(w + 1) - 1)
     integer, allocatable :: node(:)           !< local nodes, ascending per wall
     integer(i8), allocatable :: sums(:, :, :) !< (exact_width, 3, walls): this step's forces on owned nodes
+    real(wp), allocatable :: birth(:), death(:)  !< each wall acts while birth <= t <= death
   contains
     procedure :: acts_at
     procedure :: add_forces
@@ -31,10 +34,10 @@ contains
   !> listed(k) is the wall (1-based) of the k-th row of /rigid_wall_nodes and local(k) its node in
   !> this rank's numbering (0 where the rank does not hold it); a wall without rows acts on all n nodes.
   function rigid_wall_effect_make(shape, point, normal, edge, sides, radius, length, velocity, penalty_scale, &
-                                  friction, listed, local, n, dt) result(e)
+                                  friction, birth, death, listed, local, n, dt) result(e)
     integer, intent(in) :: shape(:), listed(:), local(:), n
     real(wp), intent(in) :: point(:, :), normal(:, :), edge(:, :), sides(:, :), radius(:), length(:)
-    real(wp), intent(in) :: velocity(:, :), penalty_scale(:), friction(:), dt
+    real(wp), intent(in) :: velocity(:, :), penalty_scale(:), friction(:), birth(:), death(:), dt
     type(rigid_wall_effect_t) :: e
     integer :: w, j, k, nw
     logical, allocatable :: mine(:)
@@ -56,6 +59,8 @@ contains
       end if
     end do
     e%first(nw + 1) = size(e%node) + 1
+    e%birth = birth
+    e%death = death
     allocate (e%sums(exact_width, 3, nw), source=0_i8)
   end function rigid_wall_effect_make
 
@@ -72,6 +77,7 @@ contains
     integer :: w
     e%sums = 0
     do w = 1, size(e%walls)
+      if (time < e%birth(w) .or. time > e%death(w)) cycle   ! not born yet, or dead
       call rigid_wall_forces(e%walls(w), e%node(e%first(w):e%first(w + 1) - 1), ns%x, ns%v, ns%mass, ns%weight, &
                              time, ns%f_ext, e%sums(:, :, w))
     end do

@@ -29,6 +29,8 @@ module explicit_solver
   use run_control, only: run_control_setup
   use phase_timers, only: wall_clock
   use contact_parallel, only: parallel_contact_setup, contact_log_line
+  use eroded_contact, only: eroded_contact_setup
+  use contact_births, only: contact_births_setup, contact_births_check
   use internal_forces, only: forces_at_current_state, lumped_masses, workspace_per_group
   use solver_output, only: write_record, write_frame, write_progress, run_record, write_phase_line
   use solver_state, only: solver_t
@@ -129,6 +131,8 @@ contains
       call parallel_contact_setup(s%contact, contact, deck, s%dom, comm, carried, s%nodes%v, s%clock%dt, &
                                   s%control%contact_gather_all)
     end if
+    call eroded_contact_setup(s)
+    if (s%has_contact) call contact_births_setup(s, deck)
     allocate (s%node_out(node_field_width, size(s%halo%owned_local)), s%v_free(3, s%nodes%n), s%w_free(3, s%nodes%n))
     allocate (s%element_out(element_field_width, s%dom%n_elements), s%tracked_out(6, deck%n_tracked))
     allocate (s%element_work(s%dom%n_elements))
@@ -199,6 +203,8 @@ contains
       call advance_positions(s%nodes, s%clock%dt, s%threads)
       s%timers%nodes = s%timers%nodes + wall_clock() - t0
       call clock_advance(s%clock)
+      call contact_births_check(s, status, message)   ! a contact born now: the start's checks, now
+      if (status /= status_ok) exit
       call forces_at_current_state(s, s%clock%dt_previous)
       call next_time_step(s)   ! dt(n+1/2) from the element steps the forces left
       call count_every_cycle_effects(s)

@@ -17,6 +17,7 @@ module internal_forces
   use phase_timers, only: wall_clock
   use contact_parallel, only: parallel_contact_step, parallel_contact_worked
   use contact_node_forces, only: contact_apply_forces
+  use eroded_contact, only: eroded_contact_step
   use paradyn_schema, only: effect_elastic_shells, effect_plastic_shells, effect_contact, effect_friction
   use effect_table, only: effect_count, effect_time
   use effect_pipeline, only: apply_corner_loads
@@ -55,6 +56,7 @@ contains
     if (s%has_contact) then
       t0 = wall_clock()
       s%contact%c%time = s%clock%time
+      if (s%contact_erodes) call eroded_contact_step(s)   ! eroded elements leave the contact
       call parallel_contact_step(s%contact, s%nodes%x, s%nodes%v, s%clock%cycles, dt_strain, s%timers)
       call contact_apply_forces(s%contact%c, s%nodes%f_int)
       call effect_time(s%effects, effect_contact, wall_clock() - t0)

@@ -14,6 +14,7 @@ module solver_checkpoint
   use run_control, only: run_control_t
   use nodal_effect, only: stage_corners
   use element_state, only: element_row_width, element_rows_pack, element_rows_unpack
+  use contact_births, only: contact_births_restored
   use contact_checkpoint, only: contact_checkpoint_rows, contact_checkpoint_restore, contact_checkpoint_width, &
                                 contact_checkpoint_sums
   use parallel_hdf5, only: row_runs, phdf5_open, phdf5_close, create_dataset, write_rows, &
@@ -240,6 +241,7 @@ contains
       return
     end if
     call read_real_attribute(file, 'time', s%clock%time, err)
+    call contact_births_restored(s)
     s%clock%dt = dt
     call read_real_attribute(file, 'dt_previous', s%clock%dt_previous, err)
     call read_real_attribute(file, 'dt_stable', s%clock%dt_stable, err)

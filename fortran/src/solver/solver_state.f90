@@ -15,6 +15,7 @@ module solver_state
   use contact_parallel, only: parallel_contact_t
   use effect_table, only: effect_table_t
   use nodal_effect, only: nodal_effect_holder_t
+  use model_deck, only: deck_t
   implicit none
   private
   public :: solver_t
@@ -30,6 +31,15 @@ module solver_state
     type(run_control_t) :: control
     type(parallel_contact_t) :: contact
     logical :: has_contact = .false.
+    ! erosion in contact (eroded_contact): whether a contact part can erode, this rank's elements
+    ! known eroded and its nodes known to have no live element
+    logical :: contact_erodes = .false.
+    logical, allocatable :: eroded_known(:), dead_known(:)
+    ! contacts born later (contact_births): each definition's birth time, whether its check at the
+    ! birth is still to come, and this rank's rows of the deck for it (kept only while one is)
+    real(wp), allocatable :: birth_time(:)
+    logical, allocatable :: birth_pending(:)
+    type(deck_t) :: birth_deck
     type(effect_table_t) :: effects                          !< what runs, with its counters
     type(nodal_effect_holder_t), allocatable :: nodal_effects(:)   !< the running loads and constraints
     logical :: has_loads = .false., has_constraints = .false., has_corner_loads = .false.

@@ -73,6 +73,8 @@ class DeckFields:
     rigid_wall_velocity: np.ndarray | None = None   # /rigid_walls/velocity (n_rigid_walls, 3) m/s
     rigid_wall_penalty_scale: np.ndarray | None = None   # /rigid_walls/penalty_scale (n_rigid_walls,) -
     rigid_wall_friction: np.ndarray | None = None   # /rigid_walls/friction (n_rigid_walls,) -
+    rigid_wall_birth_time: np.ndarray | None = None   # /rigid_walls/birth_time (n_rigid_walls,) s
+    rigid_wall_death_time: np.ndarray | None = None   # /rigid_walls/death_time (n_rigid_walls,) s
     rigid_wall_node_wall: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     rigid_wall_node: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     rigid_body_part: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
@@ -101,6 +103,8 @@ class DeckFields:
     prescribed_dof: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     prescribed_value: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))
     prescribed_curve: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
+    prescribed_birth_time: np.ndarray | None = None   # /prescribed/birth_time (n_prescribed,) s
+    prescribed_death_time: np.ndarray | None = None   # /prescribed/death_time (n_prescribed,) s
     base_acceleration_direction: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.float64))
     base_acceleration_value: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))
     base_acceleration_curve: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))

@@ -113,7 +113,9 @@ class Model(DeckFields):
         self._fill_defaults()
 
     def _fill_defaults(self) -> None:
-        """Absent optional arrays get the schema's default once their row count is known.
+        """Absent optional arrays get the schema's default once their row count is known (an
+        empty one filled before its table got rows, as a model built empty and filled later has,
+        is filled again).
 
         Arrays required under a condition (the J2 data) stay ``None`` so that validation can
         tell whether they were given."""
@@ -122,6 +124,8 @@ class Model(DeckFields):
                 continue
             rows = getattr(self, spec.shape[0])
             value = getattr(self, spec.python)
+            if value is not None and rows and len(value) == 0:
+                value = None
             if rows is not None and value is None:
                 dtype = np.int32 if spec.type == "int" else np.float64
                 setattr(self, spec.python, np.full((rows, *spec.shape[1:]), spec.default, dtype=dtype))

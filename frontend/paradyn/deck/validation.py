@@ -243,6 +243,7 @@ def _check_rigid_walls(check: _Checker, sizes: dict[str, int]) -> None:
     tolerance = 1e-9 * float(np.max(np.abs(coordinates)))
     walls = walls_of(*(check.array(f"rigid_wall_{key}") for key in
                        ("shape", "point", "normal", "edge", "size", "radius", "length")))
+    births = check.model.rigid_wall_birth_time
     for w, wall in enumerate(walls):
         if not float(np.linalg.norm(wall.normal)) > 0.0:
             check.fail(f"/rigid_walls/normal[{w}] is the zero vector; give a nonzero normal pointing from the "
@@ -250,6 +251,8 @@ def _check_rigid_walls(check: _Checker, sizes: dict[str, int]) -> None:
         if wall.requirement():
             check.fail(f"/rigid_walls/shape[{w}] = {wall.requirement()}; give the wall its /rigid_walls/edge, "
                        f"size or radius")
+        if births is not None and float(births[w]) > 0.0:
+            continue   # born later: the model may pass through its place before its birth
         acts = np.unique(nodes[listed == w]) if np.any(listed == w) else np.arange(len(coordinates))
         gaps = wall.gaps(coordinates[acts])
         if gaps.size and gaps.min() < -tolerance:

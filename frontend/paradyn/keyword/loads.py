@@ -169,7 +169,7 @@ def _motions(data: KeywordData, mesh: KeywordMesh, unit: Units, model: deck.Mode
              table: CurveTable) -> None:
     """*BOUNDARY_PRESCRIBED_MOTION_NODE / _SET as prescribed velocities: SF x a velocity curve."""
     seen: dict[tuple[int, int], str] = {}
-    nodes, dofs, values, curves = [], [], [], []
+    nodes, dofs, values, curves, births, deaths = [], [], [], [], [], []
     rigid_curves: dict[tuple[int, int, float], int] = {}
     for target, record in data.motions:
         what = f"*BOUNDARY_PRESCRIBED_MOTION_{target}"
@@ -183,8 +183,9 @@ def _motions(data: KeywordData, mesh: KeywordMesh, unit: Units, model: deck.Mode
             continue
         dof = _dof(record, what, {4: "along the vector VID", -4: "along the vector VID", 8: "about the vector VID",
                                   -8: "about the vector VID"})
-        times, velocity = _motion_curve(data, record, unit, end_time, what)
+        times, velocity = _motion_curve(data, record, unit, end_time, what, release=True)
         curve = table.add(times, velocity)
+        birth, death = _life(record, unit)
         scale = float(record["SF"]) * (unit.velocity if dof <= 3 else 1.0 / unit.time)
         for row in node_rows(data, mesh, target, int(record["ID"]), record.where, what):
             if (row, dof) in seen:
@@ -195,17 +196,29 @@ def _motions(data: KeywordData, mesh: KeywordMesh, unit: Units, model: deck.Mode
             dofs.append(dof)
             values.append(scale)
             curves.append(curve)
+            births.append(birth)
+            deaths.append(death)
     if nodes:
         model.prescribed_node = np.array(nodes, dtype=np.int32)
         model.prescribed_dof = np.array(dofs, dtype=np.int32)
         model.prescribed_value = np.array(values, dtype=np.float64)
         model.prescribed_curve = np.array(curves, dtype=np.int32)
+        model.prescribed_birth_time = np.array(births, dtype=np.float64)
+        model.prescribed_death_time = np.array(deaths, dtype=np.float64)
+
+
+def _life(record: Record, unit: Units) -> tuple[float, float]:
+    """A node motion's BIRTH and DEATH in s (DEATH at or past LS-DYNA's 1e28: never, 1e20)."""
+    birth, death = float(record["BIRTH"]), float(record["DEATH"])
+    return birth * unit.time, death * unit.time if death < 1e20 else 1e20
 
 
 def _motion_curve(data: KeywordData, record: Record, unit: Units, end_time: float,
-                  what: str) -> tuple[np.ndarray, np.ndarray]:
+                  what: str, release: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """The velocity curve of a motion (s, deck velocity units per SF): VAD 0 the curve, VAD 2 its
-    slope (a displacement), VAD 1 its integral from 0 (an acceleration); cut at DEATH."""
+    slope (a displacement), VAD 1 its integral from 0 (an acceleration); a rigid body's (release
+    False) cut at DEATH and held, a node's (release: the engine frees the dof between BIRTH and
+    DEATH) whole."""
     vad, lcid = int(record["VAD"]), int(record["LCID"])
     times, values = curve_points(data, lcid, unit, end_time, f"{record.where}: {what}")
     if vad == 2:
@@ -217,19 +230,21 @@ def _motion_curve(data: KeywordData, record: Record, unit: Units, end_time: floa
     elif vad != 0:
         raise KeywordError(f"{record.where}: {what} VAD = {vad} is not read; use 0 (velocity), 1 (acceleration) "
                            f"or 2 (displacement)")
-    _warn_times(data, record, what, unit, end_time)
+    _warn_times(data, record, what, unit, end_time, release)
     death = float(record["DEATH"]) * unit.time
-    return cut_at(times, values, death) if death < end_time else (times, values)
+    return cut_at(times, values, death) if death < end_time and not release else (times, values)
 
 
-def _warn_times(data: KeywordData, record: Record, what: str, unit: Units, end_time: float) -> None:
+def _warn_times(data: KeywordData, record: Record, what: str, unit: Units, end_time: float, release: bool) -> None:
+    """A node's BIRTH and DEATH are the engine's (prescribed birth_time, death_time); a rigid body's
+    motion has none: it is prescribed from 0, and held at its DEATH value after DEATH."""
     birth, death = float(record["BIRTH"]) * unit.time, float(record["DEATH"]) * unit.time
-    if birth > 0.0:
-        data.warn(f"{record.where}: {what} BIRTH = {record['BIRTH']:g} is not supported: ParaDyn prescribes the "
-                  f"motion from time 0 (the curve's values before BIRTH apply)")
-    if death < end_time:
-        data.warn(f"{record.where}: {what} DEATH = {record['DEATH']:g}: ParaDyn cannot release a prescribed dof; "
-                  f"the velocity curve ends at DEATH and its value there is held to the end of the run")
+    if birth > 0.0 and not release:
+        data.warn(f"{record.where}: {what} BIRTH = {record['BIRTH']:g} is not supported for a rigid body: ParaDyn "
+                  f"prescribes its motion from time 0 (the curve's values before BIRTH apply)")
+    if death < end_time and not release:
+        data.warn(f"{record.where}: {what} DEATH = {record['DEATH']:g}: ParaDyn cannot release a rigid body's "
+                  f"prescribed dof; the velocity curve ends at DEATH and its value there is held to the end of the run")
     if int(record["VID"]):
         data.warn(f"{record.where}: {what} VID = {record['VID']} is ignored (DOF {record['DOF']} is along an axis)")
 

@@ -149,7 +149,7 @@ def apply_rigid_walls(data: KeywordData, unit: Units, mesh: KeywordMesh, model: 
         return
     rows = [_row(data, unit, wall) for wall in walls]
     for key in ("shape", "point", "normal", "edge", "size", "radius", "length", "velocity", "penalty_scale",
-                "friction"):
+                "friction", "birth_time", "death_time"):
         values = np.array([row[key] for row in rows])
         setattr(model, f"rigid_wall_{key}", values.astype(np.int32) if key == "shape" else values.astype(float))
     listed, nodes = [], []
@@ -171,7 +171,7 @@ def _row(data: KeywordData, unit: Units, wall: WallCards) -> dict[str, Any]:
     _warn_unread(data, wall, name)
     row: dict[str, Any] = {"point": tail * unit.length, "normal": head - tail, "edge": np.zeros(3),
                            "size": np.zeros(3), "radius": 0.0, "length": 0.0, "velocity": np.zeros(3),
-                           "friction": _friction(data, point, name),
+                           "friction": _friction(data, point, name), **_life(main, unit, name),
                            "penalty_scale": _scale(data, main, name) if wall.kind == "PLANAR" else DEFAULT_SCALE}
     if wall.kind == "PLANAR":
         row["shape"] = SHAPES["finite_plane" if shape is not None else "plane"]
@@ -200,11 +200,19 @@ def _warn_unread(data: KeywordData, wall: WallCards, name: str) -> None:
     main, point = wall.cards["main"], wall.cards["point"]
     if int(main["BOXID"] or 0):
         data.warn(f"{main.where}: {name} BOXID = {main['BOXID']} is not read; the wall acts on its whole node set")
-    if float(main["BIRTH"] or 0.0) > 0.0 or float(main["DEATH"] if main["DEATH"] is not None else 1e20) < 1e20:
-        data.warn(f"{main.where}: {name} BIRTH = {main['BIRTH']}, DEATH = {main['DEATH']} are not supported; the wall "
-                  f"acts for the whole run")
     if wall.kind == "PLANAR" and float(point["WVEL"] or 0.0) != 0.0:
         data.warn(f"{point.where}: {name} WVEL = {point['WVEL']} (welding) is not supported and ignored")
+
+
+def _life(main: Record, unit: Units, name: str) -> dict[str, float]:
+    """BIRTH and DEATH (deck time units) as the wall's birth_time and death_time in s (DEATH 0 or
+    blank: LS-DYNA's 1e20, never); a DEATH not after BIRTH is an error."""
+    birth = float(main["BIRTH"] or 0.0)
+    death = float(main["DEATH"] or 0.0) or 1e20
+    if birth < 0.0 or death <= birth:
+        raise KeywordError(f"{main.where}: {name} BIRTH = {birth:g}, DEATH = {death:g}: give BIRTH >= 0 and a DEATH "
+                           f"after it (0: never)")
+    return {"birth_time": birth * unit.time, "death_time": death * unit.time if death < 1e20 else 1e20}
 
 
 def _friction(data: KeywordData, point: Record, name: str) -> float:

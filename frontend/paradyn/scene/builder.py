@@ -238,7 +238,8 @@ class Scene:
     @_checked("paradyn.Scene.add_prescribe")
     def add_prescribe(self, part: str, *, box: Any, dof: str, value: float, **options: Any) -> None:
         """A ``[[prescribe]]``d velocity (m/s, rad/s) of ``dof`` of ``part``'s nodes in ``box``,
-        times ``curve`` if named."""
+        times ``curve`` if named; ``birth_time`` and ``death_time`` (s): the dof is free before and
+        after them (LS-DYNA BIRTH, DEATH)."""
         self._add("prescribe", part=part, box=box, dof=dof, value=value, **options)
 
     # ---- the whole scene ----------------------------------------------------------------------

@@ -290,7 +290,7 @@ def _apply_curve_loads(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], 
     model.pressure_curve = np.array([constant if p.curve is None else curve_index[p.curve] for p in scene.pressures],
                                     dtype=np.int32)
     rows: dict[tuple[int, int], int] = {}   # (node, dof) -> [[prescribe]] entry
-    nodes, dofs, scales, curves = [], [], [], []
+    nodes, dofs, scales, curves, births, deaths = [], [], [], [], [], []
     for index, motion in enumerate(scene.prescribed):
         label = f"[[prescribe]] #{index + 1}"
         dof = deck.DOF_NAMES.index(motion.dof) + 1
@@ -303,9 +303,13 @@ def _apply_curve_loads(r: _Reader, scene: Scene, by_name: dict[str, _PartMesh], 
             dofs.append(dof)
             scales.append(motion.value)
             curves.append(constant if motion.curve is None else curve_index[motion.curve])
+            births.append(motion.birth_time)
+            deaths.append(motion.death_time)
     model.prescribed_node = np.array(nodes, dtype=np.int32)
     model.prescribed_dof = np.array(dofs, dtype=np.int32)
     model.prescribed_value = np.array(scales, dtype=np.float64)
     model.prescribed_curve = np.array(curves, dtype=np.int32)
+    model.prescribed_birth_time = np.array(births, dtype=np.float64)
+    model.prescribed_death_time = np.array(deaths, dtype=np.float64)
     rows_to_model(scene, model, constant)
 

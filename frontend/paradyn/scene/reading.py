@@ -41,7 +41,7 @@ from paradyn.scene.specs import (
     SceneError,
     TrackSpec,
 )
-from paradyn.scene.tables import _REQUIRED, _Reader
+from paradyn.scene.tables import _REQUIRED, _Reader, read_life
 from paradyn.scene.welds import parse_weld
 
 try:
@@ -79,7 +79,7 @@ _LOAD_KEYS = ("part", "point", "dof", "value", "ramp_time")
 _TRACK_KEYS = ("name", "part", "point")
 _CURVE_KEYS = ("name", "time", "value")
 _PRESSURE_KEYS = ("part", "value", "curve")
-_PRESCRIBE_KEYS = ("part", "box", "dof", "value", "curve")
+_PRESCRIBE_KEYS = ("part", "box", "dof", "value", "curve", "birth_time", "death_time")
 _CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "soft_constraint", "static_friction",
                  "dynamic_friction", "friction_decay", "symmetric", "birth_time", "death_time", "edges")
 
@@ -382,11 +382,7 @@ def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
         raise r.error(f"'symmetric' in {label} must be true (both passes every step) or false "
                       f"(slave and master swap every step, as in the paper); got {symmetric!r}")
     static = r.number(t, "static_friction", label, default=ContactSpec.static_friction, minimum=0.0)
-    birth = r.number(t, "birth_time", label, default=ContactSpec.birth_time, minimum=0.0)
-    death = r.number(t, "death_time", label, default=ContactSpec.death_time, positive=True)
-    if death <= birth:
-        raise r.error(f"'death_time' in {label} ({death:g} s) must come after 'birth_time' ({birth:g} s): the "
-                      f"contact would never act; remove the contact or move its times")
+    birth, death = read_life(r, t, label, "contact", ContactSpec)
     return ContactSpec(
         parts=parts,
         penalty_scale=r.number(t, "penalty_scale", label, default=ContactSpec.penalty_scale, positive=True),
@@ -450,9 +446,11 @@ def _parse_pressure(r: _Reader, t: dict[str, Any], index: int) -> PressureSpec:
 def _parse_prescribe(r: _Reader, t: dict[str, Any], index: int) -> PrescribeSpec:
     label = _label("prescribe", index, t)
     r.keys(t, label, _PRESCRIBE_KEYS)
+    birth, death = read_life(r, t, label, "motion", PrescribeSpec)
     return PrescribeSpec(part=r.string(t, "part", label), box=_parse_box(r, t, label),
                          dof=r.string(t, "dof", label, choices=deck.DOF_NAMES), value=r.number(t, "value", label),
-                         curve=r.string(t, "curve", label) if "curve" in t else None)
+                         curve=r.string(t, "curve", label) if "curve" in t else None, birth_time=birth,
+                         death_time=death)
 
 
 def _check_load_references(r: _Reader, scene: Scene) -> None:

@@ -203,6 +203,8 @@ class PrescribeSpec:
     dof: str
     value: float                    # m/s or rad/s
     curve: str | None = None        # None: a constant factor 1
+    birth_time: float = _DECK_DEFAULT["/prescribed/birth_time"]   # s: free before it
+    death_time: float = _DECK_DEFAULT["/prescribed/death_time"]   # s: free after it
 
 
 @dataclass

@@ -130,3 +130,13 @@ class _Reader:
 
 def _kind(value: Any) -> str:
     return {list: "an array", dict: "a table", str: "a string"}.get(type(value), type(value).__name__)
+
+
+def read_life(r: _Reader, t: dict[str, Any], label: str, what: str, spec: Any) -> tuple[float, float]:
+    """A contact's or a motion's birth_time and death_time (s), the death after the birth."""
+    birth = r.number(t, "birth_time", label, default=spec.birth_time, minimum=0.0)
+    death = r.number(t, "death_time", label, default=spec.death_time, positive=True)
+    if death <= birth:
+        raise r.error(f"'death_time' in {label} ({death:g} s) must come after 'birth_time' ({birth:g} s): the "
+                      f"{what} would never act; remove the {what} or move its times")
+    return birth, death

@@ -36,23 +36,34 @@ contains
   !> moving one side's nodes may leave the other's inside). Each definition with penetrations is
   !> reported on `unit` when speak (rank 0). The deck keeps its coordinates: the solver adds the
   !> moves to the start positions, so they show as initial displacements. Collective.
-  subroutine resolve_initial_penetrations(deck, comm, speak, unit, moves)
+  !> With only: definition `only` alone, checked at its birth (contact_births: the deck's
+  !> coordinates are then the positions at the birth, at time `born`, which the report names).
+  subroutine resolve_initial_penetrations(deck, comm, speak, unit, moves, only, born)
     type(deck_t), intent(in) :: deck
     type(MPI_Comm), intent(in) :: comm
     logical, intent(in) :: speak
     integer, intent(in) :: unit
     real(wp), allocatable, intent(out) :: moves(:, :)
+    integer, intent(in), optional :: only
+    real(wp), intent(in), optional :: born
     real(wp), allocatable :: x(:, :)
+    character(len=40) :: at
     integer :: k
     x = deck%coordinates
+    at = ''
+    if (present(born)) write (at, '(a,es10.3,a)') ' at its birth (t =', born, ' s)'
     do k = 1, deck%n_contacts
+      if (present(only)) then
+        if (k /= only) cycle
+      else if (deck%contact_birth_time(k) > 0.0_wp) then
+        cycle   ! born later: checked at its birth (contact_births), the parts may cross at the start
+      end if
       if (contact_kind_is_tied(deck%contact_kind(k))) cycle   ! tied parts start within reach on purpose
-      if (deck%contact_birth_time(k) > 0.0_wp) cycle   ! born later: the parts may cross at the start
       if (deck%contact_initial_penetration(k) == initial_penetration_move) then
-        call check_definition(deck, comm, x, k, .true., speak, unit, 'moved onto the surface')
-        call check_definition(deck, comm, x, k, .false., speak, unit, 'still inside after the move')
+        call check_definition(deck, comm, x, k, .true., speak, unit, 'moved onto the surface'//trim(at))
+        call check_definition(deck, comm, x, k, .false., speak, unit, 'still inside after the move'//trim(at))
       else
-        call check_definition(deck, comm, x, k, .false., speak, unit, 'kept as the initial gap')
+        call check_definition(deck, comm, x, k, .false., speak, unit, 'kept as the initial gap'//trim(at))
       end if
     end do
     moves = x - deck%coordinates
@@ -212,11 +223,16 @@ contains
   !> the sides of its elements of one part against the other part's elements near them; the first
   !> crossing in element order over all ranks is the one reported, as one rank testing them all
   !> would. status: left as it is unless it is status_ok and a pair crosses. Collective.
-  subroutine check_contact_overlap(deck, comm, status, message)
+  !> With only: definition `only` alone, checked at its birth at time `born` (contact_births).
+  subroutine check_contact_overlap(deck, comm, status, message, only, born)
     type(deck_t), intent(in) :: deck
     type(MPI_Comm), intent(in) :: comm
     integer, intent(inout) :: status
     character(len=*), intent(inout) :: message
+    integer, intent(in), optional :: only
+    real(wp), intent(in), optional :: born
+    character(len=40) :: at
+    character(len=60) :: hint
     integer, allocatable :: a(:), b(:), a_nodes(:), local(:, :)
     real(wp), allocatable :: a_x(:, :)
     type(near_set_t) :: near
@@ -224,9 +240,19 @@ contains
     real(wp) :: point(3)
     call MPI_Comm_rank(comm, rank)
     call MPI_Comm_size(comm, n_ranks)
+    at = 'at the start'
+    hint = ''
+    if (present(born)) then
+      write (at, '(a,es10.3,a)') 'at its birth (t =', born, ' s)'
+      hint = ' at that time, or give the contact a later birth_time'
+    end if
     do k = 1, deck%n_contacts
+      if (present(only)) then
+        if (k /= only) cycle
+      else if (deck%contact_birth_time(k) > 0.0_wp) then
+        cycle   ! born later: checked at its birth (contact_births), the parts may cross at the start
+      end if
       if (contact_kind_is_tied(deck%contact_kind(k))) cycle   ! tied parts may meet as they like
-      if (deck%contact_birth_time(k) > 0.0_wp) cycle   ! born later: the parts may cross at the start
       do side = 1, 2   ! a small element of one part may poke through the middle of a large one of the other
         part = deck%contact_pairs(:, k)
         if (side == 2) part = part([2, 1])
@@ -248,9 +274,9 @@ contains
         call MPI_Bcast(point, 3, MPI_DOUBLE_PRECISION, holder, comm)
         if (status /= status_ok) return
         status = status_bad_input
-        write (message, '(a,i0,a,i0,a,3es11.3,a)') 'the parts of /contact/pairs[', k - 1, '] cross at the start (part ', &
-          part(1) - 1, ' passes through the other near', point, '); contact would never engage: move the parts '// &
-          'apart so that their surfaces do not intersect'
+        write (message, '(a,i0,a,i0,a,3es11.3,a)') 'the parts of /contact/pairs[', k - 1, '] cross '//trim(at)// &
+          ' (part ', part(1) - 1, ' passes through the other near', point, '); contact would never engage: move the '// &
+          'parts apart so that their surfaces do not intersect'//trim(hint)
         return
       end do
     end do

@@ -104,6 +104,7 @@ contains
     pass%n_near = size(lower)
     deallocate (pass%overlap)
     allocate (pass%overlap(size(lower)), source=0.0_wp)   ! an edge takes no initial gap
+    pass%gap_at_birth = .false.
     call pass_hold_segments(pass)   ! the exclusions of the new slaves (their lower nodes)
   end subroutine edge_pass
 

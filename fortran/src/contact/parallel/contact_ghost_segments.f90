@@ -64,7 +64,7 @@ contains
         pass%stiffness(j) = stiffness(i)
       end do
       deallocate (elements, nodes, stiffness)
-      call pass_hold_segments(pass)
+      call pass_hold_segments(pass, c%eroded_elements)   ! a ghost segment of an eroded element is dead
       end associate
     end do
   end subroutine hold_ghost_segments

@@ -63,6 +63,7 @@ contains
     end do
     call number_contact_nodes(deck%n_nodes, dom, comm, in_contact, contact_of, c%n_nodes)
     c%sort_interval = deck%contact_sort_interval
+    allocate (c%eroded_elements(0), c%dead_nodes(0))
     call make_passes(deck, dom, comm, corner, contact_of, c)
     allocate (c%pair_active_cycles(deck%n_contacts), c%pair_skipped_cycles(deck%n_contacts), source=0_i8)
     allocate (c%definition_force(3, deck%n_contacts), source=0.0_wp)
@@ -153,6 +154,8 @@ contains
       if (deck%contact_initial_penetration(pass%pair) == initial_penetration_gap .and. &
           deck%contact_birth_time(pass%pair) == 0.0_wp) &
         call gap_overlaps(deck, dom, comm, contact_of, c, p)
+      pass%gap_at_birth = deck%contact_initial_penetration(pass%pair) == initial_penetration_gap .and. &
+                          deck%contact_birth_time(pass%pair) > 0.0_wp .and. .not. pass%bound   ! contact_birth_gaps
       if (pass%bound) call own_bindings(deck, dom, comm, contact_of, c, p)
       end associate
     end do

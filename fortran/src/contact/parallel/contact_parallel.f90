@@ -42,6 +42,8 @@ module contact_parallel
                               candidate_share_t, candidate_share_setup, share_contact_candidates
   use contact_neighbours, only: neighbours_t, neighbours_setup, neighbours_refresh, neighbours_update
   use contact_record_routes, only: share_records_locally
+  use contact_erosion_marks, only: contact_erode
+  use contact_birth_gaps, only: contact_birth_overlaps
   implicit none
   private
   public :: parallel_contact_t, parallel_contact_setup, parallel_contact_step
@@ -175,6 +177,8 @@ contains
       call gather_positions(pc, x, v, cycle, timers)
       pc%touched_anywhere = pc%c%n_touched_old > 0
     end if
+    call contact_erode(pc%c)   ! erosion since the last step, after the sort (the grids are rebuilt from its positions)
+    call contact_birth_overlaps(pc%c)   ! a "gap" definition born now: its overlaps at these positions
     ! every pass idle and no force left from the last step: no stage has anything to do
     pc%c%last_step_worked = .not. (contact_all_idle(pc%c) .and. .not. pc%touched_anywhere)
     if (.not. pc%c%last_step_worked) then

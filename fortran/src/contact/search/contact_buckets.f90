@@ -19,7 +19,7 @@ module contact_buckets
   implicit none
   private
   public :: bucket_grid_t, bucket_grid_build, nearest_master_node, nearest_master_nodes
-  public :: bucket_of_point, masters_within, nearest_in_list
+  public :: bucket_of_point, masters_within, nearest_in_list, bucket_grid_drop
 
   !> Buckets over the bounding box of the master nodes, in compressed-row form.
   type :: bucket_grid_t
@@ -113,6 +113,25 @@ contains
     end do
     grid%bucket_start(n_total + 1) = n + 1
   end subroutine bucket_grid_build
+
+  !> Leave the nodes with dropped(i) out of the grid's buckets (the box and the buckets stay those of
+  !> the build, over every node): no query finds them. The others keep their ascending order.
+  pure subroutine bucket_grid_drop(grid, dropped)
+    type(bucket_grid_t), intent(inout) :: grid
+    logical, intent(in) :: dropped(:)
+    integer(ip) :: b, k, n, first
+    n = 0
+    do b = 1, size(grid%bucket_start) - 1
+      first = grid%bucket_start(b)
+      grid%bucket_start(b) = n + 1
+      do k = first, grid%bucket_start(b + 1) - 1
+        if (dropped(grid%bucket_nodes(k))) cycle
+        n = n + 1
+        grid%bucket_nodes(n) = grid%bucket_nodes(k)
+      end do
+    end do
+    grid%bucket_start(size(grid%bucket_start)) = n + 1
+  end subroutine bucket_grid_drop
 
   pure subroutine ensure_size(array, n)
     integer(ip), allocatable, intent(inout) :: array(:)

@@ -31,7 +31,7 @@
 module contact_interface
   use paradyn_kinds, only: wp, ip, i8
   use model_deck, only: deck_t
-  use contact_buckets, only: bucket_grid_build
+  use contact_buckets, only: bucket_grid_build, bucket_grid_drop
   use contact_pass, only: contact_pass_t
   use contact_kind, only: contact_kind_holder_t
   use contact_factory, only: contact_kind_from_name
@@ -128,6 +128,10 @@ module contact_interface
     integer(i8) :: next_check = -huge(1_i8), last_check = 0
     integer(i8), allocatable :: pair_active_cycles(:), pair_skipped_cycles(:)
     logical :: last_step_worked = .false.       !< the last step ran the search stages
+    ! erosion (contact_erosion_marks): the global ids of the eroded elements of the contact parts
+    ! and the contact-node ids of the nodes whose elements are all eroded, ascending, the same on
+    ! every rank; those found since the last step, for the next step to apply
+    integer, allocatable :: eroded_elements(:), dead_nodes(:), eroded_pending(:), dead_pending(:)
   end type contact_t
 
 contains
@@ -150,6 +154,7 @@ contains
     allocate (contact_id(deck%n_nodes), source=0)
     contact_id(c%global_node) = [(i, i = 1, c%n_nodes)]
     c%sort_interval = deck%contact_sort_interval
+    allocate (c%eroded_elements(0), c%dead_nodes(0))
     call definitions_passes(deck, contact_id, c%n_nodes, c%passes)
     allocate (c%pair_active_cycles(deck%n_contacts), c%pair_skipped_cycles(deck%n_contacts), source=0_i8)
     allocate (c%definition_force(3, deck%n_contacts), source=0.0_wp)
@@ -249,6 +254,7 @@ contains
     associate (pass => c%passes(p))
     pass%x_sorted = c%x_at_sort(:, pass%master_at)
     call bucket_grid_build(int(size(pass%x_sorted, 2), ip), pass%x_sorted, pass%bucket_size, pass%grid)
+    if (pass%any_dead_segment) call bucket_grid_drop(pass%grid, pass%master_dead)   ! eroded: no segment left
     pass%stale = .false.
     if (c%local) then
       margin = pass%bucket_size + pass%t_slave + pass%t_master + 0.3_wp * smallest_bucket(c)

@@ -20,6 +20,7 @@ module contact_pass
   implicit none
   private
   public :: contact_pass_t, pass_between_parts, pass_near_lists, pass_hold_segments, bound_segment
+  public :: pass_mark_dead_slaves
 
   type :: contact_pass_t
     integer :: pair = 0                        !< the contact definition (deck entry) it comes from
@@ -53,8 +54,10 @@ module contact_pass
     !> excluded(excluded_start(s) : excluded_start(s + 1) - 1), and the segments
     logical :: shares_nodes = .false.
     integer, allocatable :: excluded_start(:), excluded(:)
-    !> each slave's overlap at the start, taken as its gap (/contact/initial_penetration = gap), else 0
+    !> each slave's overlap at the start, taken as its gap (/contact/initial_penetration = gap), else 0;
+    !> gap_at_birth: a gap definition born later takes them at its birth (contact_birth_gaps)
     real(wp), allocatable :: overlap(:)
+    logical :: gap_at_birth = .false.
     !> the definition's contact kind (schema enum contact_kind); a kind with the trait tied binds
     !> each slave to a master segment at the start (contact_laws): the binding, kept for the run,
     !> replaces the search and the penalty law: each slave's segment (its global element, 0: the
@@ -88,6 +91,12 @@ module contact_pass
     !> the soft-constraint scale (/contact/soft_constraint; 0 = off): the spring is at least
     !> soft_scale m / (2 dt^2) (contact_stages)
     real(wp) :: soft_scale = 0
+    !> eroded elements (element_erosion) leave the contact: a held segment whose element is eroded
+    !> is dead (no slave meets it, a tie to it is released), a master whose held segments are all
+    !> dead is left out of the bucket grid, and a slave whose elements are all eroded (an edge:
+    !> one of its ends) is not searched. Allocated only once something has eroded.
+    logical :: any_dead_segment = .false., any_dead_slave = .false.
+    logical, allocatable :: segment_dead(:), master_dead(:), slave_dead(:)
   end type contact_pass_t
 
 contains
@@ -137,7 +146,10 @@ contains
     pass%birth = deck%contact_birth_time(pair)
     pass%death = deck%contact_death_time(pair)
     allocate (pass%overlap(size(slave_nodes)), source=0.0_wp)
-    ! a definition born later is not checked at the start: its overlaps then are not its gaps
+    ! a definition born later is not checked at the start: its overlaps then are not its gaps, those
+    ! at its birth are
+    pass%gap_at_birth = deck%contact_initial_penetration(pair) == initial_penetration_gap .and. &
+                        deck%contact_birth_time(pair) > 0.0_wp .and. .not. pass%bound
     if (deck%contact_initial_penetration(pair) == initial_penetration_gap .and. deck%contact_birth_time(pair) == 0.0_wp) then
       allocate (push(3, size(slave_nodes)))
       call slave_penetrations(deck%coordinates, slave_nodes, deck%connectivity(:, elements), pass%t_slave, &
@@ -146,7 +158,7 @@ contains
   end subroutine pass_between_parts
 
   !> The held segment of slave j's binding in a bound pass (its place in segment_element), 0 for a
-  !> free slave or a segment this rank does not hold.
+  !> free slave, a segment this rank does not hold or an eroded one (the tie is released).
   pure integer function bound_segment(pass, j) result(segment)
     type(contact_pass_t), intent(in) :: pass
     integer, intent(in) :: j
@@ -155,6 +167,9 @@ contains
     if (pass%bound_element(j) == 0 .or. size(pass%segment_element) == 0) return
     i = sorted_position(pass%segment_element, pass%bound_element(j))
     if (pass%segment_element(i) == pass%bound_element(j)) segment = i
+    if (segment > 0 .and. pass%any_dead_segment) then   ! a tie to an eroded segment is released
+      if (pass%segment_dead(segment)) segment = 0
+    end if
   end function bound_segment
 
   !> The lists of nearby master nodes and the clearances of the pass's slaves.
@@ -172,10 +187,14 @@ contains
   !> (their nodes, ascending), each master's segments (ascending, so in the global order) and, for
   !> each slave that is a node of master segments, the master indices of their nodes (exclusions).
   !> The segments around a slave are held with it (they have a node, the slave, within reach of
-  !> this rank's slaves), so its exclusions are the ones of the whole model.
-  subroutine pass_hold_segments(pass)
+  !> this rank's slaves), so its exclusions are the ones of the whole model. With eroded (the
+  !> global ids of the eroded elements, ascending), the segments of eroded elements are dead: they
+  !> leave each master's list (the exclusions stay those of the whole mesh), and a master left
+  !> with no live segment is dead.
+  subroutine pass_hold_segments(pass, eroded)
     type(contact_pass_t), intent(inout) :: pass
-    integer, allocatable :: corners(:, :)
+    integer, intent(in), optional :: eroded(:)
+    integer, allocatable :: corners(:, :), live_corners(:, :)
     integer :: s, m, n_entries
     pass%masters = distinct_ascending(reshape(pass%segments, [size(pass%segments)]))
     allocate (corners(4, size(pass%segments, 2)))
@@ -189,8 +208,63 @@ contains
     call node_segment_map(int(size(pass%masters), ip), int(size(pass%segments, 2), ip), corners, pass%segment_start, &
                           pass%segment_list, n_entries)
     call exclusions(pass, corners)
+    pass%any_dead_segment = .false.
+    if (present(eroded)) then
+      if (size(eroded) > 0) call mark_dead_segments(pass, eroded)
+    end if
+    if (pass%any_dead_segment) then   ! each master's live segments only (a dead one's corners are out of range)
+      live_corners = corners
+      do s = 1, size(pass%segments, 2)
+        if (pass%segment_dead(s)) live_corners(:, s) = 0
+      end do
+      call node_segment_map(int(size(pass%masters), ip), int(size(pass%segments, 2), ip), live_corners, &
+                            pass%segment_start, pass%segment_list, n_entries)
+      pass%master_dead = [(pass%segment_start(m + 1) == pass%segment_start(m), m = 1, size(pass%masters))]
+    end if
     call move_alloc(corners, pass%segment_corner)
   end subroutine pass_hold_segments
+
+  !> segment_dead: the held segments whose element is in eroded (ascending global ids).
+  subroutine mark_dead_segments(pass, eroded)
+    type(contact_pass_t), intent(inout) :: pass
+    integer, intent(in) :: eroded(:)
+    integer :: s, i
+    if (allocated(pass%segment_dead)) deallocate (pass%segment_dead)
+    allocate (pass%segment_dead(size(pass%segment_element)), source=.false.)
+    do s = 1, size(pass%segment_element)
+      i = sorted_position(eroded, pass%segment_element(s))
+      if (i < 1 .or. i > size(eroded)) cycle
+      pass%segment_dead(s) = eroded(i) == pass%segment_element(s)
+    end do
+    pass%any_dead_segment = any(pass%segment_dead)
+  end subroutine mark_dead_segments
+
+  !> slave_dead: the slaves among dead (contact-node ids of nodes whose elements are all eroded,
+  !> ascending); an edge slave is dead with either end (every element along it is then eroded).
+  subroutine pass_mark_dead_slaves(pass, dead)
+    type(contact_pass_t), intent(inout) :: pass
+    integer, intent(in) :: dead(:)
+    integer :: j
+    if (allocated(pass%slave_dead)) deallocate (pass%slave_dead)
+    allocate (pass%slave_dead(size(pass%slaves)), source=.false.)
+    if (size(dead) == 0) then
+      pass%any_dead_slave = .false.
+      return
+    end if
+    do j = 1, size(pass%slaves)
+      pass%slave_dead(j) = listed(pass%slaves(j))
+      if (pass%edges) pass%slave_dead(j) = pass%slave_dead(j) .or. listed(pass%slave_other(j))
+    end do
+    pass%any_dead_slave = any(pass%slave_dead)
+  contains
+    logical function listed(node)
+      integer, intent(in) :: node
+      integer :: i
+      i = sorted_position(dead, node)
+      listed = .false.
+      if (i >= 1 .and. i <= size(dead)) listed = dead(i) == node
+    end function listed
+  end subroutine pass_mark_dead_slaves
 
   !> For each slave, the master indices of the nodes of the master segments that contain it (none
   !> where the slave and master parts share no node); corners: the segments' nodes as master indices.

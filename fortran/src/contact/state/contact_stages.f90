@@ -188,7 +188,7 @@ contains
       j = pass%near_slaves(rank + 1 + (i - offset(p) - 1) * n_ranks)
       x = c%x(:, pass%slave_at(j))
       if (pass%edges) x = 0.5_wp * (x + c%x(:, pass%slave_other_at(j)))   ! an edge: its midpoint
-      if (near_box(x, pass)) then
+      if (near_box(x, pass) .and. live_slave(pass, j)) then
         if (pass%shares_nodes) then
           call nearest_master_listed(pass%near, j, pass%grid, pass%x_sorted, x, &
                                      pass%bucket_size + pass%t_slave + pass%t_master, list_margin * pass%bucket_size, &
@@ -423,6 +423,14 @@ contains
     still_clear = pass%clear_gap(j) > 2.0_wp * (1.0_wp + edge_tolerance) * (pass%clear_moved(j) + moved) &
                                       * (1.0_wp + 1.0e-9_wp)
   end function still_clear
+
+  !> Slave j of the pass is searched: not a node (or an edge) whose elements are all eroded.
+  pure logical function live_slave(pass, j)
+    type(contact_pass_t), intent(in) :: pass
+    integer, intent(in) :: j
+    live_slave = .true.
+    if (pass%any_dead_slave) live_slave = .not. pass%slave_dead(j)
+  end function live_slave
 
   !> Cheap rejection: a slave farther than a bucket from the master nodes' sorted bounding box
   !> cannot touch (an idle pair costs one box test per slave).
