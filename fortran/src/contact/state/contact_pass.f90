@@ -85,6 +85,8 @@ module contact_pass
     real(wp) :: bucket_size = 0, t_slave = 0, t_master = 0, mu_static = 0, mu_dynamic = 0, decay = 0
     !> the definition's life (/contact/birth_time, death_time): the pass runs while birth <= t <= death
     real(wp) :: birth = 0, death = huge(1.0_wp)
+    !> a tiebreak definition's failure stresses NFLS, SFLS (/contact/normal_failure_stress, shear_...)
+    real(wp) :: strength(2) = 0
   end type contact_pass_t
 
 contains
@@ -132,6 +134,7 @@ contains
     pass%decay = deck%contact_friction_decay(pair)
     pass%birth = deck%contact_birth_time(pair)
     pass%death = deck%contact_death_time(pair)
+    pass%strength = [deck%contact_normal_failure_stress(pair), deck%contact_shear_failure_stress(pair)]
     allocate (pass%overlap(size(slave_nodes)), source=0.0_wp)
     ! a definition born later is not checked at the start: its overlaps then are not its gaps
     if (deck%contact_initial_penetration(pair) == initial_penetration_gap .and. deck%contact_birth_time(pair) == 0.0_wp) then
