@@ -25,7 +25,8 @@ import paradyn
 ROOT = Path(__file__).resolve().parents[1]
 STEP_NAMES = ("dt", "dt_element", "dt_stable")
 LATER_NAMES = ("contact_force", "part_hourglass_energy", "part_internal_energy", "part_kinetic_energy",
-               "part_plastic_work", "reaction_force", "reaction_moment", "eroded_elements", "failed_welds")
+               "part_plastic_work", "reaction_force", "reaction_moment", "eroded_elements", "failed_welds",
+               "failed_ties")
 
 
 def history_digest(results: Path, step: bool = False) -> str:

@@ -122,6 +122,7 @@ ENUMS: dict[str, dict[str, int]] = {
         'tied': 3,
         'edge_to_edge': 4,
         'single_surface_edges': 5,
+        'tiebreak': 6,
     },
     'initial_penetration': {'move': 1, 'gap': 2},
     'contact_gather': {'near': 1, 'all': 2},
@@ -143,7 +144,7 @@ ENUM_TRAITS: dict[str, dict[str, tuple[str, ...]]] = {
     'element_kind': {'truss': ('truss',)},
     'contact_kind': {
         'self_contact': ('single_surface', 'single_surface_edges'),
-        'tied': ('tied',),
+        'tied': ('tied', 'tiebreak'),
         'edge_to_edge': ('edge_to_edge', 'single_surface_edges'),
     },
 }
@@ -631,11 +632,14 @@ DATASETS: tuple[DatasetSpec, ...] = (
         '/contact/kind', 'contact_kind', 'int', ('n_contacts',), False, None, None, 1, None, None, '',
         'contact_kind',
         (
-            'must be 1 or 2 or 3 or 4 or 5 (1 = node_to_segment, 2 = single_surface, 3 = tied, 4 = edge_to_edge, '
-            '5 = single_surface_edges)'
+            'must be 1 or 2 or 3 or 4 or 5 or 6 (1 = node_to_segment, 2 = single_surface, 3 = tied, 4 = '
+            'edge_to_edge, 5 = single_surface_edges, 6 = tiebreak)'
         ), None, False, '-', "the kind of contact (a member of the engine's contact family; docs/architecture.md)",
         '[[contact]] kind',
-        'use 1 (node_to_segment), 2 (single_surface), 3 (tied), 4 (edge_to_edge) or 5 (single_surface_edges)',
+        (
+            'use 1 (node_to_segment), 2 (single_surface), 3 (tied), 4 (edge_to_edge), 5 (single_surface_edges) or '
+            '6 (tiebreak)'
+        ),
     ),
     DatasetSpec(
         '/contact/initial_penetration', 'contact_initial_penetration', 'int', ('n_contacts',), False, None, None,
@@ -659,6 +663,24 @@ DATASETS: tuple[DatasetSpec, ...] = (
         Bound(0.0, False), None, 'must be > 0', None, '', None, False, 's',
         'the contact acts until this time and not after it (LS-DYNA DT; the default 1e20: to the end)',
         '[[contact]] death_time', 'give the death time in s, after the birth time (1e20: never)',
+    ),
+    DatasetSpec(
+        '/contact/normal_failure_stress', 'contact_normal_failure_stress', 'float', ('n_contacts',), False, None,
+        None, 0.0, Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 'Pa',
+        (
+            "a tiebreak contact's normal failure stress (LS-DYNA NFLS): the tension a tie carries per unit of its "
+            "slave node's tributary area before it fails (0: ties do not fail in tension; other kinds ignore it)"
+        ), '[[contact]] normal_failure_stress',
+        'give the normal failure stress in Pa (>= 0; 0: no failure in tension)',
+    ),
+    DatasetSpec(
+        '/contact/shear_failure_stress', 'contact_shear_failure_stress', 'float', ('n_contacts',), False, None,
+        None, 0.0, Bound(0.0, True), None, 'must be >= 0', None, '', None, False, 'Pa',
+        (
+            "a tiebreak contact's shear failure stress (LS-DYNA SFLS): the shear a tie carries per unit of its "
+            "slave node's tributary area before it fails (0: ties do not fail in shear; other kinds ignore it)"
+        ), '[[contact]] shear_failure_stress',
+        'give the shear failure stress in Pa (>= 0; 0: no failure in shear)',
     ),
     DatasetSpec(
         '/rigid_walls/point', 'rigid_wall_point', 'float', ('n_rigid_walls', 3), False, 'rigid_walls_group', None,
@@ -1266,6 +1288,8 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/contact/initial_penetration'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/contact/birth_time'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/contact/death_time'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/contact/normal_failure_stress'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/contact/shear_failure_stress'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/rigid_walls/point'): ('required_when', 'class', 'shape', 'finite'),
     ('dataset', '/rigid_walls/normal'): ('required_when', 'class', 'shape', 'rows', 'finite'),
     ('dataset', '/rigid_walls/shape'): ('class', 'shape', 'rows', 'enum'),
@@ -1368,7 +1392,7 @@ FRAME_FIELDS = (
 )
 HISTORY_NAMES = (
     'time', 'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work',
-    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'eroded_elements', 'failed_welds',
+    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'eroded_elements', 'failed_welds', 'failed_ties',
     'part_kinetic_energy', 'part_internal_energy', 'part_hourglass_energy', 'part_plastic_work', 'contact_force',
     'rigid_wall_force', 'reaction_force', 'reaction_moment', 'tracked_displacement', 'tracked_velocity',
 )
@@ -1386,6 +1410,7 @@ HISTORY_UNITS: dict[str, str] = {
     'dt_element': '-',
     'eroded_elements': '-',
     'failed_welds': '-',
+    'failed_ties': '-',
     'part_kinetic_energy': 'J',
     'part_internal_energy': 'J',
     'part_hourglass_energy': 'J',

@@ -11,48 +11,49 @@ module paradyn_schema
       element_kind_shell, element_kind_truss, shell_element_blt, shell_element_full, hourglass_viscous, &
       hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, contact_passes_alternate, &
       contact_passes_both, contact_kind_node_to_segment, contact_kind_single_surface, contact_kind_tied, &
-      contact_kind_edge_to_edge, contact_kind_single_surface_edges, initial_penetration_move, &
-      initial_penetration_gap, contact_gather_near, contact_gather_all, wall_plane, wall_finite_plane, &
-      wall_cylinder, wall_sphere, wall_box, switch_off, switch_on, partition_blocks, partition_rcb, &
-      precision_double, precision_mixed, max_integration_points, status_ok, status_failure, status_bad_input, &
-      status_numerical, status_stopped, n_frame_fields, n_history_scalars, history_kinetic_energy, &
-      history_internal_energy, history_hourglass_energy, history_contact_energy, history_external_work, &
-      history_contact_penetration, history_dt, history_dt_stable, history_dt_element, &
-      history_eroded_elements, history_failed_welds, frame_field_names, history_scalar_names, class_int, &
-      class_float, class_string, size_none, size_n_nodes, size_n_elements, size_n_parts, size_n_materials, &
-      size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, size_n_rigid_wall_nodes, &
-      size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, size_n_base_accelerations, &
-      size_n_rigid_bodies, size_n_rotation_ties, n_sizes, condition_none, condition_loads_group, &
-      condition_contact_group, condition_rigid_walls_group, condition_rigid_wall_nodes_group, &
-      condition_curves_group, condition_pressure_group, condition_prescribed_group, &
-      condition_base_accelerations_group, condition_rigid_bodies_group, condition_rotation_ties_group, &
-      condition_plastic, condition_combined_hardening, condition_strain_rate, condition_hardening_curve, &
-      condition_rate_curve, condition_truss, n_conditions, enum_none, enum_material_model, enum_element_kind, &
-      enum_shell_element, enum_hourglass_form, enum_dof_state, enum_contact_passes, enum_contact_kind, &
-      enum_initial_penetration, enum_contact_gather, enum_rigid_wall_shape, enum_switch, enum_partition, &
-      enum_precision, n_enums, dataset_nodes_coordinates, dataset_nodes_initial_velocity, &
-      dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, dataset_nodes_rigid_body, &
-      dataset_nodes_added_mass, dataset_nodes_id, dataset_elements_connectivity, dataset_elements_part, &
-      dataset_elements_id, dataset_parts_thickness, dataset_parts_material, dataset_parts_integration_points, &
-      dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, dataset_parts_shell_element, &
-      dataset_parts_warping_correction, dataset_parts_surface_only, dataset_parts_element_kind, &
-      dataset_parts_cross_section_area, dataset_parts_id, dataset_materials_model, dataset_materials_density, &
-      dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
-      dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, dataset_materials_rate_c, &
-      dataset_materials_rate_p, dataset_materials_hardening_curve, dataset_materials_rate_curve, &
-      dataset_materials_failure_strain, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
-      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
-      dataset_contact_penalty_scale, dataset_contact_soft_constraint, dataset_contact_static_friction, &
-      dataset_contact_dynamic_friction, dataset_contact_friction_decay, dataset_contact_passes, &
-      dataset_contact_kind, dataset_contact_initial_penetration, dataset_contact_birth_time, &
-      dataset_contact_death_time, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
-      dataset_rigid_walls_shape, dataset_rigid_walls_edge, dataset_rigid_walls_size, &
-      dataset_rigid_walls_radius, dataset_rigid_walls_length, dataset_rigid_walls_velocity, &
-      dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, dataset_rigid_walls_birth_time, &
-      dataset_rigid_walls_death_time, dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, &
-      dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, &
-      dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, dataset_rigid_bodies_given_mass, &
-      dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
+      contact_kind_edge_to_edge, contact_kind_single_surface_edges, contact_kind_tiebreak, &
+      initial_penetration_move, initial_penetration_gap, contact_gather_near, contact_gather_all, wall_plane, &
+      wall_finite_plane, wall_cylinder, wall_sphere, wall_box, switch_off, switch_on, partition_blocks, &
+      partition_rcb, precision_double, precision_mixed, max_integration_points, status_ok, status_failure, &
+      status_bad_input, status_numerical, status_stopped, n_frame_fields, n_history_scalars, &
+      history_kinetic_energy, history_internal_energy, history_hourglass_energy, history_contact_energy, &
+      history_external_work, history_contact_penetration, history_dt, history_dt_stable, history_dt_element, &
+      history_eroded_elements, history_failed_welds, history_failed_ties, frame_field_names, &
+      history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, size_n_elements, &
+      size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, &
+      size_n_rigid_wall_nodes, size_n_curves, size_n_curve_points, size_n_pressures, size_n_prescribed, &
+      size_n_base_accelerations, size_n_rigid_bodies, size_n_rotation_ties, n_sizes, condition_none, &
+      condition_loads_group, condition_contact_group, condition_rigid_walls_group, &
+      condition_rigid_wall_nodes_group, condition_curves_group, condition_pressure_group, &
+      condition_prescribed_group, condition_base_accelerations_group, condition_rigid_bodies_group, &
+      condition_rotation_ties_group, condition_plastic, condition_combined_hardening, condition_strain_rate, &
+      condition_hardening_curve, condition_rate_curve, condition_truss, n_conditions, enum_none, &
+      enum_material_model, enum_element_kind, enum_shell_element, enum_hourglass_form, enum_dof_state, &
+      enum_contact_passes, enum_contact_kind, enum_initial_penetration, enum_contact_gather, &
+      enum_rigid_wall_shape, enum_switch, enum_partition, enum_precision, n_enums, dataset_nodes_coordinates, &
+      dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
+      dataset_nodes_rigid_body, dataset_nodes_added_mass, dataset_nodes_id, dataset_elements_connectivity, &
+      dataset_elements_part, dataset_elements_id, dataset_parts_thickness, dataset_parts_material, &
+      dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
+      dataset_parts_shell_element, dataset_parts_warping_correction, dataset_parts_surface_only, &
+      dataset_parts_element_kind, dataset_parts_cross_section_area, dataset_parts_id, &
+      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
+      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
+      dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
+      dataset_materials_hardening_curve, dataset_materials_rate_curve, dataset_materials_failure_strain, &
+      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
+      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
+      dataset_contact_soft_constraint, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
+      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+      dataset_contact_initial_penetration, dataset_contact_birth_time, dataset_contact_death_time, &
+      dataset_contact_normal_failure_stress, dataset_contact_shear_failure_stress, dataset_rigid_walls_point, &
+      dataset_rigid_walls_normal, dataset_rigid_walls_shape, dataset_rigid_walls_edge, &
+      dataset_rigid_walls_size, dataset_rigid_walls_radius, dataset_rigid_walls_length, &
+      dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, &
+      dataset_rigid_walls_birth_time, dataset_rigid_walls_death_time, dataset_rigid_wall_nodes_wall, &
+      dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, &
+      dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
+      dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
       dataset_rigid_bodies_failure_force, dataset_rigid_bodies_failure_exponent, &
       dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_node, &
       dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, dataset_rotation_ties_masters, &
@@ -107,6 +108,7 @@ module paradyn_schema
   integer, parameter :: contact_kind_tied = 3   !< the first part's nodes within reach of the second's segments at
   integer, parameter :: contact_kind_edge_to_edge = 4   !< node_to_segment, plus every element edge of the first p
   integer, parameter :: contact_kind_single_surface_edges = 5   !< single_surface, plus the part's element edges a
+  integer, parameter :: contact_kind_tiebreak = 6   !< tied, until a tie's stress (its force over the slave node's
   integer, parameter :: initial_penetration_move = 1   !< slave nodes inside the contact thickness at the start ar
   integer, parameter :: initial_penetration_gap = 2   !< each slave node's overlap at the start is taken as its ga
   integer, parameter :: contact_gather_near = 1   !< local contact: each rank holds only the contact nodes near it
@@ -133,7 +135,7 @@ module paradyn_schema
 
   ! results datasets (schema/results.toml): frame fields, scalar histories by id
   integer, parameter :: n_frame_fields = 11
-  integer, parameter :: n_history_scalars = 11
+  integer, parameter :: n_history_scalars = 12
   integer, parameter :: history_kinetic_energy = 1
   integer, parameter :: history_internal_energy = 2
   integer, parameter :: history_hourglass_energy = 3
@@ -145,13 +147,14 @@ module paradyn_schema
   integer, parameter :: history_dt_element = 9
   integer, parameter :: history_eroded_elements = 10
   integer, parameter :: history_failed_welds = 11
+  integer, parameter :: history_failed_ties = 12
   character(len=31), parameter :: frame_field_names(n_frame_fields) = [character(len=31) :: 'time', &
     'displacement', 'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain', &
     'acceleration', 'nodal_contact_force', 'element_layer_stress', 'element_membrane_strain', &
     'element_internal_energy_density']
   character(len=19), parameter :: history_scalar_names(n_history_scalars) = [character(len=19) :: &
     'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work', &
-    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'eroded_elements', 'failed_welds']
+    'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'eroded_elements', 'failed_welds', 'failed_ties']
 
   ! classes, row symbols, conditions, enums, datasets and /control attributes by id
   integer, parameter :: class_int = 1
@@ -257,52 +260,54 @@ module paradyn_schema
   integer, parameter :: dataset_contact_initial_penetration = 47
   integer, parameter :: dataset_contact_birth_time = 48
   integer, parameter :: dataset_contact_death_time = 49
-  integer, parameter :: dataset_rigid_walls_point = 50
-  integer, parameter :: dataset_rigid_walls_normal = 51
-  integer, parameter :: dataset_rigid_walls_shape = 52
-  integer, parameter :: dataset_rigid_walls_edge = 53
-  integer, parameter :: dataset_rigid_walls_size = 54
-  integer, parameter :: dataset_rigid_walls_radius = 55
-  integer, parameter :: dataset_rigid_walls_length = 56
-  integer, parameter :: dataset_rigid_walls_velocity = 57
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 58
-  integer, parameter :: dataset_rigid_walls_friction = 59
-  integer, parameter :: dataset_rigid_walls_birth_time = 60
-  integer, parameter :: dataset_rigid_walls_death_time = 61
-  integer, parameter :: dataset_rigid_wall_nodes_wall = 62
-  integer, parameter :: dataset_rigid_wall_nodes_node = 63
-  integer, parameter :: dataset_rigid_bodies_part = 64
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 65
-  integer, parameter :: dataset_rigid_bodies_prescribed = 66
-  integer, parameter :: dataset_rigid_bodies_velocity = 67
-  integer, parameter :: dataset_rigid_bodies_curve = 68
-  integer, parameter :: dataset_rigid_bodies_given_mass = 69
-  integer, parameter :: dataset_rigid_bodies_given_centre = 70
-  integer, parameter :: dataset_rigid_bodies_given_inertia = 71
-  integer, parameter :: dataset_rigid_bodies_failure_force = 72
-  integer, parameter :: dataset_rigid_bodies_failure_exponent = 73
-  integer, parameter :: dataset_rigid_bodies_failure_time = 74
-  integer, parameter :: dataset_rigid_bodies_failure_node = 75
-  integer, parameter :: dataset_rigid_bodies_failure_normal = 76
-  integer, parameter :: dataset_rotation_ties_node = 77
-  integer, parameter :: dataset_rotation_ties_masters = 78
-  integer, parameter :: dataset_rotation_ties_weights = 79
-  integer, parameter :: dataset_curves_first_point = 80
-  integer, parameter :: dataset_curves_time = 81
-  integer, parameter :: dataset_curves_value = 82
-  integer, parameter :: dataset_pressure_part = 83
-  integer, parameter :: dataset_pressure_value = 84
-  integer, parameter :: dataset_pressure_curve = 85
-  integer, parameter :: dataset_prescribed_node = 86
-  integer, parameter :: dataset_prescribed_dof = 87
-  integer, parameter :: dataset_prescribed_value = 88
-  integer, parameter :: dataset_prescribed_curve = 89
-  integer, parameter :: dataset_prescribed_birth_time = 90
-  integer, parameter :: dataset_prescribed_death_time = 91
-  integer, parameter :: dataset_base_accelerations_direction = 92
-  integer, parameter :: dataset_base_accelerations_value = 93
-  integer, parameter :: dataset_base_accelerations_curve = 94
-  integer, parameter :: n_deck_datasets = 94
+  integer, parameter :: dataset_contact_normal_failure_stress = 50
+  integer, parameter :: dataset_contact_shear_failure_stress = 51
+  integer, parameter :: dataset_rigid_walls_point = 52
+  integer, parameter :: dataset_rigid_walls_normal = 53
+  integer, parameter :: dataset_rigid_walls_shape = 54
+  integer, parameter :: dataset_rigid_walls_edge = 55
+  integer, parameter :: dataset_rigid_walls_size = 56
+  integer, parameter :: dataset_rigid_walls_radius = 57
+  integer, parameter :: dataset_rigid_walls_length = 58
+  integer, parameter :: dataset_rigid_walls_velocity = 59
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 60
+  integer, parameter :: dataset_rigid_walls_friction = 61
+  integer, parameter :: dataset_rigid_walls_birth_time = 62
+  integer, parameter :: dataset_rigid_walls_death_time = 63
+  integer, parameter :: dataset_rigid_wall_nodes_wall = 64
+  integer, parameter :: dataset_rigid_wall_nodes_node = 65
+  integer, parameter :: dataset_rigid_bodies_part = 66
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 67
+  integer, parameter :: dataset_rigid_bodies_prescribed = 68
+  integer, parameter :: dataset_rigid_bodies_velocity = 69
+  integer, parameter :: dataset_rigid_bodies_curve = 70
+  integer, parameter :: dataset_rigid_bodies_given_mass = 71
+  integer, parameter :: dataset_rigid_bodies_given_centre = 72
+  integer, parameter :: dataset_rigid_bodies_given_inertia = 73
+  integer, parameter :: dataset_rigid_bodies_failure_force = 74
+  integer, parameter :: dataset_rigid_bodies_failure_exponent = 75
+  integer, parameter :: dataset_rigid_bodies_failure_time = 76
+  integer, parameter :: dataset_rigid_bodies_failure_node = 77
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 78
+  integer, parameter :: dataset_rotation_ties_node = 79
+  integer, parameter :: dataset_rotation_ties_masters = 80
+  integer, parameter :: dataset_rotation_ties_weights = 81
+  integer, parameter :: dataset_curves_first_point = 82
+  integer, parameter :: dataset_curves_time = 83
+  integer, parameter :: dataset_curves_value = 84
+  integer, parameter :: dataset_pressure_part = 85
+  integer, parameter :: dataset_pressure_value = 86
+  integer, parameter :: dataset_pressure_curve = 87
+  integer, parameter :: dataset_prescribed_node = 88
+  integer, parameter :: dataset_prescribed_dof = 89
+  integer, parameter :: dataset_prescribed_value = 90
+  integer, parameter :: dataset_prescribed_curve = 91
+  integer, parameter :: dataset_prescribed_birth_time = 92
+  integer, parameter :: dataset_prescribed_death_time = 93
+  integer, parameter :: dataset_base_accelerations_direction = 94
+  integer, parameter :: dataset_base_accelerations_value = 95
+  integer, parameter :: dataset_base_accelerations_curve = 96
+  integer, parameter :: n_deck_datasets = 96
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -444,8 +449,8 @@ module paradyn_schema
         '', '']), &
     enum_spec_t(2, [0, 1, 0, 0, 0, 0, 0], [character(len=21) :: 'free', 'fixed', '', '', '', '', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'alternate', 'both', '', '', '', '', '']), &
-    enum_spec_t(5, [1, 2, 3, 4, 5, 0, 0], [character(len=21) :: 'node_to_segment', 'single_surface', 'tied', &
-        'edge_to_edge', 'single_surface_edges', '', '']), &
+    enum_spec_t(6, [1, 2, 3, 4, 5, 6, 0], [character(len=21) :: 'node_to_segment', 'single_surface', 'tied', &
+        'edge_to_edge', 'single_surface_edges', 'tiebreak', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'move', 'gap', '', '', '', '', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'near', 'all', '', '', '', '', '']), &
     enum_spec_t(5, [1, 2, 3, 4, 5, 0, 0], [character(len=21) :: 'plane', 'finite_plane', 'cylinder', &
@@ -640,11 +645,11 @@ module paradyn_schema
         [1, 2, 0, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = alternate, 2 = both)', &
         'use 2 (both bodies slave every step) or 1 (slave and master swap every step)'), &
     dataset_spec_t('/contact/kind', class_int, 0, size_n_contacts, .false., .false., condition_none, &
-        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 5, &
-        [1, 2, 3, 4, 5, 0, 0], size_none, '', &
-        'must be 1 or 2 or 3 or 4 or 5 (1 = node_to_segment, 2 = single_surface, 3 = tied, 4 = edge_to_edge, ' // &
-          '5 = single_surface_edges)', &
-        'use 1 (node_to_segment), 2 (single_surface), 3 (tied), 4 (edge_to_edge) or 5 (single_surface_edges)'), &
+        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_contact_kind, 6, &
+        [1, 2, 3, 4, 5, 6, 0], size_none, '', &
+        'must be 1 or 2 or 3 or 4 or 5 or 6 (1 = node_to_segment, 2 = single_surface, 3 = tied, 4 = edge_to_e' // &
+          'dge, 5 = single_surface_edges, 6 = tiebreak)', &
+        'use 1 (node_to_segment), 2 (single_surface), 3 (tied), 4 (edge_to_edge), 5 (single_surface_edges) or 6 (tiebreak)'), &
     dataset_spec_t('/contact/initial_penetration', class_int, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_initial_penetration, 2, [1, 2, 0, 0, 0, 0, 0], size_none, '', &
@@ -658,6 +663,14 @@ module paradyn_schema
         condition_none, 1e+20_wp, .true., .false., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
         [0, 0, 0, 0, 0, 0, 0], size_none, 'must be > 0', '', &
         'give the death time in s, after the birth time (1e20: never)'), &
+    dataset_spec_t('/contact/normal_failure_stress', class_float, 0, size_n_contacts, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the normal failure stress in Pa (>= 0; 0: no failure in tension)'), &
+    dataset_spec_t('/contact/shear_failure_stress', class_float, 0, size_n_contacts, .false., .false., &
+        condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give the shear failure stress in Pa (>= 0; 0: no failure in shear)'), &
     dataset_spec_t('/rigid_walls/point', class_float, 3, size_n_rigid_walls, .true., .false., &
         condition_rigid_walls_group, condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, &
         0.0_wp, enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', 'give the wall''s point in metres'), &
@@ -991,10 +1004,10 @@ contains
   end function contact_kind_is_self_contact
 
   !> Whether a code of enum contact_kind has the trait tied:
-  !> tied
+  !> tied, tiebreak
   elemental logical function contact_kind_is_tied(code) result(has)
     integer, intent(in) :: code
-    has = any(code == [3])
+    has = any(code == [3, 6])
   end function contact_kind_is_tied
 
   !> Whether a code of enum contact_kind has the trait edge_to_edge:

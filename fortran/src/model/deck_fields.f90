@@ -25,7 +25,8 @@ module deck_fields
                             dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
                             dataset_contact_passes, dataset_contact_kind, &
                             dataset_contact_initial_penetration, dataset_contact_birth_time, &
-                            dataset_contact_death_time, dataset_rigid_walls_point, &
+                            dataset_contact_death_time, dataset_contact_normal_failure_stress, &
+                            dataset_contact_shear_failure_stress, dataset_rigid_walls_point, &
                             dataset_rigid_walls_normal, dataset_rigid_walls_shape, dataset_rigid_walls_edge, &
                             dataset_rigid_walls_size, dataset_rigid_walls_radius, dataset_rigid_walls_length, &
                             dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, &
@@ -123,6 +124,8 @@ module deck_fields
     integer, allocatable :: contact_initial_penetration(:)   !< /contact/initial_penetration (n_contacts) -
     real(wp), allocatable :: contact_birth_time(:)   !< /contact/birth_time (n_contacts) s
     real(wp), allocatable :: contact_death_time(:)   !< /contact/death_time (n_contacts) s
+    real(wp), allocatable :: contact_normal_failure_stress(:)
+    real(wp), allocatable :: contact_shear_failure_stress(:)
     real(wp), allocatable :: rigid_wall_point(:, :)   !< /rigid_walls/point (3, n_rigid_walls) m
     real(wp), allocatable :: rigid_wall_normal(:, :)   !< /rigid_walls/normal (3, n_rigid_walls) -
     integer, allocatable :: rigid_wall_shape(:)   !< /rigid_walls/shape (n_rigid_walls) -
@@ -390,6 +393,10 @@ contains
       d%contact_birth_time = values(1, :)
     case (dataset_contact_death_time)
       d%contact_death_time = values(1, :)
+    case (dataset_contact_normal_failure_stress)
+      d%contact_normal_failure_stress = values(1, :)
+    case (dataset_contact_shear_failure_stress)
+      d%contact_shear_failure_stress = values(1, :)
     end select
   end subroutine store_contact
 

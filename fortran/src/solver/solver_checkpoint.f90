@@ -106,6 +106,11 @@ contains
     call write_real_attribute(file, 'contact_energy', contact_sums(1))
     call write_real_attribute(file, 'contact_max_penetration', contact_sums(2))
     if (s%has_contact) call write_real_array_attribute(file, 'contact_definition_force', contact_sums(3:))
+    if (s%has_contact) then   ! the failed ties of tiebreak contacts (keys below 2^53: exact as float64)
+      call write_real_attribute(file, 'contact_failed_tie_count', real(size(s%contact%c%failed_ties), wp))
+      if (size(s%contact%c%failed_ties) > 0) &
+        call write_real_array_attribute(file, 'contact_failed_ties', real(s%contact%c%failed_ties, wp))
+    end if
     call write_effect_states(s, file)
 
     allocate (nodes(node_width, size(s%halo%owned_local)))
@@ -193,8 +198,8 @@ contains
     character(len=*), intent(out) :: message
     integer(hid_t) :: file, transfer
     integer(hsize_t) :: nn, ne, nr, width
-    real(wp), allocatable :: nodes(:, :), elements(:, :), work(:, :)
-    real(wp) :: dt, energy, penetration
+    real(wp), allocatable :: nodes(:, :), elements(:, :), work(:, :), tie_keys(:)
+    real(wp) :: dt, energy, penetration, tie_count
     integer :: err, bad, version, n_nodes, n_elements, n_width, ranks, j, fixed
     integer(i8) :: last_sort
     logical :: exists
@@ -294,7 +299,14 @@ contains
       s%external_work = merge(sum(work(1, :)), 0.0_wp, s%rank == 0)
       s%damping_work = merge(sum(work(2, :)), 0.0_wp, s%rank == 0)
     end if
-    if (s%has_contact) call read_contact_state(s, file, transfer, last_sort, energy, penetration)
+    if (s%has_contact) then
+      call read_contact_state(s, file, transfer, last_sort, energy, penetration)
+      call read_real_attribute(file, 'contact_failed_tie_count', tie_count, err)
+      if (err /= 0) tie_count = 0.0_wp
+      allocate (tie_keys(nint(tie_count)))
+      if (size(tie_keys) > 0) call read_real_array_attribute(file, 'contact_failed_ties', tie_keys, err)
+      s%contact%c%failed_ties = int(tie_keys, i8)
+    end if
     call read_effect_states(s, file)
     call phdf5_close(file, transfer)
     status = status_ok

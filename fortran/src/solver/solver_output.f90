@@ -7,7 +7,7 @@ module solver_output
                             history_internal_energy, history_hourglass_energy, history_contact_energy, &
                             history_external_work, history_contact_penetration, effect_time_integration, &
                             history_dt, history_dt_element, history_dt_stable, history_eroded_elements, &
-                            history_failed_welds
+                            history_failed_welds, history_failed_ties
   use element_erosion, only: eroded_count
   use element_groups, only: group_size
   use shell_measures, only: blt_element_results
@@ -62,6 +62,8 @@ contains
       sums(history_eroded_elements) = real(eroded_elements(s), wp)
       ! the same on every rank: rank 0 reports it
       sums(history_failed_welds) = merge(real(failed_welds(s), wp), 0.0_wp, s%rank == 0)
+      sums(history_failed_ties) = 0.0_wp   ! (tie_failures: the same on every rank)
+      if (s%has_contact .and. s%rank == 0) sums(history_failed_ties) = real(size(s%contact%c%failed_ties), wp)
       sums(inverted_at) = real(s%elements%inverted, wp)
       sums(nan_at) = merge(1.0_wp, 0.0_wp, any(ns%v /= ns%v) .or. any(ns%f_int /= ns%f_int))
       parts_at = nan_at + 6 * s%control%n_tracked

@@ -63,6 +63,8 @@ class DeckFields:
     contact_initial_penetration: np.ndarray | None = None   # /contact/initial_penetration (n_contacts,) -
     contact_birth_time: np.ndarray | None = None   # /contact/birth_time (n_contacts,) s
     contact_death_time: np.ndarray | None = None   # /contact/death_time (n_contacts,) s
+    contact_normal_failure_stress: np.ndarray | None = None   # /contact/normal_failure_stress (n_contacts,) Pa
+    contact_shear_failure_stress: np.ndarray | None = None   # /contact/shear_failure_stress (n_contacts,) Pa
     rigid_wall_point: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.float64))
     rigid_wall_normal: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.float64))
     rigid_wall_shape: np.ndarray | None = None   # /rigid_walls/shape (n_rigid_walls,) -

@@ -3,9 +3,9 @@
 records (:data:`READERS`) and mapped onto ParaDyn's contact kinds as :class:`ContactSpec`\\ s
 (:func:`contact_specs`): surface-to-surface and nodes-to-surface variants become symmetric
 ``node_to_segment`` pairs, single-surface variants one ``single_surface`` contact, tied variants
-``tied`` pairs; SOFT = 2 (segment-based contact) adds the edge checks
-(``edges = true``). A part whose shells were split by thickness (keyword/parts.py) stands for all its
-engine parts.
+``tied`` pairs, tiebreak variants ``tiebreak`` pairs (OPTION 1 only); SOFT = 2 (segment-based
+contact) adds the edge checks (``edges = true``). A part whose shells were split by thickness
+(keyword/parts.py) stands for all its engine parts.
 """
 
 from __future__ import annotations
@@ -63,13 +63,18 @@ CONTROL_CONTACT_IGNORED = (
     {"ISYM": 0, "NSEROD": 0, "RWGAPS": 1, "RWGDTH": 0.0, "RWKSF": 1.0, "ICOV": 0, "SWRADF": 0.0, "ITHOFF": 0},
     {"SHLEDG": 0, "PSTIFF": 0, "ITHCNT": 0, "TDCNOF": 0, "FTALL": 0, "UNUSED": 0.0, "SHLTRW": 0.0, "IGACTC": 0},
 )
+# the tiebreak card after card 3: NFLS, SFLS (*CONTACT_TIEBREAK_NODES_TO_SURFACE), or with the failure
+# model first (*CONTACT_AUTOMATIC_(ONE_WAY_)SURFACE_TO_SURFACE_TIEBREAK: OPTION 1 is the stress criterion)
+TIEBREAK_NODES = layout("NFLS SFLS", nfls=0.0, sfls=0.0)
+TIEBREAK_OPTION = layout("int:OPTION NFLS SFLS PARAM ERATEN ERATES CT2CN CN", option=0, nfls=0.0, sfls=0.0,
+                         param=0.0, eraten=0.0, erates=0.0, ct2cn=1.0, cn=0.0)
 PART_CONTACT = layout("FS FD DC VC OPTT SFT SSF CPARM8", fs=0.0, fd=0.0, dc=0.0, vc=0.0, optt=0.0, sft=1.0,
                       ssf=1.0, cparm8=0.0)
 
 
 @dataclass(frozen=True)
 class Variant:
-    """How a *CONTACT_... keyword maps: ``form`` is "pair", "single" or "tied"; ``note`` a warning
+    """How a *CONTACT_... keyword maps: ``form`` is "pair", "single", "tied" or "tiebreak"; ``note`` a warning
     when the mapping is not LS-DYNA's own behaviour."""
 
     form: str
@@ -89,7 +94,12 @@ VARIANTS = {
     "CONTACT_TIED_NODES_TO_SURFACE": Variant("tied"),
     "CONTACT_TIED_SHELL_EDGE_TO_SURFACE": Variant("tied"),
     "CONTACT_TIED_SURFACE_TO_SURFACE": Variant("tied"),
+    "CONTACT_TIEBREAK_NODES_TO_SURFACE": Variant("tiebreak"),
+    "CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK": Variant("tiebreak", "is read as ties of the first side's nodes "
+                                                                         "on the second side's segments (one-way)"),
+    "CONTACT_AUTOMATIC_ONE_WAY_SURFACE_TO_SURFACE_TIEBREAK": Variant("tiebreak"),
 }
+TIEBREAK_CARDS = {"CONTACT_TIEBREAK_NODES_TO_SURFACE": TIEBREAK_NODES}   # the others: TIEBREAK_OPTION
 _MORTAR = "(mortar) is read as {}, ParaDyn's nearest kind: node-to-segment penalty contact, not mortar"
 
 
@@ -101,13 +111,20 @@ def _read_contact(base: str, options: frozenset[str]) -> Callable[[_Reading], No
             raise KeywordError(f"{r.block.where}: *{r.keyword} has no data card; complete it")
         head = r.card(lines[0], CONTACT_ID) if identified else Record({"CID": 0, "HEADING": ""}, r.block.where)
         body = lines[1:] if identified else lines
+        tiebreak: list[Record] = []
+        if VARIANTS[base].form == "tiebreak":   # its card follows card 3
+            if len(body) < 4:
+                raise KeywordError(f"{r.block.where}: *{r.keyword} has no tiebreak card (the fourth: NFLS, SFLS); "
+                                   f"complete it")
+            tiebreak = [r.card(body[3], TIEBREAK_CARDS.get(base, TIEBREAK_OPTION))]
+            body = body[:3] + body[4:]
         records = [head] + [r.card(line, card, skip) for line, card, skip in zip(body, CONTACT, IGNORED, strict=False)]
         records += [Record({f.name: f.default for f in card}, body[-1].where) for card in CONTACT[len(records) - 1:]]
         if any(line.text.strip() for line in body[len(CONTACT):]):
             r.data.warn(f"{body[len(CONTACT)].where}: *{r.keyword}: the optional cards D and after are not read "
                         f"(docs/keyword.md)")
         name = base + "".join(f"_{o}" for o in ("MORTAR", "OFFSET") if o in options)
-        r.data.contacts.append((name, records))
+        r.data.contacts.append((name, records + tiebreak))
     return read
 
 
@@ -135,7 +152,7 @@ def _part_contact(r: _Reading) -> None:
 READERS: dict[str, Callable[[_Reading], None]] = {"CONTROL_CONTACT": _control_contact, "PART_CONTACT": _part_contact}
 for _base, _variant in VARIANTS.items():
     _extras = [(), ("OFFSET",)] if _variant.form == "tied" else [(), ("MORTAR",)]
-    if "AUTOMATIC" not in _base:
+    if "AUTOMATIC" not in _base or _variant.form == "tiebreak":
         _extras = [()] if _variant.form != "tied" else _extras
     for _extra in _extras:
         for _id in ((), ("ID",), ("TITLE",)):
@@ -180,15 +197,19 @@ def _contact(data: KeywordData, name: str, records: list[Record], names_of: dict
     common = {**_law(data, label, records, slave, unit), **times}
     soft = int(records[4]["SOFT"] or 0)
     edges = _edges(data, label, soft, variant.form)
-    if variant.form != "tied":
+    if variant.form not in ("tied", "tiebreak"):
         common["edges"] = edges
-    if soft == 1 and variant.form != "tied":
+    if soft == 1 and variant.form not in ("tied", "tiebreak"):
         common["soft_constraint"] = float(records[4]["SOFSCL"])
     if variant.form == "single":
         every = int(first["SSTYP"]) == 5 or int(first["SSID"]) == 0
         members = tuple(n for pid in slave for n in names_of[pid])
         return [ContactSpec(parts=() if every else members, kind="single_surface", **common)]
     master = _side(data, label, "MSTYP", int(first["MSTYP"]), int(first["MSID"]), names_of)
+    if variant.form == "tiebreak":
+        common.update(_tiebreak(label, records[7], unit))
+        pairs = [(a, b) for s in slave for m in master if s != m for a in names_of[s] for b in names_of[m]]
+        return [ContactSpec(parts=pair, kind="tiebreak", **common) for pair in pairs]
     if variant.form == "tied":
         pairs = [(a, b) for s in slave for m in master if s != m for a in names_of[s] for b in names_of[m]]
         if base == "CONTACT_TIED_SHELL_EDGE_TO_SURFACE":   # the edges' rotations too (deck/rotation_ties.py)
@@ -202,14 +223,34 @@ def _contact(data: KeywordData, name: str, records: list[Record], names_of: dict
     return [ContactSpec(parts=pair, symmetric=True, **common) for pair in pairs.values()]
 
 
+def _tiebreak(label: str, card: Record, unit: Units) -> dict[str, float]:
+    """The failure stresses NFLS, SFLS (the deck's stress, to Pa) of a tiebreak: a tie fails when
+    (sigma_n / NFLS)^2 + (sigma_s / SFLS)^2 >= 1. Of the failure models (OPTION), only 1, that
+    criterion followed by contact, is read; the others (damage, energy release, cohesive laws) are
+    refused."""
+    option = int(card.values.get("OPTION", 1) or 1)
+    if option != 1:
+        raise KeywordError(f"{label}: tiebreak OPTION = {option} is not supported: ParaDyn reads OPTION 1 (failure "
+                           f"when (sigma_n/NFLS)^2 + (sigma_s/SFLS)^2 >= 1, then contact); change OPTION to 1 or "
+                           f"use *CONTACT_TIEBREAK_NODES_TO_SURFACE")
+    normal, shear = float(card["NFLS"] or 0.0), float(card["SFLS"] or 0.0)
+    if normal < 0.0 or shear < 0.0:
+        raise KeywordError(f"{label}: a negative failure stress (NFLS = {normal:g}, SFLS = {shear:g}, LS-DYNA's load "
+                           f"curve ids) is not read; give the stresses")
+    if normal == 0.0 and shear == 0.0:
+        raise KeywordError(f"{label}: NFLS and SFLS are both 0, so no tie would ever fail; give a failure stress or "
+                           f"use *CONTACT_TIED_NODES_TO_SURFACE")
+    return {"normal_failure_stress": normal * unit.stress, "shear_failure_stress": shear * unit.stress}
+
+
 def _edges(data: KeywordData, label: str, soft: int, form: str) -> bool:
     """SOFT = 2 (LS-DYNA's segment-based contact, which finds walls crossing edge against edge) is read
     as ParaDyn's contact with edge checks (edges = true: kinds edge_to_edge, single_surface_edges);
     SOFT = 1 (the soft-constraint stiffness, ``soft_constraint`` = SOFSCL) is read by the caller."""
-    if soft == 2 and form == "tied":
+    if soft == 2 and form in ("tied", "tiebreak"):
         data.warn(f"{label}: SOFT = 2 on a tied contact is ignored (a tie has no edge checks)")
         return False
-    if soft == 1 and form == "tied":
+    if soft == 1 and form in ("tied", "tiebreak"):
         data.warn(f"{label}: SOFT = 1 on a tied contact is ignored (a tie's spring is the stable cap)")
     if soft not in (0, 1, 2):
         data.warn(f"{label}: SOFT = {soft} is not supported and ignored (SOFT = 2 is read as edges = true: "

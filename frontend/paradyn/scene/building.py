@@ -201,6 +201,8 @@ def _apply_contacts(scene: Scene, model: deck.Model) -> None:
                                                   for c in contacts], dtype=np.int32)
     model.contact_birth_time = np.array([c.birth_time for c in contacts])
     model.contact_death_time = np.array([c.death_time for c in contacts])
+    model.contact_normal_failure_stress = np.array([c.normal_failure_stress for c in contacts])
+    model.contact_shear_failure_stress = np.array([c.shear_failure_stress for c in contacts])
 
 
 def _apply_file_ids(meshes: list[_PartMesh], model: deck.Model) -> None:

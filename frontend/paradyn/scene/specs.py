@@ -178,6 +178,8 @@ class ContactSpec:
     birth_time: float = _DECK_DEFAULT["/contact/birth_time"]
     death_time: float = _DECK_DEFAULT["/contact/death_time"]
     edges: bool = False   # also element edges against edges (deck kinds edge_to_edge, single_surface_edges)
+    normal_failure_stress: float = _DECK_DEFAULT["/contact/normal_failure_stress"]   # tiebreak NFLS (Pa)
+    shear_failure_stress: float = _DECK_DEFAULT["/contact/shear_failure_stress"]     # tiebreak SFLS (Pa)
 
 
 @dataclass

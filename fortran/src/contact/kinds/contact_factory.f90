@@ -5,6 +5,7 @@ module contact_factory
   use node_to_segment_contact, only: node_to_segment_t
   use single_surface_contact, only: single_surface_t
   use tied_contact, only: tied_t
+  use tiebreak_contact, only: tiebreak_t
   use edge_to_edge_contact, only: edge_to_edge_t, single_surface_edges_t
   implicit none
   private
@@ -23,6 +24,8 @@ contains
       allocate (single_surface_t :: kind)
     case ('tied')
       allocate (tied_t :: kind)
+    case ('tiebreak')
+      allocate (tiebreak_t :: kind)
     case ('edge_to_edge')
       allocate (edge_to_edge_t :: kind)
     case ('single_surface_edges')

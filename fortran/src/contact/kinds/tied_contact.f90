@@ -29,7 +29,7 @@ module tied_contact
   use surface_overlap, only: bin_elements, cell_of, index_of
   implicit none
   private
-  public :: tied_t, tie_slaves, tie_reach, tied_force
+  public :: tied_t, tie_slaves, tie_reach, tied_force, segment_frame
 
   !> A slave is tied within (1 + tie_slack) (t_slave + t_master) / 2 of a segment: shells stacked
   !> at exactly their half thicknesses tie whatever the round-off of their coordinates.

@@ -36,6 +36,7 @@ module contact_local_setup
   use initial_penetration, only: slave_penetrations
   use contact_pass, only: contact_pass_t
   use contact_laws, only: binding_reach, bind_slaves
+  use tiebreak_contact, only: tie_areas
   implicit none
   private
   public :: local_contact_setup
@@ -226,7 +227,8 @@ contains
     real(wp), allocatable :: push(:, :)
     type(near_set_t) :: near
     associate (pass => c%passes(p))
-    call own_slaves_near(deck, dom, comm, contact_of, pass, 0.5_wp * (pass%t_slave + pass%t_master), near, at)
+    call own_slaves_near(deck, dom, comm, contact_of, pass, pass%master_part, 0.5_wp * (pass%t_slave + pass%t_master), &
+                         near, at)
     allocate (push(3, size(at)))
     call slave_penetrations(near%x, at, near%connectivity, pass%t_slave, pass%t_master, pass%overlap, push)
     end associate
@@ -245,19 +247,23 @@ contains
     integer, intent(in) :: p
     integer, allocatable :: at(:)
     type(near_set_t) :: near
+    real(wp), allocatable :: area(:)
     associate (pass => c%passes(p))
-    call own_slaves_near(deck, dom, comm, contact_of, pass, binding_reach(pass), near, at)
-    call bind_slaves(pass, near%x, at, near%connectivity, near%element_ids)
+    ! each slave's tributary area: its elements (of every rank) in id order, as on one rank
+    call own_slaves_near(deck, dom, comm, contact_of, pass, pass%slave_part, 0.0_wp, near, at)
+    area = tie_areas(near%x, at, near%connectivity)
+    call own_slaves_near(deck, dom, comm, contact_of, pass, pass%master_part, binding_reach(pass), near, at)
+    call bind_slaves(pass, near%x, at, near%connectivity, near%element_ids, area)
     end associate
   end subroutine own_bindings
 
-  !> The master part's elements within margin of the pass's slaves that this rank owns, this rank's
+  !> The elements of part `part` within margin of the pass's slaves that this rank owns, this rank's
   !> and the other ranks' (near_elements), at the deck's positions; at(s): slave s's place in near.
-  subroutine own_slaves_near(deck, dom, comm, contact_of, pass, margin, near, at)
+  subroutine own_slaves_near(deck, dom, comm, contact_of, pass, part, margin, near, at)
     type(deck_t), intent(in) :: deck
     type(domain_t), intent(in) :: dom
     type(MPI_Comm), intent(in) :: comm
-    integer, intent(in) :: contact_of(:)
+    integer, intent(in) :: contact_of(:), part
     type(contact_pass_t), intent(in) :: pass
     real(wp), intent(in) :: margin
     type(near_set_t), intent(out) :: near
@@ -268,7 +274,7 @@ contains
     slaves = pack(dom%nodes, contact_of > 0)
     slaves = slaves([(sorted_position(pack(contact_of, contact_of > 0), pass%slaves(i)), i = 1, size(pass%slaves))])
     slave_x = deck%coordinates(:, [(node_row(deck, slaves(i)), i = 1, size(slaves))])
-    rows = part_rows(deck, pass%master_part)
+    rows = part_rows(deck, part)
     call gather_near(comm, box_of(slave_x), margin, deck%element_ids(rows), &
                      deck%connectivity(:, rows), corners(deck, deck%coordinates, rows), slaves, slave_x, near)
     at = [(sorted_position(near%node_ids, slaves(i)), i = 1, size(slaves))]

@@ -37,6 +37,7 @@ module contact_parallel
   use paradyn_schema, only: contact_kind_is_edge_to_edge
   use contact_reduction, only: reduce_contact_sums
   use contact_local_setup, only: local_contact_setup
+  use tie_failures, only: gather_tie_failures
   use contact_exchange, only: node_set_t, node_set_setup, allgather_node_set, node_subset_setup, &
                               node_set_masses, allgather_node_subset, record_share_t, record_share_setup, share_contact_records, &
                               candidate_share_t, candidate_share_setup, share_contact_candidates
@@ -133,6 +134,7 @@ contains
     allocate (pc%c%sums(exact_width, 1 + size(pc%c%definition_force)), source=0_i8)
     if (pc%c%local) call neighbours_setup(pc%nb, dom, comm, contact_of)
     call contact_rooms(pc%c)   ! local contact: for this rank's own slaves (contact_room)
+    if (.not. allocated(pc%c%failed_ties)) allocate (pc%c%failed_ties(0))   ! (tie_failures; a restart's restore)
     call record_share_setup(merge(0, size(pc%c%record_nodes, 2), pc%c%local), dom%n_ranks, pc%records)
     call candidate_share_setup(dom%n_ranks, pc%candidates)
   contains
@@ -192,6 +194,9 @@ contains
     end if
     call contact_candidates(pc%c, cycle, wall_clock)
     call contact_local_search(pc%c, wall_clock)
+    t0 = wall_clock()
+    call gather_tie_failures(pc%comm, pc%c)   ! the ties that failed this step, on every rank
+    timers%communication = timers%communication + wall_clock() - t0
     ! no candidate on any rank (every rank holds the same count): no record to share
     if (pc%c%local) then
       t0 = wall_clock()

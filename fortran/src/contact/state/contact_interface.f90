@@ -112,6 +112,11 @@ module contact_interface
     integer, allocatable :: record_nodes(:, :) !< (5, n) slave then the 4 master nodes, 0 = none
     real(wp), allocatable :: record_force(:, :, :)  !< (3, 5, n)
     real(wp), allocatable :: record_penetration(:)  !< (n)
+    !> (n) the candidate's tie failed this step (tiebreak_contact; only in this rank's block)
+    logical, allocatable :: record_failed(:)
+    !> the ties of tiebreak definitions that have failed (tie_failures), the same on every rank:
+    !> keys tie_key(definition, slave's contact-node id), ascending
+    integer(i8), allocatable :: failed_ties(:)
     integer :: rank = 0, n_ranks = 1               !< this rank's share of the slaves
     integer(i8) :: last_sort = -huge(1_i8)
     integer :: sort_interval = 0

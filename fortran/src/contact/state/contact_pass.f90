@@ -97,6 +97,8 @@ module contact_pass
     !> one of its ends) is not searched. Allocated only once something has eroded.
     logical :: any_dead_segment = .false., any_dead_slave = .false.
     logical, allocatable :: segment_dead(:), master_dead(:), slave_dead(:)
+    !> a tiebreak definition's failure stresses NFLS, SFLS (/contact/normal_failure_stress, shear_...)
+    real(wp) :: strength(2) = 0
   end type contact_pass_t
 
 contains
@@ -145,6 +147,7 @@ contains
     pass%soft_scale = deck%contact_soft_constraint(pair)
     pass%birth = deck%contact_birth_time(pair)
     pass%death = deck%contact_death_time(pair)
+    pass%strength = [deck%contact_normal_failure_stress(pair), deck%contact_shear_failure_stress(pair)]
     allocate (pass%overlap(size(slave_nodes)), source=0.0_wp)
     ! a definition born later is not checked at the start: its overlaps then are not its gaps, those
     ! at its birth are

@@ -49,11 +49,13 @@ contains
     if (allocated(c%candidates)) then
       if (size(c%candidates, 2) >= n) return
       room = max(n, size(c%candidates, 2) + size(c%candidates, 2) / 2)
-      deallocate (c%candidates, c%record_nodes, c%record_force, c%record_penetration)
+      deallocate (c%candidates, c%record_nodes, c%record_force, c%record_penetration, c%record_failed)
       allocate (c%candidates(3, room), c%record_nodes(5, room), c%record_force(3, 5, room), c%record_penetration(room))
+      allocate (c%record_failed(room))
     else
       allocate (c%candidates(3, n), c%record_nodes(5, n), source=0)
       allocate (c%record_force(3, 5, n), c%record_penetration(n), source=0.0_wp)
+      allocate (c%record_failed(n), source=.false.)
     end if
   end subroutine contact_record_room
 

@@ -11,6 +11,7 @@ module contact_stages
   use contact_penalty, only: penalty_force, edge_tolerance
   use contact_pass, only: contact_pass_t, bound_segment
   use contact_laws, only: bound_force
+  use tie_keys, only: tie_failed
   use edge_search, only: deepest_edge_crossing
   use edge_penalty, only: edge_edge_force, closest_points_of_edges
   use contact_interface, only: contact_t, clock_seconds
@@ -277,16 +278,17 @@ contains
     procedure(clock_seconds) :: clock
     integer :: k, node, segment, m, slot, at, seg_at(4)
     real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
-    real(wp) :: penetration, t0, stiffness, reach, lightest, clearance
-    logical :: touching
+    real(wp) :: penetration, t0, stiffness, reach, lightest, clearance, failure
+    logical :: touching, failed
     t0 = clock()
     c%record_nodes(1, 1:c%first - 1) = 0
     c%record_nodes(1, c%last + 1:c%n_candidates) = 0
     !$omp parallel do schedule(static, 1) default(shared) &
     !$omp private(k, node, segment, x, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
-    !$omp penetration, touching, stiffness, reach, lightest, m, clearance, slot, at, seg_at)
+    !$omp penetration, touching, stiffness, reach, lightest, m, clearance, slot, at, seg_at, failure, failed)
     do k = c%first, c%last
       c%record_nodes(:, k) = 0
+      c%record_failed(k) = .false.
       associate (pass => c%passes(c%candidates(3, k)))
       node = pass%slaves(c%candidates(1, k))
       at = pass%slave_at(c%candidates(1, k))
@@ -329,10 +331,17 @@ contains
         end do
         stiffness = spring(pass%stiffness(segment), pass%soft_scale, lightest, c%soft_step, &
                            stable_spring_fraction / c%time_step**2 * lightest)
-        if (pass%bound) then   ! the binding's law (no penetration: a tie holds its offset)
-          call bound_force(pass%kind, x, xseg, pass%bound_data(:, slot), stiffness, f_slave, f_master)
+        failed = .false.
+        if (pass%bound) failed = tie_failed(c%failed_ties, pass%pair, node)
+        if (pass%bound .and. .not. failed) then   ! the binding's law (no penetration: a tie holds its offset)
+          call bound_force(pass%kind, x, xseg, pass%bound_data(:, slot), stiffness, f_slave, f_master, failure)
+          c%record_failed(k) = failure >= 1.0_wp   ! it fails at the end of this step (tie_failures)
           penetration = 0.0_wp
           touching = .true.
+        else if (failed) then   ! a failed tie: penalty contact against the segment it was tied to
+          call penalty_force(x, pass%t_slave, xseg, pass%t_master, stiffness, f_slave, f_master, penetration, &
+                             touching, v_slave=c%v(:, at), v_master=vseg, mu_static=pass%mu_static, &
+                             mu_dynamic=pass%mu_dynamic, decay=pass%decay, v_slip=stick_speed, rounded_edges=.true.)
         else
           call penalty_force(x, pass%t_slave - 2.0_wp * pass%overlap(slot), xseg, pass%t_master, &
                              stiffness, f_slave, &
