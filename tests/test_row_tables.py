@@ -28,7 +28,7 @@ def _plate() -> paradyn.Scene:
 def test_the_rigid_wall_table_is_its_datasets() -> None:
     keys = {k.name: k for k in ROW_TABLES["rigid_wall"]}
     assert list(keys) == ["point", "normal", "shape", "edge", "size", "radius", "length", "velocity",
-                          "penalty_scale", "friction"]
+                          "penalty_scale", "friction", "birth_time", "death_time"]
     # required: no default its own bounds accept; the others take the schema's default
     assert [name for name, k in keys.items() if k.required] == ["point", "normal"]
     assert key_required(keys["point"].spec) and not key_required(keys["penalty_scale"].spec)

@@ -100,6 +100,8 @@ class Model(DeckFields):
     part_names: list[str] = field(default_factory=list)
     material_names: list[str] = field(default_factory=list)
     tracked_names: list[str] = field(default_factory=list)
+    #: the arrays _fill_defaults made, by name: filled again when their table has grown since
+    _defaulted: dict[str, np.ndarray] = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         self.normalise()
@@ -113,9 +115,9 @@ class Model(DeckFields):
         self._fill_defaults()
 
     def _fill_defaults(self) -> None:
-        """Absent optional arrays get the schema's default once their row count is known (an
-        empty one filled before its table got rows, as a model built empty and filled later has,
-        is filled again).
+        """Absent optional arrays get the schema's default once their row count is known (one this
+        made before its table grew, as a model built empty and filled later has, is made again;
+        an array given with the wrong rows stays, for validation to refuse).
 
         Arrays required under a condition (the J2 data) stay ``None`` so that validation can
         tell whether they were given."""
@@ -124,11 +126,14 @@ class Model(DeckFields):
                 continue
             rows = getattr(self, spec.shape[0])
             value = getattr(self, spec.python)
-            if value is not None and rows and len(value) == 0:
+            grown = value is not None and rows is not None and len(value) != rows
+            if grown and value is self._defaulted.get(spec.python):
                 value = None
             if rows is not None and value is None:
                 dtype = np.int32 if spec.type == "int" else np.float64
-                setattr(self, spec.python, np.full((rows, *spec.shape[1:]), spec.default, dtype=dtype))
+                filled = np.full((rows, *spec.shape[1:]), spec.default, dtype=dtype)
+                setattr(self, spec.python, filled)
+                self._defaulted[spec.python] = filled
 
     @property
     def n_nodes(self) -> int | None:
