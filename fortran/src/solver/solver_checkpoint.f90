@@ -198,8 +198,8 @@ contains
     character(len=*), intent(out) :: message
     integer(hid_t) :: file, transfer
     integer(hsize_t) :: nn, ne, nr, width
-    real(wp), allocatable :: nodes(:, :), elements(:, :), work(:, :), tie_keys(:)
-    real(wp) :: dt, energy, penetration, tie_count
+    real(wp), allocatable :: nodes(:, :), elements(:, :), work(:, :)
+    real(wp) :: dt, energy, penetration
     integer :: err, bad, version, n_nodes, n_elements, n_width, ranks, j, fixed
     integer(i8) :: last_sort
     logical :: exists
@@ -301,11 +301,6 @@ contains
     end if
     if (s%has_contact) then
       call read_contact_state(s, file, transfer, last_sort, energy, penetration)
-      call read_real_attribute(file, 'contact_failed_tie_count', tie_count, err)
-      if (err /= 0) tie_count = 0.0_wp
-      allocate (tie_keys(nint(tie_count)))
-      if (size(tie_keys) > 0) call read_real_array_attribute(file, 'contact_failed_ties', tie_keys, err)
-      s%contact%c%failed_ties = int(tie_keys, i8)
     end if
     call read_effect_states(s, file)
     call phdf5_close(file, transfer)
@@ -356,6 +351,8 @@ contains
     real(wp), intent(in) :: energy, penetration
     real(wp), allocatable :: contact(:, :), force(:)
     integer(hsize_t) :: nc
+    real(wp), allocatable :: tie_keys(:)
+    real(wp) :: tie_count
     integer :: err
     s%contact%c%time_step = s%clock%dt   ! the penalty's cap follows the step (time_step_control)
     call read_real_attribute(file, 'contact_soft_step', s%contact%c%soft_step, err)
@@ -367,6 +364,11 @@ contains
     call contact_checkpoint_restore(s%contact, contact, last_sort, energy, penetration)
     call read_real_array_attribute(file, 'contact_definition_force', force, err)
     s%contact%c%definition_force = reshape(force, [3, s%n_contacts])
+    call read_real_attribute(file, 'contact_failed_tie_count', tie_count, err)   ! the failed ties (tiebreak)
+    if (err /= 0) tie_count = 0.0_wp
+    allocate (tie_keys(nint(tie_count)))
+    if (size(tie_keys) > 0) call read_real_array_attribute(file, 'contact_failed_ties', tie_keys, err)
+    s%contact%c%failed_ties = int(tie_keys, i8)
   end subroutine read_contact_state
 
 end module solver_checkpoint

@@ -19,7 +19,7 @@ import numpy as np
 
 from paradyn.arguments import ArgumentError, checked_arguments, did_you_mean
 
-from . import reading, specs
+from . import contact_reading, reading, specs
 from .building import build_model
 from .reading import _parse_toml, scene_from_tables
 from .row_tables import ROW_TABLES, parse_row
@@ -293,7 +293,7 @@ class Scene:
 # the scene file reader's parser of each table: one entry is checked as load_scene checks it
 _PARSERS = {"run": reading._parse_run, "effects": reading._parse_effects, "material": reading._parse_material,
             "part": reading._parse_part, "fix": reading._parse_fix, "load": reading._parse_load,
-            "track": reading._parse_track, "contact": reading._parse_contact, "curve": reading._parse_curve,
+            "track": reading._parse_track, "contact": contact_reading.parse_contact, "curve": reading._parse_curve,
             "pressure": reading._parse_pressure, "prescribe": reading._parse_prescribe, "weld": parse_weld}
 
 

@@ -17,14 +17,13 @@ from typing import Any
 from paradyn import _schema, deck
 from paradyn.arguments import did_you_mean
 from paradyn.scene.building import check_material_curves
+from paradyn.scene.contact_reading import parse_contact
 from paradyn.scene.row_tables import ROW_TABLES, check_row_references, parse_rows, read_key
 from paradyn.scene.specs import (
     DOF_GROUPS,
-    EDGE_KINDS,
     HOURGLASS_FORMS,
     MATERIAL_MODELS,
     SHELL_ELEMENTS,
-    ContactSpec,
     CurveSpec,
     CylinderGeometry,
     FileGeometry,
@@ -80,9 +79,6 @@ _TRACK_KEYS = ("name", "part", "point")
 _CURVE_KEYS = ("name", "time", "value")
 _PRESSURE_KEYS = ("part", "value", "curve")
 _PRESCRIBE_KEYS = ("part", "box", "dof", "value", "curve", "birth_time", "death_time")
-_CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "soft_constraint", "static_friction",
-                 "dynamic_friction", "friction_decay", "symmetric", "birth_time", "death_time", "edges",
-                 "normal_failure_stress", "shear_failure_stress")
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -108,7 +104,7 @@ def scene_from_tables(data: Mapping[str, Any], path: Path) -> Scene:
     fixes = [_parse_fix(reader, t, i) for i, t in enumerate(reader.tables(data, "fix"))]
     loads = [_parse_load(reader, t, i) for i, t in enumerate(reader.tables(data, "load"))]
     tracks = [_parse_track(reader, t, i) for i, t in enumerate(reader.tables(data, "track"))]
-    contacts = [_parse_contact(reader, t, i) for i, t in enumerate(reader.tables(data, "contact"))]
+    contacts = [parse_contact(reader, t, i) for i, t in enumerate(reader.tables(data, "contact"))]
     curves = [_parse_curve(reader, t, i) for i, t in enumerate(reader.tables(data, "curve"))]
     pressures = [_parse_pressure(reader, t, i) for i, t in enumerate(reader.tables(data, "pressure"))]
     prescribed = [_parse_prescribe(reader, t, i) for i, t in enumerate(reader.tables(data, "prescribe"))]
@@ -367,64 +363,6 @@ def _parse_track(r: _Reader, t: dict[str, Any], index: int) -> TrackSpec:
     r.keys(t, label, _TRACK_KEYS)
     return TrackSpec(name=r.string(t, "name", label), part=r.string(t, "part", label),
                      point=r.vector(t, "point", label))
-
-
-def _parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
-    label = f"[[contact]] #{index + 1}"
-    r.keys(t, label, _CONTACT_KEYS)
-    kind = (r.string(t, "kind", label, choices=tuple(_schema.ENUMS["contact_kind"])) if "kind" in t
-            else ContactSpec.kind)
-    edges = r.raw(t, "edges", label, kind in EDGE_KINDS)
-    if not isinstance(edges, bool) or (edges and kind in ("tied", "tiebreak")):
-        raise r.error(f"'edges' in {label} must be true (edges against edges; not tied) or false; got {edges!r}")
-    strengths = {key: r.number(t, key, label, default=0.0, minimum=0.0)
-                 for key in ("normal_failure_stress", "shear_failure_stress")}
-    if kind != "tiebreak" and any(strengths.values()):
-        raise r.error(f"'normal_failure_stress' and 'shear_failure_stress' in {label} belong to kind = \"tiebreak\" "
-                      f"(a tie that fails by stress); this contact is kind = \"{kind}\": set its kind or remove them")
-    if kind == "tiebreak" and not any(strengths.values()):
-        raise r.error(f"{label} is kind = \"tiebreak\" with no failure stress: give 'normal_failure_stress' and/or "
-                      f"'shear_failure_stress' (Pa), or use kind = \"tied\" for a tie that never fails")
-    parts = _contact_parts(r, t, label, kind := EDGE_KINDS.get(kind, kind))
-    symmetric = r.raw(t, "symmetric", label, ContactSpec.symmetric)
-    if not isinstance(symmetric, bool):
-        raise r.error(f"'symmetric' in {label} must be true (both passes every step) or false "
-                      f"(slave and master swap every step, as in the paper); got {symmetric!r}")
-    static = r.number(t, "static_friction", label, default=ContactSpec.static_friction, minimum=0.0)
-    birth, death = read_life(r, t, label, "contact", ContactSpec)
-    return ContactSpec(
-        parts=parts,
-        penalty_scale=r.number(t, "penalty_scale", label, default=ContactSpec.penalty_scale, positive=True),
-        soft_constraint=r.number(t, "soft_constraint", label, default=ContactSpec.soft_constraint, minimum=0.0),
-        static_friction=static,
-        dynamic_friction=r.number(t, "dynamic_friction", label, default=static, minimum=0.0),
-        friction_decay=r.number(t, "friction_decay", label, default=ContactSpec.friction_decay, minimum=0.0),
-        symmetric=symmetric,
-        kind=kind,
-        initial_penetration=r.string(t, "initial_penetration", label, default=ContactSpec.initial_penetration,
-                                     choices=tuple(_schema.ENUMS["initial_penetration"])),
-        birth_time=birth,
-        death_time=death, edges=edges, **strengths,
-    )
-
-
-
-def _contact_parts(r: _Reader, t: dict[str, Any], label: str, kind: str) -> tuple[str, ...]:
-    """Two different parts for a node_to_segment pair; one or more different parts for a
-    single_surface contact, or none (every part of the scene)."""
-    if kind == "single_surface":
-        parts = r.raw(t, "parts", label, [])
-        if (not isinstance(parts, list) or not all(isinstance(p, str) for p in parts)
-                or len(set(parts)) != len(parts)):
-            raise r.error(f"'parts' in {label} must list different parts that form the single surface, e.g. "
-                          f"parts = [\"pipe\"] (leave it out for every part of the scene); got {parts!r}")
-        return tuple(parts)
-    parts = r.raw(t, "parts", label, _REQUIRED)
-    if (not isinstance(parts, list) or len(parts) != 2 or not all(isinstance(p, str) for p in parts)
-            or parts[0] == parts[1]):
-        raise r.error(f"'parts' in {label} must name two different parts, e.g. parts = [\"a\", \"b\"] "
-                      f"(for a part against itself use kind = \"single_surface\"); got {parts!r}")
-    return (parts[0], parts[1])
 
 
 def _parse_curve(r: _Reader, t: dict[str, Any], index: int) -> CurveSpec:

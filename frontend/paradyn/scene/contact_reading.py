@@ -1,0 +1,72 @@
+"""Reading a scene's ``[[contact]]`` tables (docs/scene.md): kind, parts, penalty and friction, life,
+edges and a tiebreak's failure stresses, each problem a SceneError naming the table and key."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from paradyn import _schema
+from paradyn.scene.specs import EDGE_KINDS, ContactSpec
+from paradyn.scene.tables import _REQUIRED, _Reader, read_life
+
+_CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "soft_constraint", "static_friction",
+                 "dynamic_friction", "friction_decay", "symmetric", "birth_time", "death_time", "edges",
+                 "normal_failure_stress", "shear_failure_stress")
+
+
+def parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
+    label = f"[[contact]] #{index + 1}"
+    r.keys(t, label, _CONTACT_KEYS)
+    kind = (r.string(t, "kind", label, choices=tuple(_schema.ENUMS["contact_kind"])) if "kind" in t
+            else ContactSpec.kind)
+    edges = r.raw(t, "edges", label, kind in EDGE_KINDS)
+    if not isinstance(edges, bool) or (edges and kind in ("tied", "tiebreak")):
+        raise r.error(f"'edges' in {label} must be true (edges against edges; not tied) or false; got {edges!r}")
+    strengths = {key: r.number(t, key, label, default=0.0, minimum=0.0)
+                 for key in ("normal_failure_stress", "shear_failure_stress")}
+    if kind != "tiebreak" and any(strengths.values()):
+        raise r.error(f"'normal_failure_stress' and 'shear_failure_stress' in {label} belong to kind = \"tiebreak\" "
+                      f"(a tie that fails by stress); this contact is kind = \"{kind}\": set its kind or remove them")
+    if kind == "tiebreak" and not any(strengths.values()):
+        raise r.error(f"{label} is kind = \"tiebreak\" with no failure stress: give 'normal_failure_stress' and/or "
+                      f"'shear_failure_stress' (Pa), or use kind = \"tied\" for a tie that never fails")
+    parts = _contact_parts(r, t, label, kind := EDGE_KINDS.get(kind, kind))
+    symmetric = r.raw(t, "symmetric", label, ContactSpec.symmetric)
+    if not isinstance(symmetric, bool):
+        raise r.error(f"'symmetric' in {label} must be true (both passes every step) or false "
+                      f"(slave and master swap every step, as in the paper); got {symmetric!r}")
+    static = r.number(t, "static_friction", label, default=ContactSpec.static_friction, minimum=0.0)
+    birth, death = read_life(r, t, label, "contact", ContactSpec)
+    return ContactSpec(
+        parts=parts,
+        penalty_scale=r.number(t, "penalty_scale", label, default=ContactSpec.penalty_scale, positive=True),
+        soft_constraint=r.number(t, "soft_constraint", label, default=ContactSpec.soft_constraint, minimum=0.0),
+        static_friction=static,
+        dynamic_friction=r.number(t, "dynamic_friction", label, default=static, minimum=0.0),
+        friction_decay=r.number(t, "friction_decay", label, default=ContactSpec.friction_decay, minimum=0.0),
+        symmetric=symmetric,
+        kind=kind,
+        initial_penetration=r.string(t, "initial_penetration", label, default=ContactSpec.initial_penetration,
+                                     choices=tuple(_schema.ENUMS["initial_penetration"])),
+        birth_time=birth,
+        death_time=death, edges=edges, **strengths,
+    )
+
+
+
+def _contact_parts(r: _Reader, t: dict[str, Any], label: str, kind: str) -> tuple[str, ...]:
+    """Two different parts for a node_to_segment pair; one or more different parts for a
+    single_surface contact, or none (every part of the scene)."""
+    if kind == "single_surface":
+        parts = r.raw(t, "parts", label, [])
+        if (not isinstance(parts, list) or not all(isinstance(p, str) for p in parts)
+                or len(set(parts)) != len(parts)):
+            raise r.error(f"'parts' in {label} must list different parts that form the single surface, e.g. "
+                          f"parts = [\"pipe\"] (leave it out for every part of the scene); got {parts!r}")
+        return tuple(parts)
+    parts = r.raw(t, "parts", label, _REQUIRED)
+    if (not isinstance(parts, list) or len(parts) != 2 or not all(isinstance(p, str) for p in parts)
+            or parts[0] == parts[1]):
+        raise r.error(f"'parts' in {label} must name two different parts, e.g. parts = [\"a\", \"b\"] "
+                      f"(for a part against itself use kind = \"single_surface\"); got {parts!r}")
+    return (parts[0], parts[1])
