@@ -54,12 +54,12 @@ module paradyn_schema
       dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
       dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
       dataset_rigid_bodies_failure_force, dataset_rigid_bodies_failure_exponent, &
-      dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_node, &
-      dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, dataset_rotation_ties_masters, &
-      dataset_rotation_ties_weights, dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
-      dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, &
-      dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
-      dataset_base_accelerations_direction, dataset_base_accelerations_value, &
+      dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_plastic_strain, &
+      dataset_rigid_bodies_failure_node, dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, &
+      dataset_rotation_ties_masters, dataset_rotation_ties_weights, dataset_curves_first_point, &
+      dataset_curves_time, dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
+      dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
+      dataset_prescribed_curve, dataset_base_accelerations_direction, dataset_base_accelerations_value, &
       dataset_base_accelerations_curve, n_deck_datasets, control_end_time, control_output_interval, &
       control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
       control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
@@ -281,25 +281,26 @@ module paradyn_schema
   integer, parameter :: dataset_rigid_bodies_failure_force = 71
   integer, parameter :: dataset_rigid_bodies_failure_exponent = 72
   integer, parameter :: dataset_rigid_bodies_failure_time = 73
-  integer, parameter :: dataset_rigid_bodies_failure_node = 74
-  integer, parameter :: dataset_rigid_bodies_failure_normal = 75
-  integer, parameter :: dataset_rotation_ties_node = 76
-  integer, parameter :: dataset_rotation_ties_masters = 77
-  integer, parameter :: dataset_rotation_ties_weights = 78
-  integer, parameter :: dataset_curves_first_point = 79
-  integer, parameter :: dataset_curves_time = 80
-  integer, parameter :: dataset_curves_value = 81
-  integer, parameter :: dataset_pressure_part = 82
-  integer, parameter :: dataset_pressure_value = 83
-  integer, parameter :: dataset_pressure_curve = 84
-  integer, parameter :: dataset_prescribed_node = 85
-  integer, parameter :: dataset_prescribed_dof = 86
-  integer, parameter :: dataset_prescribed_value = 87
-  integer, parameter :: dataset_prescribed_curve = 88
-  integer, parameter :: dataset_base_accelerations_direction = 89
-  integer, parameter :: dataset_base_accelerations_value = 90
-  integer, parameter :: dataset_base_accelerations_curve = 91
-  integer, parameter :: n_deck_datasets = 91
+  integer, parameter :: dataset_rigid_bodies_failure_plastic_strain = 74
+  integer, parameter :: dataset_rigid_bodies_failure_node = 75
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 76
+  integer, parameter :: dataset_rotation_ties_node = 77
+  integer, parameter :: dataset_rotation_ties_masters = 78
+  integer, parameter :: dataset_rotation_ties_weights = 79
+  integer, parameter :: dataset_curves_first_point = 80
+  integer, parameter :: dataset_curves_time = 81
+  integer, parameter :: dataset_curves_value = 82
+  integer, parameter :: dataset_pressure_part = 83
+  integer, parameter :: dataset_pressure_value = 84
+  integer, parameter :: dataset_pressure_curve = 85
+  integer, parameter :: dataset_prescribed_node = 86
+  integer, parameter :: dataset_prescribed_dof = 87
+  integer, parameter :: dataset_prescribed_value = 88
+  integer, parameter :: dataset_prescribed_curve = 89
+  integer, parameter :: dataset_base_accelerations_direction = 90
+  integer, parameter :: dataset_base_accelerations_value = 91
+  integer, parameter :: dataset_base_accelerations_curve = 92
+  integer, parameter :: n_deck_datasets = 92
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -396,7 +397,7 @@ module paradyn_schema
 
   !> One deck dataset (schema/deck.toml explains every field).
   type :: dataset_spec_t
-    character(len=31) :: path
+    character(len=36) :: path
     integer :: class                    !< class_int or class_float
     integer :: columns                  !< 0: shape (rows,); c > 0: shape (rows, c)
     integer :: row_symbol               !< size_n_nodes, ...
@@ -739,6 +740,10 @@ module paradyn_schema
     dataset_spec_t('/rigid_bodies/failure_time', class_float, 0, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 1e+20_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, '', '', 'give a time in s (1e20 for never)'), &
+    dataset_spec_t('/rigid_bodies/failure_plastic_strain', class_float, 0, size_n_rigid_bodies, .false., &
+        .false., condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give a plastic strain >= 0 (0: no failure by plastic strain)'), &
     dataset_spec_t('/rigid_bodies/failure_node', class_int, 0, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0], size_n_nodes, 'must be >= -1', '', &
