@@ -218,3 +218,15 @@ def test_a_failed_tie_is_contact(tmp_path: Path) -> None:
     assert trailing.size == 2
     assert u[trailing, 0].min() > 1.0e-4   # sliding
     assert u[trailing, 2].min() > -0.001 * T, u[trailing, 2]
+
+
+@pytest.mark.parametrize(("kind", "keys"), [("tied", {"normal_failure_stress": 1.0e6}), ("tiebreak", {})])
+def test_failure_stresses_belong_to_a_tiebreak(kind: str, keys: dict) -> None:
+    """A tiebreak needs a failure stress, and no other kind takes one."""
+    scene = paradyn.Scene("keys", end_time=1e-4, output_interval=1e-4)
+    scene.add_material("steel", model="elastic", density=7800.0, youngs_modulus=2e11, poisson_ratio=0.3)
+    for name, z in (("upper", T), ("lower", 0.0)):
+        scene.add_part(name, material="steel", thickness=T,
+                       geometry=paradyn.Plate(size=SIZE, elements=GRID, origin=[0.0, 0.0, z]))
+    with pytest.raises(paradyn.scene.SceneError, match="tiebreak"):
+        scene.add_contact("upper", "lower", kind=kind, **keys)

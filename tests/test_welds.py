@@ -212,7 +212,8 @@ def test_the_scene_form_welds_and_lets_go_alike(tmp_path: Path) -> None:
 def test_a_generalized_weld_reads_its_failure_in_the_deck_units(tmp_path: Path) -> None:
     """*CONSTRAINED_GENERALIZED_WELD_SPOT in mm, ms, kg (forces in kN): card 2's TFAIL 5 ms,
     SN 2 kN, SS 1.5 kN, N 0 (read as 2), M 3 become 0.005 s, 2000 N, 1500 N, (2, 3); the force is
-    the set's first node's (12), the normal from it to the second (15): +y; EPSF is warned."""
+    the set's first node's (12), the normal from it to the second (15): +y; EPSF 0.1 is the failure
+    plastic strain."""
     weld = ("*SET_NODE_LIST\n         4\n        12        15\n*CONSTRAINED_GENERALIZED_WELD_SPOT\n"
             "         1         4\n       5.0       0.1       2.0       1.5       0.0       3.0\n")
     path = tmp_path / "generalized.k"
@@ -226,4 +227,5 @@ def test_a_generalized_weld_reads_its_failure_in_the_deck_units(tmp_path: Path) 
     np.testing.assert_allclose(model.rigid_body_failure_time, [0.005], rtol=1e-12)
     assert int(np.asarray(model.node_ids)[model.rigid_body_failure_node[0]]) == 12
     np.testing.assert_allclose(model.rigid_body_failure_normal, [[0.0, 1.0, 0.0]], atol=1e-12)
-    assert any("EPSF" in w for w in read.warnings)
+    np.testing.assert_allclose(model.rigid_body_failure_plastic_strain, [0.1])
+    assert not any("EPSF" in w for w in read.warnings)

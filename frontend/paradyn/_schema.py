@@ -869,6 +869,16 @@ DATASETS: tuple[DatasetSpec, ...] = (
         ), '-', 'give a time in s (1e20 for never)',
     ),
     DatasetSpec(
+        '/rigid_bodies/failure_plastic_strain', 'rigid_body_failure_plastic_strain', 'float', ('n_rigid_bodies',),
+        False, None, None, 0.0, Bound(0.0, True), None, 'must be >= 0', None, '', None, False, '-',
+        (
+            "a weld's failure plastic strain (LS-DYNA *CONSTRAINED_SPOTWELD EP, "
+            '*CONSTRAINED_GENERALIZED_WELD_SPOT EPSF), 0 for none: the body lets its nodes go when the largest '
+            'effective plastic strain of the shell integration points of the elements around its nodes reaches it '
+            '(a rigid weld has no strain of its own; docs/theory.md, "Weld failure")'
+        ), '-', 'give a plastic strain >= 0 (0: no failure by plastic strain)',
+    ),
+    DatasetSpec(
         '/rigid_bodies/failure_node', 'rigid_body_failure_node', 'int', ('n_rigid_bodies',), False, None, None, -1,
         Bound(-1, True), None, 'must be >= -1', None, '', 'node', False, '-',
         (
@@ -1315,6 +1325,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/rigid_bodies/failure_force'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/rigid_bodies/failure_exponent'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/rigid_bodies/failure_time'): ('class', 'shape', 'rows', 'finite'),
+    ('dataset', '/rigid_bodies/failure_plastic_strain'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/rigid_bodies/failure_node'): ('class', 'shape', 'rows', 'lower', 'reference'),
     ('dataset', '/rigid_bodies/failure_normal'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/rotation_ties/node'): ('required_when', 'class', 'shape', 'reference'),

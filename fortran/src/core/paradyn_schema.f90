@@ -55,24 +55,24 @@ module paradyn_schema
       dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
       dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
       dataset_rigid_bodies_failure_force, dataset_rigid_bodies_failure_exponent, &
-      dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_node, &
-      dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, dataset_rotation_ties_masters, &
-      dataset_rotation_ties_weights, dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
-      dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, dataset_prescribed_node, &
-      dataset_prescribed_dof, dataset_prescribed_value, dataset_prescribed_curve, &
-      dataset_prescribed_birth_time, dataset_prescribed_death_time, dataset_base_accelerations_direction, &
-      dataset_base_accelerations_value, dataset_base_accelerations_curve, n_deck_datasets, control_end_time, &
-      control_output_interval, control_history_interval, control_time_step, control_time_step_safety, &
-      control_mass_damping, control_progress_interval, control_contact_sort_interval, &
-      control_checkpoint_interval, control_partition, control_contact_gather, control_precision, &
-      control_gravity_x, control_gravity_y, control_gravity_z, control_energy_error_limit, &
-      control_time_step_floor, control_contact_travel_limit, control_mass_scaling_step, &
-      control_mass_scaling_limit, control_effect_point_loads, control_effect_gravity, &
-      control_effect_base_acceleration, control_effect_pressure, control_effect_rigid_wall, &
-      control_effect_mass_damping, control_effect_prescribed_velocity, control_effect_plasticity, &
-      control_effect_hourglass, control_effect_contact, control_effect_friction, n_control_attributes, &
-      control_restart_may_change, max_enum_members, n_effects, effect_point_loads, effect_gravity, &
-      effect_base_acceleration, effect_pressure, effect_rigid_wall, effect_time_integration, &
+      dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_plastic_strain, &
+      dataset_rigid_bodies_failure_node, dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, &
+      dataset_rotation_ties_masters, dataset_rotation_ties_weights, dataset_curves_first_point, &
+      dataset_curves_time, dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
+      dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
+      dataset_prescribed_curve, dataset_prescribed_birth_time, dataset_prescribed_death_time, &
+      dataset_base_accelerations_direction, dataset_base_accelerations_value, &
+      dataset_base_accelerations_curve, n_deck_datasets, control_end_time, control_output_interval, &
+      control_history_interval, control_time_step, control_time_step_safety, control_mass_damping, &
+      control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
+      control_partition, control_contact_gather, control_precision, control_gravity_x, control_gravity_y, &
+      control_gravity_z, control_energy_error_limit, control_time_step_floor, control_contact_travel_limit, &
+      control_mass_scaling_step, control_mass_scaling_limit, control_effect_point_loads, &
+      control_effect_gravity, control_effect_base_acceleration, control_effect_pressure, &
+      control_effect_rigid_wall, control_effect_mass_damping, control_effect_prescribed_velocity, &
+      control_effect_plasticity, control_effect_hourglass, control_effect_contact, control_effect_friction, &
+      n_control_attributes, control_restart_may_change, max_enum_members, n_effects, effect_point_loads, &
+      effect_gravity, effect_base_acceleration, effect_pressure, effect_rigid_wall, effect_time_integration, &
       effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, effect_rigid_bodies, &
       effect_rotation_ties, effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, &
       effect_friction, effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, &
@@ -287,27 +287,28 @@ module paradyn_schema
   integer, parameter :: dataset_rigid_bodies_failure_force = 74
   integer, parameter :: dataset_rigid_bodies_failure_exponent = 75
   integer, parameter :: dataset_rigid_bodies_failure_time = 76
-  integer, parameter :: dataset_rigid_bodies_failure_node = 77
-  integer, parameter :: dataset_rigid_bodies_failure_normal = 78
-  integer, parameter :: dataset_rotation_ties_node = 79
-  integer, parameter :: dataset_rotation_ties_masters = 80
-  integer, parameter :: dataset_rotation_ties_weights = 81
-  integer, parameter :: dataset_curves_first_point = 82
-  integer, parameter :: dataset_curves_time = 83
-  integer, parameter :: dataset_curves_value = 84
-  integer, parameter :: dataset_pressure_part = 85
-  integer, parameter :: dataset_pressure_value = 86
-  integer, parameter :: dataset_pressure_curve = 87
-  integer, parameter :: dataset_prescribed_node = 88
-  integer, parameter :: dataset_prescribed_dof = 89
-  integer, parameter :: dataset_prescribed_value = 90
-  integer, parameter :: dataset_prescribed_curve = 91
-  integer, parameter :: dataset_prescribed_birth_time = 92
-  integer, parameter :: dataset_prescribed_death_time = 93
-  integer, parameter :: dataset_base_accelerations_direction = 94
-  integer, parameter :: dataset_base_accelerations_value = 95
-  integer, parameter :: dataset_base_accelerations_curve = 96
-  integer, parameter :: n_deck_datasets = 96
+  integer, parameter :: dataset_rigid_bodies_failure_plastic_strain = 77
+  integer, parameter :: dataset_rigid_bodies_failure_node = 78
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 79
+  integer, parameter :: dataset_rotation_ties_node = 80
+  integer, parameter :: dataset_rotation_ties_masters = 81
+  integer, parameter :: dataset_rotation_ties_weights = 82
+  integer, parameter :: dataset_curves_first_point = 83
+  integer, parameter :: dataset_curves_time = 84
+  integer, parameter :: dataset_curves_value = 85
+  integer, parameter :: dataset_pressure_part = 86
+  integer, parameter :: dataset_pressure_value = 87
+  integer, parameter :: dataset_pressure_curve = 88
+  integer, parameter :: dataset_prescribed_node = 89
+  integer, parameter :: dataset_prescribed_dof = 90
+  integer, parameter :: dataset_prescribed_value = 91
+  integer, parameter :: dataset_prescribed_curve = 92
+  integer, parameter :: dataset_prescribed_birth_time = 93
+  integer, parameter :: dataset_prescribed_death_time = 94
+  integer, parameter :: dataset_base_accelerations_direction = 95
+  integer, parameter :: dataset_base_accelerations_value = 96
+  integer, parameter :: dataset_base_accelerations_curve = 97
+  integer, parameter :: n_deck_datasets = 97
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -404,7 +405,7 @@ module paradyn_schema
 
   !> One deck dataset (schema/deck.toml explains every field).
   type :: dataset_spec_t
-    character(len=31) :: path
+    character(len=36) :: path
     integer :: class                    !< class_int or class_float
     integer :: columns                  !< 0: shape (rows,); c > 0: shape (rows, c)
     integer :: row_symbol               !< size_n_nodes, ...
@@ -767,6 +768,10 @@ module paradyn_schema
     dataset_spec_t('/rigid_bodies/failure_time', class_float, 0, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, 1e+20_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', 'give a time in s (1e20 for never)'), &
+    dataset_spec_t('/rigid_bodies/failure_plastic_strain', class_float, 0, size_n_rigid_bodies, .false., &
+        .false., condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
+        'give a plastic strain >= 0 (0: no failure by plastic strain)'), &
     dataset_spec_t('/rigid_bodies/failure_node', class_int, 0, size_n_rigid_bodies, .false., .false., &
         condition_none, condition_none, -1.0_wp, .true., .true., .false., .true., -1.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0, 0], size_n_nodes, 'must be >= -1', '', &

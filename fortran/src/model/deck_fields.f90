@@ -38,17 +38,18 @@ module deck_fields
                             dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, &
                             dataset_rigid_bodies_given_inertia, dataset_rigid_bodies_failure_force, &
                             dataset_rigid_bodies_failure_exponent, dataset_rigid_bodies_failure_time, &
-                            dataset_rigid_bodies_failure_node, dataset_rigid_bodies_failure_normal, &
-                            dataset_rotation_ties_node, dataset_rotation_ties_masters, &
-                            dataset_rotation_ties_weights, dataset_curves_first_point, dataset_curves_time, &
-                            dataset_curves_value, dataset_pressure_part, dataset_pressure_value, &
-                            dataset_pressure_curve, dataset_prescribed_node, dataset_prescribed_dof, &
-                            dataset_prescribed_value, dataset_prescribed_curve, &
-                            dataset_prescribed_birth_time, dataset_prescribed_death_time, &
-                            dataset_base_accelerations_direction, dataset_base_accelerations_value, &
-                            dataset_base_accelerations_curve, control_end_time, control_output_interval, &
-                            control_history_interval, control_time_step, control_time_step_safety, &
-                            control_mass_damping, control_progress_interval, control_contact_sort_interval, &
+                            dataset_rigid_bodies_failure_plastic_strain, dataset_rigid_bodies_failure_node, &
+                            dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, &
+                            dataset_rotation_ties_masters, dataset_rotation_ties_weights, &
+                            dataset_curves_first_point, dataset_curves_time, dataset_curves_value, &
+                            dataset_pressure_part, dataset_pressure_value, dataset_pressure_curve, &
+                            dataset_prescribed_node, dataset_prescribed_dof, dataset_prescribed_value, &
+                            dataset_prescribed_curve, dataset_prescribed_birth_time, &
+                            dataset_prescribed_death_time, dataset_base_accelerations_direction, &
+                            dataset_base_accelerations_value, dataset_base_accelerations_curve, &
+                            control_end_time, control_output_interval, control_history_interval, &
+                            control_time_step, control_time_step_safety, control_mass_damping, &
+                            control_progress_interval, control_contact_sort_interval, &
                             control_checkpoint_interval, control_partition, control_contact_gather, &
                             control_precision, control_gravity_x, control_gravity_y, control_gravity_z, &
                             control_energy_error_limit, control_time_step_floor, &
@@ -151,6 +152,7 @@ module deck_fields
     real(wp), allocatable :: rigid_body_failure_force(:, :)
     real(wp), allocatable :: rigid_body_failure_exponent(:, :)
     real(wp), allocatable :: rigid_body_failure_time(:)   !< /rigid_bodies/failure_time (n_rigid_bodies) s
+    real(wp), allocatable :: rigid_body_failure_plastic_strain(:)
     integer, allocatable :: rigid_body_failure_node(:)   !< /rigid_bodies/failure_node (n_rigid_bodies) -
     real(wp), allocatable :: rigid_body_failure_normal(:, :)
     integer, allocatable :: rotation_tie_node(:)   !< /rotation_ties/node (n_rotation_ties) -
@@ -480,6 +482,8 @@ contains
       d%rigid_body_failure_exponent = values
     case (dataset_rigid_bodies_failure_time)
       d%rigid_body_failure_time = values(1, :)
+    case (dataset_rigid_bodies_failure_plastic_strain)
+      d%rigid_body_failure_plastic_strain = values(1, :)
     case (dataset_rigid_bodies_failure_node)
       d%rigid_body_failure_node = indices(1, :)
     case (dataset_rigid_bodies_failure_normal)

@@ -83,7 +83,8 @@ contains
           [(deck%node_rigid_body(node_row(deck, dom%nodes(k))), k = 1, dom%n_nodes)], deck%rigid_body_fixed_dofs, &
           deck%rigid_body_prescribed, deck%rigid_body_velocity, deck%rigid_body_curve, curves, &
           [(weld_make(deck%rigid_body_failure_force(:, k), deck%rigid_body_failure_exponent(:, k), &
-                      deck%rigid_body_failure_time(k), deck%rigid_body_failure_normal(:, k)), k = 1, deck%n_rigid_bodies)], &
+                      deck%rigid_body_failure_time(k), deck%rigid_body_failure_normal(:, k), &
+                      deck%rigid_body_failure_plastic_strain(k)), k = 1, deck%n_rigid_bodies)], &
           [(local_node(dom, deck%rigid_body_failure_node(k)), k = 1, deck%n_rigid_bodies)], &
           deck%rigid_body_given_mass, deck%rigid_body_given_centre, deck%rigid_body_given_inertia, ns, comm))
       case (effect_rotation_ties)

@@ -17,7 +17,8 @@ module rigid_body_effect
   use nodal_effect, only: nodal_effect_t, stage_constraints
   use rigid_body_motion, only: rigid_body_t, body_from_sums, body_advance, body_omega, &
                                carry_nodes, n_mass_sums, body_with_given_mass, inertia_is_positive
-  use weld_failure, only: weld_t, weld_has_force_criterion, weld_criterion
+  use weld_failure, only: weld_t, weld_has_force_criterion, weld_criterion, weld_has_strain_criterion, &
+                          weld_strain_failed
   implicit none
   private
   public :: rigid_body_effect_t, rigid_body_effect_make
@@ -40,6 +41,7 @@ module rigid_body_effect
     type(weld_t), allocatable :: welds(:)     !< per body: its failure forces, exponents, time, normal
     integer, allocatable :: failure_entry(:)  !< per body: the entry of its weld node if this rank owns it, else 0
     logical :: force_criteria = .false.       !< some body can fail by its force
+    logical :: strain_criteria = .false.      !< some body can fail by the plastic strain of its shells
     integer, allocatable :: failed(:)         !< per body: 1 once it has let its nodes go
     real(wp), allocatable :: failed_at(:)     !< per body: the time it let go (s), -1 while it holds
     real(wp), allocatable :: v_free(:, :)     !< (6, entries) workspace: the nodes' velocities before the constraint
@@ -97,6 +99,8 @@ contains
     end do
     call check_failure_nodes(e, failure_node, comm)
     if (e%force_criteria) allocate (e%v_free(6, size(e%node)))
+    e%strain_criteria = any([(weld_has_strain_criterion(welds(b)), b = 1, nb)])
+    if (e%strain_criteria .and. .not. allocated(ns%eps_p)) allocate (ns%eps_p(ns%n), source=0.0_wp)
     allocate (e%bodies(nb), origin(3, nb), totals(n_mass_sums, nb))
     allocate (e%sums(exact_width, n_mass_sums, nb))
     origin = 0.0_wp
@@ -292,7 +296,31 @@ contains
                        e%node(e%first(b):e%first(b + 1) - 1), dt, ns%v, ns%w)
     end do
     if (e%force_criteria) call check_welds(e, ns, time, 0.5_wp * (dt_previous + dt))
+    if (e%strain_criteria) call check_weld_strains(e, ns, time)
   end subroutine constrain
+
+  !> The welds whose shells' plastic strain reached their failure plastic strain let their nodes
+  !> go from the next step: the largest of ns%eps_p (each rank's shells around each node it holds)
+  !> over the weld's nodes and over the ranks (a maximum: exact), so every rank decides alike.
+  subroutine check_weld_strains(e, ns, time)
+    type(rigid_body_effect_t), intent(inout) :: e
+    type(nodal_state_t), intent(in) :: ns
+    real(wp), intent(in) :: time
+    real(wp) :: most(size(e%bodies))
+    integer :: b, n_ranks
+    most = 0.0_wp
+    do b = 1, size(e%bodies)
+      if (e%failed(b) /= 0 .or. e%first(b + 1) == e%first(b)) cycle
+      most(b) = maxval(ns%eps_p(e%node(e%first(b):e%first(b + 1) - 1)))
+    end do
+    call MPI_Comm_size(e%comm, n_ranks)
+    if (n_ranks > 1) call MPI_Allreduce(MPI_IN_PLACE, most, size(most), MPI_DOUBLE_PRECISION, MPI_MAX, e%comm)
+    do b = 1, size(e%bodies)
+      if (e%failed(b) /= 0 .or. .not. weld_strain_failed(e%welds(b), most(b))) cycle
+      e%failed(b) = 1
+      e%failed_at(b) = time
+    end do
+  end subroutine check_weld_strains
 
   !> The welds whose force reached their failure surface in this step let their nodes go: the
   !> force is the one the constraint applied to the weld's node, m (v - v_free) / h, summed exactly

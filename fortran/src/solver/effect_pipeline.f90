@@ -77,8 +77,28 @@ contains
   !> The constraints on the half-step velocities of the step that starts now.
   subroutine apply_constraints(s)
     type(solver_t), intent(inout) :: s
+    if (allocated(s%nodes%eps_p)) call node_plastic_strain(s)
     call run_members(s, stage_constraints, counting(s))
   end subroutine apply_constraints
+
+  !> Each held node's largest effective plastic strain of this rank's shell integration points
+  !> around it, for the members that asked for it (ns%eps_p: welds that fail by plastic strain).
+  subroutine node_plastic_strain(s)
+    type(solver_t), intent(inout) :: s
+    integer :: g, i, e, m
+    real(wp) :: most
+    s%nodes%eps_p = 0.0_wp
+    do g = 1, s%dom%n_groups
+      if (s%props(s%dom%group_part(g))%rigid) cycle
+      do i = 1, s%dom%group_count(g)
+        e = s%dom%group_first(g) + i - 1
+        most = real(maxval(s%elements%groups(g)%eps_p(i, :)), wp)
+        do m = 1, 4
+          s%nodes%eps_p(s%dom%connectivity(m, e)) = max(s%nodes%eps_p(s%dom%connectivity(m, e)), most)
+        end do
+      end do
+    end do
+  end subroutine node_plastic_strain
 
   !> The loads on element corners at the current positions, before the corners are exchanged (the
   !> forces at the start are not a cycle of the count).

@@ -19,6 +19,10 @@ module nodal_state
     real(wp), allocatable :: weight(:)                  !< 1 where this rank owns the node, else 0
     integer, allocatable :: fixed(:, :)                 !< (6, n), 1 = fixed dof
     real(wp), allocatable :: f_int(:, :), f_ext(:, :), f_ext_old(:, :)   !< (6, n)
+    !> asked for by a member that needs it (welds failing by plastic strain), the solver gives
+    !> each step the largest effective plastic strain of this rank's shell integration points
+    !> around each node (node_plastic_strain); not allocated otherwise
+    real(wp), allocatable :: eps_p(:)
   end type nodal_state_t
 
 contains

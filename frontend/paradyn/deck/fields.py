@@ -90,6 +90,7 @@ class DeckFields:
     rigid_body_failure_force: np.ndarray | None = None   # /rigid_bodies/failure_force (n_rigid_bodies, 2) N
     rigid_body_failure_exponent: np.ndarray | None = None   # /rigid_bodies/failure_exponent (n_rigid_bodies, 2) -
     rigid_body_failure_time: np.ndarray | None = None   # /rigid_bodies/failure_time (n_rigid_bodies,) s
+    rigid_body_failure_plastic_strain: np.ndarray | None = None
     rigid_body_failure_node: np.ndarray | None = None   # /rigid_bodies/failure_node (n_rigid_bodies,) -
     rigid_body_failure_normal: np.ndarray | None = None   # /rigid_bodies/failure_normal (n_rigid_bodies, 3) -
     rotation_tie_node: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))

@@ -29,16 +29,18 @@ class Weld:
     with its failure (docs/theory.md, "Weld failure"): it lets its nodes go when the force its
     constraint applies to ``nodes[0]`` (N1) reaches (max(fn, 0) / SN)^N + (|fs| / SS)^M >= 1, fn along
     ``normal`` (N1 -> N2 when None and the first two nodes differ; else the zero vector: all shear),
-    or at ``failure_time``. SN = SS = 0: no force failure."""
+    or at ``failure_time``, or when the largest effective plastic strain of the shells around its nodes
+    reaches ``plastic_strain`` (LS-DYNA EP, EPSF). SN = SS = 0: no force failure; 0: no strain failure."""
 
     nodes: Sequence[int]
     strength: tuple[float, float] = (0.0, 0.0)        # SN, SS (N)
     exponent: tuple[float, float] = (2.0, 2.0)        # N, M
     failure_time: float = 1e20                        # s
     normal: tuple[float, float, float] | None = None
+    plastic_strain: float = 0.0                       # EP
 
     def fails(self) -> bool:
-        return max(self.strength) > 0.0 or self.failure_time < 1e20
+        return max(self.strength) > 0.0 or self.failure_time < 1e20 or self.plastic_strain > 0.0
 
     def normal_at(self, coordinates: np.ndarray) -> np.ndarray:
         """The weld's normal at time 0: the one given, or N1 -> N2 (zero where they coincide)."""
@@ -136,7 +138,8 @@ def _set_failure(model: Model, row: int, weld: Weld) -> None:
     n = len(model.rigid_body_part)
     values = {"rigid_body_failure_force": weld.strength, "rigid_body_failure_exponent": weld.exponent,
               "rigid_body_failure_time": weld.failure_time, "rigid_body_failure_node": int(weld.nodes[0]),
-              "rigid_body_failure_normal": weld.normal_at(np.asarray(model.coordinates, dtype=float))}
+              "rigid_body_failure_normal": weld.normal_at(np.asarray(model.coordinates, dtype=float)),
+              "rigid_body_failure_plastic_strain": weld.plastic_strain}
     for spec in DATASETS:
         if spec.python not in values:
             continue

@@ -315,7 +315,8 @@ def nodal_bodies(data: KeywordData, mesh: KeywordMesh, unit: Units) -> list[Weld
     """The bodies of nodes alone: *CONSTRAINED_NODAL_RIGID_BODY (its NSID), *CONSTRAINED_SPOTWELD
     (N1, N2) and *CONSTRAINED_GENERALIZED_WELD_SPOT (its NSID), with a weld's failure: SN, SS, N, M
     (a zero exponent is read as 2) and its failure time TF / TFAIL; the force is the one on N1 (the
-    set's first node), its normal N1 -> N2. EP / EPSF (failure by plastic strain) is warned and ignored."""
+    set's first node), its normal N1 -> N2; EP / EPSF, the failure plastic strain of the shells
+    around its nodes (docs/theory.md, "Weld failure")."""
     bodies = []
     for kind, record in data.welds:
         what = {"NODAL": "*CONSTRAINED_NODAL_RIGID_BODY", "SPOTWELD": "*CONSTRAINED_SPOTWELD",
@@ -331,13 +332,19 @@ def nodal_bodies(data: KeywordData, mesh: KeywordMesh, unit: Units) -> list[Weld
         if missing:
             raise KeywordError(f"{record.where}: {what} names node {missing[0]}, which no element uses; a weld joins "
                                f"nodes of elements")
-        ignored = [k for k in ("EPSF", "EP") if record.values.get(k) not in (None, 0.0, 1e20)]
-        if ignored:
-            data.warn(f"{record.where}: {what}: the weld's failure by plastic strain ({', '.join(ignored)}) is not "
-                      f"modelled; its failure forces and time are")
         rows = list(dict.fromkeys(mesh.node_index[n] for n in nids))
-        bodies.append(Weld(rows, *_weld_failure(record, unit)))
+        bodies.append(Weld(rows, *_weld_failure(record, unit), plastic_strain=_weld_plastic_strain(record)))
     return bodies
+
+
+def _weld_plastic_strain(record: Record) -> float:
+    """EP (*CONSTRAINED_SPOTWELD) or EPSF (*CONSTRAINED_GENERALIZED_WELD_SPOT): the failure plastic
+    strain of the shells at the weld's nodes; 0 (none) where absent, 0 or 1e20 and above."""
+    for key in ("EP", "EPSF"):
+        value = record.values.get(key)
+        if value not in (None, "") and 0.0 < float(value) < 1e20:
+            return float(value)
+    return 0.0
 
 
 def _weld_failure(record: Record, unit: Units) -> tuple[tuple[float, float], tuple[float, float], float]:

@@ -11,7 +11,7 @@ from paradyn.scene.tables import _REQUIRED, _Reader, read_life
 
 _CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "soft_constraint", "static_friction",
                  "dynamic_friction", "friction_decay", "symmetric", "birth_time", "death_time", "edges",
-                 "normal_failure_stress", "shear_failure_stress")
+                 *ContactSpec.FAILURE_KEYS)
 
 
 def parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
@@ -22,14 +22,10 @@ def parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
     edges = r.raw(t, "edges", label, kind in EDGE_KINDS)
     if not isinstance(edges, bool) or (edges and kind in ("tied", "tiebreak")):
         raise r.error(f"'edges' in {label} must be true (edges against edges; not tied) or false; got {edges!r}")
-    strengths = {key: r.number(t, key, label, default=0.0, minimum=0.0)
-                 for key in ("normal_failure_stress", "shear_failure_stress")}
-    if kind != "tiebreak" and any(strengths.values()):
-        raise r.error(f"'normal_failure_stress' and 'shear_failure_stress' in {label} belong to kind = \"tiebreak\" "
-                      f"(a tie that fails by stress); this contact is kind = \"{kind}\": set its kind or remove them")
-    if kind == "tiebreak" and not any(strengths.values()):
-        raise r.error(f"{label} is kind = \"tiebreak\" with no failure stress: give 'normal_failure_stress' and/or "
-                      f"'shear_failure_stress' (Pa), or use kind = \"tied\" for a tie that never fails")
+    strengths = {k: r.number(t, k, label, default=0.0, minimum=0.0) for k in ContactSpec.FAILURE_KEYS}
+    if (kind == "tiebreak") != any(strengths.values()):   # a tiebreak needs one, and only a tiebreak takes them
+        raise r.error(f"{label} is kind = \"{kind}\": kind = \"tiebreak\" needs 'normal_failure_stress' and/or "
+                      f"'shear_failure_stress' (Pa), and no other kind takes them (\"tied\": a tie that never fails)")
     parts = _contact_parts(r, t, label, kind := EDGE_KINDS.get(kind, kind))
     symmetric = r.raw(t, "symmetric", label, ContactSpec.symmetric)
     if not isinstance(symmetric, bool):

@@ -180,6 +180,7 @@ class ContactSpec:
     edges: bool = False   # also element edges against edges (deck kinds edge_to_edge, single_surface_edges)
     normal_failure_stress: float = _DECK_DEFAULT["/contact/normal_failure_stress"]   # tiebreak NFLS (Pa)
     shear_failure_stress: float = _DECK_DEFAULT["/contact/shear_failure_stress"]     # tiebreak SFLS (Pa)
+    FAILURE_KEYS = ("normal_failure_stress", "shear_failure_stress")   # (a class constant: no field)
 
 
 @dataclass
