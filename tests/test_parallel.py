@@ -29,7 +29,7 @@ EXACT_HISTORY = ("time", "external_work", "contact_energy", "tracked_displacemen
 SUMMED_HISTORY = ("kinetic_energy", "internal_energy", "hourglass_energy")
 FRAME_FIELDS = ("displacement", "velocity", "element_membrane_stress", "element_von_mises", "element_plastic_strain",
                 "acceleration", "nodal_contact_force", "element_layer_stress", "element_membrane_strain",
-                "element_internal_energy_density")
+                "element_internal_energy_density", "element_surface_strain")
 
 
 def _read(path: Path) -> dict[str, np.ndarray]:

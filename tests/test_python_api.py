@@ -190,6 +190,7 @@ def test_pyvista_reads_every_step_of_results_vtkhdf(plate: paradyn.Results) -> N
         for name in ("membrane_stress", "von_mises", "plastic_strain", "membrane_strain", "internal_energy_density"):
             assert np.array_equal(grid.cell_data[name], getattr(arrays, name)), name
         assert np.array_equal(grid.cell_data["layer_stress"], arrays.layer_stress.reshape(plate.n_elements, 15))
+        assert np.array_equal(grid.cell_data["surface_strain"], arrays.surface_strain.reshape(plate.n_elements, 6))
     reader.set_active_time_value(plate.time_values[-1])
     assert np.array_equal(reader.read().point_data["displacement"], plate.frame_arrays(-1).displacement)
     with pytest.raises(ValueError, match="no step at time"):

@@ -30,3 +30,23 @@ subroutine shell_initial_volumes(n, x0, thickness, volume)
   real(wp), intent(out) :: volume(n)
   call initial_volumes(n, x0, thickness, volume)
 end subroutine shell_initial_volumes
+
+subroutine shell_surface_strains(n, x0, x, q, thickness, membrane, surface)
+  use paradyn_kinds, only: wp
+  use shell_field_measures, only: surface_strains
+  implicit none
+  integer, intent(in) :: n
+  real(wp), intent(in) :: x0(n, 3, 4), x(n, 3, 4), q(n, 4, 4), thickness, membrane(3, n)
+  real(wp), intent(out) :: surface(3, 2, n)
+  call surface_strains(n, x0, x, q, thickness, membrane, surface)
+end subroutine shell_surface_strains
+
+subroutine node_update_orientations(n, dt, w, q)
+  use paradyn_kinds, only: wp
+  use time_integration, only: update_orientations
+  implicit none
+  integer, intent(in) :: n
+  real(wp), intent(in) :: dt, w(3, n)
+  real(wp), intent(inout) :: q(4, n)
+  call update_orientations(n, dt, w, q)
+end subroutine node_update_orientations

@@ -1,5 +1,6 @@
 !> Per-element fields of the frames beyond blt_element_results' resultants: the stress at the
-!> bottom, middle and top of the shell, the mid-surface membrane strain, and the initial volume
+!> bottom, middle and top of the shell, the mid-surface membrane strain, the strains at the
+!> bottom and top surfaces, and the initial volume
 !> by which the internal energy becomes a density. Computed at frames only, never in the time loop.
 !> Pure, over groups of n elements with the element index first, like shell_blt.
 module shell_field_measures
@@ -8,7 +9,7 @@ module shell_field_measures
   use vector_algebra, only: cross
   implicit none
   private
-  public :: layer_stresses, membrane_green_strain, initial_volumes, in_plane_means
+  public :: layer_stresses, membrane_green_strain, surface_strains, initial_volumes, in_plane_means
 
   integer, parameter, public :: n_layers = 3   !< bottom, middle, top
   real(wp), parameter :: mid_tolerance = 1.0e-12_wp   ! a point this close to zeta = 0 is the mid-surface's
@@ -79,6 +80,53 @@ contains
       strain(:, i) = [0.5_wp * (c(1, 1) - 1.0_wp), 0.5_wp * (c(2, 2) - 1.0_wp), 0.5_wp * c(1, 2)]
     end do
   end subroutine membrane_green_strain
+
+  !> The in-plane strain (exx, eyy, exy: tensor components) at the bottom (z = -t/2, the side
+  !> opposite the normal) and top (z = +t/2) surface of each element, surface(:, 1, i) and
+  !> surface(:, 2, i): the membrane strain plus z times the change of curvature, E(z) = E_m + z k.
+  !> The curvature comes, as in the force kernels, from the nodal rotations: each node's director
+  !> for this element is the element's initial normal n0 turned by the node's rotation since the
+  !> start (its orientation quaternion q, nodal_state), d_a = R(q_a) n0; its components along the
+  !> current co-rotational axes, d1 = d . e1 and d2 = d . e2, are the tilt of the director against
+  !> the element (zero in any rigid motion and at the start), and their gradient at the centre,
+  !> over the initial corners as the membrane strain's, gives k_xx = d1,x, k_yy = d2,y and
+  !> k_xy = (d1,y + d2,x) / 2. Linear in z, as the strain of a Mindlin plate; a triangle is its
+  !> degenerate quadrilateral, as in membrane_green_strain.
+  pure subroutine surface_strains(n, x0, x, q, thickness, membrane, surface)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: x0(n, 3, 4), x(n, 3, 4), q(n, 4, 4), thickness, membrane(3, n)
+    real(wp), intent(out) :: surface(3, 2, n)
+    real(wp), parameter :: d_xi(4) = [-0.25_wp, 0.25_wp, 0.25_wp, -0.25_wp]
+    real(wp), parameter :: d_eta(4) = [-0.25_wp, -0.25_wp, 0.25_wp, 0.25_wp]
+    real(wp) :: e0(3, 3), e(3, 3), xl(4), yl(4), area, j0(2, 2), j0_inverse(2, 2), d(3), d1(4), d2(4)
+    real(wp) :: g1(2), g2(2), kappa(3)
+    integer :: i, a
+    do i = 1, n
+      call local_frame(x0(i, :, :), e0, xl, yl, area)
+      j0 = reshape([sum(d_xi * xl), sum(d_xi * yl), sum(d_eta * xl), sum(d_eta * yl)], [2, 2])
+      j0_inverse = reshape([j0(2, 2), -j0(2, 1), -j0(1, 2), j0(1, 1)], [2, 2]) &
+                   / (j0(1, 1) * j0(2, 2) - j0(1, 2) * j0(2, 1))
+      call local_frame(x(i, :, :), e, xl, yl, area)
+      do a = 1, 4
+        d = rotated(q(i, :, a), e0(:, 3))
+        d1(a) = dot_product(d, e(:, 1))
+        d2(a) = dot_product(d, e(:, 2))
+      end do
+      ! gradients in the initial local axes: (d/dx, d/dy) = J0^-T (d/dxi, d/deta)
+      g1 = matmul(transpose(j0_inverse), [sum(d_xi * d1), sum(d_eta * d1)])
+      g2 = matmul(transpose(j0_inverse), [sum(d_xi * d2), sum(d_eta * d2)])
+      kappa = [g1(1), g2(2), 0.5_wp * (g1(2) + g2(1))]
+      surface(:, 1, i) = membrane(:, i) - 0.5_wp * thickness * kappa
+      surface(:, 2, i) = membrane(:, i) + 0.5_wp * thickness * kappa
+    end do
+  end subroutine surface_strains
+
+  !> The vector v turned by the unit quaternion q = (q0, qv): v + 2 qv x (qv x v + q0 v).
+  pure function rotated(q, v) result(r)
+    real(wp), intent(in) :: q(4), v(3)
+    real(wp) :: r(3)
+    r = v + 2.0_wp * cross(q(2:4), cross(q(2:4), v) + q(1) * v)
+  end function rotated
 
   !> Initial volume of each element: the area of its initial quadrilateral (half the cross product
   !> of the diagonals; a triangle's area when corner 4 = corner 3) times the thickness.

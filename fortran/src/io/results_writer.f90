@@ -25,7 +25,7 @@ module results_writer
   public :: node_field_width, element_field_width
 
   integer, parameter :: node_field_width = 12       !< results_write_frame's values per node
-  integer, parameter :: element_field_width = 24    !< and per element
+  integer, parameter :: element_field_width = 30    !< and per element
 
   integer, parameter :: history_batch = 64   !< history records written in one collective write
   !> The histories with a value per part (rank 0 writes them), in the order of the block of values
@@ -130,6 +130,7 @@ contains
     call create_growing(group, 'element_layer_stress', [5_hsize_t, 3_hsize_t, ne])
     call create_growing(group, 'element_membrane_strain', [3_hsize_t, ne])
     call create_growing(group, 'element_internal_energy_density', [ne])
+    call create_growing(group, 'element_surface_strain', [3_hsize_t, 2_hsize_t, ne])
     call h5gclose_f(group, err)
     call h5gcreate_f(rf%file, 'history', group, err)
     call create_growing(group, 'time', [integer(hsize_t) ::])
@@ -215,7 +216,7 @@ contains
   !> results_create. node_fields (node_field_width, nodes): displacement, velocity, acceleration
   !> and contact force, 3 each; element_fields (element_field_width, elements): membrane stress
   !> (3), von Mises, plastic strain, the layer stresses (5 components x 3 layers), the membrane
-  !> strain (3) and the internal energy density.
+  !> strain (3), the internal energy density and the bottom and top surface strains (3 x 2).
   subroutine results_write_frame(rf, time, node_fields, element_fields)
     type(results_file_t), intent(inout) :: rf
     real(wp), intent(in) :: time, node_fields(:, :), element_fields(:, :)
@@ -234,6 +235,8 @@ contains
     call frame_rows('/frames/element_layer_stress', [5_hsize_t, 3_hsize_t, ne], rf%elements, element_fields(6:20, :))
     call frame_rows('/frames/element_membrane_strain', [3_hsize_t, ne], rf%elements, element_fields(21:23, :))
     call frame_rows('/frames/element_internal_energy_density', [ne], rf%elements, element_fields(24:24, :))
+    call frame_rows('/frames/element_surface_strain', [3_hsize_t, 2_hsize_t, ne], rf%elements, &
+                    element_fields(25:30, :))
     ! the history waits for a full batch or a flush: a write per frame cost more than the frame
     if (flush_due(rf)) call results_flush(rf)
   contains

@@ -5,7 +5,7 @@ module nodal_state
   use paradyn_kinds, only: wp
   use model_deck, only: deck_t, node_row
   use domain_decomposition, only: domain_t
-  use time_integration, only: update_velocities, update_positions
+  use time_integration, only: update_velocities, update_positions, update_orientations
   implicit none
   private
   public :: nodal_state_t, nodal_state_setup, advance_velocities, advance_positions, keep_velocities
@@ -16,6 +16,7 @@ module nodal_state
     real(wp), allocatable :: v(:, :), w(:, :)           !< velocity, angular velocity at the half step
     real(wp), allocatable :: v_old(:, :), w_old(:, :)   !< the half step before (for output)
     real(wp), allocatable :: mass(:), inertia(:)        !< lumped mass and rotational inertia
+    real(wp), allocatable :: q(:, :)                    !< (4, n) orientation from the start, a unit quaternion
     real(wp), allocatable :: weight(:)                  !< 1 where this rank owns the node, else 0
     integer, allocatable :: fixed(:, :)                 !< (6, n), 1 = fixed dof
     real(wp), allocatable :: f_int(:, :), f_ext(:, :), f_ext_old(:, :)   !< (6, n)
@@ -46,6 +47,8 @@ contains
     ns%w = deck%angular_velocity(:, rows)
     ns%v_old = ns%v
     ns%w_old = ns%w
+    allocate (ns%q(4, ns%n), source=0.0_wp)
+    ns%q(1, :) = 1.0_wp
     ns%fixed = deck%fixed(:, rows)
     ns%weight = real(dom%node_owned, wp)
     where (ns%fixed(1:3, :) /= 0) ns%v = 0.0_wp
@@ -91,6 +94,7 @@ contains
     do j0 = 1, ns%n, chunk
       j1 = min(j0 + chunk - 1, ns%n)
       call update_positions(j1 - j0 + 1, dt, ns%v(:, j0:j1), ns%x(:, j0:j1))
+      call update_orientations(j1 - j0 + 1, dt, ns%w(:, j0:j1), ns%q(:, j0:j1))
     end do
     !$omp end parallel do
   end subroutine advance_positions

@@ -26,7 +26,7 @@ module solver_checkpoint
   public :: checkpoint_write, checkpoint_read, checkpoint_path
 
   integer, parameter :: checkpoint_version = 2   !< 2: the varying step (dt_previous, ...) and 64-bit cycles
-  integer, parameter :: node_width = 21   !< x, v, w (3 each), internal and external force (6 each)
+  integer, parameter :: node_width = 25   !< x, v, w (3 each), internal and external force (6 each), orientation (4)
 
   interface
     integer(c_int) function c_rename(old, new) bind(C, name='rename')
@@ -116,7 +116,8 @@ contains
     allocate (nodes(node_width, size(s%halo%owned_local)))
     do k = 1, size(s%halo%owned_local)
       j = s%halo%owned_local(k)
-      nodes(:, k) = [s%nodes%x(:, j), s%nodes%v(:, j), s%nodes%w(:, j), s%nodes%f_int(:, j), s%nodes%f_ext(:, j)]
+      nodes(:, k) = [s%nodes%x(:, j), s%nodes%v(:, j), s%nodes%w(:, j), s%nodes%f_int(:, j), s%nodes%f_ext(:, j), &
+                     s%nodes%q(:, j)]
     end do
     call create_dataset(file, 'nodes', H5T_NATIVE_DOUBLE, [int(node_width, hsize_t), nn])
     call write_rows(file, transfer, 'nodes', [int(node_width, hsize_t), nn], &
@@ -278,6 +279,7 @@ contains
     s%nodes%w = nodes(7:9, :)
     s%nodes%f_int = nodes(10:15, :)
     s%nodes%f_ext = nodes(16:21, :)
+    s%nodes%q = nodes(22:25, :)
     s%external_forces_zero = all(s%nodes%f_ext == 0.0_wp)   ! the loads stage skips only when they are
     do j = 1, size(s%nodal_effects)   ! corner members rebuild what they keep from the last positions
       associate (e => s%nodal_effects(j)%effect)

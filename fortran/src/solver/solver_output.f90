@@ -19,7 +19,8 @@ module solver_output
   use step_clock, only: half_step
   use nodal_assembly, only: gather_group
   use contact_node_forces, only: contact_add_nodal_forces
-  use shell_field_measures, only: layer_stresses, membrane_green_strain, initial_volumes, n_layers, in_plane_means
+  use shell_field_measures, only: layer_stresses, membrane_green_strain, surface_strains, initial_volumes, n_layers, &
+                                  in_plane_means
   use shell_section, only: stress_components
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
   use solver_state, only: solver_t
@@ -276,13 +277,13 @@ contains
     integer :: g, n, first, last, nip, k, j
     real(wp) :: membrane(group_size, 3), von_mises(group_size), plastic(group_size), h
     real(wp) :: layers(stress_components, n_layers, group_size), volume(group_size)
-    real(wp) :: x0(group_size, 3, 4), x(group_size, 3, 4)
+    real(wp) :: x0(group_size, 3, 4), x(group_size, 3, 4), q(group_size, 4, 4), surface(3, 2, group_size)
     real(ek) :: mean_stress(group_size, stress_components, max_integration_points)
     real(ek) :: most_eps_p(group_size, max_integration_points)
     real(wp), allocatable :: contact_force(:, :)
     ! threads share the frame's arithmetic; the writes that follow are collective, one call
     !$omp parallel do schedule(static) private(n, first, last, nip, membrane, von_mises, plastic, layers, volume, x0, x, &
-    !$omp mean_stress, most_eps_p)
+    !$omp mean_stress, most_eps_p, q, surface)
     do g = 1, s%dom%n_groups
       n = s%dom%group_count(g)
       first = s%dom%group_first(g)
@@ -306,6 +307,15 @@ contains
       call gather_group(n, first, s%dom%connectivity, s%nodes%x0, x0(1:n, :, :))
       call gather_group(n, first, s%dom%connectivity, s%nodes%x, x(1:n, :, :))
       call membrane_green_strain(n, x0(1:n, :, :), x(1:n, :, :), s%element_out(21:23, first:last))
+      if (s%props(s%dom%group_part(g))%truss) then   ! no bending: both surfaces strain as the axis
+        s%element_out(25:27, first:last) = s%element_out(21:23, first:last)
+        s%element_out(28:30, first:last) = s%element_out(21:23, first:last)
+      else
+        call gather_group(n, first, s%dom%connectivity, s%nodes%q, q(1:n, :, :))
+        call surface_strains(n, x0(1:n, :, :), x(1:n, :, :), q(1:n, :, :), s%props(s%dom%group_part(g))%thickness, &
+                             s%element_out(21:23, first:last), surface(:, :, 1:n))
+        s%element_out(25:30, first:last) = reshape(surface(:, :, 1:n), [6, n])
+      end if
       call initial_volumes(n, x0(1:n, :, :), s%props(s%dom%group_part(g))%thickness, volume(1:n))
       s%element_out(24, first:last) = s%elements%e_internal(first:last) / volume(1:n)
     end do

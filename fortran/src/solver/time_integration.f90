@@ -5,7 +5,8 @@ module time_integration
   use exact_sum, only: exact_add
   implicit none
   private
-  public :: update_velocities, update_positions, kinetic_energy, kinetic_energy_by_part, add_constraint_reactions
+  public :: update_velocities, update_positions, update_orientations, kinetic_energy, kinetic_energy_by_part, &
+            add_constraint_reactions
 
 contains
 
@@ -34,6 +35,30 @@ contains
                                            * sum((0.5_wp * (v_old + v(:, j)))**2)
     end do
   end subroutine update_velocities
+
+  !> Each node's orientation, a unit quaternion q = (cos(a/2), sin(a/2) axis) of its rotation from
+  !> the start, turned by the exact rotation of the step, the rotation vector dt w(n+1/2) with w the
+  !> angular velocity in global axes: q <- exp(dt w / 2) q (then renormalised). The forces never
+  !> read it: it gives the frames the nodal directors behind the surface strains
+  !> (shell_field_measures' surface_strains).
+  pure subroutine update_orientations(n, dt, w, q)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: dt, w(3, n)
+    real(wp), intent(inout) :: q(4, n)
+    real(wp) :: phi(3), angle, c, s(3), r(4)
+    integer :: j
+    do j = 1, n
+      phi = dt * w(:, j)
+      angle = norm2(phi)
+      if (angle == 0.0_wp) cycle
+      c = cos(0.5_wp * angle)
+      s = (sin(0.5_wp * angle) / angle) * phi
+      r(1) = c * q(1, j) - dot_product(s, q(2:4, j))
+      r(2:4) = c * q(2:4, j) + q(1, j) * s + [s(2) * q(4, j) - s(3) * q(3, j), s(3) * q(2, j) - s(1) * q(4, j), &
+                                              s(1) * q(3, j) - s(2) * q(2, j)]
+      q(:, j) = r / norm2(r)
+    end do
+  end subroutine update_orientations
 
   !> The force and moment the constraints put on the nodes of weight 1 in the velocity update over
   !> h, added exactly to acc(:, k): k = 1..3 the force, k = 4..6 its moment about the origin,

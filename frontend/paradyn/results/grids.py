@@ -20,6 +20,8 @@ STRAIN_COMPONENTS = ("exx", "eyy", "exy")
 # layer_stress as one 15-component cell array: layer by layer (bottom, middle, top), 5 components each
 LAYER_COMPONENTS = tuple(f"{layer}_{c}" for layer in ("bottom", "middle", "top")
                          for c in ("sxx", "syy", "sxy", "sxz", "syz"))
+# surface_strain as one 6-component cell array: bottom, then top, 3 strain components each
+SURFACE_COMPONENTS = tuple(f"{side}_{c}" for side in ("bottom", "top") for c in STRAIN_COMPONENTS)
 
 
 @dataclass(frozen=True)
@@ -83,9 +85,10 @@ def fill_frame(
     grid.cell_data["layer_stress"] = frame.layer_stress[topo.elements].reshape(len(topo.elements), -1)
     grid.cell_data["membrane_strain"] = frame.membrane_strain[topo.elements]
     grid.cell_data["internal_energy_density"] = frame.internal_energy_density[topo.elements]
+    grid.cell_data["surface_strain"] = frame.surface_strain[topo.elements].reshape(len(topo.elements), -1)
     grid.field_data["TimeValue"] = np.array([frame.time])
     for array_name, names in (("membrane_stress", MEMBRANE_COMPONENTS), ("membrane_strain", STRAIN_COMPONENTS),
-                              ("layer_stress", LAYER_COMPONENTS)):
+                              ("layer_stress", LAYER_COMPONENTS), ("surface_strain", SURFACE_COMPONENTS)):
         array = grid.GetCellData().GetArray(array_name)
         for c, name in enumerate(names):
             array.SetComponentName(c, name)

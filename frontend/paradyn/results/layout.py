@@ -30,7 +30,7 @@ TRACKED_COMPONENTS = ("dx", "dy", "dz", "vx", "vy", "vz")
 FRAME_DATASETS = {name.removeprefix("element_"): f"/frames/{name}" for name in FRAME_FIELDS if name != "time"}
 # frame fields a file written before them lacks (read as zeros there); every other one is required
 LATER_FRAME_FIELDS = ("acceleration", "nodal_contact_force", "layer_stress", "membrane_strain",
-                      "internal_energy_density")
+                      "internal_energy_density", "surface_strain")
 
 
 @dataclass(frozen=True)
@@ -38,7 +38,8 @@ class FrameArrays:
     """The fields of one frame (SI units; docs/outputs.md): ``displacement``, ``velocity``,
     ``acceleration`` and ``nodal_contact_force`` (n_nodes, 3); ``membrane_stress`` and
     ``membrane_strain`` (n_elements, 3); ``layer_stress`` (n_elements, 3 layers: bottom, middle,
-    top, 5 components: sxx, syy, sxy, sxz, syz); ``von_mises``, ``plastic_strain`` and
+    top, 5 components: sxx, syy, sxy, sxz, syz); ``surface_strain`` (n_elements, 2 surfaces: bottom,
+    top, 3 components: exx, eyy, exy); ``von_mises``, ``plastic_strain`` and
     ``internal_energy_density`` (n_elements,)."""
 
     index: int
@@ -53,6 +54,7 @@ class FrameArrays:
     layer_stress: np.ndarray
     membrane_strain: np.ndarray
     internal_energy_density: np.ndarray
+    surface_strain: np.ndarray
 
 
 class ResultsError(ValueError):
@@ -182,6 +184,7 @@ def frame_tails(n_nodes: int, n_elements: int) -> dict[str, tuple[int, ...]]:
         "layer_stress": (n_elements, 3, 5),
         "membrane_strain": (n_elements, 3),
         "internal_energy_density": (n_elements,),
+        "surface_strain": (n_elements, 2, 3),
     }
 
 

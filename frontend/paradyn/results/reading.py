@@ -186,6 +186,7 @@ class Results:
     layer_stress: FrameField = field(init=False, compare=False)
     membrane_strain: FrameField = field(init=False, compare=False)
     internal_energy_density: FrameField = field(init=False, compare=False)
+    surface_strain: FrameField = field(init=False, compare=False)
     _grid_cache: dict[Any, grids.Topology] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:

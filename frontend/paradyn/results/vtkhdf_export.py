@@ -29,11 +29,12 @@ if TYPE_CHECKING:
 VTKHDF_VERSION = (2, 1)
 _BLOCK_BYTES = 64 * 2**20   # frames copied per read: bounded memory on long runs
 # (name, on points?, components) of the fields written every frame, as in the .vtu files (grids.py);
-# layer_stress is one 15-component cell array (bottom, middle, top; sxx syy sxy sxz syz each)
+# layer_stress is one 15-component cell array (bottom, middle, top; sxx syy sxy sxz syz each),
+# surface_strain one 6-component cell array (bottom, top; exx eyy exy each)
 _FRAME_ARRAYS = (("displacement", True, 3), ("velocity", True, 3), ("membrane_stress", False, 3),
                  ("von_mises", False, 1), ("plastic_strain", False, 1), ("acceleration", True, 3),
                  ("nodal_contact_force", True, 3), ("layer_stress", False, 15), ("membrane_strain", False, 3),
-                 ("internal_energy_density", False, 1))
+                 ("internal_energy_density", False, 1), ("surface_strain", False, 6))
 
 
 def write_vtkhdf(results: Results, path: str | Path) -> Path:
