@@ -17,10 +17,10 @@ module plane_stress_returns
   !> local arrays, no allocation
   integer, parameter :: batch = 64
   integer, parameter :: return_batch = batch   !< the most points return_points takes per call
-  !> the return's stopping tests: |f| below f_tolerance yield0^2, or a bracket closed to
-  !> bracket_tolerance of its upper end. 1e-13 and 1e-15 in double; single precision (the mixed
+  !> the return's stopping tests: |g| (return_points' relative residual) below g_tolerance, or a
+  !> bracket closed to bracket_tolerance of its upper end. 1e-13 and 1e-15 in double; single precision (the mixed
   !> engine) cannot reach those, so there they are a few times the kind's epsilon (1.2e-7)
-  real(ek), parameter :: f_tolerance = max(1.0e-13_ek, 100 * epsilon(1.0_ek))
+  real(ek), parameter :: g_tolerance = max(1.0e-13_ek, 100 * epsilon(1.0_ek))
   real(ek), parameter :: bracket_tolerance = max(1.0e-15_ek, 4 * epsilon(1.0_ek))
 
 contains
@@ -58,7 +58,7 @@ contains
                                          yield0, tangent, beta)
     real(ek), intent(inout) :: stress(3), back(3), eps_p
     real(ek), intent(in) :: dstrain(3), young, poisson, yield0, tangent, beta
-    real(ek) :: h, h_iso, h_kin, shear, c1, c2, a1t, a2t, a3t, psi_trial, sy
+    real(ek) :: h, h_iso, h_kin, shear, c1, c2, a1t, a2t, a3t, psi_trial, sy, k0
     real(ek) :: dgamma, lo, hi, f, df, psi, s1, s2, a1, a2, a3
     real(ek) :: xi(3)
     integer :: iter
@@ -79,24 +79,23 @@ contains
     a3t = xi(3)
     psi_trial = a1t**2 / 3.0_ek + a2t**2 + 2.0_ek * a3t**2
 
-    ! f(dgamma) = psi/2 - sy^2/3 decreases monotonically from f(0) > 0.
+    ! g(dgamma) = k0 / q + (2/3) H_iso dgamma - 1 rises from g(0) < 0 (return_points)
+    k0 = yield0 + h_iso * eps_p
     lo = 0.0_ek
-    hi = 1.0_ek / c2
-    do iter = 1, 200
-      if (yield_function(hi) < 0.0_ek) exit
-      hi = 2.0_ek * hi
-    end do
-    dgamma = 0.0_ek
+    hi = upper_bound(sqrt(1.5_ek * psi_trial), k0, min(c1, c2))
+    ! Newton's first step from 0, from the trial alone (return_points)
+    dgamma = (sqrt(1.5_ek * psi_trial) - k0) / (k0 * (a1t**2 / 3.0_ek * c1 + (a2t**2 + 2.0_ek * a3t**2) * c2) / psi_trial &
+                                                + 2.0_ek / 3.0_ek * h_iso * sqrt(1.5_ek * psi_trial))
     do iter = 1, 100
       call evaluate(dgamma, f, df)
-      if (f > 0.0_ek) then
+      if (f < 0.0_ek) then
         lo = dgamma
       else
         hi = dgamma
       end if
-      if (abs(f) <= f_tolerance * yield0**2) exit
+      if (abs(f) <= g_tolerance) exit
       dgamma = dgamma - f / df
-      if (dgamma <= lo .or. dgamma >= hi .or. df >= 0.0_ek) dgamma = 0.5_ek * (lo + hi)
+      if (dgamma <= lo .or. dgamma >= hi .or. df <= 0.0_ek) dgamma = 0.5_ek * (lo + hi)
       if (hi - lo <= bracket_tolerance * hi) exit
     end do
 
@@ -117,18 +116,12 @@ contains
 
   contains
 
-    pure real(ek) function yield_function(dg) result(fv)
-      real(ek), intent(in) :: dg
-      real(ek) :: d
-      call evaluate(dg, fv, d)
-    end function yield_function
-
     pure subroutine evaluate(dg, fv, dfv)
       real(ek), intent(in) :: dg
       real(ek), intent(out) :: fv, dfv
       real(ek), parameter :: third = 1.0_ek / 3.0_ek
-      real(ek) :: t1, t2, u1, u2, r12, p, dp, root, de, dde, sy_new
-      ! one division for both factors 1 / (1 + dg c), thirds as products (yield_functions)
+      real(ek) :: t1, t2, u1, u2, r12, p, dp, w
+      ! one division for both factors 1 / (1 + dg c) (yield_functions)
       u1 = 1.0_ek + dg * c1
       u2 = 1.0_ek + dg * c2
       r12 = 1.0_ek / (u1 * u2)
@@ -136,12 +129,9 @@ contains
       t2 = r12 * u1
       p = (a1t * t1)**2 * third + (a2t**2 + 2.0_ek * a3t**2) * t2**2
       dp = -2.0_ek * ((a1t * t1)**2 * third * c1 * t1 + (a2t**2 + 2.0_ek * a3t**2) * t2**2 * c2 * t2)
-      root = sqrt(max(2.0_ek * p * third, 0.0_ek))
-      de = dg * root
-      dde = root + merge(dg * dp * third / root, 0.0_ek, root > 0.0_ek)
-      sy_new = yield0 + h_iso * (eps_p + de)
-      fv = 0.5_ek * p - sy_new**2 * third
-      dfv = 0.5_ek * dp - 2.0_ek * third * sy_new * h_iso * dde
+      w = 1.0_ek / sqrt(1.5_ek * p)
+      fv = k0 * w + 2.0_ek * third * h_iso * dg - 1.0_ek
+      dfv = -0.75_ek * k0 * dp * w**3 + 2.0_ek * third * h_iso
     end subroutine evaluate
 
   end subroutine j2_plane_stress_update
@@ -309,61 +299,82 @@ contains
     end do
   end subroutine j2_radial_update_points
 
-  !> Consistency parameter dgamma of np <= batch yielding points: the bracket and the safeguarded
-  !> Newton iteration of j2_plane_stress_update in lockstep. Masks freeze a point once it meets its
-  !> own stopping test, so it ends where it would alone, and the loops over points have no exits.
+  !> Consistency parameter dgamma of np <= batch yielding points: the safeguarded Newton iteration
+  !> of j2_plane_stress_update in lockstep. Masks freeze a point once it meets its own stopping
+  !> test, so it ends where it would alone, and the loops over points have no exits.
   !> merge selects only between operands already computed: an operation that only one branch
   !> needs is moved into that branch, which the vectoriser then cannot if-convert (it may trap).
+  !>
+  !> The residual is g(dgamma) = k0 / q + (2/3) H_iso dgamma - 1, with k0 = sigma_y0 + H_iso eps_p
+  !> and q the von Mises stress of the returned relative stress: zero where q equals the hardened
+  !> radius k0 + H_iso d_eps_p (Simo & Hughes's f = psi / 2 - sy^2 / 3 = 0, divided through).
+  !> 1 / q is linear in dgamma for a deviatoric trial (q = q0 / (1 + dgamma c2)) and nearly so
+  !> otherwise, so Newton from 0 meets the tolerance in 2-4 steps where f took 4-6 after a bracket
+  !> search (more for large steps); the first step comes from the trial without an evaluation.
+  !> g rises with dgamma; upper_bound gives a point where g >= 0.
   pure subroutine return_points(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dgamma)
     integer, intent(in) :: np
     real(ek), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0(np), h_iso(np)
     real(ek), intent(out) :: dgamma(np)
-    real(ek) :: lo(batch), hi(batch), f(batch), df(batch), newton, bisection
-    logical :: grow(batch), converged
+    real(ek) :: lo(batch), hi(batch), k0(batch), g(batch), dg(batch), newton, bisection, part1, part2, q0, slope
     ! 1 while a point iterates: 64-bit flags, as GCC 12 cannot select doubles by a logical array
     integer(i8) :: active(batch)
     integer :: iter, j
 
-    ! bracket: a point stops doubling at f(hi) < 0, and f(hi) then stays < 0
-    hi(1:np) = 1.0_ek / c2
-    do iter = 1, 200
-      call yield_functions(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, hi, f, df)
-      do j = 1, np
-        grow(j) = .not. (f(j) < 0.0_ek)
-        hi(j) = hi(j) * merge(2.0_ek, 1.0_ek, grow(j))
-      end do
-      if (.not. any(grow(1:np))) exit
+    ! g(0) < 0 (the point yields) and Newton's first step from 0, from the trial alone: there
+    ! 1/q = 1/q0 and d(1/q)/d(dgamma) = c/q0, c the mean of c1, c2 weighted by the trial's parts
+    do j = 1, np
+      k0(j) = yield0(j) + h_iso(j) * eps_p(j)
+      part1 = a1t(j)**2 / 3.0_ek
+      part2 = a2t(j)**2 + 2.0_ek * a3t(j)**2
+      q0 = sqrt(1.5_ek * (part1 + part2))
+      hi(j) = upper_bound(q0, k0(j), min(c1, c2))
+      slope = k0(j) * (part1 * c1 + part2 * c2) / max(part1 + part2, tiny(1.0_ek)) + 2.0_ek / 3.0_ek * h_iso(j) * q0
+      dgamma(j) = max(q0 - k0(j), 0.0_ek) / max(slope, tiny(1.0_ek))
+      active(j) = merge(1_i8, 0_i8, q0 > k0(j))   ! a point inside its radius keeps dgamma = 0
     end do
     lo(1:np) = 0.0_ek
-    dgamma = 0.0_ek
-    active(1:np) = 1
     do iter = 1, 100
-      call yield_functions(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dgamma, f, df)
+      call yield_functions(np, a1t, a2t, a3t, k0, c1, c2, h_iso, dgamma, g, dg)
+      ! one comparison per merge, so that the loop if-converts and vectorises; lo and hi of a
+      ! frozen point may move, its dgamma does not
       do j = 1, np
-        lo(j) = merge(dgamma(j), lo(j), active(j) == 1 .and. f(j) > 0.0_ek)
-        hi(j) = merge(dgamma(j), hi(j), active(j) == 1 .and. .not. (f(j) > 0.0_ek))
-        ! stop on a small |f| keeping dgamma, or on a closed bracket after the step
-        converged = abs(f(j)) <= f_tolerance * yield0(j)**2
-        newton = dgamma(j) - f(j) / df(j)
+        lo(j) = merge(dgamma(j), lo(j), g(j) < 0.0_ek)
+        hi(j) = merge(hi(j), dgamma(j), g(j) < 0.0_ek)
+        ! Newton's step, or bisection where it leaves the bracket
         bisection = 0.5_ek * (lo(j) + hi(j))
-        newton = merge(bisection, newton, newton <= lo(j) .or. newton >= hi(j) .or. df(j) >= 0.0_ek)
-        dgamma(j) = merge(newton, dgamma(j), active(j) == 1 .and. .not. converged)
-        active(j) = merge(active(j), 0_i8, .not. converged .and. .not. (hi(j) - lo(j) <= bracket_tolerance * hi(j)))
+        newton = dgamma(j) - g(j) / dg(j)
+        newton = merge(bisection, newton, newton <= lo(j))
+        newton = merge(bisection, newton, newton >= hi(j))
+        newton = merge(bisection, newton, dg(j) <= 0.0_ek)
+        ! stop on a small |g| keeping dgamma, or on a closed bracket after the step
+        newton = merge(dgamma(j), newton, abs(g(j)) <= g_tolerance)
+        dgamma(j) = merge(newton, dgamma(j), active(j) == 1)
+        active(j) = merge(0_i8, active(j), abs(g(j)) <= g_tolerance)
+        active(j) = merge(0_i8, active(j), hi(j) - lo(j) <= bracket_tolerance * hi(j))
       end do
       if (all(active(1:np) == 0)) exit
     end do
   end subroutine return_points
 
-  !> f(dgamma) = psi / 2 - sy^2 / 3 and its derivative at np points (the evaluate of
-  !> j2_plane_stress_update, the same operations); one loop, so that both iterations above share
-  !> it vectorised. The iteration is bound by division throughput: both factors 1 / (1 + dg c)
-  !> come from one division of their product, and the thirds are products with 1/3.
-  pure subroutine yield_functions(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dg, fv, dfv)
+  !> A dgamma where the residual g >= 0: q <= q0 / (1 + dgamma min(c1, c2)), so g >= 0 from
+  !> (q0 / k0 - 1) / min(c1, c2) on (twice that, so that Newton's last steps never touch it);
+  !> without a positive radius k0, no bound (the iteration's own bracket takes over).
+  pure real(ek) function upper_bound(q0, k0, c_min) result(hi)
+    real(ek), intent(in) :: q0, k0, c_min
+    hi = merge(2.0_ek * (q0 / max(k0, tiny(1.0_ek)) - 1.0_ek) / c_min, huge(1.0_ek), k0 > 0.0_ek)
+  end function upper_bound
+
+  !> g(dgamma) = k0 / q + (2/3) H_iso dgamma - 1 and its derivative at np points (the evaluate
+  !> of j2_plane_stress_update, the same operations); one loop, vectorised. The iteration is
+  !> bound by division throughput: both factors 1 / (1 + dg c) come from one division of their
+  !> product, and the thirds are products with 1/3.
+  pure subroutine yield_functions(np, a1t, a2t, a3t, k0, c1, c2, h_iso, dg, gv, dgv)
     integer, intent(in) :: np
-    real(ek), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0(np), h_iso(np), dg(np)
-    real(ek), intent(out) :: fv(np), dfv(np)
+    real(ek), intent(in) :: a1t(np), a2t(np), a3t(np), k0(np), c1, c2, h_iso(np), dg(np)
+    real(ek), intent(out) :: gv(np), dgv(np)
     real(ek), parameter :: third = 1.0_ek / 3.0_ek
-    real(ek) :: t1, t2, u1, u2, r12, p, dp, root, de, dde, sy_new
+    real(ek) :: t1, t2, u1, u2, r12, p, dp, w
     integer :: j
     do j = 1, np
       u1 = 1.0_ek + dg(j) * c1
@@ -373,12 +384,9 @@ contains
       t2 = r12 * u1
       p = (a1t(j) * t1)**2 * third + (a2t(j)**2 + 2.0_ek * a3t(j)**2) * t2**2
       dp = -2.0_ek * ((a1t(j) * t1)**2 * third * c1 * t1 + (a2t(j)**2 + 2.0_ek * a3t(j)**2) * t2**2 * c2 * t2)
-      root = sqrt(max(2.0_ek * p * third, 0.0_ek))
-      de = dg(j) * root
-      dde = root + merge(dg(j), 0.0_ek, root > 0.0_ek) * dp * third / merge(root, 1.0_ek, root > 0.0_ek)
-      sy_new = yield0(j) + h_iso(j) * (eps_p(j) + de)
-      fv(j) = 0.5_ek * p - sy_new**2 * third
-      dfv(j) = 0.5_ek * dp - 2.0_ek * third * sy_new * h_iso(j) * dde
+      w = 1.0_ek / sqrt(1.5_ek * p)
+      gv(j) = k0(j) * w + 2.0_ek * third * h_iso(j) * dg(j) - 1.0_ek
+      dgv(j) = -0.75_ek * k0(j) * dp * w**3 + 2.0_ek * third * h_iso(j)
     end do
   end subroutine yield_functions
 
