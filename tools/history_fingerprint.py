@@ -8,7 +8,9 @@ and the per-part and per-contact records, the reaction, the eroded element count
 added in issues 18, 33, 34 and 32), so that the digests compare with those of files written before them;
 a second digest covers the step's records. A
 change that must keep the answers (a restructure, a speed-up) keeps every line of this output:
-run it before and after and compare with ``diff``.
+run it before and after and compare with ``diff``. A change that moves the last bits compares the
+two sets of runs record by record: ``python tools/history_fingerprint.py --compare OLD NEW`` prints,
+for each case, the records' largest differences over their largest values.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import sys
 from pathlib import Path
 
 import h5py
+import numpy as np
 
 import paradyn
 
@@ -41,12 +44,32 @@ def history_digest(results: Path, step: bool = False) -> str:
     return digest.hexdigest()
 
 
+def compare(old: Path, new: Path, shown: int = 4) -> None:
+    """Each case's history records, largest difference over largest value, the largest first."""
+    for case in sorted(p.name for p in old.iterdir() if (p / "results.h5").exists()):
+        with h5py.File(old / case / "results.h5", "r") as fa, h5py.File(new / case / "results.h5", "r") as fb:
+            spread = {}
+            for name in sorted(fa["history"]):
+                a, b = fa["history"][name][()], fb["history"][name][()]
+                if a.shape != b.shape:
+                    spread[name] = float("inf")
+                    continue
+                spread[name] = float(np.max(np.abs(a - b), initial=0.0) / (np.max(np.abs(a), initial=0.0) or 1.0))
+        worst = sorted(spread.items(), key=lambda item: -item[1])[:shown]
+        print(f"{case:24s} " + ", ".join(f"{name} {value:.1e}" for name, value in worst), flush=True)
+
+
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("out", nargs="?", type=Path, default=Path("runs/fingerprint"),
                         help="folder for the runs (default runs/fingerprint)")
     parser.add_argument("cases", nargs="*", help="case names (default: every cases/pipe_whip*)")
+    parser.add_argument("--compare", nargs=2, type=Path, metavar=("OLD", "NEW"),
+                        help="compare two folders of earlier runs record by record instead of running")
     args = parser.parse_args(argv)
+    if args.compare:
+        compare(*args.compare)
+        return 0
     out = args.out
     names = args.cases or sorted(p.parent.name for p in (ROOT / "cases").glob("pipe_whip*/scene.toml"))
     for name in names:
