@@ -3,8 +3,9 @@ thickness"; LS-DYNA's d3plot thickness with ISTUPD = 1): t = t0 exp(eps_z), eps_
 (1 - 2 nu)/E (sxx + syy) from the element's mid-surface area and mid-surface stress. An output only:
 the element keeps t0 in its forces.
 
-References (plane stress, isotropic elasticity, volume-keeping J2 flow; e.g. Hill, The
-Mathematical Theory of Plasticity, 1950, ch. II; Timoshenko & Goodier, Theory of Elasticity, sec. 3):
+References (plane stress, isotropic elasticity, volume-keeping J2 flow: Hooke's law, e.g.
+Timoshenko & Goodier, Theory of Elasticity, ch. 1; the Prandtl-Reuss relations, Hill, The
+Mathematical Theory of Plasticity, 1950, ch. II):
 
 - uniaxial elastic stress sigma: eps_z = -nu sigma / E (Hooke's law);
 - uniaxial plastic flow to the effective plastic strain eps_p: the plastic strain increments are
@@ -18,12 +19,18 @@ translating plate, a spinning rigid plate).
 
 from __future__ import annotations
 
+import shutil
+
+import h5py
 import numpy as np
 import pytest
 
 import models as M
+import paradyn
 from paradyn import _kernels as K
 from paradyn.deck import J2_PLASTICITY, Control
+from paradyn.results import write_vtk_series
+from paradyn.results.vtkhdf_export import write_vtkhdf
 from rigid_cases import THICKNESS, spinning_plate
 
 STEEL = M.Material(young=200.0e9, poisson=0.3, density=7850.0)
@@ -61,6 +68,30 @@ def _pulled(mesh, thickness: float, control: Control, element: str, displacement
     return model
 
 
+def _elastic_plate(element: str, directory) -> tuple[M.Run, float, float]:
+    """The plate of the elastic test, pulled to the strain 1e-3 and at rest: the run, t0, sigma."""
+    length, width, t0, strain = 0.1, 0.05, 0.002, 1.0e-3
+    period = 4.0 * length / STEEL.bar_wave_speed
+    ramp, end = 10.0 * period, 16.0 * period
+    control = Control(end_time=end, output_interval=end / 4, history_interval=end / 20,
+                      mass_damping=2.0 * (2.0 * np.pi / period))
+    model = _pulled(M.strip(length, width, 4, 2), t0, control, element, strain * length, ramp)
+    return M.run(model, directory), t0, STEEL.young * np.log1p(strain)
+
+
+def _plastic_strip(element: str, directory) -> tuple[M.Run, float]:
+    """The strip of the plastic test, pulled by 10.7 %: the run and t0."""
+    length, width, t0, stretch = 0.05, 0.01, 0.001, 0.107
+    period = 4.0 * length / STEEL.bar_wave_speed
+    ramp = 100.0 * period   # about 4e-3 s: a mean strain rate of 25 1/s
+    control = Control(end_time=ramp, output_interval=ramp / 4, history_interval=ramp / 20)
+    model = _pulled(M.strip(length, width, 5, 1), t0, control, element, stretch * length, ramp)
+    model.material_model = np.array([J2_PLASTICITY])
+    model.yield_stress, model.tangent_modulus, model.hardening_mixing = [250.0e6], [1.0e9], [1.0]
+    model.normalise()
+    return M.run(model, directory), t0
+
+
 def _principal(stress: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The larger and smaller principal values of (n, 3) plane stresses (sxx, syy, sxy)."""
     mean = 0.5 * (stress[:, 0] + stress[:, 1])
@@ -75,14 +106,8 @@ def test_uniaxial_elastic_stress_thins_by_nu_sigma_over_e(element: str, tmp_path
     uniaxial stress sigma = E ln(1 + u / L); every element's eps_z = ln(t / t0) is -nu sigma / E
     within 1 % (Hooke's law). Without the elastic term (1 - 2 nu)/E (sxx + syy) it would be
     -(1 - nu) sigma / E, 2.3 times as large; a constant thickness gives 0."""
-    length, width, t0, strain = 0.1, 0.05, 0.002, 1.0e-3
-    period = 4.0 * length / STEEL.bar_wave_speed
-    ramp, end = 10.0 * period, 16.0 * period
-    control = Control(end_time=end, output_interval=end / 4, history_interval=end / 20,
-                      mass_damping=2.0 * (2.0 * np.pi / period))
-    model = _pulled(M.strip(length, width, 4, 2), t0, control, element, strain * length, ramp)
-    frame = M.run(model, tmp_path).results.frame_arrays(-1)
-    sigma = STEEL.young * np.log1p(strain)
+    run, t0, sigma = _elastic_plate(element, tmp_path)
+    frame = run.results.frame_arrays(-1)
     largest, smallest = _principal(frame.membrane_stress)
     np.testing.assert_allclose(largest, sigma, rtol=0.01)        # the stress is the uniaxial one
     assert np.abs(smallest).max() < 0.01 * sigma
@@ -96,15 +121,8 @@ def test_uniaxial_plastic_flow_thins_by_half_the_plastic_strain(element: str, tm
     reaches an effective plastic strain eps_p of about 10 % in uniaxial stress sigma (its other
     principal stress below 2 % of it), and its thickness is t0 exp(-eps_p / 2 - nu sigma / E):
     ln(t / t0) within 1 % (t / t0 within 0.05 %)."""
-    length, width, t0, stretch = 0.05, 0.01, 0.001, 0.107
-    period = 4.0 * length / STEEL.bar_wave_speed
-    ramp = 100.0 * period   # about 4e-3 s: a mean strain rate of 25 1/s
-    control = Control(end_time=ramp, output_interval=ramp / 4, history_interval=ramp / 20)
-    model = _pulled(M.strip(length, width, 5, 1), t0, control, element, stretch * length, ramp)
-    model.material_model = np.array([J2_PLASTICITY])
-    model.yield_stress, model.tangent_modulus, model.hardening_mixing = [250.0e6], [1.0e9], [1.0]
-    model.normalise()
-    frame = M.run(model, tmp_path).results.frame_arrays(-1)
+    run, t0 = _plastic_strip(element, tmp_path)
+    frame = run.results.frame_arrays(-1)
     sigma, smallest = _principal(frame.membrane_stress)
     assert np.abs(smallest).max() < 0.02 * sigma.min()
     assert frame.plastic_strain.min() > 0.095 and frame.plastic_strain.max() < 0.105
@@ -166,3 +184,37 @@ def test_spinning_rigid_plate_keeps_t0(tmp_path) -> None:
     res = M.run(model, tmp_path).results
     assert np.abs(res.displacement[-1]).max() > 1e-2   # it moved and turned
     assert np.all(np.asarray(res.thickness.read_all()) == THICKNESS)
+
+
+def test_thickness_in_the_vtu_series_and_vtkhdf_and_older_files(tmp_path) -> None:
+    """The stretched elastic plate's thickness reaches the .vtu series (read by pyvista's reader of
+    the .pvd) and results.vtkhdf (pyvista.get_reader, every step) as paradyn.read has it, bit for
+    bit. A results.h5 written before the field (/frames/element_thickness removed) reads as
+    /mesh/thickness in every frame, the thickness the engine kept then, and its results.vtkhdf
+    has no thickness array."""
+    import pyvista
+
+    run, t0, _ = _elastic_plate("blt", tmp_path / "run")
+    res = run.results
+    thickness = np.asarray(res.thickness.read_all())
+    assert np.all(thickness[0] == t0)   # the start
+    assert np.all(thickness[-1] < t0) and np.all(thickness[-1] > 0.999 * t0)   # thinned by nu sigma / E
+    pvd = write_vtk_series(res, tmp_path / "series")[0]
+    reader = pyvista.get_reader(pvd)
+    for k, time in enumerate(reader.time_values):
+        reader.set_active_time_value(time)
+        grid = reader.read()[0]
+        assert np.array_equal(grid.cell_data["thickness"], thickness[k, grid.cell_data["element_id"]])
+    reader = pyvista.get_reader(write_vtkhdf(res, tmp_path / "results.vtkhdf"))
+    for k in range(res.n_frames):
+        reader.set_active_time_point(k)
+        assert np.array_equal(reader.read().cell_data["thickness"], thickness[k])
+    older = tmp_path / "older" / "results.h5"
+    older.parent.mkdir()
+    shutil.copy(res.path, older)
+    with h5py.File(older, "a") as h5:
+        del h5["/frames/element_thickness"]
+    old = paradyn.read(older)
+    assert np.array_equal(np.asarray(old.thickness.read_all()), np.full(thickness.shape, t0))
+    assert np.array_equal(old.frame_arrays(-1).thickness, np.full(res.n_elements, t0))
+    assert "thickness" not in pyvista.read(write_vtkhdf(old, tmp_path / "older.vtkhdf")).cell_data
