@@ -28,7 +28,8 @@ import pytest
 import models as M
 import paradyn
 from paradyn import _kernels as K
-from paradyn.deck import J2_PLASTICITY, Control
+from paradyn._schema import ENUMS
+from paradyn.deck import Control
 from paradyn.results import write_vtk_series
 from paradyn.results.vtkhdf_export import write_vtkhdf
 from rigid_cases import THICKNESS, spinning_plate
@@ -79,15 +80,17 @@ def _elastic_plate(element: str, directory) -> tuple[M.Run, float, float]:
     return M.run(model, directory), t0, STEEL.young * np.log1p(strain)
 
 
-def _plastic_strip(element: str, directory) -> tuple[M.Run, float]:
+def _plastic_strip(element: str, directory, material: str = "j2_plasticity") -> tuple[M.Run, float]:
     """The strip of the plastic test, pulled by 10.7 %: the run and t0."""
     length, width, t0, stretch = 0.05, 0.01, 0.001, 0.107
     period = 4.0 * length / STEEL.bar_wave_speed
     ramp = 100.0 * period   # about 4e-3 s: a mean strain rate of 25 1/s
     control = Control(end_time=ramp, output_interval=ramp / 4, history_interval=ramp / 20)
     model = _pulled(M.strip(length, width, 5, 1), t0, control, element, stretch * length, ramp)
-    model.material_model = np.array([J2_PLASTICITY])
+    model.material_model = np.array([ENUMS["material_model"][material]])
     model.yield_stress, model.tangent_modulus, model.hardening_mixing = [250.0e6], [1.0e9], [1.0]
+    if material == "piecewise_linear":
+        model.hardening_curve, model.rate_curve = [-1], [-1]   # the bilinear law, no rate effect
     model.normalise()
     return M.run(model, directory), t0
 
@@ -114,14 +117,16 @@ def test_uniaxial_elastic_stress_thins_by_nu_sigma_over_e(element: str, tmp_path
     np.testing.assert_allclose(np.log(frame.thickness / t0), -STEEL.poisson * sigma / STEEL.young, rtol=0.01)
 
 
-@pytest.mark.parametrize("element", ELEMENTS)
-def test_uniaxial_plastic_flow_thins_by_half_the_plastic_strain(element: str, tmp_path) -> None:
-    """A 0.05 x 0.01 m J2 strip (yield 250 MPa, tangent modulus 1 GPa, isotropic), 1 mm thick,
+@pytest.mark.parametrize(("element", "material"), [*((e, "j2_plasticity") for e in ELEMENTS),
+                                                   ("blt", "piecewise_linear")])
+def test_uniaxial_plastic_flow_thins_by_half_the_plastic_strain(element: str, material: str, tmp_path) -> None:
+    """A 0.05 x 0.01 m J2 strip (yield 250 MPa, tangent modulus 1 GPa, isotropic; j2_plasticity, and
+    LS-DYNA's MAT 24 piecewise_linear with the same bilinear law), 1 mm thick,
     5 x 1 elements, pulled by 10.7 % along x at about 25 1/s, lateral edges free: every element
     reaches an effective plastic strain eps_p of about 10 % in uniaxial stress sigma (its other
     principal stress below 2 % of it), and its thickness is t0 exp(-eps_p / 2 - nu sigma / E):
     ln(t / t0) within 1 % (t / t0 within 0.05 %)."""
-    run, t0 = _plastic_strip(element, tmp_path)
+    run, t0 = _plastic_strip(element, tmp_path, material)
     frame = run.results.frame_arrays(-1)
     sigma, smallest = _principal(frame.membrane_stress)
     assert np.abs(smallest).max() < 0.02 * sigma.min()
