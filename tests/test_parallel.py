@@ -29,7 +29,7 @@ EXACT_HISTORY = ("time", "external_work", "contact_energy", "tracked_displacemen
 SUMMED_HISTORY = ("kinetic_energy", "internal_energy", "hourglass_energy")
 FRAME_FIELDS = ("displacement", "velocity", "element_membrane_stress", "element_von_mises", "element_plastic_strain",
                 "acceleration", "nodal_contact_force", "element_layer_stress", "element_membrane_strain",
-                "element_internal_energy_density", "element_surface_strain")
+                "element_internal_energy_density", "element_surface_strain", "element_thickness")
 
 
 def _read(path: Path) -> dict[str, np.ndarray]:
@@ -143,7 +143,7 @@ def test_scaling_benchmark_reports_every_layout(tmp_path: Path, capsys: pytest.C
 # partition methods (docs/formats.md /control partition)
 
 
-ELEMENT_FIELDS = ("element_membrane_stress", "element_von_mises", "element_plastic_strain")
+ELEMENT_FIELDS = ("element_membrane_stress", "element_von_mises", "element_plastic_strain", "element_thickness")
 PARTITION_LAYOUTS = [("rcb", 2), ("rcb", 4), ("blocks", 2)]
 
 
@@ -193,8 +193,8 @@ def test_partition_gives_the_one_rank_answer_bitwise(partitioned: dict, layout: 
     corners in ascending global element order, and rank 0 places every gathered element value
     at its global id. A plastic oblique plate impact with friction on 2 and 4 ranks, partitioned
     by recursive coordinate bisection (each rank owns elements of both plates, not one range of
-    ids) and by blocks, gives the 1-rank displacements, velocities, element stresses and plastic
-    strains and contact energy bitwise."""
+    ids) and by blocks, gives the 1-rank displacements, velocities, element stresses, plastic
+    strains and thicknesses and contact energy bitwise."""
     reference, data = partitioned[("blocks", 1)], partitioned[layout]
     method, ranks = layout
     assert data["partition"] == method

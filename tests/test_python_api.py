@@ -187,7 +187,8 @@ def test_pyvista_reads_every_step_of_results_vtkhdf(plate: paradyn.Results) -> N
         assert np.array_equal(grid.points, plate.coordinates + arrays.displacement)
         for name in ("velocity", "acceleration", "nodal_contact_force"):
             assert np.array_equal(grid.point_data[name], getattr(arrays, name)), name
-        for name in ("membrane_stress", "von_mises", "plastic_strain", "membrane_strain", "internal_energy_density"):
+        for name in ("membrane_stress", "von_mises", "plastic_strain", "membrane_strain", "internal_energy_density",
+                     "thickness"):
             assert np.array_equal(grid.cell_data[name], getattr(arrays, name)), name
         assert np.array_equal(grid.cell_data["layer_stress"], arrays.layer_stress.reshape(plate.n_elements, 15))
         assert np.array_equal(grid.cell_data["surface_strain"], arrays.surface_strain.reshape(plate.n_elements, 6))

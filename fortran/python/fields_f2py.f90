@@ -41,6 +41,16 @@ subroutine shell_surface_strains(n, x0, x, q, thickness, membrane, surface)
   call surface_strains(n, x0, x, q, thickness, membrane, surface)
 end subroutine shell_surface_strains
 
+subroutine shell_current_thicknesses(n, x0, x, thickness, young, poisson, mid_trace, current)
+  use paradyn_kinds, only: wp
+  use shell_field_measures, only: current_thicknesses
+  implicit none
+  integer, intent(in) :: n
+  real(wp), intent(in) :: x0(n, 3, 4), x(n, 3, 4), thickness, young, poisson, mid_trace(n)
+  real(wp), intent(out) :: current(n)
+  call current_thicknesses(n, x0, x, thickness, young, poisson, mid_trace, current)
+end subroutine shell_current_thicknesses
+
 subroutine node_update_orientations(n, dt, w, q)
   use paradyn_kinds, only: wp
   use time_integration, only: update_orientations

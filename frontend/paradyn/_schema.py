@@ -1399,7 +1399,7 @@ MESH_DATASETS = ('/mesh/coordinates', '/mesh/connectivity', '/mesh/part', '/mesh
 FRAME_FIELDS = (
     'time', 'displacement', 'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain',
     'acceleration', 'nodal_contact_force', 'element_layer_stress', 'element_membrane_strain',
-    'element_internal_energy_density', 'element_surface_strain',
+    'element_internal_energy_density', 'element_surface_strain', 'element_thickness',
 )
 HISTORY_NAMES = (
     'time', 'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work',

@@ -134,7 +134,7 @@ module paradyn_schema
   integer, parameter :: status_stopped = 4   !< a stop signal (SIGTERM, SIGINT, SIGUSR1) ended the run after writi
 
   ! results datasets (schema/results.toml): frame fields, scalar histories by id
-  integer, parameter :: n_frame_fields = 12
+  integer, parameter :: n_frame_fields = 13
   integer, parameter :: n_history_scalars = 12
   integer, parameter :: history_kinetic_energy = 1
   integer, parameter :: history_internal_energy = 2
@@ -151,7 +151,7 @@ module paradyn_schema
   character(len=31), parameter :: frame_field_names(n_frame_fields) = [character(len=31) :: 'time', &
     'displacement', 'velocity', 'element_membrane_stress', 'element_von_mises', 'element_plastic_strain', &
     'acceleration', 'nodal_contact_force', 'element_layer_stress', 'element_membrane_strain', &
-    'element_internal_energy_density', 'element_surface_strain']
+    'element_internal_energy_density', 'element_surface_strain', 'element_thickness']
   character(len=19), parameter :: history_scalar_names(n_history_scalars) = [character(len=19) :: &
     'kinetic_energy', 'internal_energy', 'hourglass_energy', 'contact_energy', 'external_work', &
     'contact_penetration', 'dt', 'dt_stable', 'dt_element', 'eroded_elements', 'failed_welds', 'failed_ties']

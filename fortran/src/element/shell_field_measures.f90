@@ -1,6 +1,6 @@
 !> Per-element fields of the frames beyond blt_element_results' resultants: the stress at the
 !> bottom, middle and top of the shell, the mid-surface membrane strain, the strains at the
-!> bottom and top surfaces, and the initial volume
+!> bottom and top surfaces, the current thickness, and the initial volume
 !> by which the internal energy becomes a density. Computed at frames only, never in the time loop.
 !> Pure, over groups of n elements with the element index first, like shell_blt.
 module shell_field_measures
@@ -9,7 +9,8 @@ module shell_field_measures
   use vector_algebra, only: cross
   implicit none
   private
-  public :: layer_stresses, membrane_green_strain, surface_strains, initial_volumes, in_plane_means
+  public :: layer_stresses, membrane_green_strain, surface_strains, initial_volumes, in_plane_means, &
+            current_thicknesses
 
   integer, parameter, public :: n_layers = 3   !< bottom, middle, top
   real(wp), parameter :: mid_tolerance = 1.0e-12_wp   ! a point this close to zeta = 0 is the mid-surface's
@@ -127,6 +128,27 @@ contains
     real(wp) :: r(3)
     r = v + 2.0_wp * cross(q(2:4), cross(q(2:4), v) + q(1) * v)
   end function rotated
+
+  !> The current thickness of each shell element, t = t0 exp(eps_z), from the thickness strain at
+  !> its mid-surface for an isotropic elastic material whose plastic flow keeps the volume (J2)
+  !> under plane stress: eps_z = -ln(A / A0) + (1 - 2 nu) / E (sxx + syy) (docs/theory.md, "Shell
+  !> thickness"), with A0 and A the initial and current mid-surface areas (half the cross product
+  !> of the diagonals; a triangle's when corner 4 = corner 3) and mid_trace = sxx + syy the
+  !> mid-surface stress. An output only: the element's forces keep t0 (LS-DYNA's ISTUPD = 0).
+  pure subroutine current_thicknesses(n, x0, x, thickness, young, poisson, mid_trace, current)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: x0(n, 3, 4), x(n, 3, 4), thickness, young, poisson, mid_trace(n)
+    real(wp), intent(out) :: current(n)
+    real(wp) :: compliance, a0, a
+    integer :: i
+    compliance = 0.0_wp
+    if (young > 0.0_wp) compliance = (1.0_wp - 2.0_wp * poisson) / young
+    do i = 1, n
+      a0 = norm2(cross(x0(i, :, 3) - x0(i, :, 1), x0(i, :, 4) - x0(i, :, 2)))
+      a = norm2(cross(x(i, :, 3) - x(i, :, 1), x(i, :, 4) - x(i, :, 2)))
+      current(i) = thickness * exp(compliance * mid_trace(i) - log(a / a0))
+    end do
+  end subroutine current_thicknesses
 
   !> Initial volume of each element: the area of its initial quadrilateral (half the cross product
   !> of the diagonals; a triangle's area when corner 4 = corner 3) times the thickness.

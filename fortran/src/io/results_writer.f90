@@ -25,7 +25,7 @@ module results_writer
   public :: node_field_width, element_field_width
 
   integer, parameter :: node_field_width = 12       !< results_write_frame's values per node
-  integer, parameter :: element_field_width = 30    !< and per element
+  integer, parameter :: element_field_width = 31    !< and per element
 
   integer, parameter :: history_batch = 64   !< history records written in one collective write
   !> The histories with a value per part (rank 0 writes them), in the order of the block of values
@@ -131,6 +131,7 @@ contains
     call create_growing(group, 'element_membrane_strain', [3_hsize_t, ne])
     call create_growing(group, 'element_internal_energy_density', [ne])
     call create_growing(group, 'element_surface_strain', [3_hsize_t, 2_hsize_t, ne])
+    call create_growing(group, 'element_thickness', [ne])
     call h5gclose_f(group, err)
     call h5gcreate_f(rf%file, 'history', group, err)
     call create_growing(group, 'time', [integer(hsize_t) ::])
@@ -214,9 +215,9 @@ contains
 
   !> One frame: this rank's owned nodes and elements, in the order of the ids given to
   !> results_create. node_fields (node_field_width, nodes): displacement, velocity, acceleration
-  !> and contact force, 3 each; element_fields (element_field_width, elements): membrane stress
-  !> (3), von Mises, plastic strain, the layer stresses (5 components x 3 layers), the membrane
-  !> strain (3), the internal energy density and the bottom and top surface strains (3 x 2).
+  !> and contact force, 3 each; element_fields (element_field_width, elements): membrane stress (3),
+  !> von Mises, plastic strain, the layer stresses (5 components x 3 layers), the membrane strain (3),
+  !> the internal energy density, the bottom and top surface strains (3 x 2), the current thickness.
   subroutine results_write_frame(rf, time, node_fields, element_fields)
     type(results_file_t), intent(inout) :: rf
     real(wp), intent(in) :: time, node_fields(:, :), element_fields(:, :)
@@ -235,8 +236,8 @@ contains
     call frame_rows('/frames/element_layer_stress', [5_hsize_t, 3_hsize_t, ne], rf%elements, element_fields(6:20, :))
     call frame_rows('/frames/element_membrane_strain', [3_hsize_t, ne], rf%elements, element_fields(21:23, :))
     call frame_rows('/frames/element_internal_energy_density', [ne], rf%elements, element_fields(24:24, :))
-    call frame_rows('/frames/element_surface_strain', [3_hsize_t, 2_hsize_t, ne], rf%elements, &
-                    element_fields(25:30, :))
+    call frame_rows('/frames/element_surface_strain', [3_hsize_t, 2_hsize_t, ne], rf%elements, element_fields(25:30, :))
+    call frame_rows('/frames/element_thickness', [ne], rf%elements, element_fields(31:31, :))
     ! the history waits for a full batch or a flush: a write per frame cost more than the frame
     if (flush_due(rf)) call results_flush(rf)
   contains

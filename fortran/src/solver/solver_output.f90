@@ -20,7 +20,7 @@ module solver_output
   use nodal_assembly, only: gather_group
   use contact_node_forces, only: contact_add_nodal_forces
   use shell_field_measures, only: layer_stresses, membrane_green_strain, surface_strains, initial_volumes, n_layers, &
-                                  in_plane_means
+                                  in_plane_means, current_thicknesses
   use shell_section, only: stress_components
   use results_writer, only: results_file_t, results_write_frame, results_write_history, run_record_t
   use solver_state, only: solver_t
@@ -274,7 +274,7 @@ contains
   subroutine write_frame(s, rf)
     type(solver_t), intent(inout) :: s
     type(results_file_t), intent(inout) :: rf
-    integer :: g, n, first, last, nip, k, j
+    integer :: g, n, first, last, nip, k, j, part
     real(wp) :: membrane(group_size, 3), von_mises(group_size), plastic(group_size), h
     real(wp) :: layers(stress_components, n_layers, group_size), volume(group_size)
     real(wp) :: x0(group_size, 3, 4), x(group_size, 3, 4), q(group_size, 4, 4), surface(3, 2, group_size)
@@ -283,7 +283,7 @@ contains
     real(wp), allocatable :: contact_force(:, :)
     ! threads share the frame's arithmetic; the writes that follow are collective, one call
     !$omp parallel do schedule(static) private(n, first, last, nip, membrane, von_mises, plastic, layers, volume, x0, x, &
-    !$omp mean_stress, most_eps_p, q, surface)
+    !$omp mean_stress, most_eps_p, q, surface, part)
     do g = 1, s%dom%n_groups
       n = s%dom%group_count(g)
       first = s%dom%group_first(g)
@@ -318,6 +318,14 @@ contains
       end if
       call initial_volumes(n, x0(1:n, :, :), s%props(s%dom%group_part(g))%thickness, volume(1:n))
       s%element_out(24, first:last) = s%elements%e_internal(first:last) / volume(1:n)
+      part = s%dom%group_part(g)
+      if (s%props(part)%rigid .or. s%props(part)%truss) then   ! a rigid body's shells, a truss's nominal diameter: t0
+        s%element_out(31, first:last) = s%props(part)%thickness
+      else   ! from the middle layer's sxx + syy
+        call current_thicknesses(n, x0(1:n, :, :), x(1:n, :, :), s%props(part)%thickness, s%props(part)%young, &
+                                 s%props(part)%poisson, layers(1, 2, 1:n) + layers(2, 2, 1:n), &
+                                 s%element_out(31, first:last))
+      end if
     end do
     !$omp end parallel do
     allocate (contact_force(3, s%nodes%n), source=0.0_wp)

@@ -86,6 +86,7 @@ def fill_frame(
     grid.cell_data["membrane_strain"] = frame.membrane_strain[topo.elements]
     grid.cell_data["internal_energy_density"] = frame.internal_energy_density[topo.elements]
     grid.cell_data["surface_strain"] = frame.surface_strain[topo.elements].reshape(len(topo.elements), -1)
+    grid.cell_data["thickness"] = frame.thickness[topo.elements]
     grid.field_data["TimeValue"] = np.array([frame.time])
     for array_name, names in (("membrane_stress", MEMBRANE_COMPONENTS), ("membrane_strain", STRAIN_COMPONENTS),
                               ("layer_stress", LAYER_COMPONENTS), ("surface_strain", SURFACE_COMPONENTS)):

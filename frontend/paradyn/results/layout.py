@@ -30,7 +30,7 @@ TRACKED_COMPONENTS = ("dx", "dy", "dz", "vx", "vy", "vz")
 FRAME_DATASETS = {name.removeprefix("element_"): f"/frames/{name}" for name in FRAME_FIELDS if name != "time"}
 # frame fields a file written before them lacks (read as zeros there); every other one is required
 LATER_FRAME_FIELDS = ("acceleration", "nodal_contact_force", "layer_stress", "membrane_strain",
-                      "internal_energy_density", "surface_strain")
+                      "internal_energy_density", "surface_strain", "thickness")
 
 
 @dataclass(frozen=True)
@@ -39,8 +39,8 @@ class FrameArrays:
     ``acceleration`` and ``nodal_contact_force`` (n_nodes, 3); ``membrane_stress`` and
     ``membrane_strain`` (n_elements, 3); ``layer_stress`` (n_elements, 3 layers: bottom, middle,
     top, 5 components: sxx, syy, sxy, sxz, syz); ``surface_strain`` (n_elements, 2 surfaces: bottom,
-    top, 3 components: exx, eyy, exy); ``von_mises``, ``plastic_strain`` and
-    ``internal_energy_density`` (n_elements,)."""
+    top, 3 components: exx, eyy, exy); ``von_mises``, ``plastic_strain``,
+    ``internal_energy_density`` and ``thickness`` (the current shell thickness) (n_elements,)."""
 
     index: int
     time: float
@@ -55,6 +55,7 @@ class FrameArrays:
     membrane_strain: np.ndarray
     internal_energy_density: np.ndarray
     surface_strain: np.ndarray
+    thickness: np.ndarray
 
 
 class ResultsError(ValueError):
@@ -185,6 +186,7 @@ def frame_tails(n_nodes: int, n_elements: int) -> dict[str, tuple[int, ...]]:
         "membrane_strain": (n_elements, 3),
         "internal_energy_density": (n_elements,),
         "surface_strain": (n_elements, 2, 3),
+        "thickness": (n_elements,),
     }
 
 
@@ -319,8 +321,11 @@ def read_frame_row(h5: h5py.File, name: str, k: int, tail: tuple[int, ...]) -> n
 
 
 def read_frame_rows(h5: h5py.File, name: str, first: int, last: int, tail: tuple[int, ...]) -> np.ndarray:
-    """Rows ``first:last`` of frame field ``name`` as float64 (zeros when the dataset is absent)."""
+    """Rows ``first:last`` of frame field ``name`` as float64 (zeros when the dataset is absent;
+    the thickness of a file written before it: /mesh/thickness, which the engine kept then)."""
     ds = FRAME_DATASETS[name]
     if ds not in h5:
+        if name == "thickness" and "/mesh/thickness" in h5:
+            return np.tile(np.asarray(h5["/mesh/thickness"][()], dtype=np.float64), (last - first, 1))
         return np.zeros((last - first, *tail), dtype=np.float64)
     return np.asarray(h5[ds][first:last], dtype=np.float64)

@@ -35,6 +35,7 @@ from .layout import (
     open_results,
     read_frame_layout,
     read_frame_row,
+    read_frame_rows,
     read_history,
     read_mesh,
     read_rows,
@@ -98,6 +99,8 @@ class FrameField(NDArrayOperatorsMixin):
     def read_all(self) -> np.ndarray:
         """Every frame, as one float64 array of ``shape``."""
         with open_results(self.path) as h5:
+            if FRAME_DATASETS[self.name] not in h5:   # a file written before the field
+                return read_frame_rows(h5, self.name, 0, len(self), self.shape[1:])
             return read_rows(h5, FRAME_DATASETS[self.name], len(self), self.shape[1:], self.path)
 
     def __array__(self, dtype: Any = None, copy: bool | None = None) -> np.ndarray:
@@ -123,8 +126,9 @@ class Results:
 
     Read on demand from the file at ``path``: ``displacement`` and ``velocity``
     (n_frames, n_nodes, 3) m, m/s, ``membrane_stress`` (n_frames, n_elements, 3) Pa (sxx, syy,
-    sxy), ``von_mises`` (n_frames, n_elements) Pa and ``plastic_strain`` (n_frames, n_elements),
-    each a :class:`FrameField`; :meth:`frame_arrays` reads all of one frame at once.
+    sxy), ``von_mises`` (n_frames, n_elements) Pa, ``plastic_strain`` (n_frames, n_elements),
+    ``thickness`` (n_frames, n_elements) m (the current shell thickness) and the other fields of
+    docs/outputs.md, each a :class:`FrameField`; :meth:`frame_arrays` reads all of one frame at once.
 
     Names come from the results file, else from the deck (docs/outputs.md, "Names").
     ``engine_run`` and ``outputs`` are filled by :func:`paradyn.run`: how the engine ran and the
@@ -187,6 +191,7 @@ class Results:
     membrane_strain: FrameField = field(init=False, compare=False)
     internal_energy_density: FrameField = field(init=False, compare=False)
     surface_strain: FrameField = field(init=False, compare=False)
+    thickness: FrameField = field(init=False, compare=False)
     _grid_cache: dict[Any, grids.Topology] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:

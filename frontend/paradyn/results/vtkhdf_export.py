@@ -34,7 +34,7 @@ _BLOCK_BYTES = 64 * 2**20   # frames copied per read: bounded memory on long run
 _FRAME_ARRAYS = (("displacement", True, 3), ("velocity", True, 3), ("membrane_stress", False, 3),
                  ("von_mises", False, 1), ("plastic_strain", False, 1), ("acceleration", True, 3),
                  ("nodal_contact_force", True, 3), ("layer_stress", False, 15), ("membrane_strain", False, 3),
-                 ("internal_energy_density", False, 1), ("surface_strain", False, 6))
+                 ("internal_energy_density", False, 1), ("surface_strain", False, 6), ("thickness", False, 1))
 
 
 def write_vtkhdf(results: Results, path: str | Path) -> Path:
