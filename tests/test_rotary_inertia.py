@@ -1,7 +1,8 @@
 """The nodal rotary inertia of shells as a part option (issue 35, item 6; docs/theory.md, "Mass
 and time step"): ``rotary_inertia = "scaled"`` (the default, I = m (t^2 + A) / 4 per node share m,
-after Key & Beisinger 1971 and Hughes, Liu & Levit 1981) or ``"radioss"`` (I = m (t^2 + A) / 12,
-OpenRadioss's rule for its QBAT and QEPH shells: starter cinmas, m (A / 12 + t^2 / 12)).
+after Key & Beisinger 1971 and Hughes, Liu & Levit 1981), ``"radioss"`` (I = m (t^2 + A) / 12,
+OpenRadioss's rule for its QBAT and QEPH shells: starter cinmas, m (A / 12 + t^2 / 12)) or
+``"physical"`` (I = m t^2 / 12, the section's own, with the step capped at 2 t / (sqrt(5 (1 - nu)) c)).
 
 - the option reaches the nodes: a free flat mesh spun at a uniform angular velocity has the
   kinetic energy 1/2 w^2 sum I, the sum over its elements of rho t A (t^2 + A) / 4 (or / 12);
@@ -28,7 +29,7 @@ from paradyn.studies.design import KNOBS
 from test_triangles import split
 
 RULES = dict(_schema.ENUMS["rotary_inertia"])
-DIVISOR = {"scaled": 4.0, "radioss": 12.0}
+DIVISOR = {"scaled": 4.0, "radioss": 12.0, "physical": 12.0}
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -46,16 +47,17 @@ def _element_areas(mesh: M.geometry.Mesh) -> np.ndarray:
     return 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
 
 
-@pytest.mark.parametrize("rule", ["scaled", "radioss"])
+@pytest.mark.parametrize("rule", ["scaled", "radioss", "physical"])
 @pytest.mark.parametrize("shape", ["blt", "full", "triangles"])
 def test_spun_mesh_carries_the_rule_inertia(tmp_path, rule, shape):
     """Reference: the rule's formula summed over the elements. Each element of area A gives each of
     its nodes (4, or 3 for a triangle) its share m = rho t A / 4 (/ 3) and the inertia
-    m (t^2 + A) / 4 (scaled) or / 12 (radioss), so the nodes hold sum_e rho t A (t^2 + A) / d,
-    d = 4 or 12, about each axis. A free flat 6 x 4 mesh (1.2 x 0.8 m, t = 0.02 m, steel) with
-    no translation and w = 3 rad/s about z at every node has the kinetic energy 1/2 w^2 times that
-    sum at the start (first history record, before any force acts). Tolerance 1e-9: the two rules
-    differ by a factor 3, a rule that did not reach the engine fails by 200 %."""
+    m (t^2 + A) / 4 (scaled), m (t^2 + A) / 12 (radioss) or m t^2 / 12 (physical), so the nodes
+    hold sum_e rho t A (t^2 + A) / d, d = 4 or 12 (t^2 alone for physical), about each axis. A
+    free flat 6 x 4 mesh (1.2 x 0.8 m, t = 0.02 m, steel) with no translation and w = 3 rad/s about
+    z at every node has the kinetic energy 1/2 w^2 times that sum at the start (first history
+    record, before any force acts). Tolerance 1e-9: the rules differ by factors of 3 and more, a
+    rule that did not reach the engine fails by 200 %."""
     mesh = M.strip(1.2, 0.8, 6, 4)
     if shape == "triangles":
         mesh = split(mesh)
@@ -67,7 +69,8 @@ def test_spun_mesh_carries_the_rule_inertia(tmp_path, rule, shape):
                           element="full" if shape == "full" else "blt")
     h = M.run(_with_rule(model, rule), tmp_path).results.history
     area = _element_areas(mesh)
-    inertia = np.sum(V.STEEL.density * t * area * (t**2 + area)) / DIVISOR[rule]
+    arm = t**2 + (0.0 if rule == "physical" else area)
+    inertia = np.sum(V.STEEL.density * t * area * arm) / DIVISOR[rule]
     assert h["time"][0] == 0.0
     assert h["kinetic_energy"][0] == pytest.approx(0.5 * w**2 * inertia, rel=1e-9)
 
@@ -77,10 +80,10 @@ def test_thin_strip_first_frequency_does_not_depend_on_the_rule(tmp_path):
     Timoshenko, Vibration Problems in Engineering); the rotary inertia of the section changes it
     by a term of order (t / L)^2 = 1e-4 (Timoshenko beam; Leissa, Vibration of Plates, for thin
     plates). The 20 x 2 cantilever strip of test_verification (t / L = 1 / 100), released in its
-    first mode: with either rule within 2 % of f1 (the verification test's tolerance) and the two
-    rules within 1 % of each other."""
+    first mode: with each rule within 2 % of f1 (the verification test's tolerance) and the other
+    rules within 1 % of the default's."""
     measured = {}
-    for rule in ("scaled", "radioss"):
+    for rule in ("scaled", "radioss", "physical"):
         beam = M.cantilever(V.STEEL_NU0)
         f1 = beam.first_frequency
         period = 1.0 / f1
@@ -102,6 +105,7 @@ def test_thin_strip_first_frequency_does_not_depend_on_the_rule(tmp_path):
         measured[rule] = 1.0 / (2.0 * np.polyfit(np.arange(len(times)), times, 1)[0])
         assert measured[rule] == pytest.approx(f1, rel=0.02)
     assert measured["radioss"] == pytest.approx(measured["scaled"], rel=0.01)
+    assert measured["physical"] == pytest.approx(measured["scaled"], rel=0.01)
 
 
 @pytest.mark.parametrize("poisson", [-0.5, 0.0, 0.1, 0.3, 0.45])
@@ -124,6 +128,29 @@ def test_radioss_rule_is_stable_at_its_own_step(tmp_path, poisson):
     assert np.abs(stored - h["external_work"]).max() <= 1e-3 * np.abs(h["external_work"]).max()
     factor = max(1.0, np.sqrt(5.0 * (1.0 - poisson)) / 2.0)
     assert h["dt"][-1] == pytest.approx(dt / factor, rel=0.02)
+
+
+@pytest.mark.parametrize("thickness", [0.01, 0.001])
+@pytest.mark.parametrize("poisson", [-0.5, 0.0, 0.3, 0.45])
+def test_physical_rule_is_stable_at_its_capped_step(tmp_path, poisson, thickness):
+    """Reference: the energy balance of test_radioss_rule_is_stable_at_its_own_step. With the
+    physical inertia m t^2 / 12 the shear-coupled rotational mode has omega ~ sqrt(5 (1 - nu)) c / t,
+    so each element's step is min(L, 2 t / sqrt(5 (1 - nu))) / c (times the safety 0.9). The
+    20 x 2 strip (h = 0.05 m) at t = 0.01 m (the cap 1.5 to 2.6 times below L = h) and t = 1 mm (15
+    to 26 times), a step tip load (scaled with t^3 for the same deflection), 2000 cycles: finite,
+    energy conserved to 1e-3 of the work, and the step the capped one."""
+    material = M.Material(young=V.STEEL_NU0.young, poisson=poisson, density=V.STEEL_NU0.density)
+    beam = M.cantilever(material, thickness=thickness)
+    cap = 2.0 * thickness / np.sqrt(5.0 * (1.0 - poisson))
+    dt = 0.9 * min(cap, 0.05) / material.plate_wave_speed
+    control = Control(end_time=2000 * dt, output_interval=1000 * dt)
+    load = 5.0 * (thickness / 0.01) ** 3 * beam.tip_weights
+    model = _with_rule(beam.model(control, loads=[M.Load(beam.tip, 3, load)]), "physical")
+    h = M.run(model, tmp_path).results.history
+    stored = h["kinetic_energy"] + h["internal_energy"] + h["hourglass_energy"]
+    assert np.all(np.isfinite(stored))
+    assert np.abs(stored - h["external_work"]).max() <= 1e-3 * np.abs(h["external_work"]).max()
+    assert h["dt"][-1] == pytest.approx(dt, rel=0.02)
 
 
 def test_scene_and_knob_carry_the_rule():

@@ -42,6 +42,7 @@ CHOICES = [
     ("step 0.5 of the stable step", "time_step_safety", 0.5),
     ("radial return without the plane-stress iteration", "plastic_return", "radial"),
     ("rotary inertia m (t^2 + A) / 12 (OpenRadioss's rule)", "rotary_inertia", "radioss"),
+    ("rotary inertia m t^2 / 12 (physical, step capped)", "rotary_inertia", "physical"),
 ]
 
 

@@ -113,7 +113,7 @@ ENUMS: dict[str, dict[str, int]] = {
     },
     'element_kind': {'shell': 1, 'truss': 2},
     'shell_element': {'blt': 1, 'full': 2},
-    'rotary_inertia': {'scaled': 1, 'radioss': 2},
+    'rotary_inertia': {'scaled': 1, 'radioss': 2, 'physical': 3},
     'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
     'contact_passes': {'alternate': 1, 'both': 2},
@@ -430,12 +430,12 @@ DATASETS: tuple[DatasetSpec, ...] = (
     ),
     DatasetSpec(
         '/parts/rotary_inertia', 'rotary_inertia', 'int', ('n_parts',), False, None, None, 1, None, None, '',
-        'rotary_inertia', 'must be 1 or 2 (1 = scaled, 2 = radioss)', None, False, '-',
+        'rotary_inertia', 'must be 1 or 2 or 3 (1 = scaled, 2 = radioss, 3 = physical)', None, False, '-',
         (
             "the nodal rotary inertia of the part's shells (quadrilaterals of either element and triangles; "
             'trusses and rigid parts keep theirs): 1 scaled, m (t^2 + A) / 4 per node share m; 2 radioss, m (t^2 '
-            '+ A) / 12 (docs/theory.md, Mass and time step)'
-        ), '[[part]] rotary_inertia', 'use 1 (scaled) or 2 (radioss)',
+            '+ A) / 12; 3 physical, m t^2 / 12 with the step capped (docs/theory.md, Mass and time step)'
+        ), '[[part]] rotary_inertia', 'use 1 (scaled), 2 (radioss) or 3 (physical)',
     ),
     DatasetSpec(
         '/parts/warping_correction', 'warping_correction', 'int', ('n_parts',), False, None, None, 1,

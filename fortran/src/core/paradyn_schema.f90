@@ -9,16 +9,16 @@ module paradyn_schema
   public :: deck_version, deck_version_attribute, material_elastic, material_j2_plasticity, material_j2_rate, &
       material_rigid, material_piecewise_linear, material_piecewise_linear_rate, material_j2_radial, &
       element_kind_shell, element_kind_truss, shell_element_blt, shell_element_full, rotary_inertia_scaled, &
-      rotary_inertia_radioss, hourglass_viscous, hourglass_stiffness, hourglass_physical, dof_free, &
-      dof_fixed, contact_passes_alternate, contact_passes_both, contact_kind_node_to_segment, &
-      contact_kind_single_surface, contact_kind_tied, contact_kind_edge_to_edge, &
-      contact_kind_single_surface_edges, contact_kind_tiebreak, initial_penetration_move, &
-      initial_penetration_gap, contact_gather_near, contact_gather_all, wall_plane, wall_finite_plane, &
-      wall_cylinder, wall_sphere, wall_box, switch_off, switch_on, partition_blocks, partition_rcb, &
-      precision_double, precision_mixed, max_integration_points, status_ok, status_failure, status_bad_input, &
-      status_numerical, status_stopped, n_frame_fields, n_history_scalars, history_kinetic_energy, &
-      history_internal_energy, history_hourglass_energy, history_contact_energy, history_external_work, &
-      history_contact_penetration, history_dt, history_dt_stable, history_dt_element, &
+      rotary_inertia_radioss, rotary_inertia_physical, hourglass_viscous, hourglass_stiffness, &
+      hourglass_physical, dof_free, dof_fixed, contact_passes_alternate, contact_passes_both, &
+      contact_kind_node_to_segment, contact_kind_single_surface, contact_kind_tied, &
+      contact_kind_edge_to_edge, contact_kind_single_surface_edges, contact_kind_tiebreak, &
+      initial_penetration_move, initial_penetration_gap, contact_gather_near, contact_gather_all, wall_plane, &
+      wall_finite_plane, wall_cylinder, wall_sphere, wall_box, switch_off, switch_on, partition_blocks, &
+      partition_rcb, precision_double, precision_mixed, max_integration_points, status_ok, status_failure, &
+      status_bad_input, status_numerical, status_stopped, n_frame_fields, n_history_scalars, &
+      history_kinetic_energy, history_internal_energy, history_hourglass_energy, history_contact_energy, &
+      history_external_work, history_contact_penetration, history_dt, history_dt_stable, history_dt_element, &
       history_eroded_elements, history_failed_welds, history_failed_ties, frame_field_names, &
       history_scalar_names, class_int, class_float, class_string, size_none, size_n_nodes, size_n_elements, &
       size_n_parts, size_n_materials, size_n_loads, size_n_tracked, size_n_contacts, size_n_rigid_walls, &
@@ -99,6 +99,7 @@ module paradyn_schema
   integer, parameter :: shell_element_full = 2   !< the fully integrated quadrilateral: 2 x 2 in-plane points, MIT
   integer, parameter :: rotary_inertia_scaled = 1   !< I = m (t^2 + A) / 4 per node share m of a shell element of
   integer, parameter :: rotary_inertia_radioss = 2   !< I = m (t^2 + A) / 12 per node share m: OpenRadioss's rule
+  integer, parameter :: rotary_inertia_physical = 3   !< I = m t^2 / 12 per node share m: the section's own rotary
   integer, parameter :: hourglass_viscous = 1   !< resultants proportional to the hourglass rates
   integer, parameter :: hourglass_stiffness = 2   !< resultants integrated from the rates (elastic)
   integer, parameter :: hourglass_physical = 3   !< assumed-strain stabilisation from the section's elastic stiffn
@@ -451,7 +452,8 @@ module paradyn_schema
         'rigid', 'piecewise_linear', 'piecewise_linear_rate', 'j2_radial']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'shell', 'truss', '', '', '', '', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'blt', 'full', '', '', '', '', '']), &
-    enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'scaled', 'radioss', '', '', '', '', '']), &
+    enum_spec_t(3, [1, 2, 3, 0, 0, 0, 0], [character(len=21) :: 'scaled', 'radioss', 'physical', '', '', '', &
+        '']), &
     enum_spec_t(3, [1, 2, 3, 0, 0, 0, 0], [character(len=21) :: 'viscous', 'stiffness', 'physical', '', '', &
         '', '']), &
     enum_spec_t(2, [0, 1, 0, 0, 0, 0, 0], [character(len=21) :: 'free', 'fixed', '', '', '', '', '']), &
@@ -542,9 +544,9 @@ module paradyn_schema
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_shell_element, 2, &
         [1, 2, 0, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = blt, 2 = full)', 'use 1 (blt) or 2 (full)'), &
     dataset_spec_t('/parts/rotary_inertia', class_int, 0, size_n_parts, .false., .false., condition_none, &
-        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_rotary_inertia, 2, &
-        [1, 2, 0, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = scaled, 2 = radioss)', &
-        'use 1 (scaled) or 2 (radioss)'), &
+        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_rotary_inertia, 3, &
+        [1, 2, 3, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 or 3 (1 = scaled, 2 = radioss, 3 = physical)', &
+        'use 1 (scaled), 2 (radioss) or 3 (physical)'), &
     dataset_spec_t('/parts/warping_correction', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
         [0, 0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
