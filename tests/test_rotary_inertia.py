@@ -23,7 +23,7 @@ import models as M
 import test_verification as V
 from paradyn import _schema
 from paradyn.deck import Control
-from paradyn.scene import load_scene
+from paradyn.scene import SceneError, load_scene
 from paradyn.scene.building import build_model
 from paradyn.studies.design import KNOBS
 from test_triangles import split
@@ -177,3 +177,22 @@ def test_keyword_deck_names_control_shell_and_keeps_the_default():
     read = load_keyword(deck)
     assert any("pipe.k:19: *CONTROL_SHELL is not supported" in w for w in read.warnings)
     assert {p.rotary_inertia for p in read.scene.parts} == {"scaled"}
+
+
+@pytest.mark.parametrize("rule", ["radioss", "physical"])
+def test_python_scene_carries_the_rule(rule):
+    """paradyn.Scene.add_part takes ``rotary_inertia`` like the scene file's [[part]] key: the
+    model's /parts/rotary_inertia is the rule's code; an unknown rule is an error naming the choices."""
+    import paradyn
+
+    scene = paradyn.Scene("rotary", end_time=1e-4, output_interval=1e-4)
+    scene.add_material("steel", model="elastic", density=7850.0, youngs_modulus=2e11, poisson_ratio=0.3)
+    scene.add_part("plate", material="steel", thickness=0.01, rotary_inertia=rule,
+                   geometry=paradyn.Plate(size=(1.0, 0.5), elements=(4, 2)))
+    assert list(scene.build().rotary_inertia) == [RULES[rule]]
+    with pytest.raises(SceneError, match="is not one of: scaled, radioss, physical"):
+        bad = paradyn.Scene("rotary", end_time=1e-4, output_interval=1e-4)
+        bad.add_material("steel", model="elastic", density=7850.0, youngs_modulus=2e11, poisson_ratio=0.3)
+        bad.add_part("plate", material="steel", thickness=0.01, rotary_inertia="exact",
+                     geometry=paradyn.Plate(size=(1.0, 0.5), elements=(4, 2)))
+        bad.build()
