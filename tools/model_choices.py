@@ -41,6 +41,8 @@ CHOICES = [
     ("one contact pass (lower pipe master)", "symmetric", False),
     ("step 0.5 of the stable step", "time_step_safety", 0.5),
     ("radial return without the plane-stress iteration", "plastic_return", "radial"),
+    ("radioss rotary inertia (m (t^2 + A) / 12, OpenRadioss's rule)", "rotary_inertia", "radioss"),
+    ("physical rotary inertia (m t^2 / 12, the step capped)", "rotary_inertia", "physical"),
 ]
 
 

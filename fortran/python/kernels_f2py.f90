@@ -53,11 +53,12 @@ end subroutine blt_forces
 subroutine blt_mass(n, x, thickness, density, node_mass, node_inertia)
   use paradyn_kinds, only: wp
   use shell_measures, only: blt_lumped_mass
+  use paradyn_schema, only: rotary_inertia_scaled
   implicit none
   integer, intent(in) :: n
   real(wp), intent(in) :: x(n, 3, 4), thickness, density
   real(wp), intent(out) :: node_mass(n), node_inertia(n)
-  call blt_lumped_mass(n, x, thickness, density, node_mass, node_inertia)
+  call blt_lumped_mass(n, x, thickness, density, rotary_inertia_scaled, node_mass, node_inertia)
 end subroutine blt_mass
 
 subroutine blt_time_step(n, x, thickness, density, young, poisson, dt_element)

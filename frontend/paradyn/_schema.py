@@ -113,6 +113,7 @@ ENUMS: dict[str, dict[str, int]] = {
     },
     'element_kind': {'shell': 1, 'truss': 2},
     'shell_element': {'blt': 1, 'full': 2},
+    'rotary_inertia': {'scaled': 1, 'radioss': 2, 'physical': 3},
     'hourglass_form': {'viscous': 1, 'stiffness': 2, 'physical': 3},
     'dof_state': {'free': 0, 'fixed': 1},
     'contact_passes': {'alternate': 1, 'both': 2},
@@ -426,6 +427,15 @@ DATASETS: tuple[DatasetSpec, ...] = (
             'hourglass_coefficient are ignored; its element state holds 4 x integration_points points); triangles '
             'are C0 triangles either way'
         ), '[[part]] element', 'use 1 (blt) or 2 (full)',
+    ),
+    DatasetSpec(
+        '/parts/rotary_inertia', 'rotary_inertia', 'int', ('n_parts',), False, None, None, 1, None, None, '',
+        'rotary_inertia', 'must be 1 or 2 or 3 (1 = scaled, 2 = radioss, 3 = physical)', None, False, '-',
+        (
+            "the nodal rotary inertia of the part's shells (quadrilaterals of either element and triangles; "
+            'trusses and rigid parts keep theirs): 1 scaled, m (t^2 + A) / 4 per node share m; 2 radioss, m (t^2 '
+            '+ A) / 12; 3 physical, m t^2 / 12 with the step capped (docs/theory.md, Mass and time step)'
+        ), '[[part]] rotary_inertia', 'use 1 (scaled), 2 (radioss) or 3 (physical)',
     ),
     DatasetSpec(
         '/parts/warping_correction', 'warping_correction', 'int', ('n_parts',), False, None, None, 1,
@@ -1264,6 +1274,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/parts/hourglass_coefficient'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/parts/hourglass_form'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/parts/shell_element'): ('class', 'shape', 'rows', 'enum'),
+    ('dataset', '/parts/rotary_inertia'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/parts/warping_correction'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/surface_only'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/element_kind'): ('class', 'shape', 'rows', 'enum'),

@@ -8,9 +8,10 @@ module paradyn_schema
   private
   public :: deck_version, deck_version_attribute, material_elastic, material_j2_plasticity, material_j2_rate, &
       material_rigid, material_piecewise_linear, material_piecewise_linear_rate, material_j2_radial, &
-      element_kind_shell, element_kind_truss, shell_element_blt, shell_element_full, hourglass_viscous, &
-      hourglass_stiffness, hourglass_physical, dof_free, dof_fixed, contact_passes_alternate, &
-      contact_passes_both, contact_kind_node_to_segment, contact_kind_single_surface, contact_kind_tied, &
+      element_kind_shell, element_kind_truss, shell_element_blt, shell_element_full, rotary_inertia_scaled, &
+      rotary_inertia_radioss, rotary_inertia_physical, hourglass_viscous, hourglass_stiffness, &
+      hourglass_physical, dof_free, dof_fixed, contact_passes_alternate, contact_passes_both, &
+      contact_kind_node_to_segment, contact_kind_single_surface, contact_kind_tied, &
       contact_kind_edge_to_edge, contact_kind_single_surface_edges, contact_kind_tiebreak, &
       initial_penetration_move, initial_penetration_gap, contact_gather_near, contact_gather_all, wall_plane, &
       wall_finite_plane, wall_cylinder, wall_sphere, wall_box, switch_off, switch_on, partition_blocks, &
@@ -28,16 +29,16 @@ module paradyn_schema
       condition_prescribed_group, condition_base_accelerations_group, condition_rigid_bodies_group, &
       condition_rotation_ties_group, condition_plastic, condition_combined_hardening, condition_strain_rate, &
       condition_hardening_curve, condition_rate_curve, condition_truss, n_conditions, enum_none, &
-      enum_material_model, enum_element_kind, enum_shell_element, enum_hourglass_form, enum_dof_state, &
-      enum_contact_passes, enum_contact_kind, enum_initial_penetration, enum_contact_gather, &
+      enum_material_model, enum_element_kind, enum_shell_element, enum_rotary_inertia, enum_hourglass_form, &
+      enum_dof_state, enum_contact_passes, enum_contact_kind, enum_initial_penetration, enum_contact_gather, &
       enum_rigid_wall_shape, enum_switch, enum_partition, enum_precision, n_enums, dataset_nodes_coordinates, &
       dataset_nodes_initial_velocity, dataset_nodes_initial_angular_velocity, dataset_nodes_fixed_dofs, &
       dataset_nodes_rigid_body, dataset_nodes_added_mass, dataset_nodes_id, dataset_elements_connectivity, &
       dataset_elements_part, dataset_elements_id, dataset_parts_thickness, dataset_parts_material, &
       dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
-      dataset_parts_shell_element, dataset_parts_warping_correction, dataset_parts_surface_only, &
-      dataset_parts_element_kind, dataset_parts_cross_section_area, dataset_parts_id, &
-      dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
+      dataset_parts_shell_element, dataset_parts_rotary_inertia, dataset_parts_warping_correction, &
+      dataset_parts_surface_only, dataset_parts_element_kind, dataset_parts_cross_section_area, &
+      dataset_parts_id, dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
       dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
       dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
       dataset_materials_hardening_curve, dataset_materials_rate_curve, dataset_materials_failure_strain, &
@@ -96,6 +97,9 @@ module paradyn_schema
   integer, parameter :: element_kind_truss = 2   !< 2-node axial-force trusses (wires, cables; LS-DYNA *SECTION_BE
   integer, parameter :: shell_element_blt = 1   !< the one-point Belytschko-Lin-Tsay quadrilateral with hourglass
   integer, parameter :: shell_element_full = 2   !< the fully integrated quadrilateral: 2 x 2 in-plane points, MIT
+  integer, parameter :: rotary_inertia_scaled = 1   !< I = m (t^2 + A) / 4 per node share m of a shell element of
+  integer, parameter :: rotary_inertia_radioss = 2   !< I = m (t^2 + A) / 12 per node share m: OpenRadioss's rule
+  integer, parameter :: rotary_inertia_physical = 3   !< I = m t^2 / 12 per node share m: the section's own rotary
   integer, parameter :: hourglass_viscous = 1   !< resultants proportional to the hourglass rates
   integer, parameter :: hourglass_stiffness = 2   !< resultants integrated from the rates (elastic)
   integer, parameter :: hourglass_physical = 3   !< assumed-strain stabilisation from the section's elastic stiffn
@@ -200,17 +204,18 @@ module paradyn_schema
   integer, parameter :: enum_material_model = 1
   integer, parameter :: enum_element_kind = 2
   integer, parameter :: enum_shell_element = 3
-  integer, parameter :: enum_hourglass_form = 4
-  integer, parameter :: enum_dof_state = 5
-  integer, parameter :: enum_contact_passes = 6
-  integer, parameter :: enum_contact_kind = 7
-  integer, parameter :: enum_initial_penetration = 8
-  integer, parameter :: enum_contact_gather = 9
-  integer, parameter :: enum_rigid_wall_shape = 10
-  integer, parameter :: enum_switch = 11
-  integer, parameter :: enum_partition = 12
-  integer, parameter :: enum_precision = 13
-  integer, parameter :: n_enums = 13
+  integer, parameter :: enum_rotary_inertia = 4
+  integer, parameter :: enum_hourglass_form = 5
+  integer, parameter :: enum_dof_state = 6
+  integer, parameter :: enum_contact_passes = 7
+  integer, parameter :: enum_contact_kind = 8
+  integer, parameter :: enum_initial_penetration = 9
+  integer, parameter :: enum_contact_gather = 10
+  integer, parameter :: enum_rigid_wall_shape = 11
+  integer, parameter :: enum_switch = 12
+  integer, parameter :: enum_partition = 13
+  integer, parameter :: enum_precision = 14
+  integer, parameter :: n_enums = 14
   integer, parameter :: dataset_nodes_coordinates = 1
   integer, parameter :: dataset_nodes_initial_velocity = 2
   integer, parameter :: dataset_nodes_initial_angular_velocity = 3
@@ -227,88 +232,89 @@ module paradyn_schema
   integer, parameter :: dataset_parts_hourglass_coefficient = 14
   integer, parameter :: dataset_parts_hourglass_form = 15
   integer, parameter :: dataset_parts_shell_element = 16
-  integer, parameter :: dataset_parts_warping_correction = 17
-  integer, parameter :: dataset_parts_surface_only = 18
-  integer, parameter :: dataset_parts_element_kind = 19
-  integer, parameter :: dataset_parts_cross_section_area = 20
-  integer, parameter :: dataset_parts_id = 21
-  integer, parameter :: dataset_materials_model = 22
-  integer, parameter :: dataset_materials_density = 23
-  integer, parameter :: dataset_materials_youngs_modulus = 24
-  integer, parameter :: dataset_materials_poisson_ratio = 25
-  integer, parameter :: dataset_materials_yield_stress = 26
-  integer, parameter :: dataset_materials_tangent_modulus = 27
-  integer, parameter :: dataset_materials_hardening_mixing = 28
-  integer, parameter :: dataset_materials_rate_c = 29
-  integer, parameter :: dataset_materials_rate_p = 30
-  integer, parameter :: dataset_materials_hardening_curve = 31
-  integer, parameter :: dataset_materials_rate_curve = 32
-  integer, parameter :: dataset_materials_failure_strain = 33
-  integer, parameter :: dataset_loads_node = 34
-  integer, parameter :: dataset_loads_dof = 35
-  integer, parameter :: dataset_loads_value = 36
-  integer, parameter :: dataset_loads_ramp_time = 37
-  integer, parameter :: dataset_output_tracked_nodes = 38
-  integer, parameter :: dataset_contact_pairs = 39
-  integer, parameter :: dataset_contact_penalty_scale = 40
-  integer, parameter :: dataset_contact_soft_constraint = 41
-  integer, parameter :: dataset_contact_static_friction = 42
-  integer, parameter :: dataset_contact_dynamic_friction = 43
-  integer, parameter :: dataset_contact_friction_decay = 44
-  integer, parameter :: dataset_contact_passes = 45
-  integer, parameter :: dataset_contact_kind = 46
-  integer, parameter :: dataset_contact_initial_penetration = 47
-  integer, parameter :: dataset_contact_birth_time = 48
-  integer, parameter :: dataset_contact_death_time = 49
-  integer, parameter :: dataset_contact_normal_failure_stress = 50
-  integer, parameter :: dataset_contact_shear_failure_stress = 51
-  integer, parameter :: dataset_rigid_walls_point = 52
-  integer, parameter :: dataset_rigid_walls_normal = 53
-  integer, parameter :: dataset_rigid_walls_shape = 54
-  integer, parameter :: dataset_rigid_walls_edge = 55
-  integer, parameter :: dataset_rigid_walls_size = 56
-  integer, parameter :: dataset_rigid_walls_radius = 57
-  integer, parameter :: dataset_rigid_walls_length = 58
-  integer, parameter :: dataset_rigid_walls_velocity = 59
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 60
-  integer, parameter :: dataset_rigid_walls_friction = 61
-  integer, parameter :: dataset_rigid_walls_birth_time = 62
-  integer, parameter :: dataset_rigid_walls_death_time = 63
-  integer, parameter :: dataset_rigid_wall_nodes_wall = 64
-  integer, parameter :: dataset_rigid_wall_nodes_node = 65
-  integer, parameter :: dataset_rigid_bodies_part = 66
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 67
-  integer, parameter :: dataset_rigid_bodies_prescribed = 68
-  integer, parameter :: dataset_rigid_bodies_velocity = 69
-  integer, parameter :: dataset_rigid_bodies_curve = 70
-  integer, parameter :: dataset_rigid_bodies_given_mass = 71
-  integer, parameter :: dataset_rigid_bodies_given_centre = 72
-  integer, parameter :: dataset_rigid_bodies_given_inertia = 73
-  integer, parameter :: dataset_rigid_bodies_failure_force = 74
-  integer, parameter :: dataset_rigid_bodies_failure_exponent = 75
-  integer, parameter :: dataset_rigid_bodies_failure_time = 76
-  integer, parameter :: dataset_rigid_bodies_failure_plastic_strain = 77
-  integer, parameter :: dataset_rigid_bodies_failure_node = 78
-  integer, parameter :: dataset_rigid_bodies_failure_normal = 79
-  integer, parameter :: dataset_rotation_ties_node = 80
-  integer, parameter :: dataset_rotation_ties_masters = 81
-  integer, parameter :: dataset_rotation_ties_weights = 82
-  integer, parameter :: dataset_curves_first_point = 83
-  integer, parameter :: dataset_curves_time = 84
-  integer, parameter :: dataset_curves_value = 85
-  integer, parameter :: dataset_pressure_part = 86
-  integer, parameter :: dataset_pressure_value = 87
-  integer, parameter :: dataset_pressure_curve = 88
-  integer, parameter :: dataset_prescribed_node = 89
-  integer, parameter :: dataset_prescribed_dof = 90
-  integer, parameter :: dataset_prescribed_value = 91
-  integer, parameter :: dataset_prescribed_curve = 92
-  integer, parameter :: dataset_prescribed_birth_time = 93
-  integer, parameter :: dataset_prescribed_death_time = 94
-  integer, parameter :: dataset_base_accelerations_direction = 95
-  integer, parameter :: dataset_base_accelerations_value = 96
-  integer, parameter :: dataset_base_accelerations_curve = 97
-  integer, parameter :: n_deck_datasets = 97
+  integer, parameter :: dataset_parts_rotary_inertia = 17
+  integer, parameter :: dataset_parts_warping_correction = 18
+  integer, parameter :: dataset_parts_surface_only = 19
+  integer, parameter :: dataset_parts_element_kind = 20
+  integer, parameter :: dataset_parts_cross_section_area = 21
+  integer, parameter :: dataset_parts_id = 22
+  integer, parameter :: dataset_materials_model = 23
+  integer, parameter :: dataset_materials_density = 24
+  integer, parameter :: dataset_materials_youngs_modulus = 25
+  integer, parameter :: dataset_materials_poisson_ratio = 26
+  integer, parameter :: dataset_materials_yield_stress = 27
+  integer, parameter :: dataset_materials_tangent_modulus = 28
+  integer, parameter :: dataset_materials_hardening_mixing = 29
+  integer, parameter :: dataset_materials_rate_c = 30
+  integer, parameter :: dataset_materials_rate_p = 31
+  integer, parameter :: dataset_materials_hardening_curve = 32
+  integer, parameter :: dataset_materials_rate_curve = 33
+  integer, parameter :: dataset_materials_failure_strain = 34
+  integer, parameter :: dataset_loads_node = 35
+  integer, parameter :: dataset_loads_dof = 36
+  integer, parameter :: dataset_loads_value = 37
+  integer, parameter :: dataset_loads_ramp_time = 38
+  integer, parameter :: dataset_output_tracked_nodes = 39
+  integer, parameter :: dataset_contact_pairs = 40
+  integer, parameter :: dataset_contact_penalty_scale = 41
+  integer, parameter :: dataset_contact_soft_constraint = 42
+  integer, parameter :: dataset_contact_static_friction = 43
+  integer, parameter :: dataset_contact_dynamic_friction = 44
+  integer, parameter :: dataset_contact_friction_decay = 45
+  integer, parameter :: dataset_contact_passes = 46
+  integer, parameter :: dataset_contact_kind = 47
+  integer, parameter :: dataset_contact_initial_penetration = 48
+  integer, parameter :: dataset_contact_birth_time = 49
+  integer, parameter :: dataset_contact_death_time = 50
+  integer, parameter :: dataset_contact_normal_failure_stress = 51
+  integer, parameter :: dataset_contact_shear_failure_stress = 52
+  integer, parameter :: dataset_rigid_walls_point = 53
+  integer, parameter :: dataset_rigid_walls_normal = 54
+  integer, parameter :: dataset_rigid_walls_shape = 55
+  integer, parameter :: dataset_rigid_walls_edge = 56
+  integer, parameter :: dataset_rigid_walls_size = 57
+  integer, parameter :: dataset_rigid_walls_radius = 58
+  integer, parameter :: dataset_rigid_walls_length = 59
+  integer, parameter :: dataset_rigid_walls_velocity = 60
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 61
+  integer, parameter :: dataset_rigid_walls_friction = 62
+  integer, parameter :: dataset_rigid_walls_birth_time = 63
+  integer, parameter :: dataset_rigid_walls_death_time = 64
+  integer, parameter :: dataset_rigid_wall_nodes_wall = 65
+  integer, parameter :: dataset_rigid_wall_nodes_node = 66
+  integer, parameter :: dataset_rigid_bodies_part = 67
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 68
+  integer, parameter :: dataset_rigid_bodies_prescribed = 69
+  integer, parameter :: dataset_rigid_bodies_velocity = 70
+  integer, parameter :: dataset_rigid_bodies_curve = 71
+  integer, parameter :: dataset_rigid_bodies_given_mass = 72
+  integer, parameter :: dataset_rigid_bodies_given_centre = 73
+  integer, parameter :: dataset_rigid_bodies_given_inertia = 74
+  integer, parameter :: dataset_rigid_bodies_failure_force = 75
+  integer, parameter :: dataset_rigid_bodies_failure_exponent = 76
+  integer, parameter :: dataset_rigid_bodies_failure_time = 77
+  integer, parameter :: dataset_rigid_bodies_failure_plastic_strain = 78
+  integer, parameter :: dataset_rigid_bodies_failure_node = 79
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 80
+  integer, parameter :: dataset_rotation_ties_node = 81
+  integer, parameter :: dataset_rotation_ties_masters = 82
+  integer, parameter :: dataset_rotation_ties_weights = 83
+  integer, parameter :: dataset_curves_first_point = 84
+  integer, parameter :: dataset_curves_time = 85
+  integer, parameter :: dataset_curves_value = 86
+  integer, parameter :: dataset_pressure_part = 87
+  integer, parameter :: dataset_pressure_value = 88
+  integer, parameter :: dataset_pressure_curve = 89
+  integer, parameter :: dataset_prescribed_node = 90
+  integer, parameter :: dataset_prescribed_dof = 91
+  integer, parameter :: dataset_prescribed_value = 92
+  integer, parameter :: dataset_prescribed_curve = 93
+  integer, parameter :: dataset_prescribed_birth_time = 94
+  integer, parameter :: dataset_prescribed_death_time = 95
+  integer, parameter :: dataset_base_accelerations_direction = 96
+  integer, parameter :: dataset_base_accelerations_value = 97
+  integer, parameter :: dataset_base_accelerations_curve = 98
+  integer, parameter :: n_deck_datasets = 98
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -446,6 +452,8 @@ module paradyn_schema
         'rigid', 'piecewise_linear', 'piecewise_linear_rate', 'j2_radial']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'shell', 'truss', '', '', '', '', '']), &
     enum_spec_t(2, [1, 2, 0, 0, 0, 0, 0], [character(len=21) :: 'blt', 'full', '', '', '', '', '']), &
+    enum_spec_t(3, [1, 2, 3, 0, 0, 0, 0], [character(len=21) :: 'scaled', 'radioss', 'physical', '', '', '', &
+        '']), &
     enum_spec_t(3, [1, 2, 3, 0, 0, 0, 0], [character(len=21) :: 'viscous', 'stiffness', 'physical', '', '', &
         '', '']), &
     enum_spec_t(2, [0, 1, 0, 0, 0, 0, 0], [character(len=21) :: 'free', 'fixed', '', '', '', '', '']), &
@@ -471,13 +479,13 @@ module paradyn_schema
     condition_spec_t('/base_accelerations', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/rigid_bodies', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/rotation_ties', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('', 22, 5, [2, 3, 5, 6, 7, 0, 0], 'for a plastic material'), &
-    condition_spec_t('', 22, 3, [2, 3, 7, 0, 0, 0, 0], 'for a j2_plasticity, j2_rate or j2_radial material'), &
-    condition_spec_t('', 22, 2, [3, 6, 0, 0, 0, 0, 0], 'for a j2_rate or piecewise_linear_rate material'), &
-    condition_spec_t('', 22, 2, [5, 6, 0, 0, 0, 0, 0], &
+    condition_spec_t('', 23, 5, [2, 3, 5, 6, 7, 0, 0], 'for a plastic material'), &
+    condition_spec_t('', 23, 3, [2, 3, 7, 0, 0, 0, 0], 'for a j2_plasticity, j2_rate or j2_radial material'), &
+    condition_spec_t('', 23, 2, [3, 6, 0, 0, 0, 0, 0], 'for a j2_rate or piecewise_linear_rate material'), &
+    condition_spec_t('', 23, 2, [5, 6, 0, 0, 0, 0, 0], &
         'for a piecewise_linear or piecewise_linear_rate material'), &
-    condition_spec_t('', 22, 1, [5, 0, 0, 0, 0, 0, 0], 'for a piecewise_linear material'), &
-    condition_spec_t('', 19, 1, [2, 0, 0, 0, 0, 0, 0], 'for a truss part') ]
+    condition_spec_t('', 23, 1, [5, 0, 0, 0, 0, 0, 0], 'for a piecewise_linear material'), &
+    condition_spec_t('', 20, 1, [2, 0, 0, 0, 0, 0, 0], 'for a truss part') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
@@ -535,6 +543,10 @@ module paradyn_schema
     dataset_spec_t('/parts/shell_element', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_shell_element, 2, &
         [1, 2, 0, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 (1 = blt, 2 = full)', 'use 1 (blt) or 2 (full)'), &
+    dataset_spec_t('/parts/rotary_inertia', class_int, 0, size_n_parts, .false., .false., condition_none, &
+        condition_none, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_rotary_inertia, 3, &
+        [1, 2, 3, 0, 0, 0, 0], size_none, '', 'must be 1 or 2 or 3 (1 = scaled, 2 = radioss, 3 = physical)', &
+        'use 1 (scaled), 2 (radioss) or 3 (physical)'), &
     dataset_spec_t('/parts/warping_correction', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
         [0, 0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &

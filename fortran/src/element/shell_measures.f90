@@ -4,13 +4,14 @@
 !> Pure, over groups of n elements with the element index first, like shell_blt.
 module shell_measures
   use paradyn_kinds, only: wp, ek
-  use paradyn_schema, only: max_integration_points
+  use paradyn_schema, only: max_integration_points, rotary_inertia_radioss, rotary_inertia_physical
   use plane_stress_returns, only: von_mises_plane_stress
   use shell_section, only: shell_properties_t, stress_components, local_frame, thickness_rule
   implicit none
   private
   public :: blt_lumped_mass, blt_stable_time_step, blt_element_results, frame_time_steps, part_wave_speed
   public :: triangle_lumped_mass, triangle_stable_time_step, triangle_frame_time_steps
+  public :: shell_rotary_inertia, rotational_length
 
 contains
 
@@ -19,9 +20,10 @@ contains
   !> and Hughes, Liu & Levit 1981, who scale the rotary inertia up for the same reason). The
   !> fastest rotational mode, rotation coupled with w through transverse shear, has
   !> omega ~ sqrt(5 (1 - nu) / 3) c / h with this inertia, below the membrane limit for every nu;
-  !> with A / 12 it exceeded that limit for nu < 0.12 (docs/theory.md).
-  pure subroutine blt_lumped_mass(n, x, thickness, density, node_mass, node_inertia)
-    integer, intent(in) :: n
+  !> with A / 12 it exceeded that limit for nu < 0.12 (docs/theory.md). rule: the part's
+  !> rotary_inertia (shell_rotary_inertia).
+  pure subroutine blt_lumped_mass(n, x, thickness, density, rule, node_mass, node_inertia)
+    integer, intent(in) :: n, rule
     real(wp), intent(in) :: x(n, 3, 4), thickness, density
     real(wp), intent(out) :: node_mass(n), node_inertia(n)
     real(wp) :: e(3, 3), xl(4), yl(4), area
@@ -29,9 +31,36 @@ contains
     do i = 1, n
       call local_frame(x(i, :, :), e, xl, yl, area)
       node_mass(i) = 0.25_wp * density * thickness * abs(area)
-      node_inertia(i) = node_mass(i) * (thickness**2 + abs(area)) / 4.0_wp
+      node_inertia(i) = shell_rotary_inertia(rule, node_mass(i), thickness, abs(area))
     end do
   end subroutine blt_lumped_mass
+
+  !> The rotary inertia a shell element of area A gives a node with its share m of the mass:
+  !> scaled (the default), m (t^2 + A) / 4; radioss, m (t^2 + A) / 12 (OpenRadioss's rule for its
+  !> QBAT and QEPH shells, m (A / 12 + t^2 / 12); it tends to the physical m t^2 / 12 as the mesh
+  !> is refined); physical, m t^2 / 12. docs/theory.md, "Mass and time step".
+  pure real(wp) function shell_rotary_inertia(rule, m, thickness, area) result(inertia)
+    integer, intent(in) :: rule
+    real(wp), intent(in) :: m, thickness, area
+    if (rule == rotary_inertia_radioss) then
+      inertia = m * (thickness**2 + area) / 12.0_wp
+    else if (rule == rotary_inertia_physical) then
+      inertia = m * thickness**2 / 12.0_wp
+    else
+      inertia = m * (thickness**2 + area) / 4.0_wp
+    end if
+  end function shell_rotary_inertia
+
+  !> The longest length L an element of the part may have in its step L / c: huge, except with
+  !> the physical rotary inertia m t^2 / 12, whose mode coupling the rotations with w through the
+  !> transverse shear has omega ~ sqrt(5 (1 - nu)) c / t (the estimate of scaled's, with t^2 + A
+  !> reduced to t^2); a step 2 / omega caps L at 2 t / sqrt(5 (1 - nu)).
+  pure real(wp) function rotational_length(props) result(length)
+    type(shell_properties_t), intent(in) :: props
+    length = huge(1.0_wp)
+    if (props%rotary_inertia == rotary_inertia_physical .and. .not. props%truss) &
+      length = 2.0_wp * props%thickness / sqrt(5.0_wp * (1.0_wp - props%poisson))
+  end function rotational_length
 
   !> Stable time step of each element: L / c with L = area / longest side and
   !> c = sqrt(E / (rho (1 - nu^2))) the plate wave speed (Hallquist, LS-DYNA Theory Manual).
@@ -40,22 +69,28 @@ contains
     real(wp), intent(in) :: x(n, 3, 4)
     type(shell_properties_t), intent(in) :: props
     real(wp), intent(out) :: dt_element(n)
-    real(wp) :: e(3, 3), xl(4), yl(4), area, longest, c
+    real(wp) :: e(3, 3), xl(4), yl(4), area, longest, c, lrot
     integer :: i, k
     c = part_wave_speed(props)
+    lrot = rotational_length(props)
     do i = 1, n
       call local_frame(x(i, :, :), e, xl, yl, area)
       longest = 0.0_wp
       do k = 1, 4
         longest = max(longest, norm2(x(i, :, modulo(k, 4) + 1) - x(i, :, k)))
       end do
-      dt_element(i) = abs(area) / longest / c
+      dt_element(i) = abs(area) / longest
+      if (dt_element(i) > lrot) dt_element(i) = lrot   ! the physical rotary inertia's cap
+      dt_element(i) = dt_element(i) / c
     end do
   end subroutine blt_stable_time_step
 
   !> The wave speed of a part's material (unscaled density): the plate wave speed
   !> c = sqrt(E / (rho (1 - nu^2))) unless the member bounds the step otherwise; a truss's the bar
-  !> wave speed sqrt(E / rho).
+  !> wave speed sqrt(E / rho). With the radioss rotary inertia, m (t^2 + A) / 12, the mode that
+  !> couples the rotations with w through the transverse shear has omega ~ sqrt(5 (1 - nu)) c / h,
+  !> above the membrane limit 2 c / h for nu < 0.2: c is raised by sqrt(5 (1 - nu)) / 2 there, so
+  !> that the step L / c keeps that mode below the limit (docs/theory.md, "Mass and time step").
   pure real(wp) function part_wave_speed(props) result(c)
     type(shell_properties_t), intent(in) :: props
     if (props%truss) then
@@ -63,6 +98,8 @@ contains
       return
     end if
     c = props%material%wave_speed(props%density)
+    if (props%rotary_inertia == rotary_inertia_radioss) &
+      c = c * max(1.0_wp, sqrt(5.0_wp * (1.0_wp - props%poisson)) / 2.0_wp)
   end function part_wave_speed
 
   !> The stable step L / c of elements 1..m from their co-rotational frame, as the force kernel
@@ -75,17 +112,20 @@ contains
     real(ek), intent(in) :: xl(:, :), yl(:, :), area(:)
     type(shell_properties_t), intent(in) :: props
     real(wp), intent(out) :: dt_element(m)
-    real(wp) :: c
+    real(wp) :: c, lrot
     real(ek) :: longest
     integer :: i, k, k1
     c = part_wave_speed(props)
+    lrot = rotational_length(props)
     do i = 1, m
       longest = 0.0_ek
       do k = 1, 4
         k1 = modulo(k, 4) + 1
         longest = max(longest, (xl(i, k1) - xl(i, k))**2 + (yl(i, k1) - yl(i, k))**2)
       end do
-      dt_element(i) = abs(area(i)) / sqrt(longest) / c
+      dt_element(i) = abs(area(i)) / sqrt(longest)
+      if (dt_element(i) > lrot) dt_element(i) = lrot   ! the physical rotary inertia's cap
+      dt_element(i) = dt_element(i) / c
       if (.not. (dt_element(i) >= 0.0_wp)) dt_element(i) = huge(1.0_wp)
     end do
   end subroutine frame_time_steps
@@ -113,9 +153,9 @@ contains
 
   !> Lumped mass of C0 triangles (corners 1..3; corner 4 repeats corner 3 and gets none): a third
   !> of the element mass at each node, and the rotational inertia of blt_lumped_mass,
-  !> I = m (t^2 + A) / 4 of the node's share m (docs/theory.md, "C0 triangle").
-  pure subroutine triangle_lumped_mass(n, x, thickness, density, node_mass, node_inertia)
-    integer, intent(in) :: n
+  !> I = m (t^2 + A) / 4 of the node's share m (docs/theory.md, "C0 triangle"), or the rule's.
+  pure subroutine triangle_lumped_mass(n, x, thickness, density, rule, node_mass, node_inertia)
+    integer, intent(in) :: n, rule
     real(wp), intent(in) :: x(n, 3, 4), thickness, density
     real(wp), intent(out) :: node_mass(n), node_inertia(n)
     real(wp) :: area
@@ -123,7 +163,7 @@ contains
     do i = 1, n
       area = triangle_area(x(i, :, 1:3))
       node_mass(i) = density * thickness * area / 3.0_wp
-      node_inertia(i) = node_mass(i) * (thickness**2 + area) / 4.0_wp
+      node_inertia(i) = shell_rotary_inertia(rule, node_mass(i), thickness, area)
     end do
   end subroutine triangle_lumped_mass
 
@@ -134,15 +174,18 @@ contains
     real(wp), intent(in) :: x(n, 3, 4)
     type(shell_properties_t), intent(in) :: props
     real(wp), intent(out) :: dt_element(n)
-    real(wp) :: longest, c
+    real(wp) :: longest, c, lrot
     integer :: i, k
     c = part_wave_speed(props)
+    lrot = rotational_length(props)
     do i = 1, n
       longest = 0.0_wp
       do k = 1, 3
         longest = max(longest, norm2(x(i, :, modulo(k, 3) + 1) - x(i, :, k)))
       end do
-      dt_element(i) = 2.0_wp * triangle_area(x(i, :, 1:3)) / longest / c
+      dt_element(i) = 2.0_wp * triangle_area(x(i, :, 1:3)) / longest
+      if (dt_element(i) > lrot) dt_element(i) = lrot   ! the physical rotary inertia's cap
+      dt_element(i) = dt_element(i) / c
     end do
   end subroutine triangle_stable_time_step
 
@@ -153,15 +196,18 @@ contains
     real(ek), intent(in) :: xl(:, :), yl(:, :), area(:)
     type(shell_properties_t), intent(in) :: props
     real(wp), intent(out) :: dt_element(m)
-    real(wp) :: c
+    real(wp) :: c, lrot
     real(ek) :: longest
     integer :: i
     c = part_wave_speed(props)
+    lrot = rotational_length(props)
     do i = 1, m
       longest = max((xl(i, 2) - xl(i, 1))**2 + (yl(i, 2) - yl(i, 1))**2, &
                     (xl(i, 3) - xl(i, 2))**2 + (yl(i, 3) - yl(i, 2))**2, &
                     (xl(i, 1) - xl(i, 3))**2 + (yl(i, 1) - yl(i, 3))**2)
-      dt_element(i) = 2.0_wp * abs(area(i)) / sqrt(longest) / c
+      dt_element(i) = 2.0_wp * abs(area(i)) / sqrt(longest)
+      if (dt_element(i) > lrot) dt_element(i) = lrot   ! the physical rotary inertia's cap
+      dt_element(i) = dt_element(i) / c
       if (.not. (dt_element(i) >= 0.0_wp)) dt_element(i) = huge(1.0_wp)
     end do
   end subroutine triangle_frame_time_steps

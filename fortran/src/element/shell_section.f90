@@ -6,7 +6,7 @@ module shell_section
   use paradyn_kinds, only: wp
   use vector_algebra, only: cross
   use material_model, only: material_t
-  use paradyn_schema, only: hourglass_physical
+  use paradyn_schema, only: hourglass_physical, rotary_inertia_scaled
   use gauss_legendre, only: gauss_zeta, gauss_weight
   implicit none
   private
@@ -33,6 +33,9 @@ module shell_section
     !> the yield stress that caps the physical form's resultants (huge for an elastic material)
     real(wp) :: hourglass_yield = huge(1.0_wp)
     logical :: warping_correction = .true.   !< shell_warping (docs/theory.md)
+    !> the rule for the nodal rotary inertia of the part's shells (rotary_inertia_*: scaled or
+    !> radioss; shell_measures.shell_rotary_inertia)
+    integer :: rotary_inertia = rotary_inertia_scaled
     !> the fully integrated element (shell_full: 2 x 2 in-plane points, MITC4 shear) for the
     !> part's quadrilaterals, in place of the one-point Belytschko-Lin-Tsay element
     logical :: fully_integrated = .false.

@@ -52,6 +52,7 @@ contains
     props%integration_points = deck%integration_points(part)
     props%hourglass_form = deck%hourglass_form(part)
     props%warping_correction = deck%warping_correction(part) /= 0
+    props%rotary_inertia = deck%rotary_inertia(part)
     props%fully_integrated = deck%shell_element(part) == shell_element_full
     props%rigid = material_is_rigid(deck%material_model(m))
     props%surface_only = deck%surface_only(part) /= 0

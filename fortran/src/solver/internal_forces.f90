@@ -173,9 +173,11 @@ contains
       if (s%props(p)%truss) then
         call truss_lumped_mass(n, xg, s%props(p), node_mass, node_inertia)
       else if (s%dom%group_triangle(g)) then
-        call triangle_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, node_mass, node_inertia)
+        call triangle_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, s%props(p)%rotary_inertia, &
+                                 node_mass, node_inertia)
       else
-        call blt_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, node_mass, node_inertia)
+        call blt_lumped_mass(n, xg, s%props(p)%thickness, s%props(p)%density, s%props(p)%rotary_inertia, &
+                            node_mass, node_inertia)
       end if
       if (s%props(p)%surface_only) then   ! a rigid solid's faces: its mass is on the nodes (added_mass)
         node_mass = 0.0_wp

@@ -34,6 +34,7 @@ class DeckFields:
     hourglass_coefficient: np.ndarray | None = None   # /parts/hourglass_coefficient (n_parts,) -
     hourglass_form: np.ndarray | None = None   # /parts/hourglass_form (n_parts,) -
     shell_element: np.ndarray | None = None   # /parts/shell_element (n_parts,) -
+    rotary_inertia: np.ndarray | None = None   # /parts/rotary_inertia (n_parts,) -
     warping_correction: np.ndarray | None = None   # /parts/warping_correction (n_parts,) -
     surface_only: np.ndarray | None = None   # /parts/surface_only (n_parts,) -
     element_kind: np.ndarray | None = None   # /parts/element_kind (n_parts,) -

@@ -169,7 +169,8 @@ class Scene:
         """A ``[[part]]`` of shells on ``geometry`` (:class:`Cylinder`, :class:`Plate`, :class:`MeshFile`).
 
         ``options``: ``integration_points``, ``hourglass_form``, ``hourglass_coefficient``,
-        ``warping_correction``, ``initial_velocity`` (docs/scene.md, ``[[part]]``).
+        ``warping_correction``, ``element``, ``rotary_inertia``, ``initial_velocity`` (docs/scene.md,
+        ``[[part]]``).
         """
         table = geometry.table if isinstance(geometry, Geometry) else dict(geometry)
         self._add("part", name=name, material=material, thickness=thickness, **options, geometry=table)

@@ -220,10 +220,14 @@ def _apply_file_ids(meshes: list[_PartMesh], model: deck.Model) -> None:
 
 def apply_trusses(scene: Scene, model: deck.Model) -> None:
     """/parts/shell_element where some part is fully integrated (``element = "full"``), and
-    /parts/element_kind and /parts/cross_section_area where some part is a truss part."""
+    /parts/element_kind and /parts/cross_section_area where some part is a truss part;
+    /parts/rotary_inertia where some part's is not the default (the default deck stays bitwise)."""
     if any(p.element != "blt" for p in scene.parts):
         elements = _schema.ENUMS["shell_element"]
         model.shell_element = np.array([elements[p.element] for p in scene.parts], dtype=np.int32)
+    if any(p.rotary_inertia != PartSpec.rotary_inertia for p in scene.parts):
+        rules = _schema.ENUMS["rotary_inertia"]
+        model.rotary_inertia = np.array([rules[p.rotary_inertia] for p in scene.parts], dtype=np.int32)
     if all(p.element_kind == "shell" for p in scene.parts):
         return
     kinds = _schema.ENUMS["element_kind"]

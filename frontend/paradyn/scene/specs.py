@@ -24,6 +24,7 @@ class SceneError(ValueError):
 MATERIAL_MODELS = dict(_schema.ENUMS["material_model"])
 HOURGLASS_FORMS = dict(_schema.ENUMS["hourglass_form"])
 SHELL_ELEMENTS = dict(_schema.ENUMS["shell_element"])
+ROTARY_INERTIAS = dict(_schema.ENUMS["rotary_inertia"])
 DOF_GROUPS = {
     "all": deck.DOF_NAMES,
     "translations": deck.DOF_NAMES[:3],
@@ -115,6 +116,8 @@ class PartSpec:
     warping_correction: bool = bool(_DECK_DEFAULT["/parts/warping_correction"])
     # the quadrilaterals' formulation: "blt" (one point, hourglass control) or "full" (2 x 2 points)
     element: str = _enum_name("shell_element", _DECK_DEFAULT["/parts/shell_element"])
+    # the nodal rotary inertia of its shells: "scaled" m (t^2 + A) / 4 or "radioss" m (t^2 + A) / 12
+    rotary_inertia: str = _enum_name("rotary_inertia", _DECK_DEFAULT["/parts/rotary_inertia"])
     initial_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
     # "truss": 2-node bars (elements N1 N2 N2 N2) of cross-section area cross_section_area (m^2)
     element_kind: str = _enum_name("element_kind", _DECK_DEFAULT["/parts/element_kind"])

@@ -17,7 +17,15 @@ from typing import Any
 
 from paradyn import _schema
 from paradyn.arguments import did_you_mean
-from paradyn.scene.specs import HOURGLASS_FORMS, SHELL_ELEMENTS, CylinderGeometry, FileGeometry, PlateGeometry, Scene
+from paradyn.scene.specs import (
+    HOURGLASS_FORMS,
+    ROTARY_INERTIAS,
+    SHELL_ELEMENTS,
+    CylinderGeometry,
+    FileGeometry,
+    PlateGeometry,
+    Scene,
+)
 
 DESIGNS = ("one_at_a_time", "grid", "list")
 PRECISIONS = tuple(_schema.ENUMS["precision"])   # [run] precision: the engines there are
@@ -152,6 +160,10 @@ KNOBS: dict[str, Knob] = {k.name: k for k in [
     Knob("plastic_return", str, "the plane-stress return of every J2 material: exact (j2_plasticity) or radial "
          "(j2_radial)", _plastic_return, _set_plastic_return,
          lambda v: None if v in PLASTIC_RETURNS else f"must be one of {', '.join(PLASTIC_RETURNS)}"),
+    Knob("rotary_inertia", str, f"rotary_inertia of every part (its shells' nodal rotary inertia): "
+         f"{', '.join(ROTARY_INERTIAS)}", lambda s: _same([p.rotary_inertia for p in s.parts]),
+         _set_parts("rotary_inertia"),
+         lambda v: None if v in ROTARY_INERTIAS else f"must be one of {', '.join(ROTARY_INERTIAS)}"),
     Knob("warping_correction", bool, "warping_correction of every part",
          lambda s: _same([p.warping_correction for p in s.parts]), _set_parts("warping_correction")),
     Knob("penalty_scale", float, "penalty_scale of every [[contact]], > 0",
