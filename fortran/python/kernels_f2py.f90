@@ -13,7 +13,7 @@ end subroutine thickness_points
 
 subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield_stress, tangent, &
                       beta, hourglass_coefficient, model, dt, stress, back, eps_p, hourglass, force, &
-                      e_internal, e_hourglass, inverted, hourglass_form, warping_correction)
+                      e_internal, e_hourglass, inverted, hourglass_form, warping_correction, failure_strain)
   use paradyn_kinds, only: wp
   use shell_section, only: shell_properties_t
   use shell_blt, only: blt_internal_forces
@@ -25,6 +25,8 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   !f2py integer optional, intent(in) :: hourglass_form = 2
   integer, intent(in) :: warping_correction  ! 1 on, 0 off
   !f2py integer optional, intent(in) :: warping_correction = 1
+  real(wp), intent(in) :: failure_strain  ! 0: no point fails (element_erosion)
+  !f2py double precision optional, intent(in) :: failure_strain = 0.0
   real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
   real(wp), intent(in) :: thickness, density, young, poisson, yield_stress, tangent, beta
   real(wp), intent(in) :: hourglass_coefficient, dt
@@ -38,7 +40,8 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   real(wp), allocatable :: state(:, :, :)   ! the material member's own state (none for elastic and J2)
   props = shell_properties_t(thickness=thickness, density=density, young=young, poisson=poisson, &
                              hourglass_coefficient=hourglass_coefficient, integration_points=nip, &
-                             hourglass_form=hourglass_form, warping_correction=warping_correction /= 0)
+                             hourglass_form=hourglass_form, warping_correction=warping_correction /= 0, &
+                             failure_strain=failure_strain)
   material = deck_fields_t(material_model=[model], young=[young], poisson=[poisson], yield_stress=[yield_stress], &
                            tangent_modulus=[tangent], hardening_mixing=[beta])
   call material_from_deck(material, 1, props%material)
@@ -49,6 +52,28 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
                            e_internal, e_hourglass, inverted, dt_element)
   force = reshape(corner_force, [n, 6, 4], order=[2, 3, 1])   ! (component, corner, element) -> (i, c, k)
 end subroutine blt_forces
+
+subroutine erosion_layers_needed(numfip, layers, needed)
+  ! element_erosion.failed_layers_needed: the failed layers that erode an element (LS-DYNA NUMFIP)
+  use paradyn_kinds, only: wp
+  use element_erosion, only: failed_layers_needed
+  implicit none
+  real(wp), intent(in) :: numfip
+  integer, intent(in) :: layers
+  integer, intent(out) :: needed
+  needed = failed_layers_needed(numfip, layers)
+end subroutine erosion_layers_needed
+
+subroutine erosion_element_eroded(points, eps_p, failure_strain, layers, needed, eroded)
+  ! element_erosion.element_eroded of one element's plastic strains (points in-plane point slowest)
+  use paradyn_kinds, only: wp, ek
+  use element_erosion, only: element_eroded
+  implicit none
+  integer, intent(in) :: points, layers, needed
+  real(wp), intent(in) :: eps_p(points), failure_strain
+  integer, intent(out) :: eroded
+  eroded = merge(1, 0, element_eroded(real(eps_p, ek), failure_strain, layers, needed))
+end subroutine erosion_element_eroded
 
 subroutine blt_mass(n, x, thickness, density, node_mass, node_inertia)
   use paradyn_kinds, only: wp
