@@ -152,7 +152,7 @@ def test_a_failed_point_adds_no_increment(kind: str) -> None:
 # --- the bent strip -----------------------------------------------------------------------------
 
 def _bent_strip(numfip: float, end: float = 1.1 * T_FAIL, frames: int = 440, mesh: tuple[int, int] = (1, 1),
-                nip: int = 5, bend: bool = True) -> paradyn.Scene:
+                nip: int = 5, bend: bool = True, element: str = "blt") -> paradyn.Scene:
     """A strip of side SIZE (5 points through the thickness, perfectly plastic J2, FAIL) stretched
     at the logarithmic rate D, its width narrowing at D/2, and bent at the curvature rate D / t
     by opposite rotation rates of its ends about y: the axial rate at zeta is D (1 + zeta / 2)."""
@@ -160,7 +160,7 @@ def _bent_strip(numfip: float, end: float = 1.1 * T_FAIL, frames: int = 440, mes
                       history_interval=end / 4000)
     s.add_material("steel", model="j2_plasticity", yield_stress=YIELD, failure_strain=FAIL, failure_points=numfip,
                    **STEEL)
-    s.add_part("strip", material="steel", thickness=T, integration_points=nip,
+    s.add_part("strip", material="steel", thickness=T, integration_points=nip, element=element,
                geometry=paradyn.Plate((SIZE, SIZE), mesh))
     lo, hi = -1e-6, SIZE + 1e-6
     s.add_fix("strip", box=[[lo, lo, -1.0], [hi, hi, 1.0]], dofs=["uz", "rx", "rz"])
@@ -195,16 +195,18 @@ def _erosion_time(h: dict[str, np.ndarray]) -> float:
     return float(h["time"][int(np.argmax(eroded > 0))])
 
 
-def test_the_bent_strip_lives_until_its_third_layer_fails(tmp_path: Path) -> None:
+@pytest.mark.parametrize("element", ["blt", "full"])
+def test_the_bent_strip_lives_until_its_third_layer_fails(tmp_path: Path, element: str) -> None:
     """NUMFIP 3: the strip erodes when its mid-surface point (the third from the top) fails, at
     t_f = (FAIL + sigma_y / E) / D within 0.5 %; NUMFIP 1 erodes it when the outer point fails,
     at t_f / 1.48 (within 3 %: that point's path is not uniaxial), and NUMFIP 2 in between. With
     NUMFIP 3, from the outer point's failure on the top layer's stress is zero while the element
     lives, and the membrane force drops in that step by the outer point's share w_1 sigma_1 / 2
-    (sigma_1 its stress just before) within 0.5 %; the energy balance stays within 0.5 % of the work."""
+    (sigma_1 its stress just before) within 0.5 %; the energy balance stays within 0.5 % of the work.
+    The same with the fully integrated element (its 4 in-plane points have the same path here)."""
     times = {}
     for numfip in (1.0, 2.0, 3.0):
-        paradyn.run(_bent_strip(numfip), tmp_path / f"n{numfip:g}", ranks=1, threads=1, post=False)
+        paradyn.run(_bent_strip(numfip, element=element), tmp_path / f"n{numfip:g}", ranks=1, threads=1, post=False)
         times[numfip] = _erosion_time(_history(tmp_path / f"n{numfip:g}"))
     assert times[3.0] == pytest.approx(T_FAIL, rel=0.005)
     assert times[1.0] == pytest.approx(T_FAIL / 1.476, rel=0.03)
