@@ -339,7 +339,8 @@ def test_mat_add_erosion_reads_effeps_and_numfip(tmp_path: Path) -> None:
     EFFEPS -0.05 (the plastic strain exactly) is below FAIL 0.08, so the failure strain is 0.05, and
     NUMFIP -60 stays a percentage (3 of 5 layers in the engine), with no warning. On MAT 3 (_TITLE):
     EFFEPS 0.04 > 0 (LS-DYNA's total strain, read as the plastic one) is warned, NUMFIP 2 read, and
-    MXPRES named as a criterion that is not modelled."""
+    MXPRES named as a criterion that is not modelled. An erosion card for a material no *MAT
+    defines is warned."""
     model, warnings = _read_deck(tmp_path, MAT24)
     assert model.failure_strain.tolist() == [0.05] and model.failure_points.tolist() == [-60.0]
     assert not any("EROSION" in w for w in warnings), warnings
@@ -349,3 +350,5 @@ def test_mat_add_erosion_reads_effeps_and_numfip(tmp_path: Path) -> None:
     text = "\n".join(warnings)
     assert "MXPRES = 1000000000.0 (maximum pressure at failure) is not modelled" in text, text
     assert "EFFEPS = 0.04 is LS-DYNA's effective total strain" in text, text
+    _, warnings = _read_deck(tmp_path, MAT24 + "*MAT_ADD_EROSION\n         7       0.0       0.0       0.0      -0.1\n")
+    assert any("*MAT_ADD_EROSION names material 7, which no *MAT defines" in w for w in warnings), warnings

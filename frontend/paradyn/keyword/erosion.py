@@ -111,8 +111,18 @@ def apply_erosion(mid: int, data: KeywordData, spec: MaterialSpec) -> None:
     spec.extra["failure_points"] = numfip
 
 
+def warn_unused_erosions(data: KeywordData, used: set[int]) -> None:
+    """A warning for each *MAT_ADD_EROSION whose MID no *MAT defines, or no part uses: it acts on
+    nothing."""
+    for mid, (first, _) in sorted(read_erosions(data).items()):
+        if mid not in data.materials:
+            data.warn(f"{first.where}: *MAT_ADD_EROSION names material {mid}, which no *MAT defines; it is ignored")
+        elif mid not in used:
+            data.warn(f"{first.where}: *MAT_ADD_EROSION {mid}: no part uses material {mid}; it acts on nothing")
+
+
 EROSION_READERS: dict[str, Callable[[_Reading], None]] = {
     "MAT_ADD_EROSION": _add_erosion, "MAT_ADD_EROSION_TITLE": _add_erosion,
 }
 
-__all__ = ["EROSION_READERS", "apply_erosion", "read_erosions"]
+__all__ = ["EROSION_READERS", "apply_erosion", "read_erosions", "warn_unused_erosions"]
