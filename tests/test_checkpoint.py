@@ -120,7 +120,7 @@ def _hardening_pipe_whip(folder: Path, name: str, beta: float, **control: float)
     for key, value in control.items():
         setattr(model.control, key, value)
     for field in ("material_model", "density", "youngs_modulus", "poisson_ratio", "yield_stress",
-                  "tangent_modulus", "hardening_mixing", "failure_strain"):
+                  "tangent_modulus", "hardening_mixing", "failure_strain", "failure_points"):
         values = getattr(model, field)
         setattr(model, field, np.append(values, values[0]))
     model.yield_stress[1] = 20e6

@@ -3,7 +3,7 @@
 
 subroutine full_forces(n, nip, x, v, w, thickness, density, young, poisson, yield_stress, tangent, beta, &
                        model, dt, stress, back, eps_p, drilling, force, e_internal, inverted, dt_element, &
-                       warping_correction)
+                       warping_correction, failure_strain)
   use paradyn_kinds, only: wp
   use shell_section, only: shell_properties_t
   use shell_full, only: full_internal_forces
@@ -13,6 +13,8 @@ subroutine full_forces(n, nip, x, v, w, thickness, density, young, poisson, yiel
   integer, intent(in) :: n, nip, model
   integer, intent(in) :: warping_correction  ! 1 on, 0 off
   !f2py integer optional, intent(in) :: warping_correction = 1
+  real(wp), intent(in) :: failure_strain  ! 0: no point fails (element_erosion)
+  !f2py double precision optional, intent(in) :: failure_strain = 0.0
   real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
   real(wp), intent(in) :: thickness, density, young, poisson, yield_stress, tangent, beta, dt
   real(wp), intent(inout) :: stress(n, 5, 4 * nip), back(n, 3, 4 * nip), eps_p(n, 4 * nip)
@@ -28,7 +30,7 @@ subroutine full_forces(n, nip, x, v, w, thickness, density, young, poisson, yiel
   real(wp) :: hourglass(n, 10)
   props = shell_properties_t(thickness=thickness, density=density, young=young, poisson=poisson, &
                              integration_points=nip, warping_correction=warping_correction /= 0, &
-                             fully_integrated=.true.)
+                             fully_integrated=.true., failure_strain=failure_strain)
   material = deck_fields_t(material_model=[model], young=[young], poisson=[poisson], yield_stress=[yield_stress], &
                            tangent_modulus=[tangent], hardening_mixing=[beta])
   call material_from_deck(material, 1, props%material)

@@ -13,7 +13,7 @@ end subroutine thickness_points
 
 subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield_stress, tangent, &
                       beta, hourglass_coefficient, model, dt, stress, back, eps_p, hourglass, force, &
-                      e_internal, e_hourglass, inverted, hourglass_form, warping_correction)
+                      e_internal, e_hourglass, inverted, hourglass_form, warping_correction, failure_strain)
   use paradyn_kinds, only: wp
   use shell_section, only: shell_properties_t
   use shell_blt, only: blt_internal_forces
@@ -25,6 +25,8 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   !f2py integer optional, intent(in) :: hourglass_form = 2
   integer, intent(in) :: warping_correction  ! 1 on, 0 off
   !f2py integer optional, intent(in) :: warping_correction = 1
+  real(wp), intent(in) :: failure_strain  ! 0: no point fails (element_erosion)
+  !f2py double precision optional, intent(in) :: failure_strain = 0.0
   real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
   real(wp), intent(in) :: thickness, density, young, poisson, yield_stress, tangent, beta
   real(wp), intent(in) :: hourglass_coefficient, dt
@@ -38,7 +40,8 @@ subroutine blt_forces(n, nip, x, v, w, thickness, density, young, poisson, yield
   real(wp), allocatable :: state(:, :, :)   ! the material member's own state (none for elastic and J2)
   props = shell_properties_t(thickness=thickness, density=density, young=young, poisson=poisson, &
                              hourglass_coefficient=hourglass_coefficient, integration_points=nip, &
-                             hourglass_form=hourglass_form, warping_correction=warping_correction /= 0)
+                             hourglass_form=hourglass_form, warping_correction=warping_correction /= 0, &
+                             failure_strain=failure_strain)
   material = deck_fields_t(material_model=[model], young=[young], poisson=[poisson], yield_stress=[yield_stress], &
                            tangent_modulus=[tangent], hardening_mixing=[beta])
   call material_from_deck(material, 1, props%material)

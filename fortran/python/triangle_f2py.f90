@@ -4,7 +4,7 @@
 
 subroutine triangle_forces(n, nip, x, v, w, thickness, density, young, poisson, yield_stress, tangent, &
                            beta, model, dt, stress, back, eps_p, hourglass, force, e_internal, e_hourglass, &
-                           inverted, dt_element)
+                           inverted, dt_element, failure_strain)
   use paradyn_kinds, only: wp
   use shell_section, only: shell_properties_t
   use shell_c0_triangle, only: c0_triangle_internal_forces
@@ -12,6 +12,8 @@ subroutine triangle_forces(n, nip, x, v, w, thickness, density, young, poisson, 
   use deck_fields, only: deck_fields_t
   implicit none
   integer, intent(in) :: n, nip, model
+  real(wp), intent(in) :: failure_strain  ! 0: no point fails (element_erosion)
+  !f2py double precision optional, intent(in) :: failure_strain = 0.0
   real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
   real(wp), intent(in) :: thickness, density, young, poisson, yield_stress, tangent, beta, dt
   real(wp), intent(inout) :: stress(n, 5, nip), back(n, 3, nip), eps_p(n, nip), hourglass(n, 10)
@@ -21,7 +23,8 @@ subroutine triangle_forces(n, nip, x, v, w, thickness, density, young, poisson, 
   type(shell_properties_t) :: props
   real(wp) :: corner_force(6, 4, n)
   real(wp), allocatable :: state(:, :, :)
-  props = shell_properties_t(thickness=thickness, density=density, young=young, poisson=poisson, integration_points=nip)
+  props = shell_properties_t(thickness=thickness, density=density, young=young, poisson=poisson, integration_points=nip, &
+                             failure_strain=failure_strain)
   call material_from_deck(deck_fields_t(material_model=[model], young=[young], poisson=[poisson], &
                                         yield_stress=[yield_stress], tangent_modulus=[tangent], &
                                         hardening_mixing=[beta]), 1, props%material)

@@ -557,11 +557,25 @@ DATASETS: tuple[DatasetSpec, ...] = (
         '/materials/failure_strain', 'failure_strain', 'float', ('n_materials',), False, None, 'plastic', 0.0,
         Bound(0.0, True), None, 'must be >= 0', None, '', None, False, '-',
         (
-            'effective plastic strain at which a shell element fails: it is eroded (no forces, no time step, its '
-            'mass kept on its nodes) when a through-thickness point reaches it (LS-DYNA MAT_024 FAIL, MAT_003 FS, '
-            'with NUMFIP 1); 0: never fails'
+            'effective plastic strain at which a point fails: it carries no stress from then on, and the element '
+            'is eroded (no forces, no time step, its mass kept on its nodes) once failure_points of its layers '
+            'have failed (LS-DYNA MAT_024 FAIL, MAT_003 FS, *MAT_ADD_EROSION EFFEPS); 0: never fails'
         ), '[[material]] failure_strain',
         'give the failure plastic strain (> 0), or 0 for a material that never fails',
+    ),
+    DatasetSpec(
+        '/materials/failure_points', 'failure_points', 'float', ('n_materials',), False, None, 'plastic', 1.0,
+        None, None, '', None, '', None, False, '-',
+        (
+            "LS-DYNA NUMFIP: the failed layers (through-thickness points; a fully integrated element's layer "
+            'fails with the first of its 4 in-plane points) that erode an element: > 0 that many, -100 to < 0 '
+            "that percentage of the element's layers (rounded up), < -100 |NUMFIP| - 100 of them, 0 the default "
+            "1; at most the element's layers (docs/theory.md, Element erosion)"
+        ), '[[material]] failure_points',
+        (
+            'give the number of failed layers that erodes an element (1 by default), or minus a percentage of its '
+            'layers'
+        ),
     ),
     DatasetSpec(
         '/loads/node', 'load_node', 'int', ('n_loads',), False, 'loads_group', None, None, None, None, '', None,
@@ -1293,6 +1307,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/materials/hardening_curve'): ('required_when', 'class', 'shape', 'rows', 'lower', 'reference'),
     ('dataset', '/materials/rate_curve'): ('required_when', 'class', 'shape', 'rows', 'lower', 'reference'),
     ('dataset', '/materials/failure_strain'): ('class', 'shape', 'rows', 'lower', 'finite'),
+    ('dataset', '/materials/failure_points'): ('class', 'shape', 'rows', 'finite'),
     ('dataset', '/loads/node'): ('required_when', 'class', 'shape', 'reference'),
     ('dataset', '/loads/dof'): ('required_when', 'class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/loads/value'): ('required_when', 'class', 'shape', 'rows', 'finite'),

@@ -42,19 +42,20 @@ module paradyn_schema
       dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
       dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
       dataset_materials_hardening_curve, dataset_materials_rate_curve, dataset_materials_failure_strain, &
-      dataset_loads_node, dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, &
-      dataset_output_tracked_nodes, dataset_contact_pairs, dataset_contact_penalty_scale, &
-      dataset_contact_soft_constraint, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
-      dataset_contact_initial_penetration, dataset_contact_birth_time, dataset_contact_death_time, &
-      dataset_contact_normal_failure_stress, dataset_contact_shear_failure_stress, dataset_rigid_walls_point, &
-      dataset_rigid_walls_normal, dataset_rigid_walls_shape, dataset_rigid_walls_edge, &
-      dataset_rigid_walls_size, dataset_rigid_walls_radius, dataset_rigid_walls_length, &
-      dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, &
-      dataset_rigid_walls_birth_time, dataset_rigid_walls_death_time, dataset_rigid_wall_nodes_wall, &
-      dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, &
-      dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
-      dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
+      dataset_materials_failure_points, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
+      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
+      dataset_contact_penalty_scale, dataset_contact_soft_constraint, dataset_contact_static_friction, &
+      dataset_contact_dynamic_friction, dataset_contact_friction_decay, dataset_contact_passes, &
+      dataset_contact_kind, dataset_contact_initial_penetration, dataset_contact_birth_time, &
+      dataset_contact_death_time, dataset_contact_normal_failure_stress, &
+      dataset_contact_shear_failure_stress, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
+      dataset_rigid_walls_shape, dataset_rigid_walls_edge, dataset_rigid_walls_size, &
+      dataset_rigid_walls_radius, dataset_rigid_walls_length, dataset_rigid_walls_velocity, &
+      dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, dataset_rigid_walls_birth_time, &
+      dataset_rigid_walls_death_time, dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, &
+      dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, &
+      dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, dataset_rigid_bodies_given_mass, &
+      dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
       dataset_rigid_bodies_failure_force, dataset_rigid_bodies_failure_exponent, &
       dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_plastic_strain, &
       dataset_rigid_bodies_failure_node, dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, &
@@ -250,71 +251,72 @@ module paradyn_schema
   integer, parameter :: dataset_materials_hardening_curve = 32
   integer, parameter :: dataset_materials_rate_curve = 33
   integer, parameter :: dataset_materials_failure_strain = 34
-  integer, parameter :: dataset_loads_node = 35
-  integer, parameter :: dataset_loads_dof = 36
-  integer, parameter :: dataset_loads_value = 37
-  integer, parameter :: dataset_loads_ramp_time = 38
-  integer, parameter :: dataset_output_tracked_nodes = 39
-  integer, parameter :: dataset_contact_pairs = 40
-  integer, parameter :: dataset_contact_penalty_scale = 41
-  integer, parameter :: dataset_contact_soft_constraint = 42
-  integer, parameter :: dataset_contact_static_friction = 43
-  integer, parameter :: dataset_contact_dynamic_friction = 44
-  integer, parameter :: dataset_contact_friction_decay = 45
-  integer, parameter :: dataset_contact_passes = 46
-  integer, parameter :: dataset_contact_kind = 47
-  integer, parameter :: dataset_contact_initial_penetration = 48
-  integer, parameter :: dataset_contact_birth_time = 49
-  integer, parameter :: dataset_contact_death_time = 50
-  integer, parameter :: dataset_contact_normal_failure_stress = 51
-  integer, parameter :: dataset_contact_shear_failure_stress = 52
-  integer, parameter :: dataset_rigid_walls_point = 53
-  integer, parameter :: dataset_rigid_walls_normal = 54
-  integer, parameter :: dataset_rigid_walls_shape = 55
-  integer, parameter :: dataset_rigid_walls_edge = 56
-  integer, parameter :: dataset_rigid_walls_size = 57
-  integer, parameter :: dataset_rigid_walls_radius = 58
-  integer, parameter :: dataset_rigid_walls_length = 59
-  integer, parameter :: dataset_rigid_walls_velocity = 60
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 61
-  integer, parameter :: dataset_rigid_walls_friction = 62
-  integer, parameter :: dataset_rigid_walls_birth_time = 63
-  integer, parameter :: dataset_rigid_walls_death_time = 64
-  integer, parameter :: dataset_rigid_wall_nodes_wall = 65
-  integer, parameter :: dataset_rigid_wall_nodes_node = 66
-  integer, parameter :: dataset_rigid_bodies_part = 67
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 68
-  integer, parameter :: dataset_rigid_bodies_prescribed = 69
-  integer, parameter :: dataset_rigid_bodies_velocity = 70
-  integer, parameter :: dataset_rigid_bodies_curve = 71
-  integer, parameter :: dataset_rigid_bodies_given_mass = 72
-  integer, parameter :: dataset_rigid_bodies_given_centre = 73
-  integer, parameter :: dataset_rigid_bodies_given_inertia = 74
-  integer, parameter :: dataset_rigid_bodies_failure_force = 75
-  integer, parameter :: dataset_rigid_bodies_failure_exponent = 76
-  integer, parameter :: dataset_rigid_bodies_failure_time = 77
-  integer, parameter :: dataset_rigid_bodies_failure_plastic_strain = 78
-  integer, parameter :: dataset_rigid_bodies_failure_node = 79
-  integer, parameter :: dataset_rigid_bodies_failure_normal = 80
-  integer, parameter :: dataset_rotation_ties_node = 81
-  integer, parameter :: dataset_rotation_ties_masters = 82
-  integer, parameter :: dataset_rotation_ties_weights = 83
-  integer, parameter :: dataset_curves_first_point = 84
-  integer, parameter :: dataset_curves_time = 85
-  integer, parameter :: dataset_curves_value = 86
-  integer, parameter :: dataset_pressure_part = 87
-  integer, parameter :: dataset_pressure_value = 88
-  integer, parameter :: dataset_pressure_curve = 89
-  integer, parameter :: dataset_prescribed_node = 90
-  integer, parameter :: dataset_prescribed_dof = 91
-  integer, parameter :: dataset_prescribed_value = 92
-  integer, parameter :: dataset_prescribed_curve = 93
-  integer, parameter :: dataset_prescribed_birth_time = 94
-  integer, parameter :: dataset_prescribed_death_time = 95
-  integer, parameter :: dataset_base_accelerations_direction = 96
-  integer, parameter :: dataset_base_accelerations_value = 97
-  integer, parameter :: dataset_base_accelerations_curve = 98
-  integer, parameter :: n_deck_datasets = 98
+  integer, parameter :: dataset_materials_failure_points = 35
+  integer, parameter :: dataset_loads_node = 36
+  integer, parameter :: dataset_loads_dof = 37
+  integer, parameter :: dataset_loads_value = 38
+  integer, parameter :: dataset_loads_ramp_time = 39
+  integer, parameter :: dataset_output_tracked_nodes = 40
+  integer, parameter :: dataset_contact_pairs = 41
+  integer, parameter :: dataset_contact_penalty_scale = 42
+  integer, parameter :: dataset_contact_soft_constraint = 43
+  integer, parameter :: dataset_contact_static_friction = 44
+  integer, parameter :: dataset_contact_dynamic_friction = 45
+  integer, parameter :: dataset_contact_friction_decay = 46
+  integer, parameter :: dataset_contact_passes = 47
+  integer, parameter :: dataset_contact_kind = 48
+  integer, parameter :: dataset_contact_initial_penetration = 49
+  integer, parameter :: dataset_contact_birth_time = 50
+  integer, parameter :: dataset_contact_death_time = 51
+  integer, parameter :: dataset_contact_normal_failure_stress = 52
+  integer, parameter :: dataset_contact_shear_failure_stress = 53
+  integer, parameter :: dataset_rigid_walls_point = 54
+  integer, parameter :: dataset_rigid_walls_normal = 55
+  integer, parameter :: dataset_rigid_walls_shape = 56
+  integer, parameter :: dataset_rigid_walls_edge = 57
+  integer, parameter :: dataset_rigid_walls_size = 58
+  integer, parameter :: dataset_rigid_walls_radius = 59
+  integer, parameter :: dataset_rigid_walls_length = 60
+  integer, parameter :: dataset_rigid_walls_velocity = 61
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 62
+  integer, parameter :: dataset_rigid_walls_friction = 63
+  integer, parameter :: dataset_rigid_walls_birth_time = 64
+  integer, parameter :: dataset_rigid_walls_death_time = 65
+  integer, parameter :: dataset_rigid_wall_nodes_wall = 66
+  integer, parameter :: dataset_rigid_wall_nodes_node = 67
+  integer, parameter :: dataset_rigid_bodies_part = 68
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 69
+  integer, parameter :: dataset_rigid_bodies_prescribed = 70
+  integer, parameter :: dataset_rigid_bodies_velocity = 71
+  integer, parameter :: dataset_rigid_bodies_curve = 72
+  integer, parameter :: dataset_rigid_bodies_given_mass = 73
+  integer, parameter :: dataset_rigid_bodies_given_centre = 74
+  integer, parameter :: dataset_rigid_bodies_given_inertia = 75
+  integer, parameter :: dataset_rigid_bodies_failure_force = 76
+  integer, parameter :: dataset_rigid_bodies_failure_exponent = 77
+  integer, parameter :: dataset_rigid_bodies_failure_time = 78
+  integer, parameter :: dataset_rigid_bodies_failure_plastic_strain = 79
+  integer, parameter :: dataset_rigid_bodies_failure_node = 80
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 81
+  integer, parameter :: dataset_rotation_ties_node = 82
+  integer, parameter :: dataset_rotation_ties_masters = 83
+  integer, parameter :: dataset_rotation_ties_weights = 84
+  integer, parameter :: dataset_curves_first_point = 85
+  integer, parameter :: dataset_curves_time = 86
+  integer, parameter :: dataset_curves_value = 87
+  integer, parameter :: dataset_pressure_part = 88
+  integer, parameter :: dataset_pressure_value = 89
+  integer, parameter :: dataset_pressure_curve = 90
+  integer, parameter :: dataset_prescribed_node = 91
+  integer, parameter :: dataset_prescribed_dof = 92
+  integer, parameter :: dataset_prescribed_value = 93
+  integer, parameter :: dataset_prescribed_curve = 94
+  integer, parameter :: dataset_prescribed_birth_time = 95
+  integer, parameter :: dataset_prescribed_death_time = 96
+  integer, parameter :: dataset_base_accelerations_direction = 97
+  integer, parameter :: dataset_base_accelerations_value = 98
+  integer, parameter :: dataset_base_accelerations_curve = 99
+  integer, parameter :: n_deck_datasets = 99
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -615,6 +617,10 @@ module paradyn_schema
         condition_none, condition_plastic, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, &
         enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', &
         'give the failure plastic strain (> 0), or 0 for a material that never fails'), &
+    dataset_spec_t('/materials/failure_points', class_float, 0, size_n_materials, .false., .false., &
+        condition_none, condition_plastic, 1.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, &
+        enum_none, 0, [0, 0, 0, 0, 0, 0, 0], size_none, '', '', &
+        'give the number of failed layers that erodes an element (1 by default), or minus a percentage of its layers'), &
     dataset_spec_t('/loads/node', class_int, 0, size_n_loads, .true., .false., condition_loads_group, &
         condition_none, 0.0_wp, .false., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, 0, &
         [0, 0, 0, 0, 0, 0, 0], size_n_nodes, '', '', 'give the index of the loaded node'), &

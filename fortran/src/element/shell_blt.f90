@@ -19,6 +19,7 @@ module shell_blt
   use shell_warping, only: warp_heights, warp_curvature, warp_twist_moment
   use shell_measures, only: frame_time_steps
   use material_model, only: max_state_words
+  use element_erosion, only: zero_failed_points
   implicit none
   private
   public :: blt_internal_forces, frames, check_end_frames
@@ -156,14 +157,18 @@ contains
             end do
           end if
           eps_p(o + 1:o + m, k) = merge(ep(1:m), eps_p(o + 1:o + m, k), area_mid(1:m) > 0.0_ek)
-          call tangent_work(m, wgt(k), props, deps, stress(o + 1:o + m, 1:3, k), sp, actual_work, elastic_work)
         end if
-        wz = wgt(k) * half_t
-        wzz = wgt(k) * half_t * (zeta(k) * half_t)
-        ! one pass: shear, work, the write-back and the point's share of the resultants
-        do i = 1, m
+        do i = 1, m   ! the transverse shear, elastic
           sp(i, 4) = stress(o + i, 4, k) + shear_step * rates(i, 7)
           sp(i, 5) = stress(o + i, 5, k) + shear_step * rates(i, 8)
+        end do
+        ! a failed point carries no stress (element_erosion)
+        if (props%failure_strain > 0.0_wp) call zero_failed_points(m, props%failure_strain, eps_p(o + 1:o + m, k), sp)
+        if (history) call tangent_work(m, wgt(k), props, deps, stress(o + 1:o + m, 1:3, k), sp, actual_work, elastic_work)
+        wz = wgt(k) * half_t
+        wzz = wgt(k) * half_t * (zeta(k) * half_t)
+        ! one pass: work, the write-back and the point's share of the resultants
+        do i = 1, m
           work(i) = work(i) + wz * ( &
                     (0.5_ek * (stress(o + i, 1, k) + sp(i, 1)) * deps(i, 1) &
                      + 0.5_ek * (stress(o + i, 2, k) + sp(i, 2)) * deps(i, 2) &

@@ -23,6 +23,7 @@ module shell_c0_triangle
   use shell_hourglass, only: drilling_penalty
   use shell_measures, only: triangle_frame_time_steps
   use material_model, only: max_state_words
+  use element_erosion, only: zero_failed_points
   implicit none
   private
   public :: c0_triangle_internal_forces
@@ -173,11 +174,15 @@ contains
         end if
         eps_p(o + 1:o + m, k) = merge(ep(1:m), eps_p(o + 1:o + m, k), area_mid(1:m) > 0.0_ek)
       end if
+      do i = 1, m   ! the transverse shear, elastic
+        sp(i, 4) = stress(o + i, 4, k) + shear_step * rates(i, 7)
+        sp(i, 5) = stress(o + i, 5, k) + shear_step * rates(i, 8)
+      end do
+      ! a failed point carries no stress (element_erosion)
+      if (props%failure_strain > 0.0_wp) call zero_failed_points(m, props%failure_strain, eps_p(o + 1:o + m, k), sp)
       wz = wgt * half_t
       wzz = wgt * half_t * z
       do i = 1, m
-        sp(i, 4) = stress(o + i, 4, k) + shear_step * rates(i, 7)
-        sp(i, 5) = stress(o + i, 5, k) + shear_step * rates(i, 8)
         work(i) = work(i) + wz * ( &
                   (0.5_ek * (stress(o + i, 1, k) + sp(i, 1)) * deps(i, 1) &
                    + 0.5_ek * (stress(o + i, 2, k) + sp(i, 2)) * deps(i, 2) &

@@ -32,6 +32,7 @@ module shell_full
   use shell_warping, only: warp_heights, warp_curvature, warp_twist_moment
   use shell_measures, only: frame_time_steps
   use material_model, only: max_state_words
+  use element_erosion, only: zero_failed_points
   use shell_full_points, only: full_points, point_geometry, point_rates, nodal_forces
   implicit none
   private
@@ -237,10 +238,16 @@ contains
           end if
           eps_p(o + 1:o + m, p) = merge(ep((g - 1) * m + 1:g * m), eps_p(o + 1:o + m, p), area_mid(1:m) > 0.0_ek)
         end if
-        do i = 1, m
+        do i = 1, m   ! the transverse shear, elastic
           j = (g - 1) * m + i
           sp(j, 4) = stress(o + i, 4, p) + shear_step * rates(i, 7, g)
           sp(j, 5) = stress(o + i, 5, p) + shear_step * rates(i, 8, g)
+        end do
+        ! a failed point carries no stress (element_erosion)
+        if (props%failure_strain > 0.0_wp) &
+          call zero_failed_points(m, props%failure_strain, eps_p(o + 1:o + m, p), sp((g - 1) * m + 1:g * m, :))
+        do i = 1, m
+          j = (g - 1) * m + i
           work(i, g) = work(i, g) + wz * ( &
                        (0.5_ek * (stress(o + i, 1, p) + sp(j, 1)) * deps(j, 1) &
                         + 0.5_ek * (stress(o + i, 2, p) + sp(j, 2)) * deps(j, 2) &

@@ -41,8 +41,10 @@ module shell_section
     logical :: fully_integrated = .false.
     logical :: rigid = .false.          !< a rigid part: no element forces, no step of its own
     logical :: surface_only = .false.   !< the faces of a rigid solid: no mass of their own
-    !> the material's failure strain (element_erosion): an element whose point reaches it is eroded; 0: never
+    !> the material's failure strain (element_erosion): a point that reaches it fails; 0: never
     real(wp) :: failure_strain = 0.0_wp
+    !> the failed layers that erode an element (element_erosion.failed_layers_needed of NUMFIP)
+    integer :: failure_layers = 1
     !> a truss part (element/truss_element): 2-node bars of cross-section `area`, one stress point
     logical :: truss = .false.
     real(wp) :: area = 0.0_wp

@@ -22,6 +22,7 @@ module truss_element
   use element_groups, only: group_size
   use shell_section, only: shell_properties_t, stress_components
   use material_model, only: max_state_words
+  use element_erosion, only: point_failed
   implicit none
   private
   public :: truss_internal_forces, truss_lumped_mass, truss_stable_time_step, truss_length
@@ -71,6 +72,8 @@ contains
       if (ns > 0) stp(1:m, 1:ns) = state(o + 1:o + m, 1:ns, 1)
       call props%material%update_uniaxial(m, real(dt_step, ek), sp(1:m), bp(1:merge(m, 0, kinematic)), ep(1:m), &
                                           stp(1:m, 1:ns), deps(1:m))
+      ! a failed point carries no stress (element_erosion; the truss's one point erodes it too)
+      if (props%failure_strain > 0.0_wp) where (point_failed(ep(1:m), props%failure_strain)) sp(1:m) = 0.0_ek
       do i = 1, m
         e_internal(o + i) = e_internal(o + i) + props%area * 0.5_wp * real(stress(o + i, 1, 1) + sp(i), wp) * change(i)
         stress(o + i, 1, 1) = sp(i)

@@ -19,11 +19,12 @@ module deck_fields
                             dataset_materials_hardening_mixing, dataset_materials_rate_c, &
                             dataset_materials_rate_p, dataset_materials_hardening_curve, &
                             dataset_materials_rate_curve, dataset_materials_failure_strain, &
-                            dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
-                            dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
-                            dataset_contact_penalty_scale, dataset_contact_soft_constraint, &
-                            dataset_contact_static_friction, dataset_contact_dynamic_friction, &
-                            dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+                            dataset_materials_failure_points, dataset_loads_node, dataset_loads_dof, &
+                            dataset_loads_value, dataset_loads_ramp_time, dataset_output_tracked_nodes, &
+                            dataset_contact_pairs, dataset_contact_penalty_scale, &
+                            dataset_contact_soft_constraint, dataset_contact_static_friction, &
+                            dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
+                            dataset_contact_passes, dataset_contact_kind, &
                             dataset_contact_initial_penetration, dataset_contact_birth_time, &
                             dataset_contact_death_time, dataset_contact_normal_failure_stress, &
                             dataset_contact_shear_failure_stress, dataset_rigid_walls_point, &
@@ -110,6 +111,7 @@ module deck_fields
     integer, allocatable :: hardening_curve(:)   !< /materials/hardening_curve (n_materials) -
     integer, allocatable :: rate_curve(:)   !< /materials/rate_curve (n_materials) -
     real(wp), allocatable :: failure_strain(:)   !< /materials/failure_strain (n_materials) -
+    real(wp), allocatable :: failure_points(:)   !< /materials/failure_points (n_materials) -
     integer, allocatable :: load_node(:)   !< /loads/node (n_loads) -
     integer, allocatable :: load_dof(:)   !< /loads/dof (n_loads) -
     real(wp), allocatable :: load_value(:)   !< /loads/value (n_loads) N or N m
@@ -333,6 +335,8 @@ contains
       d%rate_curve = indices(1, :)
     case (dataset_materials_failure_strain)
       d%failure_strain = values(1, :)
+    case (dataset_materials_failure_points)
+      d%failure_points = values(1, :)
     end select
   end subroutine store_materials
 

@@ -16,6 +16,7 @@ module model_deck
                             precision_double, precision_mixed, element_kind_is_truss, shell_element_full
   use deck_fields, only: deck_fields_t, store_dataset, store_control
   use material_factory, only: material_from_deck
+  use element_erosion, only: failed_layers_needed
   implicit none
   private
   public :: deck_t, part_properties, partition_default, engine_precision
@@ -67,6 +68,7 @@ contains
     if (material_is_plastic(deck%material_model(m))) then
       props%hourglass_yield = deck%yield_stress(m)
       props%failure_strain = deck%failure_strain(m)
+      props%failure_layers = failed_layers_needed(deck%failure_points(m), props%integration_points)
     end if
     call material_from_deck(deck, m, props%material)
   end function part_properties

@@ -49,7 +49,8 @@ contains
       do i = 1, s%dom%group_count(g)
         e = s%dom%group_first(g) + i - 1
         if (s%eroded_known(e)) cycle
-        if (element_eroded(s%elements%groups(g)%eps_p(i, :), s%props(p)%failure_strain)) n_new = n_new + 1
+        if (element_eroded(s%elements%groups(g)%eps_p(i, :), s%props(p)%failure_strain, &
+                           s%props(p)%integration_points, s%props(p)%failure_layers)) n_new = n_new + 1
       end do
     end do
     total = n_new
@@ -63,7 +64,8 @@ contains
       do i = 1, s%dom%group_count(g)
         e = s%dom%group_first(g) + i - 1
         if (s%eroded_known(e)) cycle
-        if (.not. element_eroded(s%elements%groups(g)%eps_p(i, :), s%props(p)%failure_strain)) cycle
+        if (.not. element_eroded(s%elements%groups(g)%eps_p(i, :), s%props(p)%failure_strain, &
+                           s%props(p)%integration_points, s%props(p)%failure_layers)) cycle
         s%eroded_known(e) = .true.
         n_new = n_new + 1
         mine(n_new) = s%dom%elements(e)

@@ -104,7 +104,8 @@ contains
       call gather_group(n, first, s%dom%connectivity, s%nodes%w, s%workspace(ow, tid))
       erodes = s%props(p)%failure_strain > 0.0_wp   ! element_erosion: a part whose material fails
       associate (gs => s%elements%groups(g))
-        if (erodes) call erosion_before(n, gs%eps_p, s%props(p)%failure_strain, s%dom%group_triangle(g), &
+        if (erodes) call erosion_before(n, gs%eps_p, s%props(p)%failure_strain, s%props(p)%integration_points, &
+                                        s%props(p)%failure_layers, s%dom%group_triangle(g), &
                                         s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
                                         s%elements%e_internal(first), s%elements%e_hourglass(first), e_kept)
         if (s%props(p)%truss) then
@@ -128,7 +129,8 @@ contains
                                    s%corner(1, 4 * first - 3), s%elements%e_internal(first), s%elements%e_hourglass(first), &
                                    inverted, s%elements%dt_element(first))
         end if
-        if (erodes) call erosion_after(n, gs%eps_p, s%props(p)%failure_strain, e_kept, gs%stress, gs%back, &
+        if (erodes) call erosion_after(n, gs%eps_p, s%props(p)%failure_strain, s%props(p)%integration_points, &
+                                       s%props(p)%failure_layers, e_kept, gs%stress, gs%back, &
                                        gs%hourglass, s%corner(1, 4 * first - 3), s%elements%e_internal(first), &
                                        s%elements%e_hourglass(first), s%elements%dt_element(first))
       end associate

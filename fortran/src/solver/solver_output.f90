@@ -126,8 +126,10 @@ contains
     integer :: g
     count = 0
     do g = 1, s%dom%n_groups
-      count = count + eroded_count(s%dom%group_count(g), s%elements%groups(g)%eps_p, &
-                                   s%props(s%dom%group_part(g))%failure_strain)
+      associate (props => s%props(s%dom%group_part(g)))
+        count = count + eroded_count(s%dom%group_count(g), s%elements%groups(g)%eps_p, props%failure_strain, &
+                                     props%integration_points, props%failure_layers)
+      end associate
     end do
   end function eroded_elements
 

@@ -48,6 +48,7 @@ class DeckFields:
     hardening_curve: np.ndarray | None = None   # /materials/hardening_curve (n_materials,) -
     rate_curve: np.ndarray | None = None   # /materials/rate_curve (n_materials,) -
     failure_strain: np.ndarray | None = None   # /materials/failure_strain (n_materials,) -
+    failure_points: np.ndarray | None = None   # /materials/failure_points (n_materials,) -
     load_node: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))   # /loads/node (n_loads,) -
     load_dof: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))   # /loads/dof (n_loads,) -
     load_value: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float64))

@@ -13,6 +13,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
 from .defaults import apply_zero_defaults
+from .erosion import EROSION_READERS
 from .reader import Block, Field, KeywordError, KeywordFile, Line, Value, fields, layout
 from .rigid_cards import WELD_READERS, part_inertia_reader
 from .walls import WALL_READERS
@@ -431,6 +432,7 @@ for _title in ("", "_TITLE"):
         for _list in ("", "_LIST", "_LIST_GENERATE"):
             READERS[f"SET_{_target}{_list}{_title}"] = _set(_target)
 READERS.update(WALL_READERS)   # *RIGIDWALL_PLANAR and _GEOMETRIC (keyword/walls.py)
+READERS.update(EROSION_READERS)   # *MAT_ADD_EROSION (keyword/erosion.py)
 
 
 def collect(deck: KeywordFile, readers: dict[str, Callable[[_Reading], None]] | None = None) -> KeywordData:

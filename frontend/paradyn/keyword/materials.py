@@ -3,7 +3,8 @@
 MAT 1 is elastic; MAT 3 is j2_plasticity, or j2_rate with SRC and SRP; MAT 24 (and MAT 81, read
 as MAT 24 without its damage) is piecewise_linear, or piecewise_linear_rate with C and P, its
 curves (LCSS or the EPS/ES pairs, LCSR) becoming scene curves that the material names. MAT 3's FS
-and MAT 24's FAIL are the failure strain (element erosion, docs/theory.md).
+and MAT 24's FAIL are the failure strain (element erosion, docs/theory.md); *MAT_ADD_EROSION's
+EFFEPS and NUMFIP add to them (keyword/erosion.py).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from paradyn.scene.building import set_curves
 from paradyn.scene.specs import CurveSpec, MaterialSpec, Scene
 
 from .cards import KeywordData, Record
+from .erosion import apply_erosion
 from .reader import KeywordError
 from .units import Units
 
@@ -28,6 +30,8 @@ def material_of(mid: int, data: KeywordData, unit: Units, curves: list[CurveSpec
     spec = _material(mid, "rigid" if rigid else model, cards, unit)
     if spec.model == "piecewise_linear":
         _piecewise(mid, data, unit, spec, curves)
+    if not rigid:
+        apply_erosion(mid, data, spec)   # *MAT_ADD_EROSION: EFFEPS and NUMFIP
     return spec
 
 

@@ -25,6 +25,7 @@ from paradyn.scene.specs import CurveSpec, MaterialSpec, PartSpec, RunSettings, 
 from .beams import beam_pids, beam_thickness, truss_part_spec
 from .cards import KeywordData, Record, with_warnings
 from .contacts import contact_specs
+from .erosion import warn_unused_erosions
 from .ids import in_deck_ids
 from .keywords import collect
 from .loads import apply_loads, set_velocities
@@ -185,6 +186,7 @@ def _parts_and_materials(data: KeywordData, unit: Units, mesh: KeywordMesh,
     taken: set[str] = set()
     base_names: dict[int, str] = {}
     trusses = beam_pids(data)
+    warn_unused_erosions(data, {int(by_pid[pid]["MID"] or 0) for pid in mesh.part_ids.tolist()})
     for index, pid in enumerate(mesh.part_ids.tolist()):
         record = by_pid[pid]
         mid = int(record["MID"] or 0)
