@@ -58,7 +58,7 @@ contains
                                          yield0, tangent, beta)
     real(ek), intent(inout) :: stress(3), back(3), eps_p
     real(ek), intent(in) :: dstrain(3), young, poisson, yield0, tangent, beta
-    real(ek) :: h, h_iso, h_kin, shear, c1, c2, a1t, a2t, a3t, psi_trial, sy, k0
+    real(ek) :: h, h_iso, h_kin, shear, c1, c2, a1t, a2t, a3t, psi_trial, q0, k0
     real(ek) :: dgamma, lo, hi, f, df, psi, s1, s2, a1, a2, a3
     real(ek) :: xi(3)
     integer :: iter
@@ -68,8 +68,8 @@ contains
     h = young * tangent / (young - tangent)
     h_iso = beta * h
     h_kin = (1.0_ek - beta) * h
-    sy = yield0 + h_iso * eps_p
-    if (von_mises_plane_stress(xi) <= sy) return
+    k0 = yield0 + h_iso * eps_p
+    if (von_mises_plane_stress(xi) <= k0) return
 
     shear = young / (2.0_ek * (1.0_ek + poisson))
     c1 = young / (3.0_ek * (1.0_ek - poisson)) + 2.0_ek * h_kin / 3.0_ek
@@ -79,13 +79,14 @@ contains
     a3t = xi(3)
     psi_trial = a1t**2 / 3.0_ek + a2t**2 + 2.0_ek * a3t**2
 
+    q0 = sqrt(1.5_ek * psi_trial)
+
     ! g(dgamma) = k0 / q + (2/3) H_iso dgamma - 1 rises from g(0) < 0 (return_points)
-    k0 = yield0 + h_iso * eps_p
     lo = 0.0_ek
-    hi = upper_bound(sqrt(1.5_ek * psi_trial), k0, min(c1, c2))
+    hi = upper_bound(q0, k0, min(c1, c2))
     ! Newton's first step from 0, from the trial alone (return_points)
-    dgamma = (sqrt(1.5_ek * psi_trial) - k0) / (k0 * (a1t**2 / 3.0_ek * c1 + (a2t**2 + 2.0_ek * a3t**2) * c2) / psi_trial &
-                                                + 2.0_ek / 3.0_ek * h_iso * sqrt(1.5_ek * psi_trial))
+    dgamma = (q0 - k0) / (k0 * (a1t**2 / 3.0_ek * c1 + (a2t**2 + 2.0_ek * a3t**2) * c2) / psi_trial &
+                          + 2.0_ek / 3.0_ek * h_iso * q0)
     do iter = 1, 100
       call evaluate(dgamma, f, df)
       if (f < 0.0_ek) then

@@ -41,16 +41,12 @@ contains
     type(solver_t), intent(inout) :: s
     integer, allocatable :: mine(:), dead(:)
     real(wp), allocatable :: corner(:, :), live(:, :)
-    integer :: g, i, e, p, n_new, total
+    integer :: g, i, e, n_new, total
     n_new = 0
     do g = 1, s%dom%n_groups
-      p = s%dom%group_part(g)
-      if (.not. (s%props(p)%failure_strain > 0.0_wp) .or. s%props(p)%rigid) cycle
+      if (.not. can_erode(g)) cycle
       do i = 1, s%dom%group_count(g)
-        e = s%dom%group_first(g) + i - 1
-        if (s%eroded_known(e)) cycle
-        if (element_eroded(s%elements%groups(g)%eps_p(i, :), s%props(p)%failure_strain, &
-                           s%props(p)%integration_points, s%props(p)%failure_layers)) n_new = n_new + 1
+        if (newly_eroded(g, i)) n_new = n_new + 1
       end do
     end do
     total = n_new
@@ -59,13 +55,10 @@ contains
     allocate (mine(n_new))
     n_new = 0
     do g = 1, s%dom%n_groups
-      p = s%dom%group_part(g)
-      if (.not. (s%props(p)%failure_strain > 0.0_wp) .or. s%props(p)%rigid) cycle
+      if (.not. can_erode(g)) cycle
       do i = 1, s%dom%group_count(g)
+        if (.not. newly_eroded(g, i)) cycle
         e = s%dom%group_first(g) + i - 1
-        if (s%eroded_known(e)) cycle
-        if (.not. element_eroded(s%elements%groups(g)%eps_p(i, :), s%props(p)%failure_strain, &
-                           s%props(p)%integration_points, s%props(p)%failure_layers)) cycle
         s%eroded_known(e) = .true.
         n_new = n_new + 1
         mine(n_new) = s%dom%elements(e)
@@ -90,6 +83,25 @@ contains
     end do
     s%dead_known = live(1, :) == 0.0_wp .and. live(2, :) > 0.0_wp
     call contact_erosion_found(s%contact%c, every_rank(s, mine), every_rank(s, dead(1:n_new)))
+
+  contains
+
+    !> Group g's part can erode (a deformable part with a failure strain).
+    logical function can_erode(g)
+      integer, intent(in) :: g
+      can_erode = s%props(s%dom%group_part(g))%failure_strain > 0.0_wp .and. .not. s%props(s%dom%group_part(g))%rigid
+    end function can_erode
+
+    !> Element i of group g has eroded and the contact does not know it yet.
+    logical function newly_eroded(g, i)
+      integer, intent(in) :: g, i
+      associate (props => s%props(s%dom%group_part(g)))
+        newly_eroded = .not. s%eroded_known(s%dom%group_first(g) + i - 1)
+        if (newly_eroded) newly_eroded = element_eroded(s%elements%groups(g)%eps_p(i, :), props%failure_strain, &
+                                                        props%integration_points, props%failure_layers)
+      end associate
+    end function newly_eroded
+
   end subroutine eroded_contact_step
 
   !> Every rank's values, in rank order (this rank's alone on one rank).
