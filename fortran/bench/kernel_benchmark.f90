@@ -1,4 +1,7 @@
-!> paradyn-kernel-benchmark [ELEMENTS] [CYCLES]
+!> paradyn-kernel-benchmark [ELEMENTS] [CYCLES] [ONLY]
+!>
+!> ONLY, when given, runs only the lines whose label contains it (e.g. 'fully integrated', or
+!> 'update' for the stress update alone): a profiler then sees one case.
 !>
 !> Times the BLT element kernel alone, single thread, on groups of the engine's size: an elastic
 !> section (with and without the warping correction), a J2-plastic section that yields and a
@@ -26,6 +29,7 @@ program kernel_benchmark
   integer :: n_elements, n_cycles, n_groups
   integer :: triangle_every = 0   !< every this many groups is one of triangles (0: none)
   character(len=32) :: arg
+  character(len=64) :: only = ''   !< run only the lines whose label contains this (empty: all)
   type(shell_properties_t) :: props
   integer :: seed_size, s
   character(len=48) :: names(5)
@@ -43,6 +47,7 @@ program kernel_benchmark
     call get_command_argument(2, arg)
     read (arg, *) n_cycles
   end if
+  if (command_argument_count() >= 3) call get_command_argument(3, only)
   n_groups = max(1, n_elements / group_size)
   call random_seed(size=seed_size)   ! the same elements every run: the state bits compare builds
   seed = [(1234567 + 7919 * s, s = 1, seed_size)]
@@ -86,6 +91,7 @@ program kernel_benchmark
   call report('plastic, piecewise_linear_rate (curve, Cowper-Symonds): ', props)
   ! the stress update alone: the members in turn, 5 rounds; the least time of each (a shared
   ! machine only ever adds time) and its ratio to its J2 twin's
+  if (.not. selected('stress update alone')) stop
   names = [character(len=48) :: 'j2_plasticity (perfectly plastic)', 'j2_plasticity (Et = 2 GPa)', 'j2_rate', &
            'piecewise_linear (4-point curve)', 'piecewise_linear_rate (curve, Cowper-Symonds)']
   twin = [0, 0, 0, 2, 3]
@@ -169,11 +175,17 @@ contains
     if (minval(eps_p) <= 0.0_ek) ns = -1.0_wp
   end function point_update
 
+  logical function selected(label)
+    character(len=*), intent(in) :: label
+    selected = len_trim(only) == 0 .or. index(label, trim(only)) > 0
+  end function selected
+
   subroutine report(label, p)
     character(len=*), intent(in) :: label
     type(shell_properties_t), intent(in) :: p
     real(wp) :: us(2)
     integer(i8) :: bits
+    if (.not. selected(label)) return
     us = time_per_element_cycle(p, bits)
     write (*, '(a,f8.4,a,f8.4,a,z16.16)') label, us(1), ' us per element-cycle (', us(2), &
       ' us CPU time), state bits ', bits
@@ -196,7 +208,9 @@ contains
     real(wp) :: cpu0, cpu1
     allocate (x(group_size, 3, 4, n_groups), v(group_size, 3, 4, n_groups), w(group_size, 3, 4, n_groups))
     pts = 5 * merge(4, 1, p%fully_integrated)   ! stored points: a fully integrated element's 4 in-plane
-    allocate (stress(group_size, stress_components, pts, n_groups), back(group_size, 3, pts, n_groups))
+    ! the back stress only where the material keeps one, as element_state allocates it
+    allocate (stress(group_size, stress_components, pts, n_groups))
+    allocate (back(group_size, 3, p%material%back_stress_points(pts), n_groups))
     allocate (eps_p(group_size, pts, n_groups), hg(group_size, hourglass_components, n_groups))
     allocate (state(group_size, p%material%state_width(), pts, n_groups), source=0.0_ek)
     allocate (e_int(group_size, n_groups), e_hg(group_size, n_groups), force(6, 4, group_size))

@@ -57,7 +57,7 @@ contains
     real(ek), intent(inout) :: stress(n, stress_components, props%integration_points)
     real(ek), intent(inout) :: back(n, 3, back_stress_points(props))
     real(ek), intent(inout) :: eps_p(n, props%integration_points)
-    real(ek), intent(inout) :: state(:, :, :)   !< (n, the material's state words, points)
+    real(ek), intent(inout), contiguous :: state(:, :, :)   !< (n, the material's state words, points)
     real(ek), intent(inout) :: hourglass(n, hourglass_components)
     real(wp), intent(out) :: force(6, 4, n)
     real(wp), intent(inout) :: e_internal(n), e_hourglass(n)

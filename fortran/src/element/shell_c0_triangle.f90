@@ -42,7 +42,7 @@ contains
     real(ek), intent(inout) :: stress(n, stress_components, props%integration_points)
     real(ek), intent(inout) :: back(n, 3, back_stress_points(props))
     real(ek), intent(inout) :: eps_p(n, props%integration_points)
-    real(ek), intent(inout) :: state(:, :, :)
+    real(ek), intent(inout), contiguous :: state(:, :, :)
     real(ek), intent(inout) :: hourglass(n, hourglass_components)
     real(wp), intent(out) :: force(6, 4, n)
     real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
@@ -130,7 +130,8 @@ contains
     type(shell_properties_t), intent(in) :: props
     real(ek), intent(in) :: dt, rates(group_size, 8), area_mid(group_size)
     real(ek), intent(inout) :: stress(n, stress_components, props%integration_points)
-    real(ek), intent(inout) :: back(:, :, :), eps_p(n, props%integration_points), state(:, :, :)
+    real(ek), intent(inout), contiguous :: back(:, :, :), state(:, :, :)
+    real(ek), intent(inout) :: eps_p(n, props%integration_points)
     real(ek), intent(out) :: res(group_size, 8), work(group_size)
     real(wp) :: zeta_wp(max_integration_points), wgt_wp(max_integration_points)
     real(ek) :: zeta, wgt, half_t, shear_step, z, wz, wzz, s1, s2, s3, s4, s5

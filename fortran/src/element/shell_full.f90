@@ -52,9 +52,9 @@ contains
     type(shell_properties_t), intent(in) :: props
     real(wp), intent(in) :: dt_step
     real(ek), intent(inout) :: stress(n, stress_components, full_points * props%integration_points)
-    real(ek), intent(inout) :: back(:, :, :)   !< (n, 3, all points), or no points without kinematic hardening
+    real(ek), intent(inout), contiguous :: back(:, :, :)   !< (n, 3, all points), or no points without kinematic hardening
     real(ek), intent(inout) :: eps_p(n, full_points * props%integration_points)
-    real(ek), intent(inout) :: state(:, :, :)   !< (n, the material's state words, all points)
+    real(ek), intent(inout), contiguous :: state(:, :, :)   !< (n, the material's state words, all points)
     real(ek), intent(inout) :: hourglass(n, hourglass_components)   !< 6:9: the drilling moments
     real(wp), intent(out) :: force(6, 4, n)
     real(wp), intent(inout) :: e_internal(n)
@@ -184,7 +184,8 @@ contains
     type(shell_properties_t), intent(in) :: props
     real(ek), intent(in) :: dt, zeta(:), wgt(:), rates(group_size, 8, 4), area_mid(group_size)
     real(ek), intent(inout) :: stress(n, stress_components, full_points * props%integration_points)
-    real(ek), intent(inout) :: back(:, :, :), eps_p(n, full_points * props%integration_points), state(:, :, :)
+    real(ek), intent(inout), contiguous :: back(:, :, :), state(:, :, :)
+    real(ek), intent(inout) :: eps_p(n, full_points * props%integration_points)
     real(ek), intent(out) :: res(group_size, 8, 4), work(group_size, 4)
     real(ek) :: sp(full_points * group_size, stress_components), deps(full_points * group_size, 3)
     real(ek) :: bp(full_points * group_size, 3), ep(full_points * group_size)
