@@ -30,15 +30,18 @@ V = 20.0
 
 
 def _run(tmp_path: Path, limit: float):
+    """The plates with the travel limit ``limit`` and the automatic closing limit off (its own
+    tests: tests/test_contact_closing.py)."""
     a = M.flat_plate((0.1, 0.1), (6, 6), origin=(0.0, 0.0, -0.5 * (T + 1.0e-4)))
     b = geometry.Mesh(coordinates=a.coordinates * np.array([1.0, 1.0, -1.0]), quads=a.quads[:, ::-1].copy())
-    control = Control(end_time=3.0e-5, output_interval=1.0e-5, history_interval=2.5e-7, contact_travel_limit=limit)
+    control = Control(end_time=3.0e-5, output_interval=1.0e-5, history_interval=2.5e-7, contact_travel_limit=limit,
+                      contact_closing_limit=0.0)
     asm = M.contact_model([M.Body(a, T, (0, 0, V)), M.Body(b, T, (0, 0, -V))], STEEL, control,
                           tracked=[24, a.n_nodes + 24])
     return M.run(asm.model, tmp_path).results
 
 
-def test_without_the_limit_the_thin_plates_pass_through(tmp_path: Path) -> None:
+def test_without_a_limit_the_thin_plates_pass_through(tmp_path: Path) -> None:
     h = _run(tmp_path, 0.0).history
     z = h["tracked_displacement"][:, :, 2]
     assert h["dt"][0] > 10 * (0.1 * T / (2.0 * V))

@@ -2,10 +2,12 @@
 walls of t = 0.08 mm (the thin_1000 pipes' wall), crossed at right angles and meeting edge first at
 20 m/s at the automatic step. Strip A hangs in the x-z plane above strip B, which stands in the y-z
 plane; their element edges cross between the nodes (every node is half an element, 1 mm, from the
-crossing), so no node ever comes within reach of the other strip's surface. The run has the
-automatic step with the contact travel limit 0.1 (docs/scene.md), the configuration the stability
-suite's thin walls use: without it a node moves 0.085 t a step and the edge contact's penalty, capped
-for stability at the stable fraction of m / dt^2, lets the first impact reach 0.26 t.
+crossing), so no node ever comes within reach of the other strip's surface. The runs have the
+automatic step with its automatic contact limit (``contact_closing_limit`` 0.05 by default,
+docs/contact-edges.md): the strips' edges, near and closing at 20 m/s, cut the step to
+0.05 t / (20 m/s) = 0.2 us. Without that limit a node moves 0.085 t a step and the edge contact's
+penalty, capped for stability at the stable fraction of m / dt^2, lets the first impact reach 0.26 t;
+with the set travel limit 0.1 (twice the fastest node's speed) it reaches 0.084 t.
 
 Checks:
 - node-to-segment contact alone (the default) does not see the strips: A's lower edge goes through
@@ -34,7 +36,7 @@ H = 2.0e-3          # element size (m)
 GAP = 1.0e-4        # clearance between the contact surfaces at the start (m)
 
 
-def _scene(edges: bool, single: bool = False) -> str:
+def _scene(edges: bool, single: bool = False, limits: str = "") -> str:
     z0 = T + GAP     # A's lower edge: a wall (two half walls) plus the gap above B's upper edge at z = 0
     return f"""
 title = "edge-first crossing of two thin strips"
@@ -42,7 +44,7 @@ title = "edge-first crossing of two thin strips"
 end_time = 6.0e-5
 output_interval = 1.0e-5
 history_interval = 1.0e-6
-contact_travel_limit = 0.1
+{limits}
 
 [[material]]
 name = "steel"
@@ -85,21 +87,22 @@ edges = {"true" if edges else "false"}
 """
 
 
-def _model(tmp_path: Path, edges: bool, single: bool = False) -> deck.Model:
-    path = tmp_path / f"strips_{edges}_{single}.toml"
-    path.write_text(_scene(edges, single))
+def _model(tmp_path: Path, edges: bool, single: bool = False, limits: str = "") -> deck.Model:
+    path = tmp_path / f"strips_{edges}_{single}_{len(limits)}.toml"
+    path.write_text(_scene(edges, single, limits))
     return scene.build_model(scene.load_scene(path))
 
 
-def _run(tmp_path: Path, edges: bool, ranks: int = 1, single: bool = False) -> dict[str, np.ndarray]:
-    model = _model(tmp_path, edges, single)
-    folder = tmp_path / f"run_{edges}_{ranks}_{single}"
+def _run(tmp_path: Path, edges: bool, ranks: int = 1, single: bool = False, limits: str = "") -> dict[str, np.ndarray]:
+    model = _model(tmp_path, edges, single, limits)
+    folder = tmp_path / f"run_{edges}_{ranks}_{single}_{len(limits)}"
     folder.mkdir(exist_ok=True)
     path = deck.write_deck(model, folder / "deck.h5")
     launch.run_engine(path, folder / "results.h5", ranks, 1)
     with h5py.File(folder / "results.h5", "r") as f:
         out = {name: f[name][()] for name in ("/frames/displacement", "/frames/velocity",
-                                              "/history/contact_penetration", "/history/contact_energy")}
+                                              "/history/contact_penetration", "/history/contact_energy",
+                                              "/history/dt")}
     # the nodes of the two elements at the crossing: A's lower edge within an element of x = 0, B's
     # upper edge within an element of y = 0
     x = model.coordinates[None, :, :] + out["/frames/displacement"][:, :, :3]
@@ -127,6 +130,19 @@ def test_thin_strips_crossing_edge_first_stay_apart_only_with_edges(tmp_path: Pa
     penetration = edged["/history/contact_penetration"].max()
     assert 0.0 < penetration < 0.2 * T, penetration / T
     assert np.all(edged["a_lowest"] > edged["b_highest"])
+    assert edged["/history/dt"].min() == pytest.approx(0.05 * T / 20.0, rel=0.02)   # the closing limit's step
+
+
+def test_the_limits_set_how_deep_the_strips_meet(tmp_path: Path) -> None:
+    """The automatic limit off: 0.26 t (under the stability suite's 0.2 t only with a limit); the set
+    travel limit 0.1 (closing bounded by twice the fastest node): 0.084 t, shallower than the
+    automatic 0.174 t (docs/contact-edges.md)."""
+    off = _run(tmp_path, True, limits="contact_closing_limit = 0.0")
+    travel = _run(tmp_path, True, limits="contact_travel_limit = 0.1")
+    auto = _run(tmp_path, True)
+    depth = {name: r["/history/contact_penetration"].max() / T for name, r in
+             (("off", off), ("travel", travel), ("auto", auto))}
+    assert depth["off"] > 0.2 > depth["auto"] > depth["travel"] > 0.0, depth
 
 
 @pytest.mark.mpi

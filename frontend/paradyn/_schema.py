@@ -1177,6 +1177,20 @@ CONTROL: tuple[AttributeSpec, ...] = (
         ), '[run] contact_travel_limit', 'give a fraction of the wall thickness such as 0.1, or 0 for no limit',
     ),
     AttributeSpec(
+        'contact_closing_limit', 'float', False, 0.05, None, None, Bound(0.0, True), Bound(1.0, False),
+        'must be in [0, 1)', None, '', '-',
+        (
+            '0 = off; the automatic contact step limit (on by default): a slave node near a master segment '
+            '(within its contact reach, or closer than twice its closing speed times the largest step so far) may '
+            'close on it by at most this fraction of the thinner shell wall of the pair in one step, so the step '
+            'is cut to fraction x t / v_closing where that is below the stable step; v_closing is the speed '
+            "towards the segment along its normal (within reach) or the slave's speed relative to its nearest "
+            "master node (before). Rigid solids' faces are not walls. Pairs that are apart or close slowly for "
+            'their wall cut nothing. With contact_travel_limit also set, the smaller step of the two'
+        ), '[run] contact_closing_limit',
+        'give a fraction of the thinner wall such as 0.05 (the default), or 0 to switch the automatic limit off',
+    ),
+    AttributeSpec(
         'mass_scaling_step', 'float', False, 0.0, None, None, Bound(0.0, True), None, 'must be >= 0', None, '',
         's',
         (
@@ -1390,6 +1404,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('control', 'energy_error_limit'): ('class', 'lower', 'finite'),
     ('control', 'time_step_floor'): ('class', 'lower', 'upper', 'finite'),
     ('control', 'contact_travel_limit'): ('class', 'lower', 'upper', 'finite'),
+    ('control', 'contact_closing_limit'): ('class', 'lower', 'upper', 'finite'),
     ('control', 'mass_scaling_step'): ('class', 'lower', 'finite'),
     ('control', 'mass_scaling_limit'): ('class', 'lower', 'finite'),
     ('control', 'effect_point_loads'): ('class', 'enum'),

@@ -69,18 +69,19 @@ module paradyn_schema
       control_progress_interval, control_contact_sort_interval, control_checkpoint_interval, &
       control_partition, control_contact_gather, control_precision, control_gravity_x, control_gravity_y, &
       control_gravity_z, control_energy_error_limit, control_time_step_floor, control_contact_travel_limit, &
-      control_mass_scaling_step, control_mass_scaling_limit, control_effect_point_loads, &
-      control_effect_gravity, control_effect_base_acceleration, control_effect_pressure, &
-      control_effect_rigid_wall, control_effect_mass_damping, control_effect_prescribed_velocity, &
-      control_effect_plasticity, control_effect_hourglass, control_effect_contact, control_effect_friction, &
-      n_control_attributes, control_restart_may_change, max_enum_members, n_effects, effect_point_loads, &
-      effect_gravity, effect_base_acceleration, effect_pressure, effect_rigid_wall, effect_time_integration, &
-      effect_mass_damping, effect_fixed_boundaries, effect_prescribed_velocity, effect_rigid_bodies, &
-      effect_rotation_ties, effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, &
-      effect_friction, effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, &
-      size_entity, size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, &
-      deck_enums, deck_conditions, deck_datasets, control_attributes, enum_name, enum_code, &
-      material_is_plastic, material_is_combined_hardening, material_is_cowper_symonds, material_is_rigid, &
+      control_contact_closing_limit, control_mass_scaling_step, control_mass_scaling_limit, &
+      control_effect_point_loads, control_effect_gravity, control_effect_base_acceleration, &
+      control_effect_pressure, control_effect_rigid_wall, control_effect_mass_damping, &
+      control_effect_prescribed_velocity, control_effect_plasticity, control_effect_hourglass, &
+      control_effect_contact, control_effect_friction, n_control_attributes, control_restart_may_change, &
+      max_enum_members, n_effects, effect_point_loads, effect_gravity, effect_base_acceleration, &
+      effect_pressure, effect_rigid_wall, effect_time_integration, effect_mass_damping, &
+      effect_fixed_boundaries, effect_prescribed_velocity, effect_rigid_bodies, effect_rotation_ties, &
+      effect_elastic_shells, effect_plastic_shells, effect_hourglass, effect_contact, effect_friction, &
+      effect_names, effect_timed_with, effect_also_timed_with, effect_switch, size_symbol, size_entity, &
+      size_min_rows, enum_spec_t, condition_spec_t, dataset_spec_t, attribute_spec_t, deck_enums, &
+      deck_conditions, deck_datasets, control_attributes, enum_name, enum_code, material_is_plastic, &
+      material_is_combined_hardening, material_is_cowper_symonds, material_is_rigid, &
       material_is_hardening_curve, element_kind_is_truss, contact_kind_is_self_contact, contact_kind_is_tied, &
       contact_kind_is_edge_to_edge
   integer, parameter :: deck_version = 1
@@ -335,24 +336,25 @@ module paradyn_schema
   integer, parameter :: control_energy_error_limit = 16
   integer, parameter :: control_time_step_floor = 17
   integer, parameter :: control_contact_travel_limit = 18
-  integer, parameter :: control_mass_scaling_step = 19
-  integer, parameter :: control_mass_scaling_limit = 20
-  integer, parameter :: control_effect_point_loads = 21
-  integer, parameter :: control_effect_gravity = 22
-  integer, parameter :: control_effect_base_acceleration = 23
-  integer, parameter :: control_effect_pressure = 24
-  integer, parameter :: control_effect_rigid_wall = 25
-  integer, parameter :: control_effect_mass_damping = 26
-  integer, parameter :: control_effect_prescribed_velocity = 27
-  integer, parameter :: control_effect_plasticity = 28
-  integer, parameter :: control_effect_hourglass = 29
-  integer, parameter :: control_effect_contact = 30
-  integer, parameter :: control_effect_friction = 31
-  integer, parameter :: n_control_attributes = 31
+  integer, parameter :: control_contact_closing_limit = 19
+  integer, parameter :: control_mass_scaling_step = 20
+  integer, parameter :: control_mass_scaling_limit = 21
+  integer, parameter :: control_effect_point_loads = 22
+  integer, parameter :: control_effect_gravity = 23
+  integer, parameter :: control_effect_base_acceleration = 24
+  integer, parameter :: control_effect_pressure = 25
+  integer, parameter :: control_effect_rigid_wall = 26
+  integer, parameter :: control_effect_mass_damping = 27
+  integer, parameter :: control_effect_prescribed_velocity = 28
+  integer, parameter :: control_effect_plasticity = 29
+  integer, parameter :: control_effect_hourglass = 30
+  integer, parameter :: control_effect_contact = 31
+  integer, parameter :: control_effect_friction = 32
+  integer, parameter :: n_control_attributes = 32
   logical, parameter :: control_restart_may_change(n_control_attributes) = [.false., .true., .true., .false., &
     .false., .false., .true., .false., .true., .false., .false., .false., .false., .false., .false., .false., &
     .true., .false., .false., .false., .false., .false., .false., .false., .false., .false., .false., &
-    .false., .false., .false., .false.]
+    .false., .false., .false., .false., .false.]
   integer, parameter :: max_enum_members = 7
 
   ! effects of a step (schema/effects.toml), in the order of the step
@@ -913,6 +915,9 @@ module paradyn_schema
     attribute_spec_t('contact_travel_limit', class_float, .false., 0.0_wp, 0, 0.0_wp, .true., .true., .true., &
         .false., 0.0_wp, 1.0_wp, enum_none, 'must be in [0, 1)', '', &
         'give a fraction of the wall thickness such as 0.1, or 0 for no limit'), &
+    attribute_spec_t('contact_closing_limit', class_float, .false., 0.05_wp, 0, 0.0_wp, .true., .true., &
+        .true., .false., 0.0_wp, 1.0_wp, enum_none, 'must be in [0, 1)', '', &
+        'give a fraction of the thinner wall such as 0.05 (the default), or 0 to switch the automatic limit off'), &
     attribute_spec_t('mass_scaling_step', class_float, .false., 0.0_wp, 0, 0.0_wp, .true., .true., .false., &
         .true., 0.0_wp, 0.0_wp, enum_none, 'must be >= 0', '', &
         'give the wanted step in seconds, or 0 for no mass scaling'), &

@@ -54,10 +54,11 @@ module deck_fields
                             control_checkpoint_interval, control_partition, control_contact_gather, &
                             control_precision, control_gravity_x, control_gravity_y, control_gravity_z, &
                             control_energy_error_limit, control_time_step_floor, &
-                            control_contact_travel_limit, control_mass_scaling_step, &
-                            control_mass_scaling_limit, effect_point_loads, effect_base_acceleration, &
-                            effect_pressure, effect_rigid_wall, effect_prescribed_velocity, &
-                            effect_rigid_bodies, effect_rotation_ties, effect_contact
+                            control_contact_travel_limit, control_contact_closing_limit, &
+                            control_mass_scaling_step, control_mass_scaling_limit, effect_point_loads, &
+                            effect_base_acceleration, effect_pressure, effect_rigid_wall, &
+                            effect_prescribed_velocity, effect_rigid_bodies, effect_rotation_ties, &
+                            effect_contact
   implicit none
   private
   public :: deck_fields_t, store_dataset, store_control, declare_by_rows, drop_rows
@@ -194,6 +195,7 @@ module deck_fields
     real(wp) :: energy_error_limit = 0.0_wp   !< /control energy_error_limit
     real(wp) :: time_step_floor = 0.001_wp   !< /control time_step_floor
     real(wp) :: contact_travel_limit = 0.0_wp   !< /control contact_travel_limit
+    real(wp) :: contact_closing_limit = 0.05_wp   !< /control contact_closing_limit
     real(wp) :: mass_scaling_step = 0.0_wp   !< /control mass_scaling_step (s)
     real(wp) :: mass_scaling_limit = 0.05_wp   !< /control mass_scaling_limit
     logical :: effect_on(n_effects) = .true.   !< false: the scene switched the effect off
@@ -632,6 +634,8 @@ contains
       d%time_step_floor = value
     case (control_contact_travel_limit)
       d%contact_travel_limit = value
+    case (control_contact_closing_limit)
+      d%contact_closing_limit = value
     case (control_mass_scaling_step)
       d%mass_scaling_step = value
     case (control_mass_scaling_limit)

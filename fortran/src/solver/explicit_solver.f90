@@ -130,6 +130,7 @@ contains
       end do
       call parallel_contact_setup(s%contact, contact, deck, s%dom, comm, carried, s%nodes%v, s%clock%dt, &
                                   s%control%contact_gather_all)
+      s%contact%c%closing_limit = s%control%contact_closing_limit
     end if
     call eroded_contact_setup(s)
     if (s%has_contact) call contact_births_setup(s, deck)

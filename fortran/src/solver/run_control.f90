@@ -16,6 +16,7 @@ module run_control
     real(wp) :: energy_error_limit = 0       !< stop once the energy balance error passes it (0: never)
     real(wp) :: time_step_floor = 0          !< stop once the step falls below this fraction of the first
     real(wp) :: contact_travel_limit = 0     !< most contact-node travel per step / thinner wall (0: no limit)
+    real(wp) :: contact_closing_limit = 0    !< most closing per step of a near pair / its thinner wall (0: off)
     real(wp) :: dt_cap = huge(1.0_wp)        !< the largest step the rigid walls' penalty allows (s)
     integer :: n_nodes = 0, n_elements = 0   !< of the whole model
     integer :: max_points = 0                !< the most stored points of any part (through-thickness x in-plane)
@@ -45,6 +46,7 @@ contains
     rc%energy_error_limit = deck%energy_error_limit
     rc%time_step_floor = deck%time_step_floor
     rc%contact_travel_limit = deck%contact_travel_limit
+    rc%contact_closing_limit = deck%contact_closing_limit
     rc%n_nodes = deck%n_nodes
     rc%n_elements = deck%n_elements
     ! a fully integrated part stores its 4 in-plane points' (element_state)

@@ -18,6 +18,9 @@ module time_step_control
   private
   public :: next_time_step, check_time_step_floor
 
+  !> the most the step grows in a cycle after the automatic contact limit set it
+  real(wp), parameter :: closing_growth = 1.05_wp
+
 contains
 
   !> After the forces at the current positions: the step from here on. The contact penalty's
@@ -36,6 +39,15 @@ contains
     if (s%has_contact .and. s%control%contact_travel_limit > 0.0_wp) then
       d = contact_travel_step(s%contact, s%nodes%v, s%control%contact_travel_limit) / s%clock%safety
       if (d < mine(1)) mine = [d, -2.0_wp]
+    end if
+    ! the automatic limit of the pairs near each other (this cycle's local search); id -3
+    if (s%has_contact .and. s%control%contact_closing_limit > 0.0_wp) then
+      d = s%contact%c%near_step / s%clock%safety
+      ! after a step it set, the step grows back by at most closing_growth a cycle: a step that
+      ! jumps while springs act spoils the energy balance of the central difference
+      if (s%clock%controlling == -3) d = min(d, closing_growth * s%clock%dt / s%clock%safety)
+      if (d < mine(1)) mine = [d, -3.0_wp]
+      s%contact%c%near_step = huge(1.0_wp)   ! used: a cycle whose contact does not run (idle) sets none
     end if
     if (mine(1) == huge(1.0_wp)) mine = [s%dt_rigid_only, -1.0_wp]   ! no deformable element: the rigid ones' step
     call MPI_Allreduce(mine, least, 1, MPI_2DOUBLE_PRECISION, MPI_MINLOC, s%halo%comm)
@@ -87,6 +99,11 @@ contains
       write (message, '(a,es10.3,a)') 'the time step ', s%clock%dt, ' s fell below /control time_step_floor '// &
         'x the first step, limited by /control contact_travel_limit: a contact node moves too fast for its wall; '// &
         'check the velocities, or lower or switch off the limit'
+    else if (s%clock%controlling == -3 .and. s%rank == 0) then
+      status = status_numerical
+      write (message, '(a,es10.3,a)') 'the time step ', s%clock%dt, ' s fell below /control time_step_floor '// &
+        'x the first step, limited by /control contact_closing_limit: two contact surfaces close fast for their '// &
+        'thinner wall; check the velocities, or lower the limit ([run] contact_closing_limit = 0 switches it off)'
     end if
     call agree_on_status(s%halo%comm, status, message)   ! every rank stops with the owner's message
     if (status == status_ok) then

@@ -70,6 +70,7 @@ class Control:
     energy_error_limit: float = _number_default("energy_error_limit")   # stop past this balance error, 0 = never
     time_step_floor: float = _number_default("time_step_floor")   # stop below this fraction of the first step
     contact_travel_limit: float = _number_default("contact_travel_limit")   # most travel per step / wall, 0 = off
+    contact_closing_limit: float = _number_default("contact_closing_limit")   # near pairs' closing per step / wall
     mass_scaling_step: float = _number_default("mass_scaling_step")   # least step wanted (s), 0 = no mass scaling
     mass_scaling_limit: float = _number_default("mass_scaling_limit")   # most added mass, fraction of the model's
 

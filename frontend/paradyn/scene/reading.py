@@ -64,7 +64,7 @@ _TOP_KEYS = ("title", "run", "effects", "material", "part", "fix", "load", "trac
 _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "time_step_safety",
              "mass_damping", "progress_interval", "contact_sort_interval", "checkpoint_interval", "partition",
              "contact_gather", "gravity", "energy_error_limit", "time_step_floor", "contact_travel_limit",
-             "mass_scaling_step", "mass_scaling_limit", "precision")
+             "contact_closing_limit", "mass_scaling_step", "mass_scaling_limit", "precision")
 # the keys of [[material]] besides its name: the /materials datasets', by their scene key
 _MATERIAL_KEYS = {d.scene.split()[1]: d for d in _schema.DATASETS if d.path.startswith("/materials/")}
 _PART_KEYS = ("name", "material", "thickness", "integration_points", "hourglass_coefficient",
@@ -158,6 +158,8 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
         time_step_floor=r.number(t, "time_step_floor", label, default=RunSettings.time_step_floor, positive=True),
         contact_travel_limit=r.number(t, "contact_travel_limit", label, default=RunSettings.contact_travel_limit,
                                       minimum=0.0),
+        contact_closing_limit=r.number(t, "contact_closing_limit", label,
+                                       default=RunSettings.contact_closing_limit, minimum=0.0),
         mass_scaling_step=r.number(t, "mass_scaling_step", label, default=RunSettings.mass_scaling_step,
                                    minimum=0.0),
         mass_scaling_limit=r.number(t, "mass_scaling_limit", label, default=RunSettings.mass_scaling_limit,
@@ -171,6 +173,9 @@ def _parse_run(r: _Reader, t: dict[str, Any]) -> RunSettings:
     if run.contact_travel_limit >= 1.0:
         raise r.error(f"'contact_travel_limit' in {label} must be in [0, 1), a fraction of the wall thickness "
                       f"(0.1 keeps the penetration near a fifth of it; 0 = no limit), got {run.contact_travel_limit}")
+    if run.contact_closing_limit >= 1.0:
+        raise r.error(f"'contact_closing_limit' in {label} must be in [0, 1), a fraction of the thinner wall "
+                      f"(0.05 is the default; 0 switches the automatic limit off), got {run.contact_closing_limit}")
     if run.time_step_floor >= 1.0:
         raise r.error(f"'time_step_floor' in {label} must be in (0, 1), a fraction of the first step, "
                       f"got {run.time_step_floor}")

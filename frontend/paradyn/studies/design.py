@@ -174,6 +174,10 @@ KNOBS: dict[str, Knob] = {k.name: k for k in [
     Knob("contact_sort_interval", int, "[run] contact_sort_interval: cycles between bucket sorts, 0 = automatic",
          lambda s: int(s.run.contact_sort_interval), _set_run("contact_sort_interval"), _non_negative,
          needs="contact"),
+    Knob("contact_closing_limit", float, "[run] contact_closing_limit: the most a pair of contact surfaces near "
+         "each other may close in a step, as a fraction of the thinner wall (automatic; 0 = off)",
+         lambda s: s.run.contact_closing_limit, _set_run("contact_closing_limit"),
+         lambda v: None if 0 <= v < 1 else "must lie in [0, 1)", needs="contact"),
     Knob("contact_travel_limit", float, "[run] contact_travel_limit: the most a contact may close in a step, "
          "as a fraction of the thinner wall; 0 = off", lambda s: s.run.contact_travel_limit,
          _set_run("contact_travel_limit"), lambda v: None if 0 <= v < 1 else "must lie in [0, 1)", needs="contact"),

@@ -70,6 +70,10 @@ module contact_interface
     !> the soft constraint's step: the largest step of the run so far (LS-DYNA: the initial step,
     !> updated when the step grows), so that a step cut short does not stiffen the spring
     real(wp) :: soft_step = 0.0_wp
+    !> the automatic step limit (/control contact_closing_limit): its fraction, and this cycle's
+    !> least step over this rank's candidates near their segments (huge: none cuts the step; the
+    !> step's choice resets it once used, so an idle cycle leaves it huge and a checkpoint never holds it)
+    real(wp) :: closing_limit = 0.0_wp, near_step = huge(1.0_wp)
     real(wp) :: time = 0.0_wp                  !< the time of the step's forces (the passes' birth and death)
     real(wp), allocatable :: force(:, :), force_old(:, :)  !< contact force per contact node
     ! the contact nodes that got a record this step and last step, in the order of the sum (the

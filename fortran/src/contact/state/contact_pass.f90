@@ -86,6 +86,7 @@ module contact_pass
     integer(i8), allocatable :: clear_sort(:)
     real(wp), allocatable :: clear_gap(:), clear_moved(:)
     real(wp) :: bucket_size = 0, t_slave = 0, t_master = 0, mu_static = 0, mu_dynamic = 0, decay = 0
+    real(wp) :: t_wall = huge(1.0_wp)          !< the thinner contact thickness of its shell sides (a rigid solid's faces are no wall)
     !> the definition's life (/contact/birth_time, death_time): the pass runs while birth <= t <= death
     real(wp) :: birth = 0, death = huge(1.0_wp)
     !> the soft-constraint scale (/contact/soft_constraint; 0 = off): the spring is at least
@@ -141,6 +142,8 @@ contains
     pass%n_near = size(pass%slaves)
     pass%t_slave = contact_thickness(deck, pair, slave_part)
     pass%t_master = contact_thickness(deck, pair, master_part)
+    if (deck%surface_only(slave_part) == 0) pass%t_wall = pass%t_slave
+    if (deck%surface_only(master_part) == 0) pass%t_wall = min(pass%t_wall, pass%t_master)
     pass%mu_static = deck%contact_static_friction(pair)
     pass%mu_dynamic = deck%contact_dynamic_friction(pair)
     pass%decay = deck%contact_friction_decay(pair)

@@ -278,14 +278,16 @@ contains
     procedure(clock_seconds) :: clock
     integer :: k, node, segment, m, slot, at, seg_at(4)
     real(wp) :: x(3), xi, eta, xc(3), normal(3), xseg(3, 4), vseg(3, 4), f_slave(3), f_master(3, 4)
-    real(wp) :: penetration, t0, stiffness, reach, lightest, clearance, failure
+    real(wp) :: penetration, t0, stiffness, reach, lightest, clearance, failure, least
     logical :: touching, failed
     t0 = clock()
+    least = huge(1.0_wp)
     c%record_nodes(1, 1:c%first - 1) = 0
     c%record_nodes(1, c%last + 1:c%n_candidates) = 0
     !$omp parallel do schedule(static, 1) default(shared) &
     !$omp private(k, node, segment, x, xi, eta, xc, normal, xseg, vseg, f_slave, f_master, &
-    !$omp penetration, touching, stiffness, reach, lightest, m, clearance, slot, at, seg_at, failure, failed)
+    !$omp penetration, touching, stiffness, reach, lightest, m, clearance, slot, at, seg_at, failure, failed) &
+    !$omp reduction(min: least)
     do k = c%first, c%last
       c%record_nodes(:, k) = 0
       c%record_failed(k) = .false.
@@ -295,13 +297,19 @@ contains
       x = c%x(:, at)
       slot = c%candidates(1, k)
       if (pass%edges) then   ! a slave edge: the deepest crossing of the master edges near it
-        call edge_record(c, pass, k)
+        call edge_record(c, pass, k, least)
         cycle
       end if
       if (pass%bound) then   ! its binding names the segment and the point (contact_laws)
         segment = bound_segment(pass, slot)
       else
-        if (still_clear(pass, slot, pass%masters(c%candidates(2, k)), c%n_sorts, c%moved)) cycle
+        if (still_clear(pass, slot, pass%masters(c%candidates(2, k)), c%n_sorts, c%moved)) then
+          ! clear by at least its clearance at the search less twice the movement since
+          if (c%closing_limit > 0.0_wp .and. pass%t_wall < huge(1.0_wp)) &
+            least = min(least, clear_step(c, pass, at, pass%master_at(c%candidates(2, k)), &
+                                          still_clear_gap(pass, slot, c%moved)))
+          cycle
+        end if
         ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
         reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(slot) + pass%t_master)
         if (pass%shares_nodes) then
@@ -319,6 +327,13 @@ contains
           pass%clear_sort(slot) = c%n_sorts
           pass%clear_gap(slot) = clearance
           pass%clear_moved(slot) = c%moved
+        end if
+        if (c%closing_limit > 0.0_wp .and. pass%t_wall < huge(1.0_wp)) then
+          if (segment > 0) then
+            least = min(least, touching_step(c, pass, at, segment, xi, eta, normal))
+          else
+            least = min(least, clear_step(c, pass, at, pass%master_at(c%candidates(2, k)), clearance))
+          end if
         end if
       end if
       if (segment > 0) then
@@ -360,8 +375,57 @@ contains
       end associate
     end do
     !$omp end parallel do
+    c%near_step = min(c%near_step, least)
     c%time_force = c%time_force + clock() - t0
   end subroutine contact_local_search
+
+  !> The automatic step limit (/control contact_closing_limit f) of a slave within reach of its
+  !> segment: the step in which it closes on the segment by f times the pass's thinner shell wall,
+  !> at its speed along the segment's normal relative to the point under it (either way: a pair
+  !> that rebounds within reach closes again within a step or two).
+  pure real(wp) function touching_step(c, pass, at, segment, xi, eta, normal) result(dt)
+    type(contact_t), intent(in) :: c
+    type(contact_pass_t), intent(in) :: pass
+    integer, intent(in) :: at, segment
+    real(wp), intent(in) :: xi, eta, normal(3)
+    real(wp), parameter :: corner_xi(4) = [-1.0_wp, 1.0_wp, 1.0_wp, -1.0_wp], corner_eta(4) = [-1.0_wp, -1.0_wp, 1.0_wp, 1.0_wp]
+    real(wp) :: v_point(3)
+    integer :: m
+    v_point = 0.0_wp
+    do m = 1, 4
+      v_point = v_point + 0.25_wp * (1.0_wp + corner_xi(m) * xi) * (1.0_wp + corner_eta(m) * eta) &
+                          * c%v(:, pass%segment_at(m, segment))
+    end do
+    dt = closing_limit_step(c, pass, abs(dot_product(c%v(:, at) - v_point, normal)))
+  end function touching_step
+
+  !> The automatic step limit of a slave (a node, or an edge by its first node) clear of the
+  !> master surface by at least `clearance` and moving towards its nearest master node: where the
+  !> clearance is less than twice what its speed relative to that node covers in the largest step
+  !> so far, the step in which that speed closes f times the thinner wall (before it touches, the
+  !> speed bounds the closing); else huge (a pair that parts cuts nothing).
+  pure real(wp) function clear_step(c, pass, at, master_at, clearance) result(dt)
+    type(contact_t), intent(in) :: c
+    type(contact_pass_t), intent(in) :: pass
+    integer, intent(in) :: at, master_at
+    real(wp), intent(in) :: clearance
+    real(wp) :: closing
+    dt = huge(1.0_wp)
+    if (.not. clearance > 0.0_wp) return   ! no segment met around its nearest master
+    if (dot_product(c%v(:, at) - c%v(:, master_at), c%x(:, master_at) - c%x(:, at)) <= 0.0_wp) return
+    closing = norm2(c%v(:, at) - c%v(:, master_at))
+    if (clearance <= 2.0_wp * closing * c%soft_step) dt = closing_limit_step(c, pass, closing)
+  end function clear_step
+
+  !> The step in which a pair of the pass closing at `closing` closes by the automatic limit's
+  !> fraction of the pass's thinner shell wall (huge when it does not close).
+  pure real(wp) function closing_limit_step(c, pass, closing) result(dt)
+    type(contact_t), intent(in) :: c
+    type(contact_pass_t), intent(in) :: pass
+    real(wp), intent(in) :: closing
+    dt = huge(1.0_wp)
+    if (closing > 0.0_wp) dt = c%closing_limit * pass%t_wall / closing
+  end function closing_limit_step
 
   !> The record of candidate k of an edge pass (edge_to_edge_contact): its slave edge against the
   !> edges of the segments around its nearest master (edge_search), the deepest crossing's force
@@ -370,18 +434,23 @@ contains
   !> master edge's two and the last again with no force (record_nodes has five). No record where no
   !> edge crosses within reach; where every edge met is clear, the clearance is kept and spares the
   !> search while it holds (still_clear), as for a node. Called by one thread per candidate.
-  subroutine edge_record(c, pass, k)
+  subroutine edge_record(c, pass, k, least)
     type(contact_t), intent(inout) :: c
     type(contact_pass_t), intent(inout) :: pass
     integer, intent(in) :: k
+    real(wp), intent(inout) :: least   !< the automatic step limit so far (touching_step, clear_step)
     integer :: j, m, a1, a2, b1, b2, segment, corner
-    real(wp) :: penetration, stiffness, force(3, 4), s, u, inverse_mass, clearance
-    logical :: touching
+    real(wp) :: penetration, stiffness, force(3, 4), s, u, inverse_mass, clearance, along(3)
+    logical :: touching, limited
     j = c%candidates(1, k)
     m = c%candidates(2, k)
-    if (still_clear(pass, j, pass%masters(m), c%n_sorts, c%moved)) return
     a1 = pass%slave_at(j)
     a2 = pass%slave_other_at(j)
+    limited = c%closing_limit > 0.0_wp .and. pass%t_wall < huge(1.0_wp)
+    if (still_clear(pass, j, pass%masters(m), c%n_sorts, c%moved)) then
+      if (limited) least = min(least, clear_step(c, pass, a1, pass%master_at(m), still_clear_gap(pass, j, c%moved)))
+      return
+    end if
     call deepest_edge_crossing(c%x, a1, a2, pass%segment_at, pass%segment_list, pass%segment_start(m), &
                                pass%segment_start(m + 1) - 1, pass%t_slave, pass%t_master, segment, corner, penetration, &
                                clearance)
@@ -393,13 +462,23 @@ contains
       pass%clear_gap(j) = clearance
       pass%clear_moved(j) = c%moved
     end if
-    if (segment == 0) return
+    if (segment == 0) then
+      if (limited .and. clearance < huge(1.0_wp)) &
+        least = min(least, clear_step(c, pass, a1, pass%master_at(m), clearance))
+      return
+    end if
     b1 = pass%segment_at(corner, segment)
     b2 = pass%segment_at(mod(corner, 4) + 1, segment)
     ! the spring's frequency: omega^2 = k sum_I w_I^2 / m_I, w the four shares (1 - s, s, 1 - u, u);
     ! a node's spring (slave share 1, the segment's N_I) has sum w^2 / m <= 2 / m_lightest, so its cap
     ! holds omega^2 dt^2 <= 2 stable_spring_fraction: the edge's cap holds the same bound
     call closest_points_of_edges(c%x(:, a1), c%x(:, a2), c%x(:, b1), c%x(:, b2), s, u)
+    if (limited) then   ! the closest points' relative speed along the line between them
+      along = ((1.0_wp - s) * c%x(:, a1) + s * c%x(:, a2)) - ((1.0_wp - u) * c%x(:, b1) + u * c%x(:, b2))
+      along = along / max(norm2(along), tiny(1.0_wp))
+      least = min(least, closing_limit_step(c, pass, abs(dot_product(along, &
+                  ((1.0_wp - s) * c%v(:, a1) + s * c%v(:, a2)) - ((1.0_wp - u) * c%v(:, b1) + u * c%v(:, b2))))))
+    end if
     inverse_mass = (1.0_wp - s)**2 / c%mass(a1) + s**2 / c%mass(a2) + (1.0_wp - u)**2 / c%mass(b1) + u**2 / c%mass(b2)
     stiffness = spring(pass%stiffness(segment), pass%soft_scale, 2.0_wp / inverse_mass, c%soft_step, &
                        2.0_wp * stable_spring_fraction / (c%time_step**2 * inverse_mass))
@@ -432,6 +511,15 @@ contains
     still_clear = pass%clear_gap(j) > 2.0_wp * (1.0_wp + edge_tolerance) * (pass%clear_moved(j) + moved) &
                                       * (1.0_wp + 1.0e-9_wp)
   end function still_clear
+
+  !> The least clearance a still-clear slave j can have now: its clearance at the search less
+  !> the most its distance can have shrunk since (still_clear's bound).
+  pure real(wp) function still_clear_gap(pass, j, moved) result(gap)
+    type(contact_pass_t), intent(in) :: pass
+    integer, intent(in) :: j
+    real(wp), intent(in) :: moved
+    gap = pass%clear_gap(j) - 2.0_wp * (1.0_wp + edge_tolerance) * (pass%clear_moved(j) + moved)
+  end function still_clear_gap
 
   !> Slave j of the pass is searched: not a node (or an edge) whose elements are all eroded.
   pure logical function live_slave(pass, j)
