@@ -16,6 +16,7 @@ module contact_stages
   use edge_penalty, only: edge_edge_force, closest_points_of_edges
   use contact_interface, only: contact_t, clock_seconds
   use contact_slots, only: slot_of
+  use contact_closing, only: touching_step, approach_step, closing_limit_step
   use exact_sum, only: exact_add, exact_value
   implicit none
   private
@@ -303,15 +304,15 @@ contains
       if (pass%bound) then   ! its binding names the segment and the point (contact_laws)
         segment = bound_segment(pass, slot)
       else
+        ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
+        reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(slot) + pass%t_master)
         if (still_clear(pass, slot, pass%masters(c%candidates(2, k)), c%n_sorts, c%moved)) then
           ! clear by at least its clearance at the search less twice the movement since
           if (c%closing_limit > 0.0_wp .and. pass%t_wall < huge(1.0_wp)) &
-            least = min(least, clear_step(c, pass, at, pass%master_at(c%candidates(2, k)), &
-                                          still_clear_gap(pass, slot, c%moved)))
+            least = min(least, approach_step(c, pass, k, at, pass%clear_gap(slot) - 2.0_wp * (1.0_wp + edge_tolerance) &
+                                                                 * (pass%clear_moved(slot) + c%moved), reach))
           cycle
         end if
-        ! a slave's initial overlap, kept as its gap, shortens its reach (0 unless asked for)
-        reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(slot) + pass%t_master)
         if (pass%shares_nodes) then
           call segment_candidates(x, int(c%candidates(2, k), ip), int(size(pass%masters), ip), c%x, &
                                   int(size(pass%segments, 2), ip), pass%segment_at, pass%segment_start, &
@@ -330,9 +331,9 @@ contains
         end if
         if (c%closing_limit > 0.0_wp .and. pass%t_wall < huge(1.0_wp)) then
           if (segment > 0) then
-            least = min(least, touching_step(c, pass, at, segment, xi, eta, normal))
-          else
-            least = min(least, clear_step(c, pass, at, pass%master_at(c%candidates(2, k)), clearance))
+            least = min(least, touching_step(c, pass, at, segment, xi, eta, xc, normal, reach))
+          else if (clearance > 0.0_wp) then
+            least = min(least, approach_step(c, pass, k, at, clearance, reach))
           end if
         end if
       end if
@@ -379,53 +380,6 @@ contains
     c%time_force = c%time_force + clock() - t0
   end subroutine contact_local_search
 
-  !> The automatic step limit (/control contact_closing_limit f) of a slave within reach of its
-  !> segment: the step in which it closes on the segment by f times the pass's thinner shell wall,
-  !> at its speed along the segment's normal relative to the point under it (either way: a pair
-  !> that rebounds within reach closes again within a step or two).
-  pure real(wp) function touching_step(c, pass, at, segment, xi, eta, normal) result(dt)
-    type(contact_t), intent(in) :: c
-    type(contact_pass_t), intent(in) :: pass
-    integer, intent(in) :: at, segment
-    real(wp), intent(in) :: xi, eta, normal(3)
-    real(wp), parameter :: corner_xi(4) = [-1.0_wp, 1.0_wp, 1.0_wp, -1.0_wp], corner_eta(4) = [-1.0_wp, -1.0_wp, 1.0_wp, 1.0_wp]
-    real(wp) :: v_point(3)
-    integer :: m
-    v_point = 0.0_wp
-    do m = 1, 4
-      v_point = v_point + 0.25_wp * (1.0_wp + corner_xi(m) * xi) * (1.0_wp + corner_eta(m) * eta) &
-                          * c%v(:, pass%segment_at(m, segment))
-    end do
-    dt = closing_limit_step(c, pass, abs(dot_product(c%v(:, at) - v_point, normal)))
-  end function touching_step
-
-  !> The automatic step limit of a slave (a node, or an edge by its first node) clear of the
-  !> master surface by at least `clearance` and moving towards its nearest master node: where the
-  !> clearance is less than twice what its speed relative to that node covers in the largest step
-  !> so far, the step in which that speed closes f times the thinner wall (before it touches, the
-  !> speed bounds the closing); else huge (a pair that parts cuts nothing).
-  pure real(wp) function clear_step(c, pass, at, master_at, clearance) result(dt)
-    type(contact_t), intent(in) :: c
-    type(contact_pass_t), intent(in) :: pass
-    integer, intent(in) :: at, master_at
-    real(wp), intent(in) :: clearance
-    real(wp) :: closing
-    dt = huge(1.0_wp)
-    if (.not. clearance > 0.0_wp) return   ! no segment met around its nearest master
-    if (dot_product(c%v(:, at) - c%v(:, master_at), c%x(:, master_at) - c%x(:, at)) <= 0.0_wp) return
-    closing = norm2(c%v(:, at) - c%v(:, master_at))
-    if (clearance <= 2.0_wp * closing * c%soft_step) dt = closing_limit_step(c, pass, closing)
-  end function clear_step
-
-  !> The step in which a pair of the pass closing at `closing` closes by the automatic limit's
-  !> fraction of the pass's thinner shell wall (huge when it does not close).
-  pure real(wp) function closing_limit_step(c, pass, closing) result(dt)
-    type(contact_t), intent(in) :: c
-    type(contact_pass_t), intent(in) :: pass
-    real(wp), intent(in) :: closing
-    dt = huge(1.0_wp)
-    if (closing > 0.0_wp) dt = c%closing_limit * pass%t_wall / closing
-  end function closing_limit_step
 
   !> The record of candidate k of an edge pass (edge_to_edge_contact): its slave edge against the
   !> edges of the segments around its nearest master (edge_search), the deepest crossing's force
@@ -438,18 +392,24 @@ contains
     type(contact_t), intent(inout) :: c
     type(contact_pass_t), intent(inout) :: pass
     integer, intent(in) :: k
-    real(wp), intent(inout) :: least   !< the automatic step limit so far (touching_step, clear_step)
+    real(wp), intent(inout) :: least   !< the automatic step limit so far (touching_step)
     integer :: j, m, a1, a2, b1, b2, segment, corner
     real(wp) :: penetration, stiffness, force(3, 4), s, u, inverse_mass, clearance, along(3)
-    logical :: touching, limited
+    real(wp) :: speed
+    logical :: touching, limited, clear
     j = c%candidates(1, k)
     m = c%candidates(2, k)
     a1 = pass%slave_at(j)
     a2 = pass%slave_other_at(j)
     limited = c%closing_limit > 0.0_wp .and. pass%t_wall < huge(1.0_wp)
-    if (still_clear(pass, j, pass%masters(m), c%n_sorts, c%moved)) then
-      if (limited) least = min(least, clear_step(c, pass, a1, pass%master_at(m), still_clear_gap(pass, j, c%moved)))
-      return
+    speed = norm2(c%v(:, a1) - c%v(:, pass%master_at(m)))   ! relative to the nearest master node
+    clear = still_clear(pass, j, pass%masters(m), c%n_sorts, c%moved)
+    ! a still-clear edge is searched only where the automatic limit needs its clearance: its bound
+    ! lets it close on the master edges within two steps (the search then writes no record)
+    if (clear) then
+      if (.not. limited) return
+      if (pass%clear_gap(j) - 2.0_wp * (1.0_wp + edge_tolerance) * (pass%clear_moved(j) + c%moved) &
+          > 2.0_wp * speed * c%time_step) return
     end if
     call deepest_edge_crossing(c%x, a1, a2, pass%segment_at, pass%segment_list, pass%segment_start(m), &
                                pass%segment_start(m + 1) - 1, pass%t_slave, pass%t_master, segment, corner, penetration, &
@@ -462,9 +422,10 @@ contains
       pass%clear_gap(j) = clearance
       pass%clear_moved(j) = c%moved
     end if
-    if (segment == 0) then
-      if (limited .and. clearance < huge(1.0_wp)) &
-        least = min(least, clear_step(c, pass, a1, pass%master_at(m), clearance))
+    ! clear of the master edges by less than twice its closing in a step: the automatic limit
+    if (segment == 0 .or. clear) then
+      if (limited .and. clearance < huge(1.0_wp) .and. clearance <= 2.0_wp * speed * c%time_step) &
+        least = min(least, closing_limit_step(c, pass, speed))
       return
     end if
     b1 = pass%segment_at(corner, segment)
@@ -473,7 +434,7 @@ contains
     ! a node's spring (slave share 1, the segment's N_I) has sum w^2 / m <= 2 / m_lightest, so its cap
     ! holds omega^2 dt^2 <= 2 stable_spring_fraction: the edge's cap holds the same bound
     call closest_points_of_edges(c%x(:, a1), c%x(:, a2), c%x(:, b1), c%x(:, b2), s, u)
-    if (limited) then   ! the closest points' relative speed along the line between them
+    if (limited) then   ! a crossing within reach: the closest points' relative speed along the line between them
       along = ((1.0_wp - s) * c%x(:, a1) + s * c%x(:, a2)) - ((1.0_wp - u) * c%x(:, b1) + u * c%x(:, b2))
       along = along / max(norm2(along), tiny(1.0_wp))
       least = min(least, closing_limit_step(c, pass, abs(dot_product(along, &
@@ -511,15 +472,6 @@ contains
     still_clear = pass%clear_gap(j) > 2.0_wp * (1.0_wp + edge_tolerance) * (pass%clear_moved(j) + moved) &
                                       * (1.0_wp + 1.0e-9_wp)
   end function still_clear
-
-  !> The least clearance a still-clear slave j can have now: its clearance at the search less
-  !> the most its distance can have shrunk since (still_clear's bound).
-  pure real(wp) function still_clear_gap(pass, j, moved) result(gap)
-    type(contact_pass_t), intent(in) :: pass
-    integer, intent(in) :: j
-    real(wp), intent(in) :: moved
-    gap = pass%clear_gap(j) - 2.0_wp * (1.0_wp + edge_tolerance) * (pass%clear_moved(j) + moved)
-  end function still_clear_gap
 
   !> Slave j of the pass is searched: not a node (or an edge) whose elements are all eroded.
   pure logical function live_slave(pass, j)
