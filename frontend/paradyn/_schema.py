@@ -631,6 +631,16 @@ DATASETS: tuple[DatasetSpec, ...] = (
         ), '[[contact]] soft_constraint', "use 0 (off) or a scale such as 0.1 (LS-DYNA's SOFSCL default)",
     ),
     DatasetSpec(
+        '/contact/thickness_scale', 'contact_thickness_scale', 'float', ('n_contacts', 2), False, None, None, 1.0,
+        Bound(0.0, False), Bound(10.0, True), 'must be in (0, 10]', None, '', None, False, '-',
+        (
+            "scale factors on the contact thickness of the definition's first and second part (LS-DYNA SFST, "
+            'SFMT): a surface sits scale t / 2 off each side of its mid-surface, so a slave meets a segment at '
+            '(s1 t1 + s2 t2) / 2 (a single_surface definition uses the first; docs/theory.md, "Contact '
+            'thickness")'
+        ), '[[contact]] thickness_scale', "give a scale factor above 0 (1: the shell's thickness, the default)",
+    ),
+    DatasetSpec(
         '/contact/static_friction', 'contact_static_friction', 'float', ('n_contacts',), False, None, None, 0.0,
         Bound(0.0, True), None, 'must be >= 0', None, '', None, False, '-', 'Coulomb coefficient at rest',
         '[[contact]] static_friction', 'give a Coulomb coefficient >= 0',
@@ -1316,6 +1326,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/contact/pairs'): ('required_when', 'class', 'shape', 'reference'),
     ('dataset', '/contact/penalty_scale'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/contact/soft_constraint'): ('class', 'shape', 'rows', 'lower', 'upper', 'finite'),
+    ('dataset', '/contact/thickness_scale'): ('class', 'shape', 'rows', 'lower', 'upper', 'finite'),
     ('dataset', '/contact/static_friction'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/contact/dynamic_friction'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/contact/friction_decay'): ('class', 'shape', 'rows', 'lower', 'finite'),

@@ -44,10 +44,10 @@ module paradyn_schema
       dataset_materials_hardening_curve, dataset_materials_rate_curve, dataset_materials_failure_strain, &
       dataset_materials_failure_points, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
       dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
-      dataset_contact_penalty_scale, dataset_contact_soft_constraint, dataset_contact_static_friction, &
-      dataset_contact_dynamic_friction, dataset_contact_friction_decay, dataset_contact_passes, &
-      dataset_contact_kind, dataset_contact_initial_penetration, dataset_contact_birth_time, &
-      dataset_contact_death_time, dataset_contact_normal_failure_stress, &
+      dataset_contact_penalty_scale, dataset_contact_soft_constraint, dataset_contact_thickness_scale, &
+      dataset_contact_static_friction, dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
+      dataset_contact_passes, dataset_contact_kind, dataset_contact_initial_penetration, &
+      dataset_contact_birth_time, dataset_contact_death_time, dataset_contact_normal_failure_stress, &
       dataset_contact_shear_failure_stress, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
       dataset_rigid_walls_shape, dataset_rigid_walls_edge, dataset_rigid_walls_size, &
       dataset_rigid_walls_radius, dataset_rigid_walls_length, dataset_rigid_walls_velocity, &
@@ -260,63 +260,64 @@ module paradyn_schema
   integer, parameter :: dataset_contact_pairs = 41
   integer, parameter :: dataset_contact_penalty_scale = 42
   integer, parameter :: dataset_contact_soft_constraint = 43
-  integer, parameter :: dataset_contact_static_friction = 44
-  integer, parameter :: dataset_contact_dynamic_friction = 45
-  integer, parameter :: dataset_contact_friction_decay = 46
-  integer, parameter :: dataset_contact_passes = 47
-  integer, parameter :: dataset_contact_kind = 48
-  integer, parameter :: dataset_contact_initial_penetration = 49
-  integer, parameter :: dataset_contact_birth_time = 50
-  integer, parameter :: dataset_contact_death_time = 51
-  integer, parameter :: dataset_contact_normal_failure_stress = 52
-  integer, parameter :: dataset_contact_shear_failure_stress = 53
-  integer, parameter :: dataset_rigid_walls_point = 54
-  integer, parameter :: dataset_rigid_walls_normal = 55
-  integer, parameter :: dataset_rigid_walls_shape = 56
-  integer, parameter :: dataset_rigid_walls_edge = 57
-  integer, parameter :: dataset_rigid_walls_size = 58
-  integer, parameter :: dataset_rigid_walls_radius = 59
-  integer, parameter :: dataset_rigid_walls_length = 60
-  integer, parameter :: dataset_rigid_walls_velocity = 61
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 62
-  integer, parameter :: dataset_rigid_walls_friction = 63
-  integer, parameter :: dataset_rigid_walls_birth_time = 64
-  integer, parameter :: dataset_rigid_walls_death_time = 65
-  integer, parameter :: dataset_rigid_wall_nodes_wall = 66
-  integer, parameter :: dataset_rigid_wall_nodes_node = 67
-  integer, parameter :: dataset_rigid_bodies_part = 68
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 69
-  integer, parameter :: dataset_rigid_bodies_prescribed = 70
-  integer, parameter :: dataset_rigid_bodies_velocity = 71
-  integer, parameter :: dataset_rigid_bodies_curve = 72
-  integer, parameter :: dataset_rigid_bodies_given_mass = 73
-  integer, parameter :: dataset_rigid_bodies_given_centre = 74
-  integer, parameter :: dataset_rigid_bodies_given_inertia = 75
-  integer, parameter :: dataset_rigid_bodies_failure_force = 76
-  integer, parameter :: dataset_rigid_bodies_failure_exponent = 77
-  integer, parameter :: dataset_rigid_bodies_failure_time = 78
-  integer, parameter :: dataset_rigid_bodies_failure_plastic_strain = 79
-  integer, parameter :: dataset_rigid_bodies_failure_node = 80
-  integer, parameter :: dataset_rigid_bodies_failure_normal = 81
-  integer, parameter :: dataset_rotation_ties_node = 82
-  integer, parameter :: dataset_rotation_ties_masters = 83
-  integer, parameter :: dataset_rotation_ties_weights = 84
-  integer, parameter :: dataset_curves_first_point = 85
-  integer, parameter :: dataset_curves_time = 86
-  integer, parameter :: dataset_curves_value = 87
-  integer, parameter :: dataset_pressure_part = 88
-  integer, parameter :: dataset_pressure_value = 89
-  integer, parameter :: dataset_pressure_curve = 90
-  integer, parameter :: dataset_prescribed_node = 91
-  integer, parameter :: dataset_prescribed_dof = 92
-  integer, parameter :: dataset_prescribed_value = 93
-  integer, parameter :: dataset_prescribed_curve = 94
-  integer, parameter :: dataset_prescribed_birth_time = 95
-  integer, parameter :: dataset_prescribed_death_time = 96
-  integer, parameter :: dataset_base_accelerations_direction = 97
-  integer, parameter :: dataset_base_accelerations_value = 98
-  integer, parameter :: dataset_base_accelerations_curve = 99
-  integer, parameter :: n_deck_datasets = 99
+  integer, parameter :: dataset_contact_thickness_scale = 44
+  integer, parameter :: dataset_contact_static_friction = 45
+  integer, parameter :: dataset_contact_dynamic_friction = 46
+  integer, parameter :: dataset_contact_friction_decay = 47
+  integer, parameter :: dataset_contact_passes = 48
+  integer, parameter :: dataset_contact_kind = 49
+  integer, parameter :: dataset_contact_initial_penetration = 50
+  integer, parameter :: dataset_contact_birth_time = 51
+  integer, parameter :: dataset_contact_death_time = 52
+  integer, parameter :: dataset_contact_normal_failure_stress = 53
+  integer, parameter :: dataset_contact_shear_failure_stress = 54
+  integer, parameter :: dataset_rigid_walls_point = 55
+  integer, parameter :: dataset_rigid_walls_normal = 56
+  integer, parameter :: dataset_rigid_walls_shape = 57
+  integer, parameter :: dataset_rigid_walls_edge = 58
+  integer, parameter :: dataset_rigid_walls_size = 59
+  integer, parameter :: dataset_rigid_walls_radius = 60
+  integer, parameter :: dataset_rigid_walls_length = 61
+  integer, parameter :: dataset_rigid_walls_velocity = 62
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 63
+  integer, parameter :: dataset_rigid_walls_friction = 64
+  integer, parameter :: dataset_rigid_walls_birth_time = 65
+  integer, parameter :: dataset_rigid_walls_death_time = 66
+  integer, parameter :: dataset_rigid_wall_nodes_wall = 67
+  integer, parameter :: dataset_rigid_wall_nodes_node = 68
+  integer, parameter :: dataset_rigid_bodies_part = 69
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 70
+  integer, parameter :: dataset_rigid_bodies_prescribed = 71
+  integer, parameter :: dataset_rigid_bodies_velocity = 72
+  integer, parameter :: dataset_rigid_bodies_curve = 73
+  integer, parameter :: dataset_rigid_bodies_given_mass = 74
+  integer, parameter :: dataset_rigid_bodies_given_centre = 75
+  integer, parameter :: dataset_rigid_bodies_given_inertia = 76
+  integer, parameter :: dataset_rigid_bodies_failure_force = 77
+  integer, parameter :: dataset_rigid_bodies_failure_exponent = 78
+  integer, parameter :: dataset_rigid_bodies_failure_time = 79
+  integer, parameter :: dataset_rigid_bodies_failure_plastic_strain = 80
+  integer, parameter :: dataset_rigid_bodies_failure_node = 81
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 82
+  integer, parameter :: dataset_rotation_ties_node = 83
+  integer, parameter :: dataset_rotation_ties_masters = 84
+  integer, parameter :: dataset_rotation_ties_weights = 85
+  integer, parameter :: dataset_curves_first_point = 86
+  integer, parameter :: dataset_curves_time = 87
+  integer, parameter :: dataset_curves_value = 88
+  integer, parameter :: dataset_pressure_part = 89
+  integer, parameter :: dataset_pressure_value = 90
+  integer, parameter :: dataset_pressure_curve = 91
+  integer, parameter :: dataset_prescribed_node = 92
+  integer, parameter :: dataset_prescribed_dof = 93
+  integer, parameter :: dataset_prescribed_value = 94
+  integer, parameter :: dataset_prescribed_curve = 95
+  integer, parameter :: dataset_prescribed_birth_time = 96
+  integer, parameter :: dataset_prescribed_death_time = 97
+  integer, parameter :: dataset_base_accelerations_direction = 98
+  integer, parameter :: dataset_base_accelerations_value = 99
+  integer, parameter :: dataset_base_accelerations_curve = 100
+  integer, parameter :: n_deck_datasets = 100
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -650,6 +651,10 @@ module paradyn_schema
         condition_none, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 10.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be in [0, 10]', '', &
         'use 0 (off) or a scale such as 0.1 (LS-DYNA''s SOFSCL default)'), &
+    dataset_spec_t('/contact/thickness_scale', class_float, 2, size_n_contacts, .false., .false., &
+        condition_none, condition_none, 1.0_wp, .true., .false., .true., .true., 0.0_wp, 10.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be in (0, 10]', '', &
+        'give a scale factor above 0 (1: the shell''s thickness, the default)'), &
     dataset_spec_t('/contact/static_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &

@@ -22,9 +22,9 @@ module deck_fields
                             dataset_materials_failure_points, dataset_loads_node, dataset_loads_dof, &
                             dataset_loads_value, dataset_loads_ramp_time, dataset_output_tracked_nodes, &
                             dataset_contact_pairs, dataset_contact_penalty_scale, &
-                            dataset_contact_soft_constraint, dataset_contact_static_friction, &
-                            dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
-                            dataset_contact_passes, dataset_contact_kind, &
+                            dataset_contact_soft_constraint, dataset_contact_thickness_scale, &
+                            dataset_contact_static_friction, dataset_contact_dynamic_friction, &
+                            dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
                             dataset_contact_initial_penetration, dataset_contact_birth_time, &
                             dataset_contact_death_time, dataset_contact_normal_failure_stress, &
                             dataset_contact_shear_failure_stress, dataset_rigid_walls_point, &
@@ -120,6 +120,7 @@ module deck_fields
     integer, allocatable :: contact_pairs(:, :)   !< /contact/pairs (2, n_contacts) -
     real(wp), allocatable :: contact_penalty_scale(:)   !< /contact/penalty_scale (n_contacts) -
     real(wp), allocatable :: contact_soft_constraint(:)   !< /contact/soft_constraint (n_contacts) -
+    real(wp), allocatable :: contact_thickness_scale(:, :)   !< /contact/thickness_scale (2, n_contacts) -
     real(wp), allocatable :: contact_static_friction(:)   !< /contact/static_friction (n_contacts) -
     real(wp), allocatable :: contact_dynamic_friction(:)   !< /contact/dynamic_friction (n_contacts) -
     real(wp), allocatable :: contact_friction_decay(:)   !< /contact/friction_decay (n_contacts) s/m
@@ -386,6 +387,8 @@ contains
       d%contact_penalty_scale = values(1, :)
     case (dataset_contact_soft_constraint)
       d%contact_soft_constraint = values(1, :)
+    case (dataset_contact_thickness_scale)
+      d%contact_thickness_scale = values
     case (dataset_contact_static_friction)
       d%contact_static_friction = values(1, :)
     case (dataset_contact_dynamic_friction)

@@ -57,6 +57,7 @@ class DeckFields:
     contact_pairs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int32))
     contact_penalty_scale: np.ndarray | None = None   # /contact/penalty_scale (n_contacts,) -
     contact_soft_constraint: np.ndarray | None = None   # /contact/soft_constraint (n_contacts,) -
+    contact_thickness_scale: np.ndarray | None = None   # /contact/thickness_scale (n_contacts, 2) -
     contact_static_friction: np.ndarray | None = None   # /contact/static_friction (n_contacts,) -
     contact_dynamic_friction: np.ndarray | None = None   # /contact/dynamic_friction (n_contacts,) -
     contact_friction_decay: np.ndarray | None = None   # /contact/friction_decay (n_contacts,) s/m

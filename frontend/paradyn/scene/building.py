@@ -190,6 +190,8 @@ def _apply_contacts(scene: Scene, model: deck.Model) -> None:
     model.contact_pairs = np.array([[a, b] for a, b, _, _ in rows], dtype=np.int32).reshape(-1, 2)
     model.contact_penalty_scale = np.array([c.penalty_scale for c in contacts])
     model.contact_soft_constraint = np.array([c.soft_constraint for c in contacts])
+    # a single_surface contact's one scale on each side of its rows
+    model.contact_thickness_scale = np.array([c.thickness_scale for c in contacts], dtype=float).reshape(-1, 2)
     model.contact_static_friction = np.array([c.static_friction for c in contacts])
     model.contact_dynamic_friction = np.array([c.dynamic_friction for c in contacts])
     model.contact_friction_decay = np.array([c.friction_decay for c in contacts])

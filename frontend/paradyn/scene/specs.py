@@ -172,6 +172,8 @@ class ContactSpec:
     parts: tuple[str, ...]
     penalty_scale: float = _DECK_DEFAULT["/contact/penalty_scale"]
     soft_constraint: float = _DECK_DEFAULT["/contact/soft_constraint"]   # 0 off; LS-DYNA SOFT = 1's SOFSCL
+    # scale on the contact thickness of the first and the second part (LS-DYNA SFST, SFMT)
+    thickness_scale: tuple[float, float] = (_DECK_DEFAULT["/contact/thickness_scale"],) * 2
     static_friction: float = _DECK_DEFAULT["/contact/static_friction"]
     dynamic_friction: float = _DECK_DEFAULT["/contact/dynamic_friction"]
     friction_decay: float = _DECK_DEFAULT["/contact/friction_decay"]
