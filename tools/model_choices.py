@@ -43,7 +43,10 @@ CHOICES = [
     ("radial return without the plane-stress iteration", "plastic_return", "radial"),
     ("radioss rotary inertia (m (t^2 + A) / 12, OpenRadioss's rule)", "rotary_inertia", "radioss"),
     ("physical rotary inertia (m t^2 / 12, the step capped)", "rotary_inertia", "physical"),
+    ("thickness update (the element's forces use its current thickness, LS-DYNA ISTUPD = 1)", "thickness_update",
+     True),
     ("contact thickness scale 0.5 (surfaces t / 4 off each mid-surface)", "contact_thickness_scale", 0.5),
+    ("contact thickness scale 0.9 (the walls 2.7 mm apart at contact)", "contact_thickness_scale", 0.9),
     # OpenRadioss /INTER/TYPE7's default constant gap (Igap = 0, Gapmin blank): min(t, shortest main side / 2),
     # 3 mm on 32 x 64 and 64 x 128, 1.963 mm on 128 x 256 (side 2 R sin(pi / 128) = 3.927 mm)
     ("OpenRadioss's default gap as contact thickness (scale 1, 1, 0.654 on the three meshes)",

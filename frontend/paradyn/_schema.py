@@ -261,6 +261,13 @@ RELATIONS: dict[str, RelationSpec] = {
         'distinct_elements', '/elements/connectivity',
         'no two elements have the same four nodes (a duplicated element doubles its mass and stiffness)',
     ),
+    'thickness_update_elements': RelationSpec(
+        'thickness_update_elements', '/parts/thickness_update',
+        (
+            'a part with thickness_update = 1 is of one-point quadrilaterals: no triangle, not fully integrated, '
+            'not a truss, not rigid'
+        ),
+    ),
     'node_in_element': RelationSpec(
         'node_in_element', '/nodes/coordinates', 'every node belongs to an element (it has no mass otherwise)',
     ),
@@ -444,6 +451,16 @@ DATASETS: tuple[DatasetSpec, ...] = (
             "1: the element's warping correction (Belytschko-Wong-Chiang twist term and rigid offsets of warped "
             'elements, docs/theory.md); 0: the plain flat element'
         ), '[[part]] warping_correction', 'use 1 (warping correction on) or 0 (off)',
+    ),
+    DatasetSpec(
+        '/parts/thickness_update', 'thickness_update', 'int', ('n_parts',), False, None, None, 0, Bound(0, True),
+        Bound(1, True), 'must be between 0 and 1', None, '', None, False, '-',
+        (
+            "1: the element's forces use its current thickness, updated each step from the thickness strain rate "
+            '(LS-DYNA ISTUPD = 1, OpenRadioss Ithick = 1; membrane and shear resultants scale with t, moments '
+            'with t^2; mass, step, hourglass and contact keep t0: docs/theory.md, "Thickness update"); one-point '
+            "quadrilaterals only. 0: the element keeps t0 (the default, as LS-DYNA's and OpenRadioss's)"
+        ), '[[part]] thickness_update', 'use 1 (the current thickness) or 0 (the initial thickness)',
     ),
     DatasetSpec(
         '/parts/surface_only', 'surface_only', 'int', ('n_parts',), False, None, None, 0, Bound(0, True),
@@ -1300,6 +1317,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/parts/shell_element'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/parts/rotary_inertia'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/parts/warping_correction'): ('class', 'shape', 'rows', 'lower', 'upper'),
+    ('dataset', '/parts/thickness_update'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/surface_only'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/element_kind'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/parts/cross_section_area'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
@@ -1416,6 +1434,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('control', 'effect_friction'): ('class', 'enum'),
     ('relation', '/elements/connectivity'): ('distinct_element_nodes', 'distinct_elements'),
     ('relation', '/nodes/coordinates'): ('convex_elements', 'node_in_element'),
+    ('relation', '/parts/thickness_update'): ('thickness_update_elements',),
     ('relation', '/materials/tangent_modulus'): ('tangent_below_youngs',),
     ('relation', '/materials/hardening_curve'): ('material_curves',),
     ('relation', '/contact/pairs'): ('contact_parts_differ',),

@@ -48,8 +48,12 @@ contains
   !> contraction (fortran/CMakeLists.txt), so the layouts of tests/test_parallel.py agree.
   !> Precision: x, v, w, the step, forces and energies are double (wp); the arithmetic and the
   !> element state are of kind ek, single in the mixed engine (frames; docs/theory.md).
+  !> thickness (optional; a part with thickness_update): each element's current thickness, which
+  !> the step's strains and resultants use in place of props%thickness and which the step updates
+  !> from its thickness strain rate (thickness_strain_step; docs/theory.md, "Thickness update").
+  !> Without it every element has props%thickness, bitwise as before the option.
   pure subroutine blt_internal_forces(n, x, v, w, props, dt_step, stress, back, eps_p, state, hourglass, &
-                                      force, e_internal, e_hourglass, inverted, dt_element)
+                                      force, e_internal, e_hourglass, inverted, dt_element, thickness)
     integer, intent(in) :: n
     real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
     type(shell_properties_t), intent(in) :: props
@@ -63,11 +67,12 @@ contains
     real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
     integer, intent(inout) :: inverted
     real(wp), intent(out) :: dt_element(n)   !< stable step L / c on the end-of-step geometry
+    real(ek), intent(inout), optional :: thickness(n)   !< current thickness of each element (m)
 
     integer :: first, m, o, i, k, c, nip, ns
     real(wp) :: zeta_wp(max_integration_points), wgt_wp(max_integration_points)
     real(ek) :: zeta(max_integration_points), wgt(max_integration_points)
-    real(ek) :: dt, t, half_t, shear_step, z, wz, wzz, s1, s2, s3, s4, s5
+    real(ek) :: dt, t, half_t, shear_step, s1, s2, s3, s4, s5, wk, zk, squeeze
     logical :: history   !< the material keeps a back stress or plastic strain
     ! per-pass arrays, element index first
     real(wp) :: xg(group_size, 3, 4)   !< the mid-step positions (double, as the nodes')
@@ -86,6 +91,10 @@ contains
     real(ek) :: s_xi(group_size)
     !> the stress increments' work against its elastic value over the points: the tangent share
     real(ek) :: actual_work(group_size), elastic_work(group_size), tangent(group_size)
+    !> half the thickness of each element this step, and (thickness update) the mean in-plane stress
+    !> trace through the thickness before and after the step's stress update
+    real(ek) :: ht(group_size), trace_old(group_size), trace_new(group_size)
+    logical :: update
 
     nip = props%integration_points
     ns = size(state, 2)
@@ -96,6 +105,8 @@ contains
     dt = real(dt_step, ek)
     t = real(props%thickness, ek)
     half_t = 0.5_ek * t
+    update = present(thickness)
+    squeeze = real((1.0_wp - 2.0_wp * props%poisson) / props%young, ek)
     shear_step = real(shear_correction * (props%young / (2.0_wp * (1.0_wp + props%poisson))), ek) * dt
 
     do first = 1, n, group_size
@@ -128,14 +139,22 @@ contains
       work = 0.0_ek
       actual_work = 0.0_ek
       elastic_work = 0.0_ek
+      if (update) then
+        ht(1:m) = 0.5_ek * thickness(o + 1:o + m)
+        trace_old(1:m) = 0.0_ek
+        trace_new(1:m) = 0.0_ek
+      else
+        ht(1:m) = half_t
+      end if
       do k = 1, nip
-        z = zeta(k) * half_t
         do c = 1, 3
           do i = 1, m
-            deps(i, c) = dt * (rates(i, c) + z * rates(i, 3 + c))
+            deps(i, c) = dt * (rates(i, c) + (zeta(k) * ht(i)) * rates(i, 3 + c))
             sp(i, c) = stress(o + i, c, k)
           end do
         end do
+        if (update) trace_old(1:m) = trace_old(1:m) + &
+                                     0.5_ek * wgt(k) * (stress(o + 1:o + m, 1, k) + stress(o + 1:o + m, 2, k))
         if (history) then
           if (size(back, 3) > 0) then
             bp(1:m, :) = back(o + 1:o + m, :, k)
@@ -165,11 +184,11 @@ contains
         ! a failed point carries no stress (element_erosion)
         if (props%failure_strain > 0.0_wp) call zero_failed_points(m, props%failure_strain, eps_p(o + 1:o + m, k), sp)
         if (history) call tangent_work(m, wgt(k), props, deps, stress(o + 1:o + m, 1:3, k), sp, actual_work, elastic_work)
-        wz = wgt(k) * half_t
-        wzz = wgt(k) * half_t * (zeta(k) * half_t)
+        wk = wgt(k)
+        zk = zeta(k)
         ! one pass: work, the write-back and the point's share of the resultants
         do i = 1, m
-          work(i) = work(i) + wz * ( &
+          work(i) = work(i) + (wk * ht(i)) * ( &
                     (0.5_ek * (stress(o + i, 1, k) + sp(i, 1)) * deps(i, 1) &
                      + 0.5_ek * (stress(o + i, 2, k) + sp(i, 2)) * deps(i, 2) &
                      + 0.5_ek * (stress(o + i, 3, k) + sp(i, 3)) * deps(i, 3)) &
@@ -185,16 +204,20 @@ contains
           stress(o + i, 3, k) = s3
           stress(o + i, 4, k) = s4
           stress(o + i, 5, k) = s5
-          res(i, 1) = res(i, 1) + wz * s1
-          res(i, 2) = res(i, 2) + wz * s2
-          res(i, 3) = res(i, 3) + wz * s3
-          res(i, 4) = res(i, 4) + wzz * s1
-          res(i, 5) = res(i, 5) + wzz * s2
-          res(i, 6) = res(i, 6) + wzz * s3
-          res(i, 7) = res(i, 7) + wz * s4
-          res(i, 8) = res(i, 8) + wz * s5
+          res(i, 1) = res(i, 1) + (wk * ht(i)) * s1
+          res(i, 2) = res(i, 2) + (wk * ht(i)) * s2
+          res(i, 3) = res(i, 3) + (wk * ht(i)) * s3
+          res(i, 4) = res(i, 4) + (wk * ht(i) * (zk * ht(i))) * s1
+          res(i, 5) = res(i, 5) + (wk * ht(i) * (zk * ht(i))) * s2
+          res(i, 6) = res(i, 6) + (wk * ht(i) * (zk * ht(i))) * s3
+          res(i, 7) = res(i, 7) + (wk * ht(i)) * s4
+          res(i, 8) = res(i, 8) + (wk * ht(i)) * s5
         end do
+        if (update) trace_new(1:m) = trace_new(1:m) + &
+                                     0.5_ek * wgt(k) * (stress(o + 1:o + m, 1, k) + stress(o + 1:o + m, 2, k))
       end do
+      if (update) call thickness_strain_step(m, dt, squeeze, rates, trace_old, trace_new, area_mid, &
+                                             thickness(o + 1:o + m), res)
       e_internal(o + 1:o + m) = merge(e_internal(o + 1:o + m) + area_mid(1:m) * work(1:m), &
                                       e_internal(o + 1:o + m), area_mid(1:m) > 0.0_ek)
 
@@ -235,6 +258,31 @@ contains
       end do
     end do
   end subroutine blt_internal_forces
+
+  !> The thickness update of one step (docs/theory.md, "Thickness update"): the thickness strain
+  !> increment of plane stress with volume-keeping plastic flow,
+  !> d eps_z = -(d eps_x + d eps_y) + (1 - 2 nu) / E (d sigma_x + d sigma_y), from the membrane
+  !> rates (the mid-surface's in-plane strain increment) and the change of the mean in-plane stress
+  !> trace through the thickness (squeeze = (1 - 2 nu) / E); t <- t exp(d eps_z). The resultants,
+  !> summed with the thickness at the start of the step, are carried to the new one: membrane and
+  !> shear resultants by t_new / t, moments by (t_new / t)^2. An element inverted at mid-step
+  !> keeps its thickness.
+  pure subroutine thickness_strain_step(m, dt, squeeze, rates, trace_old, trace_new, area_mid, thickness, res)
+    integer, intent(in) :: m
+    real(ek), intent(in) :: dt, squeeze, rates(group_size, 8), trace_old(group_size), trace_new(group_size)
+    real(ek), intent(in) :: area_mid(group_size)
+    real(ek), intent(inout) :: thickness(m), res(group_size, 8)
+    real(ek) :: ratio
+    integer :: i
+    do i = 1, m
+      ratio = exp(-dt * (rates(i, 1) + rates(i, 2)) + squeeze * (trace_new(i) - trace_old(i)))
+      ratio = merge(ratio, 1.0_ek, area_mid(i) > 0.0_ek)
+      thickness(i) = thickness(i) * ratio
+      res(i, 1:3) = res(i, 1:3) * ratio
+      res(i, 4:6) = res(i, 4:6) * (ratio * ratio)
+      res(i, 7:8) = res(i, 7:8) * ratio
+    end do
+  end subroutine thickness_strain_step
 
   !> (Also the frame of the fully integrated element, shell_full.)
   !> local_frame of elements o+1..o+m of x (mid-surface frame, local node coordinates, projected

@@ -36,6 +36,7 @@ class DeckFields:
     shell_element: np.ndarray | None = None   # /parts/shell_element (n_parts,) -
     rotary_inertia: np.ndarray | None = None   # /parts/rotary_inertia (n_parts,) -
     warping_correction: np.ndarray | None = None   # /parts/warping_correction (n_parts,) -
+    thickness_update: np.ndarray | None = None   # /parts/thickness_update (n_parts,) -
     surface_only: np.ndarray | None = None   # /parts/surface_only (n_parts,) -
     element_kind: np.ndarray | None = None   # /parts/element_kind (n_parts,) -
     cross_section_area: np.ndarray | None = None   # /parts/cross_section_area (n_parts,) m^2

@@ -118,6 +118,8 @@ class PartSpec:
     element: str = _enum_name("shell_element", _DECK_DEFAULT["/parts/shell_element"])
     # the nodal rotary inertia of its shells: "scaled" m (t^2 + A) / 4 or "radioss" m (t^2 + A) / 12
     rotary_inertia: str = _enum_name("rotary_inertia", _DECK_DEFAULT["/parts/rotary_inertia"])
+    # the element's forces use its current thickness (LS-DYNA ISTUPD = 1); one-point quadrilaterals only
+    thickness_update: bool = bool(_DECK_DEFAULT["/parts/thickness_update"])
     initial_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
     # "truss": 2-node bars (elements N1 N2 N2 N2) of cross-section area cross_section_area (m^2)
     element_kind: str = _enum_name("element_kind", _DECK_DEFAULT["/parts/element_kind"])

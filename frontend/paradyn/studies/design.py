@@ -174,6 +174,9 @@ KNOBS: dict[str, Knob] = {k.name: k for k in [
          f"{', '.join(ROTARY_INERTIAS)}", lambda s: _same([p.rotary_inertia for p in s.parts]),
          _set_parts("rotary_inertia"),
          lambda v: None if v in ROTARY_INERTIAS else f"must be one of {', '.join(ROTARY_INERTIAS)}"),
+    Knob("thickness_update", bool, "thickness_update of every part: the element's forces use its current thickness "
+         "(LS-DYNA ISTUPD = 1; one-point quadrilaterals)", lambda s: _same([p.thickness_update for p in s.parts]),
+         _set_parts("thickness_update")),
     Knob("warping_correction", bool, "warping_correction of every part",
          lambda s: _same([p.warping_correction for p in s.parts]), _set_parts("warping_correction")),
     Knob("penalty_scale", float, "penalty_scale of every [[contact]], > 0",
