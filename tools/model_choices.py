@@ -76,7 +76,7 @@ def ladder(label: str, knob: str | None, value: object, out: Path, jobs: int, en
         options.update(design="grid", knobs={"mesh": MESHES})
     if end_time is not None:
         options["end_time"] = end_time
-    folder = out / label.split(" (")[0].replace(" ", "_").replace(".", "p").replace("'", "")
+    folder = out / label.split(" (")[0].replace("'s ", " ").replace(" ", "_").replace(".", "p")
     result = paradyn.study(scene, folder, progress=False, **options)
     if result.failed:
         raise SystemExit(f"{label}: a run failed ({result.failed[0].record.get('error')}); see {folder}")
