@@ -22,6 +22,7 @@ from paradyn._schema import (
     DatasetSpec,
 )
 from paradyn.deck.model import trait_codes
+from paradyn.deck.part_relations import check_thickness_updates
 from paradyn.deck.walls import walls_of
 
 if TYPE_CHECKING:
@@ -192,7 +193,7 @@ def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
                    f"fourth (remesh without collapsed elements)")
     _check_distinct_elements(check, conn)
     _check_element_shapes(check, conn, truss)
-    _check_thickness_updates(check, conn, truss)
+    check_thickness_updates(check, conn, truss)
     plastic = np.isin(check.array("material_model"), trait_codes("material_model", "plastic"))
     if np.any(plastic):
         tangent, young = check.array("tangent_modulus"), check.array("youngs_modulus")
@@ -390,26 +391,6 @@ def _check_distinct_elements(check: _Checker, conn: np.ndarray) -> None:
         original = int(first[inverse.ravel()[element]])
         check.fail(f"/elements/connectivity[{element}] = {conn[element].tolist()} has the same nodes as element "
                    f"{original}; a duplicated element doubles its mass and stiffness, remove it")
-
-
-def _check_thickness_updates(check: _Checker, conn: np.ndarray, truss: np.ndarray) -> None:
-    """thickness_update_elements (the engine's thickness_update_message): a part that updates its
-    thickness is of one-point quadrilaterals, none a triangle, fully integrated, truss or rigid."""
-    update = check.array("thickness_update")
-    if not np.any(update):
-        return
-    part = check.array("element_part")
-    rigid = np.isin(check.array("material_model")[check.array("part_material")], trait_codes("material_model", "rigid"))
-    full = check.array("shell_element") == ENUMS["shell_element"]["full"]
-    for row in np.flatnonzero(update[part] != 0):
-        p = int(part[row])
-        why = ("it is a truss part" if truss[row] else "its material is rigid" if rigid[p]
-               else "its element is the fully integrated one (/parts/shell_element = 2)" if full[p]
-               else f"its element {int(row)} is a triangle" if conn[row, 2] == conn[row, 3] else "")
-        if why:
-            check.fail(f"/parts/thickness_update[{p}] = 1, but {why}; the thickness update is the one-point "
-                       f"quadrilateral's: set it to 0, or give the part one-point quadrilaterals only")
-            return
 
 
 def _truss_elements(check: _Checker) -> np.ndarray:
