@@ -28,7 +28,8 @@ from paradyn.studies.error import richardson
 CASE = Path(__file__).resolve().parents[1] / "cases" / "pipe_whip" / "scene.toml"
 MESHES = [2, 4, 8]
 QUANTITY_TIME = 2.5e-3   # s
-# (label, knob, value): each switched alone from the base (the case at the automatic step)
+# (label, knob, value): each switched alone from the base (the case at the automatic step); a value
+# given as {mesh factor: value} is set mesh by mesh (the runs listed one by one)
 CHOICES = [
     ("base", None, None),
     ("physical hourglass form", "hourglass_form", "physical"),
