@@ -293,6 +293,13 @@ def _rigid_node_loose(f: h5py.File) -> None:
     f["/nodes/rigid_body"][-1] = -1   # a node of the rigid lid's element outside its body
 
 
+def _truss_updates_thickness(f: h5py.File) -> None:
+    """The wire (part 3, a truss) asks for the thickness update, the one-point quadrilateral's."""
+    if "/parts/thickness_update" in f:
+        del f["/parts/thickness_update"]
+    f["/parts/thickness_update"] = np.array([0, 0, 0, 1], dtype=np.int32)
+
+
 def _hardening_curve_softens(f: h5py.File) -> None:
     f["/curves/value"][4] = 0.9 * f["/curves/value"][3]   # curve 2: the yield stress falls
 
@@ -313,6 +320,7 @@ RELATION_DAMAGES: dict[str, Damage] = {
     "curve_times_increase": _curve_time_repeated,
     "rigid_bodies_whole": _rigid_node_loose,
     "material_curves": _hardening_curve_softens,
+    "thickness_update_elements": _truss_updates_thickness,
 }
 
 

@@ -28,7 +28,8 @@ from paradyn.studies.error import richardson
 CASE = Path(__file__).resolve().parents[1] / "cases" / "pipe_whip" / "scene.toml"
 MESHES = [2, 4, 8]
 QUANTITY_TIME = 2.5e-3   # s
-# (label, knob, value): each switched alone from the base (the case at the automatic step)
+# (label, knob, value): each switched alone from the base (the case at the automatic step); a value
+# given as {mesh factor: value} is set mesh by mesh (the runs listed one by one)
 CHOICES = [
     ("base", None, None),
     ("physical hourglass form", "hourglass_form", "physical"),
@@ -43,6 +44,14 @@ CHOICES = [
     ("radial return without the plane-stress iteration", "plastic_return", "radial"),
     ("radioss rotary inertia (m (t^2 + A) / 12, OpenRadioss's rule)", "rotary_inertia", "radioss"),
     ("physical rotary inertia (m t^2 / 12, the step capped)", "rotary_inertia", "physical"),
+    ("thickness update (the element's forces use its current thickness, LS-DYNA ISTUPD = 1)", "thickness_update",
+     True),
+    ("contact thickness scale 0.5 (surfaces t / 4 off each mid-surface)", "contact_thickness_scale", 0.5),
+    ("contact thickness scale 0.9 (the walls 2.7 mm apart at contact)", "contact_thickness_scale", 0.9),
+    # OpenRadioss /INTER/TYPE7's default constant gap (Igap = 0, Gapmin blank): min(t, shortest main side / 2),
+    # 3 mm on 32 x 64 and 64 x 128, 1.963 mm on 128 x 256 (side 2 R sin(pi / 128) = 3.927 mm)
+    ("OpenRadioss's default gap as contact thickness (scale 1, 1, 0.654 on the three meshes)",
+     "contact_thickness_scale", {2: 1.0, 4: 1.0, 8: min(1.0, 0.08 * math.sin(math.pi / 128) / 0.003)}),
 ]
 
 
@@ -56,14 +65,19 @@ def base_scene() -> Scene:
 def ladder(label: str, knob: str | None, value: object, out: Path, jobs: int, end_time: float | None) -> list[float]:
     """The quantity on each mesh of MESHES for one choice."""
     scene = copy.deepcopy(base_scene())
-    if knob is not None:
+    per_mesh = isinstance(value, dict)   # a value for each mesh factor: the runs listed one by one
+    if knob is not None and not per_mesh:
         KNOBS[knob].apply(scene, value)
     at = QUANTITY_TIME if end_time is None else min(QUANTITY_TIME, end_time)
-    options: dict[str, object] = {"design": "grid", "knobs": {"mesh": MESHES}, "reference": "finest",
-                                  "quantities": {"q": f"upper_top.dz@{at:g}"}, "jobs": jobs, "threads": 1}
+    options: dict[str, object] = {"reference": "finest", "quantities": {"q": f"upper_top.dz@{at:g}"}, "jobs": jobs,
+                                  "threads": 1}
+    if per_mesh:
+        options.update(design="list", knobs={}, runs=[{"mesh": m, knob: value[m]} for m in MESHES])
+    else:
+        options.update(design="grid", knobs={"mesh": MESHES})
     if end_time is not None:
         options["end_time"] = end_time
-    folder = out / label.split(" (")[0].replace(" ", "_").replace(".", "p")
+    folder = out / label.split(" (")[0].replace("'s ", " ").replace(" ", "_").replace(".", "p")
     result = paradyn.study(scene, folder, progress=False, **options)
     if result.failed:
         raise SystemExit(f"{label}: a run failed ({result.failed[0].record.get('error')}); see {folder}")

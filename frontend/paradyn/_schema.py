@@ -261,6 +261,13 @@ RELATIONS: dict[str, RelationSpec] = {
         'distinct_elements', '/elements/connectivity',
         'no two elements have the same four nodes (a duplicated element doubles its mass and stiffness)',
     ),
+    'thickness_update_elements': RelationSpec(
+        'thickness_update_elements', '/parts/thickness_update',
+        (
+            'a part with thickness_update = 1 is of one-point quadrilaterals: no triangle, not fully integrated, '
+            'not a truss, not rigid'
+        ),
+    ),
     'node_in_element': RelationSpec(
         'node_in_element', '/nodes/coordinates', 'every node belongs to an element (it has no mass otherwise)',
     ),
@@ -446,6 +453,16 @@ DATASETS: tuple[DatasetSpec, ...] = (
         ), '[[part]] warping_correction', 'use 1 (warping correction on) or 0 (off)',
     ),
     DatasetSpec(
+        '/parts/thickness_update', 'thickness_update', 'int', ('n_parts',), False, None, None, 0, Bound(0, True),
+        Bound(1, True), 'must be between 0 and 1', None, '', None, False, '-',
+        (
+            "1: the element's forces use its current thickness, updated each step from the thickness strain rate "
+            '(LS-DYNA ISTUPD = 1, OpenRadioss Ithick = 1; membrane and shear resultants scale with t, moments '
+            'with t^2; mass, step, hourglass and contact keep t0: docs/theory.md, "Thickness update"); one-point '
+            "quadrilaterals only. 0: the element keeps t0 (the default, as LS-DYNA's and OpenRadioss's)"
+        ), '[[part]] thickness_update', 'use 1 (the current thickness) or 0 (the initial thickness)',
+    ),
+    DatasetSpec(
         '/parts/surface_only', 'surface_only', 'int', ('n_parts',), False, None, None, 0, Bound(0, True),
         Bound(1, True), 'must be between 0 and 1', None, '', None, False, '-',
         (
@@ -629,6 +646,16 @@ DATASETS: tuple[DatasetSpec, ...] = (
             "or soft walls against stiff ones get a spring that follows the nodes' masses rather than the "
             "material's bulk modulus (still capped at the stable m / (4 dt^2))"
         ), '[[contact]] soft_constraint', "use 0 (off) or a scale such as 0.1 (LS-DYNA's SOFSCL default)",
+    ),
+    DatasetSpec(
+        '/contact/thickness_scale', 'contact_thickness_scale', 'float', ('n_contacts', 2), False, None, None, 1.0,
+        Bound(0.0, False), Bound(10.0, True), 'must be in (0, 10]', None, '', None, False, '-',
+        (
+            "scale factors on the contact thickness of the definition's first and second part (LS-DYNA SFST, "
+            'SFMT): a surface sits scale t / 2 off each side of its mid-surface, so a slave meets a segment at '
+            '(s1 t1 + s2 t2) / 2 (a single_surface definition uses the first; docs/theory.md, "Contact '
+            'thickness")'
+        ), '[[contact]] thickness_scale', "give a scale factor above 0 (1: the shell's thickness, the default)",
     ),
     DatasetSpec(
         '/contact/static_friction', 'contact_static_friction', 'float', ('n_contacts',), False, None, None, 0.0,
@@ -1304,6 +1331,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/parts/shell_element'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/parts/rotary_inertia'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/parts/warping_correction'): ('class', 'shape', 'rows', 'lower', 'upper'),
+    ('dataset', '/parts/thickness_update'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/surface_only'): ('class', 'shape', 'rows', 'lower', 'upper'),
     ('dataset', '/parts/element_kind'): ('class', 'shape', 'rows', 'enum'),
     ('dataset', '/parts/cross_section_area'): ('required_when', 'class', 'shape', 'rows', 'lower', 'finite'),
@@ -1330,6 +1358,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('dataset', '/contact/pairs'): ('required_when', 'class', 'shape', 'reference'),
     ('dataset', '/contact/penalty_scale'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/contact/soft_constraint'): ('class', 'shape', 'rows', 'lower', 'upper', 'finite'),
+    ('dataset', '/contact/thickness_scale'): ('class', 'shape', 'rows', 'lower', 'upper', 'finite'),
     ('dataset', '/contact/static_friction'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/contact/dynamic_friction'): ('class', 'shape', 'rows', 'lower', 'finite'),
     ('dataset', '/contact/friction_decay'): ('class', 'shape', 'rows', 'lower', 'finite'),
@@ -1420,6 +1449,7 @@ RULES: dict[tuple[str, str], tuple[str, ...]] = {
     ('control', 'effect_friction'): ('class', 'enum'),
     ('relation', '/elements/connectivity'): ('distinct_element_nodes', 'distinct_elements'),
     ('relation', '/nodes/coordinates'): ('convex_elements', 'node_in_element'),
+    ('relation', '/parts/thickness_update'): ('thickness_update_elements',),
     ('relation', '/materials/tangent_modulus'): ('tangent_below_youngs',),
     ('relation', '/materials/hardening_curve'): ('material_curves',),
     ('relation', '/contact/pairs'): ('contact_parts_differ',),

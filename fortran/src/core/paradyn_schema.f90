@@ -37,25 +37,25 @@ module paradyn_schema
       dataset_elements_part, dataset_elements_id, dataset_parts_thickness, dataset_parts_material, &
       dataset_parts_integration_points, dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
       dataset_parts_shell_element, dataset_parts_rotary_inertia, dataset_parts_warping_correction, &
-      dataset_parts_surface_only, dataset_parts_element_kind, dataset_parts_cross_section_area, &
-      dataset_parts_id, dataset_materials_model, dataset_materials_density, dataset_materials_youngs_modulus, &
-      dataset_materials_poisson_ratio, dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
-      dataset_materials_hardening_mixing, dataset_materials_rate_c, dataset_materials_rate_p, &
-      dataset_materials_hardening_curve, dataset_materials_rate_curve, dataset_materials_failure_strain, &
-      dataset_materials_failure_points, dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
-      dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
-      dataset_contact_penalty_scale, dataset_contact_soft_constraint, dataset_contact_static_friction, &
-      dataset_contact_dynamic_friction, dataset_contact_friction_decay, dataset_contact_passes, &
-      dataset_contact_kind, dataset_contact_initial_penetration, dataset_contact_birth_time, &
-      dataset_contact_death_time, dataset_contact_normal_failure_stress, &
-      dataset_contact_shear_failure_stress, dataset_rigid_walls_point, dataset_rigid_walls_normal, &
-      dataset_rigid_walls_shape, dataset_rigid_walls_edge, dataset_rigid_walls_size, &
-      dataset_rigid_walls_radius, dataset_rigid_walls_length, dataset_rigid_walls_velocity, &
-      dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, dataset_rigid_walls_birth_time, &
-      dataset_rigid_walls_death_time, dataset_rigid_wall_nodes_wall, dataset_rigid_wall_nodes_node, &
-      dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, dataset_rigid_bodies_prescribed, &
-      dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, dataset_rigid_bodies_given_mass, &
-      dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
+      dataset_parts_thickness_update, dataset_parts_surface_only, dataset_parts_element_kind, &
+      dataset_parts_cross_section_area, dataset_parts_id, dataset_materials_model, dataset_materials_density, &
+      dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
+      dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, dataset_materials_rate_c, &
+      dataset_materials_rate_p, dataset_materials_hardening_curve, dataset_materials_rate_curve, &
+      dataset_materials_failure_strain, dataset_materials_failure_points, dataset_loads_node, &
+      dataset_loads_dof, dataset_loads_value, dataset_loads_ramp_time, dataset_output_tracked_nodes, &
+      dataset_contact_pairs, dataset_contact_penalty_scale, dataset_contact_soft_constraint, &
+      dataset_contact_thickness_scale, dataset_contact_static_friction, dataset_contact_dynamic_friction, &
+      dataset_contact_friction_decay, dataset_contact_passes, dataset_contact_kind, &
+      dataset_contact_initial_penetration, dataset_contact_birth_time, dataset_contact_death_time, &
+      dataset_contact_normal_failure_stress, dataset_contact_shear_failure_stress, dataset_rigid_walls_point, &
+      dataset_rigid_walls_normal, dataset_rigid_walls_shape, dataset_rigid_walls_edge, &
+      dataset_rigid_walls_size, dataset_rigid_walls_radius, dataset_rigid_walls_length, &
+      dataset_rigid_walls_velocity, dataset_rigid_walls_penalty_scale, dataset_rigid_walls_friction, &
+      dataset_rigid_walls_birth_time, dataset_rigid_walls_death_time, dataset_rigid_wall_nodes_wall, &
+      dataset_rigid_wall_nodes_node, dataset_rigid_bodies_part, dataset_rigid_bodies_fixed_dofs, &
+      dataset_rigid_bodies_prescribed, dataset_rigid_bodies_velocity, dataset_rigid_bodies_curve, &
+      dataset_rigid_bodies_given_mass, dataset_rigid_bodies_given_centre, dataset_rigid_bodies_given_inertia, &
       dataset_rigid_bodies_failure_force, dataset_rigid_bodies_failure_exponent, &
       dataset_rigid_bodies_failure_time, dataset_rigid_bodies_failure_plastic_strain, &
       dataset_rigid_bodies_failure_node, dataset_rigid_bodies_failure_normal, dataset_rotation_ties_node, &
@@ -236,88 +236,90 @@ module paradyn_schema
   integer, parameter :: dataset_parts_shell_element = 16
   integer, parameter :: dataset_parts_rotary_inertia = 17
   integer, parameter :: dataset_parts_warping_correction = 18
-  integer, parameter :: dataset_parts_surface_only = 19
-  integer, parameter :: dataset_parts_element_kind = 20
-  integer, parameter :: dataset_parts_cross_section_area = 21
-  integer, parameter :: dataset_parts_id = 22
-  integer, parameter :: dataset_materials_model = 23
-  integer, parameter :: dataset_materials_density = 24
-  integer, parameter :: dataset_materials_youngs_modulus = 25
-  integer, parameter :: dataset_materials_poisson_ratio = 26
-  integer, parameter :: dataset_materials_yield_stress = 27
-  integer, parameter :: dataset_materials_tangent_modulus = 28
-  integer, parameter :: dataset_materials_hardening_mixing = 29
-  integer, parameter :: dataset_materials_rate_c = 30
-  integer, parameter :: dataset_materials_rate_p = 31
-  integer, parameter :: dataset_materials_hardening_curve = 32
-  integer, parameter :: dataset_materials_rate_curve = 33
-  integer, parameter :: dataset_materials_failure_strain = 34
-  integer, parameter :: dataset_materials_failure_points = 35
-  integer, parameter :: dataset_loads_node = 36
-  integer, parameter :: dataset_loads_dof = 37
-  integer, parameter :: dataset_loads_value = 38
-  integer, parameter :: dataset_loads_ramp_time = 39
-  integer, parameter :: dataset_output_tracked_nodes = 40
-  integer, parameter :: dataset_contact_pairs = 41
-  integer, parameter :: dataset_contact_penalty_scale = 42
-  integer, parameter :: dataset_contact_soft_constraint = 43
-  integer, parameter :: dataset_contact_static_friction = 44
-  integer, parameter :: dataset_contact_dynamic_friction = 45
-  integer, parameter :: dataset_contact_friction_decay = 46
-  integer, parameter :: dataset_contact_passes = 47
-  integer, parameter :: dataset_contact_kind = 48
-  integer, parameter :: dataset_contact_initial_penetration = 49
-  integer, parameter :: dataset_contact_birth_time = 50
-  integer, parameter :: dataset_contact_death_time = 51
-  integer, parameter :: dataset_contact_normal_failure_stress = 52
-  integer, parameter :: dataset_contact_shear_failure_stress = 53
-  integer, parameter :: dataset_rigid_walls_point = 54
-  integer, parameter :: dataset_rigid_walls_normal = 55
-  integer, parameter :: dataset_rigid_walls_shape = 56
-  integer, parameter :: dataset_rigid_walls_edge = 57
-  integer, parameter :: dataset_rigid_walls_size = 58
-  integer, parameter :: dataset_rigid_walls_radius = 59
-  integer, parameter :: dataset_rigid_walls_length = 60
-  integer, parameter :: dataset_rigid_walls_velocity = 61
-  integer, parameter :: dataset_rigid_walls_penalty_scale = 62
-  integer, parameter :: dataset_rigid_walls_friction = 63
-  integer, parameter :: dataset_rigid_walls_birth_time = 64
-  integer, parameter :: dataset_rigid_walls_death_time = 65
-  integer, parameter :: dataset_rigid_wall_nodes_wall = 66
-  integer, parameter :: dataset_rigid_wall_nodes_node = 67
-  integer, parameter :: dataset_rigid_bodies_part = 68
-  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 69
-  integer, parameter :: dataset_rigid_bodies_prescribed = 70
-  integer, parameter :: dataset_rigid_bodies_velocity = 71
-  integer, parameter :: dataset_rigid_bodies_curve = 72
-  integer, parameter :: dataset_rigid_bodies_given_mass = 73
-  integer, parameter :: dataset_rigid_bodies_given_centre = 74
-  integer, parameter :: dataset_rigid_bodies_given_inertia = 75
-  integer, parameter :: dataset_rigid_bodies_failure_force = 76
-  integer, parameter :: dataset_rigid_bodies_failure_exponent = 77
-  integer, parameter :: dataset_rigid_bodies_failure_time = 78
-  integer, parameter :: dataset_rigid_bodies_failure_plastic_strain = 79
-  integer, parameter :: dataset_rigid_bodies_failure_node = 80
-  integer, parameter :: dataset_rigid_bodies_failure_normal = 81
-  integer, parameter :: dataset_rotation_ties_node = 82
-  integer, parameter :: dataset_rotation_ties_masters = 83
-  integer, parameter :: dataset_rotation_ties_weights = 84
-  integer, parameter :: dataset_curves_first_point = 85
-  integer, parameter :: dataset_curves_time = 86
-  integer, parameter :: dataset_curves_value = 87
-  integer, parameter :: dataset_pressure_part = 88
-  integer, parameter :: dataset_pressure_value = 89
-  integer, parameter :: dataset_pressure_curve = 90
-  integer, parameter :: dataset_prescribed_node = 91
-  integer, parameter :: dataset_prescribed_dof = 92
-  integer, parameter :: dataset_prescribed_value = 93
-  integer, parameter :: dataset_prescribed_curve = 94
-  integer, parameter :: dataset_prescribed_birth_time = 95
-  integer, parameter :: dataset_prescribed_death_time = 96
-  integer, parameter :: dataset_base_accelerations_direction = 97
-  integer, parameter :: dataset_base_accelerations_value = 98
-  integer, parameter :: dataset_base_accelerations_curve = 99
-  integer, parameter :: n_deck_datasets = 99
+  integer, parameter :: dataset_parts_thickness_update = 19
+  integer, parameter :: dataset_parts_surface_only = 20
+  integer, parameter :: dataset_parts_element_kind = 21
+  integer, parameter :: dataset_parts_cross_section_area = 22
+  integer, parameter :: dataset_parts_id = 23
+  integer, parameter :: dataset_materials_model = 24
+  integer, parameter :: dataset_materials_density = 25
+  integer, parameter :: dataset_materials_youngs_modulus = 26
+  integer, parameter :: dataset_materials_poisson_ratio = 27
+  integer, parameter :: dataset_materials_yield_stress = 28
+  integer, parameter :: dataset_materials_tangent_modulus = 29
+  integer, parameter :: dataset_materials_hardening_mixing = 30
+  integer, parameter :: dataset_materials_rate_c = 31
+  integer, parameter :: dataset_materials_rate_p = 32
+  integer, parameter :: dataset_materials_hardening_curve = 33
+  integer, parameter :: dataset_materials_rate_curve = 34
+  integer, parameter :: dataset_materials_failure_strain = 35
+  integer, parameter :: dataset_materials_failure_points = 36
+  integer, parameter :: dataset_loads_node = 37
+  integer, parameter :: dataset_loads_dof = 38
+  integer, parameter :: dataset_loads_value = 39
+  integer, parameter :: dataset_loads_ramp_time = 40
+  integer, parameter :: dataset_output_tracked_nodes = 41
+  integer, parameter :: dataset_contact_pairs = 42
+  integer, parameter :: dataset_contact_penalty_scale = 43
+  integer, parameter :: dataset_contact_soft_constraint = 44
+  integer, parameter :: dataset_contact_thickness_scale = 45
+  integer, parameter :: dataset_contact_static_friction = 46
+  integer, parameter :: dataset_contact_dynamic_friction = 47
+  integer, parameter :: dataset_contact_friction_decay = 48
+  integer, parameter :: dataset_contact_passes = 49
+  integer, parameter :: dataset_contact_kind = 50
+  integer, parameter :: dataset_contact_initial_penetration = 51
+  integer, parameter :: dataset_contact_birth_time = 52
+  integer, parameter :: dataset_contact_death_time = 53
+  integer, parameter :: dataset_contact_normal_failure_stress = 54
+  integer, parameter :: dataset_contact_shear_failure_stress = 55
+  integer, parameter :: dataset_rigid_walls_point = 56
+  integer, parameter :: dataset_rigid_walls_normal = 57
+  integer, parameter :: dataset_rigid_walls_shape = 58
+  integer, parameter :: dataset_rigid_walls_edge = 59
+  integer, parameter :: dataset_rigid_walls_size = 60
+  integer, parameter :: dataset_rigid_walls_radius = 61
+  integer, parameter :: dataset_rigid_walls_length = 62
+  integer, parameter :: dataset_rigid_walls_velocity = 63
+  integer, parameter :: dataset_rigid_walls_penalty_scale = 64
+  integer, parameter :: dataset_rigid_walls_friction = 65
+  integer, parameter :: dataset_rigid_walls_birth_time = 66
+  integer, parameter :: dataset_rigid_walls_death_time = 67
+  integer, parameter :: dataset_rigid_wall_nodes_wall = 68
+  integer, parameter :: dataset_rigid_wall_nodes_node = 69
+  integer, parameter :: dataset_rigid_bodies_part = 70
+  integer, parameter :: dataset_rigid_bodies_fixed_dofs = 71
+  integer, parameter :: dataset_rigid_bodies_prescribed = 72
+  integer, parameter :: dataset_rigid_bodies_velocity = 73
+  integer, parameter :: dataset_rigid_bodies_curve = 74
+  integer, parameter :: dataset_rigid_bodies_given_mass = 75
+  integer, parameter :: dataset_rigid_bodies_given_centre = 76
+  integer, parameter :: dataset_rigid_bodies_given_inertia = 77
+  integer, parameter :: dataset_rigid_bodies_failure_force = 78
+  integer, parameter :: dataset_rigid_bodies_failure_exponent = 79
+  integer, parameter :: dataset_rigid_bodies_failure_time = 80
+  integer, parameter :: dataset_rigid_bodies_failure_plastic_strain = 81
+  integer, parameter :: dataset_rigid_bodies_failure_node = 82
+  integer, parameter :: dataset_rigid_bodies_failure_normal = 83
+  integer, parameter :: dataset_rotation_ties_node = 84
+  integer, parameter :: dataset_rotation_ties_masters = 85
+  integer, parameter :: dataset_rotation_ties_weights = 86
+  integer, parameter :: dataset_curves_first_point = 87
+  integer, parameter :: dataset_curves_time = 88
+  integer, parameter :: dataset_curves_value = 89
+  integer, parameter :: dataset_pressure_part = 90
+  integer, parameter :: dataset_pressure_value = 91
+  integer, parameter :: dataset_pressure_curve = 92
+  integer, parameter :: dataset_prescribed_node = 93
+  integer, parameter :: dataset_prescribed_dof = 94
+  integer, parameter :: dataset_prescribed_value = 95
+  integer, parameter :: dataset_prescribed_curve = 96
+  integer, parameter :: dataset_prescribed_birth_time = 97
+  integer, parameter :: dataset_prescribed_death_time = 98
+  integer, parameter :: dataset_base_accelerations_direction = 99
+  integer, parameter :: dataset_base_accelerations_value = 100
+  integer, parameter :: dataset_base_accelerations_curve = 101
+  integer, parameter :: n_deck_datasets = 101
   integer, parameter :: control_end_time = 1
   integer, parameter :: control_output_interval = 2
   integer, parameter :: control_history_interval = 3
@@ -483,13 +485,13 @@ module paradyn_schema
     condition_spec_t('/base_accelerations', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/rigid_bodies', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
     condition_spec_t('/rotation_ties', 0, 0, [0, 0, 0, 0, 0, 0, 0], ''), &
-    condition_spec_t('', 23, 5, [2, 3, 5, 6, 7, 0, 0], 'for a plastic material'), &
-    condition_spec_t('', 23, 3, [2, 3, 7, 0, 0, 0, 0], 'for a j2_plasticity, j2_rate or j2_radial material'), &
-    condition_spec_t('', 23, 2, [3, 6, 0, 0, 0, 0, 0], 'for a j2_rate or piecewise_linear_rate material'), &
-    condition_spec_t('', 23, 2, [5, 6, 0, 0, 0, 0, 0], &
+    condition_spec_t('', 24, 5, [2, 3, 5, 6, 7, 0, 0], 'for a plastic material'), &
+    condition_spec_t('', 24, 3, [2, 3, 7, 0, 0, 0, 0], 'for a j2_plasticity, j2_rate or j2_radial material'), &
+    condition_spec_t('', 24, 2, [3, 6, 0, 0, 0, 0, 0], 'for a j2_rate or piecewise_linear_rate material'), &
+    condition_spec_t('', 24, 2, [5, 6, 0, 0, 0, 0, 0], &
         'for a piecewise_linear or piecewise_linear_rate material'), &
-    condition_spec_t('', 23, 1, [5, 0, 0, 0, 0, 0, 0], 'for a piecewise_linear material'), &
-    condition_spec_t('', 20, 1, [2, 0, 0, 0, 0, 0, 0], 'for a truss part') ]
+    condition_spec_t('', 24, 1, [5, 0, 0, 0, 0, 0, 0], 'for a piecewise_linear material'), &
+    condition_spec_t('', 21, 1, [2, 0, 0, 0, 0, 0, 0], 'for a truss part') ]
 
   type(dataset_spec_t), parameter :: deck_datasets(n_deck_datasets) = [ &
     dataset_spec_t('/nodes/coordinates', class_float, 3, size_n_nodes, .true., .true., condition_none, &
@@ -555,6 +557,10 @@ module paradyn_schema
         condition_none, 1.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
         [0, 0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
         'use 1 (warping correction on) or 0 (off)'), &
+    dataset_spec_t('/parts/thickness_update', class_int, 0, size_n_parts, .false., .false., condition_none, &
+        condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
+        [0, 0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
+        'use 1 (the current thickness) or 0 (the initial thickness)'), &
     dataset_spec_t('/parts/surface_only', class_int, 0, size_n_parts, .false., .false., condition_none, &
         condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 1.0_wp, enum_none, 0, &
         [0, 0, 0, 0, 0, 0, 0], size_none, 'must be between 0 and 1', '', &
@@ -652,6 +658,10 @@ module paradyn_schema
         condition_none, condition_none, 0.0_wp, .true., .true., .true., .true., 0.0_wp, 10.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be in [0, 10]', '', &
         'use 0 (off) or a scale such as 0.1 (LS-DYNA''s SOFSCL default)'), &
+    dataset_spec_t('/contact/thickness_scale', class_float, 2, size_n_contacts, .false., .false., &
+        condition_none, condition_none, 1.0_wp, .true., .false., .true., .true., 0.0_wp, 10.0_wp, enum_none, &
+        0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be in (0, 10]', '', &
+        'give a scale factor above 0 (1: the shell''s thickness, the default)'), &
     dataset_spec_t('/contact/static_friction', class_float, 0, size_n_contacts, .false., .false., &
         condition_none, condition_none, 0.0_wp, .true., .true., .false., .true., 0.0_wp, 0.0_wp, enum_none, &
         0, [0, 0, 0, 0, 0, 0, 0], size_none, 'must be >= 0', '', 'give a Coulomb coefficient >= 0'), &

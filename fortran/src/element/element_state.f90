@@ -19,6 +19,8 @@ module element_state
     real(ek), allocatable :: eps_p(:, :)       !< (elements, points) effective plastic strain
     real(ek), allocatable :: hourglass(:, :)   !< (elements, hourglass_components) resultants
     real(ek), allocatable :: state(:, :, :)    !< (elements, words, points): the material member's own
+    !> (elements) the current thickness of a part with thickness_update; no elements otherwise
+    real(ek), allocatable :: thickness(:)
   end type group_state_t
 
   type :: element_state_t
@@ -28,6 +30,8 @@ module element_state
     real(wp), allocatable :: step_scale(:)   !< per local element: its step's factor from mass scaling (1: none)
     integer :: inverted = 0   !< elements found inside out so far
     integer :: max_state = 0  !< the most words of material state per point of any part (checkpoint rows)
+    !> 1 when some part updates its thickness (a word per checkpoint row), else 0
+    integer :: thickness_words = 0
   end type element_state_t
 
 contains
@@ -38,6 +42,7 @@ contains
     type(shell_properties_t), intent(in) :: props(:)
     integer :: g, n, nip, p, part
     es%max_state = maxval([(props(p)%material%state_width(), p = 1, size(props))])
+    es%thickness_words = merge(1, 0, any([(props(p)%thickness_update, p = 1, size(props))]))
     allocate (es%groups(dom%n_groups))
     do g = 1, dom%n_groups
       n = dom%group_count(g)
@@ -48,6 +53,8 @@ contains
       allocate (es%groups(g)%back(n, 3, props(part)%material%back_stress_points(nip)), source=0.0_ek)
       allocate (es%groups(g)%eps_p(n, nip), es%groups(g)%hourglass(n, hourglass_components), source=0.0_ek)
       allocate (es%groups(g)%state(n, props(part)%material%state_width(), nip), source=0.0_ek)
+      allocate (es%groups(g)%thickness(merge(n, 0, props(part)%thickness_update)), &
+                source=real(props(part)%thickness, ek))
     end do
     allocate (es%e_internal(dom%n_elements), es%e_hourglass(dom%n_elements), source=0.0_wp)
     allocate (es%dt_element(dom%n_elements), source=huge(1.0_wp))
@@ -56,10 +63,12 @@ contains
 
   !> Doubles per element row: stress, back stress and plastic strain at the most points any part
   !> uses, the hourglass resultants, the two energies, then the material state (max_state words
-  !> at each point; none for the elastic and J2 members, so their rows keep their width).
-  pure integer function element_row_width(max_points, max_state) result(width)
-    integer, intent(in) :: max_points, max_state
-    width = (stress_components + 3 + 1) * max_points + hourglass_components + 2 + max_state * max_points
+  !> at each point; none for the elastic and J2 members, so their rows keep their width), then
+  !> thickness_words (1: the current thickness, when some part updates it; 0: none).
+  pure integer function element_row_width(max_points, max_state, thickness_words) result(width)
+    integer, intent(in) :: max_points, max_state, thickness_words
+    width = (stress_components + 3 + 1) * max_points + hourglass_components + 2 + max_state * max_points + &
+            thickness_words
   end function element_row_width
 
   !> Element state by element (checkpoints). A row holds the stress (components x points), back
@@ -72,7 +81,7 @@ contains
     real(wp), intent(out) :: rows(:, :)
     integer :: g, i, e, o(5)
     rows = 0.0_wp
-    o = row_offsets(size(rows, 1), es%max_state)
+    o = row_offsets(size(rows, 1) - es%thickness_words, es%max_state)
     do g = 1, dom%n_groups
       associate (gs => es%groups(g))
         do i = 1, dom%group_count(g)
@@ -82,6 +91,7 @@ contains
           rows(o(3) + 1:o(3) + size(gs%eps_p, 2), e) = gs%eps_p(i, :)
           rows(o(4) + 1:o(4) + hourglass_components, e) = gs%hourglass(i, :)
           rows(o(5) + 1:o(5) + size(gs%state(i, :, :)), e) = reshape(gs%state(i, :, :), [size(gs%state(i, :, :))])
+          if (size(gs%thickness) > 0) rows(size(rows, 1), e) = gs%thickness(i)
         end do
       end associate
     end do
@@ -94,7 +104,7 @@ contains
     type(domain_t), intent(in) :: dom
     real(wp), intent(in) :: rows(:, :)
     integer :: g, i, e, o(5)
-    o = row_offsets(size(rows, 1), es%max_state)
+    o = row_offsets(size(rows, 1) - es%thickness_words, es%max_state)
     do g = 1, dom%n_groups
       associate (gs => es%groups(g))
         do i = 1, dom%group_count(g)
@@ -107,6 +117,7 @@ contains
           gs%hourglass(i, :) = real(rows(o(4) + 1:o(4) + hourglass_components, e), ek)
           gs%state(i, :, :) = reshape(real(rows(o(5) + 1:o(5) + size(gs%state(i, :, :)), e), ek), &
                                       [size(gs%state, 2), size(gs%state, 3)])
+          if (size(gs%thickness) > 0) gs%thickness(i) = real(rows(size(rows, 1), e), ek)
         end do
       end associate
     end do

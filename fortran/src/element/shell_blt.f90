@@ -18,11 +18,12 @@ module shell_blt
   use shell_hourglass, only: hourglass_update, add_shear_hourglass_moments, tangent_work, tangent_share
   use shell_warping, only: warp_heights, warp_curvature, warp_twist_moment
   use shell_measures, only: frame_time_steps
+  use shell_frames, only: frames, check_end_frames
   use material_model, only: max_state_words
   use element_erosion, only: zero_failed_points
   implicit none
   private
-  public :: blt_internal_forces, frames, check_end_frames
+  public :: blt_internal_forces
 
   real(ek), parameter :: h(4) = [1.0_ek, -1.0_ek, 1.0_ek, -1.0_ek]   !< the hourglass pattern
 
@@ -48,8 +49,12 @@ contains
   !> contraction (fortran/CMakeLists.txt), so the layouts of tests/test_parallel.py agree.
   !> Precision: x, v, w, the step, forces and energies are double (wp); the arithmetic and the
   !> element state are of kind ek, single in the mixed engine (frames; docs/theory.md).
+  !> thickness (optional; a part with thickness_update): each element's current thickness, which
+  !> the step's strains and resultants use in place of props%thickness and which the step updates
+  !> from its thickness strain rate (thickness_strain_step; docs/theory.md, "Thickness update").
+  !> Without it every element has props%thickness, bitwise as before the option.
   pure subroutine blt_internal_forces(n, x, v, w, props, dt_step, stress, back, eps_p, state, hourglass, &
-                                      force, e_internal, e_hourglass, inverted, dt_element)
+                                      force, e_internal, e_hourglass, inverted, dt_element, thickness)
     integer, intent(in) :: n
     real(wp), intent(in) :: x(n, 3, 4), v(n, 3, 4), w(n, 3, 4)
     type(shell_properties_t), intent(in) :: props
@@ -63,11 +68,12 @@ contains
     real(wp), intent(inout) :: e_internal(n), e_hourglass(n)
     integer, intent(inout) :: inverted
     real(wp), intent(out) :: dt_element(n)   !< stable step L / c on the end-of-step geometry
+    real(ek), intent(inout), optional :: thickness(n)   !< current thickness of each element (m)
 
     integer :: first, m, o, i, k, c, nip, ns
     real(wp) :: zeta_wp(max_integration_points), wgt_wp(max_integration_points)
     real(ek) :: zeta(max_integration_points), wgt(max_integration_points)
-    real(ek) :: dt, t, half_t, shear_step, z, wz, wzz, s1, s2, s3, s4, s5
+    real(ek) :: dt, t, half_t, shear_step, s1, s2, s3, s4, s5, wk, zk, squeeze
     logical :: history   !< the material keeps a back stress or plastic strain
     ! per-pass arrays, element index first
     real(wp) :: xg(group_size, 3, 4)   !< the mid-step positions (double, as the nodes')
@@ -86,6 +92,10 @@ contains
     real(ek) :: s_xi(group_size)
     !> the stress increments' work against its elastic value over the points: the tangent share
     real(ek) :: actual_work(group_size), elastic_work(group_size), tangent(group_size)
+    !> half the thickness of each element this step, and (thickness update) the mean in-plane stress
+    !> trace through the thickness before and after the step's stress update
+    real(ek) :: ht(group_size), trace_old(group_size), trace_new(group_size)
+    logical :: update
 
     nip = props%integration_points
     ns = size(state, 2)
@@ -96,6 +106,8 @@ contains
     dt = real(dt_step, ek)
     t = real(props%thickness, ek)
     half_t = 0.5_ek * t
+    update = present(thickness)
+    squeeze = real((1.0_wp - 2.0_wp * props%poisson) / props%young, ek)
     shear_step = real(shear_correction * (props%young / (2.0_wp * (1.0_wp + props%poisson))), ek) * dt
 
     do first = 1, n, group_size
@@ -128,14 +140,22 @@ contains
       work = 0.0_ek
       actual_work = 0.0_ek
       elastic_work = 0.0_ek
+      if (update) then
+        ht(1:m) = 0.5_ek * thickness(o + 1:o + m)
+        trace_old(1:m) = 0.0_ek
+        trace_new(1:m) = 0.0_ek
+      else
+        ht(1:m) = half_t
+      end if
       do k = 1, nip
-        z = zeta(k) * half_t
         do c = 1, 3
           do i = 1, m
-            deps(i, c) = dt * (rates(i, c) + z * rates(i, 3 + c))
+            deps(i, c) = dt * (rates(i, c) + (zeta(k) * ht(i)) * rates(i, 3 + c))
             sp(i, c) = stress(o + i, c, k)
           end do
         end do
+        if (update) trace_old(1:m) = trace_old(1:m) + &
+                                     0.5_ek * wgt(k) * (stress(o + 1:o + m, 1, k) + stress(o + 1:o + m, 2, k))
         if (history) then
           if (size(back, 3) > 0) then
             bp(1:m, :) = back(o + 1:o + m, :, k)
@@ -165,11 +185,11 @@ contains
         ! a failed point carries no stress (element_erosion)
         if (props%failure_strain > 0.0_wp) call zero_failed_points(m, props%failure_strain, eps_p(o + 1:o + m, k), sp)
         if (history) call tangent_work(m, wgt(k), props, deps, stress(o + 1:o + m, 1:3, k), sp, actual_work, elastic_work)
-        wz = wgt(k) * half_t
-        wzz = wgt(k) * half_t * (zeta(k) * half_t)
+        wk = wgt(k)
+        zk = zeta(k)
         ! one pass: work, the write-back and the point's share of the resultants
         do i = 1, m
-          work(i) = work(i) + wz * ( &
+          work(i) = work(i) + (wk * ht(i)) * ( &
                     (0.5_ek * (stress(o + i, 1, k) + sp(i, 1)) * deps(i, 1) &
                      + 0.5_ek * (stress(o + i, 2, k) + sp(i, 2)) * deps(i, 2) &
                      + 0.5_ek * (stress(o + i, 3, k) + sp(i, 3)) * deps(i, 3)) &
@@ -185,16 +205,20 @@ contains
           stress(o + i, 3, k) = s3
           stress(o + i, 4, k) = s4
           stress(o + i, 5, k) = s5
-          res(i, 1) = res(i, 1) + wz * s1
-          res(i, 2) = res(i, 2) + wz * s2
-          res(i, 3) = res(i, 3) + wz * s3
-          res(i, 4) = res(i, 4) + wzz * s1
-          res(i, 5) = res(i, 5) + wzz * s2
-          res(i, 6) = res(i, 6) + wzz * s3
-          res(i, 7) = res(i, 7) + wz * s4
-          res(i, 8) = res(i, 8) + wz * s5
+          res(i, 1) = res(i, 1) + (wk * ht(i)) * s1
+          res(i, 2) = res(i, 2) + (wk * ht(i)) * s2
+          res(i, 3) = res(i, 3) + (wk * ht(i)) * s3
+          res(i, 4) = res(i, 4) + (wk * ht(i) * (zk * ht(i))) * s1
+          res(i, 5) = res(i, 5) + (wk * ht(i) * (zk * ht(i))) * s2
+          res(i, 6) = res(i, 6) + (wk * ht(i) * (zk * ht(i))) * s3
+          res(i, 7) = res(i, 7) + (wk * ht(i)) * s4
+          res(i, 8) = res(i, 8) + (wk * ht(i)) * s5
         end do
+        if (update) trace_new(1:m) = trace_new(1:m) + &
+                                     0.5_ek * wgt(k) * (stress(o + 1:o + m, 1, k) + stress(o + 1:o + m, 2, k))
       end do
+      if (update) call thickness_strain_step(m, dt, squeeze, rates, trace_old, trace_new, area_mid, &
+                                             thickness(o + 1:o + m), res)
       e_internal(o + 1:o + m) = merge(e_internal(o + 1:o + m) + area_mid(1:m) * work(1:m), &
                                       e_internal(o + 1:o + m), area_mid(1:m) > 0.0_ek)
 
@@ -236,72 +260,30 @@ contains
     end do
   end subroutine blt_internal_forces
 
-  !> (Also the frame of the fully integrated element, shell_full.)
-  !> local_frame of elements o+1..o+m of x (mid-surface frame, local node coordinates, projected
-  !> area), with |a| = sqrt(a . a) in place of norm2 and a unit vector a * (1 / |a|): one division
-  !> per vector, not three; results for 1..m. The positions are double (wp); every measure is a
-  !> difference of them, taken in double and then rounded to the kernel's kind: in the mixed
-  !> engine single precision resolves the element's size, not its distance from the origin.
-  pure subroutine frames(m, ld, o, x, e, xl, yl, area)
-    integer, intent(in) :: m, ld, o
-    real(wp), intent(in) :: x(ld, 3, 4)
-    real(ek), intent(out) :: e(group_size, 3, 3), xl(group_size, 4), yl(group_size, 4), area(group_size)
-    real(ek) :: d31x, d31y, d31z, d42x, d42y, d42z, nx, ny, nz, gx, gy, gz, r, cx, cy, cz
-    real(ek) :: e11, e21, e31, e12, e22, e32
-    real(wp) :: mx, my, mz
-    integer :: i, k
-    ! one pass: the frame, then each node's local coordinates from the centre computed once
+  !> The thickness update of one step (docs/theory.md, "Thickness update"): the thickness strain
+  !> increment of plane stress with volume-keeping plastic flow,
+  !> d eps_z = -(d eps_x + d eps_y) + (1 - 2 nu) / E (d sigma_x + d sigma_y), from the membrane
+  !> rates (the mid-surface's in-plane strain increment) and the change of the mean in-plane stress
+  !> trace through the thickness (squeeze = (1 - 2 nu) / E); t <- t exp(d eps_z). The resultants,
+  !> summed with the thickness at the start of the step, are carried to the new one: membrane and
+  !> shear resultants by t_new / t, moments by (t_new / t)^2. An element inverted at mid-step
+  !> keeps its thickness.
+  pure subroutine thickness_strain_step(m, dt, squeeze, rates, trace_old, trace_new, area_mid, thickness, res)
+    integer, intent(in) :: m
+    real(ek), intent(in) :: dt, squeeze, rates(group_size, 8), trace_old(group_size), trace_new(group_size)
+    real(ek), intent(in) :: area_mid(group_size)
+    real(ek), intent(inout) :: thickness(m), res(group_size, 8)
+    real(ek) :: ratio
+    integer :: i
     do i = 1, m
-      d31x = real(x(o + i, 1, 3) - x(o + i, 1, 1), ek)
-      d31y = real(x(o + i, 2, 3) - x(o + i, 2, 1), ek)
-      d31z = real(x(o + i, 3, 3) - x(o + i, 3, 1), ek)
-      d42x = real(x(o + i, 1, 4) - x(o + i, 1, 2), ek)
-      d42y = real(x(o + i, 2, 4) - x(o + i, 2, 2), ek)
-      d42z = real(x(o + i, 3, 4) - x(o + i, 3, 2), ek)
-      nx = d31y * d42z - d31z * d42y
-      ny = d31z * d42x - d31x * d42z
-      nz = d31x * d42y - d31y * d42x
-      r = 1.0_ek / sqrt(nx * nx + ny * ny + nz * nz)
-      nx = nx * r
-      ny = ny * r
-      nz = nz * r
-      gx = real(x(o + i, 1, 2) + x(o + i, 1, 3) - x(o + i, 1, 1) - x(o + i, 1, 4), ek)
-      gy = real(x(o + i, 2, 2) + x(o + i, 2, 3) - x(o + i, 2, 1) - x(o + i, 2, 4), ek)
-      gz = real(x(o + i, 3, 2) + x(o + i, 3, 3) - x(o + i, 3, 1) - x(o + i, 3, 4), ek)
-      r = gx * nx + gy * ny + gz * nz
-      gx = gx - r * nx
-      gy = gy - r * ny
-      gz = gz - r * nz
-      r = 1.0_ek / sqrt(gx * gx + gy * gy + gz * gz)
-      e11 = gx * r
-      e21 = gy * r
-      e31 = gz * r
-      e12 = ny * e31 - nz * e21
-      e22 = nz * e11 - nx * e31
-      e32 = nx * e21 - ny * e11
-      e(i, 1, 1) = e11
-      e(i, 2, 1) = e21
-      e(i, 3, 1) = e31
-      e(i, 1, 2) = e12
-      e(i, 2, 2) = e22
-      e(i, 3, 2) = e32
-      e(i, 1, 3) = nx
-      e(i, 2, 3) = ny
-      e(i, 3, 3) = nz
-      mx = 0.25_wp * (x(o + i, 1, 1) + x(o + i, 1, 2) + x(o + i, 1, 3) + x(o + i, 1, 4))
-      my = 0.25_wp * (x(o + i, 2, 1) + x(o + i, 2, 2) + x(o + i, 2, 3) + x(o + i, 2, 4))
-      mz = 0.25_wp * (x(o + i, 3, 1) + x(o + i, 3, 2) + x(o + i, 3, 3) + x(o + i, 3, 4))
-      do k = 1, 4   ! unrolled by the compiler: the loop over i vectorises
-        cx = real(x(o + i, 1, k) - mx, ek)
-        cy = real(x(o + i, 2, k) - my, ek)
-        cz = real(x(o + i, 3, k) - mz, ek)
-        xl(i, k) = cx * e11 + cy * e21 + cz * e31
-        yl(i, k) = cx * e12 + cy * e22 + cz * e32
-      end do
-      area(i) = 0.5_ek * ((xl(i, 3) - xl(i, 1)) * (yl(i, 4) - yl(i, 2)) &
-                          - (xl(i, 4) - xl(i, 2)) * (yl(i, 3) - yl(i, 1)))
+      ratio = exp(-dt * (rates(i, 1) + rates(i, 2)) + squeeze * (trace_new(i) - trace_old(i)))
+      ratio = merge(ratio, 1.0_ek, area_mid(i) > 0.0_ek)
+      thickness(i) = thickness(i) * ratio
+      res(i, 1:3) = res(i, 1:3) * ratio
+      res(i, 4:6) = res(i, 4:6) * (ratio * ratio)
+      res(i, 7:8) = res(i, 7:8) * ratio
     end do
-  end subroutine frames
+  end subroutine thickness_strain_step
 
   !> Shape-function derivatives at the centre (B1 = dN/dx, B2 = dN/dy) and the hourglass shape
   !> vector gamma = h - (h.x) B1 - (h.y) B2 (h = 1, -1, 1, -1), orthogonal to the linear velocity
@@ -421,33 +403,6 @@ contains
       qrate(i, 9) = qrate(i, 9) - spin
     end do
   end subroutine strain_rates
-
-  !> Keeps area > 0 only for elements valid at mid-step and at the end of the step: positive
-  !> area, the normal not flipped, and every corner of the projected quad turning the same way as
-  !> the normal (positive corner Jacobians). An element turned inside out during a step fails
-  !> this, or flips its normal.
-  pure subroutine check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
-    integer, intent(in) :: m
-    real(ek), intent(in) :: area_mid(group_size), normal_mid(group_size, 3), e(group_size, 3, 3)
-    real(ek), intent(in) :: xl(group_size, 4), yl(group_size, 4)
-    real(ek), intent(inout) :: area(group_size)
-    real(ek) :: turn(group_size)
-    integer :: i, k, next, prev
-    turn = huge(1.0_ek)
-    do k = 1, 4
-      next = modulo(k, 4) + 1
-      prev = modulo(k + 2, 4) + 1
-      do i = 1, m
-        turn(i) = min(turn(i), (xl(i, next) - xl(i, k)) * (yl(i, prev) - yl(i, k)) &
-                               - (yl(i, next) - yl(i, k)) * (xl(i, prev) - xl(i, k)))
-      end do
-    end do
-    do i = 1, m
-      area(i) = merge(area(i), 0.0_ek, area_mid(i) > 0.0_ek .and. area(i) > 0.0_ek .and. turn(i) > 0.0_ek &
-                      .and. normal_mid(i, 1) * e(i, 1, 3) + normal_mid(i, 2) * e(i, 2, 3) &
-                            + normal_mid(i, 3) * e(i, 3, 3) > 0.0_ek)
-    end do
-  end subroutine check_end_frames
 
   !> Nodal forces and moments of elements 1..m in global axes from the resultants res (N, M, Q),
   !> the hourglass resultants and the drilling moments; zero for an element of area <= 0. A

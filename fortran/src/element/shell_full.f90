@@ -1,7 +1,7 @@
 !> The fully integrated 4-node shell (docs/theory.md, "Fully integrated shell"): the element of
 !> LS-DYNA's formulation 16 in kind, without hourglass modes and so without hourglass control.
 !>
-!> Bilinear quadrilateral in the co-rotational frame of the element (shell_blt's frames: one frame
+!> Bilinear quadrilateral in the co-rotational frame of the element (shell_frames: one frame
 !> per element and step), 2 x 2 Gauss points in the plane and the part's Gauss points through the
 !> thickness, velocity strains at each point (membrane and Mindlin curvature from the exact
 !> shape-function derivatives), and transverse shear by assumed natural strains (MITC4, Dvorkin &
@@ -28,7 +28,7 @@ module shell_full
   use shell_section, only: shell_properties_t, stress_components, shear_correction, thickness_rule, &
                            hourglass_components
   use shell_hourglass, only: drilling_penalty
-  use shell_blt, only: frames
+  use shell_frames, only: frames
   use shell_warping, only: warp_heights, warp_curvature, warp_twist_moment
   use shell_measures, only: frame_time_steps
   use material_model, only: max_state_words

@@ -39,6 +39,9 @@ module shell_section
     !> the fully integrated element (shell_full: 2 x 2 in-plane points, MITC4 shear) for the
     !> part's quadrilaterals, in place of the one-point Belytschko-Lin-Tsay element
     logical :: fully_integrated = .false.
+    !> the element's forces use its current thickness, a state updated each step (LS-DYNA ISTUPD = 1;
+    !> shell_blt.thickness_strain_step); the one-point quadrilateral only (deck_relations)
+    logical :: thickness_update = .false.
     logical :: rigid = .false.          !< a rigid part: no element forces, no step of its own
     logical :: surface_only = .false.   !< the faces of a rigid solid: no mass of their own
     !> the material's failure strain (element_erosion): a point that reaches it fails; 0: never

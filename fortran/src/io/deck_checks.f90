@@ -12,6 +12,7 @@ module deck_checks
   use paradyn_schema, only: status_ok, status_bad_input
   use model_deck, only: deck_t, node_row
   use deck_relations, only: precision_message, repeated_node_message, duplicate_element_message, shape_message, &
+                            thickness_update_message, &
                             small_table_message, rigid_node_message, unused_node_message, wall_normal_message, &
                             wall_behind_message, wall_rows_message, check_curve_relations
   use rigid_wall, only: wall_t, wall_make, wall_gap
@@ -25,7 +26,7 @@ module deck_checks
   public :: agree_on_first, chain_fingerprint, distribute_and_check
 
   ! the element-row relations first_element_message checks
-  integer, parameter :: repeated_nodes = 1, element_shape = 2, rigid_nodes = 3
+  integer, parameter :: repeated_nodes = 1, element_shape = 2, rigid_nodes = 3, thickness_updates = 4
 
 contains
 
@@ -52,7 +53,7 @@ contains
   subroutine first_element_message(d, comm, relation, message)
     type(deck_t), intent(in) :: d
     type(MPI_Comm), intent(in) :: comm
-    integer, intent(in) :: relation   !< repeated_nodes, element_shape or rigid_nodes
+    integer, intent(in) :: relation   !< repeated_nodes, element_shape, rigid_nodes or thickness_updates
     character(len=*), intent(out) :: message
     integer :: key, row
     key = huge(1)
@@ -62,6 +63,8 @@ contains
         message = repeated_node_message(d, row)
       else if (relation == rigid_nodes) then
         message = rigid_node_message(d, row)
+      else if (relation == thickness_updates) then
+        message = thickness_update_message(d, row)
       else
         message = shape_message(d, row)
       end if
@@ -124,6 +127,8 @@ contains
     call MPI_Allreduce(fixed_here, d%any_fixed, 1, MPI_LOGICAL, MPI_LOR, comm)
     call held_nodes(d, comm, home, used)
     call first_element_message(d, comm, element_shape, message)
+    if (message /= '') return
+    call first_element_message(d, comm, thickness_updates, message)
     if (message /= '') return
     message = small_table_message(d)
     if (message /= '') return

@@ -11,18 +11,19 @@ module deck_fields
                             dataset_parts_material, dataset_parts_integration_points, &
                             dataset_parts_hourglass_coefficient, dataset_parts_hourglass_form, &
                             dataset_parts_shell_element, dataset_parts_rotary_inertia, &
-                            dataset_parts_warping_correction, dataset_parts_surface_only, &
-                            dataset_parts_element_kind, dataset_parts_cross_section_area, &
-                            dataset_materials_model, dataset_materials_density, &
-                            dataset_materials_youngs_modulus, dataset_materials_poisson_ratio, &
-                            dataset_materials_yield_stress, dataset_materials_tangent_modulus, &
-                            dataset_materials_hardening_mixing, dataset_materials_rate_c, &
-                            dataset_materials_rate_p, dataset_materials_hardening_curve, &
-                            dataset_materials_rate_curve, dataset_materials_failure_strain, &
-                            dataset_materials_failure_points, dataset_loads_node, dataset_loads_dof, &
-                            dataset_loads_value, dataset_loads_ramp_time, dataset_output_tracked_nodes, &
-                            dataset_contact_pairs, dataset_contact_penalty_scale, &
-                            dataset_contact_soft_constraint, dataset_contact_static_friction, &
+                            dataset_parts_warping_correction, dataset_parts_thickness_update, &
+                            dataset_parts_surface_only, dataset_parts_element_kind, &
+                            dataset_parts_cross_section_area, dataset_materials_model, &
+                            dataset_materials_density, dataset_materials_youngs_modulus, &
+                            dataset_materials_poisson_ratio, dataset_materials_yield_stress, &
+                            dataset_materials_tangent_modulus, dataset_materials_hardening_mixing, &
+                            dataset_materials_rate_c, dataset_materials_rate_p, &
+                            dataset_materials_hardening_curve, dataset_materials_rate_curve, &
+                            dataset_materials_failure_strain, dataset_materials_failure_points, &
+                            dataset_loads_node, dataset_loads_dof, dataset_loads_value, &
+                            dataset_loads_ramp_time, dataset_output_tracked_nodes, dataset_contact_pairs, &
+                            dataset_contact_penalty_scale, dataset_contact_soft_constraint, &
+                            dataset_contact_thickness_scale, dataset_contact_static_friction, &
                             dataset_contact_dynamic_friction, dataset_contact_friction_decay, &
                             dataset_contact_passes, dataset_contact_kind, &
                             dataset_contact_initial_penetration, dataset_contact_birth_time, &
@@ -97,6 +98,7 @@ module deck_fields
     integer, allocatable :: shell_element(:)   !< /parts/shell_element (n_parts) -
     integer, allocatable :: rotary_inertia(:)   !< /parts/rotary_inertia (n_parts) -
     integer, allocatable :: warping_correction(:)   !< /parts/warping_correction (n_parts) -
+    integer, allocatable :: thickness_update(:)   !< /parts/thickness_update (n_parts) -
     integer, allocatable :: surface_only(:)   !< /parts/surface_only (n_parts) -
     integer, allocatable :: element_kind(:)   !< /parts/element_kind (n_parts) -
     real(wp), allocatable :: area(:)   !< /parts/cross_section_area (n_parts) m^2
@@ -121,6 +123,7 @@ module deck_fields
     integer, allocatable :: contact_pairs(:, :)   !< /contact/pairs (2, n_contacts) -
     real(wp), allocatable :: contact_penalty_scale(:)   !< /contact/penalty_scale (n_contacts) -
     real(wp), allocatable :: contact_soft_constraint(:)   !< /contact/soft_constraint (n_contacts) -
+    real(wp), allocatable :: contact_thickness_scale(:, :)   !< /contact/thickness_scale (2, n_contacts) -
     real(wp), allocatable :: contact_static_friction(:)   !< /contact/static_friction (n_contacts) -
     real(wp), allocatable :: contact_dynamic_friction(:)   !< /contact/dynamic_friction (n_contacts) -
     real(wp), allocatable :: contact_friction_decay(:)   !< /contact/friction_decay (n_contacts) s/m
@@ -296,6 +299,8 @@ contains
       d%rotary_inertia = indices(1, :)
     case (dataset_parts_warping_correction)
       d%warping_correction = indices(1, :)
+    case (dataset_parts_thickness_update)
+      d%thickness_update = indices(1, :)
     case (dataset_parts_surface_only)
       d%surface_only = indices(1, :)
     case (dataset_parts_element_kind)
@@ -388,6 +393,8 @@ contains
       d%contact_penalty_scale = values(1, :)
     case (dataset_contact_soft_constraint)
       d%contact_soft_constraint = values(1, :)
+    case (dataset_contact_thickness_scale)
+      d%contact_thickness_scale = values
     case (dataset_contact_static_friction)
       d%contact_static_friction = values(1, :)
     case (dataset_contact_dynamic_friction)

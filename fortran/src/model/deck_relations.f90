@@ -6,7 +6,7 @@ module deck_relations
   use paradyn_kinds, only: wp
   use paradyn_schema, only: material_is_plastic, material_is_rigid, contact_kind_is_self_contact, class_float, &
                             enum_name, enum_precision, precision_mixed, material_is_hardening_curve, &
-                            material_piecewise_linear, element_kind_is_truss
+                            material_piecewise_linear, element_kind_is_truss, shell_element_full
   use deck_rules, only: integer_text, number_text, index_list
   use quad_shape, only: quad_shape_fault, triangle_shape_fault, shape_sound, shape_concave
   use model_deck, only: deck_t, node_row, engine_precision
@@ -14,6 +14,7 @@ module deck_relations
   implicit none
   private
   public :: precision_message, repeated_node_message, duplicate_element_message, shape_message, &
+            thickness_update_message, &
             small_table_message, rigid_node_message, unused_node_message, wall_normal_message, wall_behind_message, &
             wall_rows_message, check_curve_relations
 
@@ -21,7 +22,7 @@ contains
 
   ! The relations between fields of a deck whose every field has passed its own rules, in the
   ! order io/deck_checks applies them (schema relations: precision, distinct_element_nodes,
-  ! distinct_elements, element shapes, tangent_below_youngs, contact_parts_differ,
+  ! distinct_elements, element shapes, thickness_update_elements, tangent_below_youngs, contact_parts_differ,
   ! node_in_element, the rigid walls' and the load curves' (curve_first_points,
   ! curve_times_increase, then the materials' curves: material_curves)). Each message names the dataset, the 0-based entry and the fix; ''
   ! when the relation holds.
@@ -64,6 +65,34 @@ contains
       end do
     end do
   end function repeated_node_message
+
+  !> Held element row `row` belongs to a part with /parts/thickness_update = 1 that cannot update its
+  !> thickness: the update is the one-point quadrilateral's (shell_blt), not a triangle's, the fully
+  !> integrated element's, a truss's or a rigid part's.
+  function thickness_update_message(d, row) result(message)
+    type(deck_t), intent(in) :: d
+    integer, intent(in) :: row
+    character(len=:), allocatable :: message
+    character(len=:), allocatable :: why
+    integer :: part
+    message = ''
+    part = d%element_part(row)
+    if (d%thickness_update(part) == 0) return
+    if (element_kind_is_truss(d%element_kind(part))) then
+      why = 'it is a truss part'
+    else if (material_is_rigid(d%material_model(d%part_material(part)))) then
+      why = 'its material is rigid'
+    else if (d%shell_element(part) == shell_element_full) then
+      why = 'its element is the fully integrated one (/parts/shell_element = 2)'
+    else if (d%connectivity(3, row) == d%connectivity(4, row)) then
+      why = 'its element '//integer_text(d%element_ids(row) - 1)//' is a triangle'
+    else
+      return
+    end if
+    message = '/parts/thickness_update['//integer_text(part - 1)//'] = 1, but '//why// &
+              '; the thickness update is the one-point quadrilateral''s: set it to 0, or give the part '// &
+              'one-point quadrilaterals only'
+  end function thickness_update_message
 
   !> Element `later` (1-based, its nodes later_nodes) has the nodes of element `earlier`.
   function duplicate_element_message(later, earlier, later_nodes) result(message)

@@ -55,6 +55,7 @@ contains
     props%warping_correction = deck%warping_correction(part) /= 0
     props%rotary_inertia = deck%rotary_inertia(part)
     props%fully_integrated = deck%shell_element(part) == shell_element_full
+    props%thickness_update = deck%thickness_update(part) /= 0
     props%rigid = material_is_rigid(deck%material_model(m))
     props%surface_only = deck%surface_only(part) /= 0
     props%truss = element_kind_is_truss(deck%element_kind(part))

@@ -123,6 +123,11 @@ contains
                                     s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%state, gs%hourglass, &
                                     s%corner(1, 4 * first - 3), s%elements%e_internal(first), inverted, &
                                     s%elements%dt_element(first))
+        else if (s%props(p)%thickness_update) then   ! the element's current thickness (gs%thickness)
+          call blt_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
+                                   s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%state, gs%hourglass, &
+                                   s%corner(1, 4 * first - 3), s%elements%e_internal(first), s%elements%e_hourglass(first), &
+                                   inverted, s%elements%dt_element(first), gs%thickness)
         else
           call blt_internal_forces(n, s%workspace(ox, tid), s%workspace(ov, tid), s%workspace(ow, tid), &
                                    s%props(p), dt_strain, gs%stress, gs%back, gs%eps_p, gs%state, gs%hourglass, &

@@ -67,7 +67,7 @@ contains
     nn = int(s%control%n_nodes, hsize_t)
     ne = int(s%control%n_elements, hsize_t)
     nr = int(s%n_ranks, hsize_t)
-    width = int(element_row_width(s%control%max_points, s%elements%max_state), hsize_t)
+    width = int(element_row_width(s%control%max_points, s%elements%max_state, s%elements%thickness_words), hsize_t)
     call phdf5_open(path//'.partial', s%halo%comm, 'create', file, transfer, err)
     if (err /= 0) then
       status = status_failure
@@ -240,7 +240,7 @@ contains
       return
     end if
     if (n_nodes /= s%control%n_nodes .or. n_elements /= s%control%n_elements .or. &
-        n_width /= element_row_width(s%control%max_points, s%elements%max_state)) then
+        n_width /= element_row_width(s%control%max_points, s%elements%max_state, s%elements%thickness_words)) then
       call phdf5_close(file, transfer)
       write (message, '(a,i0,a,i0,a)') 'the checkpoint '//path//' was written for another deck (', &
         n_nodes, ' nodes, ', n_elements, ' elements); restart with the deck of the interrupted run'

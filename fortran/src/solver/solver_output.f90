@@ -323,6 +323,8 @@ contains
       part = s%dom%group_part(g)
       if (s%props(part)%rigid .or. s%props(part)%truss) then   ! a rigid body's shells, a truss's nominal diameter: t0
         s%element_out(31, first:last) = s%props(part)%thickness
+      else if (s%props(part)%thickness_update) then   ! the thickness the element's forces use
+        s%element_out(31, first:last) = real(s%elements%groups(g)%thickness(1:n), wp)
       else   ! from the middle layer's sxx + syy
         call current_thicknesses(n, x0(1:n, :, :), x(1:n, :, :), s%props(part)%thickness, s%props(part)%young, &
                                  s%props(part)%poisson, layers(1, 2, 1:n) + layers(2, 2, 1:n), &

@@ -36,6 +36,7 @@ class DeckFields:
     shell_element: np.ndarray | None = None   # /parts/shell_element (n_parts,) -
     rotary_inertia: np.ndarray | None = None   # /parts/rotary_inertia (n_parts,) -
     warping_correction: np.ndarray | None = None   # /parts/warping_correction (n_parts,) -
+    thickness_update: np.ndarray | None = None   # /parts/thickness_update (n_parts,) -
     surface_only: np.ndarray | None = None   # /parts/surface_only (n_parts,) -
     element_kind: np.ndarray | None = None   # /parts/element_kind (n_parts,) -
     cross_section_area: np.ndarray | None = None   # /parts/cross_section_area (n_parts,) m^2
@@ -57,6 +58,7 @@ class DeckFields:
     contact_pairs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int32))
     contact_penalty_scale: np.ndarray | None = None   # /contact/penalty_scale (n_contacts,) -
     contact_soft_constraint: np.ndarray | None = None   # /contact/soft_constraint (n_contacts,) -
+    contact_thickness_scale: np.ndarray | None = None   # /contact/thickness_scale (n_contacts, 2) -
     contact_static_friction: np.ndarray | None = None   # /contact/static_friction (n_contacts,) -
     contact_dynamic_friction: np.ndarray | None = None   # /contact/dynamic_friction (n_contacts,) -
     contact_friction_decay: np.ndarray | None = None   # /contact/friction_decay (n_contacts,) s/m

@@ -22,6 +22,7 @@ from paradyn._schema import (
     DatasetSpec,
 )
 from paradyn.deck.model import trait_codes
+from paradyn.deck.part_relations import check_thickness_updates
 from paradyn.deck.walls import walls_of
 
 if TYPE_CHECKING:
@@ -192,6 +193,7 @@ def _check_relations(check: _Checker, sizes: dict[str, int]) -> None:
                    f"fourth (remesh without collapsed elements)")
     _check_distinct_elements(check, conn)
     _check_element_shapes(check, conn, truss)
+    check_thickness_updates(check, conn, truss)
     plastic = np.isin(check.array("material_model"), trait_codes("material_model", "plastic"))
     if np.any(plastic):
         tangent, young = check.array("tangent_modulus"), check.array("youngs_modulus")

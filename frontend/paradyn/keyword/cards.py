@@ -66,6 +66,10 @@ CONSTRAINED_RIGID_BODIES = layout("int:PIDL int:PIDC int:IFLAG", iflag=0)
 EXTRA_NODES = layout("int:PID int:ID int:IFLAG", iflag=0)
 RIGID_BODY_VELOCITY = layout("int:PID VX VY VZ VXR VYR VZR", vx=0.0, vy=0.0, vz=0.0, vxr=0.0, vyr=0.0, vzr=0.0)
 CONTROL_HOURGLASS = layout("int:IHQ QH", ihq=1, qh=0.1)
+# only ISTUPD is read (1: the thickness update of keyword/parts.py); the other fields of card 1 are
+# warned when not LS-DYNA's defaults, cards 2 and after (ROTASCL ...) are not read
+CONTROL_SHELL = layout("WRPANG int:ESORT int:IRNXX int:ISTUPD int:THEORY int:BWC int:MITER int:PROJ", wrpang=20.0,
+                       esort=0, irnxx=-1, istupd=0, theory=2, bwc=2, miter=1, proj=0)
 # only IMFLAG is read: a value other than 0 asks for an implicit analysis, which ParaDyn refuses
 CONTROL_IMPLICIT_GENERAL = layout("int:IMFLAG DT0 int:IMFORM int:NSBS int:IGS int:CNSTN int:FORM int:ZERO_V",
                                   imflag=0, dt0=0.0, imform=2, nsbs=1, igs=2, cnstn=0, form=0, zero_v=0)
@@ -398,6 +402,8 @@ READERS: dict[str, Callable[[_Reading], None]] = {
     "CONTROL_TIMESTEP": _control(CONTROL_TIMESTEP, {"DTINIT": 0.0, "ISDO": 0, "TSLIMT": 0.0, "ERODE": 0,
                                                     "MS1ST": 0}),
     "CONTROL_HOURGLASS": _control(CONTROL_HOURGLASS),
+    "CONTROL_SHELL": _control(CONTROL_SHELL, {"WRPANG": 20.0, "ESORT": 0, "IRNXX": -1, "THEORY": 2, "BWC": 2,
+                                              "MITER": 1, "PROJ": 0}),
     "CONTROL_IMPLICIT_GENERAL": _control(CONTROL_IMPLICIT_GENERAL),
     "CONTROL_UNITS": _control(CONTROL_UNITS, {"TEMP": "k"}),
     "DATABASE_BINARY_D3PLOT": _control(DATABASE_DT, {"LCDT": 0, "BEAM": 0, "NPLTC": 0, "PSETID": 0}),

@@ -35,7 +35,7 @@ CONTACT = (layout("int:SSID int:MSID int:SSTYP int:MSTYP int:SBOXID int:MBOXID i
                   dtstif=0.0, edgek=0.0, unused=0.0, flangl=0.0, cid_rcf=0))
 IGNORED = ({"SBOXID": 0, "MBOXID": 0, "SPR": 0, "MPR": 0},
            {"VC": 0.0, "VDC": 0.0, "PENCHK": 0},
-           {"SST": 0.0, "MST": 0.0, "SFST": 1.0, "SFMT": 1.0, "FSF": 1.0, "VSF": 1.0},
+           {"SST": 0.0, "MST": 0.0, "FSF": 1.0, "VSF": 1.0},
            {"LCIDAB": 0, "MAXPAR": 1.025, "SBOPT": 2.0, "DEPTH": 2, "BSORT": 0, "FRCFRQ": 1},
            {"PENMAX": 0.0, "THKOPT": 0, "SHLTHK": 0, "SNLOG": 0, "ISYM": 0, "I2D3D": 0, "SLDTHK": 0.0, "SLDSTF": 0.0},
            {"IGAP": 1, "IGNORE": 0, "DPRFAC": 0.0, "DTSTIF": 0.0, "EDGEK": 0.0, "UNUSED": 0.0, "FLANGL": 0.0,
@@ -201,6 +201,7 @@ def _contact(data: KeywordData, name: str, records: list[Record], names_of: dict
         common["edges"] = edges
     if soft == 1 and variant.form not in ("tied", "tiebreak"):
         common["soft_constraint"] = float(records[4]["SOFSCL"])
+    common["thickness_scale"] = _thickness_scales(records[3], variant.form == "single")
     if variant.form == "single":
         every = int(first["SSTYP"]) == 5 or int(first["SSID"]) == 0
         members = tuple(n for pid in slave for n in names_of[pid])
@@ -221,6 +222,15 @@ def _contact(data: KeywordData, name: str, records: list[Record], names_of: dict
             for b in names_of[m]:
                 pairs.setdefault(frozenset((a, b)), (a, b))
     return [ContactSpec(parts=pair, symmetric=True, **common) for pair in pairs.values()]
+
+
+def _thickness_scales(third: Record, single: bool) -> tuple[float, float]:
+    """SFST, SFMT (card 3): the scales on the slave and master sides' contact thickness, read as
+    ``thickness_scale`` (first part: the slave side; 0 or blank: 1, LS-DYNA's default); a
+    single-surface contact has one surface and takes SFST."""
+    sfst = float(third["SFST"] or 0.0) or 1.0
+    sfmt = float(third["SFMT"] or 0.0) or 1.0
+    return (sfst, sfst) if single else (sfst, sfmt)
 
 
 def _tiebreak(label: str, card: Record, unit: Units) -> dict[str, float]:

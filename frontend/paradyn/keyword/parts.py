@@ -135,11 +135,34 @@ def part_spec(data: KeywordData, record: Record, name: str, material: str, unit:
         raise KeywordError(f"{first.where}: *SECTION_SHELL {secid} NIP = {nip}; ParaDyn takes 1 to "
                            f"{MAX_INTEGRATION_POINTS} points through the thickness")
     form, coefficient = _hourglass(data, record)
+    element = "full" if int(first["ELFORM"]) in FULLY_INTEGRATED else "blt"
+    geometry = mesh.part_geometry(index)
     return PartSpec(name=name, material=material, thickness=mesh.part_thickness[index] * unit.length,
-                    geometry=mesh.part_geometry(index), integration_points=nip,
+                    geometry=geometry, integration_points=nip,
                     hourglass_coefficient=coefficient, hourglass_form=form,
-                    warping_correction=_warping(data, first, pid, name),
-                    element="full" if int(first["ELFORM"]) in FULLY_INTEGRATED else "blt")
+                    warping_correction=_warping(data, first, pid, name), element=element,
+                    thickness_update=_thickness_update(data, pid, name, element, geometry.mesh_data.quads))
+
+
+def _thickness_update(data: KeywordData, pid: int, name: str, element: str, quads: np.ndarray) -> bool:
+    """*CONTROL_SHELL ISTUPD = 1 (the element's forces use its current thickness) as the part's
+    ``thickness_update``, for a part of one-point quadrilaterals; a part with triangles or the fully
+    integrated element keeps t0, with a warning. Other ISTUPD values are warned and read as 0."""
+    control = data.control.get("CONTROL_SHELL")
+    istupd = int(control["ISTUPD"] or 0) if control is not None else 0
+    if istupd == 0:
+        return False
+    if istupd != 1:
+        data.warn(f"{control.where}: *CONTROL_SHELL ISTUPD = {istupd} is not read (ParaDyn reads 1, the thickness "
+                  f"update of every part, or 0); part {pid} '{name}' keeps its thickness")
+        return False
+    triangles = int(np.count_nonzero(quads[:, 2] == quads[:, 3]))
+    if element != "blt" or triangles:
+        why = "is fully integrated" if element != "blt" else f"has {triangles} triangles"
+        data.warn(f"{control.where}: *CONTROL_SHELL ISTUPD = 1: part {pid} '{name}' {why}, and ParaDyn's thickness "
+                  f"update is the one-point quadrilateral's; the part keeps its thickness t0")
+        return False
+    return True
 
 
 def _warping(data: KeywordData, section: Record, pid: int, name: str) -> bool:

@@ -212,6 +212,9 @@ def _parts_and_materials(data: KeywordData, unit: Units, mesh: KeywordMesh,
                                   geometry=mesh.part_geometry(index), integration_points=1))
         else:
             parts.append(part_spec(data, record, name, materials[key].name, unit, mesh, index))
+    rigid = {m.name for m in materials.values() if m.model == "rigid"}
+    for part in parts:   # a rigid part does not deform: ISTUPD leaves it alone
+        part.thickness_update = part.thickness_update and part.material not in rigid
     return parts, list(materials.values())
 
 

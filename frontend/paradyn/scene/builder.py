@@ -196,9 +196,9 @@ class Scene:
     def add_contact(self, *parts: str, **options: Any) -> None:
         """A ``[[contact]]``: two parts (``kind="node_to_segment"``, the default), or with
         ``kind="single_surface"`` the parts that form one surface (none: every part). ``options``:
-        ``kind``, ``penalty_scale``, ``static_friction``, ``dynamic_friction``, ``friction_decay``,
-        ``symmetric``, ``initial_penetration``, ``birth_time``, ``death_time``, and for ``kind="tiebreak"``
-        ``normal_failure_stress``, ``shear_failure_stress`` (docs/scene.md, ``[[contact]]``)."""
+        ``kind``, ``penalty_scale``, ``thickness_scale``, ``static_friction``, ``dynamic_friction``,
+        ``friction_decay``, ``symmetric``, ``initial_penetration``, ``birth_time``, ``death_time``, and for
+        ``kind="tiebreak"`` ``normal_failure_stress``, ``shear_failure_stress`` (docs/scene.md, ``[[contact]]``)."""
         self._add("contact", **({"parts": list(parts)} if parts else {}), **options)
 
     @_checked("paradyn.Scene.add_weld")

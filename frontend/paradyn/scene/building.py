@@ -57,6 +57,7 @@ def build_model(scene: Scene) -> deck.Model:
     element_part = np.concatenate([np.full(m.mesh.n_elements, i) for i, m in enumerate(meshes)])
     velocity = np.concatenate([np.tile(m.spec.initial_velocity, (m.mesh.n_nodes, 1)) for m in meshes])
     by_name = {m.spec.name: m for m in meshes}
+    _check_thickness_updates(r, scene, meshes)
     fixed = _fixed_dofs(r, scene, by_name, len(coordinates))
     velocity[fixed[:, :3] == 1] = 0.0  # a fixed translation cannot start moving
     material_index = {m.name: i for i, m in enumerate(scene.materials)}
@@ -190,6 +191,8 @@ def _apply_contacts(scene: Scene, model: deck.Model) -> None:
     model.contact_pairs = np.array([[a, b] for a, b, _, _ in rows], dtype=np.int32).reshape(-1, 2)
     model.contact_penalty_scale = np.array([c.penalty_scale for c in contacts])
     model.contact_soft_constraint = np.array([c.soft_constraint for c in contacts])
+    # a single_surface contact's one scale on each side of its rows
+    model.contact_thickness_scale = np.array([c.thickness_scale for c in contacts], dtype=float).reshape(-1, 2)
     model.contact_static_friction = np.array([c.static_friction for c in contacts])
     model.contact_dynamic_friction = np.array([c.dynamic_friction for c in contacts])
     model.contact_friction_decay = np.array([c.friction_decay for c in contacts])
@@ -218,16 +221,37 @@ def _apply_file_ids(meshes: list[_PartMesh], model: deck.Model) -> None:
     model.part_ids = np.array([m.mesh.part_id or 0 for m in meshes], dtype=np.int64)
 
 
+def _check_thickness_updates(r: _Reader, scene: Scene, meshes: list[_PartMesh]) -> None:
+    """``thickness_update`` is the one-point quadrilateral's (docs/theory.md, "Thickness update"): a part
+    with it has no triangles, no fully integrated element, no truss and no rigid material."""
+    rigid = {m.name for m in scene.materials if m.model == "rigid"}
+    for m in meshes:
+        p = m.spec
+        if not p.thickness_update:
+            continue
+        triangles = int(np.count_nonzero(m.mesh.quads[:, 2] == m.mesh.quads[:, 3])) if m.mesh.n_elements else 0
+        why = ("its element is \"full\"" if p.element == "full" else "it is a truss part" if p.element_kind != "shell"
+               else "its material is rigid" if p.material in rigid
+               else f"it has {triangles} triangles" if triangles else "")
+        if why:
+            raise r.error(f"[[part]] '{p.name}' has thickness_update = true, but {why}: the thickness update is the "
+                          f"one-point quadrilateral's (element = \"blt\", no triangles); remove thickness_update or "
+                          f"mesh the part with quadrilaterals of the one-point element")
+
+
 def apply_trusses(scene: Scene, model: deck.Model) -> None:
     """/parts/shell_element where some part is fully integrated (``element = "full"``), and
     /parts/element_kind and /parts/cross_section_area where some part is a truss part;
-    /parts/rotary_inertia where some part's is not the default (the default deck stays bitwise)."""
+    /parts/rotary_inertia where some part's is not the default, /parts/thickness_update where some
+    part updates its thickness (the default deck stays bitwise)."""
     if any(p.element != "blt" for p in scene.parts):
         elements = _schema.ENUMS["shell_element"]
         model.shell_element = np.array([elements[p.element] for p in scene.parts], dtype=np.int32)
     if any(p.rotary_inertia != PartSpec.rotary_inertia for p in scene.parts):
         rules = _schema.ENUMS["rotary_inertia"]
         model.rotary_inertia = np.array([rules[p.rotary_inertia] for p in scene.parts], dtype=np.int32)
+    if any(p.thickness_update for p in scene.parts):
+        model.thickness_update = np.array([int(p.thickness_update) for p in scene.parts], dtype=np.int32)
     if all(p.element_kind == "shell" for p in scene.parts):
         return
     kinds = _schema.ENUMS["element_kind"]

@@ -9,9 +9,9 @@ from paradyn import _schema
 from paradyn.scene.specs import EDGE_KINDS, ContactSpec
 from paradyn.scene.tables import _REQUIRED, _Reader, read_life
 
-_CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "soft_constraint", "static_friction",
-                 "dynamic_friction", "friction_decay", "symmetric", "birth_time", "death_time", "edges",
-                 *ContactSpec.FAILURE_KEYS)
+_CONTACT_KEYS = ("parts", "kind", "initial_penetration", "penalty_scale", "soft_constraint", "thickness_scale",
+                 "static_friction", "dynamic_friction", "friction_decay", "symmetric", "birth_time", "death_time",
+                 "edges", *ContactSpec.FAILURE_KEYS)
 
 
 def parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
@@ -37,6 +37,7 @@ def parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
         parts=parts,
         penalty_scale=r.number(t, "penalty_scale", label, default=ContactSpec.penalty_scale, positive=True),
         soft_constraint=r.number(t, "soft_constraint", label, default=ContactSpec.soft_constraint, minimum=0.0),
+        thickness_scale=_thickness_scale(r, t, label, kind),
         static_friction=static,
         dynamic_friction=r.number(t, "dynamic_friction", label, default=static, minimum=0.0),
         friction_decay=r.number(t, "friction_decay", label, default=ContactSpec.friction_decay, minimum=0.0),
@@ -48,6 +49,19 @@ def parse_contact(r: _Reader, t: dict[str, Any], index: int) -> ContactSpec:
         death_time=death, edges=edges, **strengths,
     )
 
+
+
+def _thickness_scale(r: _Reader, t: dict[str, Any], label: str, kind: str) -> tuple[float, float]:
+    """``thickness_scale``: one number for both parts, or [first, second] for a pair (LS-DYNA SFST,
+    SFMT); a single_surface contact takes one number. Each in (0, 10]."""
+    value = r.raw(t, "thickness_scale", label, ContactSpec.thickness_scale[0])
+    pair = isinstance(value, list) and len(value) == 2 and kind != "single_surface"
+    scales = value if pair else [value]
+    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and 0.0 < v <= 10.0 for v in scales):
+        form = "one number" if kind == "single_surface" else "one number, or [first part, second part]"
+        raise r.error(f"'thickness_scale' in {label} must be {form}, each above 0 and at most 10 (1: the shell's "
+                      f"thickness, LS-DYNA's SFST/SFMT default); got {value!r}")
+    return (float(scales[0]), float(scales[-1]))
 
 
 def _contact_parts(r: _Reader, t: dict[str, Any], label: str, kind: str) -> tuple[str, ...]:

@@ -68,7 +68,8 @@ _RUN_KEYS = ("end_time", "output_interval", "history_interval", "time_step", "ti
 # the keys of [[material]] besides its name: the /materials datasets', by their scene key
 _MATERIAL_KEYS = {d.scene.split()[1]: d for d in _schema.DATASETS if d.path.startswith("/materials/")}
 _PART_KEYS = ("name", "material", "thickness", "integration_points", "hourglass_coefficient",
-              "hourglass_form", "warping_correction", "element", "rotary_inertia", "initial_velocity", "geometry")
+              "hourglass_form", "warping_correction", "element", "rotary_inertia", "thickness_update",
+              "initial_velocity", "geometry")
 _GEOMETRY_KEYS = {
     "cylinder": ("kind", "radius", "length", "axis", "center", "elements_around", "elements_along"),
     "plate": ("kind", "size", "elements", "origin", "u_axis", "v_axis"),
@@ -249,6 +250,7 @@ def _parse_part(r: _Reader, t: dict[str, Any], index: int) -> PartSpec:
         element=r.string(t, "element", label, default=PartSpec.element, choices=tuple(SHELL_ELEMENTS)),
         rotary_inertia=r.string(t, "rotary_inertia", label, default=PartSpec.rotary_inertia,
                                 choices=tuple(ROTARY_INERTIAS)),
+        thickness_update=r.flag(t, "thickness_update", label, default=PartSpec.thickness_update),
         initial_velocity=r.vector(t, "initial_velocity", label, default=(0.0, 0.0, 0.0)),
     )
 

@@ -118,6 +118,8 @@ class PartSpec:
     element: str = _enum_name("shell_element", _DECK_DEFAULT["/parts/shell_element"])
     # the nodal rotary inertia of its shells: "scaled" m (t^2 + A) / 4 or "radioss" m (t^2 + A) / 12
     rotary_inertia: str = _enum_name("rotary_inertia", _DECK_DEFAULT["/parts/rotary_inertia"])
+    # the element's forces use its current thickness (LS-DYNA ISTUPD = 1); one-point quadrilaterals only
+    thickness_update: bool = bool(_DECK_DEFAULT["/parts/thickness_update"])
     initial_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
     # "truss": 2-node bars (elements N1 N2 N2 N2) of cross-section area cross_section_area (m^2)
     element_kind: str = _enum_name("element_kind", _DECK_DEFAULT["/parts/element_kind"])
@@ -172,6 +174,8 @@ class ContactSpec:
     parts: tuple[str, ...]
     penalty_scale: float = _DECK_DEFAULT["/contact/penalty_scale"]
     soft_constraint: float = _DECK_DEFAULT["/contact/soft_constraint"]   # 0 off; LS-DYNA SOFT = 1's SOFSCL
+    # scale on the contact thickness of the first and the second part (LS-DYNA SFST, SFMT)
+    thickness_scale: tuple[float, float] = (_DECK_DEFAULT["/contact/thickness_scale"],) * 2
     static_friction: float = _DECK_DEFAULT["/contact/static_friction"]
     dynamic_friction: float = _DECK_DEFAULT["/contact/dynamic_friction"]
     friction_decay: float = _DECK_DEFAULT["/contact/friction_decay"]

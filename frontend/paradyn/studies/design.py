@@ -99,6 +99,16 @@ def _set_contacts(key: str) -> Callable[[Scene, Any], None]:
     return apply
 
 
+def _thickness_scale(scene: Scene) -> float | None:
+    """The one thickness scale of every contact's two parts; None when they differ."""
+    return _same([scale for c in scene.contacts for scale in c.thickness_scale])
+
+
+def _set_thickness_scale(scene: Scene, value: float) -> None:
+    for contact in scene.contacts:
+        contact.thickness_scale = (value, value)
+
+
 def _set_run(key: str) -> Callable[[Scene, Any], None]:
     return lambda scene, value: setattr(scene.run, key, value)
 
@@ -164,11 +174,17 @@ KNOBS: dict[str, Knob] = {k.name: k for k in [
          f"{', '.join(ROTARY_INERTIAS)}", lambda s: _same([p.rotary_inertia for p in s.parts]),
          _set_parts("rotary_inertia"),
          lambda v: None if v in ROTARY_INERTIAS else f"must be one of {', '.join(ROTARY_INERTIAS)}"),
+    Knob("thickness_update", bool, "thickness_update of every part: the element's forces use its current thickness "
+         "(LS-DYNA ISTUPD = 1; one-point quadrilaterals)", lambda s: _same([p.thickness_update for p in s.parts]),
+         _set_parts("thickness_update")),
     Knob("warping_correction", bool, "warping_correction of every part",
          lambda s: _same([p.warping_correction for p in s.parts]), _set_parts("warping_correction")),
     Knob("penalty_scale", float, "penalty_scale of every [[contact]], > 0",
          lambda s: _same([c.penalty_scale for c in s.contacts]), _set_contacts("penalty_scale"), _positive,
          needs="contact"),
+    Knob("contact_thickness_scale", float, "thickness_scale of every [[contact]] (both parts), in (0, 10]: the "
+         "contact surfaces sit scale t / 2 off each mid-surface", _thickness_scale, _set_thickness_scale,
+         lambda v: None if 0 < v <= 10 else "must lie in (0, 10]", needs="contact"),
     Knob("symmetric", bool, "symmetric of every [[contact]]: true both passes, false swapped passes",
          lambda s: _same([c.symmetric for c in s.contacts]), _set_contacts("symmetric"), needs="contact"),
     Knob("contact_sort_interval", int, "[run] contact_sort_interval: cycles between bucket sorts, 0 = automatic",

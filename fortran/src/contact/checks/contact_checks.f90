@@ -23,7 +23,7 @@ module contact_checks
   use near_elements, only: near_set_t, gather_near, box_of
   use initial_penetration, only: slave_penetrations
   use surface_overlap, only: first_crossing
-  use contact_surfaces, only: capped_thickness, shortest_edge
+  use contact_surfaces, only: capped_thickness, shortest_edge, scaled_thickness
   implicit none
   private
   public :: resolve_initial_penetrations, check_contact_overlap, held_thickness, part_rows, corners
@@ -305,7 +305,7 @@ contains
     end do
   end function corners
 
-  !> contact_surfaces' contact_thickness over the ranks' rows: the shell's thickness, capped at
+  !> contact_surfaces' contact_thickness over the ranks' rows: the scaled shell thickness, capped at
   !> self_thickness_cap times the part's shortest element edge (the least over the ranks, exact in
   !> any order) for a single-surface definition. Collective for a single-surface definition.
   real(wp) function held_thickness(deck, comm, definition, part) result(t)
@@ -314,7 +314,7 @@ contains
     integer, intent(in) :: definition, part
     integer :: e, k
     real(wp) :: shortest
-    t = deck%thickness(part)
+    t = scaled_thickness(deck, definition, part)
     if (.not. contact_kind_is_self_contact(deck%contact_kind(definition))) return
     shortest = shortest_edge(deck%coordinates, &
                              reshape([((node_row(deck, deck%connectivity(k, e)), k = 1, 4), e = 1, size(deck%element_ids))], &

@@ -8,7 +8,7 @@ module contact_surfaces
   use paradyn_schema, only: contact_kind_is_self_contact
   implicit none
   private
-  public :: part_nodes, contact_thickness, self_thickness_cap, capped_thickness, shortest_edge
+  public :: part_nodes, contact_thickness, self_thickness_cap, capped_thickness, shortest_edge, scaled_thickness
 
   !> The thickness of a single-surface contact is at most this fraction of the shortest edge.
   real(wp), parameter :: self_thickness_cap = 0.4_wp
@@ -30,16 +30,28 @@ contains
     nodes = pack([(e, e = 1, deck%n_nodes)], on_part)
   end subroutine part_nodes
 
-  !> The thickness of part `part` in contact definition `definition`: the shell's thickness, capped
-  !> at self_thickness_cap times the part's shortest element edge (at the deck's positions) when the
-  !> definition is single_surface.
+  !> The thickness of part `part` in contact definition `definition`: the shell's thickness times
+  !> the definition's scale for that side (scaled_thickness), capped at self_thickness_cap times the
+  !> part's shortest element edge (at the deck's positions) when the definition is single_surface.
   real(wp) function contact_thickness(deck, definition, part) result(t)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: definition, part
-    t = deck%thickness(part)
+    t = scaled_thickness(deck, definition, part)
     if (contact_kind_is_self_contact(deck%contact_kind(definition))) &
       t = capped_thickness(t, shortest_edge(deck%coordinates, deck%connectivity, deck%element_part, part))
   end function contact_thickness
+
+  !> The shell thickness of part `part` times /contact/thickness_scale of definition `definition`
+  !> for the side the part is on (LS-DYNA SFST for the first part, SFMT for the second; a
+  !> single-surface definition names its part twice and takes the first). A scale of 1 leaves the
+  !> thickness as it is, bitwise.
+  pure real(wp) function scaled_thickness(deck, definition, part) result(t)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: definition, part
+    integer :: side
+    side = merge(1, 2, part == deck%contact_pairs(1, definition))
+    t = deck%thickness(part) * deck%contact_thickness_scale(side, definition)
+  end function scaled_thickness
 
   !> A single-surface contact's thickness: at most self_thickness_cap times the shortest edge.
   pure real(wp) function capped_thickness(thickness, shortest) result(t)
