@@ -7,13 +7,21 @@
 module contact_closing
   use paradyn_kinds, only: wp, ip
   use contact_search, only: segment_candidates
+  use segment_projection, only: segment_shape_functions
   use contact_pass, only: contact_pass_t
   use contact_interface, only: contact_t
   implicit none
   private
-  public :: touching_step, approach_step, closing_limit_step
+  public :: closing_limited, touching_step, approach_step, closing_limit_step
 
 contains
+
+  !> Whether the automatic limit applies to the pass: switched on, and a shell on at least one side.
+  pure logical function closing_limited(c, pass)
+    type(contact_t), intent(in) :: c
+    type(contact_pass_t), intent(in) :: pass
+    closing_limited = c%closing_limit > 0.0_wp .and. pass%t_wall < huge(1.0_wp)
+  end function closing_limited
 
   !> The automatic step limit (/control contact_closing_limit f) of a slave whose nearest segment
   !> the search found (xc the closest point, normal the normal there): where the slave is within
@@ -28,13 +36,12 @@ contains
     type(contact_pass_t), intent(in) :: pass
     integer, intent(in) :: at, segment
     real(wp), intent(in) :: xi, eta, xc(3), normal(3), reach
-    real(wp), parameter :: corner_xi(4) = [-1.0_wp, 1.0_wp, 1.0_wp, -1.0_wp], corner_eta(4) = [-1.0_wp, -1.0_wp, 1.0_wp, 1.0_wp]
-    real(wp) :: v_point(3), closing
+    real(wp) :: v_point(3), closing, shape(4)
     integer :: m
+    shape = segment_shape_functions(xi, eta)
     v_point = 0.0_wp
     do m = 1, 4
-      v_point = v_point + 0.25_wp * (1.0_wp + corner_xi(m) * xi) * (1.0_wp + corner_eta(m) * eta) &
-                          * c%v(:, pass%segment_at(m, segment))
+      v_point = v_point + shape(m) * c%v(:, pass%segment_at(m, segment))
     end do
     closing = abs(dot_product(c%v(:, at) - v_point, normal))
     dt = huge(1.0_wp)

@@ -16,7 +16,7 @@ module contact_stages
   use edge_penalty, only: edge_edge_force, closest_points_of_edges
   use contact_interface, only: contact_t, clock_seconds
   use contact_slots, only: slot_of
-  use contact_closing, only: touching_step, approach_step, closing_limit_step
+  use contact_closing, only: closing_limited, touching_step, approach_step, closing_limit_step
   use exact_sum, only: exact_add, exact_value
   implicit none
   private
@@ -308,9 +308,8 @@ contains
         reach = 0.5_wp * (pass%t_slave - 2.0_wp * pass%overlap(slot) + pass%t_master)
         if (still_clear(pass, slot, pass%masters(c%candidates(2, k)), c%n_sorts, c%moved)) then
           ! clear by at least its clearance at the search less twice the movement since
-          if (c%closing_limit > 0.0_wp .and. pass%t_wall < huge(1.0_wp)) &
-            least = min(least, approach_step(c, pass, k, at, pass%clear_gap(slot) - 2.0_wp * (1.0_wp + edge_tolerance) &
-                                                                 * (pass%clear_moved(slot) + c%moved), reach))
+          if (closing_limited(c, pass)) &
+            least = min(least, approach_step(c, pass, k, at, clear_bound(pass, slot, c%moved), reach))
           cycle
         end if
         if (pass%shares_nodes) then
@@ -329,7 +328,7 @@ contains
           pass%clear_gap(slot) = clearance
           pass%clear_moved(slot) = c%moved
         end if
-        if (c%closing_limit > 0.0_wp .and. pass%t_wall < huge(1.0_wp)) then
+        if (closing_limited(c, pass)) then
           if (segment > 0) then
             least = min(least, touching_step(c, pass, at, segment, xi, eta, xc, normal, reach))
           else if (clearance > 0.0_wp) then
@@ -380,7 +379,6 @@ contains
     c%time_force = c%time_force + clock() - t0
   end subroutine contact_local_search
 
-
   !> The record of candidate k of an edge pass (edge_to_edge_contact): its slave edge against the
   !> edges of the segments around its nearest master (edge_search), the deepest crossing's force
   !> (edge_penalty) with the segment's penalty stiffness, capped so that the spring's frequency on
@@ -392,7 +390,7 @@ contains
     type(contact_t), intent(inout) :: c
     type(contact_pass_t), intent(inout) :: pass
     integer, intent(in) :: k
-    real(wp), intent(inout) :: least   !< the automatic step limit so far (touching_step)
+    real(wp), intent(inout) :: least   !< the automatic step limit so far (contact_closing)
     integer :: j, m, a1, a2, b1, b2, segment, corner
     real(wp) :: penetration, stiffness, force(3, 4), s, u, inverse_mass, clearance, along(3)
     real(wp) :: speed
@@ -401,15 +399,14 @@ contains
     m = c%candidates(2, k)
     a1 = pass%slave_at(j)
     a2 = pass%slave_other_at(j)
-    limited = c%closing_limit > 0.0_wp .and. pass%t_wall < huge(1.0_wp)
+    limited = closing_limited(c, pass)
     speed = norm2(c%v(:, a1) - c%v(:, pass%master_at(m)))   ! relative to the nearest master node
     clear = still_clear(pass, j, pass%masters(m), c%n_sorts, c%moved)
     ! a still-clear edge is searched only where the automatic limit needs its clearance: its bound
     ! lets it close on the master edges within two steps (the search then writes no record)
     if (clear) then
       if (.not. limited) return
-      if (pass%clear_gap(j) - 2.0_wp * (1.0_wp + edge_tolerance) * (pass%clear_moved(j) + c%moved) &
-          > 2.0_wp * speed * c%time_step) return
+      if (clear_bound(pass, j, c%moved) > 2.0_wp * speed * c%time_step) return
     end if
     call deepest_edge_crossing(c%x, a1, a2, pass%segment_at, pass%segment_list, pass%segment_start(m), &
                                pass%segment_start(m + 1) - 1, pass%t_slave, pass%t_master, segment, corner, penetration, &
@@ -472,6 +469,15 @@ contains
     still_clear = pass%clear_gap(j) > 2.0_wp * (1.0_wp + edge_tolerance) * (pass%clear_moved(j) + moved) &
                                       * (1.0_wp + 1.0e-9_wp)
   end function still_clear
+
+  !> The least clearance slave j (a node or an edge) can have now: the clearance its search left
+  !> less twice the most any node has moved since (still_clear's bound).
+  pure real(wp) function clear_bound(pass, j, moved) result(gap)
+    type(contact_pass_t), intent(in) :: pass
+    integer, intent(in) :: j
+    real(wp), intent(in) :: moved
+    gap = pass%clear_gap(j) - 2.0_wp * (1.0_wp + edge_tolerance) * (pass%clear_moved(j) + moved)
+  end function clear_bound
 
   !> Slave j of the pass is searched: not a node (or an edge) whose elements are all eroded.
   pure logical function live_slave(pass, j)
