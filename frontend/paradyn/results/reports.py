@@ -127,7 +127,8 @@ _LABELS = {"energy_balance_error": "energy balance error", "peak_hourglass_over_
 # What to try when a threshold is crossed (docs/outputs.md, accuracy)
 _ADVICE = {"energy_balance_error": "a smaller [run] time_step_safety, or [run] energy_error_limit to stop such a run",
            "peak_hourglass_over_internal": "a finer mesh where it deforms most, or hourglass_form = \"physical\"",
-           "peak_penetration_over_thickness": "[run] contact_travel_limit = 0.1 if a wall is crossed within a step, "
+           "peak_penetration_over_thickness": "a smaller [run] contact_closing_limit (0.05 by default) or "
+                                              "contact_travel_limit = 0.1 if a wall is crossed within a step, "
                                               "or a larger penalty_scale"}
 
 
