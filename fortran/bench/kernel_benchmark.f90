@@ -26,6 +26,14 @@ program kernel_benchmark
                             material_j2_rate, material_piecewise_linear, material_piecewise_linear_rate
   use material_model, only: material_t
   implicit none
+  !> the state of the benchmark's groups of elements (arrays by group last)
+  type :: bench_groups_t
+    real(wp), allocatable :: x(:, :, :, :), v(:, :, :, :), w(:, :, :, :), force(:, :, :)
+    real(ek), allocatable :: stress(:, :, :, :), back(:, :, :, :), eps_p(:, :, :), hg(:, :, :)   !< element state: kind ek
+    real(ek), allocatable :: state(:, :, :, :)   !< the material member's own state per point
+    real(wp), allocatable :: e_int(:, :), e_hg(:, :)
+    integer :: inverted = 0
+  end type bench_groups_t
   integer :: n_elements, n_cycles, n_groups
   integer :: triangle_every = 0   !< every this many groups is one of triangles (0: none)
   character(len=32) :: arg
@@ -77,6 +85,13 @@ program kernel_benchmark
   call material_from_deck(steel(material_j2_plasticity), 1, props%material)
   call report('plastic, fully integrated: ', props)
   props%fully_integrated = .false.
+  ! the two elements' ratio, interleaved (the lines above are measured seconds apart)
+  do s = 1, 2
+    call material_from_deck(steel(merge(material_elastic, material_j2_plasticity, s == 1)), 1, props%material)
+    if (selected(trim(merge('elastic', 'plastic', s == 1))//', fully integrated / one-point, interleaved')) &
+      write (*, '(a,f7.3,a)') trim(merge('elastic', 'plastic', s == 1))//', fully integrated / one-point, interleaved: ', &
+      interleaved_ratio(props), ' (CPU time, median of 5 rounds)'
+  end do
   do s = 1, 2   ! the triangles: all groups, then every tenth
     triangle_every = merge(1, 10, s == 1)
     call material_from_deck(steel(material_elastic), 1, props%material)
@@ -198,82 +213,142 @@ contains
     type(shell_properties_t), intent(in) :: p
     integer(i8), intent(out) :: bits
     real(wp) :: us(2)
-    real(wp), allocatable :: x(:, :, :, :), v(:, :, :, :), w(:, :, :, :), force(:, :, :)
-    real(ek), allocatable :: stress(:, :, :, :), back(:, :, :, :), eps_p(:, :, :), hg(:, :, :)   ! element state: kind ek
-    real(ek), allocatable :: state(:, :, :, :)   ! the material member's own state per point
-    real(wp), allocatable :: e_int(:, :), e_hg(:, :)
-    real(wp) :: r(3), dt_element(group_size)
-    integer :: g, i, k, c, inverted, pts
+    type(bench_groups_t) :: b
+    integer :: c
     integer(i8) :: t0, t1, rate
     real(wp) :: cpu0, cpu1
-    allocate (x(group_size, 3, 4, n_groups), v(group_size, 3, 4, n_groups), w(group_size, 3, 4, n_groups))
-    pts = 5 * merge(4, 1, p%fully_integrated)   ! stored points: a fully integrated element's 4 in-plane
-    ! the back stress only where the material keeps one, as element_state allocates it
-    allocate (stress(group_size, stress_components, pts, n_groups))
-    allocate (back(group_size, 3, p%material%back_stress_points(pts), n_groups))
-    allocate (eps_p(group_size, pts, n_groups), hg(group_size, hourglass_components, n_groups))
-    allocate (state(group_size, p%material%state_width(), pts, n_groups), source=0.0_ek)
-    allocate (e_int(group_size, n_groups), e_hg(group_size, n_groups), force(6, 4, group_size))
-    stress = 0
-    back = 0
-    eps_p = 0
-    hg = 0
-    e_int = 0
-    e_hg = 0
-    do g = 1, n_groups
-      do i = 1, group_size
-        do k = 1, 4
-          call random_number(r)
-          x(i, :, k, g) = 0.01_wp * [merge(0.0_wp, 1.0_wp, k == 1 .or. k == 4), &
-                                     merge(0.0_wp, 1.0_wp, k <= 2), 0.0_wp] + 1.0e-4_wp * r
-          call random_number(r)
-          v(i, :, k, g) = 20.0_wp * (r - 0.5_wp)   ! strain rates large enough to yield
-          call random_number(r)
-          w(i, :, k, g) = 100.0_wp * (r - 0.5_wp)
-        end do
-      end do
-    end do
-    inverted = 0
+    call set_up(p, b)
     call system_clock(t0, rate)
     call cpu_time(cpu0)
-    if (triangle_every > 0) then
-      do g = triangle_every, n_groups, triangle_every
-        x(:, :, 4, g) = x(:, :, 3, g)
-      end do
-    end if
     do c = 1, n_cycles
-      do g = 1, n_groups
-        if (triangle_every > 0) then
-          if (modulo(g, triangle_every) == 0) then
-            call c0_triangle_internal_forces(group_size, x(:, :, :, g), v(:, :, :, g), w(:, :, :, g), p, 1.0e-7_wp, &
-                                             stress(:, :, :, g), back(:, :, :, g), eps_p(:, :, g), state(:, :, :, g), &
-                                             hg(:, :, g), force, e_int(:, g), e_hg(:, g), inverted, dt_element)
-            cycle
-          end if
-        end if
-        if (p%fully_integrated) then
-          call full_internal_forces(group_size, x(:, :, :, g), v(:, :, :, g), w(:, :, :, g), p, 1.0e-7_wp, &
-                                    stress(:, :, :, g), back(:, :, :, g), eps_p(:, :, g), state(:, :, :, g), &
-                                    hg(:, :, g), force, e_int(:, g), inverted, dt_element)
-          cycle
-        end if
-        call blt_internal_forces(group_size, x(:, :, :, g), v(:, :, :, g), w(:, :, :, g), p, 1.0e-7_wp, &
-                                 stress(:, :, :, g), back(:, :, :, g), eps_p(:, :, g), state(:, :, :, g), hg(:, :, g), &
-                                 force, &
-                                 e_int(:, g), e_hg(:, g), inverted, dt_element)
-      end do
+      call one_cycle(p, b)
     end do
     call cpu_time(cpu1)
     call system_clock(t1)
     us(1) = 1.0e6_wp * real(t1 - t0, wp) / real(rate, wp) / (real(n_cycles, wp) * n_groups * group_size)
     us(2) = 1.0e6_wp * (cpu1 - cpu0) / (real(n_cycles, wp) * n_groups * group_size)
-    bits = ieor(ieor(xor_state_bits(stress, size(stress)), xor_state_bits(back, size(back))), &
-                ieor(xor_state_bits(eps_p, size(eps_p)), xor_state_bits(hg, size(hg))))
-    bits = ieor(ieor(bits, xor_bits(e_int, size(e_int))), &
-                ieor(xor_bits(e_hg, size(e_hg)), xor_bits(force, size(force))))
-    if (inverted > 0 .or. .not. (sum(e_int) == sum(e_int))) us = -1.0_wp
-    if (p%material%has_history() .and. maxval(eps_p) <= 0.0_wp) us = -2.0_wp  ! must have yielded
+    bits = ieor(ieor(xor_state_bits(b%stress, size(b%stress)), xor_state_bits(b%back, size(b%back))), &
+                ieor(xor_state_bits(b%eps_p, size(b%eps_p)), xor_state_bits(b%hg, size(b%hg))))
+    bits = ieor(ieor(bits, xor_bits(b%e_int, size(b%e_int))), &
+                ieor(xor_bits(b%e_hg, size(b%e_hg)), xor_bits(b%force, size(b%force))))
+    if (.not. sound(p, b)) us = -1.0_wp
   end function time_per_element_cycle
+
+  !> The fully integrated element's CPU time per element-cycle over the one-point element's, the
+  !> two run in turn, one cycle of every group each, so that both see the same machine (on a
+  !> shared one the speed of a core drifts over seconds, more than these kernels differ by);
+  !> the median of 5 rounds of n_cycles each. Negative when a run went wrong.
+  function interleaved_ratio(p) result(ratio)
+    type(shell_properties_t), intent(in) :: p
+    real(wp) :: ratio
+    type(shell_properties_t) :: one_point, full
+    type(bench_groups_t) :: b_one, b_full
+    real(wp) :: cpu0, cpu1, time_one, time_full, ratios(5)
+    integer :: c, round
+    one_point = p
+    one_point%fully_integrated = .false.
+    full = p
+    full%fully_integrated = .true.
+    call set_up(one_point, b_one)
+    call set_up(full, b_full)
+    do round = 1, 5
+      time_one = 0.0_wp
+      time_full = 0.0_wp
+      do c = 1, n_cycles
+        call cpu_time(cpu0)
+        call one_cycle(one_point, b_one)
+        call cpu_time(cpu1)
+        time_one = time_one + (cpu1 - cpu0)
+        call cpu_time(cpu0)
+        call one_cycle(full, b_full)
+        call cpu_time(cpu1)
+        time_full = time_full + (cpu1 - cpu0)
+      end do
+      ratios(round) = time_full / time_one
+    end do
+    ratio = median_of_five(ratios)
+    if (.not. (sound(one_point, b_one) .and. sound(full, b_full))) ratio = -1.0_wp
+  end function interleaved_ratio
+
+  !> The benchmark's groups of elements: a unit square, warped by 1e-4 m, with random nodal
+  !> velocities (strain rates large enough to yield) and rotation rates, state at zero
+  subroutine set_up(p, b)
+    type(shell_properties_t), intent(in) :: p
+    type(bench_groups_t), intent(out) :: b
+    real(wp) :: r(3)
+    integer :: g, i, k, pts
+    allocate (b%x(group_size, 3, 4, n_groups), b%v(group_size, 3, 4, n_groups), b%w(group_size, 3, 4, n_groups))
+    pts = 5 * merge(4, 1, p%fully_integrated)   ! stored points: a fully integrated element's 4 in-plane
+    ! the back stress only where the material keeps one, as element_state allocates it
+    allocate (b%stress(group_size, stress_components, pts, n_groups), source=0.0_ek)
+    allocate (b%back(group_size, 3, p%material%back_stress_points(pts), n_groups), source=0.0_ek)
+    allocate (b%eps_p(group_size, pts, n_groups), b%hg(group_size, hourglass_components, n_groups), source=0.0_ek)
+    allocate (b%state(group_size, p%material%state_width(), pts, n_groups), source=0.0_ek)
+    allocate (b%e_int(group_size, n_groups), b%e_hg(group_size, n_groups), source=0.0_wp)
+    allocate (b%force(6, 4, group_size))
+    do g = 1, n_groups
+      do i = 1, group_size
+        do k = 1, 4
+          call random_number(r)
+          b%x(i, :, k, g) = 0.01_wp * [merge(0.0_wp, 1.0_wp, k == 1 .or. k == 4), &
+                                       merge(0.0_wp, 1.0_wp, k <= 2), 0.0_wp] + 1.0e-4_wp * r
+          call random_number(r)
+          b%v(i, :, k, g) = 20.0_wp * (r - 0.5_wp)   ! strain rates large enough to yield
+          call random_number(r)
+          b%w(i, :, k, g) = 100.0_wp * (r - 0.5_wp)
+        end do
+      end do
+    end do
+    if (triangle_every > 0) then
+      do g = triangle_every, n_groups, triangle_every
+        b%x(:, :, 4, g) = b%x(:, :, 3, g)
+      end do
+    end if
+  end subroutine set_up
+
+  !> One step of every group of b with the element p asks for
+  subroutine one_cycle(p, b)
+    type(shell_properties_t), intent(in) :: p
+    type(bench_groups_t), intent(inout) :: b
+    real(wp) :: dt_element(group_size)
+    integer :: g
+    do g = 1, n_groups
+      if (triangle_every > 0) then
+        if (modulo(g, triangle_every) == 0) then
+          call c0_triangle_internal_forces(group_size, b%x(:, :, :, g), b%v(:, :, :, g), b%w(:, :, :, g), p, 1.0e-7_wp, &
+                                           b%stress(:, :, :, g), b%back(:, :, :, g), b%eps_p(:, :, g), b%state(:, :, :, g), &
+                                           b%hg(:, :, g), b%force, b%e_int(:, g), b%e_hg(:, g), b%inverted, dt_element)
+          cycle
+        end if
+      end if
+      if (p%fully_integrated) then
+        call full_internal_forces(group_size, b%x(:, :, :, g), b%v(:, :, :, g), b%w(:, :, :, g), p, 1.0e-7_wp, &
+                                  b%stress(:, :, :, g), b%back(:, :, :, g), b%eps_p(:, :, g), b%state(:, :, :, g), &
+                                  b%hg(:, :, g), b%force, b%e_int(:, g), b%inverted, dt_element)
+        cycle
+      end if
+      call blt_internal_forces(group_size, b%x(:, :, :, g), b%v(:, :, :, g), b%w(:, :, :, g), p, 1.0e-7_wp, &
+                               b%stress(:, :, :, g), b%back(:, :, :, g), b%eps_p(:, :, g), b%state(:, :, :, g), &
+                               b%hg(:, :, g), b%force, b%e_int(:, g), b%e_hg(:, g), b%inverted, dt_element)
+    end do
+  end subroutine one_cycle
+
+  pure real(wp) function median_of_five(values) result(median)
+    real(wp), intent(in) :: values(5)
+    integer :: i
+    median = values(1)
+    do i = 1, 5   ! the value with two others below it and two above (ties: any of them)
+      if (count(values < values(i)) <= 2 .and. count(values > values(i)) <= 2) median = values(i)
+    end do
+  end function median_of_five
+
+  !> No element inverted, finite energies, and a material with history has yielded
+  logical function sound(p, b)
+    type(shell_properties_t), intent(in) :: p
+    type(bench_groups_t), intent(in) :: b
+    sound = b%inverted == 0 .and. sum(b%e_int) == sum(b%e_int)
+    if (p%material%has_history()) sound = sound .and. maxval(b%eps_p) > 0.0_ek   ! must have yielded
+  end function sound
 
   !> the exclusive or of the bit patterns of a(1:n), each rotated by its position
   integer(i8) function xor_bits(a, n) result(bits)

@@ -92,9 +92,9 @@ contains
     real(ek), intent(in) :: dt
     real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:), state(:, :)
     real(ek), intent(in), contiguous :: dstrain(:, :)
-    real(ek), parameter :: root2 = sqrt(2.0_ek)
+    real(ek), parameter :: half_root2 = sqrt(0.5_ek)   !< the projector's eigenbasis: a rotation by 45 degrees
     real(ek) :: scale(m), young, poisson, c, shear, c1, c2, x1, x2, x3, a1, a2, a3
-    real(ek), dimension(return_batch) :: a1t, a2t, a3t, ep, rel, y0, h, dgamma, s1, s2, reached, radius, effective
+    real(ek), dimension(return_batch) :: a1t, a2t, a3t, ep, rel, y0, h, dgamma, s1, s2, q, reached, radius, effective
     integer :: seg(return_batch), kp(return_batch), idx(return_batch), first, nb, i, j, k, np, last
     logical :: crossed
     call rate_factors(self, m, dt, dstrain, scale)
@@ -136,21 +136,18 @@ contains
           i = idx(j)
           k = kp(i - first + 1)
           seg(j) = k
-          a1t(j) = (stress(i, 1) + stress(i, 2)) / root2
-          a2t(j) = (stress(i, 2) - stress(i, 1)) / root2
+          a1t(j) = (stress(i, 1) + stress(i, 2)) * half_root2
+          a2t(j) = (stress(i, 2) - stress(i, 1)) * half_root2
           a3t(j) = stress(i, 3)
           ep(j) = eps_p(i)
           rel(j) = eps_p(i) - start(k)
           y0(j) = scale(i) * sk(k)
           h(j) = scale(i) * slope(k)
         end do
-        call return_points(np, a1t, a2t, a3t, rel, c1, c2, y0, h, dgamma)
+        call return_points(np, a1t, a2t, a3t, rel, c1, c2, y0, h, dgamma, s1, s2, q)
         crossed = .false.
-        do j = 1, np
-          s1(j) = 1.0_ek / (1.0_ek + dgamma(j) * c1)
-          s2(j) = 1.0_ek / (1.0_ek + dgamma(j) * c2)
-          reached(j) = ep(j) + dgamma(j) * sqrt(2.0_ek * ((a1t(j) * s1(j))**2 / 3.0_ek + (a2t(j) * s2(j))**2 &
-                                                         + 2.0_ek * (a3t(j) * s2(j))**2) / 3.0_ek)
+        do j = 1, np   ! the plastic strain (2/3) dgamma q, q the returned von Mises stress
+          reached(j) = ep(j) + dgamma(j) * (2.0_ek / 3.0_ek * q(j))
           crossed = crossed .or. reached(j) > finish(seg(j))
         end do
         if (crossed) call next_segments(self, np, a1t, a2t, a3t, ep, idx, scale, c1, c2, seg, s1, s2, reached)
@@ -160,8 +157,8 @@ contains
           a2 = a2t(j) * s2(j)
           a3 = a3t(j) * s2(j)
           eps_p(i) = reached(j)
-          stress(i, 1) = (a1 - a2) / root2
-          stress(i, 2) = (a1 + a2) / root2
+          stress(i, 1) = (a1 - a2) * half_root2
+          stress(i, 2) = (a1 + a2) * half_root2
           stress(i, 3) = a3
           state(i, 1) = real(seg(j) - 1, ek)
         end do
@@ -217,7 +214,7 @@ contains
     real(ek), intent(in) :: a1t(:), a2t(:), a3t(:), ep(:), scale(:), c1, c2
     integer, intent(inout) :: seg(:)
     real(ek), intent(inout) :: s1(:), s2(:), reached(:)
-    real(ek), dimension(return_batch) :: qa1, qa2, qa3, rel, y0, h, dg
+    real(ek), dimension(return_batch) :: qa1, qa2, qa3, rel, y0, h, dg, f1, f2, qv
     integer :: list(return_batch), nq, q, j, pass, kept
     nq = 0
     do j = 1, np
@@ -237,14 +234,13 @@ contains
         y0(q) = scale(idx(j)) * self%segment_stress(seg(j))
         h(q) = scale(idx(j)) * self%segment_slope(seg(j))
       end do
-      call return_points(nq, qa1, qa2, qa3, rel, c1, c2, y0, h, dg)
+      call return_points(nq, qa1, qa2, qa3, rel, c1, c2, y0, h, dg, f1, f2, qv)
       kept = 0
       do q = 1, nq
         j = list(q)
-        s1(j) = 1.0_ek / (1.0_ek + dg(q) * c1)
-        s2(j) = 1.0_ek / (1.0_ek + dg(q) * c2)
-        reached(j) = ep(j) + dg(q) * sqrt(2.0_ek * ((qa1(q) * s1(j))**2 / 3.0_ek + (qa2(q) * s2(j))**2 &
-                                                   + 2.0_ek * (qa3(q) * s2(j))**2) / 3.0_ek)
+        s1(j) = f1(q)
+        s2(j) = f2(q)
+        reached(j) = ep(j) + dg(q) * (2.0_ek / 3.0_ek * qv(q))
         if (reached(j) > self%segment_end(seg(j))) then   ! past this one too: again on the next
           kept = kept + 1
           list(kept) = j

@@ -122,7 +122,7 @@ contains
       real(ek), intent(out) :: fv, dfv
       real(ek), parameter :: third = 1.0_ek / 3.0_ek
       real(ek) :: t1, t2, u1, u2, r12, p, dp, w
-      ! one division for both factors 1 / (1 + dg c) (yield_functions)
+      ! one division for both factors 1 / (1 + dg c)
       u1 = 1.0_ek + dg * c1
       u2 = 1.0_ek + dg * c2
       r12 = 1.0_ek / (u1 * u2)
@@ -159,6 +159,9 @@ contains
   !> not depend on the other points or on its position in the arrays. yield_scale(1:m), when
   !> given, scales each point's yield radius sigma_y0 + beta H eps_p (a rate law: its member
   !> computes the factor from the point's strain rate); absent, every factor is 1 exactly.
+  !> The return is bound by division and root throughput: the yield test compares squares, the
+  !> constant factors are products, and the update takes its factors from the return's last
+  !> evaluation (one division in all after it).
   pure subroutine j2_plane_stress_update_points(m, stress, back, eps_p, dstrain, young, poisson, &
                                                 yield0, tangent, beta, yield_scale)
     integer, intent(in) :: m
@@ -166,12 +169,12 @@ contains
     real(ek), intent(in), contiguous :: dstrain(:, :)
     real(ek), intent(in) :: young, poisson, yield0, tangent, beta
     real(ek), intent(in), optional :: yield_scale(:)
-    real(ek), parameter :: root2 = sqrt(2.0_ek)
-    real(ek) :: c, h, h_iso, h_kin, shear, c1, c2, s1, s2, a1, a2, a3, psi, x1, x2, x3
-    real(ek) :: a1t(batch), a2t(batch), a3t(batch), ep(batch), dgamma(batch)
+    real(ek), parameter :: half_root2 = sqrt(0.5_ek)   !< the projector's eigenbasis: a rotation by 45 degrees
+    real(ek) :: c, h, h_iso, h_kin, shear, c1, c2, x1, x2, x3, shift, d_eps
+    real(ek) :: a1t(batch), a2t(batch), a3t(batch), ep(batch), dgamma(batch), s1(batch), s2(batch), q(batch)
     real(ek) :: y0p(batch), hp(batch), y0t(batch), ht(batch)   !< each point's sigma_y0 and beta H
-    real(ek) :: effective(batch)   !< the trial's von Mises stress relative to the back stress
-    logical :: yielding(batch)
+    !> the trial's squared von Mises stress relative to the back stress, and the squared yield radius
+    real(ek) :: effective2(batch), radius2(batch)
     integer :: idx(batch), first, nb, i, j, np
 
     c = young / (1.0_ek - poisson**2)
@@ -185,7 +188,7 @@ contains
     do first = 1, m, batch
       nb = min(batch, m - first + 1)
       ! elastic trial and yield test on every point (elastic_plane_stress_update, von_mises_plane_stress);
-      ! the radius is sigma_y0 + beta H eps_p, times the point's factor where one is given
+      ! the radius is sigma_y0 + beta H eps_p (> 0), times the point's factor where one is given
       do i = first, first + nb - 1
         stress(i, 1) = stress(i, 1) + c * (dstrain(i, 1) + poisson * dstrain(i, 2))
         stress(i, 2) = stress(i, 2) + c * (dstrain(i, 2) + poisson * dstrain(i, 1))
@@ -194,68 +197,93 @@ contains
         x2 = stress(i, 2) - back(i, 2)
         x3 = stress(i, 3) - back(i, 3)
         ! (a NaN does not yield here, where the scalar version would iterate on it)
-        effective(i - first + 1) = sqrt(max(x1**2 - x1 * x2 + x2**2 + 3.0_ek * x3**2, 0.0_ek))
+        effective2(i - first + 1) = x1**2 - x1 * x2 + x2**2 + 3.0_ek * x3**2
       end do
       if (present(yield_scale)) then
         y0p(1:nb) = yield0 * yield_scale(first:first + nb - 1)
         hp(1:nb) = h_iso * yield_scale(first:first + nb - 1)
-        yielding(1:nb) = effective(1:nb) > y0p(1:nb) + hp(1:nb) * eps_p(first:first + nb - 1)
       else
-        yielding(1:nb) = effective(1:nb) > yield0 + h_iso * eps_p(first:first + nb - 1)
+        y0p(1:nb) = yield0
+        hp(1:nb) = h_iso
       end if
-      if (.not. any(yielding(1:nb))) cycle   ! most batches stay elastic: no gather, no return
-      ! gather the yielding points: trial relative stress in the eigenbasis of the projector P
+      radius2(1:nb) = (y0p(1:nb) + hp(1:nb) * eps_p(first:first + nb - 1))**2
+      np = count(effective2(1:nb) > radius2(1:nb))
+      if (np == 0) cycle   ! most batches stay elastic: no gather, no return
+      if (2 * np > nb) then
+        ! most points yield: the whole batch returns in place, the elastic points (whose trial
+        ! is inside the radius, kappa >= 1) stay at dgamma = 0 and are not written back
+        do j = 1, nb
+          i = first + j - 1
+          x1 = stress(i, 1) - back(i, 1)
+          x2 = stress(i, 2) - back(i, 2)
+          a1t(j) = (x1 + x2) * half_root2
+          a2t(j) = (x2 - x1) * half_root2
+          a3t(j) = stress(i, 3) - back(i, 3)
+        end do
+        call return_points(nb, a1t, a2t, a3t, eps_p(first:first + nb - 1), c1, c2, y0p, hp, dgamma, s1, s2, q)
+        do j = 1, nb
+          i = first + j - 1
+          call returned_state(a1t(j), a2t(j), a3t(j), s1(j), s2(j), q(j), dgamma(j), h_kin, x1, x2, x3, shift, d_eps)
+          eps_p(i) = merge(eps_p(i) + d_eps, eps_p(i), effective2(j) > radius2(j))
+          back(i, 1) = merge(back(i, 1) + shift * x1, back(i, 1), effective2(j) > radius2(j))
+          back(i, 2) = merge(back(i, 2) + shift * x2, back(i, 2), effective2(j) > radius2(j))
+          back(i, 3) = merge(back(i, 3) + shift * x3, back(i, 3), effective2(j) > radius2(j))
+          stress(i, 1) = merge(x1 + back(i, 1), stress(i, 1), effective2(j) > radius2(j))
+          stress(i, 2) = merge(x2 + back(i, 2), stress(i, 2), effective2(j) > radius2(j))
+          stress(i, 3) = merge(x3 + back(i, 3), stress(i, 3), effective2(j) > radius2(j))
+        end do
+        cycle
+      end if
+      ! a few points yield: gathered, returned together and scattered back
       np = 0
       do i = first, first + nb - 1
-        if (yielding(i - first + 1)) then
+        if (effective2(i - first + 1) > radius2(i - first + 1)) then
           np = np + 1
           idx(np) = i
         end if
       end do
-      if (np == 0) cycle
-      do j = 1, np
-        x1 = stress(idx(j), 1) - back(idx(j), 1)
-        x2 = stress(idx(j), 2) - back(idx(j), 2)
-        a1t(j) = (x1 + x2) / root2
-        a2t(j) = (x2 - x1) / root2
-        a3t(j) = stress(idx(j), 3) - back(idx(j), 3)
-        ep(j) = eps_p(idx(j))
-      end do
-      if (present(yield_scale)) then
-        y0t(1:np) = y0p(idx(1:np) - first + 1)
-        ht(1:np) = hp(idx(1:np) - first + 1)
-      else
-        y0t(1:np) = yield0
-        ht(1:np) = h_iso
-      end if
-      call return_points(np, a1t, a2t, a3t, ep, c1, c2, y0t, ht, dgamma)
-      ! the returned state, in the compact arrays, then scattered back
-      do j = 1, np
-        s1 = 1.0_ek / (1.0_ek + dgamma(j) * c1)
-        s2 = 1.0_ek / (1.0_ek + dgamma(j) * c2)
-        a1 = a1t(j) * s1
-        a2 = a2t(j) * s2
-        a3 = a3t(j) * s2
-        psi = a1**2 / 3.0_ek + a2**2 + 2.0_ek * a3**2
-        ep(j) = ep(j) + dgamma(j) * sqrt(2.0_ek * psi / 3.0_ek)
-        ! xi, kept in a1t, a2t, a3t
-        a1t(j) = (a1 - a2) / root2
-        a2t(j) = (a1 + a2) / root2
-        a3t(j) = a3
-        dgamma(j) = 2.0_ek / 3.0_ek * h_kin * dgamma(j)
-      end do
       do j = 1, np
         i = idx(j)
-        back(i, 1) = back(i, 1) + dgamma(j) * a1t(j)
-        back(i, 2) = back(i, 2) + dgamma(j) * a2t(j)
-        back(i, 3) = back(i, 3) + dgamma(j) * a3t(j)
-        eps_p(i) = ep(j)
-        stress(i, 1) = a1t(j) + back(i, 1)
-        stress(i, 2) = a2t(j) + back(i, 2)
-        stress(i, 3) = a3t(j) + back(i, 3)
+        x1 = stress(i, 1) - back(i, 1)
+        x2 = stress(i, 2) - back(i, 2)
+        a1t(j) = (x1 + x2) * half_root2
+        a2t(j) = (x2 - x1) * half_root2
+        a3t(j) = stress(i, 3) - back(i, 3)
+        ep(j) = eps_p(i)
+        y0t(j) = y0p(i - first + 1)
+        ht(j) = hp(i - first + 1)
+      end do
+      call return_points(np, a1t, a2t, a3t, ep, c1, c2, y0t, ht, dgamma, s1, s2, q)
+      do j = 1, np
+        i = idx(j)
+        call returned_state(a1t(j), a2t(j), a3t(j), s1(j), s2(j), q(j), dgamma(j), h_kin, x1, x2, x3, shift, d_eps)
+        eps_p(i) = ep(j) + d_eps
+        back(i, 1) = back(i, 1) + shift * x1
+        back(i, 2) = back(i, 2) + shift * x2
+        back(i, 3) = back(i, 3) + shift * x3
+        stress(i, 1) = x1 + back(i, 1)
+        stress(i, 2) = x2 + back(i, 2)
+        stress(i, 3) = x3 + back(i, 3)
       end do
     end do
   end subroutine j2_plane_stress_update_points
+
+  !> A returned point's relative stress xi = (x1, x2, x3) (the trial's eigen-components a times
+  !> the return's factors, turned back), its plastic strain d_eps = (2/3) dgamma q (Simo & Hughes's
+  !> dgamma sqrt(2 psi / 3)) and its back stress's move shift xi, shift = (2/3) h_kin dgamma.
+  pure subroutine returned_state(a1t, a2t, a3t, s1, s2, q, dgamma, h_kin, x1, x2, x3, shift, d_eps)
+    real(ek), intent(in) :: a1t, a2t, a3t, s1, s2, q, dgamma, h_kin
+    real(ek), intent(out) :: x1, x2, x3, shift, d_eps
+    real(ek), parameter :: half_root2 = sqrt(0.5_ek)
+    real(ek) :: a1, a2
+    a1 = a1t * s1
+    a2 = a2t * s2
+    x1 = (a1 - a2) * half_root2
+    x2 = (a1 + a2) * half_root2
+    x3 = a3t * s2
+    d_eps = dgamma * (2.0_ek / 3.0_ek * q)
+    shift = 2.0_ek / 3.0_ek * h_kin * dgamma
+  end subroutine returned_state
 
   !> The radial return without the plane-stress iteration, at points 1..m laid out as
   !> j2_plane_stress_update_points': the elastic trial; a point whose relative stress xi = s - alpha
@@ -301,62 +329,113 @@ contains
   end subroutine j2_radial_update_points
 
   !> Consistency parameter dgamma of np <= batch yielding points: the safeguarded Newton iteration
-  !> of j2_plane_stress_update in lockstep. Masks freeze a point once it meets its own stopping
-  !> test, so it ends where it would alone, and the loops over points have no exits.
-  !> merge selects only between operands already computed: an operation that only one branch
-  !> needs is moved into that branch, which the vectoriser then cannot if-convert (it may trap).
+  !> of j2_plane_stress_update in lockstep, and the factors of the returned state at it:
+  !> s1 = 1 / (1 + dgamma c1), s2 = 1 / (1 + dgamma c2) (the eigen-components of the returned
+  !> relative stress are the trial's times s1, s2, s2) and q, its von Mises stress. Masks freeze a
+  !> point once it meets its own stopping test, so it ends where it would alone, and the loops over
+  !> points have no exits.
   !>
   !> The residual is g(dgamma) = k0 / q + (2/3) H_iso dgamma - 1, with k0 = sigma_y0 + H_iso eps_p
   !> and q the von Mises stress of the returned relative stress: zero where q equals the hardened
   !> radius k0 + H_iso d_eps_p (Simo & Hughes's f = psi / 2 - sy^2 / 3 = 0, divided through).
   !> 1 / q is linear in dgamma for a deviatoric trial (q = q0 / (1 + dgamma c2)) and nearly so
-  !> otherwise, so Newton from 0 meets the tolerance in 2-4 steps where f took 4-6 after a bracket
-  !> search (more for large steps); the first step comes from the trial without an evaluation.
-  !> g rises with dgamma; upper_bound gives a point where g >= 0.
-  pure subroutine return_points(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dgamma)
+  !> otherwise, so Newton from 0 meets the tolerance in 2-4 steps; the first step comes from the
+  !> trial without an evaluation. g rises with dgamma; its root lies below
+  !> 2 (q0 / k0 - 1) / min(c1, c2), where q0 / (1 + dgamma min(c1, c2)) >= q has fallen to k0
+  !> (twice that, so that Newton's last steps never touch it).
+  !>
+  !> Each evaluation takes one root and one division: with u = 1 + dgamma c, U = u1 u2 and the
+  !> trial's parts a = (a1t / q0)^2 / 2, b = 3 ((a2t / q0)^2 / 2 + (a3t / q0)^2) (a + b = 1),
+  !> q = q0 sqrt(P) / U with P = a u2^2 + b u1^2, so g sqrt(P) = kappa U + ((2/3) H_iso dgamma - 1)
+  !> sqrt(P) (kappa = k0 / q0) carries g's sign and its size, and Newton's step
+  !> g / g' = g sqrt(P) P / (kappa ((c1 u2 + c2 u1) P - U (a c2 u2 + b c1 u1)) + (2/3) H_iso P sqrt(P)).
+  !> Scaled by q0 the numbers stay near 1 in single precision too. A point stops on a small |g| or a
+  !> closed bracket at a point it evaluated, whose U and sqrt(P) give the factors.
+  pure subroutine return_points(np, a1t, a2t, a3t, eps_p, c1, c2, yield0, h_iso, dgamma, s1, s2, q)
     integer, intent(in) :: np
     real(ek), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0(np), h_iso(np)
-    real(ek), intent(out) :: dgamma(np)
-    real(ek) :: lo(batch), hi(batch), k0(batch), g(batch), dg(batch), newton, bisection, part1, part2, q0, slope
+    real(ek), intent(out) :: dgamma(np), s1(np), s2(np), q(np)
+    real(ek), dimension(batch) :: lo, hi, pa, pb, kappa, hh, q0, uu, root_p
+    real(ek) :: span, inverse, slope, kept
     ! 1 while a point iterates: 64-bit flags, as GCC 12 cannot select doubles by a logical array
     integer(i8) :: active(batch)
     integer :: iter, j
 
-    ! g(0) < 0 (the point yields) and Newton's first step from 0, from the trial alone: there
-    ! 1/q = 1/q0 and d(1/q)/d(dgamma) = c/q0, c the mean of c1, c2 weighted by the trial's parts
+    span = 2.0_ek / min(c1, c2)
+    ! the trial scaled by its von Mises stress q0 (by the radius k0 where that is larger: a point
+    ! inside it, which a whole batch's return carries along, stays finite with kappa = 1), the
+    ! first step and the bracket, with one division for both: dgamma_1 = (1 - kappa) / g'(0) and
+    ! the bound span (1 - kappa) / kappa
     do j = 1, np
-      k0(j) = yield0(j) + h_iso(j) * eps_p(j)
-      part1 = a1t(j)**2 / 3.0_ek
-      part2 = a2t(j)**2 + 2.0_ek * a3t(j)**2
-      q0 = sqrt(1.5_ek * (part1 + part2))
-      hi(j) = upper_bound(q0, k0(j), min(c1, c2))
-      slope = k0(j) * (part1 * c1 + part2 * c2) / max(part1 + part2, tiny(1.0_ek)) + 2.0_ek / 3.0_ek * h_iso(j) * q0
-      dgamma(j) = max(q0 - k0(j), 0.0_ek) / max(slope, tiny(1.0_ek))
-      active(j) = merge(1_i8, 0_i8, q0 > k0(j))   ! a point inside its radius keeps dgamma = 0
+      q0(j) = sqrt(0.5_ek * a1t(j)**2 + 1.5_ek * a2t(j)**2 + 3.0_ek * a3t(j)**2)
+      inverse = 1.0_ek / max(q0(j), yield0(j) + h_iso(j) * eps_p(j), tiny(1.0_ek))
+      pa(j) = 0.5_ek * (a1t(j) * inverse)**2
+      pb(j) = 1.5_ek * (a2t(j) * inverse)**2 + 3.0_ek * (a3t(j) * inverse)**2
+      kappa(j) = (yield0(j) + h_iso(j) * eps_p(j)) * inverse
+      hh(j) = 2.0_ek / 3.0_ek * h_iso(j)
+      slope = max(kappa(j) * (pa(j) * c1 + pb(j) * c2) + hh(j), tiny(1.0_ek))
+      kept = merge(kappa(j), 1.0_ek, kappa(j) > 0.0_ek)
+      inverse = 1.0_ek / (kept * slope)
+      dgamma(j) = max(1.0_ek - kappa(j), 0.0_ek) * kept * inverse
+      hi(j) = merge(span * max(1.0_ek - kappa(j), 0.0_ek) * slope * inverse, huge(1.0_ek), kappa(j) > 0.0_ek)
+      active(j) = merge(1_i8, 0_i8, kappa(j) < 1.0_ek)   ! a point inside its radius keeps dgamma = 0
+      uu(j) = 1.0_ek
+      root_p(j) = 1.0_ek   ! sqrt(a + b): a point that never iterates returns with q = q0
     end do
-    lo(1:np) = 0.0_ek
-    do iter = 1, 100
-      call yield_functions(np, a1t, a2t, a3t, k0, c1, c2, h_iso, dgamma, g, dg)
-      ! one comparison per merge, so that the loop if-converts and vectorises; lo and hi of a
-      ! frozen point may move, its dgamma does not
-      do j = 1, np
-        lo(j) = merge(dgamma(j), lo(j), g(j) < 0.0_ek)
-        hi(j) = merge(hi(j), dgamma(j), g(j) < 0.0_ek)
-        ! Newton's step, or bisection where it leaves the bracket
-        bisection = 0.5_ek * (lo(j) + hi(j))
-        newton = dgamma(j) - g(j) / dg(j)
-        newton = merge(bisection, newton, newton <= lo(j))
-        newton = merge(bisection, newton, newton >= hi(j))
-        newton = merge(bisection, newton, dg(j) <= 0.0_ek)
-        ! stop on a small |g| keeping dgamma, or on a closed bracket after the step
-        newton = merge(dgamma(j), newton, abs(g(j)) <= g_tolerance)
-        dgamma(j) = merge(newton, dgamma(j), active(j) == 1)
-        active(j) = merge(0_i8, active(j), abs(g(j)) <= g_tolerance)
-        active(j) = merge(0_i8, active(j), hi(j) - lo(j) <= bracket_tolerance * hi(j))
-      end do
+    ! the first three evaluations of every point in registers (most points stop within them), then
+    ! the points still iterating in lockstep over the arrays: the same steps in the same order
+    do j = 1, np   ! three calls written out (a counted loop here stops the vectoriser), inlined
+      ! (fortran/CMakeLists.txt)
+      lo(j) = 0.0_ek
+      call newton_step(pa(j), pb(j), kappa(j), hh(j), c1, c2, dgamma(j), lo(j), hi(j), active(j), uu(j), root_p(j))
+      call newton_step(pa(j), pb(j), kappa(j), hh(j), c1, c2, dgamma(j), lo(j), hi(j), active(j), uu(j), root_p(j))
+      call newton_step(pa(j), pb(j), kappa(j), hh(j), c1, c2, dgamma(j), lo(j), hi(j), active(j), uu(j), root_p(j))
+    end do
+    do iter = 4, 100
       if (all(active(1:np) == 0)) exit
+      do j = 1, np
+        call newton_step(pa(j), pb(j), kappa(j), hh(j), c1, c2, dgamma(j), lo(j), hi(j), active(j), uu(j), root_p(j))
+      end do
+    end do
+    do j = 1, np
+      inverse = 1.0_ek / uu(j)
+      s1(j) = (1.0_ek + dgamma(j) * c2) * inverse
+      s2(j) = (1.0_ek + dgamma(j) * c1) * inverse
+      q(j) = q0(j) * root_p(j) * inverse
     end do
   end subroutine return_points
+
+  !> One evaluation of return_points' residual at a point and its safeguarded Newton step, on
+  !> scalars so that a loop over points keeps them in registers: the bracket [lo, hi] moves to the
+  !> evaluated dgamma, an active point records the evaluation's U and sqrt(P) and, unless it
+  !> stops there (small |g| or a closed bracket), steps. One comparison per merge, so that the
+  !> loop if-converts and vectorises; lo and hi of a frozen point may move, its dgamma and
+  !> factors do not.
+  pure subroutine newton_step(pa, pb, kappa, hh, c1, c2, dgamma, lo, hi, active, uu, root_p)
+    real(ek), intent(in) :: pa, pb, kappa, hh, c1, c2
+    real(ek), intent(inout) :: dgamma, lo, hi, uu, root_p
+    integer(i8), intent(inout) :: active
+    real(ek) :: u1, u2, p, rp, gp, dgp, newton, bisection
+    u1 = 1.0_ek + dgamma * c1
+    u2 = 1.0_ek + dgamma * c2
+    p = pa * u2**2 + pb * u1**2
+    rp = sqrt(p)
+    gp = kappa * (u1 * u2) + (hh * dgamma - 1.0_ek) * rp   ! g sqrt(P)
+    dgp = kappa * ((c1 * u2 + c2 * u1) * p - (u1 * u2) * (pa * c2 * u2 + pb * c1 * u1)) + hh * p * rp   ! g' sqrt(P)^3
+    uu = merge(u1 * u2, uu, active == 1)
+    root_p = merge(rp, root_p, active == 1)
+    lo = merge(dgamma, lo, gp < 0.0_ek)
+    hi = merge(hi, dgamma, gp < 0.0_ek)
+    ! Newton's step, or bisection where it leaves the bracket
+    bisection = 0.5_ek * (lo + hi)
+    newton = dgamma - gp * p / merge(dgp, 1.0_ek, dgp > 0.0_ek)   ! (0 / 0 at a point with no stress)
+    newton = merge(bisection, newton, newton <= lo)
+    newton = merge(bisection, newton, newton >= hi)
+    newton = merge(bisection, newton, dgp <= 0.0_ek)
+    active = merge(0_i8, active, abs(gp) <= g_tolerance * rp)
+    active = merge(0_i8, active, hi - lo <= bracket_tolerance * hi)
+    dgamma = merge(newton, dgamma, active == 1)
+  end subroutine newton_step
 
   !> A dgamma where the residual g >= 0: q <= q0 / (1 + dgamma min(c1, c2)), so g >= 0 from
   !> (q0 / k0 - 1) / min(c1, c2) on (twice that, so that Newton's last steps never touch it);
@@ -365,30 +444,5 @@ contains
     real(ek), intent(in) :: q0, k0, c_min
     hi = merge(2.0_ek * (q0 / max(k0, tiny(1.0_ek)) - 1.0_ek) / c_min, huge(1.0_ek), k0 > 0.0_ek)
   end function upper_bound
-
-  !> g(dgamma) = k0 / q + (2/3) H_iso dgamma - 1 and its derivative at np points (the evaluate
-  !> of j2_plane_stress_update, the same operations); one loop, vectorised. The iteration is
-  !> bound by division throughput: both factors 1 / (1 + dg c) come from one division of their
-  !> product, and the thirds are products with 1/3.
-  pure subroutine yield_functions(np, a1t, a2t, a3t, k0, c1, c2, h_iso, dg, gv, dgv)
-    integer, intent(in) :: np
-    real(ek), intent(in) :: a1t(np), a2t(np), a3t(np), k0(np), c1, c2, h_iso(np), dg(np)
-    real(ek), intent(out) :: gv(np), dgv(np)
-    real(ek), parameter :: third = 1.0_ek / 3.0_ek
-    real(ek) :: t1, t2, u1, u2, r12, p, dp, w
-    integer :: j
-    do j = 1, np
-      u1 = 1.0_ek + dg(j) * c1
-      u2 = 1.0_ek + dg(j) * c2
-      r12 = 1.0_ek / (u1 * u2)
-      t1 = r12 * u2
-      t2 = r12 * u1
-      p = (a1t(j) * t1)**2 * third + (a2t(j)**2 + 2.0_ek * a3t(j)**2) * t2**2
-      dp = -2.0_ek * ((a1t(j) * t1)**2 * third * c1 * t1 + (a2t(j)**2 + 2.0_ek * a3t(j)**2) * t2**2 * c2 * t2)
-      w = 1.0_ek / sqrt(1.5_ek * p)
-      gv(j) = k0(j) * w + 2.0_ek * third * h_iso(j) * dg(j) - 1.0_ek
-      dgv(j) = -0.75_ek * k0(j) * dp * w**3 + 2.0_ek * third * h_iso(j)
-    end do
-  end subroutine yield_functions
 
 end module plane_stress_returns
