@@ -90,7 +90,7 @@ program kernel_benchmark
     call material_from_deck(steel(merge(material_elastic, material_j2_plasticity, s == 1)), 1, props%material)
     if (selected(trim(merge('elastic', 'plastic', s == 1))//', fully integrated / one-point, interleaved')) &
       write (*, '(a,f7.3,a)') trim(merge('elastic', 'plastic', s == 1))//', fully integrated / one-point, interleaved: ', &
-      interleaved_ratio(props), ' (CPU time, median of 5 rounds)'
+      interleaved_ratio(props), ' (CPU time, median of 10 rounds)'
   end do
   do s = 1, 2   ! the triangles: all groups, then every tenth
     triangle_every = merge(1, 10, s == 1)
@@ -235,40 +235,48 @@ contains
   end function time_per_element_cycle
 
   !> The fully integrated element's CPU time per element-cycle over the one-point element's, the
-  !> two run in turn, one cycle of every group each, so that both see the same machine (on a
-  !> shared one the speed of a core drifts over seconds, more than these kernels differ by);
-  !> the median of 5 rounds of n_cycles each. Negative when a run went wrong.
+  !> two run in turn, a block of cycles each, so that both see the same machine (on a shared one
+  !> the speed of a core drifts over seconds, more than these kernels differ by): 10 rounds, each
+  !> of one untimed cycle (the other element's state has just passed through the caches) and
+  !> n_cycles / 10 timed ones per element; the median of the rounds' ratios. Negative when a run
+  !> went wrong.
   function interleaved_ratio(p) result(ratio)
     type(shell_properties_t), intent(in) :: p
     real(wp) :: ratio
+    integer, parameter :: rounds = 10
     type(shell_properties_t) :: one_point, full
     type(bench_groups_t) :: b_one, b_full
-    real(wp) :: cpu0, cpu1, time_one, time_full, ratios(5)
-    integer :: c, round
+    real(wp) :: ratios(rounds)
+    integer :: round, block
     one_point = p
     one_point%fully_integrated = .false.
     full = p
     full%fully_integrated = .true.
     call set_up(one_point, b_one)
     call set_up(full, b_full)
-    do round = 1, 5
-      time_one = 0.0_wp
-      time_full = 0.0_wp
-      do c = 1, n_cycles
-        call cpu_time(cpu0)
-        call one_cycle(one_point, b_one)
-        call cpu_time(cpu1)
-        time_one = time_one + (cpu1 - cpu0)
-        call cpu_time(cpu0)
-        call one_cycle(full, b_full)
-        call cpu_time(cpu1)
-        time_full = time_full + (cpu1 - cpu0)
-      end do
-      ratios(round) = time_full / time_one
+    block = max(1, n_cycles / rounds)
+    do round = 1, rounds
+      ratios(round) = block_time(full, b_full, block) / block_time(one_point, b_one, block)
     end do
-    ratio = median_of_five(ratios)
+    ratio = median(ratios)
     if (.not. (sound(one_point, b_one) .and. sound(full, b_full))) ratio = -1.0_wp
   end function interleaved_ratio
+
+  !> CPU time of `cycles` cycles of every group of b, after one untimed cycle
+  real(wp) function block_time(p, b, cycles) result(seconds)
+    type(shell_properties_t), intent(in) :: p
+    type(bench_groups_t), intent(inout) :: b
+    integer, intent(in) :: cycles
+    real(wp) :: cpu0, cpu1
+    integer :: c
+    call one_cycle(p, b)
+    call cpu_time(cpu0)
+    do c = 1, cycles
+      call one_cycle(p, b)
+    end do
+    call cpu_time(cpu1)
+    seconds = cpu1 - cpu0
+  end function block_time
 
   !> The benchmark's groups of elements: a unit square, warped by 1e-4 m, with random nodal
   !> velocities (strain rates large enough to yield) and rotation rates, state at zero
@@ -333,14 +341,25 @@ contains
     end do
   end subroutine one_cycle
 
-  pure real(wp) function median_of_five(values) result(median)
-    real(wp), intent(in) :: values(5)
-    integer :: i
-    median = values(1)
-    do i = 1, 5   ! the value with two others below it and two above (ties: any of them)
-      if (count(values < values(i)) <= 2 .and. count(values > values(i)) <= 2) median = values(i)
+  !> The median of values (the mean of the middle two for an even count)
+  pure real(wp) function median(values)
+    real(wp), intent(in) :: values(:)
+    real(wp) :: sorted(size(values)), swap
+    integer :: i, j, n
+    sorted = values
+    n = size(values)
+    do i = 2, n   ! insertion sort: a handful of values
+      swap = sorted(i)
+      j = i - 1
+      do while (j >= 1)
+        if (sorted(j) <= swap) exit
+        sorted(j + 1) = sorted(j)
+        j = j - 1
+      end do
+      sorted(j + 1) = swap
     end do
-  end function median_of_five
+    median = 0.5_wp * (sorted((n + 1) / 2) + sorted(n / 2 + 1))
+  end function median
 
   !> No element inverted, finite energies, and a material with history has yielded
   logical function sound(p, b)

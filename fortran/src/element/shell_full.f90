@@ -76,7 +76,7 @@ contains
     !> resultants N, M, Q of the end-of-step stresses
     real(ek) :: rates(group_size, 8, 4), res(group_size, 8, 4)
     real(ek) :: twist(group_size, 8), drill(group_size, 9), b1(group_size, 4), b2(group_size, 4)
-    real(ek) :: work(group_size, 4), fl(group_size, 6, 4)
+    real(ek) :: work(group_size, 4), fl(group_size, 6, 4), fg(group_size, 6, 4)
 
     nip = props%integration_points
     call thickness_rule(nip, zeta_wp(1:nip), wgt_wp(1:nip))
@@ -138,20 +138,28 @@ contains
       call nodal_forces(m, xl, yl, dnx, dny, detj, jac, res, fl)
       call add_drilling_forces(m, n, o, hourglass, b1, b2, fl)
       if (any(zw(1:m) /= 0.0_ek)) call warp_forces(m, zw, dh, b1, b2, fl)
+      ! to global axes in a loop over the elements (vectorised), then into the corner layout
       do k = 1, 4
         do i = 1, m
-          force(1, k, o + i) = merge(e(i, 1, 1) * fl(i, 1, k) + e(i, 1, 2) * fl(i, 2, k) + e(i, 1, 3) * fl(i, 3, k), &
-                                     0.0_ek, area(i) > 0.0_ek)
-          force(2, k, o + i) = merge(e(i, 2, 1) * fl(i, 1, k) + e(i, 2, 2) * fl(i, 2, k) + e(i, 2, 3) * fl(i, 3, k), &
-                                     0.0_ek, area(i) > 0.0_ek)
-          force(3, k, o + i) = merge(e(i, 3, 1) * fl(i, 1, k) + e(i, 3, 2) * fl(i, 2, k) + e(i, 3, 3) * fl(i, 3, k), &
-                                     0.0_ek, area(i) > 0.0_ek)
-          force(4, k, o + i) = merge(e(i, 1, 1) * fl(i, 4, k) + e(i, 1, 2) * fl(i, 5, k) + e(i, 1, 3) * fl(i, 6, k), &
-                                     0.0_ek, area(i) > 0.0_ek)
-          force(5, k, o + i) = merge(e(i, 2, 1) * fl(i, 4, k) + e(i, 2, 2) * fl(i, 5, k) + e(i, 2, 3) * fl(i, 6, k), &
-                                     0.0_ek, area(i) > 0.0_ek)
-          force(6, k, o + i) = merge(e(i, 3, 1) * fl(i, 4, k) + e(i, 3, 2) * fl(i, 5, k) + e(i, 3, 3) * fl(i, 6, k), &
-                                     0.0_ek, area(i) > 0.0_ek)
+          fg(i, 1, k) = merge(e(i, 1, 1) * fl(i, 1, k) + e(i, 1, 2) * fl(i, 2, k) + e(i, 1, 3) * fl(i, 3, k), &
+                              0.0_ek, area(i) > 0.0_ek)
+          fg(i, 2, k) = merge(e(i, 2, 1) * fl(i, 1, k) + e(i, 2, 2) * fl(i, 2, k) + e(i, 2, 3) * fl(i, 3, k), &
+                              0.0_ek, area(i) > 0.0_ek)
+          fg(i, 3, k) = merge(e(i, 3, 1) * fl(i, 1, k) + e(i, 3, 2) * fl(i, 2, k) + e(i, 3, 3) * fl(i, 3, k), &
+                              0.0_ek, area(i) > 0.0_ek)
+          fg(i, 4, k) = merge(e(i, 1, 1) * fl(i, 4, k) + e(i, 1, 2) * fl(i, 5, k) + e(i, 1, 3) * fl(i, 6, k), &
+                              0.0_ek, area(i) > 0.0_ek)
+          fg(i, 5, k) = merge(e(i, 2, 1) * fl(i, 4, k) + e(i, 2, 2) * fl(i, 5, k) + e(i, 2, 3) * fl(i, 6, k), &
+                              0.0_ek, area(i) > 0.0_ek)
+          fg(i, 6, k) = merge(e(i, 3, 1) * fl(i, 4, k) + e(i, 3, 2) * fl(i, 5, k) + e(i, 3, 3) * fl(i, 6, k), &
+                              0.0_ek, area(i) > 0.0_ek)
+        end do
+      end do
+      do i = 1, m
+        do k = 1, 4
+          do c = 1, 6
+            force(c, k, o + i) = fg(i, c, k)
+          end do
         end do
       end do
     end do
@@ -288,21 +296,25 @@ contains
     real(ek), intent(in) :: dt, area_mid(group_size), drill(group_size, 9), detj(group_size, 4), work(group_size, 4)
     real(ek), intent(inout) :: hourglass(n, hourglass_components)
     real(wp), intent(inout) :: e_internal(n)
-    real(ek) :: kd, q_old, q_new, d_work
+    real(ek) :: kd(group_size), d_work(group_size), q_old, q_new
     integer :: i, k
     do i = 1, m
-      kd = drilling_penalty * real(props%young, ek) * real(props%thickness, ek) &
-           * merge(area_mid(i), 1.0_ek, area_mid(i) > 0.0_ek) * dt
-      d_work = 0.0_ek
-      do k = 1, 4
+      kd(i) = drilling_penalty * real(props%young, ek) * real(props%thickness, ek) &
+              * merge(area_mid(i), 1.0_ek, area_mid(i) > 0.0_ek) * dt
+    end do
+    d_work(1:m) = 0.0_ek
+    do k = 1, 4   ! (the nodes outside, the elements inside: the loop over elements vectorises)
+      do i = 1, m
         q_old = hourglass(o + i, 5 + k)
-        q_new = q_old + kd * drill(i, 5 + k)
-        d_work = d_work + 0.5_ek * (q_old + q_new) * (dt * drill(i, 5 + k))
+        q_new = q_old + kd(i) * drill(i, 5 + k)
+        d_work(i) = d_work(i) + 0.5_ek * (q_old + q_new) * (dt * drill(i, 5 + k))
         hourglass(o + i, 5 + k) = merge(q_new, q_old, area_mid(i) > 0.0_ek)
       end do
+    end do
+    do i = 1, m
       e_internal(o + i) = merge(e_internal(o + i) + (((detj(i, 1) * work(i, 1) + detj(i, 2) * work(i, 2)) &
                                                       + (detj(i, 3) * work(i, 3) + detj(i, 4) * work(i, 4))) &
-                                                     + d_work), &
+                                                     + d_work(i)), &
                                 e_internal(o + i), area_mid(i) > 0.0_ek)
     end do
 
@@ -334,23 +346,27 @@ contains
     real(wp), intent(in) :: v(ld, 3, 4), w(ld, 3, 4)
     real(ek), intent(in) :: e(group_size, 3, 3), area_mid(group_size), zw(group_size)
     real(ek), intent(out) :: vl(group_size, 3, 4), wl(group_size, 3, 4)
-    real(ek) :: valid, v1, v2, v3, w1, w2, w3
-    integer :: i, k, c
+    real(ek) :: valid(group_size), v1, v2, v3, w1, w2, w3, hk
+    integer :: i, k
+    ! a product, not merge(v, 0, ...): a masked load of v would stop the vectoriser
+    valid(1:m) = merge(1.0_ek, 0.0_ek, area_mid(1:m) > 0.0_ek)
     do k = 1, 4
+      hk = hw(k)
       do i = 1, m
-        valid = merge(1.0_ek, 0.0_ek, area_mid(i) > 0.0_ek)
-        v1 = valid * real(v(o + i, 1, k), ek)
-        v2 = valid * real(v(o + i, 2, k), ek)
-        v3 = valid * real(v(o + i, 3, k), ek)
-        w1 = valid * real(w(o + i, 1, k), ek)
-        w2 = valid * real(w(o + i, 2, k), ek)
-        w3 = valid * real(w(o + i, 3, k), ek)
-        do c = 1, 3
-          vl(i, c, k) = e(i, 1, c) * v1 + e(i, 2, c) * v2 + e(i, 3, c) * v3
-          wl(i, c, k) = e(i, 1, c) * w1 + e(i, 2, c) * w2 + e(i, 3, c) * w3
-        end do
-        vl(i, 1, k) = merge(vl(i, 1, k) - (hw(k) * zw(i)) * wl(i, 2, k), vl(i, 1, k), zw(i) /= 0.0_ek)
-        vl(i, 2, k) = merge(vl(i, 2, k) + (hw(k) * zw(i)) * wl(i, 1, k), vl(i, 2, k), zw(i) /= 0.0_ek)
+        v1 = valid(i) * real(v(o + i, 1, k), ek)
+        v2 = valid(i) * real(v(o + i, 2, k), ek)
+        v3 = valid(i) * real(v(o + i, 3, k), ek)
+        w1 = valid(i) * real(w(o + i, 1, k), ek)
+        w2 = valid(i) * real(w(o + i, 2, k), ek)
+        w3 = valid(i) * real(w(o + i, 3, k), ek)
+        vl(i, 1, k) = e(i, 1, 1) * v1 + e(i, 2, 1) * v2 + e(i, 3, 1) * v3
+        vl(i, 2, k) = e(i, 1, 2) * v1 + e(i, 2, 2) * v2 + e(i, 3, 2) * v3
+        vl(i, 3, k) = e(i, 1, 3) * v1 + e(i, 2, 3) * v2 + e(i, 3, 3) * v3
+        wl(i, 1, k) = e(i, 1, 1) * w1 + e(i, 2, 1) * w2 + e(i, 3, 1) * w3
+        wl(i, 2, k) = e(i, 1, 2) * w1 + e(i, 2, 2) * w2 + e(i, 3, 2) * w3
+        wl(i, 3, k) = e(i, 1, 3) * w1 + e(i, 2, 3) * w2 + e(i, 3, 3) * w3
+        vl(i, 1, k) = merge(vl(i, 1, k) - (hk * zw(i)) * wl(i, 2, k), vl(i, 1, k), zw(i) /= 0.0_ek)
+        vl(i, 2, k) = merge(vl(i, 2, k) + (hk * zw(i)) * wl(i, 1, k), vl(i, 2, k), zw(i) /= 0.0_ek)
       end do
     end do
   end subroutine local_velocities
@@ -403,14 +419,15 @@ contains
     integer, intent(in) :: m
     real(ek), intent(in) :: zw(group_size), dh(group_size), b1(group_size, 4), b2(group_size, 4)
     real(ek), intent(inout) :: fl(group_size, 6, 4)
-    real(ek) :: g1, g2
+    real(ek) :: g1, g2, hk
     integer :: i, k
     do k = 1, 4
+      hk = hw(k)
       do i = 1, m
         g1 = fl(i, 1, k) + dh(i) * b2(i, k)
         g2 = fl(i, 2, k) - dh(i) * b1(i, k)
-        fl(i, 4, k) = merge(fl(i, 4, k) + (hw(k) * zw(i)) * g2, fl(i, 4, k), zw(i) /= 0.0_ek)
-        fl(i, 5, k) = merge(fl(i, 5, k) - (hw(k) * zw(i)) * g1, fl(i, 5, k), zw(i) /= 0.0_ek)
+        fl(i, 4, k) = merge(fl(i, 4, k) + (hk * zw(i)) * g2, fl(i, 4, k), zw(i) /= 0.0_ek)
+        fl(i, 5, k) = merge(fl(i, 5, k) - (hk * zw(i)) * g1, fl(i, 5, k), zw(i) /= 0.0_ek)
         fl(i, 6, k) = merge(fl(i, 6, k) + 0.5_ek * dh(i), fl(i, 6, k), zw(i) /= 0.0_ek)
         fl(i, 1, k) = merge(g1, fl(i, 1, k), zw(i) /= 0.0_ek)
         fl(i, 2, k) = merge(g2, fl(i, 2, k), zw(i) /= 0.0_ek)

@@ -15,6 +15,8 @@ module shell_full_points
   !> the in-plane points (counter-clockwise from node 1's corner) and the nodes' natural coordinates
   real(ek), parameter :: xi_g(4) = [-gq, gq, gq, -gq], eta_g(4) = [-gq, -gq, gq, gq]
   real(ek), parameter :: xi_n(4) = [-1.0_ek, 1.0_ek, 1.0_ek, -1.0_ek], eta_n(4) = [-1.0_ek, -1.0_ek, 1.0_ek, 1.0_ek]
+  !> the edges of the tying points A, B, C, D: from node tying_from to node tying_to
+  integer, parameter :: tying_from(4) = [1, 2, 4, 1], tying_to(4) = [2, 3, 3, 4]
 
 contains
 
@@ -67,12 +69,16 @@ contains
     real(ek), intent(out) :: rates(group_size, 8, 4)
     real(ek) :: g_xi, g_eta, r, r1, r2, r3, r4, r5, r6
     real(ek) :: tie(group_size, 4)   !< the covariant shear rates at the tying points A, B, C, D
-    integer :: i, k, g
-    do i = 1, m
-      tie(i, 1) = tying_strain(i, 1, 2)
-      tie(i, 2) = tying_strain(i, 2, 3)
-      tie(i, 3) = tying_strain(i, 4, 3)
-      tie(i, 4) = tying_strain(i, 1, 4)
+    integer :: i, k, g, a, b
+    ! the covariant transverse shear rate at the midpoint of each tying edge, from node a to b
+    do k = 1, 4
+      a = tying_from(k)
+      b = tying_to(k)
+      do i = 1, m
+        tie(i, k) = 0.5_ek * (vl(i, 3, b) - vl(i, 3, a)) &
+                    + 0.25_ek * ((xl(i, b) - xl(i, a)) * (wl(i, 2, a) + wl(i, 2, b)) &
+                                 - (yl(i, b) - yl(i, a)) * (wl(i, 1, a) + wl(i, 1, b)))
+      end do
     end do
     do g = 1, 4
       do i = 1, m
@@ -103,14 +109,6 @@ contains
         rates(i, 8, g) = r * (jac(i, 1, g) * g_eta - jac(i, 3, g) * g_xi)
       end do
     end do
-  contains
-    !> The covariant transverse shear rate at the midpoint of the edge from node a to node b.
-    pure real(ek) function tying_strain(i, a, b) result(gs)
-      integer, intent(in) :: i, a, b
-      gs = 0.5_ek * (vl(i, 3, b) - vl(i, 3, a)) &
-           + 0.25_ek * ((xl(i, b) - xl(i, a)) * (wl(i, 2, a) + wl(i, 2, b)) &
-                        - (yl(i, b) - yl(i, a)) * (wl(i, 1, a) + wl(i, 1, b)))
-    end function tying_strain
   end subroutine point_rates
 
   !> Local nodal forces (1:3) and moments (4:6) of elements 1..m from the resultants at the 4
@@ -122,8 +120,6 @@ contains
     real(ek), intent(in) :: dnx(group_size, 4, 4), dny(group_size, 4, 4), detj(group_size, 4), jac(group_size, 4, 4)
     real(ek), intent(in) :: res(group_size, 8, 4)
     real(ek), intent(out) :: fl(group_size, 6, 4)
-    !> the edges of the tying points A, B, C, D: from node ta to node tb
-    integer, parameter :: ta(4) = [1, 2, 4, 1], tb(4) = [2, 3, 3, 4]
     real(ek) :: tie(group_size, 4)   !< the forces conjugate to the tying strains A, B, C, D
     real(ek) :: ga, gb, gc, gd, p_xi, p_eta, f1, f2, f4, f5, mx, my
     integer :: i, k, g, a, b
@@ -168,8 +164,8 @@ contains
     ! the tying strain of the edge a -> b: force -+ tie / 2 on w of a, b; moments
     ! (-(y_b - y_a), x_b - x_a) tie / 4 on both
     do k = 1, 4
-      a = ta(k)
-      b = tb(k)
+      a = tying_from(k)
+      b = tying_to(k)
       do i = 1, m
         mx = -0.25_ek * (yl(i, b) - yl(i, a)) * tie(i, k)
         my = 0.25_ek * (xl(i, b) - xl(i, a)) * tie(i, k)

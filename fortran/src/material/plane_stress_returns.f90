@@ -198,6 +198,10 @@ contains
         x3 = stress(i, 3) - back(i, 3)
         ! (a NaN does not yield here, where the scalar version would iterate on it)
         effective2(i - first + 1) = x1**2 - x1 * x2 + x2**2 + 3.0_ek * x3**2
+        ! the trial relative stress in the eigenbasis of the projector P
+        a1t(i - first + 1) = (x1 + x2) * half_root2
+        a2t(i - first + 1) = (x2 - x1) * half_root2
+        a3t(i - first + 1) = x3
       end do
       if (present(yield_scale)) then
         y0p(1:nb) = yield0 * yield_scale(first:first + nb - 1)
@@ -212,14 +216,6 @@ contains
       if (2 * np > nb) then
         ! most points yield: the whole batch returns in place, the elastic points (whose trial
         ! is inside the radius, kappa >= 1) stay at dgamma = 0 and are not written back
-        do j = 1, nb
-          i = first + j - 1
-          x1 = stress(i, 1) - back(i, 1)
-          x2 = stress(i, 2) - back(i, 2)
-          a1t(j) = (x1 + x2) * half_root2
-          a2t(j) = (x2 - x1) * half_root2
-          a3t(j) = stress(i, 3) - back(i, 3)
-        end do
         call return_points(nb, a1t, a2t, a3t, eps_p(first:first + nb - 1), c1, c2, y0p, hp, dgamma, s1, s2, q)
         do j = 1, nb
           i = first + j - 1
@@ -234,7 +230,7 @@ contains
         end do
         cycle
       end if
-      ! a few points yield: gathered, returned together and scattered back
+      ! a few points yield: gathered (in place, to the front), returned together and scattered back
       np = 0
       do i = first, first + nb - 1
         if (effective2(i - first + 1) > radius2(i - first + 1)) then
@@ -242,13 +238,11 @@ contains
           idx(np) = i
         end if
       end do
-      do j = 1, np
+      do j = 1, np   ! (j <= i - first + 1: each point moves down, none is overwritten first)
         i = idx(j)
-        x1 = stress(i, 1) - back(i, 1)
-        x2 = stress(i, 2) - back(i, 2)
-        a1t(j) = (x1 + x2) * half_root2
-        a2t(j) = (x2 - x1) * half_root2
-        a3t(j) = stress(i, 3) - back(i, 3)
+        a1t(j) = a1t(i - first + 1)
+        a2t(j) = a2t(i - first + 1)
+        a3t(j) = a3t(i - first + 1)
         ep(j) = eps_p(i)
         y0t(j) = y0p(i - first + 1)
         ht(j) = hp(i - first + 1)
@@ -356,6 +350,7 @@ contains
     real(ek), intent(in) :: a1t(np), a2t(np), a3t(np), eps_p(np), c1, c2, yield0(np), h_iso(np)
     real(ek), intent(out) :: dgamma(np), s1(np), s2(np), q(np)
     real(ek), dimension(batch) :: lo, hi, pa, pb, kappa, hh, q0, uu, root_p
+    real(ek) :: g(batch)   !< g sqrt(P) at each point's last evaluation
     real(ek) :: span, inverse, slope, kept
     ! 1 while a point iterates: 64-bit flags, as GCC 12 cannot select doubles by a logical array
     integer(i8) :: active(batch)
@@ -382,19 +377,23 @@ contains
       uu(j) = 1.0_ek
       root_p(j) = 1.0_ek   ! sqrt(a + b): a point that never iterates returns with q = q0
     end do
-    ! the first three evaluations of every point in registers (most points stop within them), then
-    ! the points still iterating in lockstep over the arrays: the same steps in the same order
-    do j = 1, np   ! three calls written out (a counted loop here stops the vectoriser), inlined
+    ! the first three evaluations of every point in registers (most points stop at the third),
+    ! then the points still iterating step and evaluate in lockstep over the arrays: the same
+    ! steps in the same order. A point steps only after an evaluation that did not stop it.
+    do j = 1, np   ! the calls written out (a counted loop here stops the vectoriser), inlined
       ! (fortran/CMakeLists.txt)
       lo(j) = 0.0_ek
-      call newton_step(pa(j), pb(j), kappa(j), hh(j), c1, c2, dgamma(j), lo(j), hi(j), active(j), uu(j), root_p(j))
-      call newton_step(pa(j), pb(j), kappa(j), hh(j), c1, c2, dgamma(j), lo(j), hi(j), active(j), uu(j), root_p(j))
-      call newton_step(pa(j), pb(j), kappa(j), hh(j), c1, c2, dgamma(j), lo(j), hi(j), active(j), uu(j), root_p(j))
+      call evaluate(pa(j), pb(j), kappa(j), hh(j), c1, c2, dgamma(j), lo(j), hi(j), active(j), uu(j), root_p(j), g(j))
+      call newton_step(pa(j), pb(j), kappa(j), hh(j), c1, c2, g(j), root_p(j), lo(j), hi(j), active(j), dgamma(j))
+      call evaluate(pa(j), pb(j), kappa(j), hh(j), c1, c2, dgamma(j), lo(j), hi(j), active(j), uu(j), root_p(j), g(j))
+      call newton_step(pa(j), pb(j), kappa(j), hh(j), c1, c2, g(j), root_p(j), lo(j), hi(j), active(j), dgamma(j))
+      call evaluate(pa(j), pb(j), kappa(j), hh(j), c1, c2, dgamma(j), lo(j), hi(j), active(j), uu(j), root_p(j), g(j))
     end do
     do iter = 4, 100
       if (all(active(1:np) == 0)) exit
       do j = 1, np
-        call newton_step(pa(j), pb(j), kappa(j), hh(j), c1, c2, dgamma(j), lo(j), hi(j), active(j), uu(j), root_p(j))
+        call newton_step(pa(j), pb(j), kappa(j), hh(j), c1, c2, g(j), root_p(j), lo(j), hi(j), active(j), dgamma(j))
+        call evaluate(pa(j), pb(j), kappa(j), hh(j), c1, c2, dgamma(j), lo(j), hi(j), active(j), uu(j), root_p(j), g(j))
       end do
     end do
     do j = 1, np
@@ -405,35 +404,46 @@ contains
     end do
   end subroutine return_points
 
-  !> One evaluation of return_points' residual at a point and its safeguarded Newton step, on
-  !> scalars so that a loop over points keeps them in registers: the bracket [lo, hi] moves to the
-  !> evaluated dgamma, an active point records the evaluation's U and sqrt(P) and, unless it
-  !> stops there (small |g| or a closed bracket), steps. One comparison per merge, so that the
-  !> loop if-converts and vectorises; lo and hi of a frozen point may move, its dgamma and
-  !> factors do not.
-  pure subroutine newton_step(pa, pb, kappa, hh, c1, c2, dgamma, lo, hi, active, uu, root_p)
-    real(ek), intent(in) :: pa, pb, kappa, hh, c1, c2
-    real(ek), intent(inout) :: dgamma, lo, hi, uu, root_p
+  !> One evaluation of return_points' residual at a point, on scalars so that a loop over points
+  !> keeps them in registers: g sqrt(P) (gp), the bracket [lo, hi] moved to the evaluated dgamma;
+  !> an active point records the evaluation's U and sqrt(P) and stops there on a small |g| or a
+  !> closed bracket. One comparison per merge, so that the loop if-converts and vectorises; lo and
+  !> hi of a frozen point may move, its dgamma and factors do not.
+  pure subroutine evaluate(pa, pb, kappa, hh, c1, c2, dgamma, lo, hi, active, uu, root_p, gp)
+    real(ek), intent(in) :: pa, pb, kappa, hh, c1, c2, dgamma
+    real(ek), intent(inout) :: lo, hi, uu, root_p
     integer(i8), intent(inout) :: active
-    real(ek) :: u1, u2, p, rp, gp, dgp, newton, bisection
+    real(ek), intent(out) :: gp
+    real(ek) :: u1, u2, rp
     u1 = 1.0_ek + dgamma * c1
     u2 = 1.0_ek + dgamma * c2
-    p = pa * u2**2 + pb * u1**2
-    rp = sqrt(p)
-    gp = kappa * (u1 * u2) + (hh * dgamma - 1.0_ek) * rp   ! g sqrt(P)
-    dgp = kappa * ((c1 * u2 + c2 * u1) * p - (u1 * u2) * (pa * c2 * u2 + pb * c1 * u1)) + hh * p * rp   ! g' sqrt(P)^3
+    rp = sqrt(pa * u2**2 + pb * u1**2)
+    gp = kappa * (u1 * u2) + (hh * dgamma - 1.0_ek) * rp
     uu = merge(u1 * u2, uu, active == 1)
     root_p = merge(rp, root_p, active == 1)
     lo = merge(dgamma, lo, gp < 0.0_ek)
     hi = merge(hi, dgamma, gp < 0.0_ek)
-    ! Newton's step, or bisection where it leaves the bracket
+    active = merge(0_i8, active, abs(gp) <= g_tolerance * rp)
+    active = merge(0_i8, active, hi - lo <= bracket_tolerance * hi)
+  end subroutine evaluate
+
+  !> The safeguarded Newton step of an active point from its last evaluation (gp = g sqrt(P),
+  !> root_p = sqrt(P) there): g / g' = gp P / (g' sqrt(P)^3), or bisection where it leaves the
+  !> bracket; a stopped point keeps its dgamma. P is recomputed as evaluate computed it.
+  pure subroutine newton_step(pa, pb, kappa, hh, c1, c2, gp, root_p, lo, hi, active, dgamma)
+    real(ek), intent(in) :: pa, pb, kappa, hh, c1, c2, gp, root_p, lo, hi
+    integer(i8), intent(in) :: active
+    real(ek), intent(inout) :: dgamma
+    real(ek) :: u1, u2, p, dgp, newton, bisection
+    u1 = 1.0_ek + dgamma * c1
+    u2 = 1.0_ek + dgamma * c2
+    p = pa * u2**2 + pb * u1**2
+    dgp = kappa * ((c1 * u2 + c2 * u1) * p - (u1 * u2) * (pa * c2 * u2 + pb * c1 * u1)) + hh * p * root_p   ! g' sqrt(P)^3
     bisection = 0.5_ek * (lo + hi)
     newton = dgamma - gp * p / merge(dgp, 1.0_ek, dgp > 0.0_ek)   ! (0 / 0 at a point with no stress)
     newton = merge(bisection, newton, newton <= lo)
     newton = merge(bisection, newton, newton >= hi)
     newton = merge(bisection, newton, dgp <= 0.0_ek)
-    active = merge(0_i8, active, abs(gp) <= g_tolerance * rp)
-    active = merge(0_i8, active, hi - lo <= bracket_tolerance * hi)
     dgamma = merge(newton, dgamma, active == 1)
   end subroutine newton_step
 
