@@ -18,7 +18,8 @@
 !>
 !> State: stress, back stress, plastic strain and the material's own state at every in-plane and
 !> through-thickness point, point p = (g - 1) nip + k for in-plane point g and layer k. Each step
-!> the material family's update runs once per layer on the 4 m points of a batch of m elements.
+!> the material family's update runs once per in-plane point on the nip m points of its layers
+!> (in the state's order) for a batch of m elements.
 !> Pure kernels over the elements of a group, element index first, as shell_blt; compiled without
 !> FMA contraction (fortran/CMakeLists.txt) so an element's bits do not depend on its group.
 module shell_full
@@ -184,9 +185,11 @@ contains
   end subroutine check_end_points
 
   !> The stress update of elements o+1..o+m at every in-plane and through-thickness point, one
-  !> material call per layer on the 4 m points of the batch (row j = (g - 1) m + i), written back
-  !> by merge so that an element inverted at mid-step keeps its state; res: the end-of-step
-  !> resultants of each in-plane point, work: its stress work per unit area in the step.
+  !> material call per in-plane point g on the nip m points of its layers (row r = (k - 1) m + i),
+  !> written back by merge so that an element inverted at mid-step keeps its state; res: the
+  !> end-of-step resultants of each in-plane point, work: its stress work per unit area in the
+  !> step. The points of one g are adjacent in the state (p = (g - 1) nip + k), so the state
+  !> streams through in memory order; each sum runs over the layers in order.
   pure subroutine point_stresses(m, n, o, props, dt, zeta, wgt, rates, area_mid, stress, back, eps_p, state, res, work)
     integer, intent(in) :: m, n, o
     type(shell_properties_t), intent(in) :: props
@@ -195,11 +198,10 @@ contains
     real(ek), intent(inout), contiguous :: back(:, :, :), state(:, :, :)
     real(ek), intent(inout) :: eps_p(n, full_points * props%integration_points)
     real(ek), intent(out) :: res(group_size, 8, 4), work(group_size, 4)
-    real(ek) :: sp(full_points * group_size, stress_components), deps(full_points * group_size, 3)
-    real(ek) :: bp(full_points * group_size, 3), ep(full_points * group_size)
-    real(ek) :: stp(full_points * group_size, max_state_words)
+    integer, parameter :: rows = max_integration_points * group_size
+    real(ek) :: sp(rows, stress_components), deps(rows, 3), bp(rows, 3), ep(rows), stp(rows, max_state_words)
     real(ek) :: half_t, shear_step, z, wz, wzz, s1, s2, s3, s4, s5
-    integer :: nip, ns, k, g, p, c, i, j
+    integer :: nip, ns, k, g, p, c, i, j, r
     logical :: history, backs
     nip = props%integration_points
     ns = size(state, 2)
@@ -209,54 +211,51 @@ contains
     shear_step = real(shear_correction * (props%young / (2.0_wp * (1.0_wp + props%poisson))), ek) * dt
     res(1:m, :, :) = 0.0_ek
     work(1:m, :) = 0.0_ek
-    do k = 1, nip
-      z = zeta(k) * half_t
-      do g = 1, 4
+    do g = 1, 4
+      if (history .and. .not. backs) bp(1:nip * m, :) = 0.0_ek   ! no kinematic hardening: zero, unstored
+      do k = 1, nip
+        z = zeta(k) * half_t
         p = (g - 1) * nip + k
+        r = (k - 1) * m
         do c = 1, 3
           do i = 1, m
-            deps((g - 1) * m + i, c) = dt * (rates(i, c, g) + z * rates(i, 3 + c, g))
-            sp((g - 1) * m + i, c) = stress(o + i, c, p)
+            deps(r + i, c) = dt * (rates(i, c, g) + z * rates(i, 3 + c, g))
+            sp(r + i, c) = stress(o + i, c, p)
           end do
         end do
         if (history) then
-          if (backs) then
-            bp((g - 1) * m + 1:g * m, :) = back(o + 1:o + m, :, p)
-          else
-            bp((g - 1) * m + 1:g * m, :) = 0.0_ek
-          end if
-          ep((g - 1) * m + 1:g * m) = eps_p(o + 1:o + m, p)
+          if (backs) bp(r + 1:r + m, :) = back(o + 1:o + m, :, p)
+          ep(r + 1:r + m) = eps_p(o + 1:o + m, p)
         end if
-        if (ns > 0) stp((g - 1) * m + 1:g * m, 1:ns) = state(o + 1:o + m, 1:ns, p)
+        if (ns > 0) stp(r + 1:r + m, 1:ns) = state(o + 1:o + m, 1:ns, p)
       end do
-      call props%material%update_points(full_points * m, dt, sp, bp, ep, stp(:, 1:ns), deps)
-      wz = wgt(k) * half_t
-      wzz = wgt(k) * half_t * z
-      do g = 1, 4
+      call props%material%update_points(nip * m, dt, sp, bp, ep, stp(:, 1:ns), deps)
+      do k = 1, nip
+        z = zeta(k) * half_t
         p = (g - 1) * nip + k
+        r = (k - 1) * m
+        wz = wgt(k) * half_t
+        wzz = wgt(k) * half_t * z
         do c = 1, ns
-          state(o + 1:o + m, c, p) = merge(stp((g - 1) * m + 1:g * m, c), state(o + 1:o + m, c, p), &
-                                           area_mid(1:m) > 0.0_ek)
+          state(o + 1:o + m, c, p) = merge(stp(r + 1:r + m, c), state(o + 1:o + m, c, p), area_mid(1:m) > 0.0_ek)
         end do
         if (history) then
           if (backs) then
             do c = 1, 3
-              back(o + 1:o + m, c, p) = merge(bp((g - 1) * m + 1:g * m, c), back(o + 1:o + m, c, p), &
-                                              area_mid(1:m) > 0.0_ek)
+              back(o + 1:o + m, c, p) = merge(bp(r + 1:r + m, c), back(o + 1:o + m, c, p), area_mid(1:m) > 0.0_ek)
             end do
           end if
-          eps_p(o + 1:o + m, p) = merge(ep((g - 1) * m + 1:g * m), eps_p(o + 1:o + m, p), area_mid(1:m) > 0.0_ek)
+          eps_p(o + 1:o + m, p) = merge(ep(r + 1:r + m), eps_p(o + 1:o + m, p), area_mid(1:m) > 0.0_ek)
         end if
         do i = 1, m   ! the transverse shear, elastic
-          j = (g - 1) * m + i
-          sp(j, 4) = stress(o + i, 4, p) + shear_step * rates(i, 7, g)
-          sp(j, 5) = stress(o + i, 5, p) + shear_step * rates(i, 8, g)
+          sp(r + i, 4) = stress(o + i, 4, p) + shear_step * rates(i, 7, g)
+          sp(r + i, 5) = stress(o + i, 5, p) + shear_step * rates(i, 8, g)
         end do
         ! a failed point carries no stress (element_erosion)
         if (props%failure_strain > 0.0_wp) &
-          call zero_failed_points(m, props%failure_strain, eps_p(o + 1:o + m, p), sp((g - 1) * m + 1:g * m, :))
+          call zero_failed_points(m, props%failure_strain, eps_p(o + 1:o + m, p), sp(r + 1:r + m, :))
         do i = 1, m
-          j = (g - 1) * m + i
+          j = r + i
           work(i, g) = work(i, g) + wz * ( &
                        (0.5_ek * (stress(o + i, 1, p) + sp(j, 1)) * deps(j, 1) &
                         + 0.5_ek * (stress(o + i, 2, p) + sp(j, 2)) * deps(j, 2) &
