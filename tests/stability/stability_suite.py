@@ -47,7 +47,7 @@ NOTES: dict[str, str] = {}
 
 
 _ELEMENTS = {"full": "the fully integrated element (`element = \"full\"`: what a user picks for a hard case; "
-                     "about 2.3 (elastic) to 2.9 (J2 plastic) times the one-point element's cost per "
+                     "about 2.2 (elastic) to 2.7 (J2 plastic) times the one-point element's cost per "
                      "element-cycle, docs/performance.md)",
              "blt": "the one-point element with the physical hourglass form (`--element blt`)"}
 
