@@ -18,7 +18,7 @@ module shell_blt
   use shell_hourglass, only: hourglass_update, add_shear_hourglass_moments, tangent_work, tangent_share
   use shell_warping, only: warp_heights, warp_curvature, warp_twist_moment
   use shell_measures, only: frame_time_steps
-  use shell_frames, only: frames, check_end_frames
+  use shell_frames, only: frames, check_end_frames, store_corner_forces
   use material_model, only: max_state_words
   use element_erosion, only: zero_failed_points
   implicit none
@@ -239,7 +239,6 @@ contains
       call check_end_frames(m, area_mid, normal_mid, e, xl, yl, area)
       inverted = inverted + count(.not. (area(1:m) > 0.0_ek))
       call gradient_arrays(m, xl, yl, area, b1, b2, gamma)
-      ! into a local array: stored straight into force, gfortran needs too many alias checks
       if (props%hourglass_form == hourglass_physical) then
         s_xi(1:m) = hg(1:m, 5)
         hg(1:m, 5) = 0.25_ek * (hg(1:m, 5) + hg(1:m, 10))   ! both shear resultants drive the lateral hourglass
@@ -250,13 +249,7 @@ contains
       call nodal_forces(m, e, area, b1, b2, gamma, res, hg, zw, dh, fl)
       if (props%hourglass_form == hourglass_physical) &
         call add_shear_hourglass_moments(m, e, area, xl, yl, s_xi, hg(:, 10), fl)
-      do i = 1, m
-        do k = 1, 4
-          do c = 1, 6
-            force(c, k, o + i) = fl(i, c, k)
-          end do
-        end do
-      end do
+      call store_corner_forces(m, n, o, 4, fl, force)
     end do
   end subroutine blt_internal_forces
 

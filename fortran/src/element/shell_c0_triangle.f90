@@ -22,6 +22,7 @@ module shell_c0_triangle
                            thickness_rule, back_stress_points
   use shell_hourglass, only: drilling_penalty
   use shell_measures, only: triangle_frame_time_steps
+  use shell_frames, only: store_corner_forces
   use material_model, only: max_state_words
   use element_erosion, only: zero_failed_points
   implicit none
@@ -109,14 +110,8 @@ contains
       inverted = inverted + count(.not. (area(1:m) > 0.0_ek))
       call triangle_gradients(m, xl, yl, area, b1, b2)
       call triangle_forces(m, e, xl, yl, area, b1, b2, res, hg, fl)
-      do i = 1, m
-        do k = 1, 3
-          do c = 1, 6
-            force(c, k, o + i) = fl(i, c, k)
-          end do
-        end do
-        force(:, 4, o + i) = 0.0_wp
-      end do
+      call store_corner_forces(m, n, o, 3, fl, force)
+      force(:, 4, o + 1:o + m) = 0.0_wp
     end do
   end subroutine c0_triangle_internal_forces
 

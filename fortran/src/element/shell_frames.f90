@@ -1,13 +1,15 @@
 !> The co-rotational frames of a group of quadrilaterals, shared by the one-point element (shell_blt)
 !> and the fully integrated one (shell_full): each element's mid-surface frame, its nodes' local
 !> coordinates and its projected area, vectorised over the group, and the check that keeps the area
-!> only for elements that are sound at mid-step and at the end of the step. Pure, no module state.
+!> only for elements that are sound at mid-step and at the end of the step; and the store of the
+!> elements' corner forces, computed element first, into the engine's corner layout (the triangle
+!> uses it too). Pure, no module state.
 module shell_frames
   use paradyn_kinds, only: wp, ek
   use element_groups, only: group_size
   implicit none
   private
-  public :: frames, check_end_frames
+  public :: frames, check_end_frames, store_corner_forces
 
 contains
 
@@ -104,5 +106,22 @@ contains
                             + normal_mid(i, 3) * e(i, 3, 3) > 0.0_ek)
     end do
   end subroutine check_end_frames
+
+  !> The corner forces and moments of elements o+1..o+m, local(i, c, k) element first as the
+  !> kernels compute them, into the engine's corner layout force(c, k, o + i) for corners 1..corners
+  !> (through a local array: stored straight into force, gfortran needs too many alias checks).
+  pure subroutine store_corner_forces(m, n, o, corners, local, force)
+    integer, intent(in) :: m, n, o, corners
+    real(ek), intent(in) :: local(group_size, 6, corners)
+    real(wp), intent(inout) :: force(6, 4, n)
+    integer :: i, k, c
+    do i = 1, m
+      do k = 1, corners
+        do c = 1, 6
+          force(c, k, o + i) = local(i, c, k)
+        end do
+      end do
+    end do
+  end subroutine store_corner_forces
 
 end module shell_frames

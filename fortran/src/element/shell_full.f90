@@ -29,7 +29,7 @@ module shell_full
   use shell_section, only: shell_properties_t, stress_components, shear_correction, thickness_rule, &
                            hourglass_components
   use shell_hourglass, only: drilling_penalty
-  use shell_frames, only: frames
+  use shell_frames, only: frames, store_corner_forces
   use shell_warping, only: warp_heights, warp_curvature, warp_twist_moment
   use shell_measures, only: frame_time_steps
   use material_model, only: max_state_words
@@ -156,13 +156,7 @@ contains
                               0.0_ek, area(i) > 0.0_ek)
         end do
       end do
-      do i = 1, m
-        do k = 1, 4
-          do c = 1, 6
-            force(c, k, o + i) = fg(i, c, k)
-          end do
-        end do
-      end do
+      call store_corner_forces(m, n, o, 4, fg, force)
     end do
   end subroutine full_internal_forces
 
@@ -350,7 +344,7 @@ contains
     ! a product, not merge(v, 0, ...): a masked load of v would stop the vectoriser
     valid(1:m) = merge(1.0_ek, 0.0_ek, area_mid(1:m) > 0.0_ek)
     do k = 1, 4
-      hk = hw(k)
+      hk = hw(k)   ! (hw(k) read inside the loop over elements stops gfortran's vectoriser)
       do i = 1, m
         v1 = valid(i) * real(v(o + i, 1, k), ek)
         v2 = valid(i) * real(v(o + i, 2, k), ek)

@@ -21,7 +21,7 @@
 module piecewise_linear_material
   use paradyn_kinds, only: wp, ek
   use material_model, only: material_t
-  use plane_stress_returns, only: return_points, return_batch
+  use plane_stress_returns, only: return_points, return_batch, half_root2
   implicit none
   private
   public :: piecewise_linear_material_t, piecewise_linear_from_curve
@@ -92,7 +92,6 @@ contains
     real(ek), intent(in) :: dt
     real(ek), intent(inout), contiguous :: stress(:, :), back(:, :), eps_p(:), state(:, :)
     real(ek), intent(in), contiguous :: dstrain(:, :)
-    real(ek), parameter :: half_root2 = sqrt(0.5_ek)   !< the projector's eigenbasis: a rotation by 45 degrees
     real(ek) :: scale(m), young, poisson, c, shear, c1, c2, x1, x2, x3, a1, a2, a3
     real(ek), dimension(return_batch) :: a1t, a2t, a3t, ep, rel, y0, h, dgamma, s1, s2, q, reached, radius, effective
     integer :: seg(return_batch), kp(return_batch), idx(return_batch), first, nb, i, j, k, np, last

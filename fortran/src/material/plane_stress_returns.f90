@@ -12,11 +12,14 @@ module plane_stress_returns
   public :: elastic_plane_stress_update, j2_plane_stress_update, von_mises_plane_stress
   public :: elastic_plane_stress_update_points, j2_plane_stress_update_points
   public :: j2_kinematic_modulus, return_points, return_batch, j2_radial_update_points
+  public :: half_root2
 
   !> points per pass of j2_plane_stress_update_points (one element group's worth): fixed-size
   !> local arrays, no allocation
   integer, parameter :: batch = 64
   integer, parameter :: return_batch = batch   !< the most points return_points takes per call
+  !> the eigenbasis of the plane-stress projector: (sxx, syy) turned by 45 degrees
+  real(ek), parameter :: half_root2 = sqrt(0.5_ek)
   !> the return's stopping tests: |g| (return_points' relative residual) below g_tolerance, or a
   !> bracket closed to bracket_tolerance of its upper end. 1e-13 and 1e-15 in double; single precision (the mixed
   !> engine) cannot reach those, so there they are a few times the kind's epsilon (1.2e-7)
@@ -169,7 +172,6 @@ contains
     real(ek), intent(in), contiguous :: dstrain(:, :)
     real(ek), intent(in) :: young, poisson, yield0, tangent, beta
     real(ek), intent(in), optional :: yield_scale(:)
-    real(ek), parameter :: half_root2 = sqrt(0.5_ek)   !< the projector's eigenbasis: a rotation by 45 degrees
     real(ek) :: c, h, h_iso, h_kin, shear, c1, c2, x1, x2, x3, shift, d_eps
     real(ek) :: a1t(batch), a2t(batch), a3t(batch), ep(batch), dgamma(batch), s1(batch), s2(batch), q(batch)
     real(ek) :: y0p(batch), hp(batch), y0t(batch), ht(batch)   !< each point's sigma_y0 and beta H
@@ -268,16 +270,23 @@ contains
   pure subroutine returned_state(a1t, a2t, a3t, s1, s2, q, dgamma, h_kin, x1, x2, x3, shift, d_eps)
     real(ek), intent(in) :: a1t, a2t, a3t, s1, s2, q, dgamma, h_kin
     real(ek), intent(out) :: x1, x2, x3, shift, d_eps
-    real(ek), parameter :: half_root2 = sqrt(0.5_ek)
+    call returned_stress(a1t, a2t, a3t, s1, s2, x1, x2, x3)
+    d_eps = dgamma * (2.0_ek / 3.0_ek * q)
+    shift = 2.0_ek / 3.0_ek * h_kin * dgamma
+  end subroutine returned_state
+
+  !> The returned relative stress (x1, x2, x3): the trial's eigen-components times return_points'
+  !> factors s1, s2, s2, turned back from the projector's eigenbasis.
+  pure subroutine returned_stress(a1t, a2t, a3t, s1, s2, x1, x2, x3)
+    real(ek), intent(in) :: a1t, a2t, a3t, s1, s2
+    real(ek), intent(out) :: x1, x2, x3
     real(ek) :: a1, a2
     a1 = a1t * s1
     a2 = a2t * s2
     x1 = (a1 - a2) * half_root2
     x2 = (a1 + a2) * half_root2
     x3 = a3t * s2
-    d_eps = dgamma * (2.0_ek / 3.0_ek * q)
-    shift = 2.0_ek / 3.0_ek * h_kin * dgamma
-  end subroutine returned_state
+  end subroutine returned_stress
 
   !> The radial return without the plane-stress iteration, at points 1..m laid out as
   !> j2_plane_stress_update_points': the elastic trial; a point whose relative stress xi = s - alpha
@@ -322,8 +331,9 @@ contains
     end do
   end subroutine j2_radial_update_points
 
-  !> Consistency parameter dgamma of np <= batch yielding points: the safeguarded Newton iteration
-  !> of j2_plane_stress_update in lockstep, and the factors of the returned state at it:
+  !> Consistency parameter dgamma of np <= batch points (a point inside its radius keeps 0): the
+  !> safeguarded Newton iteration of j2_plane_stress_update in lockstep, and the factors of the
+  !> returned state at it:
   !> s1 = 1 / (1 + dgamma c1), s2 = 1 / (1 + dgamma c2) (the eigen-components of the returned
   !> relative stress are the trial's times s1, s2, s2) and q, its von Mises stress. Masks freeze a
   !> point once it meets its own stopping test, so it ends where it would alone, and the loops over
@@ -351,7 +361,7 @@ contains
     real(ek), intent(out) :: dgamma(np), s1(np), s2(np), q(np)
     real(ek), dimension(batch) :: lo, hi, pa, pb, kappa, hh, q0, uu, root_p
     real(ek) :: g(batch)   !< g sqrt(P) at each point's last evaluation
-    real(ek) :: span, inverse, slope, kept
+    real(ek) :: span, inverse, slope, kept, k0
     ! 1 while a point iterates: 64-bit flags, as GCC 12 cannot select doubles by a logical array
     integer(i8) :: active(batch)
     integer :: iter, j
@@ -363,10 +373,11 @@ contains
     ! the bound span (1 - kappa) / kappa
     do j = 1, np
       q0(j) = sqrt(0.5_ek * a1t(j)**2 + 1.5_ek * a2t(j)**2 + 3.0_ek * a3t(j)**2)
-      inverse = 1.0_ek / max(q0(j), yield0(j) + h_iso(j) * eps_p(j), tiny(1.0_ek))
+      k0 = yield0(j) + h_iso(j) * eps_p(j)
+      inverse = 1.0_ek / max(q0(j), k0, tiny(1.0_ek))
       pa(j) = 0.5_ek * (a1t(j) * inverse)**2
       pb(j) = 1.5_ek * (a2t(j) * inverse)**2 + 3.0_ek * (a3t(j) * inverse)**2
-      kappa(j) = (yield0(j) + h_iso(j) * eps_p(j)) * inverse
+      kappa(j) = k0 * inverse
       hh(j) = 2.0_ek / 3.0_ek * h_iso(j)
       slope = max(kappa(j) * (pa(j) * c1 + pb(j) * c2) + hh(j), tiny(1.0_ek))
       kept = merge(kappa(j), 1.0_ek, kappa(j) > 0.0_ek)
