@@ -270,23 +270,15 @@ contains
   pure subroutine returned_state(a1t, a2t, a3t, s1, s2, q, dgamma, h_kin, x1, x2, x3, shift, d_eps)
     real(ek), intent(in) :: a1t, a2t, a3t, s1, s2, q, dgamma, h_kin
     real(ek), intent(out) :: x1, x2, x3, shift, d_eps
-    call returned_stress(a1t, a2t, a3t, s1, s2, x1, x2, x3)
-    d_eps = dgamma * (2.0_ek / 3.0_ek * q)
-    shift = 2.0_ek / 3.0_ek * h_kin * dgamma
-  end subroutine returned_state
-
-  !> The returned relative stress (x1, x2, x3): the trial's eigen-components times return_points'
-  !> factors s1, s2, s2, turned back from the projector's eigenbasis.
-  pure subroutine returned_stress(a1t, a2t, a3t, s1, s2, x1, x2, x3)
-    real(ek), intent(in) :: a1t, a2t, a3t, s1, s2
-    real(ek), intent(out) :: x1, x2, x3
     real(ek) :: a1, a2
     a1 = a1t * s1
     a2 = a2t * s2
     x1 = (a1 - a2) * half_root2
     x2 = (a1 + a2) * half_root2
     x3 = a3t * s2
-  end subroutine returned_stress
+    d_eps = dgamma * (2.0_ek / 3.0_ek * q)
+    shift = 2.0_ek / 3.0_ek * h_kin * dgamma
+  end subroutine returned_state
 
   !> The radial return without the plane-stress iteration, at points 1..m laid out as
   !> j2_plane_stress_update_points': the elastic trial; a point whose relative stress xi = s - alpha
